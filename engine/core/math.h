@@ -1,0 +1,35 @@
+#pragma once
+// Math vocabulary of the engine: Eigen's fixed-size types under short names, and the camera
+// matrices in Vulkan's conventions (right-handed view looking down -Z, clip depth in [0, 1],
+// clip-space y pointing down).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace pbdsplat {
+
+using Vec2f = Eigen::Vector2f;
+using Vec3f = Eigen::Vector3f;
+using Vec4f = Eigen::Vector4f;
+using Vec3d = Eigen::Vector3d;
+using Mat3f = Eigen::Matrix3f;
+using Mat4f = Eigen::Matrix4f;
+using Quatf = Eigen::Quaternionf;
+
+constexpr float k_pi = 3.14159265358979323846f;
+
+namespace math {
+
+// World-to-view transform of a camera at `eye` looking at `target`.
+Mat4f look_at(const Vec3f& eye, const Vec3f& target, const Vec3f& up);
+
+// Perspective projection to Vulkan clip space; `fov_y` in radians, reversed nothing, z in [0,1].
+Mat4f perspective(float fov_y, float aspect, float z_near, float z_far);
+
+inline float radians(float degrees) { return degrees * (k_pi / 180.0f); }
+
+// Logistic sigmoid: maps an opacity logit to [0, 1] (the paper's equation 21).
+inline float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
+inline float logit(float p) { return std::log(p / (1.0f - p)); }
+
+} // namespace math
+} // namespace pbdsplat

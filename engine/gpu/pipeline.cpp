@@ -1,0 +1,106 @@
+#include "gpu/pipeline.h"
+
+#include "embedded_shaders.h"
+
+namespace pbdsplat::gpu {
+
+core::Result<ShaderModule> load_shader(const Context& ctx, const std::string& name) {
+    const auto words = shaders::find(name);
+    if (words.empty()) return core::make_error("shader '" + name + "' is not embedded in this build");
+    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    info.codeSize = words.size() * sizeof(uint32_t);
+    info.pCode = words.data();
+    VkShaderModule m = VK_NULL_HANDLE;
+    PBDSPLAT_VK_TRY(vkCreateShaderModule(ctx.vk(), &info, nullptr, &m));
+    return ShaderModule(ctx.vk(), m);
+}
+
+core::Result<Pipeline> create_graphics_pipeline(const Context& ctx, const GraphicsPipelineDesc& desc) {
+    std::vector<ShaderModule> modules;
+    std::vector<VkPipelineShaderStageCreateInfo> stages;
+    const uint32_t spec_value = desc.specialization.value_or(0);
+    const VkSpecializationMapEntry spec_entry{0, 0, sizeof(uint32_t)};
+    VkSpecializationInfo spec{1, &spec_entry, sizeof(uint32_t), &spec_value};
+    for (const auto& [stage, name] : desc.stages) {
+        auto m = load_shader(ctx, name);
+        if (!m.ok()) return m.error();
+        modules.push_back(std::move(m).value());
+        VkPipelineShaderStageCreateInfo s{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+        s.stage = stage;
+        s.module = modules.back().get();
+        s.pName = "main";
+        if (desc.specialization) s.pSpecializationInfo = &spec;
+        stages.push_back(s);
+    }
+
+    VkPipelineVertexInputStateCreateInfo vertex{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    vertex.vertexBindingDescriptionCount = uint32_t(desc.bindings.size());
+    vertex.pVertexBindingDescriptions = desc.bindings.data();
+    vertex.vertexAttributeDescriptionCount = uint32_t(desc.attributes.size());
+    vertex.pVertexAttributeDescriptions = desc.attributes.data();
+
+    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    assembly.topology = desc.topology;
+
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    viewport.viewportCount = 1;
+    viewport.scissorCount = 1;
+
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = desc.cull;
+    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    raster.lineWidth = 1.0f;
+
+    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+
+    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    depth.depthTestEnable = desc.depth_test ? VK_TRUE : VK_FALSE;
+    depth.depthWriteEnable = desc.depth_write ? VK_TRUE : VK_FALSE;
+    depth.depthCompareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
+
+    VkPipelineColorBlendAttachmentState attachment{};
+    attachment.colorWriteMask = desc.color_write ? VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                                       VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT
+                                                 : 0;
+    if (desc.blend != BlendMode::none) {
+        attachment.blendEnable = VK_TRUE;
+        attachment.colorBlendOp = attachment.alphaBlendOp = VK_BLEND_OP_ADD;
+        attachment.srcColorBlendFactor = attachment.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+        attachment.dstColorBlendFactor = attachment.dstAlphaBlendFactor =
+            desc.blend == BlendMode::additive ? VK_BLEND_FACTOR_ONE : VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    }
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 1;
+    blend.pAttachments = &attachment;
+
+    const VkDynamicState dyn[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dynamic.dynamicStateCount = 2;
+    dynamic.pDynamicStates = dyn;
+
+    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachmentFormats = &desc.color_format;
+    rendering.depthAttachmentFormat = desc.depth_format;
+
+    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    info.pNext = &rendering;
+    info.stageCount = uint32_t(stages.size());
+    info.pStages = stages.data();
+    info.pVertexInputState = &vertex;
+    info.pInputAssemblyState = &assembly;
+    info.pViewportState = &viewport;
+    info.pRasterizationState = &raster;
+    info.pMultisampleState = &multisample;
+    info.pDepthStencilState = &depth;
+    info.pColorBlendState = &blend;
+    info.pDynamicState = &dynamic;
+    info.layout = desc.layout;
+    VkPipeline p = VK_NULL_HANDLE;
+    PBDSPLAT_VK_TRY(vkCreateGraphicsPipelines(ctx.vk(), VK_NULL_HANDLE, 1, &info, nullptr, &p));
+    return Pipeline(ctx.vk(), p);
+}
+
+} // namespace pbdsplat::gpu

@@ -1,0 +1,36 @@
+#pragma once
+// Shader modules from the embedded SPIR-V, and a small description of a graphics pipeline for
+// dynamic rendering (no render-pass objects).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gpu/context.h"
+#include "gpu/device_handle.h"
+
+namespace pbdsplat::gpu {
+
+core::Result<ShaderModule> load_shader(const Context& ctx, const std::string& name);
+
+enum class BlendMode { over_premultiplied, additive, none };
+
+struct GraphicsPipelineDesc {
+    std::vector<std::pair<VkShaderStageFlagBits, std::string>> stages;  // stage, embedded shader name
+    std::vector<VkVertexInputBindingDescription> bindings;
+    std::vector<VkVertexInputAttributeDescription> attributes;
+    VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkFormat color_format = VK_FORMAT_R8G8B8A8_UNORM;
+    VkFormat depth_format = VK_FORMAT_D32_SFLOAT;
+    bool depth_test = true;
+    bool depth_write = true;
+    bool color_write = true;
+    // Value of specialization constant 0 (a bool or uint) given to every stage.
+    std::optional<uint32_t> specialization;
+    VkCullModeFlags cull = VK_CULL_MODE_NONE;
+    BlendMode blend = BlendMode::none;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+};
+
+core::Result<Pipeline> create_graphics_pipeline(const Context& ctx, const GraphicsPipelineDesc& desc);
+
+} // namespace pbdsplat::gpu

@@ -1,0 +1,40 @@
+#include "gpu/vk.h"
+
+#include <string>
+
+namespace pbdsplat::gpu {
+
+const char* vk_result_name(VkResult r) {
+    switch (r) {
+#define PBDSPLAT_CASE(x) case x: return #x;
+        PBDSPLAT_CASE(VK_SUCCESS)
+        PBDSPLAT_CASE(VK_NOT_READY)
+        PBDSPLAT_CASE(VK_TIMEOUT)
+        PBDSPLAT_CASE(VK_INCOMPLETE)
+        PBDSPLAT_CASE(VK_ERROR_OUT_OF_HOST_MEMORY)
+        PBDSPLAT_CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY)
+        PBDSPLAT_CASE(VK_ERROR_INITIALIZATION_FAILED)
+        PBDSPLAT_CASE(VK_ERROR_DEVICE_LOST)
+        PBDSPLAT_CASE(VK_ERROR_MEMORY_MAP_FAILED)
+        PBDSPLAT_CASE(VK_ERROR_LAYER_NOT_PRESENT)
+        PBDSPLAT_CASE(VK_ERROR_EXTENSION_NOT_PRESENT)
+        PBDSPLAT_CASE(VK_ERROR_FEATURE_NOT_PRESENT)
+        PBDSPLAT_CASE(VK_ERROR_INCOMPATIBLE_DRIVER)
+        PBDSPLAT_CASE(VK_ERROR_TOO_MANY_OBJECTS)
+        PBDSPLAT_CASE(VK_ERROR_FORMAT_NOT_SUPPORTED)
+        PBDSPLAT_CASE(VK_ERROR_FRAGMENTED_POOL)
+        PBDSPLAT_CASE(VK_ERROR_OUT_OF_POOL_MEMORY)
+        PBDSPLAT_CASE(VK_ERROR_SURFACE_LOST_KHR)
+        PBDSPLAT_CASE(VK_ERROR_NATIVE_WINDOW_IN_USE_KHR)
+        PBDSPLAT_CASE(VK_SUBOPTIMAL_KHR)
+        PBDSPLAT_CASE(VK_ERROR_OUT_OF_DATE_KHR)
+#undef PBDSPLAT_CASE
+        default: return "VK_ERROR_(unknown)";
+    }
+}
+
+core::Error vk_error(const char* call, VkResult r) {
+    return core::make_error(std::string(call) + " failed: " + vk_result_name(r));
+}
+
+} // namespace pbdsplat::gpu

@@ -1,0 +1,38 @@
+#pragma once
+// An indexed triangle mesh: positions and counter-clockwise (outward) triangles.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/math.h"
+
+namespace pbdsplat::mesh {
+
+using Triangle = std::array<uint32_t, 3>;
+
+struct TriangleMesh {
+    std::vector<Vec3f> positions;
+    std::vector<Triangle> triangles;
+
+    size_t vertex_count() const { return positions.size(); }
+    size_t triangle_count() const { return triangles.size(); }
+};
+
+// Area-weighted vertex normals (unit length; zero for a vertex no triangle uses).
+std::vector<Vec3f> vertex_normals(const TriangleMesh& mesh);
+
+// Mean length of the unique edges: the l_edge of the paper's h = eta * l_edge.
+float mean_edge_length(const TriangleMesh& mesh);
+
+// Number of undirected edges used by exactly one triangle (0 for a closed surface).
+size_t boundary_edge_count(const TriangleMesh& mesh);
+
+// True when every undirected edge is shared by exactly two triangles with opposite directions:
+// a closed, consistently oriented 2-manifold surface.
+bool is_closed_and_oriented(const TriangleMesh& mesh);
+
+// Signed volume by the divergence theorem (the paper's equation 9); positive for an
+// outward-oriented closed surface.
+double signed_volume(const TriangleMesh& mesh);
+
+} // namespace pbdsplat::mesh

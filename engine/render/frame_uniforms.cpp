@@ -1,0 +1,33 @@
+#include "render/frame_uniforms.h"
+
+#include <cstring>
+
+namespace pbdsplat::render {
+namespace {
+gpu_types::mat4 to_gpu(const Mat4f& m) {
+    gpu_types::mat4 out;
+    std::memcpy(out.m, m.data(), sizeof(out.m));  // Eigen is column-major, like GLSL
+    return out;
+}
+gpu_types::vec4 to_gpu(const Vec3f& v, float w) { return {v.x(), v.y(), v.z(), w}; }
+} // namespace
+
+gpu_types::FrameUniforms make_frame_uniforms(const FrameInputs& in, uint32_t width, uint32_t height) {
+    const Camera& c = in.camera;
+    gpu_types::FrameUniforms u{};
+    u.view = to_gpu(math::look_at(c.eye, c.target, c.up));
+    u.proj = to_gpu(math::perspective(math::radians(c.fov_y_degrees), float(width) / float(height), c.z_near, c.z_far));
+    u.camera_pos = to_gpu(c.eye, 1.0f);
+    u.viewport = {float(width), float(height), 1.0f / float(width), 1.0f / float(height)};
+    const Lighting& l = in.lighting;
+    u.light_dir = to_gpu(l.direction.normalized(), l.intensity);
+    u.light_color = to_gpu(l.color, 0.0f);
+    u.ambient = to_gpu(l.ambient, l.specular);
+    const SplatStyle& s = in.style;
+    u.splat = {s.kappa, s.sharpness.x(), s.sharpness.y(), s.scale_multiplier};
+    u.material = {l.shininess, 0.0f, 0.0f, 0.0f};
+    u.visibility = {s.depth_push, s.core_r2, 0.0f, 0.0f};
+    return u;
+}
+
+} // namespace pbdsplat::render

@@ -1,0 +1,158 @@
+#include "render/offscreen_renderer.h"
+
+#include <cstring>
+
+#include "core/timer.h"
+
+#include "render/frame_uniforms.h"
+
+namespace pbdsplat::render {
+
+core::Result<std::unique_ptr<OffscreenRenderer>> OffscreenRenderer::create(gpu::Context& ctx,
+                                                                           const RendererOptions& options) {
+    if (options.max_splats == 0) return core::make_error("max_splats must be at least 1");
+    auto r = std::unique_ptr<OffscreenRenderer>(new OffscreenRenderer());
+    r->ctx_ = &ctx;
+    r->options_ = options;
+    const uint32_t n = options.frames_in_flight;
+
+    auto frames = gpu::FrameRing::create(ctx, n);
+    if (!frames.ok()) return frames.error();
+    r->frames_ = std::move(frames).value();
+
+    const VkDeviceSize record_bytes = VkDeviceSize(options.max_splats) * sizeof(splat::GaussianRecord);
+    const gpu::UploadPath path = options.upload_path.value_or(ctx.caps().unified_memory ? gpu::UploadPath::direct
+                                                                                        : gpu::UploadPath::staged);
+    if (path == gpu::UploadPath::staged) {
+        // Room for every frame in flight to rewrite all records, plus slack for alignment.
+        auto ring = gpu::UploadRing::create(ctx, record_bytes * n + (1u << 16));
+        if (!ring.ok()) return ring.error();
+        r->ring_ = std::move(ring).value();
+    }
+    auto records = gpu::StreamBuffer::create(ctx, record_bytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, path, n);
+    if (!records.ok()) return records.error();
+    r->records_ = std::move(records).value();
+
+    auto target = OffscreenTarget::create(ctx, options.width, options.height, n);
+    if (!target.ok()) return target.error();
+    r->target_ = std::move(target).value();
+
+    auto pass = SplatPass::create(ctx, k_color_format, k_depth_format);
+    if (!pass.ok()) return pass.error();
+    r->splat_ = std::move(pass).value();
+
+    VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, n};
+    VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pool_info.maxSets = n;
+    pool_info.poolSizeCount = 1;
+    pool_info.pPoolSizes = &pool_size;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    PBDSPLAT_VK_TRY(vkCreateDescriptorPool(ctx.vk(), &pool_info, nullptr, &pool));
+    r->descriptor_pool_ = gpu::DescriptorPool(ctx.vk(), pool);
+
+    for (uint32_t i = 0; i < n; ++i) {
+        auto ubo = gpu::Buffer::create(ctx, sizeof(gpu_types::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                       gpu::MemoryUsage::upload);
+        if (!ubo.ok()) return ubo.error();
+        r->uniforms_.push_back(std::move(ubo).value());
+
+        const VkDescriptorSetLayout layout = r->splat_.set_layout();
+        VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        alloc.descriptorPool = pool;
+        alloc.descriptorSetCount = 1;
+        alloc.pSetLayouts = &layout;
+        VkDescriptorSet set = VK_NULL_HANDLE;
+        PBDSPLAT_VK_TRY(vkAllocateDescriptorSets(ctx.vk(), &alloc, &set));
+        VkDescriptorBufferInfo buffer_info{r->uniforms_.back().handle(), 0, sizeof(gpu_types::FrameUniforms)};
+        VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        write.dstSet = set;
+        write.descriptorCount = 1;
+        write.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        write.pBufferInfo = &buffer_info;
+        vkUpdateDescriptorSets(ctx.vk(), 1, &write, 0, nullptr);
+        r->sets_.push_back(set);
+
+        auto timer = gpu::GpuTimer::create(ctx, 8);
+        if (!timer.ok()) return timer.error();
+        r->timers_.push_back(std::move(timer).value());
+    }
+    r->slot_pending_.assign(n, false);
+    r->upload_cpu_ms_.assign(n, 0.0);
+    return r;
+}
+
+OffscreenRenderer::~OffscreenRenderer() {
+    if (ctx_) (void)frames_.wait_all();
+}
+
+core::Status OffscreenRenderer::collect_timings(uint32_t slot) {
+    if (!slot_pending_[slot]) return core::Status::success();
+    slot_pending_[slot] = false;
+    auto marks = timers_[slot].read(ctx_->vk());
+    if (!marks.ok()) return marks.error();
+    GpuTimings t;
+    t.upload_cpu_ms = upload_cpu_ms_[slot];
+    for (const auto& [label, ms] : marks.value()) {
+        if (label == "upload") t.upload_ms = ms;
+        else if (label == "draw") t.draw_ms = ms;
+        else if (label == "readback") t.readback_ms = ms;
+    }
+    timings_ = t;
+    return core::Status::success();
+}
+
+core::Status OffscreenRenderer::render(std::span<const splat::GaussianRecord> records, const FrameInputs& inputs,
+                                       std::span<const gpu::ByteRange> changed) {
+    if (records.size() > options_.max_splats)
+        return core::make_error(std::to_string(records.size()) + " Gaussians exceed the renderer's capacity of " +
+                                std::to_string(options_.max_splats) + "; create it with a larger max_splats");
+    const uint32_t slot = frames_.slot();
+    auto begun = frames_.begin();  // waits for this slot's previous frame
+    if (!begun.ok()) return begun.error();
+    const VkCommandBuffer cmd = begun.value();
+    PBDSPLAT_TRY(collect_timings(slot));
+    if (records_.path() == gpu::UploadPath::staged) ring_.retire(frames_.completed_serial());
+
+    gpu::GpuTimer& timer = timers_[slot];
+    timer.begin(cmd);
+    timer.mark(cmd, "start", VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT);
+
+    const auto bytes = std::as_bytes(records);
+    const gpu::ByteRange all{0, bytes.size()};
+    const std::span<const gpu::ByteRange> ranges = changed.empty() ? std::span<const gpu::ByteRange>(&all, 1) : changed;
+    const core::Stopwatch upload_clock;
+    PBDSPLAT_TRY(records_.write(cmd, slot, frames_.serial(), ring_, bytes, ranges,
+                                {VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT}));
+    upload_cpu_ms_[slot] = upload_clock.elapsed_ms();
+    timer.mark(cmd, "upload", VK_PIPELINE_STAGE_2_COPY_BIT);
+
+    const auto uniforms = make_frame_uniforms(inputs, target_.width(), target_.height());
+    std::memcpy(uniforms_[slot].mapped(), &uniforms, sizeof(uniforms));
+
+    target_.begin(cmd, inputs.background.data());
+    splat_.record(cmd, inputs.style.blend, sets_[slot], records_.buffer(slot), uint32_t(records.size()));
+    target_.end(cmd);
+    timer.mark(cmd, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
+
+    if (options_.readback) {
+        target_.record_readback(cmd, slot);
+        timer.mark(cmd, "readback", VK_PIPELINE_STAGE_2_COPY_BIT);
+    }
+    PBDSPLAT_TRY(frames_.submit());
+    slot_pending_[slot] = true;
+    last_slot_ = slot;
+    any_frame_ = true;
+    return core::Status::success();
+}
+
+core::Result<core::ImageRgba8> OffscreenRenderer::finish() {
+    PBDSPLAT_TRY(frames_.wait_all());
+    for (uint32_t i = 0; i < slot_pending_.size(); ++i)
+        if (i != last_slot_) PBDSPLAT_TRY(collect_timings(i));
+    PBDSPLAT_TRY(collect_timings(last_slot_));  // the newest frame's timings win
+    if (!any_frame_) return core::make_error("finish() before any frame was rendered");
+    if (!options_.readback) return core::make_error("this renderer was created without readback");
+    return target_.read(last_slot_);
+}
+
+} // namespace pbdsplat::render

@@ -1,0 +1,93 @@
+#include "render/offscreen_target.h"
+
+#include <cstring>
+
+#include "gpu/barriers.h"
+
+namespace pbdsplat::render {
+
+core::Result<OffscreenTarget> OffscreenTarget::create(gpu::Context& ctx, uint32_t width, uint32_t height,
+                                                      uint32_t frames_in_flight) {
+    OffscreenTarget t;
+    auto color = gpu::Image::create_2d(ctx, width, height, k_color_format,
+                                       VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                       VK_IMAGE_ASPECT_COLOR_BIT);
+    if (!color.ok()) return color.error();
+    t.color_ = std::move(color).value();
+    auto depth = gpu::Image::create_2d(ctx, width, height, k_depth_format, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                                       VK_IMAGE_ASPECT_DEPTH_BIT);
+    if (!depth.ok()) return depth.error();
+    t.depth_ = std::move(depth).value();
+    for (uint32_t i = 0; i < frames_in_flight; ++i) {
+        auto b = gpu::Buffer::create(ctx, VkDeviceSize(width) * height * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                     gpu::MemoryUsage::readback);
+        if (!b.ok()) return b.error();
+        t.readback_.push_back(std::move(b).value());
+    }
+    return t;
+}
+
+void OffscreenTarget::begin(VkCommandBuffer cmd, const float clear_rgba[4]) {
+    // The previous frame may still be copying the colour image out; the contents are cleared,
+    // so the old layout is dropped.
+    gpu::image_barrier(cmd, color_.handle(), VK_IMAGE_ASPECT_COLOR_BIT,
+                       {VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_NONE},
+                       VK_IMAGE_LAYOUT_UNDEFINED,
+                       {VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT},
+                       VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+    gpu::image_barrier(cmd, depth_.handle(), VK_IMAGE_ASPECT_DEPTH_BIT,
+                       {VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_NONE}, VK_IMAGE_LAYOUT_UNDEFINED,
+                       {VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT},
+                       VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
+
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = color_.view();
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    std::memcpy(color.clearValue.color.float32, clear_rgba, sizeof(float) * 4);
+    VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    depth.imageView = depth_.view();
+    depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    depth.clearValue.depthStencil = {1.0f, 0};
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, {width(), height()}};
+    info.layerCount = 1;
+    info.colorAttachmentCount = 1;
+    info.pColorAttachments = &color;
+    info.pDepthAttachment = &depth;
+    vkCmdBeginRendering(cmd, &info);
+
+    const VkViewport viewport{0.0f, 0.0f, float(width()), float(height()), 0.0f, 1.0f};
+    const VkRect2D scissor{{0, 0}, {width(), height()}};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+}
+
+void OffscreenTarget::end(VkCommandBuffer cmd) { vkCmdEndRendering(cmd); }
+
+void OffscreenTarget::record_readback(VkCommandBuffer cmd, uint32_t slot) {
+    gpu::image_barrier(cmd, color_.handle(), VK_IMAGE_ASPECT_COLOR_BIT,
+                       {VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT},
+                       VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, {VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT},
+                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {width(), height(), 1};
+    vkCmdCopyImageToBuffer(cmd, color_.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_[slot].handle(), 1,
+                           &region);
+    // Make the copy visible to the host once the fence signals.
+    gpu::buffer_barrier(cmd, readback_[slot].handle(), {VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT},
+                        {VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT});
+}
+
+core::ImageRgba8 OffscreenTarget::read(uint32_t slot) const {
+    core::ImageRgba8 img(width(), height());
+    std::memcpy(img.pixels.data(), readback_[slot].mapped(), img.pixels.size());
+    return img;
+}
+
+} // namespace pbdsplat::render

@@ -1,0 +1,106 @@
+#include "splat/gaussian_record.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "core/assert.h"
+
+namespace pbdsplat::splat {
+
+uint16_t float_to_half(float f) {
+    uint32_t x;
+    std::memcpy(&x, &f, 4);
+    const uint32_t sign = (x >> 16) & 0x8000u;
+    const int32_t exp = int32_t((x >> 23) & 0xffu);
+    uint32_t mant = x & 0x7fffffu;
+    if (exp == 255) return uint16_t(sign | 0x7c00u | (mant ? 0x200u : 0u));  // inf / nan
+    int32_t e = exp - 127 + 15;
+    if (e >= 31) return uint16_t(sign | 0x7c00u);  // overflow to inf
+    if (e <= 0) {                                   // subnormal or zero
+        if (e < -10) return uint16_t(sign);
+        mant |= 0x800000u;
+        const uint32_t shift = uint32_t(14 - e);
+        uint32_t h = mant >> shift;
+        const uint32_t rem = mant & ((1u << shift) - 1u), half = 1u << (shift - 1u);
+        if (rem > half || (rem == half && (h & 1u))) ++h;
+        return uint16_t(sign | h);
+    }
+    uint32_t h = (uint32_t(e) << 10) | (mant >> 13);
+    const uint32_t rem = mant & 0x1fffu;
+    if (rem > 0x1000u || (rem == 0x1000u && (h & 1u))) ++h;  // round to nearest even (may carry into exp)
+    return uint16_t(sign | h);
+}
+
+float half_to_float(uint16_t h) {
+    const uint32_t sign = uint32_t(h & 0x8000u) << 16;
+    const uint32_t exp = (h >> 10) & 0x1fu;
+    const uint32_t mant = h & 0x3ffu;
+    float out;
+    if (exp == 0) {
+        out = std::ldexp(float(mant), -24);
+        return sign ? -out : out;
+    }
+    uint32_t x;
+    if (exp == 31) x = sign | 0x7f800000u | (mant << 13);
+    else x = sign | ((exp + 112u) << 23) | (mant << 13);
+    std::memcpy(&out, &x, 4);
+    return out;
+}
+
+namespace {
+int16_t to_snorm16(float v) { return int16_t(std::lround(std::clamp(v, -1.0f, 1.0f) * 32767.0f)); }
+float sign_not_zero(float v) { return v >= 0.0f ? 1.0f : -1.0f; }
+uint8_t to_unorm8(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+} // namespace
+
+void encode_octahedral(const Vec3f& n, int16_t out[2]) {
+    const float l1 = std::abs(n.x()) + std::abs(n.y()) + std::abs(n.z());
+    if (!(l1 > 0.0f)) {  // zero or NaN normal: encode +Z rather than propagate garbage
+        out[0] = out[1] = 0;
+        return;
+    }
+    float x = n.x() / l1, y = n.y() / l1;
+    if (n.z() < 0.0f) {
+        const float ox = (1.0f - std::abs(y)) * sign_not_zero(x);
+        const float oy = (1.0f - std::abs(x)) * sign_not_zero(y);
+        x = ox, y = oy;
+    }
+    out[0] = to_snorm16(x);
+    out[1] = to_snorm16(y);
+}
+
+Vec3f decode_octahedral(const int16_t in[2]) {
+    const float x = std::max(float(in[0]) / 32767.0f, -1.0f), y = std::max(float(in[1]) / 32767.0f, -1.0f);
+    Vec3f n(x, y, 1.0f - std::abs(x) - std::abs(y));
+    if (n.z() < 0.0f) {
+        const float ox = (1.0f - std::abs(y)) * sign_not_zero(x);
+        const float oy = (1.0f - std::abs(x)) * sign_not_zero(y);
+        n.x() = ox, n.y() = oy;
+    }
+    return n.normalized();
+}
+
+GaussianRecord make_record(const Vec3f& position, const Vec3f& normal, const Appearance& a, float fade) {
+    GaussianRecord r;
+    r.position[0] = position.x();
+    r.position[1] = position.y();
+    r.position[2] = position.z();
+    encode_octahedral(normal, r.normal_oct);
+    r.color[0] = to_unorm8(a.albedo.x());
+    r.color[1] = to_unorm8(a.albedo.y());
+    r.color[2] = to_unorm8(a.albedo.z());
+    r.color[3] = to_unorm8(fade);
+    r.scale_half = float_to_half(a.scale);
+    r.opacity_half = float_to_half(a.opacity_logit);
+    return r;
+}
+
+void map_points(std::span<const Vec3f> positions, std::span<const Vec3f> normals, const Appearance& a,
+                std::vector<GaussianRecord>& out) {
+    PBDSPLAT_ASSERT(positions.size() == normals.size(), "map_points: one normal per position");
+    out.resize(positions.size());
+    for (size_t i = 0; i < positions.size(); ++i) out[i] = make_record(positions[i], normals[i], a);
+}
+
+} // namespace pbdsplat::splat

@@ -1,0 +1,46 @@
+#pragma once
+// The contract between the simulation half and the renderer: one packed Gaussian per particle
+// or boundary particle (layout in shaders/shared/gpu_types.h, 24 bytes).
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/math.h"
+#include "gpu_types.h"
+
+namespace pbdsplat::splat {
+
+struct GaussianRecord {
+    float position[3];
+    int16_t normal_oct[2];   // snorm16
+    uint8_t color[4];        // unorm8 rgb albedo, a = fade
+    uint16_t scale_half;     // isotropic std dev s0, IEEE half
+    uint16_t opacity_half;   // opacity logit o, IEEE half
+};
+static_assert(sizeof(GaussianRecord) == SPLAT_RECORD_SIZE, "GaussianRecord must match SPLAT_RECORD_SIZE");
+static_assert(offsetof(GaussianRecord, position) == SPLAT_OFFSET_POSITION);
+static_assert(offsetof(GaussianRecord, normal_oct) == SPLAT_OFFSET_NORMAL);
+static_assert(offsetof(GaussianRecord, color) == SPLAT_OFFSET_COLOR);
+static_assert(offsetof(GaussianRecord, scale_half) == SPLAT_OFFSET_SCALE_OPACITY);
+
+uint16_t float_to_half(float f);
+float half_to_float(uint16_t h);
+
+// Octahedral encoding of a unit vector into two snorm16 (error below 1e-4 rad).
+void encode_octahedral(const Vec3f& n, int16_t out[2]);
+Vec3f decode_octahedral(const int16_t in[2]);
+
+struct Appearance {
+    Vec3f albedo{0.8f, 0.2f, 0.2f};  // linear rgb
+    float opacity_logit = 4.0f;      // sigmoid(4) ~ 0.982
+    float scale = 0.05f;             // s0, world units
+};
+
+GaussianRecord make_record(const Vec3f& position, const Vec3f& normal, const Appearance& a, float fade = 1.0f);
+
+// One record per point: the paper's one-to-one particle-to-Gaussian mapping (eqs. 11-13).
+void map_points(std::span<const Vec3f> positions, std::span<const Vec3f> normals, const Appearance& a,
+                std::vector<GaussianRecord>& out);
+
+} // namespace pbdsplat::splat

@@ -1,0 +1,49 @@
+// GPU-side structures shared by C++ and GLSL: one definition, so the two can never drift.
+// C++ includes this inside namespace pbdsplat::gpu_types and static_asserts every size; GLSL
+// includes it as is (std140 for uniform blocks, vertex attributes for the splat record).
+#ifndef PBDSPLAT_GPU_TYPES_H
+#define PBDSPLAT_GPU_TYPES_H
+
+#ifdef __cplusplus
+#include <cstdint>
+namespace pbdsplat::gpu_types {
+using uint = uint32_t;
+struct alignas(16) vec4 { float x, y, z, w; };
+struct alignas(16) mat4 { float m[16]; };  // column-major, as GLSL reads it
+#define PBDSPLAT_GPU_SIZE(T, n) static_assert(sizeof(T) == (n), #T ": C++ and GLSL (std140) layouts disagree")
+#else
+#define PBDSPLAT_GPU_SIZE(T, n)
+#endif
+
+// ---- One Gaussian as the splat pass reads it (vertex attributes, binding 0) -----------------
+// position   : R32G32B32_SFLOAT  world-space centre mu (the particle position, eq. 12)
+// normal     : R16G16_SNORM      octahedral-encoded unit normal
+// color      : R8G8B8A8_UNORM    linear albedo rgb; a = fade-in factor (1 when settled)
+// scale_opac : R16G16_SFLOAT     x = isotropic std-dev s0 in world units, y = opacity logit o
+#define SPLAT_RECORD_SIZE 24
+#define SPLAT_OFFSET_POSITION 0
+#define SPLAT_OFFSET_NORMAL 12
+#define SPLAT_OFFSET_COLOR 16
+#define SPLAT_OFFSET_SCALE_OPACITY 20
+
+// ---- Per-frame constants (set 0, binding 0) ---------------------------------------------------
+struct FrameUniforms {
+    mat4 view;         // world -> view
+    mat4 proj;         // view -> clip (Vulkan: y down, z in [0,1])
+    vec4 camera_pos;   // xyz: eye in world space
+    vec4 viewport;     // width, height, 1/width, 1/height
+    vec4 light_dir;    // xyz: unit direction from the surface towards the light; w: intensity
+    vec4 light_color;  // rgb
+    vec4 ambient;      // rgb ambient light; w: specular strength
+    vec4 splat;        // x: quad half-size in std devs (kappa); y, z: sharpness sigma_x, sigma_y;
+                       // w: global scale multiplier
+    vec4 material;     // x: shininess; yzw unused
+    vec4 visibility;   // x: depth push of the visibility pass, in splat std devs;
+                       // y: r^2 of the opaque core that writes depth there
+};
+PBDSPLAT_GPU_SIZE(FrameUniforms, 2 * 64 + 8 * 16);
+
+#ifdef __cplusplus
+} // namespace pbdsplat::gpu_types
+#endif
+#endif

@@ -1,0 +1,154 @@
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+#include "core/image.h"
+#include "render/frame_uniforms.h"
+#include "render/offscreen_renderer.h"
+#include "scene/builtin_scene.h"
+#include "support/gpu_fixture.h"
+
+using namespace pbdsplat;
+
+namespace {
+
+// Goldens are remade only by tools/update-goldens, which sets this; never automatically.
+bool updating_goldens() {
+    const char* v = std::getenv("PBDSPLAT_UPDATE_GOLDENS");
+    return v && std::string(v) == "1";
+}
+
+// The golden tolerance: per-channel difference of at most 2/255 on 99.9 % of the pixels, and a
+// PSNR of at least 45 dB. It absorbs rasteriser differences between Mesa versions.
+void check_against_golden(const core::ImageRgba8& actual, const std::string& name) {
+    const std::filesystem::path golden = std::filesystem::path(PBDSPLAT_GOLDEN_DIR) / (name + ".png");
+    const std::filesystem::path out_dir = PBDSPLAT_TEST_OUTPUT_DIR;
+    std::filesystem::create_directories(out_dir);
+    if (updating_goldens()) {
+        REQUIRE(core::write_png(golden.string(), actual).ok());
+        MESSAGE("golden rewritten: " << golden.string());
+        return;
+    }
+    auto expected = core::read_png(golden.string());
+    REQUIRE_MESSAGE(expected.ok(), expected.error().to_string() << " (make it with tools/update-goldens)");
+    auto diff = core::compare_images(actual, expected.value(), 2);
+    REQUIRE_MESSAGE(diff.ok(), diff.error().to_string());
+    const bool pass = diff->share_over <= 0.001 && diff->psnr_db >= 45.0;
+    if (!pass) {
+        const auto actual_path = out_dir / (name + ".actual.png");
+        const auto diff_path = out_dir / (name + ".diff.png");
+        CHECK(core::write_png(actual_path.string(), actual).ok());
+        CHECK(core::write_png(diff_path.string(), diff->visual).ok());
+        FAIL("image differs from " << golden.string() << ": " << diff->share_over * 100.0
+                                   << " % of pixels off by more than 2/255, PSNR " << diff->psnr_db
+                                   << " dB; actual: " << actual_path.string() << ", difference: " << diff_path.string());
+    }
+    MESSAGE(name << ": PSNR " << diff->psnr_db << " dB, " << diff->share_over * 100.0 << " % of pixels over 2/255");
+}
+
+core::ImageRgba8 render_once(gpu::Context& ctx, const std::vector<splat::GaussianRecord>& records,
+                             const render::FrameInputs& frame, uint32_t w, uint32_t h) {
+    render::RendererOptions o;
+    o.width = w;
+    o.height = h;
+    o.max_splats = std::max<uint32_t>(1, uint32_t(records.size()));
+    o.frames_in_flight = 1;
+    auto r = render::OffscreenRenderer::create(ctx, o);
+    REQUIRE_MESSAGE(r.ok(), r.error().to_string());
+    REQUIRE(r.value()->render(records, frame).ok());
+    auto img = r.value()->finish();
+    REQUIRE_MESSAGE(img.ok(), img.error().to_string());
+    return std::move(img).value();
+}
+
+bool is_background(const uint8_t* px, const Vec4f& bg) {
+    for (int c = 0; c < 3; ++c)
+        if (std::abs(int(px[c]) - int(std::lround(bg[c] * 255.0f))) > 1) return false;
+    return true;
+}
+
+} // namespace
+
+TEST_SUITE("render/splat") {
+    TEST_CASE("the built-in icosphere matches its golden image") {
+        auto ctx = test::open_validated_context();
+        const auto scene = scene::make_builtin_scene(4);
+        const auto img = render_once(*ctx, scene.records, scene.frame, 320, 240);
+        check_against_golden(img, "builtin_icosphere_320x240");
+        test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("a single splat lands where the camera projects its centre, and nowhere else") {
+        auto ctx = test::open_validated_context();
+        render::FrameInputs frame;
+        frame.camera.eye = Vec3f(0, 0, 4);
+        splat::Appearance look;
+        look.albedo = Vec3f(1, 1, 1);
+        look.scale = 0.05f;
+        const Vec3f p(0.6f, -0.3f, 0.2f);
+        const std::vector<splat::GaussianRecord> one = {splat::make_record(p, Vec3f(0, 0, 1), look)};
+        const uint32_t w = 200, h = 150;
+        const auto img = render_once(*ctx, one, frame, w, h);
+
+        const auto u = render::make_frame_uniforms(frame, w, h);
+        Mat4f view, proj;
+        std::memcpy(view.data(), u.view.m, sizeof(u.view.m));
+        std::memcpy(proj.data(), u.proj.m, sizeof(u.proj.m));
+        const Vec4f clip = proj * view * p.homogeneous();
+        const float px = (clip.x() / clip.w() * 0.5f + 0.5f) * float(w), py = (clip.y() / clip.w() * 0.5f + 0.5f) * float(h);
+        CHECK_FALSE(is_background(img.at(uint32_t(px), uint32_t(py)), frame.background));
+        // The footprint is small: pixels well away from the centre are untouched.
+        size_t lit = 0;
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x)
+                if (!is_background(img.at(x, y), frame.background)) {
+                    ++lit;
+                    CHECK(std::hypot(float(x) + 0.5f - px, float(y) + 0.5f - py) < 12.0f);
+                }
+        CHECK(lit > 10);
+        test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("no splats, or fully transparent ones, leave the background") {
+        auto ctx = test::open_validated_context();
+        render::FrameInputs frame;
+        const auto empty = render_once(*ctx, {}, frame, 64, 48);
+        splat::Appearance ghost;
+        ghost.opacity_logit = -30.0f;  // sigmoid ~ 1e-13
+        ghost.scale = 0.3f;
+        const std::vector<splat::GaussianRecord> invisible = {splat::make_record(Vec3f::Zero(), Vec3f(0, 0, 1), ghost)};
+        const auto transparent = render_once(*ctx, invisible, frame, 64, 48);
+        for (uint32_t y = 0; y < 48; ++y)
+            for (uint32_t x = 0; x < 64; ++x) {
+                CHECK(is_background(empty.at(x, y), frame.background));
+                CHECK(is_background(transparent.at(x, y), frame.background));
+            }
+        test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("additive blending accumulates where over blending occludes") {
+        auto ctx = test::open_validated_context();
+        render::FrameInputs frame;
+        frame.camera.eye = Vec3f(0, 0, 3);
+        frame.background = Vec4f(0, 0, 0, 1);
+        frame.lighting.ambient = Vec3f(1, 1, 1);
+        frame.lighting.intensity = 0.0f;
+        frame.lighting.specular = 0.0f;
+        splat::Appearance look;
+        look.albedo = Vec3f(0.3f, 0.3f, 0.3f);
+        look.scale = 0.1f;
+        std::vector<splat::GaussianRecord> stack;
+        for (int i = 0; i < 3; ++i) stack.push_back(splat::make_record(Vec3f(0, 0, -0.1f * float(i)), Vec3f(0, 0, 1), look));
+        const auto over = render_once(*ctx, stack, frame, 64, 64);
+        frame.style.blend = render::Blend::additive;
+        const auto add = render_once(*ctx, stack, frame, 64, 64);
+        const int over_centre = over.at(32, 32)[0], add_centre = add.at(32, 32)[0];
+        CHECK(over_centre == doctest::Approx(0.3 * 255 * 0.982).epsilon(0.05));  // the front splat alone
+        CHECK(add_centre > over_centre * 2);                                     // three splats summed
+        test::require_no_validation_messages(*ctx);
+    }
+}

@@ -1,0 +1,57 @@
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "splat/gaussian_record.h"
+
+using namespace pbdsplat;
+
+TEST_SUITE("splat/gaussian_record") {
+    TEST_CASE("half floats round trip within half precision") {
+        // Normal range: relative error at most 2^-11.
+        for (float f : {1.0f, -2.5f, 0.0123f, 65504.0f, 6.2e-5f}) {
+            const float back = splat::half_to_float(splat::float_to_half(f));
+            CHECK(std::abs(back - f) <= std::abs(f) * 0.000489f);
+        }
+        // Subnormal range: absolute error at most half a step (2^-25).
+        for (float f : {0.0f, 3.0e-6f, -1.0e-5f, 4.0e-8f}) {
+            const float back = splat::half_to_float(splat::float_to_half(f));
+            CHECK(std::abs(back - f) <= 2.99e-8f);
+        }
+        CHECK(std::isinf(splat::half_to_float(splat::float_to_half(1e6f))));
+        CHECK(std::isnan(splat::half_to_float(splat::float_to_half(std::numeric_limits<float>::quiet_NaN()))));
+    }
+
+    TEST_CASE("octahedral normals decode within 1e-4 radians") {
+        std::mt19937 rng(7);
+        std::normal_distribution<float> g;
+        float worst = 0.0f;
+        for (int i = 0; i < 20000; ++i) {
+            const Vec3f n = Vec3f(g(rng), g(rng), g(rng)).normalized();
+            int16_t e[2];
+            splat::encode_octahedral(n, e);
+            const Vec3f d = splat::decode_octahedral(e);
+            worst = std::max(worst, std::atan2(n.cross(d).norm(), n.dot(d)));  // acos loses precision near 0
+        }
+        MESSAGE("worst octahedral error: " << worst << " rad");
+        CHECK(worst < 1e-4f);
+    }
+
+    TEST_CASE("a record carries what the mapping put in") {
+        splat::Appearance a;
+        a.albedo = Vec3f(1.0f, 0.5f, 0.0f);
+        a.opacity_logit = 2.0f;
+        a.scale = 0.03f;
+        const auto r = splat::make_record(Vec3f(1, 2, 3), Vec3f(0, 0, -1), a, 0.5f);
+        CHECK(r.position[0] == 1.0f);
+        CHECK(r.position[2] == 3.0f);
+        CHECK(splat::decode_octahedral(r.normal_oct).z() == doctest::Approx(-1.0f));
+        CHECK(int(r.color[0]) == 255);
+        CHECK(int(r.color[1]) == 128);
+        CHECK(int(r.color[3]) == 128);
+        CHECK(splat::half_to_float(r.scale_half) == doctest::Approx(0.03f).epsilon(1e-3));
+        CHECK(splat::half_to_float(r.opacity_half) == doctest::Approx(2.0f));
+    }
+}

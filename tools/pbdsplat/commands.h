@@ -1,0 +1,17 @@
+#pragma once
+// One function per `pbdsplat <command>`; each returns the process exit code.
+#include <string>
+#include <vector>
+
+namespace pbdsplat::cli {
+
+int cmd_info(const std::vector<std::string>& args);
+int cmd_render(const std::vector<std::string>& args);
+int cmd_bench(const std::vector<std::string>& args);
+
+// Prints "pbdsplat <command>: <message>" to stderr and returns 1.
+int fail(const std::string& command, const std::string& message);
+// Same, for a malformed command line: returns 2.
+int usage_error(const std::string& command, const std::string& message);
+
+} // namespace pbdsplat::cli

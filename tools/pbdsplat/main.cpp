@@ -1,0 +1,56 @@
+// pbdsplat: soft bodies simulated with position-based dynamics, cut and torn, and rendered as
+// Gaussian splats. One program, one command per job.
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "pbdsplat/commands.h"
+
+namespace {
+
+constexpr const char* k_help =
+    "usage: pbdsplat <command> [options]\n"
+    "\n"
+    "commands:\n"
+    "  info      the Vulkan device and the features that matter (--json)\n"
+    "  render    render the built-in scene offscreen to a PNG\n"
+    "  bench     benchmarks that print figures (bench --help lists them)\n"
+    "\n"
+    "Every command takes --help. Errors go to stderr with a non-zero exit.\n";
+
+struct Command {
+    const char* name;
+    int (*run)(const std::vector<std::string>&);
+};
+constexpr Command k_commands[] = {
+    {"info", pbdsplat::cli::cmd_info},
+    {"render", pbdsplat::cli::cmd_render},
+    {"bench", pbdsplat::cli::cmd_bench},
+};
+
+} // namespace
+
+namespace pbdsplat::cli {
+int fail(const std::string& command, const std::string& message) {
+    std::fprintf(stderr, "pbdsplat %s: %s\n", command.c_str(), message.c_str());
+    return 1;
+}
+int usage_error(const std::string& command, const std::string& message) {
+    std::fprintf(stderr, "pbdsplat %s: %s\n", command.c_str(), message.c_str());
+    return 2;
+}
+} // namespace pbdsplat::cli
+
+int main(int argc, char** argv) {
+    if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0 ||
+        std::strcmp(argv[1], "help") == 0) {
+        std::fputs(k_help, argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    const std::vector<std::string> args(argv + 2, argv + argc);
+    for (const Command& c : k_commands)
+        if (std::strcmp(argv[1], c.name) == 0) return c.run(args);
+    std::fprintf(stderr, "pbdsplat: unknown command '%s' (see pbdsplat --help)\n", argv[1]);
+    return 2;
+}
