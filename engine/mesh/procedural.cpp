@@ -4,6 +4,7 @@
 #include <unordered_map>
 
 #include "core/assert.h"
+#include "mesh/repair.h"
 
 namespace pbdsplat::mesh {
 
@@ -41,9 +42,134 @@ TriangleMesh icosphere(uint32_t level, float radius) {
     return m;
 }
 
-} // namespace pbdsplat::mesh
+namespace {
 
-namespace pbdsplat::mesh {
+// Welds shared seams and fixes orientation; procedural input never fails repair.
+TriangleMesh finish(TriangleMesh m) {
+    RepairOptions o;
+    o.weld_tolerance = 1e-6f;
+    auto r = repair(std::move(m), o, "procedural mesh");
+    PBDSPLAT_ASSERT(r.ok(), "procedural meshes must survive repair");
+    return std::move(r).value().mesh;
+}
+
+// Surface of revolution about y through profile points (radius, height) from top to bottom;
+// a point with radius 0 is a pole (one vertex).
+TriangleMesh lathe(const std::vector<Vec2f>& profile, uint32_t segments) {
+    TriangleMesh m;
+    std::vector<std::vector<uint32_t>> ring_ids;
+    for (const Vec2f& p : profile) {
+        std::vector<uint32_t> ids;
+        if (p.x() <= 0.0f) {
+            ids.assign(segments, uint32_t(m.positions.size()));
+            m.positions.push_back(Vec3f(0.0f, p.y(), 0.0f));
+        } else {
+            for (uint32_t s = 0; s < segments; ++s) {
+                const float a = 2.0f * k_pi * float(s) / float(segments);
+                ids.push_back(uint32_t(m.positions.size()));
+                m.positions.push_back(Vec3f(p.x() * std::cos(a), p.y(), -p.x() * std::sin(a)));
+            }
+        }
+        ring_ids.push_back(std::move(ids));
+    }
+    for (size_t r = 0; r + 1 < ring_ids.size(); ++r)
+        for (uint32_t s = 0; s < segments; ++s) {
+            const uint32_t s1 = (s + 1) % segments;
+            const uint32_t a = ring_ids[r][s], b = ring_ids[r][s1], c = ring_ids[r + 1][s], d = ring_ids[r + 1][s1];
+            if (a != b) m.triangles.push_back({a, c, b});
+            if (c != d) m.triangles.push_back({b, c, d});
+        }
+    return finish(std::move(m));
+}
+
+} // namespace
+
+TriangleMesh uv_sphere(uint32_t rings, uint32_t segments, float radius) {
+    PBDSPLAT_ASSERT(rings >= 2 && segments >= 3, "uv_sphere: need at least 2 rings and 3 segments");
+    std::vector<Vec2f> profile;
+    for (uint32_t i = 0; i <= rings; ++i) {
+        const float t = k_pi * float(i) / float(rings);
+        profile.push_back(Vec2f(i == 0 || i == rings ? 0.0f : radius * std::sin(t), radius * std::cos(t)));
+    }
+    return lathe(profile, segments);
+}
+
+TriangleMesh capsule(float radius, float length, uint32_t rings, uint32_t segments) {
+    PBDSPLAT_ASSERT(radius > 0.0f && length >= 0.0f && rings >= 2 && segments >= 3,
+                    "capsule: need radius > 0, length >= 0, rings >= 2, segments >= 3");
+    std::vector<Vec2f> profile;
+    const float half = 0.5f * length;
+    for (uint32_t i = 0; i <= rings; ++i) {  // top hemisphere, pole to equator
+        const float t = 0.5f * k_pi * float(i) / float(rings);
+        profile.push_back(Vec2f(i == 0 ? 0.0f : radius * std::sin(t), half + radius * std::cos(t)));
+    }
+    for (uint32_t i = 0; i <= rings; ++i) {  // bottom hemisphere, equator to pole
+        const float t = 0.5f * k_pi + 0.5f * k_pi * float(i) / float(rings);
+        profile.push_back(Vec2f(i == rings ? 0.0f : radius * std::sin(t), -half + radius * std::cos(t)));
+    }
+    return lathe(profile, segments);
+}
+
+TriangleMesh torus(uint32_t segments, uint32_t sides, float major, float minor) {
+    PBDSPLAT_ASSERT(segments >= 3 && sides >= 3 && major > minor && minor > 0.0f,
+                    "torus: need 3+ segments and sides, and major > minor > 0");
+    TriangleMesh m;
+    for (uint32_t i = 0; i < segments; ++i)
+        for (uint32_t j = 0; j < sides; ++j) {
+            const float u = 2.0f * k_pi * float(i) / float(segments), v = 2.0f * k_pi * float(j) / float(sides);
+            const float r = major + minor * std::cos(v);
+            m.positions.push_back(Vec3f(r * std::cos(u), minor * std::sin(v), r * std::sin(u)));
+        }
+    auto id = [&](uint32_t i, uint32_t j) { return (i % segments) * sides + (j % sides); };
+    for (uint32_t i = 0; i < segments; ++i)
+        for (uint32_t j = 0; j < sides; ++j) {
+            m.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+            m.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+        }
+    return finish(std::move(m));
+}
+
+TriangleMesh box(const Vec3f& size, uint32_t divisions) {
+    PBDSPLAT_ASSERT(divisions >= 1 && (size.array() > 0.0f).all(), "box: need positive size and divisions >= 1");
+    TriangleMesh m;
+    const Vec3f h = 0.5f * size;
+    for (int axis = 0; axis < 3; ++axis)
+        for (float side : {-1.0f, 1.0f}) {
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            const uint32_t base = uint32_t(m.positions.size());
+            for (uint32_t i = 0; i <= divisions; ++i)
+                for (uint32_t j = 0; j <= divisions; ++j) {
+                    Vec3f p;
+                    p[axis] = side * h[axis];
+                    p[u] = -h[u] + size[u] * float(i) / float(divisions);
+                    p[v] = -h[v] + size[v] * float(j) / float(divisions);
+                    m.positions.push_back(p);
+                }
+            for (uint32_t i = 0; i < divisions; ++i)
+                for (uint32_t j = 0; j < divisions; ++j) {
+                    const uint32_t a = base + i * (divisions + 1) + j, b = a + divisions + 1;
+                    m.triangles.push_back({a, b, b + 1});
+                    m.triangles.push_back({a, b + 1, a + 1});
+                }
+        }
+    return finish(std::move(m));  // welds the shared edges; orients all faces outward
+}
+
+TriangleMesh grid_sheet(uint32_t n, float size) {
+    PBDSPLAT_ASSERT(n >= 1 && size > 0.0f, "grid_sheet: need n >= 1 and size > 0");
+    TriangleMesh m;
+    for (uint32_t i = 0; i <= n; ++i)
+        for (uint32_t j = 0; j <= n; ++j)
+            m.positions.push_back(Vec3f(-0.5f * size + size * float(j) / float(n), 0.0f, -0.5f * size + size * float(i) / float(n)));
+    for (uint32_t i = 0; i < n; ++i)
+        for (uint32_t j = 0; j < n; ++j) {
+            const uint32_t a = i * (n + 1) + j, b = a + n + 1;
+            m.triangles.push_back({a, b, a + 1});  // normal +y
+            m.triangles.push_back({a + 1, b, b + 1});
+        }
+    return m;
+}
+
 std::vector<Vec3f> fibonacci_sphere(uint32_t count, float radius) {
     std::vector<Vec3f> p(count);
     const double golden = k_pi * (3.0 - std::sqrt(5.0));
@@ -55,4 +181,5 @@ std::vector<Vec3f> fibonacci_sphere(uint32_t count, float radius) {
     }
     return p;
 }
+
 } // namespace pbdsplat::mesh

@@ -1,18 +1,33 @@
 #pragma once
-// Procedural meshes, so tests and the default scene need no file.
+// Procedural meshes, so tests, benchmarks and the default scene need no file. All are welded,
+// manifold and outward-oriented; all but the grid sheet are closed.
 #include <cstdint>
+#include <vector>
 
 #include "mesh/triangle_mesh.h"
 
 namespace pbdsplat::mesh {
 
 // Unit-radius icosphere: an icosahedron with every triangle split in four `level` times and
-// the vertices pushed onto the sphere. V = 10*4^level + 2, F = 20*4^level; closed and outward.
+// the vertices pushed onto the sphere. V = 10*4^level + 2, F = 20*4^level.
 TriangleMesh icosphere(uint32_t level, float radius = 1.0f);
 
-} // namespace pbdsplat::mesh
+// Latitude-longitude sphere: `rings` >= 2 bands from pole to pole, `segments` >= 3 around.
+TriangleMesh uv_sphere(uint32_t rings, uint32_t segments, float radius = 1.0f);
 
-namespace pbdsplat::mesh {
+// Torus around the y axis: ring radius `major`, tube radius `minor`.
+TriangleMesh torus(uint32_t segments, uint32_t sides, float major = 1.0f, float minor = 0.35f);
+
+// Axis-aligned box centred at the origin, each face split into `divisions`^2 quads.
+TriangleMesh box(const Vec3f& size, uint32_t divisions);
+
+// Capsule along y: a cylinder of `length` capped by hemispheres of `radius`.
+TriangleMesh capsule(float radius, float length, uint32_t rings, uint32_t segments);
+
+// Open square sheet in the xz plane, `n` x `n` quads, side `size`, centred at the origin.
+TriangleMesh grid_sheet(uint32_t n, float size = 1.0f);
+
 // `count` points spread evenly over a sphere (Fibonacci lattice), e.g. benchmark splat clouds.
 std::vector<Vec3f> fibonacci_sphere(uint32_t count, float radius = 1.0f);
+
 } // namespace pbdsplat::mesh

@@ -18,6 +18,17 @@ std::unordered_map<uint64_t, int> edge_uses(const TriangleMesh& mesh) {
 }
 } // namespace
 
+Bounds bounds(const TriangleMesh& mesh) {
+    Bounds b;
+    if (mesh.positions.empty()) return b;
+    b.min = b.max = mesh.positions[0];
+    for (const Vec3f& p : mesh.positions) {
+        b.min = b.min.cwiseMin(p);
+        b.max = b.max.cwiseMax(p);
+    }
+    return b;
+}
+
 std::vector<Vec3f> vertex_normals(const TriangleMesh& mesh) {
     std::vector<Vec3f> n(mesh.positions.size(), Vec3f::Zero());
     for (const Triangle& t : mesh.triangles) {

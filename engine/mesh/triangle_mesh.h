@@ -13,10 +13,23 @@ using Triangle = std::array<uint32_t, 3>;
 struct TriangleMesh {
     std::vector<Vec3f> positions;
     std::vector<Triangle> triangles;
+    // Optional per-vertex attributes: each is empty or has one entry per position.
+    std::vector<Vec3f> normals;
+    std::vector<Vec2f> uvs;
+    std::vector<Vec3f> colors;  // linear rgb in [0, 1]
 
     size_t vertex_count() const { return positions.size(); }
     size_t triangle_count() const { return triangles.size(); }
 };
+
+// Axis-aligned bounds; both zero for an empty mesh.
+struct Bounds {
+    Vec3f min = Vec3f::Zero();
+    Vec3f max = Vec3f::Zero();
+    Vec3f center() const { return 0.5f * (min + max); }
+    float diagonal() const { return (max - min).norm(); }
+};
+Bounds bounds(const TriangleMesh& mesh);
 
 // Area-weighted vertex normals (unit length; zero for a vertex no triangle uses).
 std::vector<Vec3f> vertex_normals(const TriangleMesh& mesh);

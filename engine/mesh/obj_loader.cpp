@@ -1,0 +1,186 @@
+#include "mesh/obj_loader.h"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string_view>
+#include <vector>
+
+#include <tiny_obj_loader.h>
+
+namespace pbdsplat::mesh {
+namespace {
+
+std::vector<std::string_view> split_ws(std::string_view line) {
+    std::vector<std::string_view> out;
+    size_t i = 0;
+    while (i < line.size()) {
+        while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+        const size_t start = i;
+        while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
+        if (i > start) out.push_back(line.substr(start, i - start));
+    }
+    return out;
+}
+
+bool parse_float(std::string_view s, float& out) {
+    // from_chars for float is in libstdc++ 11+, and rejects what strtof would half-accept.
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+    return ec == std::errc() && end == s.data() + s.size();
+}
+
+bool parse_int(std::string_view s, long& out) {
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+    return ec == std::errc() && end == s.data() + s.size();
+}
+
+// What the line-by-line check learns about the file.
+struct ObjFacts {
+    size_t positions = 0, normals = 0, uvs = 0, faces = 0;
+    bool colors = false;
+};
+
+// Checks every v/vn/vt/f line: numbers that parse and are finite, enough of them, face indices
+// that refer to elements defined before the face (OBJ allows nothing else).
+core::Result<ObjFacts> check_obj(const std::string& text, const std::string& name) {
+    ObjFacts f;
+    size_t colored = 0;
+    std::istringstream in(text);
+    std::string raw;
+    int line_no = 0;
+    auto err = [&](const std::string& what) { return core::make_error(name, line_no, what); };
+    while (std::getline(in, raw)) {
+        ++line_no;
+        const std::string_view line(raw);
+        const size_t hash = line.find('#');
+        const auto tok = split_ws(hash == std::string_view::npos ? line : line.substr(0, hash));
+        if (tok.empty()) continue;
+        const std::string_view kw = tok[0];
+        auto numbers = [&](size_t min, size_t max, const char* what) -> core::Status {
+            if (tok.size() - 1 < min || tok.size() - 1 > max) {
+                std::string range = std::to_string(min);
+                if (min != max) range.append(" to ").append(std::to_string(max));
+                return err(std::string(what) + " needs " + range + " numbers, found " + std::to_string(tok.size() - 1));
+            }
+            for (size_t i = 1; i < tok.size(); ++i) {
+                float v = 0.0f;
+                if (!parse_float(tok[i], v)) return err("'" + std::string(tok[i]) + "' is not a number");
+                if (!std::isfinite(v)) return err(std::string(what) + " has a non-finite value '" + std::string(tok[i]) + "'");
+            }
+            return core::Status::success();
+        };
+        if (kw == "v") {
+            PBDSPLAT_TRY(numbers(3, 7, "vertex 'v'"));
+            if (tok.size() == 7 || tok.size() == 8) ++colored;
+            ++f.positions;
+        } else if (kw == "vn") {
+            PBDSPLAT_TRY(numbers(3, 3, "normal 'vn'"));
+            ++f.normals;
+        } else if (kw == "vt") {
+            PBDSPLAT_TRY(numbers(1, 3, "texture coordinate 'vt'"));
+            ++f.uvs;
+        } else if (kw == "f") {
+            if (tok.size() < 4) return err("face 'f' needs at least 3 vertices, found " + std::to_string(tok.size() - 1));
+            for (size_t i = 1; i < tok.size(); ++i) {
+                // v, v/vt, v//vn or v/vt/vn
+                const std::string_view corner = tok[i];
+                size_t part = 0, start = 0;
+                for (size_t k = 0; k <= corner.size(); ++k) {
+                    if (k < corner.size() && corner[k] != '/') continue;
+                    const std::string_view field = corner.substr(start, k - start);
+                    start = k + 1;
+                    const size_t count = part == 0 ? f.positions : part == 1 ? f.uvs : f.normals;
+                    const char* what = part == 0 ? "vertex" : part == 1 ? "texture coordinate" : "normal";
+                    ++part;
+                    if (field.empty()) {
+                        if (part == 1) return err("face corner '" + std::string(corner) + "' has no vertex index");
+                        continue;
+                    }
+                    if (part > 3) return err("face corner '" + std::string(corner) + "' has more than three indices");
+                    long idx = 0;
+                    if (!parse_int(field, idx)) return err("face index '" + std::string(field) + "' is not an integer");
+                    if (idx == 0) return err("face index 0 is invalid (OBJ indices start at 1)");
+                    const long resolved = idx > 0 ? idx : long(count) + idx + 1;
+                    if (resolved < 1 || resolved > long(count))
+                        return err("face refers to " + std::string(what) + " " + std::to_string(idx) + ", but only " +
+                                   std::to_string(count) + " are defined above this line");
+                }
+            }
+            ++f.faces;
+        }
+        // Other statements (o, g, s, usemtl, mtllib, l, p, ...) do not affect the surface.
+    }
+    line_no = 0;
+    if (f.positions == 0) return err("no vertices ('v' lines)");
+    if (f.faces == 0) return err("no faces ('f' lines): nothing to simulate or render");
+    if (colored != 0 && colored != f.positions)
+        return err("vertex colours on " + std::to_string(colored) + " of " + std::to_string(f.positions) +
+                   " vertices: give every 'v' line a colour, or none");
+    f.colors = colored == f.positions;
+    return f;
+}
+
+} // namespace
+
+core::Result<TriangleMesh> parse_obj(const std::string& text, const std::string& name) {
+    auto facts = check_obj(text, name);
+    if (!facts.ok()) return facts.error();
+
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = facts->colors;
+    tinyobj::ObjReader reader;
+    if (!reader.ParseFromString(text, "", config))
+        return core::make_error(name, 0, "tinyobjloader refused the file: " + reader.Error());
+    const tinyobj::attrib_t& a = reader.GetAttrib();
+
+    TriangleMesh m;
+    const size_t n = a.vertices.size() / 3;
+    m.positions.resize(n);
+    for (size_t i = 0; i < n; ++i) m.positions[i] = Vec3f(a.vertices[3 * i], a.vertices[3 * i + 1], a.vertices[3 * i + 2]);
+    if (facts->colors && a.colors.size() == a.vertices.size()) {
+        m.colors.resize(n);
+        for (size_t i = 0; i < n; ++i) m.colors[i] = Vec3f(a.colors[3 * i], a.colors[3 * i + 1], a.colors[3 * i + 2]);
+    }
+    const bool has_normals = !a.normals.empty(), has_uvs = !a.texcoords.empty();
+    std::vector<bool> normal_set(n, false), uv_set(n, false);
+    if (has_normals) m.normals.assign(n, Vec3f::Zero());
+    if (has_uvs) m.uvs.assign(n, Vec2f::Zero());
+    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+        const auto& idx = shape.mesh.indices;
+        size_t offset = 0;
+        for (const unsigned char fv : shape.mesh.num_face_vertices) {
+            if (fv != 3) return core::make_error(name, 0, "a face did not triangulate (" + std::to_string(fv) + " corners)");
+            Triangle t{};
+            for (size_t k = 0; k < 3; ++k) {
+                const tinyobj::index_t c = idx[offset + k];
+                t[k] = uint32_t(c.vertex_index);
+                if (has_normals && c.normal_index >= 0 && !normal_set[t[k]]) {
+                    const size_t q = size_t(c.normal_index) * 3;
+                    m.normals[t[k]] = Vec3f(a.normals[q], a.normals[q + 1], a.normals[q + 2]);
+                    normal_set[t[k]] = true;
+                }
+                if (has_uvs && c.texcoord_index >= 0 && !uv_set[t[k]]) {
+                    const size_t q = size_t(c.texcoord_index) * 2;
+                    m.uvs[t[k]] = Vec2f(a.texcoords[q], a.texcoords[q + 1]);
+                    uv_set[t[k]] = true;
+                }
+            }
+            m.triangles.push_back(t);
+            offset += 3;
+        }
+    }
+    return m;
+}
+
+core::Result<TriangleMesh> load_obj(const std::string& path) {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) return core::make_error(path, 0, "cannot open the file (does it exist and is it readable?)");
+    std::ostringstream text;
+    text << file.rdbuf();
+    if (file.bad()) return core::make_error(path, 0, "read error");
+    return parse_obj(text.str(), path);
+}
+
+} // namespace pbdsplat::mesh

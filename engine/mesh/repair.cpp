@@ -1,0 +1,304 @@
+#include "mesh/repair.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "mesh/topology.h"
+
+namespace pbdsplat::mesh {
+namespace {
+
+uint64_t edge_key(uint32_t a, uint32_t b) { return (uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
+
+// Keeps the per-vertex attributes in step with a vertex remapping.
+template <class T>
+void remap_attribute(std::vector<T>& attr, const std::vector<uint32_t>& source_of_new) {
+    if (attr.empty()) return;
+    std::vector<T> out(source_of_new.size());
+    for (size_t i = 0; i < out.size(); ++i) out[i] = attr[source_of_new[i]];
+    attr = std::move(out);
+}
+void remap_vertices(TriangleMesh& m, const std::vector<uint32_t>& source_of_new) {
+    remap_attribute(m.positions, source_of_new);
+    remap_attribute(m.normals, source_of_new);
+    remap_attribute(m.uvs, source_of_new);
+    remap_attribute(m.colors, source_of_new);
+}
+
+// Welds vertices within `tol` of one another, keeping the first of each cluster.
+size_t weld(TriangleMesh& m, float tol) {
+    if (tol <= 0.0f) return 0;
+    struct CellHash {
+        size_t operator()(const Eigen::Vector3i& c) const {
+            return size_t(c.x()) * 73856093u ^ size_t(c.y()) * 19349663u ^ size_t(c.z()) * 83492791u;
+        }
+    };
+    struct CellEq {
+        bool operator()(const Eigen::Vector3i& a, const Eigen::Vector3i& b) const { return a == b; }
+    };
+    std::unordered_map<Eigen::Vector3i, std::vector<uint32_t>, CellHash, CellEq> grid;
+    grid.reserve(m.positions.size());
+    std::vector<uint32_t> rep(m.positions.size());
+    std::vector<uint32_t> kept;  // representatives, in order
+    const float tol2 = tol * tol;
+    for (uint32_t i = 0; i < m.positions.size(); ++i) {
+        const Vec3f& p = m.positions[i];
+        const Eigen::Vector3i cell = (p / tol).array().floor().cast<int>();
+        uint32_t found = UINT32_MAX;
+        for (int dz = -1; dz <= 1 && found == UINT32_MAX; ++dz)
+            for (int dy = -1; dy <= 1 && found == UINT32_MAX; ++dy)
+                for (int dx = -1; dx <= 1 && found == UINT32_MAX; ++dx) {
+                    auto it = grid.find(cell + Eigen::Vector3i(dx, dy, dz));
+                    if (it == grid.end()) continue;
+                    for (uint32_t r : it->second)
+                        if ((m.positions[kept[r]] - p).squaredNorm() <= tol2) {
+                            found = r;
+                            break;
+                        }
+                }
+        if (found == UINT32_MAX) {
+            found = uint32_t(kept.size());
+            kept.push_back(i);
+            grid[cell].push_back(found);
+        }
+        rep[i] = found;
+    }
+    for (Triangle& t : m.triangles)
+        for (uint32_t& v : t) v = rep[v];
+    const size_t merged = m.positions.size() - kept.size();
+    remap_vertices(m, kept);
+    return merged;
+}
+
+// Drops unreferenced vertices, keeping the order of the rest.
+size_t drop_unreferenced(TriangleMesh& m) {
+    std::vector<uint32_t> new_index(m.positions.size(), UINT32_MAX), source;
+    for (const Triangle& t : m.triangles)
+        for (uint32_t v : t) new_index[v] = 0;
+    for (uint32_t i = 0; i < new_index.size(); ++i)
+        if (new_index[i] == 0) new_index[i] = uint32_t(source.size()), source.push_back(i);
+    for (Triangle& t : m.triangles)
+        for (uint32_t& v : t) v = new_index[v];
+    const size_t dropped = m.positions.size() - source.size();
+    remap_vertices(m, source);
+    return dropped;
+}
+
+double signed_volume_of(const TriangleMesh& m, const std::vector<uint32_t>& faces, bool with_caps) {
+    double v = 0.0;
+    auto tri = [&](const Vec3d& a, const Vec3d& b, const Vec3d& c) { v += a.dot((b - a).cross(c - a)); };
+    for (uint32_t f : faces) {
+        const Triangle& t = m.triangles[f];
+        tri(m.positions[t[0]].cast<double>(), m.positions[t[1]].cast<double>(), m.positions[t[2]].cast<double>());
+    }
+    if (with_caps) {
+        TriangleMesh part;
+        part.positions = m.positions;
+        for (uint32_t f : faces) part.triangles.push_back(m.triangles[f]);
+        for (const auto& loop : boundary_loops(part)) {
+            Vec3d c = Vec3d::Zero();
+            for (uint32_t q : loop) c += m.positions[q].cast<double>();
+            c /= double(loop.size());
+            for (size_t i = 0; i < loop.size(); ++i)
+                tri(m.positions[loop[i]].cast<double>(), m.positions[loop[(i + 1) % loop.size()]].cast<double>(), c);
+        }
+    }
+    return v / 6.0;
+}
+
+} // namespace
+
+std::string RepairReport::summary() const {
+    return std::to_string(input_vertices) + " vertices / " + std::to_string(input_triangles) + " triangles in, " +
+           std::to_string(output_vertices) + " / " + std::to_string(output_triangles) + " out; welded " +
+           std::to_string(welded_vertices) + ", unreferenced " + std::to_string(unreferenced_vertices) +
+           ", degenerate " + std::to_string(degenerate_triangles) + ", duplicate " + std::to_string(duplicate_triangles) +
+           ", non-manifold edges " + std::to_string(nonmanifold_edges) + ", split vertices " +
+           std::to_string(split_vertices) + ", flipped " + std::to_string(flipped_triangles) + "; " +
+           std::to_string(components) + " component(s), " + std::to_string(closed_components) + " closed, " +
+           std::to_string(boundary_loops) + " boundary loop(s), " + std::to_string(boundary_edges) + " boundary edges";
+}
+
+core::Result<RepairedMesh> repair(TriangleMesh m, const RepairOptions& options, const std::string& name) {
+    RepairReport r;
+    r.input_vertices = m.positions.size();
+    r.input_triangles = m.triangles.size();
+    if (m.triangles.empty()) return core::make_error(name, 0, "the mesh has no triangles");
+    for (size_t i = 0; i < m.positions.size(); ++i)
+        if (!m.positions[i].allFinite())
+            return core::make_error(name, 0, "vertex " + std::to_string(i + 1) + " has a non-finite coordinate");
+    for (const Triangle& t : m.triangles)
+        for (uint32_t v : t)
+            if (v >= m.positions.size())
+                return core::make_error(name, 0, "a triangle refers to vertex " + std::to_string(v + 1) + " of " +
+                                                     std::to_string(m.positions.size()));
+
+    // Only vertices that triangles use define the scale (the bunny has stray ones).
+    r.unreferenced_vertices = drop_unreferenced(m);
+    const float diag = bounds(m).diagonal();
+    if (!(diag > 0.0f)) return core::make_error(name, 0, "all vertices coincide: the mesh has no extent");
+    r.welded_vertices = weld(m, options.weld_tolerance * diag);
+
+    // Degenerate and duplicate triangles.
+    const double min_area2 = double(diag) * diag * 1e-14;  // (twice the area)^2 below this is zero
+    std::unordered_set<uint64_t> seen;  // sorted corner triple, hashed exactly below
+    std::vector<Triangle> kept;
+    kept.reserve(m.triangles.size());
+    std::unordered_map<uint64_t, std::vector<std::array<uint32_t, 3>>> by_hash;
+    for (const Triangle& t : m.triangles) {
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) { ++r.degenerate_triangles; continue; }
+        const Vec3d a = m.positions[t[0]].cast<double>();
+        const double area2 = (m.positions[t[1]].cast<double>() - a).cross(m.positions[t[2]].cast<double>() - a).squaredNorm();
+        if (area2 <= min_area2) { ++r.degenerate_triangles; continue; }
+        std::array<uint32_t, 3> s = t;
+        std::sort(s.begin(), s.end());
+        const uint64_t h = (uint64_t(s[0]) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(s[1]) << 21) ^ (uint64_t(s[2]) << 42);
+        auto& bucket = by_hash[h];
+        if (std::find(bucket.begin(), bucket.end(), s) != bucket.end()) { ++r.duplicate_triangles; continue; }
+        bucket.push_back(s);
+        kept.push_back(t);
+    }
+    m.triangles = std::move(kept);
+    if (m.triangles.empty())
+        return core::make_error(name, 0, "all " + std::to_string(r.input_triangles) +
+                                             " triangles are degenerate (repeated corners or zero area)");
+
+    // Face adjacency: an edge joins at most two triangles; a third and beyond are cut loose.
+    const uint32_t nf = uint32_t(m.triangles.size());
+    std::unordered_map<uint64_t, std::vector<uint32_t>> faces_of_edge;
+    faces_of_edge.reserve(size_t(nf) * 2);
+    for (uint32_t f = 0; f < nf; ++f)
+        for (int k = 0; k < 3; ++k)
+            faces_of_edge[edge_key(m.triangles[f][size_t(k)], m.triangles[f][size_t((k + 1) % 3)])].push_back(f);
+    std::unordered_map<uint64_t, std::array<uint32_t, 2>> adjacent;  // edge -> the two faces joined
+    for (auto& [key, faces] : faces_of_edge) {
+        if (faces.size() > 2) ++r.nonmanifold_edges;
+        if (faces.size() >= 2) adjacent[key] = {faces[0], faces[1]};
+    }
+    auto has_directed = [&](uint32_t f, uint32_t a, uint32_t b) {
+        const Triangle& t = m.triangles[f];
+        for (int k = 0; k < 3; ++k)
+            if (t[size_t(k)] == a && t[size_t((k + 1) % 3)] == b) return true;
+        return false;
+    };
+
+    // Consistent orientation by breadth-first search over adjacent faces. Where a neighbour
+    // cannot be made consistent (a non-orientable strip), the join is cut instead.
+    std::vector<int8_t> flip(nf, -1);
+    std::vector<std::vector<std::pair<uint32_t, uint64_t>>> neighbours(nf);
+    for (const auto& [key, pair] : adjacent) {
+        neighbours[pair[0]].push_back({pair[1], key});
+        neighbours[pair[1]].push_back({pair[0], key});
+    }
+    for (auto& n : neighbours) std::sort(n.begin(), n.end());  // deterministic walk
+    std::vector<uint32_t> queue;
+    for (uint32_t seed = 0; seed < nf; ++seed) {
+        if (flip[seed] != -1) continue;
+        flip[seed] = 0;
+        queue.assign(1, seed);
+        for (size_t q = 0; q < queue.size(); ++q) {
+            const uint32_t f = queue[q];
+            for (const auto& [g, key] : neighbours[f]) {
+                const uint32_t a = uint32_t(key >> 32), b = uint32_t(key & 0xffffffffu);
+                // f (as oriented) runs a->b or b->a; g must run the other way.
+                const bool f_ab = has_directed(f, a, b) != bool(flip[f]);
+                const bool g_ab_raw = has_directed(g, a, b);
+                const int8_t want = int8_t(g_ab_raw == f_ab ? 1 : 0);
+                if (flip[g] == -1) {
+                    flip[g] = want;
+                    queue.push_back(g);
+                } else if (flip[g] != want) {
+                    adjacent.erase(key);  // non-orientable: cut here
+                }
+            }
+        }
+    }
+    for (uint32_t f = 0; f < nf; ++f)
+        if (flip[f] == 1) std::swap(m.triangles[f][1], m.triangles[f][2]), ++r.flipped_triangles;
+
+    // Split vertices whose triangles form several fans (bow-ties, and the ends of cut edges).
+    // Decided on the unsplit triangles first, applied after, so every lookup sees original ids.
+    {
+        std::vector<std::vector<uint32_t>> faces_at(m.positions.size());
+        for (uint32_t f = 0; f < nf; ++f)
+            for (uint32_t v : m.triangles[f]) faces_at[v].push_back(f);
+        std::vector<uint32_t> source(m.positions.size());
+        std::iota(source.begin(), source.end(), 0u);
+        std::vector<Triangle> split = m.triangles;
+        std::unordered_map<uint32_t, uint32_t> parent, copy_of_root;
+        for (uint32_t v = 0; v < faces_at.size(); ++v) {
+            const auto& fan = faces_at[v];
+            if (fan.size() <= 1) continue;
+            // Union the faces around v that are joined through an edge incident to v.
+            parent.clear();
+            for (uint32_t f : fan) parent[f] = f;
+            auto find = [&](uint32_t x) {
+                while (parent[x] != x) x = parent[x] = parent[parent[x]];
+                return x;
+            };
+            for (uint32_t f : fan)
+                for (uint32_t w : m.triangles[f]) {
+                    if (w == v) continue;
+                    auto it = adjacent.find(edge_key(v, w));
+                    if (it == adjacent.end()) continue;
+                    const auto [g0, g1] = it->second;
+                    if (parent.count(g0) && parent.count(g1)) parent[find(g0)] = find(g1);
+                }
+            copy_of_root.clear();
+            for (uint32_t f : fan) {  // the fan of the first face keeps v
+                auto [it, inserted] = copy_of_root.try_emplace(find(f), v);
+                if (inserted && copy_of_root.size() > 1) {
+                    it->second = uint32_t(source.size());
+                    source.push_back(v);
+                    ++r.split_vertices;
+                }
+                for (int k = 0; k < 3; ++k)
+                    if (m.triangles[f][size_t(k)] == v) split[f][size_t(k)] = it->second;
+            }
+        }
+        m.triangles = std::move(split);
+        remap_vertices(m, source);
+    }
+
+    // Outward orientation per component: positive (capped) volume.
+    std::vector<uint32_t> comp;
+    const uint32_t nc = triangle_components(m, comp);
+    std::vector<std::vector<uint32_t>> faces_of(nc);
+    for (uint32_t f = 0; f < nf; ++f) faces_of[comp[f]].push_back(f);
+    for (const auto& faces : faces_of)
+        if (signed_volume_of(m, faces, true) < 0.0) {
+            for (uint32_t f : faces) std::swap(m.triangles[f][1], m.triangles[f][2]);
+            r.flipped_triangles += faces.size();
+        }
+
+    // Centre and scale.
+    const Bounds b = bounds(m);
+    const Vec3f shift = options.center ? Vec3f(-b.center()) : Vec3f::Zero();
+    float s = options.scale;
+    if (options.fit_diagonal > 0.0f) s *= options.fit_diagonal / b.diagonal();
+    if (!(s > 0.0f) || !std::isfinite(s)) return core::make_error(name, 0, "the scale must be a positive number");
+    for (Vec3f& p : m.positions) p = (p + shift) * s;
+
+    // What is left: components, closedness, boundary.
+    r.components = nc;
+    std::vector<size_t> boundary_in(nc, 0);
+    {
+        std::unordered_map<uint64_t, uint32_t> uses;
+        for (const Triangle& t : m.triangles)
+            for (int k = 0; k < 3; ++k) ++uses[edge_key(t[size_t(k)], t[size_t((k + 1) % 3)])];
+        for (uint32_t f = 0; f < nf; ++f)
+            for (int k = 0; k < 3; ++k)
+                if (uses[edge_key(m.triangles[f][size_t(k)], m.triangles[f][size_t((k + 1) % 3)])] == 1)
+                    ++boundary_in[comp[f]], ++r.boundary_edges;
+    }
+    r.closed_components = size_t(std::count(boundary_in.begin(), boundary_in.end(), size_t(0)));
+    r.boundary_loops = boundary_loops(m).size();
+    r.output_vertices = m.positions.size();
+    r.output_triangles = m.triangles.size();
+    return RepairedMesh{std::move(m), r};
+}
+
+} // namespace pbdsplat::mesh

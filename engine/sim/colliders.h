@@ -1,0 +1,35 @@
+#pragma once
+// Static collision shapes of a scene. Particles are pushed out along the surface normal;
+// friction removes tangential motion in proportion to the penetration depth.
+#include <optional>
+#include <vector>
+
+#include "core/math.h"
+
+namespace pbdsplat::sim {
+
+struct GroundPlane {
+    Vec3f normal{0.0f, 1.0f, 0.0f};  // unit, pointing into free space
+    float offset = 0.0f;             // plane: dot(normal, x) = offset
+};
+
+struct SphereCollider {
+    Vec3f center = Vec3f::Zero();
+    float radius = 1.0f;
+};
+
+struct BoxCollider {
+    Vec3f center = Vec3f::Zero();
+    Vec3f half_extents = Vec3f::Constant(0.5f);
+    Quatf rotation = Quatf::Identity();
+};
+
+struct Colliders {
+    std::optional<GroundPlane> ground;
+    std::vector<SphereCollider> spheres;
+    std::vector<BoxCollider> boxes;
+    float friction = 0.4f;  // Coulomb-like coefficient
+    bool empty() const { return !ground && spheres.empty() && boxes.empty(); }
+};
+
+} // namespace pbdsplat::sim

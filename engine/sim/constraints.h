@@ -1,0 +1,40 @@
+#pragma once
+// Constraint data. Definitions never change after creation, except their particle indices (the
+// topology stage re-points them when a cut duplicates vertices).
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/math.h"
+
+namespace pbdsplat::sim {
+
+// ||x_i - x_j|| - rest = 0 (paper eq. 6).
+struct DistanceConstraint {
+    uint32_t i, j;
+    float rest;
+    float compliance;  // XPBD compliance (inverse stiffness, m/N); PBD mode uses the global stiffness
+};
+static_assert(sizeof(DistanceConstraint) == 16, "four distance constraints per cache line");
+
+// V - k*V0 = 0 over one closed (or virtually capped) component (paper eqs. 7 and 9).
+struct VolumeConstraint {
+    std::vector<std::array<uint32_t, 3>> triangles;  // the component's triangles, outward
+    // Boundary loops closed by virtual fans to their centroid, in the volume sum only, so the
+    // volume of an open component does not depend on where the origin is.
+    std::vector<std::vector<uint32_t>> cap_loops;
+    double rest_volume = 0.0;  // V0, measured at creation
+    float pressure = 1.0f;     // k: target volume k * V0 (deflate < 1 < inflate)
+    float compliance = 0.0f;   // XPBD
+    float lambda = 0.0f;       // XPBD multiplier, reset every substep
+};
+
+// Pulls one particle toward a moving target: the mouse drag of the interactive demo.
+struct DragConstraint {
+    uint32_t particle = 0;
+    Vec3f target = Vec3f::Zero();
+    float stiffness = 0.5f;  // fraction of the gap closed per iteration, in (0, 1]
+    bool active = false;
+};
+
+} // namespace pbdsplat::sim

@@ -1,0 +1,83 @@
+#include "sim/soft_body.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mesh/reorder.h"
+#include "mesh/topology.h"
+#include "sim/integrate.h"
+#include "sim/volume.h"
+
+namespace pbdsplat::sim {
+
+double SoftBody::volume(size_t constraint) const { return constraint_volume(volumes[constraint], particles.x); }
+
+uint32_t SoftBody::extreme_particle(int axis, bool largest) const {
+    uint32_t best = 0;
+    for (uint32_t i = 1; i < particles.size(); ++i) {
+        const float a = particles.x[i][axis], b = particles.x[best][axis];
+        if (largest ? a > b : a < b) best = i;
+    }
+    return best;
+}
+
+core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& desc) {
+    if (m.triangles.empty()) return core::make_error("a soft body needs at least one triangle");
+    if (!(desc.total_mass > 0.0f) || !std::isfinite(desc.total_mass)) return core::make_error("total mass must be positive");
+    if (!(desc.pressure > 0.0f) || !std::isfinite(desc.pressure)) return core::make_error("pressure factor must be positive");
+    if (desc.reorder) mesh::reorder_for_locality(m);
+
+    SoftBody b;
+    const size_t n = m.positions.size();
+    b.particles.resize(n);
+    for (size_t i = 0; i < n; ++i) b.particles.x[i] = b.particles.x_prev[i] = to4(m.positions[i]);
+    b.rest_positions = m.positions;
+    b.triangles = m.triangles;
+
+    // Masses: lumped from a third of each incident triangle's area, or uniform.
+    std::vector<double> mass(n, 0.0);
+    if (desc.mass_mode == MassMode::area) {
+        for (const auto& t : m.triangles) {
+            const double area = 0.5 * double((m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]).norm());
+            for (uint32_t v : t) mass[v] += area / 3.0;
+        }
+    } else {
+        std::fill(mass.begin(), mass.end(), 1.0);
+    }
+    double total = 0.0;
+    for (double x : mass) total += x;
+    if (!(total > 0.0)) return core::make_error("the mesh has no area to spread the mass over");
+    for (size_t i = 0; i < n; ++i) {
+        // A vertex with (almost) no area still gets a sane mass: at least 1 % of the average.
+        const double mi = std::max(mass[i], 0.01 * total / double(n)) * double(desc.total_mass) / total;
+        b.particles.w[i] = float(1.0 / mi);
+    }
+
+    for (const mesh::Edge& e : mesh::unique_edges(m)) {
+        const float rest = (m.positions[e.a] - m.positions[e.b]).norm();
+        b.distance.push_back({e.a, e.b, rest, desc.stretch_compliance});
+    }
+    b.distance_lambda.assign(b.distance.size(), 0.0f);
+
+    if (desc.volume) {
+        std::vector<uint32_t> comp;
+        const uint32_t nc = mesh::triangle_components(m, comp);
+        b.volumes.resize(nc);
+        for (size_t f = 0; f < m.triangles.size(); ++f) b.volumes[comp[f]].triangles.push_back(m.triangles[f]);
+        std::vector<uint32_t> comp_of_vertex(n, UINT32_MAX);
+        for (size_t f = 0; f < m.triangles.size(); ++f)
+            for (uint32_t v : m.triangles[f]) comp_of_vertex[v] = comp[f];
+        for (auto& loop : mesh::boundary_loops(m)) b.volumes[comp_of_vertex[loop[0]]].cap_loops.push_back(std::move(loop));
+        for (VolumeConstraint& v : b.volumes) {
+            v.pressure = desc.pressure;
+            v.compliance = desc.volume_compliance;
+            v.rest_volume = constraint_volume(v, b.particles.x);
+        }
+        // A flat or inside-out component has no volume to keep: it gets no constraint.
+        std::erase_if(b.volumes, [](const VolumeConstraint& v) { return !(v.rest_volume > 0.0); });
+    }
+    update_normals(b.triangles, b.particles.x, b.normals);
+    return b;
+}
+
+} // namespace pbdsplat::sim

@@ -1,0 +1,50 @@
+#pragma once
+// One frame of Stage A, in the paper's order (section 5.2): external forces, prediction,
+// I iterations of [distance constraints, overpressure constraint] (+ collisions and drag),
+// velocities from positions, normals. Each stage is its own function over compact arrays.
+#include <cstdint>
+
+#include "sim/colliders.h"
+#include "sim/constraints.h"
+#include "sim/soft_body.h"
+
+namespace pbdsplat::sim {
+
+enum class SolverMode {
+    paper,  // PBD, stiffness in (0,1] corrected for the iteration count
+    xpbd,   // compliance-based, iteration-count independent stiffness
+};
+
+struct SolverSettings {
+    SolverMode mode = SolverMode::paper;
+    uint32_t iterations = 5;  // I
+    uint32_t substeps = 1;    // S: each frame is S steps of dt / S
+    Vec3f gravity{0.0f, -9.81f, 0.0f};
+    float damping = 0.0f;             // velocity decay rate, 1/s
+    float stretch_stiffness = 1.0f;   // PBD, per frame's worth of iterations
+    float volume_stiffness = 1.0f;    // PBD
+    bool volume = true;               // project the body's volume constraints
+};
+
+// Milliseconds per stage of the last step, named as in the paper's Tables 3 and 4.
+struct StageTimings {
+    double apply_forces = 0.0;       // external forces and prediction
+    double constraints = 0.0;        // distance, volume, collisions, drag
+    double integrate_normals = 0.0;  // velocities and normals
+    double total() const { return apply_forces + constraints + integrate_normals; }
+};
+
+// Validates the settings: a clear reason for an impossible value (I = 0, NaN gravity, ...).
+core::Status validate(const SolverSettings& s);
+
+class Solver {
+public:
+    // Advances `body` by `dt` seconds (one frame). `drag` may be inactive.
+    StageTimings step(SoftBody& body, float dt, const SolverSettings& settings, const Colliders& colliders,
+                      const DragConstraint& drag);
+
+private:
+    Vec4Array scratch_;  // volume gradients
+};
+
+} // namespace pbdsplat::sim

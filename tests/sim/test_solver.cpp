@@ -1,0 +1,188 @@
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <random>
+
+#include "mesh/model_path.h"
+#include "mesh/obj_loader.h"
+#include "mesh/repair.h"
+#include "sim/drag.h"
+#include "sim/state_hash.h"
+#include "sim_fixtures.h"
+
+using namespace pbdsplat;
+
+TEST_SUITE("sim/solver") {
+    TEST_CASE("linear momentum is conserved without external forces or pins") {
+        for (sim::SolverMode mode : {sim::SolverMode::paper, sim::SolverMode::xpbd}) {
+            auto b = test::make_body(mesh::icosphere(3));
+            std::mt19937 rng(3);
+            std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+            for (auto& v : b.particles.v) v = Vec4f(u(rng), u(rng), u(rng), 0.0f);
+            const Vec3d before = b.particles.linear_momentum();
+            sim::SolverSettings s;
+            s.mode = mode;
+            s.gravity = Vec3f::Zero();
+            test::run(b, 60, 1.0f / 60.0f, s);
+            const Vec3d after = b.particles.linear_momentum();
+            CHECK((after - before).norm() < 1e-4 * (1.0 + before.norm()));
+        }
+    }
+
+    TEST_CASE("a pressurised icosphere resting on the ground keeps its volume within 1 % (paper mode)") {
+        auto b = test::make_body(mesh::icosphere(3));
+        sim::Colliders c;
+        c.ground = sim::GroundPlane{Vec3f(0, 1, 0), -1.05f};
+        sim::SolverSettings s;  // paper: PBD, I = 5, one step per frame
+        test::run(b, 240, 1.0f / 60.0f, s, c);
+        REQUIRE(test::all_finite(b));
+        const double ratio = b.volume(0) / b.volumes[0].rest_volume;
+        MESSAGE("volume after 4 s on the ground: " << ratio << " V0");
+        CHECK(std::abs(ratio - 1.0) < 0.01);
+        // It rests on the ground rather than falling through.
+        float lowest = 1e9f;
+        for (const auto& x : b.particles.x) lowest = std::min(lowest, x.y());
+        CHECK(lowest > -1.06f);
+        CHECK(lowest < -1.0f);
+    }
+
+    TEST_CASE("deflating and re-inflating follows the pressure factor") {
+        auto b = test::make_body(mesh::icosphere(3));
+        sim::SolverSettings s;
+        s.gravity = Vec3f::Zero();
+        b.volumes[0].pressure = 0.6f;
+        test::run(b, 120, 1.0f / 60.0f, s);
+        CHECK(b.volume(0) / b.volumes[0].rest_volume == doctest::Approx(0.6).epsilon(0.02));
+        b.volumes[0].pressure = 1.0f;
+        test::run(b, 120, 1.0f / 60.0f, s);
+        CHECK(b.volume(0) / b.volumes[0].rest_volume == doctest::Approx(1.0).epsilon(0.01));
+    }
+
+    TEST_CASE("XPBD stretch of a hanging chain hardly depends on the iteration count") {
+        // 20 links of 5 cm, 10 g each, compliance 2e-3 m/N, top pinned, 2 s, 8 substeps.
+        auto chain_length = [](uint32_t iterations) {
+            sim::SoftBody b;
+            const int n = 21;
+            b.particles.resize(n);
+            for (int i = 0; i < n; ++i) {
+                b.particles.x[size_t(i)] = Vec4f(0, -0.05f * float(i), 0, 0);
+                b.particles.w[size_t(i)] = i == 0 ? 0.0f : 1.0f / 0.01f;  // 10 g each
+            }
+            for (uint32_t i = 0; i + 1 < uint32_t(n); ++i) b.distance.push_back({i, i + 1, 0.05f, 2e-3f});
+            b.distance_lambda.assign(b.distance.size(), 0.0f);
+            sim::SolverSettings s;
+            s.mode = sim::SolverMode::xpbd;
+            s.substeps = 8;
+            s.iterations = iterations;
+            s.damping = 2.0f;
+            test::run(b, 120, 1.0f / 60.0f, s);
+            return double(-b.particles.x[size_t(n - 1)].y());
+        };
+        const double rest = 1.0, l5 = chain_length(5), l50 = chain_length(50);
+        const double stretch5 = l5 - rest, stretch50 = l50 - rest;
+        // Link k from the bottom carries k * m * g; each stretches by tension * compliance.
+        const double analytic = 0.01 * 9.81 * 2e-3 * (20.0 * 21.0 / 2.0);
+        MESSAGE("stretch at I=5: " << stretch5 << " m, I=50: " << stretch50 << " m, analytic " << analytic << " m");
+        CHECK(stretch50 == doctest::Approx(analytic).epsilon(0.1));
+        for (uint32_t it : {10u, 20u}) CHECK(std::abs((chain_length(it) - rest) - stretch50) < 0.05 * stretch50);
+        CHECK(std::abs(stretch5 - stretch50) < 0.05 * stretch50);
+    }
+
+    TEST_CASE("no NaN or Inf for time steps from 1/240 s to 1/15 s") {
+        for (float dt : {1.0f / 240.0f, 1.0f / 60.0f, 1.0f / 30.0f, 1.0f / 15.0f})
+            for (sim::SolverMode mode : {sim::SolverMode::paper, sim::SolverMode::xpbd}) {
+                auto b = test::make_body(mesh::icosphere(3));
+                b.pin(b.extreme_particle(1));
+                sim::Colliders c;
+                c.ground = sim::GroundPlane{Vec3f(0, 1, 0), -2.0f};
+                c.spheres.push_back({Vec3f(0.3f, -1.5f, 0), 0.4f});
+                sim::SolverSettings s;
+                s.mode = mode;
+                test::run(b, 90, dt, s, c);
+                CHECK_MESSAGE(test::all_finite(b), "dt = " << dt);
+            }
+    }
+
+    TEST_CASE("collisions keep particles out of spheres and boxes") {
+        auto b = test::make_body(mesh::icosphere(2, 0.3f));
+        for (auto& x : b.particles.x) x += Vec4f(0, 1.5f, 0, 0);
+        b.particles.x_prev = b.particles.x;
+        sim::Colliders c;
+        c.spheres.push_back({Vec3f(0.1f, 0.2f, 0), 0.5f});
+        c.boxes.push_back({Vec3f(0, -1.0f, 0), Vec3f(2, 0.3f, 2), Quatf(Eigen::AngleAxisf(0.2f, Vec3f::UnitZ()))});
+        sim::SolverSettings s;
+        test::run(b, 180, 1.0f / 60.0f, s, c);
+        for (const auto& x : b.particles.x) {
+            CHECK((sim::xyz(x) - c.spheres[0].center).norm() >= c.spheres[0].radius - 1e-3f);
+            const Vec3f local = c.boxes[0].rotation.conjugate() * (sim::xyz(x) - c.boxes[0].center);
+            CHECK(((local.cwiseAbs() - c.boxes[0].half_extents).array() >= -1e-3f).any());
+        }
+    }
+
+    TEST_CASE("dragging pulls the picked particle to the target; releasing lets go") {
+        auto b = test::make_body(mesh::icosphere(3));
+        const auto picked = sim::pick_particle(b.particles, Vec3f(0, 0, 5), Vec3f(0, 0, -1), 0.1f);
+        REQUIRE(picked.has_value());
+        CHECK(b.particles.x[*picked].z() > 0.9f);  // the front of the sphere, not the back
+        sim::DragConstraint drag{*picked, Vec3f(0, 0, 2), 0.5f, true};
+        sim::SolverSettings s;
+        s.gravity = Vec3f::Zero();
+        sim::Solver solver;
+        for (int f = 0; f < 60; ++f) solver.step(b, 1.0f / 60.0f, s, {}, drag);
+        CHECK(b.particles.x[*picked].z() > 1.5f);
+        CHECK_FALSE(sim::pick_particle(b.particles, Vec3f(5, 5, 5), Vec3f(1, 0, 0), 0.1f).has_value());
+    }
+
+    TEST_CASE("determinism: the same scene gives bit-identical state") {
+        auto run_hash = [](float pressure) {
+            auto b = test::make_body(mesh::icosphere(3));
+            b.pin(b.extreme_particle(1));
+            for (auto& v : b.volumes) v.pressure = pressure;
+            sim::Colliders c;
+            c.ground = sim::GroundPlane{Vec3f(0, 1, 0), -1.5f};
+            sim::SolverSettings s;
+            test::run(b, 100, 1.0f / 60.0f, s, c);
+            return sim::state_hash(b.particles);
+        };
+        const uint64_t a = run_hash(1.0f), b = run_hash(1.0f), c = run_hash(0.9f);
+        CHECK(a == b);
+        CHECK(a != c);
+    }
+
+    TEST_CASE("impossible settings are refused") {
+        sim::SolverSettings s;
+        s.iterations = 0;
+        CHECK_FALSE(sim::validate(s).ok());
+        s = {};
+        s.gravity.x() = std::nanf("");
+        CHECK_FALSE(sim::validate(s).ok());
+        s = {};
+        s.stretch_stiffness = 1.5f;
+        CHECK_FALSE(sim::validate(s).ok());
+        CHECK(sim::validate(sim::SolverSettings{}).ok());
+    }
+
+    TEST_CASE("every shared model loads and runs 120 frames") {
+        for (const char* file : {"suzanne.obj", "teapot.obj", "stanford-bunny.obj", "fandisk.obj"}) {
+            const auto path = mesh::find_model(file);
+            if (!path) {
+                MESSAGE("SKIPPED: " << file << " not found on the model search path (../shared/models)");
+                continue;
+            }
+            auto raw = mesh::load_obj(*path);
+            REQUIRE(raw.ok());
+            mesh::RepairOptions o;
+            o.center = true;
+            o.fit_diagonal = 2.0f;
+            auto rep = mesh::repair(std::move(raw).value(), o, *path);
+            REQUIRE(rep.ok());
+            auto b = test::make_body(std::move(rep).value().mesh);
+            const double v0 = b.volumes.empty() ? 0.0 : b.volume(0);
+            sim::Colliders c;
+            c.ground = sim::GroundPlane{Vec3f(0, 1, 0), -1.2f};
+            test::run(b, 120, 1.0f / 60.0f, sim::SolverSettings{}, c);
+            CHECK_MESSAGE(test::all_finite(b), file);
+            if (v0 > 0.0) CHECK_MESSAGE(std::abs(b.volume(0) / v0 - 1.0) < 0.05, file << ": volume " << b.volume(0) / v0);
+        }
+    }
+}
