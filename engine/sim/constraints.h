@@ -20,6 +20,12 @@ static_assert(sizeof(DistanceConstraint) == 16, "four distance constraints per c
 // V - k*V0 = 0 over one closed (or virtually capped) component (paper eqs. 7 and 9).
 struct VolumeConstraint {
     std::vector<std::array<uint32_t, 3>> triangles;  // the component's triangles, outward
+    // Derived from `triangles` by build_rings(): the component's vertices and, for each, the
+    // (j, k) corner pairs of its triangles in CSR form, so the gradient is gathered per vertex
+    // (g_i = sum of x_j x x_k) instead of scattered per triangle.
+    std::vector<uint32_t> vertices;
+    std::vector<uint32_t> ring_start;              // vertices.size() + 1 offsets into ring
+    std::vector<std::array<uint32_t, 2>> ring;     // (j, k) with (i, j, k) a triangle, in order
     // Boundary loops closed by virtual fans to their centroid, in the volume sum only, so the
     // volume of an open component does not depend on where the origin is.
     std::vector<std::vector<uint32_t>> cap_loops;

@@ -1,4 +1,5 @@
 #include "sim/integrate.h"
+#include "sim/vec4_ops.h"
 
 #include <cmath>
 
@@ -33,7 +34,7 @@ void update_normals(std::span<const mesh::Triangle> triangles, const Vec4Array& 
     const size_t n = x.size();
     Vec4Array acc(n, Vec4f::Zero());
     for (const auto& t : triangles) {
-        const Vec4f face = (x[t[1]] - x[t[0]]).cross3(x[t[2]] - x[t[0]]);  // twice the area, outward
+        const Vec4f face = cross3(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);  // twice the area, outward
         acc[t[0]] += face;
         acc[t[1]] += face;
         acc[t[2]] += face;

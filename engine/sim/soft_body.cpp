@@ -5,6 +5,7 @@
 
 #include "mesh/reorder.h"
 #include "mesh/topology.h"
+#include "sim/constraint_order.h"
 #include "sim/integrate.h"
 #include "sim/volume.h"
 
@@ -57,6 +58,7 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
         const float rest = (m.positions[e.a] - m.positions[e.b]).norm();
         b.distance.push_back({e.a, e.b, rest, desc.stretch_compliance});
     }
+    interleave_independent(b.distance);
     b.distance_lambda.assign(b.distance.size(), 0.0f);
 
     if (desc.volume) {
@@ -69,6 +71,7 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
             for (uint32_t v : m.triangles[f]) comp_of_vertex[v] = comp[f];
         for (auto& loop : mesh::boundary_loops(m)) b.volumes[comp_of_vertex[loop[0]]].cap_loops.push_back(std::move(loop));
         for (VolumeConstraint& v : b.volumes) {
+            build_rings(v);
             v.pressure = desc.pressure;
             v.compliance = desc.volume_compliance;
             v.rest_volume = constraint_volume(v, b.particles.x);

@@ -1,8 +1,10 @@
 #include "sim/volume.h"
+#include "sim/vec4_ops.h"
+
+#include <algorithm>
 
 namespace pbdsplat::sim {
 namespace {
-inline Vec4f cross4(const Vec4f& a, const Vec4f& b) { return a.cross3(b); }  // w stays 0
 } // namespace
 
 double constraint_volume(const VolumeConstraint& c, const Vec4Array& x) {
@@ -24,49 +26,73 @@ double constraint_volume(const VolumeConstraint& c, const Vec4Array& x) {
     return v / 6.0;
 }
 
-void solve_volume(VolumeConstraint& c, Particles& p, Vec4Array& grad, bool xpbd, float stiffness, float alpha_tilde) {
-    // Gradient of 6V with respect to each corner: the cross product of the other two corners
-    // (eq. 9 as a triple product). The volume itself comes from the same cross products.
-    double six_v = 0.0;
+void build_rings(VolumeConstraint& c) {
+    uint32_t max_v = 0;
+    for (const auto& t : c.triangles) max_v = std::max({max_v, t[0], t[1], t[2]});
+    std::vector<uint32_t> count(size_t(max_v) + 1, 0);
+    for (const auto& t : c.triangles)
+        for (uint32_t v : t) ++count[v];
+    c.vertices.clear();
+    c.ring_start.assign(1, 0);
+    std::vector<uint32_t> slot(count.size(), 0);
+    for (uint32_t v = 0; v < count.size(); ++v) {
+        if (!count[v]) continue;
+        slot[v] = c.ring_start.back();
+        c.vertices.push_back(v);
+        c.ring_start.push_back(c.ring_start.back() + count[v]);
+    }
+    c.ring.assign(c.ring_start.back(), {0, 0});
     for (const auto& t : c.triangles) {
-        const Vec4f& a = p.x[t[0]];
-        const Vec4f& b = p.x[t[1]];
-        const Vec4f& d = p.x[t[2]];
-        const Vec4f bd = cross4(b, d);
-        grad[t[0]] += bd;
-        grad[t[1]] += cross4(d, a);
-        grad[t[2]] += cross4(a, b);
-        six_v += double(a.dot(bd));
+        c.ring[slot[t[0]]++] = {t[1], t[2]};
+        c.ring[slot[t[1]]++] = {t[2], t[0]};
+        c.ring[slot[t[2]]++] = {t[0], t[1]};
     }
-    for (const auto& loop : c.cap_loops) {
-        Vec4f centroid = Vec4f::Zero();
-        for (uint32_t i : loop) centroid += p.x[i];
-        centroid /= float(loop.size());
-        Vec4f g_centroid = Vec4f::Zero();
-        for (size_t k = 0; k < loop.size(); ++k) {
-            const uint32_t ia = loop[k], ib = loop[(k + 1) % loop.size()];
-            const Vec4f& a = p.x[ia];
-            const Vec4f& b = p.x[ib];
-            grad[ia] += cross4(b, centroid);
-            grad[ib] += cross4(centroid, a);
-            const Vec4f ab = cross4(a, b);
-            g_centroid += ab;
-            six_v += double(centroid.dot(ab));
+}
+
+void solve_volume(VolumeConstraint& c, Particles& p, Vec4Array& grad, bool xpbd, float stiffness, float alpha_tilde) {
+    // Gradient of 6V at vertex i: the sum over its triangles (i, j, k) of x_j x x_k (eq. 9 as a
+    // triple product). By Euler's theorem for this degree-3 function, sum x_i . g_i = 18 V, so
+    // the volume comes out of the same pass.
+    const Vec4f* x = p.x.data();
+    const float* w = p.w.data();
+    const size_t nv = c.vertices.size();
+    double eighteen_v = 0.0, denom = 0.0;
+    const bool caps = !c.cap_loops.empty();
+    for (size_t n = 0; n < nv; ++n) {
+        const uint32_t i = c.vertices[n];
+        Vec4f g = Vec4f::Zero();
+        for (uint32_t r = c.ring_start[n]; r < c.ring_start[n + 1]; ++r) g += cross3(x[c.ring[r][0]], x[c.ring[r][1]]);
+        grad[i] = g;
+        if (!caps) {
+            eighteen_v += double(x[i].dot(g));
+            denom += double(w[i]) * double(g.squaredNorm());
         }
-        // The centroid moves with every loop vertex (1/n each).
-        g_centroid /= float(loop.size());
-        for (uint32_t i : loop) grad[i] += g_centroid;
     }
-    // Collect the particles touched and the denominator sum w |grad|^2 (in units of 6V).
-    const double C = six_v / 6.0 - double(c.pressure) * c.rest_volume;
-    double denom = 0.0;
-    const size_t n = p.size();
-    for (size_t i = 0; i < n; ++i) denom += double(p.w[i]) * double(grad[i].squaredNorm());
-    denom /= 36.0;  // grad of V = grad of 6V / 6
-    if (denom < 1e-30) {
-        for (size_t i = 0; i < n; ++i) grad[i].setZero();
-        return;
+    if (caps) {
+        for (const auto& loop : c.cap_loops) {
+            Vec4f centroid = Vec4f::Zero();
+            for (uint32_t i : loop) centroid += x[i];
+            centroid /= float(loop.size());
+            Vec4f g_centroid = Vec4f::Zero();
+            for (size_t k = 0; k < loop.size(); ++k) {
+                const uint32_t ia = loop[k], ib = loop[(k + 1) % loop.size()];
+                grad[ia] += cross3(x[ib], centroid);
+                grad[ib] += cross3(centroid, x[ia]);
+                g_centroid += cross3(x[ia], x[ib]);
+            }
+            // The centroid moves with every loop vertex (1/n each).
+            g_centroid /= float(loop.size());
+            for (uint32_t i : loop) grad[i] += g_centroid;
+        }
+        for (size_t n = 0; n < nv; ++n) {
+            const uint32_t i = c.vertices[n];
+            eighteen_v += double(x[i].dot(grad[i]));
+            denom += double(w[i]) * double(grad[i].squaredNorm());
+        }
     }
+    const double C = eighteen_v / 18.0 - double(c.pressure) * c.rest_volume;
+    denom /= 36.0;  // |grad V|^2 = |grad 6V|^2 / 36
+    if (denom < 1e-30) return;
     float scale;
     if (xpbd) {
         const double dlambda = (-C - double(alpha_tilde) * c.lambda) / (denom + double(alpha_tilde));
@@ -75,9 +101,10 @@ void solve_volume(VolumeConstraint& c, Particles& p, Vec4Array& grad, bool xpbd,
     } else {
         scale = float(-double(stiffness) * C / denom / 6.0);
     }
-    for (size_t i = 0; i < n; ++i) {
-        p.x[i] += (scale * p.w[i]) * grad[i];
-        grad[i].setZero();
+    Vec4f* xw = p.x.data();
+    for (size_t n = 0; n < nv; ++n) {
+        const uint32_t i = c.vertices[n];
+        xw[i] += (scale * w[i]) * grad[i];
     }
 }
 

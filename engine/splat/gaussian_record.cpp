@@ -49,7 +49,10 @@ float half_to_float(uint16_t h) {
 }
 
 namespace {
-int16_t to_snorm16(float v) { return int16_t(std::lround(std::clamp(v, -1.0f, 1.0f) * 32767.0f)); }
+int16_t to_snorm16(float v) {
+    const float s = std::clamp(v, -1.0f, 1.0f) * 32767.0f;
+    return int16_t(s >= 0.0f ? s + 0.5f : s - 0.5f);  // round half away from zero, like lround
+}
 float sign_not_zero(float v) { return v >= 0.0f ? 1.0f : -1.0f; }
 uint8_t to_unorm8(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
 } // namespace
@@ -96,11 +99,32 @@ GaussianRecord make_record(const Vec3f& position, const Vec3f& normal, const App
     return r;
 }
 
+namespace {
+template <class Point>
+void map_any(std::span<const Point> positions, std::span<const Vec3f> normals, const Appearance& a,
+             std::vector<GaussianRecord>& out) {
+    PBDSPLAT_ASSERT(positions.size() == normals.size(), "map_points: one normal per position");
+    const GaussianRecord base = make_record(Vec3f::Zero(), Vec3f::UnitZ(), a);
+    out.resize(positions.size());
+    for (size_t i = 0; i < positions.size(); ++i) {
+        GaussianRecord r = base;
+        r.position[0] = positions[i].x();
+        r.position[1] = positions[i].y();
+        r.position[2] = positions[i].z();
+        encode_octahedral(normals[i], r.normal_oct);
+        out[i] = r;
+    }
+}
+} // namespace
+
 void map_points(std::span<const Vec3f> positions, std::span<const Vec3f> normals, const Appearance& a,
                 std::vector<GaussianRecord>& out) {
-    PBDSPLAT_ASSERT(positions.size() == normals.size(), "map_points: one normal per position");
-    out.resize(positions.size());
-    for (size_t i = 0; i < positions.size(); ++i) out[i] = make_record(positions[i], normals[i], a);
+    map_any(positions, normals, a, out);
+}
+
+void map_points(std::span<const Vec4f> positions, std::span<const Vec3f> normals, const Appearance& a,
+                std::vector<GaussianRecord>& out) {
+    map_any(positions, normals, a, out);
 }
 
 } // namespace pbdsplat::splat

@@ -40,7 +40,11 @@ struct Appearance {
 GaussianRecord make_record(const Vec3f& position, const Vec3f& normal, const Appearance& a, float fade = 1.0f);
 
 // One record per point: the paper's one-to-one particle-to-Gaussian mapping (eqs. 11-13).
+// Only the centre and the normal vary per point; the rest of the record is packed once.
 void map_points(std::span<const Vec3f> positions, std::span<const Vec3f> normals, const Appearance& a,
+                std::vector<GaussianRecord>& out);
+// The same from float4 positions (the simulation's layout; w ignored).
+void map_points(std::span<const Vec4f> positions, std::span<const Vec3f> normals, const Appearance& a,
                 std::vector<GaussianRecord>& out);
 
 } // namespace pbdsplat::splat

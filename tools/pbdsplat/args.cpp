@@ -1,6 +1,7 @@
 #include "pbdsplat/args.h"
 
 #include <charconv>
+#include <cmath>
 
 namespace pbdsplat::cli {
 
@@ -54,6 +55,30 @@ core::Result<uint32_t> Args::get_uint(const std::string& name, uint32_t fallback
         return core::make_error("--" + name + " must be between " + std::to_string(min) + " and " + std::to_string(max) +
                                 ", got " + *v);
     return uint32_t(out);
+}
+
+core::Result<float> Args::get_float(const std::string& name, float fallback, float min, float max) const {
+    auto v = get(name);
+    if (!v) return fallback;
+    float out = 0.0f;
+    const auto [end, ec] = std::from_chars(v->data(), v->data() + v->size(), out);
+    if (ec != std::errc() || end != v->data() + v->size() || !std::isfinite(out))
+        return core::make_error("--" + name + " expects a number, got '" + *v + "'");
+    if (out < min || out > max)
+        return core::make_error("--" + name + " must be between " + std::to_string(min) + " and " + std::to_string(max) +
+                                ", got " + *v);
+    return out;
+}
+
+core::Result<std::string> Args::get_choice(const std::string& name, const std::string& fallback,
+                                           const std::vector<std::string>& choices) const {
+    const std::string v = get_or(name, fallback);
+    std::string all;
+    for (const auto& c : choices) {
+        if (c == v) return v;
+        all += (all.empty() ? "" : ", ") + c;
+    }
+    return core::make_error("--" + name + " must be one of " + all + ", got '" + v + "'");
 }
 
 } // namespace pbdsplat::cli

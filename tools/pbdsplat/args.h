@@ -21,6 +21,10 @@ public:
     std::optional<std::string> get(const std::string& name) const;
     std::string get_or(const std::string& name, const std::string& fallback) const;
     core::Result<uint32_t> get_uint(const std::string& name, uint32_t fallback, uint32_t min, uint32_t max) const;
+    core::Result<float> get_float(const std::string& name, float fallback, float min, float max) const;
+    // One of `choices`, or the fallback when absent.
+    core::Result<std::string> get_choice(const std::string& name, const std::string& fallback,
+                                         const std::vector<std::string>& choices) const;
     const std::vector<std::string>& positionals() const { return positionals_; }
 
 private:

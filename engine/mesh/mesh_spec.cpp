@@ -1,0 +1,95 @@
+#include "mesh/mesh_spec.h"
+
+#include <charconv>
+#include <vector>
+
+#include "mesh/model_path.h"
+#include "mesh/obj_loader.h"
+#include "mesh/procedural.h"
+
+namespace pbdsplat::mesh {
+namespace {
+
+std::vector<std::string> split(const std::string& s, char sep) {
+    std::vector<std::string> out;
+    size_t start = 0;
+    while (true) {
+        const size_t end = s.find(sep, start);
+        out.push_back(s.substr(start, end == std::string::npos ? std::string::npos : end - start));
+        if (end == std::string::npos) return out;
+        start = end + 1;
+    }
+}
+
+core::Result<uint32_t> number(const std::string& spec, const std::string& field, uint32_t min, uint32_t max) {
+    uint32_t v = 0;
+    const auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), v);
+    if (ec != std::errc() || end != field.data() + field.size() || v < min || v > max)
+        return core::make_error("mesh '" + spec + "': '" + field + "' must be a whole number from " + std::to_string(min) +
+                                " to " + std::to_string(max));
+    return v;
+}
+
+} // namespace
+
+core::Result<RepairedMesh> load_mesh_spec(const std::string& spec, const MeshSpecOptions& options) {
+    const auto parts = split(spec, ':');
+    const std::string& kind = parts[0];
+    auto args = [&](size_t n, std::initializer_list<std::pair<uint32_t, uint32_t>> ranges) -> core::Result<std::vector<uint32_t>> {
+        if (parts.size() != n + 1)
+            return core::make_error("mesh '" + spec + "': " + kind + " takes " + std::to_string(n) + " parameter(s)");
+        std::vector<uint32_t> out;
+        size_t i = 1;
+        for (const auto& [lo, hi] : ranges) {
+            auto v = number(spec, parts[i++], lo, hi);
+            if (!v.ok()) return v.error();
+            out.push_back(v.value());
+        }
+        return out;
+    };
+    TriangleMesh m;
+    if (kind == "icosphere") {
+        auto a = args(1, {{0, 8}});
+        if (!a.ok()) return a.error();
+        m = icosphere(a.value()[0]);
+    } else if (kind == "uvsphere") {
+        auto a = args(2, {{2, 2048}, {3, 4096}});
+        if (!a.ok()) return a.error();
+        m = uv_sphere(a.value()[0], a.value()[1]);
+    } else if (kind == "torus") {
+        auto a = args(2, {{3, 4096}, {3, 4096}});
+        if (!a.ok()) return a.error();
+        m = torus(a.value()[0], a.value()[1]);
+    } else if (kind == "box") {
+        auto a = args(1, {{1, 512}});
+        if (!a.ok()) return a.error();
+        m = box(Vec3f(1, 1, 1), a.value()[0]);
+    } else if (kind == "capsule") {
+        auto a = args(2, {{2, 2048}, {3, 4096}});
+        if (!a.ok()) return a.error();
+        m = capsule(0.5f, 1.0f, a.value()[0], a.value()[1]);
+    } else if (kind == "grid") {
+        auto a = args(1, {{1, 2048}});
+        if (!a.ok()) return a.error();
+        m = grid_sheet(a.value()[0], 2.0f);
+    } else {
+        const auto path = find_model(spec);
+        if (!path) {
+            std::string where;
+            for (const auto& d : model_search_path()) where += (where.empty() ? "" : ", ") + d;
+            return core::make_error(spec + ": no such file, and not a procedural mesh (icosphere:L, uvsphere:R:S, "
+                                           "torus:S:T, box:D, capsule:R:S, grid:N); searched " + where);
+        }
+        auto raw = load_obj(*path);
+        if (!raw.ok()) return raw.error();
+        RepairOptions o;
+        o.center = options.file_fit_diagonal > 0.0f;
+        o.fit_diagonal = options.file_fit_diagonal;
+        return repair(std::move(raw).value(), o, *path);
+    }
+    RepairOptions o;
+    o.weld_tolerance = 1e-6f;
+    return repair(std::move(m), o, spec);
+}
+
+} // namespace pbdsplat::mesh
