@@ -7,36 +7,39 @@ namespace {
 
 // Moves x out by `depth` along unit `n`, then removes tangential motion: all of it while it is
 // below friction * depth (sticking), else that much of it (sliding).
-void resolve(Vec4f& x, const Vec4f& x_prev, const Vec3f& n, float depth, float friction) {
-    const Vec4f n4 = to4(n);
+template <class Real>
+void resolve(Vec4<Real>& x, const Vec4<Real>& x_prev, const Vec3f& n, Real depth, Real friction) {
+    const Vec4<Real> n4 = to4<Real>(n);
     x += depth * n4;
-    const Vec4f motion = x - x_prev;
-    const Vec4f tangential = motion - motion.dot(n4) * n4;
-    const float t = tangential.norm();
-    const float limit = friction * depth;
+    const Vec4<Real> motion = x - x_prev;
+    const Vec4<Real> tangential = motion - motion.dot(n4) * n4;
+    const Real t = tangential.norm();
+    const Real limit = friction * depth;
     if (t <= limit) x -= tangential;
-    else if (t > 0.0f) x -= (limit / t) * tangential;
+    else if (t > Real(0)) x -= (limit / t) * tangential;
 }
 
 } // namespace
 
-void solve_collisions(const Colliders& colliders, Particles& p) {
+template <class Real>
+void solve_collisions(const Colliders& colliders, ParticlesT<Real>& p) {
     if (colliders.empty()) return;
-    const float mu = colliders.friction;
+    using V3 = Eigen::Matrix<Real, 3, 1>;
+    const Real mu = Real(colliders.friction);
     const size_t n = p.size();
     for (size_t i = 0; i < n; ++i) {
-        if (p.w[i] == 0.0f) continue;
-        Vec4f& x = p.x[i];
+        if (p.w[i] == Real(0)) continue;
+        Vec4<Real>& x = p.x[i];
         if (colliders.ground) {
-            const float d = colliders.ground->normal.dot(xyz(x)) - colliders.ground->offset;
-            if (d < 0.0f) resolve(x, p.x_prev[i], colliders.ground->normal, -d, mu);
+            const Real d = colliders.ground->normal.template cast<Real>().dot(x.template head<3>()) - Real(colliders.ground->offset);
+            if (d < Real(0)) resolve<Real>(x, p.x_prev[i], colliders.ground->normal, -d, mu);
         }
         for (const SphereCollider& s : colliders.spheres) {
-            const Vec3f r = xyz(x) - s.center;
-            const float len = r.norm();
-            if (len < s.radius) {
-                const Vec3f normal = len > 1e-12f ? Vec3f(r / len) : Vec3f(0.0f, 1.0f, 0.0f);
-                resolve(x, p.x_prev[i], normal, s.radius - len, mu);
+            const V3 r = x.template head<3>() - s.center.template cast<Real>();
+            const Real len = r.norm();
+            if (len < Real(s.radius)) {
+                const Vec3f normal = len > Real(1e-12) ? Vec3f((r / len).template cast<float>()) : Vec3f(0.0f, 1.0f, 0.0f);
+                resolve<Real>(x, p.x_prev[i], normal, Real(s.radius) - len, mu);
             }
         }
         for (const BoxCollider& b : colliders.boxes) {
@@ -48,9 +51,12 @@ void solve_collisions(const Colliders& colliders, Particles& p) {
             if (gap.z() < gap[axis]) axis = 2;
             Vec3f normal_local = Vec3f::Zero();
             normal_local[axis] = local[axis] >= 0.0f ? 1.0f : -1.0f;
-            resolve(x, p.x_prev[i], b.rotation * normal_local, gap[axis], mu);
+            resolve<Real>(x, p.x_prev[i], b.rotation * normal_local, Real(gap[axis]), mu);
         }
     }
 }
+
+template void solve_collisions<float>(const Colliders&, ParticlesT<float>&);
+template void solve_collisions<double>(const Colliders&, ParticlesT<double>&);
 
 } // namespace pbdsplat::sim

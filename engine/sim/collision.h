@@ -6,6 +6,7 @@ namespace pbdsplat::sim {
 
 // Pushes free particles out of every collider and applies friction against the motion since
 // the start of the step (x - x_prev).
-void solve_collisions(const Colliders& colliders, Particles& p);
+template <class Real>
+void solve_collisions(const Colliders& colliders, ParticlesT<Real>& p);
 
 } // namespace pbdsplat::sim

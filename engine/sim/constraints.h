@@ -32,7 +32,7 @@ struct VolumeConstraint {
     double rest_volume = 0.0;  // V0, measured at creation
     float pressure = 1.0f;     // k: target volume k * V0 (deflate < 1 < inflate)
     float compliance = 0.0f;   // XPBD
-    float lambda = 0.0f;       // XPBD multiplier, reset every substep
+    double lambda = 0.0;       // XPBD multiplier, reset every substep
 };
 
 // Pulls one particle toward a moving target: the mouse drag of the interactive demo.

@@ -8,10 +8,12 @@
 namespace pbdsplat::sim {
 
 // PBD: each constraint closes `stiffness` (in (0,1]) of its error per call.
-void project_distance_pbd(std::span<const DistanceConstraint> constraints, Particles& p, float stiffness);
+template <class Real>
+void project_distance_pbd(std::span<const DistanceConstraint> constraints, ParticlesT<Real>& p, Real stiffness);
 
 // XPBD: compliance per constraint, multipliers accumulated in `lambda` (reset each substep).
-void project_distance_xpbd(std::span<const DistanceConstraint> constraints, std::span<float> lambda, Particles& p,
-                           float inv_dt2);
+template <class Real>
+void project_distance_xpbd(std::span<const DistanceConstraint> constraints, std::span<Real> lambda, ParticlesT<Real>& p,
+                           Real inv_dt2);
 
 } // namespace pbdsplat::sim

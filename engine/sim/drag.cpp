@@ -16,10 +16,4 @@ std::optional<uint32_t> pick_particle(const Particles& p, const Vec3f& origin, c
     return best;
 }
 
-void solve_drag(const DragConstraint& drag, Particles& p) {
-    if (!drag.active || drag.particle >= p.size()) return;
-    Vec4f& x = p.x[drag.particle];
-    x += drag.stiffness * (to4(drag.target) - x);
-}
-
 } // namespace pbdsplat::sim

@@ -12,6 +12,11 @@ std::optional<uint32_t> pick_particle(const Particles& p, const Vec3f& origin, c
 
 // Moves the dragged particle toward its target (pinned particles are moved too: a drag can
 // reposition a pin).
-void solve_drag(const DragConstraint& drag, Particles& p);
+template <class Real>
+void solve_drag(const DragConstraint& drag, ParticlesT<Real>& p) {
+    if (!drag.active || drag.particle >= p.size()) return;
+    Vec4<Real>& x = p.x[drag.particle];
+    x += Real(drag.stiffness) * (to4<Real>(drag.target) - x);
+}
 
 } // namespace pbdsplat::sim

@@ -1,21 +1,24 @@
 #include "sim/integrate.h"
-#include "sim/vec4_ops.h"
 
 #include <cmath>
 
+#include "sim/vec4_ops.h"
+
 namespace pbdsplat::sim {
 
-void apply_external_forces(Particles& p, const Vec3f& gravity, float damping, float dt) {
-    const Vec4f dv = dt * to4(gravity);
-    const float keep = damping > 0.0f ? std::exp(-damping * dt) : 1.0f;
+template <class Real>
+void apply_external_forces(ParticlesT<Real>& p, const Vec3f& gravity, float damping, Real dt) {
+    const Vec4<Real> dv = dt * to4<Real>(gravity);
+    const Real keep = damping > 0.0f ? std::exp(-Real(damping) * dt) : Real(1);
     const size_t n = p.size();
     for (size_t i = 0; i < n; ++i) {
-        if (p.w[i] == 0.0f) continue;  // pinned particles do not move
+        if (p.w[i] == Real(0)) continue;  // pinned particles do not move
         p.v[i] = (p.v[i] + dv) * keep;
     }
 }
 
-void predict_positions(Particles& p, float dt) {
+template <class Real>
+void predict_positions(ParticlesT<Real>& p, Real dt) {
     const size_t n = p.size();
     for (size_t i = 0; i < n; ++i) {
         p.x_prev[i] = p.x[i];
@@ -23,18 +26,19 @@ void predict_positions(Particles& p, float dt) {
     }
 }
 
-void update_velocities(Particles& p, float dt) {
-    const float inv = 1.0f / dt;
+template <class Real>
+void update_velocities(ParticlesT<Real>& p, Real dt) {
+    const Real inv = Real(1) / dt;
     const size_t n = p.size();
-    for (size_t i = 0; i < n; ++i)  // pinned particles keep no velocity, even when dragged
-        p.v[i] = p.w[i] > 0.0f ? Vec4f((p.x[i] - p.x_prev[i]) * inv) : Vec4f::Zero();
+    for (size_t i = 0; i < n; ++i)
+        p.v[i] = p.w[i] > Real(0) ? Vec4<Real>((p.x[i] - p.x_prev[i]) * inv) : Vec4<Real>::Zero();
 }
 
 void update_normals(std::span<const mesh::Triangle> triangles, const Vec4Array& x, std::vector<Vec3f>& normals) {
     const size_t n = x.size();
     Vec4Array acc(n, Vec4f::Zero());
     for (const auto& t : triangles) {
-        const Vec4f face = cross3(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);  // twice the area, outward
+        const Vec4f face = cross3<float>(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);  // twice the area, outward
         acc[t[0]] += face;
         acc[t[1]] += face;
         acc[t[2]] += face;
@@ -45,5 +49,12 @@ void update_normals(std::span<const mesh::Triangle> triangles, const Vec4Array& 
         normals[i] = len > 0.0f ? Vec3f(acc[i].head<3>() / len) : Vec3f(0.0f, 1.0f, 0.0f);
     }
 }
+
+template void apply_external_forces<float>(ParticlesT<float>&, const Vec3f&, float, float);
+template void apply_external_forces<double>(ParticlesT<double>&, const Vec3f&, float, double);
+template void predict_positions<float>(ParticlesT<float>&, float);
+template void predict_positions<double>(ParticlesT<double>&, double);
+template void update_velocities<float>(ParticlesT<float>&, float);
+template void update_velocities<double>(ParticlesT<double>&, double);
 
 } // namespace pbdsplat::sim

@@ -8,11 +8,14 @@
 namespace pbdsplat::sim {
 
 // v += dt * g for free particles, then exponential damping (rate per second).
-void apply_external_forces(Particles& p, const Vec3f& gravity, float damping, float dt);
+template <class Real>
+void apply_external_forces(ParticlesT<Real>& p, const Vec3f& gravity, float damping, Real dt);
 // x_prev = x; x += dt * v (eq. 5).
-void predict_positions(Particles& p, float dt);
-// v = (x - x_prev) / dt (eq. 10).
-void update_velocities(Particles& p, float dt);
+template <class Real>
+void predict_positions(ParticlesT<Real>& p, Real dt);
+// v = (x - x_prev) / dt (eq. 10); pinned particles keep no velocity, even when dragged.
+template <class Real>
+void update_velocities(ParticlesT<Real>& p, Real dt);
 // Area-weighted vertex normals of the deformed surface.
 void update_normals(std::span<const mesh::Triangle> triangles, const Vec4Array& x, std::vector<Vec3f>& normals);
 

@@ -11,15 +11,23 @@
 
 namespace pbdsplat::sim {
 
-double SoftBody::volume(size_t constraint) const { return constraint_volume(volumes[constraint], particles.x); }
-
-uint32_t SoftBody::extreme_particle(int axis, bool largest) const {
-    uint32_t best = 0;
-    for (uint32_t i = 1; i < particles.size(); ++i) {
-        const float a = particles.x[i][axis], b = particles.x[best][axis];
-        if (largest ? a > b : a < b) best = i;
+SoftBodyT<double> to_double(const SoftBody& b) {
+    SoftBodyT<double> d;
+    const size_t n = b.particle_count();
+    d.particles.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        d.particles.x[i] = b.particles.x[i].cast<double>();
+        d.particles.x_prev[i] = b.particles.x_prev[i].cast<double>();
+        d.particles.v[i] = b.particles.v[i].cast<double>();
+        d.particles.w[i] = double(b.particles.w[i]);
     }
-    return best;
+    d.normals = b.normals;
+    d.triangles = b.triangles;
+    d.distance = b.distance;
+    d.distance_lambda.assign(b.distance_lambda.size(), 0.0);
+    d.volumes = b.volumes;
+    d.rest_positions = b.rest_positions;
+    return d;
 }
 
 core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& desc) {
@@ -74,7 +82,7 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
             build_rings(v);
             v.pressure = desc.pressure;
             v.compliance = desc.volume_compliance;
-            v.rest_volume = constraint_volume(v, b.particles.x);
+            v.rest_volume = constraint_volume<float>(v, b.particles.x);
         }
         // A flat or inside-out component has no volume to keep: it gets no constraint.
         std::erase_if(b.volumes, [](const VolumeConstraint& v) { return !(v.rest_volume > 0.0); });

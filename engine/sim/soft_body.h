@@ -1,7 +1,8 @@
 #pragma once
 // One deformable body: its particles, its surface triangles and its constraints, built from a
 // repaired mesh. The solver stages operate on it; the topology stage (cuts) is the only other
-// code that changes it.
+// code that changes it. SoftBody is the float body the engine runs; SoftBodyT<double> exists
+// for accuracy references.
 #include <string>
 #include <vector>
 
@@ -9,6 +10,7 @@
 #include "mesh/triangle_mesh.h"
 #include "sim/constraints.h"
 #include "sim/particles.h"
+#include "sim/volume.h"
 
 namespace pbdsplat::sim {
 
@@ -24,26 +26,38 @@ struct SoftBodyDesc {
     bool reorder = true;           // Morton-order particles for cache locality
 };
 
-struct SoftBody {
-    Particles particles;
+template <class Real>
+struct SoftBodyT {
+    ParticlesT<Real> particles;
     std::vector<Vec3f> normals;  // per particle, updated each step
     std::vector<mesh::Triangle> triangles;
     std::vector<DistanceConstraint> distance;
-    std::vector<float> distance_lambda;  // XPBD multipliers, one per distance constraint
+    std::vector<Real> distance_lambda;  // XPBD multipliers, one per distance constraint
     std::vector<VolumeConstraint> volumes;
     std::vector<Vec3f> rest_positions;  // rest state (new edges take rest lengths from it)
 
     size_t particle_count() const { return particles.size(); }
-    // Current volume of each volume constraint (caps included).
-    double volume(size_t constraint) const;
+    // Current volume of a volume constraint (caps included).
+    double volume(size_t constraint) const { return constraint_volume<Real>(volumes[constraint], particles.x); }
     // Pins the particle (inverse mass 0); it then moves only if the scene moves it.
-    void pin(uint32_t particle) { particles.w[particle] = 0.0f; }
-    // The particle with the largest `axis` coordinate (ties: lowest index).
-    uint32_t extreme_particle(int axis, bool largest = true) const;
+    void pin(uint32_t particle) { particles.w[particle] = Real(0); }
+    // The particle with the largest (or smallest) `axis` coordinate; ties: lowest index.
+    uint32_t extreme_particle(int axis, bool largest = true) const {
+        uint32_t best = 0;
+        for (uint32_t i = 1; i < particles.size(); ++i) {
+            const Real a = particles.x[i][axis], b = particles.x[best][axis];
+            if (largest ? a > b : a < b) best = i;
+        }
+        return best;
+    }
 };
+using SoftBody = SoftBodyT<float>;
 
 // Builds the body. `mesh` must be repaired (manifold with boundary, outward); the mesh's vertex
 // order may change (reorder), so the body's particles are the reference afterwards.
 core::Result<SoftBody> make_soft_body(mesh::TriangleMesh mesh, const SoftBodyDesc& desc);
+
+// The same body in double precision (state converted, constraints shared).
+SoftBodyT<double> to_double(const SoftBody& body);
 
 } // namespace pbdsplat::sim

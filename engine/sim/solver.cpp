@@ -1,6 +1,7 @@
 #include "sim/solver.h"
 
 #include <cmath>
+#include <type_traits>
 
 #include "core/timer.h"
 #include "sim/collision.h"
@@ -32,17 +33,18 @@ float per_iteration(float k, uint32_t projections) {
 }
 } // namespace
 
-StageTimings Solver::step(SoftBody& body, float dt, const SolverSettings& s, const Colliders& colliders,
-                          const DragConstraint& drag) {
+template <class Real>
+StageTimings SolverT<Real>::step(SoftBodyT<Real>& body, float dt, const SolverSettings& s, const Colliders& colliders,
+                                 const DragConstraint& drag) {
     StageTimings t;
-    Particles& p = body.particles;
-    const float h = dt / float(s.substeps);
+    ParticlesT<Real>& p = body.particles;
+    const Real h = Real(dt) / Real(s.substeps);
     const bool xpbd = s.mode == SolverMode::xpbd;
     const uint32_t projections = s.iterations * s.substeps;
-    const float k_stretch = per_iteration(s.stretch_stiffness, projections);
-    const float k_volume = per_iteration(s.volume_stiffness, projections);
+    const Real k_stretch = Real(per_iteration(s.stretch_stiffness, projections));
+    const Real k_volume = Real(per_iteration(s.volume_stiffness, projections));
     const bool volume = s.volume && !body.volumes.empty();
-    if (volume && scratch_.size() != p.size()) scratch_.assign(p.size(), Vec4f::Zero());
+    if (volume && scratch_.size() != p.size()) scratch_.assign(p.size(), Vec4<Real>::Zero());
 
     for (uint32_t sub = 0; sub < s.substeps; ++sub) {
         core::Stopwatch clock;
@@ -52,16 +54,16 @@ StageTimings Solver::step(SoftBody& body, float dt, const SolverSettings& s, con
 
         clock.restart();
         if (xpbd) {
-            std::fill(body.distance_lambda.begin(), body.distance_lambda.end(), 0.0f);
-            for (VolumeConstraint& v : body.volumes) v.lambda = 0.0f;
+            std::fill(body.distance_lambda.begin(), body.distance_lambda.end(), Real(0));
+            for (VolumeConstraint& v : body.volumes) v.lambda = 0.0;
         }
-        const float inv_h2 = 1.0f / (h * h);
+        const Real inv_h2 = Real(1) / (h * h);
         for (uint32_t it = 0; it < s.iterations; ++it) {
-            if (xpbd) project_distance_xpbd(body.distance, body.distance_lambda, p, inv_h2);
-            else project_distance_pbd(body.distance, p, k_stretch);
+            if (xpbd) project_distance_xpbd<Real>(body.distance, body.distance_lambda, p, inv_h2);
+            else project_distance_pbd<Real>(body.distance, p, k_stretch);
             if (volume)
                 for (VolumeConstraint& v : body.volumes)
-                    solve_volume(v, p, scratch_, xpbd, k_volume, v.compliance * inv_h2);
+                    solve_volume<Real>(v, p, scratch_, xpbd, k_volume, Real(v.compliance) * inv_h2);
             solve_drag(drag, p);
             solve_collisions(colliders, p);
         }
@@ -71,10 +73,15 @@ StageTimings Solver::step(SoftBody& body, float dt, const SolverSettings& s, con
         update_velocities(p, h);
         t.integrate_normals += clock.elapsed_ms();
     }
-    core::Stopwatch clock;
-    update_normals(body.triangles, p.x, body.normals);
-    t.integrate_normals += clock.elapsed_ms();
+    if constexpr (std::is_same_v<Real, float>) {
+        core::Stopwatch clock;
+        update_normals(body.triangles, p.x, body.normals);
+        t.integrate_normals += clock.elapsed_ms();
+    }
     return t;
 }
+
+template class SolverT<float>;
+template class SolverT<double>;
 
 } // namespace pbdsplat::sim

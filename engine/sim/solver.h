@@ -37,14 +37,17 @@ struct StageTimings {
 // Validates the settings: a clear reason for an impossible value (I = 0, NaN gravity, ...).
 core::Status validate(const SolverSettings& s);
 
-class Solver {
+template <class Real>
+class SolverT {
 public:
-    // Advances `body` by `dt` seconds (one frame). `drag` may be inactive.
-    StageTimings step(SoftBody& body, float dt, const SolverSettings& settings, const Colliders& colliders,
+    // Advances `body` by `dt` seconds (one frame). `drag` may be inactive. Normals are updated
+    // for float bodies (the ones that are rendered).
+    StageTimings step(SoftBodyT<Real>& body, float dt, const SolverSettings& settings, const Colliders& colliders,
                       const DragConstraint& drag);
 
 private:
-    Vec4Array scratch_;  // volume gradients
+    Vec4ArrayT<Real> scratch_;  // volume gradients
 };
+using Solver = SolverT<float>;
 
 } // namespace pbdsplat::sim

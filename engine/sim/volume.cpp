@@ -1,27 +1,21 @@
 #include "sim/volume.h"
-#include "sim/vec4_ops.h"
 
 #include <algorithm>
 
-namespace pbdsplat::sim {
-namespace {
-} // namespace
+#include "sim/vec4_ops.h"
 
-double constraint_volume(const VolumeConstraint& c, const Vec4Array& x) {
+namespace pbdsplat::sim {
+
+template <class Real>
+double constraint_volume(const VolumeConstraint& c, const Vec4ArrayT<Real>& x) {
+    auto p3 = [&](uint32_t i) -> Vec3d { return x[i].template head<3>().template cast<double>(); };
     double v = 0.0;
-    for (const auto& t : c.triangles) {
-        const Vec3d a = x[t[0]].head<3>().cast<double>(), b = x[t[1]].head<3>().cast<double>(),
-                    d = x[t[2]].head<3>().cast<double>();
-        v += a.dot(b.cross(d));
-    }
+    for (const auto& t : c.triangles) v += p3(t[0]).dot(p3(t[1]).cross(p3(t[2])));
     for (const auto& loop : c.cap_loops) {
         Vec3d centroid = Vec3d::Zero();
-        for (uint32_t i : loop) centroid += x[i].head<3>().cast<double>();
+        for (uint32_t i : loop) centroid += p3(i);
         centroid /= double(loop.size());
-        for (size_t k = 0; k < loop.size(); ++k) {
-            const Vec3d a = x[loop[k]].head<3>().cast<double>(), b = x[loop[(k + 1) % loop.size()]].head<3>().cast<double>();
-            v += a.dot(b.cross(centroid));
-        }
+        for (size_t k = 0; k < loop.size(); ++k) v += p3(loop[k]).dot(p3(loop[(k + 1) % loop.size()]).cross(centroid));
     }
     return v / 6.0;
 }
@@ -49,19 +43,21 @@ void build_rings(VolumeConstraint& c) {
     }
 }
 
-void solve_volume(VolumeConstraint& c, Particles& p, Vec4Array& grad, bool xpbd, float stiffness, float alpha_tilde) {
+template <class Real>
+void solve_volume(VolumeConstraint& c, ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, bool xpbd, Real stiffness,
+                  Real alpha_tilde) {
     // Gradient of 6V at vertex i: the sum over its triangles (i, j, k) of x_j x x_k (eq. 9 as a
     // triple product). By Euler's theorem for this degree-3 function, sum x_i . g_i = 18 V, so
     // the volume comes out of the same pass.
-    const Vec4f* x = p.x.data();
-    const float* w = p.w.data();
+    const Vec4<Real>* x = p.x.data();
+    const Real* w = p.w.data();
     const size_t nv = c.vertices.size();
     double eighteen_v = 0.0, denom = 0.0;
     const bool caps = !c.cap_loops.empty();
     for (size_t n = 0; n < nv; ++n) {
         const uint32_t i = c.vertices[n];
-        Vec4f g = Vec4f::Zero();
-        for (uint32_t r = c.ring_start[n]; r < c.ring_start[n + 1]; ++r) g += cross3(x[c.ring[r][0]], x[c.ring[r][1]]);
+        Vec4<Real> g = Vec4<Real>::Zero();
+        for (uint32_t r = c.ring_start[n]; r < c.ring_start[n + 1]; ++r) g += cross3<Real>(x[c.ring[r][0]], x[c.ring[r][1]]);
         grad[i] = g;
         if (!caps) {
             eighteen_v += double(x[i].dot(g));
@@ -70,18 +66,18 @@ void solve_volume(VolumeConstraint& c, Particles& p, Vec4Array& grad, bool xpbd,
     }
     if (caps) {
         for (const auto& loop : c.cap_loops) {
-            Vec4f centroid = Vec4f::Zero();
+            Vec4<Real> centroid = Vec4<Real>::Zero();
             for (uint32_t i : loop) centroid += x[i];
-            centroid /= float(loop.size());
-            Vec4f g_centroid = Vec4f::Zero();
+            centroid /= Real(loop.size());
+            Vec4<Real> g_centroid = Vec4<Real>::Zero();
             for (size_t k = 0; k < loop.size(); ++k) {
                 const uint32_t ia = loop[k], ib = loop[(k + 1) % loop.size()];
-                grad[ia] += cross3(x[ib], centroid);
-                grad[ib] += cross3(centroid, x[ia]);
-                g_centroid += cross3(x[ia], x[ib]);
+                grad[ia] += cross3<Real>(x[ib], centroid);
+                grad[ib] += cross3<Real>(centroid, x[ia]);
+                g_centroid += cross3<Real>(x[ia], x[ib]);
             }
             // The centroid moves with every loop vertex (1/n each).
-            g_centroid /= float(loop.size());
+            g_centroid /= Real(loop.size());
             for (uint32_t i : loop) grad[i] += g_centroid;
         }
         for (size_t n = 0; n < nv; ++n) {
@@ -93,19 +89,24 @@ void solve_volume(VolumeConstraint& c, Particles& p, Vec4Array& grad, bool xpbd,
     const double C = eighteen_v / 18.0 - double(c.pressure) * c.rest_volume;
     denom /= 36.0;  // |grad V|^2 = |grad 6V|^2 / 36
     if (denom < 1e-30) return;
-    float scale;
+    Real scale;
     if (xpbd) {
         const double dlambda = (-C - double(alpha_tilde) * c.lambda) / (denom + double(alpha_tilde));
-        c.lambda += float(dlambda);
-        scale = float(dlambda / 6.0);
+        c.lambda += dlambda;
+        scale = Real(dlambda / 6.0);
     } else {
-        scale = float(-double(stiffness) * C / denom / 6.0);
+        scale = Real(-double(stiffness) * C / denom / 6.0);
     }
-    Vec4f* xw = p.x.data();
+    Vec4<Real>* xw = p.x.data();
     for (size_t n = 0; n < nv; ++n) {
         const uint32_t i = c.vertices[n];
         xw[i] += (scale * w[i]) * grad[i];
     }
 }
+
+template double constraint_volume<float>(const VolumeConstraint&, const Vec4ArrayT<float>&);
+template double constraint_volume<double>(const VolumeConstraint&, const Vec4ArrayT<double>&);
+template void solve_volume<float>(VolumeConstraint&, ParticlesT<float>&, Vec4ArrayT<float>&, bool, float, float);
+template void solve_volume<double>(VolumeConstraint&, ParticlesT<double>&, Vec4ArrayT<double>&, bool, double, double);
 
 } // namespace pbdsplat::sim

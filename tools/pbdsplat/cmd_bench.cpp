@@ -10,6 +10,7 @@ constexpr const char* k_bench_help =
     "\n"
     "suites:\n"
     "  sim       Stage A milliseconds per frame, per stage (median of frames)\n"
+    "  sim-error Stage A run time against error, PBD and XPBD, to CSV and SVG plots\n"
     "  splat     GPU milliseconds of upload, draw and readback for N splats (median of repeats)\n"
     "\n"
     "Every suite takes --help and --json.\n";
@@ -24,6 +25,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
     const std::vector<std::string> rest(argv.begin() + 1, argv.end());
     if (argv[0] == "splat") return bench_splat(rest);
     if (argv[0] == "sim") return bench_sim(rest);
+    if (argv[0] == "sim-error") return bench_sim_error(rest);
     return usage_error("bench", "unknown suite '" + argv[0] + "' (see pbdsplat bench --help)");
 }
 

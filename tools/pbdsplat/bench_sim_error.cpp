@@ -1,0 +1,189 @@
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/timer.h"
+#include "mesh/mesh_spec.h"
+#include "pbdsplat/args.h"
+#include "pbdsplat/commands.h"
+#include "pbdsplat/svg_plot.h"
+#include "sim/solver.h"
+
+namespace pbdsplat::cli {
+namespace {
+
+// Damping (1/s) for every run: the body swings toward its hanging rest instead of oscillating,
+// so the comparison at time T measures the solver, not the phase of a swing.
+constexpr float k_damping = 2.0f;
+
+struct Run {
+    std::string mesh, method;
+    uint32_t iterations = 0, substeps = 0;
+    double ms_per_frame = 0.0;
+    double position_error = 0.0;  // RMS against the reference, over the bounding-box diagonal
+    double strain = 0.0;          // mean |length - rest| / rest over the edges
+    double volume_error = 0.0;    // |V - k V0| / (k V0), volumes summed over components
+};
+
+template <class Real>
+double mean_strain(const sim::SoftBodyT<Real>& b) {
+    double sum = 0.0;
+    for (const auto& c : b.distance)
+        sum += std::abs((b.particles.x[c.i] - b.particles.x[c.j]).template head<3>().template cast<double>().norm() - c.rest) /
+               double(c.rest);
+    return b.distance.empty() ? 0.0 : sum / double(b.distance.size());
+}
+
+template <class Real>
+double volume_error(const sim::SoftBodyT<Real>& b) {
+    double v = 0.0, target = 0.0;
+    for (size_t k = 0; k < b.volumes.size(); ++k) v += b.volume(k), target += double(b.volumes[k].pressure) * b.volumes[k].rest_volume;
+    return target > 0.0 ? std::abs(v - target) / target : 0.0;
+}
+
+} // namespace
+
+int bench_sim_error(const std::vector<std::string>& argv) {
+    static constexpr const char* help =
+        "usage: pbdsplat bench sim-error [--meshes A,B,...] [--seconds T] [--out-dir DIR] [--json]\n"
+        "\n"
+        "Run time against error for Stage A. Each body hangs from its highest particle under gravity\n"
+        "(damping 2/s) with its volume constraint on. For PBD (paper mode) with I in {1,2,5,10,20} and XPBD with\n"
+        "S in {1,2,4,8,16} x I=1, it measures the median ms per frame and, after T seconds at 60 Hz,\n"
+        "the error against a reference run (XPBD, S=64, double precision): RMS position error over\n"
+        "the bounding-box diagonal, mean relative edge strain, relative volume error.\n"
+        "Writes DIR/sim_error.csv, DIR/sim_error_position.svg and DIR/sim_error_strain.svg.\n"
+        "\n"
+        "  --meshes LIST       comma-separated mesh specs (default icosphere:4,teapot.obj,stanford-bunny.obj)\n"
+        "  --seconds T         simulated time (default 2)\n"
+        "  --out-dir DIR       where the CSV and plots go (default docs/bench)\n"
+        "  --json              print one JSON object on stdout\n";
+    auto args = Args::parse(argv, {"json", "help"}, {"meshes", "seconds", "out-dir"});
+    if (!args.ok()) return usage_error("bench sim-error", args.error().to_string());
+    if (args->has("help")) return std::fputs(help, stdout), 0;
+    auto seconds = args->get_float("seconds", 2.0f, 0.1f, 60.0f);
+    if (!seconds.ok()) return usage_error("bench sim-error", seconds.error().to_string());
+    const std::string list = args->get_or("meshes", "icosphere:4,teapot.obj,stanford-bunny.obj");
+    const std::filesystem::path out_dir = args->get_or("out-dir", "docs/bench");
+    const int frames = int(std::lround(seconds.value() * 60.0f));
+    const float dt = 1.0f / 60.0f;
+
+    std::vector<std::string> meshes;
+    for (size_t start = 0; start <= list.size();) {
+        const size_t end = std::min(list.find(',', start), list.size());
+        if (end > start) meshes.push_back(list.substr(start, end - start));
+        start = end + 1;
+    }
+    std::vector<Run> runs;
+    for (const std::string& spec : meshes) {
+        auto repaired = mesh::load_mesh_spec(spec);
+        if (!repaired.ok()) return fail("bench sim-error", repaired.error().to_string());
+        const float diagonal = mesh::bounds(repaired->mesh).diagonal();
+        auto made = sim::make_soft_body(std::move(repaired).value().mesh, {});
+        if (!made.ok()) return fail("bench sim-error", made.error().to_string());
+        sim::SoftBody start = std::move(made).value();
+        start.pin(start.extreme_particle(1));
+
+        std::fprintf(stderr, "%s: %zu particles, reference (XPBD S=64, double)...\n", spec.c_str(), start.particle_count());
+        sim::SoftBodyT<double> reference = sim::to_double(start);
+        {
+            sim::SolverSettings s;
+            s.mode = sim::SolverMode::xpbd;
+            s.substeps = 64;
+            s.iterations = 1;
+            s.damping = k_damping;
+            sim::SolverT<double> solver;
+            for (int f = 0; f < frames; ++f) solver.step(reference, dt, s, {}, {});
+        }
+        auto measure = [&](sim::SolverMode mode, uint32_t iterations, uint32_t substeps) {
+            sim::SoftBody body = start;
+            sim::SolverSettings s;
+            s.mode = mode;
+            s.iterations = iterations;
+            s.substeps = substeps;
+            s.damping = k_damping;
+            sim::Solver solver;
+            std::vector<double> ms;
+            for (int f = 0; f < frames; ++f) ms.push_back(solver.step(body, dt, s, {}, {}).total());
+            Run r;
+            r.mesh = spec;
+            r.method = mode == sim::SolverMode::xpbd ? "xpbd" : "pbd";
+            r.iterations = iterations;
+            r.substeps = substeps;
+            r.ms_per_frame = core::median(ms);
+            double sq = 0.0;
+            for (size_t i = 0; i < body.particle_count(); ++i)
+                sq += (body.particles.x[i].cast<double>() - reference.particles.x[i]).squaredNorm();
+            r.position_error = std::sqrt(sq / double(body.particle_count())) / double(diagonal);
+            r.strain = mean_strain(body);
+            r.volume_error = volume_error(body);
+            std::fprintf(stderr, "  %-4s I=%-2u S=%-2u %8.3f ms/frame  position %.3e  strain %.3e  volume %.3e\n",
+                         r.method.c_str(), iterations, substeps, r.ms_per_frame, r.position_error, r.strain, r.volume_error);
+            runs.push_back(r);
+        };
+        for (uint32_t i : {1u, 2u, 5u, 10u, 20u}) measure(sim::SolverMode::paper, i, 1);
+        for (uint32_t s : {1u, 2u, 4u, 8u, 16u}) measure(sim::SolverMode::xpbd, 1, s);
+        Run ref;
+        ref.mesh = spec;
+        ref.method = "reference";
+        ref.iterations = 1;
+        ref.substeps = 64;
+        ref.strain = mean_strain(reference);
+        ref.volume_error = volume_error(reference);
+        runs.push_back(ref);
+    }
+
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec) return fail("bench sim-error", out_dir.string() + ": cannot create the folder: " + ec.message());
+    {
+        std::ofstream csv(out_dir / "sim_error.csv");
+        if (!csv) return fail("bench sim-error", (out_dir / "sim_error.csv").string() + ": cannot write");
+        csv << "mesh,method,iterations,substeps,ms_per_frame,position_error_rel,mean_strain,volume_error_rel\n";
+        for (const Run& r : runs)
+            csv << r.mesh << ',' << r.method << ',' << r.iterations << ',' << r.substeps << ',' << r.ms_per_frame << ','
+                << r.position_error << ',' << r.strain << ',' << r.volume_error << '\n';
+    }
+    for (const auto& [file, metric, label] :
+         {std::tuple{"sim_error_position.svg", &Run::position_error, "RMS position error / bounding-box diagonal"},
+          std::tuple{"sim_error_strain.svg", &Run::strain, "mean relative edge strain"}}) {
+        PlotSpec plot;
+        plot.title = std::string("Stage A: time against ") + label + " after " + std::to_string(frames) + " frames";
+        plot.x_label = "ms per frame (one thread)";
+        plot.y_label = label;
+        for (const std::string& spec : meshes)
+            for (const char* method : {"pbd", "xpbd"}) {
+                PlotSeries s;
+                s.name = spec + (std::string(method) == "pbd" ? " PBD (I)" : " XPBD (S)");
+                for (const Run& r : runs)
+                    if (r.mesh == spec && r.method == method) {
+                        s.x.push_back(r.ms_per_frame);
+                        s.y.push_back(r.*metric);
+                        s.labels.push_back(std::to_string(r.method == "pbd" ? r.iterations : r.substeps));
+                    }
+                plot.series.push_back(s);
+            }
+        std::ofstream(out_dir / file) << render_svg(plot);
+    }
+    if (args->has("json")) {
+        nlohmann::json j = {{"suite", "sim-error"}, {"frames", frames}, {"runs", nlohmann::json::array()}};
+        for (const Run& r : runs)
+            j["runs"].push_back({{"mesh", r.mesh},
+                                 {"method", r.method},
+                                 {"iterations", r.iterations},
+                                 {"substeps", r.substeps},
+                                 {"ms_per_frame", r.ms_per_frame},
+                                 {"position_error_rel", r.position_error},
+                                 {"mean_strain", r.strain},
+                                 {"volume_error_rel", r.volume_error}});
+        std::printf("%s\n", j.dump().c_str());
+    } else {
+        std::printf("wrote %s, sim_error_position.svg, sim_error_strain.svg\n", (out_dir / "sim_error.csv").string().c_str());
+    }
+    return 0;
+}
+
+} // namespace pbdsplat::cli
