@@ -22,12 +22,11 @@ void resolve(Vec4<Real>& x, const Vec4<Real>& x_prev, const Vec3f& n, Real depth
 } // namespace
 
 template <class Real>
-void solve_collisions(const Colliders& colliders, ParticlesT<Real>& p) {
+void solve_collisions(const Colliders& colliders, ParticlesT<Real>& p, size_t begin, size_t end) {
     if (colliders.empty()) return;
     using V3 = Eigen::Matrix<Real, 3, 1>;
     const Real mu = Real(colliders.friction);
-    const size_t n = p.size();
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = begin; i < end; ++i) {
         if (p.w[i] == Real(0)) continue;
         Vec4<Real>& x = p.x[i];
         if (colliders.ground) {
@@ -56,7 +55,7 @@ void solve_collisions(const Colliders& colliders, ParticlesT<Real>& p) {
     }
 }
 
-template void solve_collisions<float>(const Colliders&, ParticlesT<float>&);
-template void solve_collisions<double>(const Colliders&, ParticlesT<double>&);
+template void solve_collisions<float>(const Colliders&, ParticlesT<float>&, size_t, size_t);
+template void solve_collisions<double>(const Colliders&, ParticlesT<double>&, size_t, size_t);
 
 } // namespace pbdsplat::sim

@@ -7,54 +7,52 @@
 namespace pbdsplat::sim {
 
 template <class Real>
-void apply_external_forces(ParticlesT<Real>& p, const Vec3f& gravity, float damping, Real dt) {
+void apply_forces_and_predict(ParticlesT<Real>& p, const Vec3f& gravity, float damping, Real dt, size_t begin, size_t end) {
     const Vec4<Real> dv = dt * to4<Real>(gravity);
     const Real keep = damping > 0.0f ? std::exp(-Real(damping) * dt) : Real(1);
-    const size_t n = p.size();
-    for (size_t i = 0; i < n; ++i) {
-        if (p.w[i] == Real(0)) continue;  // pinned particles do not move
-        p.v[i] = (p.v[i] + dv) * keep;
-    }
-}
-
-template <class Real>
-void predict_positions(ParticlesT<Real>& p, Real dt) {
-    const size_t n = p.size();
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = begin; i < end; ++i) {
+        if (p.w[i] != Real(0)) p.v[i] = (p.v[i] + dv) * keep;  // pinned particles do not move
         p.x_prev[i] = p.x[i];
         p.x[i] += dt * p.v[i];
     }
 }
 
 template <class Real>
-void update_velocities(ParticlesT<Real>& p, Real dt) {
+void update_velocities(ParticlesT<Real>& p, Real dt, size_t begin, size_t end) {
     const Real inv = Real(1) / dt;
-    const size_t n = p.size();
-    for (size_t i = 0; i < n; ++i)
+    for (size_t i = begin; i < end; ++i)
         p.v[i] = p.w[i] > Real(0) ? Vec4<Real>((p.x[i] - p.x_prev[i]) * inv) : Vec4<Real>::Zero();
 }
 
-void update_normals(std::span<const mesh::Triangle> triangles, const Vec4Array& x, std::vector<Vec3f>& normals) {
-    const size_t n = x.size();
-    Vec4Array acc(n, Vec4f::Zero());
+VertexRings build_vertex_rings(std::span<const mesh::Triangle> triangles, size_t vertex_count) {
+    VertexRings r;
+    r.start.assign(vertex_count + 1, 0);
+    for (const auto& t : triangles)
+        for (uint32_t v : t) ++r.start[v + 1];
+    for (size_t i = 0; i < vertex_count; ++i) r.start[i + 1] += r.start[i];
+    r.ring.resize(r.start.back());
+    std::vector<uint32_t> fill(r.start.begin(), r.start.end() - 1);
     for (const auto& t : triangles) {
-        const Vec4f face = cross3<float>(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]);  // twice the area, outward
-        acc[t[0]] += face;
-        acc[t[1]] += face;
-        acc[t[2]] += face;
+        r.ring[fill[t[0]]++] = {t[1], t[2]};
+        r.ring[fill[t[1]]++] = {t[2], t[0]};
+        r.ring[fill[t[2]]++] = {t[0], t[1]};
     }
-    normals.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-        const float len = acc[i].norm();
-        normals[i] = len > 0.0f ? Vec3f(acc[i].head<3>() / len) : Vec3f(0.0f, 1.0f, 0.0f);
+    return r;
+}
+
+void update_normals(const VertexRings& rings, const Vec4Array& x, std::vector<Vec3f>& normals, size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+        Vec4f acc = Vec4f::Zero();
+        for (uint32_t r = rings.start[i]; r < rings.start[i + 1]; ++r)
+            acc += cross3<float>(x[rings.ring[r][0]] - x[i], x[rings.ring[r][1]] - x[i]);  // twice the area, outward
+        const float len = acc.norm();
+        normals[i] = len > 0.0f ? Vec3f(acc.head<3>() / len) : Vec3f(0.0f, 1.0f, 0.0f);
     }
 }
 
-template void apply_external_forces<float>(ParticlesT<float>&, const Vec3f&, float, float);
-template void apply_external_forces<double>(ParticlesT<double>&, const Vec3f&, float, double);
-template void predict_positions<float>(ParticlesT<float>&, float);
-template void predict_positions<double>(ParticlesT<double>&, double);
-template void update_velocities<float>(ParticlesT<float>&, float);
-template void update_velocities<double>(ParticlesT<double>&, double);
+template void apply_forces_and_predict<float>(ParticlesT<float>&, const Vec3f&, float, float, size_t, size_t);
+template void apply_forces_and_predict<double>(ParticlesT<double>&, const Vec3f&, float, double, size_t, size_t);
+template void update_velocities<float>(ParticlesT<float>&, float, size_t, size_t);
+template void update_velocities<double>(ParticlesT<double>&, double, size_t, size_t);
 
 } // namespace pbdsplat::sim

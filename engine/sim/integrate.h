@@ -7,16 +7,24 @@
 
 namespace pbdsplat::sim {
 
-// v += dt * g for free particles, then exponential damping (rate per second).
-template <class Real>
-void apply_external_forces(ParticlesT<Real>& p, const Vec3f& gravity, float damping, Real dt);
+// Each stage works on the particle range [begin, end), so threads can split it.
+
+// v += dt * g for free particles, then exponential damping (rate per second); then
 // x_prev = x; x += dt * v (eq. 5).
 template <class Real>
-void predict_positions(ParticlesT<Real>& p, Real dt);
+void apply_forces_and_predict(ParticlesT<Real>& p, const Vec3f& gravity, float damping, Real dt, size_t begin, size_t end);
 // v = (x - x_prev) / dt (eq. 10); pinned particles keep no velocity, even when dragged.
 template <class Real>
-void update_velocities(ParticlesT<Real>& p, Real dt);
-// Area-weighted vertex normals of the deformed surface.
-void update_normals(std::span<const mesh::Triangle> triangles, const Vec4Array& x, std::vector<Vec3f>& normals);
+void update_velocities(ParticlesT<Real>& p, Real dt, size_t begin, size_t end);
+
+// Per-vertex triangle rings (CSR): for vertex i, the (j, k) of each triangle (i, j, k).
+struct VertexRings {
+    std::vector<uint32_t> start;  // vertex count + 1
+    std::vector<std::array<uint32_t, 2>> ring;
+};
+VertexRings build_vertex_rings(std::span<const mesh::Triangle> triangles, size_t vertex_count);
+
+// Area-weighted vertex normals of the deformed surface, gathered per vertex over [begin, end).
+void update_normals(const VertexRings& rings, const Vec4Array& x, std::vector<Vec3f>& normals, size_t begin, size_t end);
 
 } // namespace pbdsplat::sim

@@ -11,6 +11,17 @@
 
 namespace pbdsplat::sim {
 
+template <class Real>
+void rebuild_derived(SoftBodyT<Real>& b) {
+    b.distance_colours = group_by_colour(b.distance);
+    b.distance_lambda.assign(b.distance.size(), Real(0));
+    b.rings = build_vertex_rings(b.triangles, b.particle_count());
+    b.normals.resize(b.particle_count(), Vec3f(0.0f, 1.0f, 0.0f));
+    for (VolumeConstraint& v : b.volumes) build_rings(v);
+}
+template void rebuild_derived<float>(SoftBodyT<float>&);
+template void rebuild_derived<double>(SoftBodyT<double>&);
+
 SoftBodyT<double> to_double(const SoftBody& b) {
     SoftBodyT<double> d;
     const size_t n = b.particle_count();
@@ -23,7 +34,9 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     }
     d.normals = b.normals;
     d.triangles = b.triangles;
+    d.rings = b.rings;
     d.distance = b.distance;
+    d.distance_colours = b.distance_colours;
     d.distance_lambda.assign(b.distance_lambda.size(), 0.0);
     d.volumes = b.volumes;
     d.rest_positions = b.rest_positions;
@@ -66,8 +79,7 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
         const float rest = (m.positions[e.a] - m.positions[e.b]).norm();
         b.distance.push_back({e.a, e.b, rest, desc.stretch_compliance});
     }
-    interleave_independent(b.distance);
-    b.distance_lambda.assign(b.distance.size(), 0.0f);
+
 
     if (desc.volume) {
         std::vector<uint32_t> comp;
@@ -79,7 +91,6 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
             for (uint32_t v : m.triangles[f]) comp_of_vertex[v] = comp[f];
         for (auto& loop : mesh::boundary_loops(m)) b.volumes[comp_of_vertex[loop[0]]].cap_loops.push_back(std::move(loop));
         for (VolumeConstraint& v : b.volumes) {
-            build_rings(v);
             v.pressure = desc.pressure;
             v.compliance = desc.volume_compliance;
             v.rest_volume = constraint_volume<float>(v, b.particles.x);
@@ -87,7 +98,8 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
         // A flat or inside-out component has no volume to keep: it gets no constraint.
         std::erase_if(b.volumes, [](const VolumeConstraint& v) { return !(v.rest_volume > 0.0); });
     }
-    update_normals(b.triangles, b.particles.x, b.normals);
+    rebuild_derived(b);
+    update_normals(b.rings, b.particles.x, b.normals, 0, n);
     return b;
 }
 

@@ -9,6 +9,7 @@
 #include "core/result.h"
 #include "mesh/triangle_mesh.h"
 #include "sim/constraints.h"
+#include "sim/integrate.h"
 #include "sim/particles.h"
 #include "sim/volume.h"
 
@@ -31,7 +32,9 @@ struct SoftBodyT {
     ParticlesT<Real> particles;
     std::vector<Vec3f> normals;  // per particle, updated each step
     std::vector<mesh::Triangle> triangles;
-    std::vector<DistanceConstraint> distance;
+    VertexRings rings;  // per-vertex triangle rings of `triangles`, for normals
+    std::vector<DistanceConstraint> distance;  // grouped by colour (see constraint_order.h)
+    std::vector<uint32_t> distance_colours;    // colour c holds distance[start[c], start[c + 1])
     std::vector<Real> distance_lambda;  // XPBD multipliers, one per distance constraint
     std::vector<VolumeConstraint> volumes;
     std::vector<Vec3f> rest_positions;  // rest state (new edges take rest lengths from it)
@@ -56,6 +59,12 @@ using SoftBody = SoftBodyT<float>;
 // Builds the body. `mesh` must be repaired (manifold with boundary, outward); the mesh's vertex
 // order may change (reorder), so the body's particles are the reference afterwards.
 core::Result<SoftBody> make_soft_body(mesh::TriangleMesh mesh, const SoftBodyDesc& desc);
+
+// Recomputes what the solver derives from the body's lists: the colour grouping of the distance
+// constraints, the vertex rings of the triangles and of each volume constraint, the XPBD
+// multipliers. Call it after changing particles, triangles or constraints by hand.
+template <class Real>
+void rebuild_derived(SoftBodyT<Real>& body);
 
 // The same body in double precision (state converted, constraints shared).
 SoftBodyT<double> to_double(const SoftBody& body);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <type_traits>
 
+#include "core/assert.h"
 #include "core/timer.h"
 #include "sim/collision.h"
 #include "sim/distance.h"
@@ -34,48 +35,83 @@ float per_iteration(float k, uint32_t projections) {
 } // namespace
 
 template <class Real>
+template <class Fn>
+void SolverT<Real>::for_range(size_t n, size_t grain, const Fn& fn) {
+    if (!pool_ || pool_->size() == 1 || n < grain) {
+        fn(size_t(0), n);
+        return;
+    }
+    pool_->parallel_for(n, [&](unsigned, size_t begin, size_t end) { fn(begin, end); });
+}
+
+template <class Real>
 StageTimings SolverT<Real>::step(SoftBodyT<Real>& body, float dt, const SolverSettings& s, const Colliders& colliders,
                                  const DragConstraint& drag) {
+    constexpr size_t k_particle_grain = 4096;  // below this a loop is cheaper than a hand-off
     StageTimings t;
     ParticlesT<Real>& p = body.particles;
+    const size_t n = p.size();
+    PBDSPLAT_ASSERT(body.distance_colours.empty() ? body.distance.empty() : body.distance_colours.back() == body.distance.size(),
+                    "distance constraints changed without rebuild_derived(body)");
+    PBDSPLAT_ASSERT(body.rings.start.size() == n + 1 && body.distance_lambda.size() == body.distance.size(),
+                    "particles or triangles changed without rebuild_derived(body)");
     const Real h = Real(dt) / Real(s.substeps);
     const bool xpbd = s.mode == SolverMode::xpbd;
     const uint32_t projections = s.iterations * s.substeps;
     const Real k_stretch = Real(per_iteration(s.stretch_stiffness, projections));
     const Real k_volume = Real(per_iteration(s.volume_stiffness, projections));
     const bool volume = s.volume && !body.volumes.empty();
-    if (volume && scratch_.size() != p.size()) scratch_.assign(p.size(), Vec4<Real>::Zero());
+    if (volume && scratch_.size() != n) scratch_.assign(n, Vec4<Real>::Zero());
+    const std::span<const DistanceConstraint> distance(body.distance);
+    const std::span<Real> lambda(body.distance_lambda);
 
     for (uint32_t sub = 0; sub < s.substeps; ++sub) {
         core::Stopwatch clock;
-        apply_external_forces(p, s.gravity, s.damping, h);
-        predict_positions(p, h);
+        for_range(n, k_particle_grain, [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, s.damping, h, b, e); });
         t.apply_forces += clock.elapsed_ms();
 
         clock.restart();
         if (xpbd) {
-            std::fill(body.distance_lambda.begin(), body.distance_lambda.end(), Real(0));
+            std::fill(lambda.begin(), lambda.end(), Real(0));
             for (VolumeConstraint& v : body.volumes) v.lambda = 0.0;
         }
         const Real inv_h2 = Real(1) / (h * h);
         for (uint32_t it = 0; it < s.iterations; ++it) {
-            if (xpbd) project_distance_xpbd<Real>(body.distance, body.distance_lambda, p, inv_h2);
-            else project_distance_pbd<Real>(body.distance, p, k_stretch);
+            // Distance constraints colour by colour: inside a colour no two share a particle.
+            for (size_t c = 0; c + 1 < body.distance_colours.size(); ++c) {
+                const size_t first = body.distance_colours[c], count = body.distance_colours[c + 1] - first;
+                for_range(count, 2048, [&](size_t b, size_t e) {
+                    if (xpbd) project_distance_xpbd<Real>(distance.subspan(first + b, e - b), lambda.subspan(first + b, e - b), p, inv_h2);
+                    else project_distance_pbd<Real>(distance.subspan(first + b, e - b), p, k_stretch);
+                });
+            }
             if (volume)
-                for (VolumeConstraint& v : body.volumes)
-                    solve_volume<Real>(v, p, scratch_, xpbd, k_volume, Real(v.compliance) * inv_h2);
+                for (VolumeConstraint& v : body.volumes) {
+                    const size_t blocks = volume_blocks(v);
+                    sums_.assign(blocks, VolumeSums{});
+                    for_range(blocks, 2, [&](size_t b, size_t e) {
+                        for (size_t k = b; k < e; ++k) sums_[k] = volume_gather<Real>(v, p, scratch_, k);
+                    });
+                    volume_caps<Real>(v, p, scratch_, sums_);
+                    const Real step = volume_step<Real>(v, sums_, xpbd, k_volume, Real(v.compliance) * inv_h2);
+                    for_range(blocks, 2, [&](size_t b, size_t e) {
+                        for (size_t k = b; k < e; ++k) volume_apply<Real>(v, p, scratch_, step, k);
+                    });
+                }
             solve_drag(drag, p);
-            solve_collisions(colliders, p);
+            if (!colliders.empty())
+                for_range(n, k_particle_grain, [&](size_t b, size_t e) { solve_collisions<Real>(colliders, p, b, e); });
         }
         t.constraints += clock.elapsed_ms();
 
         clock.restart();
-        update_velocities(p, h);
+        for_range(n, k_particle_grain, [&](size_t b, size_t e) { update_velocities<Real>(p, h, b, e); });
         t.integrate_normals += clock.elapsed_ms();
     }
     if constexpr (std::is_same_v<Real, float>) {
         core::Stopwatch clock;
-        update_normals(body.triangles, p.x, body.normals);
+        body.normals.resize(n);
+        for_range(n, k_particle_grain, [&](size_t b, size_t e) { update_normals(body.rings, p.x, body.normals, b, e); });
         t.integrate_normals += clock.elapsed_ms();
     }
     return t;

@@ -4,9 +4,11 @@
 // velocities from positions, normals. Each stage is its own function over compact arrays.
 #include <cstdint>
 
+#include "core/thread_pool.h"
 #include "sim/colliders.h"
 #include "sim/constraints.h"
 #include "sim/soft_body.h"
+#include "sim/volume.h"
 
 namespace pbdsplat::sim {
 
@@ -40,13 +42,24 @@ core::Status validate(const SolverSettings& s);
 template <class Real>
 class SolverT {
 public:
+    // With a pool, each stage splits its arrays over the threads: particles in ranges, distance
+    // constraints colour by colour, the volume constraint in fixed blocks. The result does not
+    // depend on the thread count.
+    explicit SolverT(core::ThreadPool* pool = nullptr) : pool_(pool) {}
+
     // Advances `body` by `dt` seconds (one frame). `drag` may be inactive. Normals are updated
     // for float bodies (the ones that are rendered).
     StageTimings step(SoftBodyT<Real>& body, float dt, const SolverSettings& settings, const Colliders& colliders,
                       const DragConstraint& drag);
 
 private:
+    // fn(begin, end) over [0, n), split over the pool when n reaches `grain`.
+    template <class Fn>
+    void for_range(size_t n, size_t grain, const Fn& fn);
+
+    core::ThreadPool* pool_ = nullptr;
     Vec4ArrayT<Real> scratch_;  // volume gradients
+    std::vector<VolumeSums> sums_;
 };
 using Solver = SolverT<float>;
 

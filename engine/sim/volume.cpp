@@ -43,70 +43,110 @@ void build_rings(VolumeConstraint& c) {
     }
 }
 
+size_t volume_blocks(const VolumeConstraint& c) { return (c.vertices.size() + k_volume_block - 1) / k_volume_block; }
+
 template <class Real>
-void solve_volume(VolumeConstraint& c, ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, bool xpbd, Real stiffness,
-                  Real alpha_tilde) {
+VolumeSums volume_gather(const VolumeConstraint& c, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, size_t b) {
     // Gradient of 6V at vertex i: the sum over its triangles (i, j, k) of x_j x x_k (eq. 9 as a
-    // triple product). By Euler's theorem for this degree-3 function, sum x_i . g_i = 18 V, so
-    // the volume comes out of the same pass.
+    // triple product).
     const Vec4<Real>* x = p.x.data();
     const Real* w = p.w.data();
-    const size_t nv = c.vertices.size();
-    double eighteen_v = 0.0, denom = 0.0;
     const bool caps = !c.cap_loops.empty();
-    for (size_t n = 0; n < nv; ++n) {
+    VolumeSums s;
+    const size_t end = std::min(c.vertices.size(), (b + 1) * k_volume_block);
+    for (size_t n = b * k_volume_block; n < end; ++n) {
         const uint32_t i = c.vertices[n];
         Vec4<Real> g = Vec4<Real>::Zero();
         for (uint32_t r = c.ring_start[n]; r < c.ring_start[n + 1]; ++r) g += cross3<Real>(x[c.ring[r][0]], x[c.ring[r][1]]);
         grad[i] = g;
         if (!caps) {
-            eighteen_v += double(x[i].dot(g));
-            denom += double(w[i]) * double(g.squaredNorm());
+            s.eighteen_v += double(x[i].dot(g));
+            s.denom += double(w[i]) * double(g.squaredNorm());
         }
     }
-    if (caps) {
-        for (const auto& loop : c.cap_loops) {
-            Vec4<Real> centroid = Vec4<Real>::Zero();
-            for (uint32_t i : loop) centroid += x[i];
-            centroid /= Real(loop.size());
-            Vec4<Real> g_centroid = Vec4<Real>::Zero();
-            for (size_t k = 0; k < loop.size(); ++k) {
-                const uint32_t ia = loop[k], ib = loop[(k + 1) % loop.size()];
-                grad[ia] += cross3<Real>(x[ib], centroid);
-                grad[ib] += cross3<Real>(centroid, x[ia]);
-                g_centroid += cross3<Real>(x[ia], x[ib]);
-            }
-            // The centroid moves with every loop vertex (1/n each).
-            g_centroid /= Real(loop.size());
-            for (uint32_t i : loop) grad[i] += g_centroid;
+    return s;
+}
+
+template <class Real>
+void volume_caps(const VolumeConstraint& c, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad,
+                 std::vector<VolumeSums>& block_sums) {
+    if (c.cap_loops.empty()) return;
+    const Vec4<Real>* x = p.x.data();
+    for (const auto& loop : c.cap_loops) {
+        Vec4<Real> centroid = Vec4<Real>::Zero();
+        for (uint32_t i : loop) centroid += x[i];
+        centroid /= Real(loop.size());
+        Vec4<Real> g_centroid = Vec4<Real>::Zero();
+        for (size_t k = 0; k < loop.size(); ++k) {
+            const uint32_t ia = loop[k], ib = loop[(k + 1) % loop.size()];
+            grad[ia] += cross3<Real>(x[ib], centroid);
+            grad[ib] += cross3<Real>(centroid, x[ia]);
+            g_centroid += cross3<Real>(x[ia], x[ib]);
         }
-        for (size_t n = 0; n < nv; ++n) {
+        // The centroid moves with every loop vertex (1/n each).
+        g_centroid /= Real(loop.size());
+        for (uint32_t i : loop) grad[i] += g_centroid;
+    }
+    // The gradients are complete only now: the sums are taken here, block by block.
+    for (size_t b = 0; b < block_sums.size(); ++b) {
+        VolumeSums s;
+        const size_t end = std::min(c.vertices.size(), (b + 1) * k_volume_block);
+        for (size_t n = b * k_volume_block; n < end; ++n) {
             const uint32_t i = c.vertices[n];
-            eighteen_v += double(x[i].dot(grad[i]));
-            denom += double(w[i]) * double(grad[i].squaredNorm());
+            s.eighteen_v += double(x[i].dot(grad[i]));
+            s.denom += double(p.w[i]) * double(grad[i].squaredNorm());
         }
-    }
-    const double C = eighteen_v / 18.0 - double(c.pressure) * c.rest_volume;
-    denom /= 36.0;  // |grad V|^2 = |grad 6V|^2 / 36
-    if (denom < 1e-30) return;
-    Real scale;
-    if (xpbd) {
-        const double dlambda = (-C - double(alpha_tilde) * c.lambda) / (denom + double(alpha_tilde));
-        c.lambda += dlambda;
-        scale = Real(dlambda / 6.0);
-    } else {
-        scale = Real(-double(stiffness) * C / denom / 6.0);
-    }
-    Vec4<Real>* xw = p.x.data();
-    for (size_t n = 0; n < nv; ++n) {
-        const uint32_t i = c.vertices[n];
-        xw[i] += (scale * w[i]) * grad[i];
+        block_sums[b] = s;
     }
 }
 
-template double constraint_volume<float>(const VolumeConstraint&, const Vec4ArrayT<float>&);
-template double constraint_volume<double>(const VolumeConstraint&, const Vec4ArrayT<double>&);
-template void solve_volume<float>(VolumeConstraint&, ParticlesT<float>&, Vec4ArrayT<float>&, bool, float, float);
-template void solve_volume<double>(VolumeConstraint&, ParticlesT<double>&, Vec4ArrayT<double>&, bool, double, double);
+template <class Real>
+Real volume_step(VolumeConstraint& c, const std::vector<VolumeSums>& block_sums, bool xpbd, Real stiffness,
+                 Real alpha_tilde) {
+    VolumeSums total;
+    for (const VolumeSums& s : block_sums) total.eighteen_v += s.eighteen_v, total.denom += s.denom;
+    const double C = total.eighteen_v / 18.0 - double(c.pressure) * c.rest_volume;
+    const double denom = total.denom / 36.0;  // |grad V|^2 = |grad 6V|^2 / 36
+    if (denom < 1e-30) return Real(0);
+    if (xpbd) {
+        const double dlambda = (-C - double(alpha_tilde) * c.lambda) / (denom + double(alpha_tilde));
+        c.lambda += dlambda;
+        return Real(dlambda / 6.0);
+    }
+    return Real(-double(stiffness) * C / denom / 6.0);
+}
+
+template <class Real>
+void volume_apply(const VolumeConstraint& c, ParticlesT<Real>& p, const Vec4ArrayT<Real>& grad, Real step, size_t b) {
+    const size_t end = std::min(c.vertices.size(), (b + 1) * k_volume_block);
+    for (size_t n = b * k_volume_block; n < end; ++n) {
+        const uint32_t i = c.vertices[n];
+        p.x[i] += (step * p.w[i]) * grad[i];
+    }
+}
+
+template <class Real>
+void solve_volume(VolumeConstraint& c, ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, bool xpbd, Real stiffness,
+                  Real alpha_tilde) {
+    std::vector<VolumeSums> sums(volume_blocks(c));
+    for (size_t b = 0; b < sums.size(); ++b) sums[b] = volume_gather<Real>(c, p, grad, b);
+    volume_caps<Real>(c, p, grad, sums);
+    const Real step = volume_step<Real>(c, sums, xpbd, stiffness, alpha_tilde);
+    for (size_t b = 0; b < sums.size(); ++b) volume_apply<Real>(c, p, grad, step, b);
+}
+
+#define PBDSPLAT_INSTANTIATE(Real)                                                                               \
+    template double constraint_volume<Real>(const VolumeConstraint&, const Vec4ArrayT<Real>&);                \
+    template VolumeSums volume_gather<Real>(const VolumeConstraint&, const ParticlesT<Real>&, Vec4ArrayT<Real>&, \
+                                            size_t);                                                           \
+    template void volume_caps<Real>(const VolumeConstraint&, const ParticlesT<Real>&, Vec4ArrayT<Real>&,         \
+                                    std::vector<VolumeSums>&);                                                 \
+    template Real volume_step<Real>(VolumeConstraint&, const std::vector<VolumeSums>&, bool, Real, Real);        \
+    template void volume_apply<Real>(const VolumeConstraint&, ParticlesT<Real>&, const Vec4ArrayT<Real>&, Real,  \
+                                     size_t);                                                                  \
+    template void solve_volume<Real>(VolumeConstraint&, ParticlesT<Real>&, Vec4ArrayT<Real>&, bool, Real, Real);
+PBDSPLAT_INSTANTIATE(float)
+PBDSPLAT_INSTANTIATE(double)
+#undef PBDSPLAT_INSTANTIATE
 
 } // namespace pbdsplat::sim

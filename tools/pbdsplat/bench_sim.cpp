@@ -14,9 +14,10 @@ namespace pbdsplat::cli {
 int bench_sim(const std::vector<std::string>& argv) {
     static constexpr const char* help =
         "usage: pbdsplat bench sim [--mesh SPEC] [--pin top|none] [--mode paper|xpbd] [--iterations I]\n"
-        "                          [--substeps S] [--frames N] [--warmup K] [--volume on|off] [--json]\n"
+        "                          [--substeps S] [--frames N] [--warmup K] [--volume on|off] [--threads T]\n"
+        "                          [--json]\n"
         "\n"
-        "Runs Stage A (the CPU PBD frame of the paper, one thread) on a body hanging under gravity\n"
+        "Runs Stage A (the CPU PBD frame of the paper) on a body hanging under gravity\n"
         "and prints the median milliseconds per frame, in total and per stage as the paper's\n"
         "Tables 3 and 4 break them down: apply forces, constraint projection, integrate + normals,\n"
         "and update particles (the particle-to-Gaussian mapping).\n"
@@ -30,20 +31,23 @@ int bench_sim(const std::vector<std::string>& argv) {
         "  --frames N          measured frames at 60 Hz (default 300)\n"
         "  --warmup K          unmeasured frames first (default 30)\n"
         "  --volume on|off     project the volume constraint (default on)\n"
+        "  --threads T         worker threads, the caller included (default 1)\n"
         "  --json              print one JSON object on stdout\n";
     auto args = Args::parse(argv, {"json", "help"},
-                            {"mesh", "pin", "mode", "iterations", "substeps", "frames", "warmup", "volume"});
+                            {"mesh", "pin", "mode", "iterations", "substeps", "frames", "warmup", "volume", "threads"});
     if (!args.ok()) return usage_error("bench sim", args.error().to_string());
     if (args->has("help")) return std::fputs(help, stdout), 0;
     auto iterations = args->get_uint("iterations", 5, 1, 1000);
     auto substeps = args->get_uint("substeps", 1, 1, 1000);
     auto frames = args->get_uint("frames", 300, 1, 1000000);
     auto warmup = args->get_uint("warmup", 30, 0, 1000000);
+    auto threads = args->get_uint("threads", 1, 1, 64);
     auto pin = args->get_choice("pin", "top", {"top", "none"});
     auto mode = args->get_choice("mode", "paper", {"paper", "xpbd"});
     auto volume = args->get_choice("volume", "on", {"on", "off"});
     for (const core::Error* e : {iterations.ok() ? nullptr : &iterations.error(), substeps.ok() ? nullptr : &substeps.error(),
                                  frames.ok() ? nullptr : &frames.error(), warmup.ok() ? nullptr : &warmup.error(),
+                                 threads.ok() ? nullptr : &threads.error(),
                                  pin.ok() ? nullptr : &pin.error(), mode.ok() ? nullptr : &mode.error(),
                                  volume.ok() ? nullptr : &volume.error()})
         if (e) return usage_error("bench sim", e->to_string());
@@ -65,7 +69,8 @@ int bench_sim(const std::vector<std::string>& argv) {
     settings.volume = desc.volume;
     if (auto v = sim::validate(settings); !v.ok()) return usage_error("bench sim", v.error().to_string());
 
-    sim::Solver solver;
+    core::ThreadPool pool(threads.value());
+    sim::Solver solver(&pool);
     splat::Appearance look;
     std::vector<splat::GaussianRecord> records;
     std::vector<double> total, forces, constraints, integrate, update;
@@ -92,7 +97,7 @@ int bench_sim(const std::vector<std::string>& argv) {
                                   {"iterations", iterations.value()},
                                   {"substeps", substeps.value()},
                                   {"volume", desc.volume},
-                                  {"threads", 1},
+                                  {"threads", threads.value()},
                                   {"particles", body.particle_count()},
                                   {"constraints", n_constraints},
                                   {"frames", frames.value()},
@@ -103,9 +108,9 @@ int bench_sim(const std::vector<std::string>& argv) {
                                                         {"update_particles", core::median(update)}}}};
         std::printf("%s\n", j.dump().c_str());
     } else {
-        std::printf("%s: %zu particles, %zu distance + %zu volume constraints; %s, I=%u, S=%u, one thread\n",
+        std::printf("%s: %zu particles, %zu distance + %zu volume constraints; %s, I=%u, S=%u, %u thread(s)\n",
                     spec.c_str(), body.particle_count(), body.distance.size(), settings.volume ? body.volumes.size() : 0,
-                    mode.value().c_str(), iterations.value(), substeps.value());
+                    mode.value().c_str(), iterations.value(), substeps.value(), threads.value());
         std::printf("median of %u frames:\n", frames.value());
         std::printf("  apply forces           %8.3f ms\n", core::median(forces));
         std::printf("  constraint projection  %8.3f ms\n", core::median(constraints));
