@@ -1,0 +1,103 @@
+#pragma once
+// A scene: the model and its material, the simulation settings, the rendering settings and a
+// timeline of events. Read from TOML files (docs/scene-format.md) or built in code.
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "core/math.h"
+#include "render/frame_inputs.h"
+#include "sim/colliders.h"
+#include "sim/solver.h"
+
+namespace pbdsplat::scene {
+
+struct ModelDesc {
+    std::string mesh = "icosphere:4";  // procedural spec or OBJ path (see mesh/mesh_spec.h)
+    float fit = 2.0f;                  // files: bounding-box diagonal after loading; 0 keeps
+    Vec3f translate = Vec3f::Zero();
+    Vec3f rotate_degrees = Vec3f::Zero();  // applied x, then y, then z
+    float scale = 1.0f;
+};
+
+struct MaterialDesc {
+    Vec3f color{0.85f, 0.32f, 0.25f};  // linear rgb
+    float opacity = 0.98f;             // sigmoid(o) of every splat, in (0, 1)
+    float shininess = 48.0f;
+    float diffuse = 1.0f;   // weight of the light's diffuse term
+    float specular = 0.35f;
+    float splat_scale = 0.6f;  // splat std dev in mean edge lengths
+};
+
+struct PinRegion {
+    Vec3f min, max;  // particles inside this box (world space, after the transform) are pinned
+};
+
+struct SimulationDesc {
+    sim::SolverSettings solver;
+    float dt = 1.0f / 60.0f;
+    float mass = 1.0f;
+    float compliance = 0.0f;         // XPBD stretch compliance, m/N
+    float volume_compliance = 0.0f;  // XPBD
+    float pressure = 1.0f;           // initial k
+    float friction = 0.4f;
+    std::vector<uint32_t> pins;      // particle indices of the repaired, reordered mesh
+    std::vector<PinRegion> pin_regions;
+    sim::Colliders colliders;        // friction copied from `friction`
+};
+
+struct CameraOrbit {
+    float degrees_per_second = 0.0f;  // about the camera target's y axis
+};
+
+struct RenderDesc {
+    uint32_t width = 1280, height = 720;
+    render::FrameInputs frame;  // camera, lighting, splat style, background
+    bool sort = false;          // far-to-near sort for "over" blending
+    CameraOrbit orbit;
+};
+
+// Timeline events. Times in seconds from the start.
+struct PressureEvent {
+    float value = 1.0f;     // target k
+    float duration = 0.0f;  // linear ramp from the current k; 0 = at once
+};
+struct DragEvent {
+    Vec3f from, to;         // world points: the particle nearest `from` is pulled to `to`
+    float duration = 1.0f;  // then released
+    float stiffness = 0.5f;
+};
+struct SpinEvent {
+    Vec3f axis{0.0f, 1.0f, 0.0f};
+    float degrees_per_second = 45.0f;  // the body turns about its centre
+    float duration = 1.0f;
+};
+struct CutEvent {
+    std::optional<std::array<Vec2f, 2>> segment;  // screen pixels, with the camera of that moment
+    std::optional<std::pair<Vec3f, Vec3f>> plane;  // point and normal
+};
+struct TearEvent {
+    float threshold = 1.5f;  // stretch ratio beyond which edges tear
+};
+using EventData = std::variant<PressureEvent, DragEvent, SpinEvent, CutEvent, TearEvent>;
+struct Event {
+    float time = 0.0f;
+    EventData data;
+};
+
+struct Scene {
+    std::string name;        // file stem, or "default"
+    std::string source_dir;  // directory of the scene file (models are looked up there first)
+    ModelDesc model;
+    MaterialDesc material;
+    SimulationDesc simulation;
+    RenderDesc render;
+    std::vector<Event> events;  // sorted by time
+
+    bool has_topology_events() const;
+};
+
+const char* event_type_name(const EventData& e);
+
+} // namespace pbdsplat::scene

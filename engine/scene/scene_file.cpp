@@ -1,0 +1,450 @@
+#include "scene/scene_file.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+namespace pbdsplat::scene {
+namespace {
+
+// Thrown inside the reader, caught at the top: the first error ends the parse.
+struct ParseFailure {
+    core::Error error;
+};
+
+class Reader {
+public:
+    explicit Reader(std::string file) : file_(std::move(file)) {}
+
+    [[noreturn]] void fail(const toml::source_region& at, const std::string& what) const {
+        throw ParseFailure{core::Error{what, file_ + ":" + std::to_string(at.begin.line) + ":" +
+                                                 std::to_string(at.begin.column), 0}};
+    }
+
+    // One TOML table: values are taken by name, and finish() refuses any key not taken.
+    class Table {
+    public:
+        Table(const Reader& r, const toml::table& t, std::string path) : r_(r), t_(t), path_(std::move(path)) {}
+        ~Table() = default;
+
+        bool has(const std::string& key) const { return t_.contains(key); }
+        const toml::node* node(const std::string& key) {
+            used_.insert(key);
+            return t_.get(key);
+        }
+        std::string where(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+        double number(const std::string& key, double fallback, double lo, double hi) {
+            const toml::node* n = node(key);
+            if (!n) return fallback;
+            double v;
+            if (auto i = n->as_integer()) v = double(i->get());
+            else if (auto f = n->as_floating_point()) v = f->get();
+            else r_.fail(n->source(), "'" + where(key) + "' must be a number");
+            if (!std::isfinite(v)) r_.fail(n->source(), "'" + where(key) + "' must be finite");
+            if (v < lo || v > hi)
+                r_.fail(n->source(), "'" + where(key) + "' = " + fmt(v) + " is out of range [" + fmt(lo) + ", " + fmt(hi) + "]");
+            return v;
+        }
+        float real(const std::string& key, float fallback, double lo, double hi) { return float(number(key, fallback, lo, hi)); }
+        uint32_t count(const std::string& key, uint32_t fallback, uint32_t lo, uint32_t hi) {
+            const toml::node* n = node(key);
+            if (!n) return fallback;
+            auto i = n->as_integer();
+            if (!i) r_.fail(n->source(), "'" + where(key) + "' must be a whole number");
+            if (i->get() < lo || i->get() > hi)
+                r_.fail(n->source(), "'" + where(key) + "' = " + std::to_string(i->get()) + " is out of range [" +
+                                         std::to_string(lo) + ", " + std::to_string(hi) + "]");
+            return uint32_t(i->get());
+        }
+        bool flag(const std::string& key, bool fallback) {
+            const toml::node* n = node(key);
+            if (!n) return fallback;
+            auto b = n->as_boolean();
+            if (!b) r_.fail(n->source(), "'" + where(key) + "' must be true or false");
+            return b->get();
+        }
+        std::string text(const std::string& key, const std::string& fallback) {
+            const toml::node* n = node(key);
+            if (!n) return fallback;
+            auto s = n->as_string();
+            if (!s) r_.fail(n->source(), "'" + where(key) + "' must be a string");
+            return s->get();
+        }
+        std::string choice(const std::string& key, const std::string& fallback, std::initializer_list<const char*> options) {
+            const std::string v = text(key, fallback);
+            std::string all;
+            for (const char* o : options) {
+                if (v == o) return v;
+                all += (all.empty() ? "" : ", ") + std::string(o);
+            }
+            r_.fail(t_.get(key)->source(), "'" + where(key) + "' must be one of " + all + ", not '" + v + "'");
+        }
+        template <int N>
+        Eigen::Matrix<float, N, 1> vec(const std::string& key, const Eigen::Matrix<float, N, 1>& fallback, double lo = -1e6,
+                                       double hi = 1e6) {
+            const toml::node* n = node(key);
+            if (!n) return fallback;
+            auto a = n->as_array();
+            if (!a || a->size() != size_t(N)) r_.fail(n->source(), "'" + where(key) + "' must be an array of " + std::to_string(N) + " numbers");
+            Eigen::Matrix<float, N, 1> out;
+            for (int k = 0; k < N; ++k) {
+                const toml::node& e = *a->get(size_t(k));
+                double v;
+                if (auto i = e.as_integer()) v = double(i->get());
+                else if (auto f = e.as_floating_point()) v = f->get();
+                else r_.fail(e.source(), "'" + where(key) + "' must be an array of " + std::to_string(N) + " numbers");
+                if (!std::isfinite(v) || v < lo || v > hi)
+                    r_.fail(e.source(), "'" + where(key) + "' element " + fmt(v) + " is out of range [" + fmt(lo) + ", " + fmt(hi) + "]");
+                out[k] = float(v);
+            }
+            return out;
+        }
+        const toml::table* table(const std::string& key) {
+            const toml::node* n = node(key);
+            if (!n) return nullptr;
+            if (!n->is_table()) r_.fail(n->source(), "'" + where(key) + "' must be a table");
+            return n->as_table();
+        }
+        const toml::array* array(const std::string& key) {
+            const toml::node* n = node(key);
+            if (!n) return nullptr;
+            if (!n->is_array()) r_.fail(n->source(), "'" + where(key) + "' must be an array");
+            return n->as_array();
+        }
+        void finish() const {
+            for (const auto& [k, v] : t_)
+                if (!used_.count(std::string(k.str())))
+                    r_.fail(k.source().begin.line ? k.source() : v.source(), "unknown key '" + where(std::string(k.str())) + "'");
+        }
+        const toml::table& raw() const { return t_; }
+
+    private:
+        static std::string fmt(double v) {
+            std::ostringstream s;
+            s << v;
+            return s.str();
+        }
+        const Reader& r_;
+        const toml::table& t_;
+        std::string path_;
+        std::set<std::string> used_;
+    };
+
+private:
+    std::string file_;
+};
+
+Vec3f normalized_or_fail(const Reader& r, const toml::node* n, const Vec3f& v, const std::string& key) {
+    if (v.norm() < 1e-6f) r.fail(n ? n->source() : toml::source_region{}, "'" + key + "' must not be the zero vector");
+    return v.normalized();
+}
+
+void read_model(const Reader& r, Reader::Table& t, ModelDesc& m) {
+    m.mesh = t.text("mesh", m.mesh);
+    m.fit = t.real("fit", m.fit, 0.0, 1e4);
+    m.translate = t.vec<3>("translate", m.translate);
+    m.rotate_degrees = t.vec<3>("rotate_degrees", m.rotate_degrees, -3600, 3600);
+    m.scale = t.real("scale", m.scale, 1e-6, 1e6);
+    (void)r;
+    t.finish();
+}
+
+void read_material(Reader::Table& t, MaterialDesc& m) {
+    m.color = t.vec<3>("color", m.color, 0.0, 1.0);
+    m.opacity = t.real("opacity", m.opacity, 1e-4, 0.9999);
+    m.shininess = t.real("shininess", m.shininess, 1.0, 10000.0);
+    m.diffuse = t.real("diffuse", m.diffuse, 0.0, 10.0);
+    m.specular = t.real("specular", m.specular, 0.0, 10.0);
+    m.splat_scale = t.real("splat_scale", m.splat_scale, 0.01, 10.0);
+    t.finish();
+}
+
+void read_simulation(const Reader& r, Reader::Table& t, SimulationDesc& s) {
+    sim::SolverSettings& solver = s.solver;
+    solver.mode = t.choice("mode", "paper", {"paper", "xpbd"}) == "xpbd" ? sim::SolverMode::xpbd : sim::SolverMode::paper;
+    s.dt = t.real("dt", s.dt, 1.0 / 1000.0, 1.0 / 10.0);
+    solver.iterations = t.count("iterations", solver.iterations, 1, 1000);
+    solver.substeps = t.count("substeps", solver.substeps, 1, 1000);
+    solver.stretch_stiffness = t.real("stiffness", solver.stretch_stiffness, 1e-4, 1.0);
+    s.compliance = t.real("compliance", s.compliance, 0.0, 1e3);
+    solver.volume = t.flag("volume", solver.volume);
+    solver.volume_stiffness = t.real("volume_stiffness", solver.volume_stiffness, 1e-4, 1.0);
+    s.volume_compliance = t.real("volume_compliance", s.volume_compliance, 0.0, 1e3);
+    s.pressure = t.real("pressure", s.pressure, 0.01, 100.0);
+    solver.gravity = t.vec<3>("gravity", solver.gravity, -1000, 1000);
+    solver.damping = t.real("damping", solver.damping, 0.0, 1000.0);
+    s.mass = t.real("mass", s.mass, 1e-6, 1e6);
+    s.friction = t.real("friction", s.friction, 0.0, 10.0);
+    if (const toml::array* pins = t.array("pins"))
+        for (const toml::node& p : *pins) {
+            auto i = p.as_integer();
+            if (!i || i->get() < 0 || i->get() > 0x7fffffff) r.fail(p.source(), "'simulation.pins' holds particle indices (whole numbers >= 0)");
+            s.pins.push_back(uint32_t(i->get()));
+        }
+    if (const toml::array* regions = t.array("pin_regions"))
+        for (const toml::node& n : *regions) {
+            if (!n.is_table()) r.fail(n.source(), "'simulation.pin_regions' holds tables {min = [...], max = [...]}");
+            Reader::Table region(r, *n.as_table(), "simulation.pin_regions");
+            PinRegion p{region.vec<3>("min", Vec3f::Zero()), region.vec<3>("max", Vec3f::Zero())};
+            if ((p.min.array() > p.max.array()).any()) r.fail(n.source(), "pin region: min must not exceed max");
+            region.finish();
+            s.pin_regions.push_back(p);
+        }
+    if (const toml::array* colliders = t.array("colliders"))
+        for (const toml::node& n : *colliders) {
+            if (!n.is_table()) r.fail(n.source(), "'simulation.colliders' holds tables");
+            Reader::Table c(r, *n.as_table(), "simulation.colliders");
+            const std::string type = c.choice("type", "plane", {"plane", "sphere", "box"});
+            if (type == "plane") {
+                sim::GroundPlane g;
+                g.normal = normalized_or_fail(r, c.raw().get("normal"), c.vec<3>("normal", g.normal), "normal");
+                g.offset = c.real("offset", g.offset, -1e6, 1e6);
+                if (s.colliders.ground) r.fail(n.source(), "only one plane collider is supported");
+                s.colliders.ground = g;
+            } else if (type == "sphere") {
+                sim::SphereCollider sp;
+                sp.center = c.vec<3>("center", sp.center);
+                sp.radius = c.real("radius", sp.radius, 1e-6, 1e6);
+                s.colliders.spheres.push_back(sp);
+            } else {
+                sim::BoxCollider b;
+                b.center = c.vec<3>("center", b.center);
+                b.half_extents = c.vec<3>("half_extents", b.half_extents, 1e-6, 1e6);
+                const Vec3f deg = c.vec<3>("rotate_degrees", Vec3f::Zero(), -3600, 3600);
+                b.rotation = Eigen::AngleAxisf(math::radians(deg.z()), Vec3f::UnitZ()) *
+                             Eigen::AngleAxisf(math::radians(deg.y()), Vec3f::UnitY()) *
+                             Eigen::AngleAxisf(math::radians(deg.x()), Vec3f::UnitX());
+                s.colliders.boxes.push_back(b);
+            }
+            c.finish();
+        }
+    s.colliders.friction = s.friction;
+    t.finish();
+}
+
+void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
+    d.width = t.count("width", d.width, 16, 16384);
+    d.height = t.count("height", d.height, 16, 16384);
+    render::SplatStyle& style = d.frame.style;
+    style.blend = t.choice("blend", "over", {"over", "additive"}) == "additive" ? render::Blend::additive : render::Blend::over;
+    d.sort = t.flag("sort", d.sort);
+    style.kappa = t.real("kappa", style.kappa, 1.0, 6.0);
+    const Vec3f bg = t.vec<3>("background", Vec3f(d.frame.background.head<3>()), 0.0, 1.0);
+    d.frame.background = Vec4f(bg.x(), bg.y(), bg.z(), 1.0f);
+    if (const toml::table* cam = t.table("camera")) {
+        Reader::Table c(r, *cam, "render.camera");
+        render::Camera& k = d.frame.camera;
+        k.eye = c.vec<3>("eye", k.eye);
+        k.target = c.vec<3>("target", k.target);
+        k.up = c.vec<3>("up", k.up);
+        k.fov_y_degrees = c.real("fov_degrees", k.fov_y_degrees, 1.0, 170.0);
+        d.orbit.degrees_per_second = c.real("orbit_degrees_per_second", d.orbit.degrees_per_second, -3600, 3600);
+        if ((k.eye - k.target).norm() < 1e-6f) r.fail(cam->source(), "'render.camera': eye and target coincide");
+        c.finish();
+    }
+    if (const toml::table* light = t.table("light")) {
+        Reader::Table l(r, *light, "render.light");
+        render::Lighting& g = d.frame.lighting;
+        g.direction = l.vec<3>("direction", g.direction);  // normalised where it is used
+        if (g.direction.norm() < 1e-6f) r.fail(light->source(), "'render.light.direction' must not be the zero vector");
+        g.color = l.vec<3>("color", g.color, 0.0, 100.0);
+        g.intensity = l.real("intensity", g.intensity, 0.0, 100.0);
+        g.ambient = l.vec<3>("ambient", g.ambient, 0.0, 100.0);
+        l.finish();
+    }
+    t.finish();
+}
+
+Event read_event(const Reader& r, const toml::node& n) {
+    if (!n.is_table()) r.fail(n.source(), "each [[events]] entry must be a table");
+    Reader::Table t(r, *n.as_table(), "events");
+    Event e;
+    e.time = t.real("time", 0.0f, 0.0, 1e6);
+    const std::string type = t.choice("type", "pressure", {"pressure", "drag", "spin", "cut", "tear"});
+    if (!t.has("type")) r.fail(n.source(), "an event needs a 'type' (pressure, drag, spin, cut, tear)");
+    if (type == "pressure") {
+        PressureEvent p;
+        p.value = t.real("value", p.value, 0.01, 100.0);
+        p.duration = t.real("duration", p.duration, 0.0, 1e6);
+        e.data = p;
+    } else if (type == "drag") {
+        DragEvent d;
+        if (!t.has("from") || !t.has("to")) r.fail(n.source(), "a drag event needs 'from' and 'to'");
+        d.from = t.vec<3>("from", d.from);
+        d.to = t.vec<3>("to", d.to);
+        d.duration = t.real("duration", d.duration, 0.0, 1e6);
+        d.stiffness = t.real("stiffness", d.stiffness, 1e-3, 1.0);
+        e.data = d;
+    } else if (type == "spin") {
+        SpinEvent s;
+        s.axis = normalized_or_fail(r, n.as_table()->get("axis"), t.vec<3>("axis", s.axis), "axis");
+        s.degrees_per_second = t.real("degrees_per_second", s.degrees_per_second, -36000, 36000);
+        s.duration = t.real("duration", s.duration, 0.0, 1e6);
+        e.data = s;
+    } else if (type == "cut") {
+        CutEvent c;
+        const bool seg = t.has("from") || t.has("to");
+        const bool plane = t.has("point") || t.has("normal");
+        if (seg == plane) r.fail(n.source(), "a cut event needs either a screen segment ('from', 'to' in pixels) or a plane ('point', 'normal')");
+        if (seg) c.segment = std::array<Vec2f, 2>{t.vec<2>("from", Vec2f::Zero(), -1e5, 1e5), t.vec<2>("to", Vec2f::Zero(), -1e5, 1e5)};
+        else c.plane = std::pair<Vec3f, Vec3f>{t.vec<3>("point", Vec3f::Zero()),
+                                               normalized_or_fail(r, n.as_table()->get("normal"), t.vec<3>("normal", Vec3f::UnitY()), "normal")};
+        e.data = c;
+    } else {
+        TearEvent te;
+        te.threshold = t.real("threshold", te.threshold, 1.01, 100.0);
+        e.data = te;
+    }
+    t.finish();
+    return e;
+}
+
+} // namespace
+
+core::Result<Scene> parse_scene(const std::string& text, const std::string& name) {
+    Scene scene;
+    scene.name = std::filesystem::path(name).stem().string();
+    scene.source_dir = std::filesystem::path(name).parent_path().string();
+    Reader r(name);
+    try {
+        toml::table root;
+        try {
+            root = toml::parse(text, name);
+        } catch (const toml::parse_error& e) {
+            r.fail(e.source(), std::string(e.description()));
+        }
+        Reader::Table top(r, root, "");
+        if (const toml::table* t = top.table("model")) {
+            Reader::Table m(r, *t, "model");
+            read_model(r, m, scene.model);
+        }
+        if (const toml::table* t = top.table("material")) {
+            Reader::Table m(r, *t, "material");
+            read_material(m, scene.material);
+        }
+        if (const toml::table* t = top.table("simulation")) {
+            Reader::Table s(r, *t, "simulation");
+            read_simulation(r, s, scene.simulation);
+        }
+        if (const toml::table* t = top.table("render")) {
+            Reader::Table d(r, *t, "render");
+            read_render(r, d, scene.render);
+        }
+        if (const toml::array* events = top.array("events"))
+            for (const toml::node& n : *events) scene.events.push_back(read_event(r, n));
+        top.finish();
+    } catch (const ParseFailure& f) {
+        // The location is in `file` ("name:line:column"); keep it as the error's file.
+        return f.error;
+    }
+    std::stable_sort(scene.events.begin(), scene.events.end(), [](const Event& a, const Event& b) { return a.time < b.time; });
+    return scene;
+}
+
+namespace {
+std::string num(double v) {
+    char buf[40];
+    std::snprintf(buf, sizeof(buf), "%.9g", v);
+    std::string s = buf;
+    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // keep it a TOML float
+    return s;
+}
+template <int N>
+std::string vec(const Eigen::Matrix<float, N, 1>& v) {
+    std::string s = "[";
+    for (int k = 0; k < N; ++k) s += (k ? ", " : "") + num(double(v[k]));
+    return s + "]";
+}
+std::string quoted(const std::string& t) {
+    std::string o = "\"";
+    for (char c : t) {
+        if (c == '"' || c == '\\') o += '\\';
+        o += c;
+    }
+    return o + "\"";
+}
+} // namespace
+
+std::string to_toml(const Scene& sc) {
+    std::ostringstream o;
+    const ModelDesc& m = sc.model;
+    o << "[model]\nmesh = " << quoted(m.mesh) << "\nfit = " << num(m.fit) << "\ntranslate = " << vec<3>(m.translate)
+      << "\nrotate_degrees = " << vec<3>(m.rotate_degrees) << "\nscale = " << num(m.scale) << "\n\n";
+    const MaterialDesc& mat = sc.material;
+    o << "[material]\ncolor = " << vec<3>(mat.color) << "\nopacity = " << num(mat.opacity) << "\nshininess = "
+      << num(mat.shininess) << "\ndiffuse = " << num(mat.diffuse) << "\nspecular = " << num(mat.specular)
+      << "\nsplat_scale = " << num(mat.splat_scale) << "\n\n";
+    const SimulationDesc& s = sc.simulation;
+    o << "[simulation]\nmode = " << (s.solver.mode == sim::SolverMode::xpbd ? "\"xpbd\"" : "\"paper\"") << "\ndt = " << num(s.dt)
+      << "\niterations = " << s.solver.iterations << "\nsubsteps = " << s.solver.substeps
+      << "\nstiffness = " << num(s.solver.stretch_stiffness) << "\ncompliance = " << num(s.compliance)
+      << "\nvolume = " << (s.solver.volume ? "true" : "false") << "\nvolume_stiffness = " << num(s.solver.volume_stiffness)
+      << "\nvolume_compliance = " << num(s.volume_compliance) << "\npressure = " << num(s.pressure)
+      << "\ngravity = " << vec<3>(s.solver.gravity) << "\ndamping = " << num(s.solver.damping) << "\nmass = " << num(s.mass)
+      << "\nfriction = " << num(s.friction) << "\npins = [";
+    for (size_t i = 0; i < s.pins.size(); ++i) o << (i ? ", " : "") << s.pins[i];
+    o << "]\npin_regions = [";
+    for (size_t i = 0; i < s.pin_regions.size(); ++i)
+        o << (i ? ", " : "") << "{ min = " << vec<3>(s.pin_regions[i].min) << ", max = " << vec<3>(s.pin_regions[i].max) << " }";
+    o << "]\ncolliders = [";
+    bool first = true;
+    auto sep = [&] { o << (first ? "\n  " : ",\n  "); first = false; };
+    if (s.colliders.ground) {
+        sep();
+        o << "{ type = \"plane\", normal = " << vec<3>(s.colliders.ground->normal) << ", offset = " << num(s.colliders.ground->offset) << " }";
+    }
+    for (const auto& sp : s.colliders.spheres) {
+        sep();
+        o << "{ type = \"sphere\", center = " << vec<3>(sp.center) << ", radius = " << num(sp.radius) << " }";
+    }
+    for (const auto& b : s.colliders.boxes) {
+        sep();
+        const Vec3f deg = b.rotation.toRotationMatrix().eulerAngles(2, 1, 0).reverse() * (180.0f / k_pi);
+        o << "{ type = \"box\", center = " << vec<3>(b.center) << ", half_extents = " << vec<3>(b.half_extents)
+          << ", rotate_degrees = " << vec<3>(deg) << " }";
+    }
+    o << (first ? "]\n\n" : "\n]\n\n");
+    const RenderDesc& d = sc.render;
+    const render::Camera& c = d.frame.camera;
+    const render::Lighting& l = d.frame.lighting;
+    o << "[render]\nwidth = " << d.width << "\nheight = " << d.height << "\nblend = "
+      << (d.frame.style.blend == render::Blend::additive ? "\"additive\"" : "\"over\"") << "\nsort = " << (d.sort ? "true" : "false")
+      << "\nkappa = " << num(d.frame.style.kappa) << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()))
+      << "\n\n[render.camera]\neye = " << vec<3>(c.eye) << "\ntarget = " << vec<3>(c.target) << "\nup = " << vec<3>(c.up)
+      << "\nfov_degrees = " << num(c.fov_y_degrees) << "\norbit_degrees_per_second = " << num(d.orbit.degrees_per_second)
+      << "\n\n[render.light]\ndirection = " << vec<3>(l.direction) << "\ncolor = " << vec<3>(l.color) << "\nintensity = "
+      << num(l.intensity) << "\nambient = " << vec<3>(l.ambient) << "\n";
+    for (const Event& e : sc.events) {
+        o << "\n[[events]]\ntime = " << num(e.time) << "\ntype = \"" << event_type_name(e.data) << "\"\n";
+        if (auto* p = std::get_if<PressureEvent>(&e.data)) o << "value = " << num(p->value) << "\nduration = " << num(p->duration) << "\n";
+        if (auto* dr = std::get_if<DragEvent>(&e.data))
+            o << "from = " << vec<3>(dr->from) << "\nto = " << vec<3>(dr->to) << "\nduration = " << num(dr->duration)
+              << "\nstiffness = " << num(dr->stiffness) << "\n";
+        if (auto* sp = std::get_if<SpinEvent>(&e.data))
+            o << "axis = " << vec<3>(sp->axis) << "\ndegrees_per_second = " << num(sp->degrees_per_second)
+              << "\nduration = " << num(sp->duration) << "\n";
+        if (auto* cu = std::get_if<CutEvent>(&e.data)) {
+            if (cu->segment) o << "from = " << vec<2>((*cu->segment)[0]) << "\nto = " << vec<2>((*cu->segment)[1]) << "\n";
+            if (cu->plane) o << "point = " << vec<3>(cu->plane->first) << "\nnormal = " << vec<3>(cu->plane->second) << "\n";
+        }
+        if (auto* te = std::get_if<TearEvent>(&e.data)) o << "threshold = " << num(te->threshold) << "\n";
+    }
+    return o.str();
+}
+
+core::Result<Scene> load_scene(const std::string& path) {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) return core::make_error(path, 0, "cannot open the scene file (does it exist and is it readable?)");
+    std::ostringstream text;
+    text << file.rdbuf();
+    return parse_scene(text.str(), path);
+}
+
+} // namespace pbdsplat::scene

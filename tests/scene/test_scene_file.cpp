@@ -1,0 +1,145 @@
+#include <doctest/doctest.h>
+
+#include <filesystem>
+
+#include "scene/scene_file.h"
+
+using namespace pbdsplat;
+
+namespace {
+std::string refusal(const std::string& text) {
+    auto r = scene::parse_scene(text, "bad.toml");
+    REQUIRE_FALSE(r.ok());
+    return r.error().to_string();
+}
+
+constexpr const char* k_full = R"(
+[model]
+mesh = "torus:32:16"
+fit = 0.0
+translate = [0.0, 1.0, 0.0]
+scale = 0.5
+
+[material]
+color = [0.2, 0.6, 0.9]
+opacity = 0.95
+
+[simulation]
+mode = "xpbd"
+dt = 0.01
+iterations = 2
+substeps = 4
+compliance = 1e-4
+pressure = 1.2
+pins = [0, 3]
+pin_regions = [{ min = [-1, 0.5, -1], max = [1, 2, 1] }]
+colliders = [
+  { type = "plane", normal = [0, 1, 0], offset = -1.5 },
+  { type = "sphere", center = [0.5, -1, 0], radius = 0.25 },
+  { type = "box", center = [0, -2, 0], half_extents = [2, 0.1, 2] },
+]
+
+[render]
+width = 640
+height = 360
+blend = "additive"
+sort = true
+
+[render.camera]
+eye = [0, 1, 4]
+orbit_degrees_per_second = 20
+
+[[events]]
+time = 2.0
+type = "pressure"
+value = 0.5
+duration = 1.0
+
+[[events]]
+time = 0.5
+type = "drag"
+from = [0, 1, 0]
+to = [0, 2, 0]
+
+[[events]]
+time = 3.0
+type = "cut"
+from = [100, 200]
+to = [500, 220]
+
+[[events]]
+time = 4.0
+type = "cut"
+point = [0, 0, 0]
+normal = [1, 0, 0]
+
+[[events]]
+time = 5.0
+type = "tear"
+threshold = 1.8
+
+[[events]]
+time = 1.0
+type = "spin"
+axis = [0, 1, 0]
+degrees_per_second = 90
+)";
+} // namespace
+
+TEST_SUITE("scene/scene_file") {
+    TEST_CASE("every key is read") {
+        auto r = scene::parse_scene(k_full, "full.toml");
+        REQUIRE_MESSAGE(r.ok(), r.error().to_string());
+        const scene::Scene& s = r.value();
+        CHECK(s.name == "full");
+        CHECK(s.model.mesh == "torus:32:16");
+        CHECK(s.model.scale == 0.5f);
+        CHECK(s.simulation.solver.mode == sim::SolverMode::xpbd);
+        CHECK(s.simulation.solver.substeps == 4);
+        CHECK(s.simulation.pins == std::vector<uint32_t>{0, 3});
+        CHECK(s.simulation.colliders.ground.has_value());
+        CHECK(s.simulation.colliders.spheres.size() == 1);
+        CHECK(s.simulation.colliders.boxes.size() == 1);
+        CHECK(s.render.frame.style.blend == render::Blend::additive);
+        CHECK(s.render.orbit.degrees_per_second == 20.0f);
+        REQUIRE(s.events.size() == 6);
+        CHECK(s.events.front().time == 0.5f);  // sorted by time
+        CHECK(std::string(scene::event_type_name(s.events.front().data)) == "drag");
+        CHECK(s.has_topology_events());
+    }
+
+    TEST_CASE("a scene survives printing and parsing again") {
+        auto first = scene::parse_scene(k_full, "full.toml");
+        REQUIRE(first.ok());
+        const std::string printed = scene::to_toml(first.value());
+        auto second = scene::parse_scene(printed, "printed.toml");
+        REQUIRE_MESSAGE(second.ok(), second.error().to_string() << "\n" << printed);
+        CHECK(scene::to_toml(second.value()) == printed);
+        CHECK(second->simulation.colliders.spheres[0].radius == first->simulation.colliders.spheres[0].radius);
+        CHECK(second->events.size() == first->events.size());
+    }
+
+    TEST_CASE("malformed scenes are refused with file, line and column") {
+        CHECK(refusal("[model]\nmesh = \"icosphere:3\"\ncolour = 1\n") == "bad.toml:3:1: unknown key 'model.colour'");
+        CHECK(refusal("[simulation]\niterations = \"five\"\n") == "bad.toml:2:14: 'simulation.iterations' must be a whole number");
+        CHECK(refusal("[simulation]\n  dt = 2.0\n") == "bad.toml:2:8: 'simulation.dt' = 2 is out of range [0.001, 0.1]");
+        CHECK(refusal("[render]\nblend = \"multiply\"\n") == "bad.toml:2:9: 'render.blend' must be one of over, additive, not 'multiply'");
+        CHECK(refusal("[material]\ncolor = [1, 0]\n") == "bad.toml:2:9: 'material.color' must be an array of 3 numbers");
+        CHECK(refusal("[[events]]\ntime = 1\ntype = \"cut\"\n").find("bad.toml:1:1: a cut event needs either") == 0);
+        CHECK(refusal("[[events]]\ntime = 1\ntype = \"explode\"\n") ==
+              "bad.toml:3:8: 'events.type' must be one of pressure, drag, spin, cut, tear, not 'explode'");
+        CHECK(refusal("[model\nmesh = 1\n").find("bad.toml:1:") == 0);  // truncated table header
+        CHECK(refusal("frames = 10\n") == "bad.toml:1:1: unknown key 'frames'");
+    }
+
+    TEST_CASE("every scene in scenes/ validates") {
+        size_t n = 0;
+        for (const auto& entry : std::filesystem::directory_iterator(PBDSPLAT_SCENES_DIR)) {
+            if (entry.path().extension() != ".toml") continue;
+            auto r = scene::load_scene(entry.path().string());
+            CHECK_MESSAGE(r.ok(), (r.ok() ? "" : r.error().to_string()));
+            ++n;
+        }
+        CHECK(n >= 1);
+    }
+}
