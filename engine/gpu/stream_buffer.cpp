@@ -30,8 +30,8 @@ VkBuffer StreamBuffer::buffer(uint32_t slot) const {
     return path_ == UploadPath::direct ? buffers_[slot].handle() : buffers_[0].handle();
 }
 
-core::Status StreamBuffer::write(VkCommandBuffer cmd, uint32_t slot, uint64_t serial, UploadRing& ring,
-                                 std::span<const std::byte> data, std::span<const ByteRange> ranges, Access consumer) {
+core::Result<VkDeviceSize> StreamBuffer::write(VkCommandBuffer cmd, uint32_t slot, uint64_t serial, UploadRing& ring,
+                                               std::span<const std::byte> data, std::span<const ByteRange> ranges) {
     if (data.size() > capacity_)
         return core::make_error("stream buffer holds " + std::to_string(capacity_) + " bytes; " +
                                 std::to_string(data.size()) + " were written");
@@ -42,19 +42,22 @@ core::Status StreamBuffer::write(VkCommandBuffer cmd, uint32_t slot, uint64_t se
         // This slot's fence has been waited on by FrameRing::begin, so the GPU is done with it;
         // vkQueueSubmit makes host writes made before it visible to the device.
         auto* dst = static_cast<std::byte*>(buffers_[slot].mapped());
+        VkDeviceSize written = 0;
         auto copy = [&](const ByteRange& r) {
             if (r.offset >= data.size()) return;  // beyond what exists now: nothing to catch up
-            std::memcpy(dst + r.offset, data.data() + r.offset, std::min(r.size, data.size() - r.offset));
+            const VkDeviceSize n = std::min<VkDeviceSize>(r.size, data.size() - r.offset);
+            std::memcpy(dst + r.offset, data.data() + r.offset, n);
+            written += n;
         };
         for (const ByteRange& r : pending_[slot]) copy(r);
         pending_[slot].clear();
         for (const ByteRange& r : ranges) copy(r);
         for (uint32_t other = 0; other < pending_.size(); ++other)
             if (other != slot) pending_[other].insert(pending_[other].end(), ranges.begin(), ranges.end());
-        return core::Status::success();
+        return written;
     }
 
-    if (ranges.empty()) return core::Status::success();
+    if (ranges.empty()) return VkDeviceSize(0);
     std::vector<VkBufferCopy> copies;
     copies.reserve(ranges.size());
     for (const ByteRange& r : ranges) {
@@ -64,16 +67,10 @@ core::Status StreamBuffer::write(VkCommandBuffer cmd, uint32_t slot, uint64_t se
         std::memcpy(span->ptr, data.data() + r.offset, r.size);
         copies.push_back({span->offset, r.offset, r.size});
     }
-    if (copies.empty()) return core::Status::success();
-    const VkBuffer dst = buffers_[0].handle();
-    // The previous frame's reads must finish before the copy overwrites the data.
-    if (last_consumer_.stage != VK_PIPELINE_STAGE_2_NONE)
-        buffer_barrier(cmd, dst, {last_consumer_.stage, VK_ACCESS_2_NONE},
-                       {VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT});
-    vkCmdCopyBuffer(cmd, ring.buffer(), dst, uint32_t(copies.size()), copies.data());
-    buffer_barrier(cmd, dst, {VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT}, consumer);
-    last_consumer_ = consumer;
-    return core::Status::success();
+    VkDeviceSize written = 0;
+    for (const VkBufferCopy& c : copies) written += c.size;
+    if (!copies.empty()) vkCmdCopyBuffer(cmd, ring.buffer(), buffers_[0].handle(), uint32_t(copies.size()), copies.data());
+    return written;
 }
 
 } // namespace pbdsplat::gpu

@@ -31,10 +31,13 @@ public:
 
     // Writes the given ranges of `data` (the whole contents, `data.size()` bytes) for the frame in
     // slot `slot`; `ranges` are what changed since the previous frame. Staged writes record
-    // copies into `cmd`, followed by a barrier to `consumer`. Direct writes also replay the
-    // ranges other frames changed since this slot's buffer was last written.
-    core::Status write(VkCommandBuffer cmd, uint32_t slot, uint64_t serial, UploadRing& ring,
-                       std::span<const std::byte> data, std::span<const ByteRange> ranges, Access consumer);
+    // copies into `cmd` (the frame graph places the barriers around them: `staged_use`). Direct
+    // writes also replay the ranges other frames changed since this slot's buffer was last
+    // written. Returns the bytes written.
+    core::Result<VkDeviceSize> write(VkCommandBuffer cmd, uint32_t slot, uint64_t serial, UploadRing& ring,
+                                     std::span<const std::byte> data, std::span<const ByteRange> ranges);
+    // How a staged write uses the device buffer.
+    static constexpr Access staged_use{VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT};
 
     // The buffer the frame in `slot` reads.
     VkBuffer buffer(uint32_t slot) const;
@@ -43,7 +46,6 @@ private:
     UploadPath path_ = UploadPath::staged;
     VkDeviceSize capacity_ = 0;
     std::vector<Buffer> buffers_;  // one (staged) or one per frame in flight (direct)
-    Access last_consumer_{};       // who read the device buffer last (for the write-after-read barrier)
     std::vector<std::vector<ByteRange>> pending_;  // direct: ranges each slot has yet to catch up on
 };
 

@@ -28,19 +28,6 @@ core::Result<OffscreenTarget> OffscreenTarget::create(gpu::Context& ctx, uint32_
 }
 
 void OffscreenTarget::begin(VkCommandBuffer cmd, const float clear_rgba[4]) {
-    // The previous frame may still be copying the colour image out; the contents are cleared,
-    // so the old layout is dropped.
-    gpu::image_barrier(cmd, color_.handle(), VK_IMAGE_ASPECT_COLOR_BIT,
-                       {VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_NONE},
-                       VK_IMAGE_LAYOUT_UNDEFINED,
-                       {VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT},
-                       VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
-    gpu::image_barrier(cmd, depth_.handle(), VK_IMAGE_ASPECT_DEPTH_BIT,
-                       {VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_NONE}, VK_IMAGE_LAYOUT_UNDEFINED,
-                       {VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT},
-                       VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
-
     VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
     color.imageView = color_.view();
     color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
@@ -70,10 +57,6 @@ void OffscreenTarget::begin(VkCommandBuffer cmd, const float clear_rgba[4]) {
 void OffscreenTarget::end(VkCommandBuffer cmd) { vkCmdEndRendering(cmd); }
 
 void OffscreenTarget::record_readback(VkCommandBuffer cmd, uint32_t slot) {
-    gpu::image_barrier(cmd, color_.handle(), VK_IMAGE_ASPECT_COLOR_BIT,
-                       {VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT},
-                       VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, {VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT},
-                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
     VkBufferImageCopy region{};
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {width(), height(), 1};

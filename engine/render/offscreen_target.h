@@ -23,11 +23,14 @@ public:
     const gpu::Image& color() const { return color_; }
     const gpu::Image& depth() const { return depth_; }
 
-    // Transitions both images for rendering and begins dynamic rendering with a clear.
+    // Begins dynamic rendering with a clear; the images must be in the attachment layouts
+    // (the frame graph's barriers put them there: see color_use / depth_use).
     void begin(VkCommandBuffer cmd, const float clear_rgba[4]);
     void end(VkCommandBuffer cmd);
-    // Copies the colour image into the readback buffer of `slot`.
+    // Copies the colour image (in TRANSFER_SRC layout) into the readback buffer of `slot`, and
+    // makes the copy visible to the host once the frame's fence signals.
     void record_readback(VkCommandBuffer cmd, uint32_t slot);
+    VkBuffer readback_buffer(uint32_t slot) const { return readback_[slot].handle(); }
     // The image copied by the frame in `slot`; valid once that frame's fence has signalled.
     core::ImageRgba8 read(uint32_t slot) const;
 

@@ -8,7 +8,7 @@
 
 #include "core/image.h"
 #include "render/frame_uniforms.h"
-#include "render/offscreen_renderer.h"
+#include "scene/offscreen_renderer.h"
 #include "scene/builtin_scene.h"
 #include "support/gpu_fixture.h"
 
@@ -57,7 +57,7 @@ core::ImageRgba8 render_once(gpu::Context& ctx, const std::vector<splat::Gaussia
     o.height = h;
     o.max_splats = std::max<uint32_t>(1, uint32_t(records.size()));
     o.frames_in_flight = 1;
-    auto r = render::OffscreenRenderer::create(ctx, o);
+    auto r = scene::OffscreenRenderer::create(ctx, o);
     REQUIRE_MESSAGE(r.ok(), r.error().to_string());
     REQUIRE(r.value()->render(records, frame).ok());
     auto img = r.value()->finish();

@@ -5,7 +5,7 @@
 #include "pbdsplat/commands.h"
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/upload_path_arg.h"
-#include "render/offscreen_renderer.h"
+#include "scene/offscreen_renderer.h"
 #include "scene/builtin_scene.h"
 
 namespace pbdsplat::cli {
@@ -51,7 +51,7 @@ int cmd_render(const std::vector<std::string>& argv) {
     options.max_splats = uint32_t(scene.records.size());
     options.frames_in_flight = 1;
     options.upload_path = upload.value();
-    auto renderer = render::OffscreenRenderer::create(*ctx.value(), options);
+    auto renderer = scene::OffscreenRenderer::create(*ctx.value(), options);
     if (!renderer.ok()) return fail("render", renderer.error().to_string());
     if (auto s = renderer.value()->render(scene.records, scene.frame); !s.ok()) return fail("render", s.error().to_string());
     auto image = renderer.value()->finish();

@@ -1,17 +1,15 @@
-#include "render/offscreen_renderer.h"
+#include "render/splat_renderer.h"
 
 #include <cstring>
 
 #include "core/timer.h"
-
 #include "render/frame_uniforms.h"
 
 namespace pbdsplat::render {
 
-core::Result<std::unique_ptr<OffscreenRenderer>> OffscreenRenderer::create(gpu::Context& ctx,
-                                                                           const RendererOptions& options) {
+core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context& ctx, const RendererOptions& options) {
     if (options.max_splats == 0) return core::make_error("max_splats must be at least 1");
-    auto r = std::unique_ptr<OffscreenRenderer>(new OffscreenRenderer());
+    auto r = std::unique_ptr<SplatRenderer>(new SplatRenderer());
     r->ctx_ = &ctx;
     r->options_ = options;
     const uint32_t n = options.frames_in_flight;
@@ -77,21 +75,21 @@ core::Result<std::unique_ptr<OffscreenRenderer>> OffscreenRenderer::create(gpu::
         r->timers_.push_back(std::move(timer).value());
     }
     r->slot_pending_.assign(n, false);
-    r->upload_cpu_ms_.assign(n, 0.0);
+    r->slot_read_back_.assign(n, false);
+    r->slot_cpu_.assign(n, GpuTimings{});
     return r;
 }
 
-OffscreenRenderer::~OffscreenRenderer() {
+SplatRenderer::~SplatRenderer() {
     if (ctx_) (void)frames_.wait_all();
 }
 
-core::Status OffscreenRenderer::collect_timings(uint32_t slot) {
+core::Status SplatRenderer::collect_timings(uint32_t slot) {
     if (!slot_pending_[slot]) return core::Status::success();
     slot_pending_[slot] = false;
     auto marks = timers_[slot].read(ctx_->vk());
     if (!marks.ok()) return marks.error();
-    GpuTimings t;
-    t.upload_cpu_ms = upload_cpu_ms_[slot];
+    GpuTimings t = slot_cpu_[slot];
     for (const auto& [label, ms] : marks.value()) {
         if (label == "upload") t.upload_ms = ms;
         else if (label == "draw") t.draw_ms = ms;
@@ -101,57 +99,68 @@ core::Status OffscreenRenderer::collect_timings(uint32_t slot) {
     return core::Status::success();
 }
 
-core::Status OffscreenRenderer::render(std::span<const splat::GaussianRecord> records, const FrameInputs& inputs,
-                                       std::span<const gpu::ByteRange> changed) {
-    if (records.size() > options_.max_splats)
-        return core::make_error(std::to_string(records.size()) + " Gaussians exceed the renderer's capacity of " +
-                                std::to_string(options_.max_splats) + "; create it with a larger max_splats");
+core::Result<VkCommandBuffer> SplatRenderer::begin_frame() {
     const uint32_t slot = frames_.slot();
     auto begun = frames_.begin();  // waits for this slot's previous frame
     if (!begun.ok()) return begun.error();
-    const VkCommandBuffer cmd = begun.value();
+    cmd_ = begun.value();
     PBDSPLAT_TRY(collect_timings(slot));
     if (records_.path() == gpu::UploadPath::staged) ring_.retire(frames_.completed_serial());
+    slot_cpu_[slot] = GpuTimings{};
+    slot_read_back_[slot] = false;
+    timers_[slot].begin(cmd_);
+    timers_[slot].mark(cmd_, "start", VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT);
+    return cmd_;
+}
 
-    gpu::GpuTimer& timer = timers_[slot];
-    timer.begin(cmd);
-    timer.mark(cmd, "start", VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT);
-
-    const auto bytes = std::as_bytes(records);
-    const gpu::ByteRange all{0, bytes.size()};
-    const std::span<const gpu::ByteRange> ranges = changed.empty() ? std::span<const gpu::ByteRange>(&all, 1) : changed;
-    const core::Stopwatch upload_clock;
-    PBDSPLAT_TRY(records_.write(cmd, slot, frames_.serial(), ring_, bytes, ranges,
-                                {VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT}));
-    upload_cpu_ms_[slot] = upload_clock.elapsed_ms();
-    timer.mark(cmd, "upload", VK_PIPELINE_STAGE_2_COPY_BIT);
-
-    const auto uniforms = make_frame_uniforms(inputs, target_.width(), target_.height());
-    std::memcpy(uniforms_[slot].mapped(), &uniforms, sizeof(uniforms));
-
-    target_.begin(cmd, inputs.background.data());
-    splat_.record(cmd, inputs.style.blend, sets_[slot], records_.buffer(slot), uint32_t(records.size()));
-    target_.end(cmd);
-    timer.mark(cmd, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
-
-    if (options_.readback) {
-        target_.record_readback(cmd, slot);
-        timer.mark(cmd, "readback", VK_PIPELINE_STAGE_2_COPY_BIT);
-    }
+core::Status SplatRenderer::end_frame() {
+    const uint32_t slot = frames_.slot();
     PBDSPLAT_TRY(frames_.submit());
     slot_pending_[slot] = true;
     last_slot_ = slot;
     any_frame_ = true;
+    cmd_ = VK_NULL_HANDLE;
     return core::Status::success();
 }
 
-core::Result<core::ImageRgba8> OffscreenRenderer::finish() {
+core::Status SplatRenderer::upload(std::span<const splat::GaussianRecord> records, std::span<const gpu::ByteRange> changed) {
+    if (records.size() > options_.max_splats)
+        return core::make_error(std::to_string(records.size()) + " Gaussians exceed the renderer's capacity of " +
+                                std::to_string(options_.max_splats) + "; create it with a larger max_splats");
+    const uint32_t slot = frames_.slot();
+    const core::Stopwatch clock;
+    auto written = records_.write(cmd_, slot, frames_.serial(), ring_, std::as_bytes(records), changed);
+    if (!written.ok()) return written.error();
+    slot_cpu_[slot].upload_cpu_ms = clock.elapsed_ms();
+    slot_cpu_[slot].uploaded_bytes = written.value();
+    timers_[slot].mark(cmd_, "upload", VK_PIPELINE_STAGE_2_COPY_BIT);
+    return core::Status::success();
+}
+
+void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
+    const uint32_t slot = frames_.slot();
+    const auto uniforms = make_frame_uniforms(inputs, target_.width(), target_.height());
+    std::memcpy(uniforms_[slot].mapped(), &uniforms, sizeof(uniforms));
+    target_.begin(cmd_, inputs.background.data());
+    splat_.record(cmd_, inputs.style.blend, sets_[slot], records_.buffer(slot), count);
+    target_.end(cmd_);
+    timers_[slot].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
+}
+
+void SplatRenderer::readback() {
+    const uint32_t slot = frames_.slot();
+    target_.record_readback(cmd_, slot);
+    slot_read_back_[slot] = true;
+    timers_[slot].mark(cmd_, "readback", VK_PIPELINE_STAGE_2_COPY_BIT);
+}
+
+core::Result<core::ImageRgba8> SplatRenderer::finish() {
     PBDSPLAT_TRY(frames_.wait_all());
     for (uint32_t i = 0; i < slot_pending_.size(); ++i)
         if (i != last_slot_) PBDSPLAT_TRY(collect_timings(i));
     PBDSPLAT_TRY(collect_timings(last_slot_));  // the newest frame's timings win
     if (!any_frame_) return core::make_error("finish() before any frame was rendered");
-    if (!options_.readback) return core::make_error("this renderer was created without readback");
+    if (!slot_read_back_[last_slot_]) return core::make_error("the last frame did not read its image back");
     return target_.read(last_slot_);
 }
 

@@ -1,0 +1,112 @@
+#pragma once
+// The GPU half of a frame: the resources (frames in flight, staging ring, record buffer, colour
+// and depth targets, readback buffers, uniforms, timers) and the operations that use them
+// (upload, draw, readback). The operations record no barriers: the frame graph derives them
+// from the uses below.
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "core/image.h"
+#include "gpu/frame_ring.h"
+#include "gpu/gpu_timer.h"
+#include "gpu/stream_buffer.h"
+#include "render/frame_inputs.h"
+#include "render/offscreen_target.h"
+#include "render/splat_pass.h"
+#include "splat/gaussian_record.h"
+
+namespace pbdsplat::render {
+
+struct RendererOptions {
+    uint32_t width = 1280;
+    uint32_t height = 720;
+    uint32_t max_splats = 1u << 20;
+    uint32_t frames_in_flight = 2;
+    std::optional<gpu::UploadPath> upload_path;  // default: direct on unified memory, else staged
+};
+
+// GPU milliseconds of the last finished frame, from timestamps (0 when the device has none).
+struct GpuTimings {
+    double upload_cpu_ms = 0.0;  // CPU: writing the records (in place, or into the staging ring)
+    double upload_ms = 0.0;      // GPU: the staging copy (about 0 on the direct path)
+    double draw_ms = 0.0;
+    double readback_ms = 0.0;
+    uint64_t uploaded_bytes = 0;
+};
+
+// How each operation uses what it touches.
+struct Use {
+    gpu::Access access;
+    VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
+};
+namespace uses {
+inline constexpr Use upload_write{{VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT}};
+inline constexpr Use vertex_read{{VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT}};
+inline constexpr Use color_attachment{{VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                                       VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT},
+                                      VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+inline constexpr Use depth_attachment{{VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                                       VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                                           VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT},
+                                      VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL};
+inline constexpr Use color_copy_source{{VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT},
+                                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
+inline constexpr Use readback_write{{VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT}};
+} // namespace uses
+
+class SplatRenderer {
+public:
+    static core::Result<std::unique_ptr<SplatRenderer>> create(gpu::Context& ctx, const RendererOptions& options);
+    ~SplatRenderer();
+
+    // Waits for the next slot's previous frame, collects its timings and starts recording.
+    core::Result<VkCommandBuffer> begin_frame();
+    core::Status end_frame();
+    // Waits for the GPU and returns the newest frame's image (read back by readback()).
+    core::Result<core::ImageRgba8> finish();
+
+    // Operations on the frame being recorded.
+    core::Status upload(std::span<const splat::GaussianRecord> records, std::span<const gpu::ByteRange> changed);
+    void draw(const FrameInputs& inputs, uint32_t count);
+    void readback();
+
+    // The resources the current frame uses (the record buffer differs per slot on the direct path).
+    VkBuffer records_buffer() const { return records_.buffer(frames_.slot()); }
+    VkImage color_image() const { return target_.color().handle(); }
+    VkImage depth_image() const { return target_.depth().handle(); }
+    VkBuffer readback_buffer() const { return target_.readback_buffer(frames_.slot()); }
+
+    GpuTimings timings() const { return timings_; }
+    gpu::UploadPath upload_path() const { return records_.path(); }
+    uint32_t width() const { return target_.width(); }
+    uint32_t height() const { return target_.height(); }
+    uint32_t max_splats() const { return options_.max_splats; }
+    const gpu::Context& context() const { return *ctx_; }
+
+private:
+    SplatRenderer() = default;
+    core::Status collect_timings(uint32_t slot);
+
+    gpu::Context* ctx_ = nullptr;
+    RendererOptions options_;
+    gpu::FrameRing frames_;
+    gpu::UploadRing ring_;
+    gpu::StreamBuffer records_;
+    OffscreenTarget target_;
+    SplatPass splat_;
+    gpu::DescriptorPool descriptor_pool_;
+    std::vector<gpu::Buffer> uniforms_;  // one per frame in flight
+    std::vector<VkDescriptorSet> sets_;
+    std::vector<gpu::GpuTimer> timers_;
+    std::vector<bool> slot_pending_;     // slot has a submitted frame whose timings are unread
+    std::vector<bool> slot_read_back_;   // slot's frame copied its image out
+    std::vector<GpuTimings> slot_cpu_;   // per slot, CPU-side figures measured while recording
+    VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+    uint32_t last_slot_ = 0;
+    bool any_frame_ = false;
+    GpuTimings timings_;
+};
+
+} // namespace pbdsplat::render

@@ -1,0 +1,58 @@
+#include "scene/gpu_passes.h"
+
+namespace pbdsplat::scene {
+
+void GpuPassResources::refresh(const render::SplatRenderer& r) {
+    records.buffer = r.records_buffer();
+    readback.buffer = r.readback_buffer();
+    color.image = r.color_image();
+    depth.image = r.depth_image();
+}
+
+graph::GpuUse to_graph(const render::Use& u) { return {u.access.stage, u.access.access, u.layout}; }
+
+void add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer, GpuPassResources& res,
+                    graph::Handle<GpuFrameInput> input, graph::Handle<ImageSink> sink) {
+    const auto records = g.import("gpu records", &res.records);
+    const auto color = g.import("colour target", &res.color);
+    const auto depth = g.import("depth target", &res.depth);
+    const auto readback = g.import("readback buffer", &res.readback);
+    // On the direct path the CPU writes the records in place before the submit: no GPU access.
+    const graph::GpuUse upload_use =
+        renderer.upload_path() == gpu::UploadPath::staged ? to_graph(render::uses::upload_write) : graph::GpuUse{};
+
+    graph::Handle<graph::GpuBufferRef> uploaded;
+    g.add_pass("upload", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+        b.read(input);
+        uploaded = b.write(records, upload_use);
+        return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
+            const GpuFrameInput& in = r.get(input);
+            const gpu::ByteRange all{0, in.records.size_bytes()};
+            const std::span<const gpu::ByteRange> ranges =
+                in.changed.empty() ? std::span<const gpu::ByteRange>(&all, 1) : std::span<const gpu::ByteRange>(in.changed);
+            const auto s = renderer.upload(in.records, ranges);
+            PBDSPLAT_ASSERT(s.ok(), s.ok() ? "" : s.error().to_string());
+        };
+    });
+    graph::Handle<graph::GpuImageRef> drawn;
+    g.add_pass("splat", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+        b.read(input);
+        b.read(uploaded, to_graph(render::uses::vertex_read));
+        drawn = b.write(color, to_graph(render::uses::color_attachment));
+        b.write(depth, to_graph(render::uses::depth_attachment));
+        b.side_effect();  // the colour target is what a frame is for (presented or read back)
+        return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
+            const GpuFrameInput& in = r.get(input);
+            renderer.draw(in.frame, uint32_t(in.records.size()));
+        };
+    });
+    g.add_pass("readback", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+        b.read(drawn, to_graph(render::uses::color_copy_source));
+        b.write(readback, to_graph(render::uses::readback_write));
+        b.write(sink);
+        b.side_effect();
+        return [&renderer](const graph::PassResources&, graph::ExecuteContext&) { renderer.readback(); };
+    });
+}
+
+} // namespace pbdsplat::scene

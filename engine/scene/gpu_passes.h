@@ -1,0 +1,38 @@
+#pragma once
+// The GPU passes of a frame (upload, splat, readback) declared into a frame graph, which
+// derives their barriers from the uses in render/splat_renderer.h.
+#include <span>
+#include <vector>
+
+#include "graph/frame_graph.h"
+#include "render/splat_renderer.h"
+
+namespace pbdsplat::scene {
+
+// What the GPU passes read each frame; the owner fills it before FrameGraph::execute.
+struct GpuFrameInput {
+    std::span<const splat::GaussianRecord> records;
+    std::vector<gpu::ByteRange> changed;  // since the previous frame; empty: everything
+    render::FrameInputs frame;
+};
+
+// Where a rendered image leaves the frame (a PNG, a test); absent when presenting to a window.
+struct ImageSink {};
+
+// The renderer's GPU resources as the graph sees them; refresh() before each execute, since
+// the record buffer and the readback buffer change with the frame slot.
+struct GpuPassResources {
+    graph::GpuBufferRef records, readback;
+    graph::GpuImageRef color{VK_NULL_HANDLE, VK_IMAGE_ASPECT_COLOR_BIT};
+    graph::GpuImageRef depth{VK_NULL_HANDLE, VK_IMAGE_ASPECT_DEPTH_BIT};
+    void refresh(const render::SplatRenderer& r);
+};
+
+graph::GpuUse to_graph(const render::Use& u);
+
+// Declares "upload", "splat" and "readback". The readback pass needs `sink`; without one it is
+// culled. `input` is the version of the frame input the passes read (after the mapping).
+void add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer, GpuPassResources& resources,
+                    graph::Handle<GpuFrameInput> input, graph::Handle<ImageSink> sink);
+
+} // namespace pbdsplat::scene

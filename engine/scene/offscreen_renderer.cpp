@@ -1,0 +1,34 @@
+#include "scene/offscreen_renderer.h"
+
+namespace pbdsplat::scene {
+
+core::Result<std::unique_ptr<OffscreenRenderer>> OffscreenRenderer::create(gpu::Context& ctx,
+                                                                           const render::RendererOptions& options) {
+    auto r = std::unique_ptr<OffscreenRenderer>(new OffscreenRenderer());
+    auto renderer = render::SplatRenderer::create(ctx, options);
+    if (!renderer.ok()) return renderer.error();
+    r->renderer_ = std::move(renderer).value();
+    const auto input = r->graph_.import("frame input", &r->input_);
+    const auto sink = r->graph_.import("image", &r->sink_);
+    add_gpu_passes(r->graph_, *r->renderer_, r->resources_, input, sink);
+    PBDSPLAT_TRY(r->graph_.compile());
+    return r;
+}
+
+core::Status OffscreenRenderer::render(std::span<const splat::GaussianRecord> records, const render::FrameInputs& inputs,
+                                       std::span<const gpu::ByteRange> changed) {
+    if (records.size() > renderer_->max_splats())
+        return core::make_error(std::to_string(records.size()) + " Gaussians exceed the renderer's capacity of " +
+                                std::to_string(renderer_->max_splats()) + "; create it with a larger max_splats");
+    auto cmd = renderer_->begin_frame();
+    if (!cmd.ok()) return cmd.error();
+    input_.records = records;
+    input_.changed.assign(changed.begin(), changed.end());
+    input_.frame = inputs;
+    resources_.refresh(*renderer_);
+    graph::ExecuteContext ctx{cmd.value(), 0};
+    graph_.execute(ctx);
+    return renderer_->end_frame();
+}
+
+} // namespace pbdsplat::scene

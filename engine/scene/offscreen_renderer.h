@@ -1,0 +1,34 @@
+#pragma once
+// Gaussian records in, image out: the GPU passes alone in a frame graph. For tools and tests
+// that render records they made themselves; scenes use SceneRuntime.
+#include <memory>
+#include <span>
+
+#include "scene/gpu_passes.h"
+
+namespace pbdsplat::scene {
+
+class OffscreenRenderer {
+public:
+    static core::Result<std::unique_ptr<OffscreenRenderer>> create(gpu::Context& ctx, const render::RendererOptions& options);
+
+    // Records and submits one frame. `changed` lists the byte ranges of `records` that differ
+    // from the previous frame; empty means all of them.
+    core::Status render(std::span<const splat::GaussianRecord> records, const render::FrameInputs& inputs,
+                        std::span<const gpu::ByteRange> changed = {});
+    // Waits for the GPU and returns the last frame's image.
+    core::Result<core::ImageRgba8> finish() { return renderer_->finish(); }
+    render::GpuTimings timings() const { return renderer_->timings(); }
+    gpu::UploadPath upload_path() const { return renderer_->upload_path(); }
+    const graph::FrameGraph& graph() const { return graph_; }
+
+private:
+    OffscreenRenderer() = default;
+    std::unique_ptr<render::SplatRenderer> renderer_;
+    GpuPassResources resources_;
+    GpuFrameInput input_;
+    ImageSink sink_;
+    graph::FrameGraph graph_;
+};
+
+} // namespace pbdsplat::scene
