@@ -44,76 +44,114 @@ void SolverT<Real>::for_range(size_t n, size_t grain, const Fn& fn) {
     pool_->parallel_for(n, [&](unsigned, size_t begin, size_t end) { fn(begin, end); });
 }
 
+namespace {
+constexpr size_t k_particle_grain = 4096;  // below this a loop is cheaper than a hand-off
+}
+
+template <class Real>
+void SolverT<Real>::begin_substep(SoftBodyT<Real>& body, const SolverSettings& s, Real h) {
+    ParticlesT<Real>& p = body.particles;
+    PBDSPLAT_ASSERT(body.distance_colours.empty() ? body.distance.empty() : body.distance_colours.back() == body.distance.size(),
+                    "distance constraints changed without rebuild_derived(body)");
+    PBDSPLAT_ASSERT(body.rings.start.size() == p.size() + 1 && body.distance_lambda.size() == body.distance.size(),
+                    "particles or triangles changed without rebuild_derived(body)");
+    for_range(p.size(), k_particle_grain, [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, s.damping, h, b, e); });
+    if (s.mode == SolverMode::xpbd) {
+        std::fill(body.distance_lambda.begin(), body.distance_lambda.end(), Real(0));
+        for (VolumeConstraint& v : body.volumes) v.lambda = 0.0;
+    }
+}
+
+template <class Real>
+void SolverT<Real>::project_distance(SoftBodyT<Real>& body, const SolverSettings& s, Real h) {
+    ParticlesT<Real>& p = body.particles;
+    const std::span<const DistanceConstraint> distance(body.distance);
+    const std::span<Real> lambda(body.distance_lambda);
+    const bool xpbd = s.mode == SolverMode::xpbd;
+    const Real k = Real(per_iteration(s.stretch_stiffness, s.iterations * s.substeps));
+    const Real inv_h2 = Real(1) / (h * h);
+    // Colour by colour: inside a colour no two constraints share a particle.
+    for (size_t c = 0; c + 1 < body.distance_colours.size(); ++c) {
+        const size_t first = body.distance_colours[c], count = body.distance_colours[c + 1] - first;
+        for_range(count, 2048, [&](size_t b, size_t e) {
+            if (xpbd) project_distance_xpbd<Real>(distance.subspan(first + b, e - b), lambda.subspan(first + b, e - b), p, inv_h2);
+            else project_distance_pbd<Real>(distance.subspan(first + b, e - b), p, k);
+        });
+    }
+}
+
+template <class Real>
+void SolverT<Real>::project_volume(SoftBodyT<Real>& body, const SolverSettings& s, Real h) {
+    ParticlesT<Real>& p = body.particles;
+    if (scratch_.size() != p.size()) scratch_.assign(p.size(), Vec4<Real>::Zero());
+    const bool xpbd = s.mode == SolverMode::xpbd;
+    const Real k = Real(per_iteration(s.volume_stiffness, s.iterations * s.substeps));
+    const Real inv_h2 = Real(1) / (h * h);
+    for (VolumeConstraint& v : body.volumes) {
+        const size_t blocks = volume_blocks(v);
+        sums_.assign(blocks, VolumeSums{});
+        for_range(blocks, 2, [&](size_t b, size_t e) {
+            for (size_t q = b; q < e; ++q) sums_[q] = volume_gather<Real>(v, p, scratch_, q);
+        });
+        volume_caps<Real>(v, p, scratch_, sums_);
+        const Real step = volume_step<Real>(v, sums_, xpbd, k, Real(v.compliance) * inv_h2);
+        for_range(blocks, 2, [&](size_t b, size_t e) {
+            for (size_t q = b; q < e; ++q) volume_apply<Real>(v, p, scratch_, step, q);
+        });
+    }
+}
+
+template <class Real>
+void SolverT<Real>::apply_drag(SoftBodyT<Real>& body, const DragConstraint& drag) {
+    solve_drag(drag, body.particles);
+}
+
+template <class Real>
+void SolverT<Real>::collide(SoftBodyT<Real>& body, const Colliders& colliders) {
+    if (colliders.empty()) return;
+    for_range(body.particles.size(), k_particle_grain,
+              [&](size_t b, size_t e) { solve_collisions<Real>(colliders, body.particles, b, e); });
+}
+
+template <class Real>
+void SolverT<Real>::end_substep(SoftBodyT<Real>& body, Real h) {
+    for_range(body.particles.size(), k_particle_grain, [&](size_t b, size_t e) { update_velocities<Real>(body.particles, h, b, e); });
+}
+
+template <class Real>
+void SolverT<Real>::update_normals(SoftBodyT<Real>& body) {
+    if constexpr (std::is_same_v<Real, float>) {
+        const size_t n = body.particles.size();
+        body.normals.resize(n);
+        for_range(n, k_particle_grain, [&](size_t b, size_t e) { sim::update_normals(body.rings, body.particles.x, body.normals, b, e); });
+    }
+}
+
 template <class Real>
 StageTimings SolverT<Real>::step(SoftBodyT<Real>& body, float dt, const SolverSettings& s, const Colliders& colliders,
                                  const DragConstraint& drag) {
-    constexpr size_t k_particle_grain = 4096;  // below this a loop is cheaper than a hand-off
     StageTimings t;
-    ParticlesT<Real>& p = body.particles;
-    const size_t n = p.size();
-    PBDSPLAT_ASSERT(body.distance_colours.empty() ? body.distance.empty() : body.distance_colours.back() == body.distance.size(),
-                    "distance constraints changed without rebuild_derived(body)");
-    PBDSPLAT_ASSERT(body.rings.start.size() == n + 1 && body.distance_lambda.size() == body.distance.size(),
-                    "particles or triangles changed without rebuild_derived(body)");
     const Real h = Real(dt) / Real(s.substeps);
-    const bool xpbd = s.mode == SolverMode::xpbd;
-    const uint32_t projections = s.iterations * s.substeps;
-    const Real k_stretch = Real(per_iteration(s.stretch_stiffness, projections));
-    const Real k_volume = Real(per_iteration(s.volume_stiffness, projections));
     const bool volume = s.volume && !body.volumes.empty();
-    if (volume && scratch_.size() != n) scratch_.assign(n, Vec4<Real>::Zero());
-    const std::span<const DistanceConstraint> distance(body.distance);
-    const std::span<Real> lambda(body.distance_lambda);
-
     for (uint32_t sub = 0; sub < s.substeps; ++sub) {
         core::Stopwatch clock;
-        for_range(n, k_particle_grain, [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, s.damping, h, b, e); });
+        begin_substep(body, s, h);
         t.apply_forces += clock.elapsed_ms();
-
         clock.restart();
-        if (xpbd) {
-            std::fill(lambda.begin(), lambda.end(), Real(0));
-            for (VolumeConstraint& v : body.volumes) v.lambda = 0.0;
-        }
-        const Real inv_h2 = Real(1) / (h * h);
         for (uint32_t it = 0; it < s.iterations; ++it) {
-            // Distance constraints colour by colour: inside a colour no two share a particle.
-            for (size_t c = 0; c + 1 < body.distance_colours.size(); ++c) {
-                const size_t first = body.distance_colours[c], count = body.distance_colours[c + 1] - first;
-                for_range(count, 2048, [&](size_t b, size_t e) {
-                    if (xpbd) project_distance_xpbd<Real>(distance.subspan(first + b, e - b), lambda.subspan(first + b, e - b), p, inv_h2);
-                    else project_distance_pbd<Real>(distance.subspan(first + b, e - b), p, k_stretch);
-                });
-            }
-            if (volume)
-                for (VolumeConstraint& v : body.volumes) {
-                    const size_t blocks = volume_blocks(v);
-                    sums_.assign(blocks, VolumeSums{});
-                    for_range(blocks, 2, [&](size_t b, size_t e) {
-                        for (size_t k = b; k < e; ++k) sums_[k] = volume_gather<Real>(v, p, scratch_, k);
-                    });
-                    volume_caps<Real>(v, p, scratch_, sums_);
-                    const Real step = volume_step<Real>(v, sums_, xpbd, k_volume, Real(v.compliance) * inv_h2);
-                    for_range(blocks, 2, [&](size_t b, size_t e) {
-                        for (size_t k = b; k < e; ++k) volume_apply<Real>(v, p, scratch_, step, k);
-                    });
-                }
-            solve_drag(drag, p);
-            if (!colliders.empty())
-                for_range(n, k_particle_grain, [&](size_t b, size_t e) { solve_collisions<Real>(colliders, p, b, e); });
+            project_distance(body, s, h);
+            if (volume) project_volume(body, s, h);
+            apply_drag(body, drag);
+            collide(body, colliders);
         }
         t.constraints += clock.elapsed_ms();
-
         clock.restart();
-        for_range(n, k_particle_grain, [&](size_t b, size_t e) { update_velocities<Real>(p, h, b, e); });
+        end_substep(body, h);
         t.integrate_normals += clock.elapsed_ms();
     }
-    if constexpr (std::is_same_v<Real, float>) {
-        core::Stopwatch clock;
-        body.normals.resize(n);
-        for_range(n, k_particle_grain, [&](size_t b, size_t e) { update_normals(body.rings, p.x, body.normals, b, e); });
-        t.integrate_normals += clock.elapsed_ms();
-    }
+    const core::Stopwatch clock;
+    update_normals(body);
+    t.integrate_normals += clock.elapsed_ms();
     return t;
 }
 

@@ -47,10 +47,21 @@ public:
     // depend on the thread count.
     explicit SolverT(core::ThreadPool* pool = nullptr) : pool_(pool) {}
 
-    // Advances `body` by `dt` seconds (one frame). `drag` may be inactive. Normals are updated
-    // for float bodies (the ones that are rendered).
+    // Advances `body` by `dt` seconds (one frame): the stages below in the paper's order. `drag`
+    // may be inactive. Normals are updated for float bodies (the ones that are rendered).
     StageTimings step(SoftBodyT<Real>& body, float dt, const SolverSettings& settings, const Colliders& colliders,
                       const DragConstraint& drag);
+
+    // The stages, for callers that schedule them themselves (the frame graph). `h` is the
+    // substep length; a substep is begin_substep, I x [distance, volume, drag, collide],
+    // end_substep; a frame is S substeps, then update_normals.
+    void begin_substep(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
+    void project_distance(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
+    void project_volume(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
+    void apply_drag(SoftBodyT<Real>& body, const DragConstraint& drag);
+    void collide(SoftBodyT<Real>& body, const Colliders& colliders);
+    void end_substep(SoftBodyT<Real>& body, Real h);
+    void update_normals(SoftBodyT<Real>& body);
 
 private:
     // fn(begin, end) over [0, n), split over the pool when n reaches `grain`.

@@ -10,6 +10,8 @@
 #include "render/frame_uniforms.h"
 #include "scene/offscreen_renderer.h"
 #include "scene/builtin_scene.h"
+#include "scene/default_scene.h"
+#include "scene/scene_runtime.h"
 #include "support/gpu_fixture.h"
 
 using namespace pbdsplat;
@@ -149,6 +151,44 @@ TEST_SUITE("render/splat") {
         const int over_centre = over.at(32, 32)[0], add_centre = add.at(32, 32)[0];
         CHECK(over_centre == doctest::Approx(0.3 * 255 * 0.982).epsilon(0.05));  // the front splat alone
         CHECK(add_centre > over_centre * 2);                                     // three splats summed
+        test::require_no_validation_messages(*ctx);
+    }
+}
+
+TEST_SUITE("render/scene") {
+    TEST_CASE("the default scene through its frame graph matches its golden image") {
+        auto ctx = test::open_validated_context();
+        scene::Scene s = scene::default_scene();
+        s.render.width = 320;
+        s.render.height = 180;
+        scene::RuntimeOptions o;
+        o.gpu = ctx.get();
+        auto rt = scene::SceneRuntime::create(s, o);
+        REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+        for (int f = 0; f < 90; ++f) REQUIRE(rt.value()->step().ok());  // mid-deflation
+        auto img = rt.value()->finish();
+        REQUIRE_MESSAGE(img.ok(), img.error().to_string());
+        check_against_golden(img.value(), "default_scene_f90_320x180");
+        test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("presenting instead of reading back culls the readback pass") {
+        auto ctx = test::open_validated_context();
+        scene::RuntimeOptions o;
+        o.gpu = ctx.get();
+        o.readback = false;
+        auto rt = scene::SceneRuntime::create(scene::default_scene(), o);
+        REQUIRE(rt.ok());
+        bool found = false;
+        for (const auto& p : rt.value()->graph().describe()) {
+            if (p.name != "readback") continue;
+            found = true;
+            CHECK(p.culled);
+            CHECK(p.reason == "needs image");
+        }
+        CHECK(found);
+        REQUIRE(rt.value()->step().ok());
+        CHECK_FALSE(rt.value()->finish().ok());  // nothing was read back
         test::require_no_validation_messages(*ctx);
     }
 }

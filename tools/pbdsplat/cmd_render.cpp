@@ -1,73 +1,127 @@
+#include <unistd.h>
+
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 #include "core/image.h"
 #include "pbdsplat/commands.h"
 #include "pbdsplat/gpu_options.h"
+#include "pbdsplat/scene_arg.h"
 #include "pbdsplat/upload_path_arg.h"
-#include "scene/offscreen_renderer.h"
-#include "scene/builtin_scene.h"
+#include "scene/scene_runtime.h"
 
 namespace pbdsplat::cli {
+namespace {
+
+void progress(uint32_t done, uint32_t total) {
+    constexpr int width = 30;
+    const int filled = int(double(done) / double(total) * width);
+    std::fprintf(stderr, "\r[%.*s%*s] %u/%u", filled, "##############################", width - filled, "", done, total);
+    if (done == total) std::fputc('\n', stderr);
+    std::fflush(stderr);
+}
+
+bool ffmpeg_available() { return std::system("command -v ffmpeg >/dev/null 2>&1") == 0; }
+
+} // namespace
 
 int cmd_render(const std::vector<std::string>& argv) {
     static constexpr const char* help =
-        "usage: pbdsplat render [--out FILE.png] [--width W] [--height H] [--level L]\n"
-        "                       [--upload auto|staged|direct] [--validation] [--device NAME]\n"
+        "usage: pbdsplat render [SCENE.toml] [--frames N] [--out PATH] [--width W] [--height H]\n"
+        "                       [--threads T] [--upload auto|staged|direct] [--validation] [--device NAME]\n"
         "\n"
-        "Renders one frame of the built-in scene (an icosphere's vertices as Gaussian splats)\n"
-        "offscreen and writes it as a PNG.\n"
+        "Runs a scene (default: the built-in scenes/default.toml) offscreen for N frames and writes\n"
+        "images. With --out ending in .png, the last frame goes to that file; otherwise PATH is a\n"
+        "folder that receives frame_0000.png, frame_0001.png, ..., frames.csv (particle counts and\n"
+        "per-stage milliseconds of every frame) and, when ffmpeg is on the PATH, video.mp4.\n"
         "\n"
-        "  --out FILE.png      output image (default out/render.png; the folder is created)\n"
-        "  --width W           image width in pixels (default 1280)\n"
-        "  --height H          image height in pixels (default 720)\n"
-        "  --level L           icosphere subdivision level, 0..7 (default 4: 2,562 splats)\n"
+        "  --frames N          frames to simulate and render (default 1)\n"
+        "  --out PATH          output file (.png) or folder (default out/render.png)\n"
+        "  --width W, --height H   override the scene's resolution\n"
+        "  --threads T         simulation threads (default 1)\n"
         "  --upload PATH       how records reach the GPU: auto (default), staged, direct\n";
     std::set<std::string> flags = k_gpu_flags;
     flags.insert("help");
     std::set<std::string> valued = k_gpu_options;
-    valued.insert({"out", "width", "height", "level", "upload"});
+    valued.insert({"out", "width", "height", "frames", "threads", "upload"});
     auto args = Args::parse(argv, flags, valued);
     if (!args.ok()) return usage_error("render", args.error().to_string());
     if (args->has("help")) return std::fputs(help, stdout), 0;
-    if (!args->positionals().empty()) return usage_error("render", "takes no positional arguments yet");
-
-    auto width = args->get_uint("width", 1280, 1, 16384);
-    auto height = args->get_uint("height", 720, 1, 16384);
-    auto level = args->get_uint("level", 4, 0, 7);
+    auto frames = args->get_uint("frames", 1, 1, 1000000);
+    auto width = args->get_uint("width", 0, 16, 16384);
+    auto height = args->get_uint("height", 0, 16, 16384);
+    auto threads = args->get_uint("threads", 1, 1, 64);
     auto upload = parse_upload_path(args->get_or("upload", "auto"));
-    for (const core::Error* e : {width.ok() ? nullptr : &width.error(), height.ok() ? nullptr : &height.error(),
-                                 level.ok() ? nullptr : &level.error(), upload.ok() ? nullptr : &upload.error()})
+    for (const core::Error* e : {frames.ok() ? nullptr : &frames.error(), width.ok() ? nullptr : &width.error(),
+                                 height.ok() ? nullptr : &height.error(), threads.ok() ? nullptr : &threads.error(),
+                                 upload.ok() ? nullptr : &upload.error()})
         if (e) return usage_error("render", e->to_string());
+    auto scene = load_scene_arg(args->positionals());
+    if (!scene.ok()) return fail("render", scene.error().to_string());
+    if (width.value()) scene->render.width = width.value();
+    if (height.value()) scene->render.height = height.value();
+
     const std::filesystem::path out = args->get_or("out", "out/render.png");
+    const bool single = out.extension() == ".png";
+    const std::filesystem::path dir = single ? out.parent_path() : out;
+    if (!dir.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(dir, ec);
+        if (ec) return fail("render", dir.string() + ": cannot create the folder: " + ec.message());
+    }
 
     auto ctx = open_context(args.value());
     if (!ctx.ok()) return fail("render", ctx.error().to_string());
-    const scene::BuiltinScene scene = scene::make_builtin_scene(level.value());
-
-    render::RendererOptions options;
-    options.width = width.value();
-    options.height = height.value();
-    options.max_splats = uint32_t(scene.records.size());
-    options.frames_in_flight = 1;
+    scene::RuntimeOptions options;
+    options.gpu = ctx.value().get();
+    options.threads = threads.value();
     options.upload_path = upload.value();
-    auto renderer = scene::OffscreenRenderer::create(*ctx.value(), options);
-    if (!renderer.ok()) return fail("render", renderer.error().to_string());
-    if (auto s = renderer.value()->render(scene.records, scene.frame); !s.ok()) return fail("render", s.error().to_string());
-    auto image = renderer.value()->finish();
-    if (!image.ok()) return fail("render", image.error().to_string());
+    options.frames_in_flight = 1;  // every frame's image is read back and written
+    auto runtime = scene::SceneRuntime::create(scene.value(), options);
+    if (!runtime.ok()) return fail("render", runtime.error().to_string());
 
-    if (out.has_parent_path()) {
-        std::error_code ec;
-        std::filesystem::create_directories(out.parent_path(), ec);
-        if (ec) return fail("render", out.parent_path().string() + ": cannot create the folder: " + ec.message());
+    std::ofstream csv;
+    if (!single) {
+        csv.open(dir / "frames.csv");
+        if (!csv) return fail("render", (dir / "frames.csv").string() + ": cannot write");
+        csv << "frame,time,particles,gaussians,events_ms,apply_forces_ms,constraints_ms,integrate_normals_ms,"
+               "update_particles_ms,gpu_record_ms,frame_ms\n";
     }
-    if (auto s = core::write_png(out.string(), image.value()); !s.ok()) return fail("render", s.error().to_string());
-    auto v = check_validation(*ctx.value());
-    if (!v.ok()) return fail("render", v.error().to_string());
-    std::printf("wrote %s (%ux%u, %zu splats, %s uploads, device %s)\n", out.string().c_str(), options.width,
-                options.height, scene.records.size(), gpu::upload_path_name(renderer.value()->upload_path()),
-                ctx.value()->caps().name.c_str());
+    const bool tty = isatty(STDERR_FILENO) != 0;
+    for (uint32_t f = 0; f < frames.value(); ++f) {
+        if (auto s = runtime.value()->step(); !s.ok()) return fail("render", s.error().to_string());
+        if (!single || f + 1 == frames.value()) {
+            auto image = runtime.value()->finish();
+            if (!image.ok()) return fail("render", image.error().to_string());
+            char name[32];
+            std::snprintf(name, sizeof(name), "frame_%04u.png", f);
+            const std::filesystem::path file = single ? out : dir / name;
+            if (auto s = core::write_png(file.string(), image.value()); !s.ok()) return fail("render", s.error().to_string());
+        }
+        if (csv) {
+            const auto& s = runtime.value()->stats();
+            csv << s.frame - 1 << ',' << s.time << ',' << s.particles << ',' << s.gaussians << ',' << s.events_ms << ','
+                << s.apply_forces_ms << ',' << s.constraints_ms << ',' << s.integrate_normals_ms << ','
+                << s.update_particles_ms << ',' << s.gpu_record_ms << ',' << s.graph_ms << '\n';
+        }
+        if (tty && frames.value() > 1) progress(f + 1, frames.value());
+    }
+    if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("render", v.error().to_string());
+    if (single) {
+        std::printf("wrote %s (%ux%u, scene %s, %zu splats, frame %u)\n", out.string().c_str(), scene->render.width,
+                    scene->render.height, scene->name.c_str(), runtime.value()->stats().gaussians, frames.value());
+        return 0;
+    }
+    std::printf("wrote %u frames and frames.csv to %s\n", frames.value(), dir.string().c_str());
+    if (ffmpeg_available()) {
+        const std::string cmd = "ffmpeg -loglevel error -y -framerate " +
+                                std::to_string(int(std::lround(1.0 / scene->simulation.dt))) + " -i '" +
+                                (dir / "frame_%04d.png").string() + "' -pix_fmt yuv420p '" + (dir / "video.mp4").string() + "'";
+        if (std::system(cmd.c_str()) == 0) std::printf("wrote %s\n", (dir / "video.mp4").string().c_str());
+        else std::fprintf(stderr, "pbdsplat render: ffmpeg failed; the PNG sequence is complete\n");
+    }
     return 0;
 }
 

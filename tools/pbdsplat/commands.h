@@ -11,6 +11,9 @@ int cmd_bench(const std::vector<std::string>& args);
 int bench_splat(const std::vector<std::string>& args);
 int bench_sim(const std::vector<std::string>& args);
 int bench_sim_error(const std::vector<std::string>& args);
+int bench_scene(const std::vector<std::string>& args);
+int cmd_graph(const std::vector<std::string>& args);
+int cmd_validate_scene(const std::vector<std::string>& args);
 
 // Prints "pbdsplat <command>: <message>" to stderr and returns 1.
 int fail(const std::string& command, const std::string& message);

@@ -14,7 +14,9 @@ constexpr const char* k_help =
     "\n"
     "commands:\n"
     "  info      the Vulkan device and the features that matter (--json)\n"
-    "  render    render the built-in scene offscreen to a PNG\n"
+    "  render    run a scene offscreen (default: the built-in one) and write PNG images\n"
+    "  graph     the compiled frame graph of a scene, with culled passes marked (--json, --dot)\n"
+    "  validate-scene  check scene files without running them\n"
     "  bench     benchmarks that print figures (bench --help lists them)\n"
     "\n"
     "Every command takes --help. Errors go to stderr with a non-zero exit.\n";
@@ -27,6 +29,8 @@ constexpr Command k_commands[] = {
     {"info", pbdsplat::cli::cmd_info},
     {"render", pbdsplat::cli::cmd_render},
     {"bench", pbdsplat::cli::cmd_bench},
+    {"graph", pbdsplat::cli::cmd_graph},
+    {"validate-scene", pbdsplat::cli::cmd_validate_scene},
 };
 
 } // namespace

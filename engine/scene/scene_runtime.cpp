@@ -1,0 +1,253 @@
+#include "scene/scene_runtime.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "core/timer.h"
+#include "mesh/mesh_spec.h"
+#include "mesh/triangle_mesh.h"
+
+namespace pbdsplat::scene {
+
+core::Result<sim::SoftBody> make_scene_body(const Scene& scene) {
+    mesh::MeshSpecOptions mo;
+    mo.file_fit_diagonal = scene.model.fit;
+    std::string spec = scene.model.mesh;
+    // A model file is looked up next to the scene first.
+    if (!scene.source_dir.empty()) {
+        const std::filesystem::path beside = std::filesystem::path(scene.source_dir) / spec;
+        std::error_code ec;
+        if (std::filesystem::is_regular_file(beside, ec)) spec = beside.string();
+    }
+    auto repaired = mesh::load_mesh_spec(spec, mo);
+    if (!repaired.ok()) return repaired.error();
+    mesh::TriangleMesh m = std::move(repaired).value().mesh;
+    const ModelDesc& md = scene.model;
+    const Mat3f r = (Eigen::AngleAxisf(math::radians(md.rotate_degrees.z()), Vec3f::UnitZ()) *
+                     Eigen::AngleAxisf(math::radians(md.rotate_degrees.y()), Vec3f::UnitY()) *
+                     Eigen::AngleAxisf(math::radians(md.rotate_degrees.x()), Vec3f::UnitX()))
+                        .toRotationMatrix();
+    for (Vec3f& p : m.positions) p = r * (p * md.scale) + md.translate;
+
+    const SimulationDesc& s = scene.simulation;
+    sim::SoftBodyDesc desc;
+    desc.total_mass = s.mass;
+    desc.stretch_compliance = s.compliance;
+    desc.volume = s.solver.volume;
+    desc.pressure = s.pressure;
+    desc.volume_compliance = s.volume_compliance;
+    auto body = sim::make_soft_body(std::move(m), desc);
+    if (!body.ok()) return body.error();
+    sim::SoftBody b = std::move(body).value();
+    for (uint32_t pin : s.pins) {
+        if (pin >= b.particle_count())
+            return core::make_error("pinned particle " + std::to_string(pin) + " does not exist: the mesh has " +
+                                    std::to_string(b.particle_count()) + " particles");
+        b.pin(pin);
+    }
+    for (const PinRegion& region : s.pin_regions)
+        for (uint32_t i = 0; i < b.particle_count(); ++i) {
+            const Vec3f x = sim::xyz(b.particles.x[i]);
+            if ((x.array() >= region.min.array()).all() && (x.array() <= region.max.array()).all()) b.pin(i);
+        }
+    return b;
+}
+
+core::Result<std::unique_ptr<SceneRuntime>> SceneRuntime::create(const Scene& scene, const RuntimeOptions& options) {
+    if (scene.has_topology_events())
+        return core::make_error("scene '" + scene.name +
+                                "' has cut or tear events; running them needs the topology stage, which this build "
+                                "does not have yet (validate-scene and graph accept the file)");
+    if (auto v = sim::validate(scene.simulation.solver); !v.ok()) return v.error();
+    const uint32_t projections = scene.simulation.solver.iterations * scene.simulation.solver.substeps;
+    if (projections > 256)
+        return core::make_error("iterations x substeps = " + std::to_string(projections) +
+                                " constraint sweeps a frame; a scene may ask for at most 256");
+    auto rt = std::unique_ptr<SceneRuntime>(new SceneRuntime());
+    rt->scene_ = scene;
+    auto body = make_scene_body(scene);
+    if (!body.ok()) return body.error();
+    rt->body_ = std::move(body).value();
+    PBDSPLAT_TRY(rt->build(options));
+    return rt;
+}
+
+SceneRuntime::~SceneRuntime() = default;
+
+core::Status SceneRuntime::build(const RuntimeOptions& options) {
+    pool_ = std::make_unique<core::ThreadPool>(std::max(1u, options.threads));
+    solver_ = std::make_unique<sim::Solver>(pool_.get());
+    frame_input_.frame = scene_.render.frame;
+    timeline_ = std::make_unique<Timeline>(scene_, scene_.render.frame.camera);
+
+    const MaterialDesc& mat = scene_.material;
+    appearance_.albedo = mat.color;
+    appearance_.opacity_logit = math::logit(mat.opacity);
+    appearance_.scale = mat.splat_scale * mesh::mean_edge_length(mesh::TriangleMesh{body_.rest_positions, body_.triangles});
+    frame_input_.frame.lighting.intensity *= mat.diffuse;
+    frame_input_.frame.lighting.specular = mat.specular;
+    frame_input_.frame.lighting.shininess = mat.shininess;
+
+    if (options.gpu) {
+        render::RendererOptions ro;
+        ro.width = scene_.render.width;
+        ro.height = scene_.render.height;
+        ro.max_splats = uint32_t(std::max<size_t>(1, body_.particle_count()));
+        ro.frames_in_flight = options.frames_in_flight;
+        ro.upload_path = options.upload_path;
+        auto r = render::SplatRenderer::create(*options.gpu, ro);
+        if (!r.ok()) return r.error();
+        renderer_ = std::move(r).value();
+    }
+
+    // The resources: what exists depends on the scene, and decides which passes survive.
+    const SimulationDesc& sd = scene_.simulation;
+    const bool has_volume = sd.solver.volume && !body_.volumes.empty();
+    const bool has_events = !scene_.events.empty() || scene_.render.orbit.degrees_per_second != 0.0f;
+    graph::FrameGraph& g = graph_;
+    auto body = g.import("body", &body_, true);
+    auto timeline = g.import("timeline", has_events ? timeline_.get() : static_cast<Timeline*>(nullptr));
+    auto volumes = g.import("volume constraints", has_volume ? &body_.volumes : static_cast<std::vector<sim::VolumeConstraint>*>(nullptr));
+    auto colliders = g.import("colliders", sd.colliders.empty() ? nullptr : &scene_.simulation.colliders);
+    auto drag = g.import("drag", timeline_->has_drag() ? &drag_ : static_cast<sim::DragConstraint*>(nullptr));
+    auto input = g.import("frame input", &frame_input_);
+    auto sink = g.import("image", options.readback ? &sink_ : static_cast<ImageSink*>(nullptr));
+    stage_of_pass_.clear();
+
+    const float dt = sd.dt;
+    const float h = dt / float(sd.solver.substeps);
+    const sim::SolverSettings& settings = scene_.simulation.solver;
+    sim::Solver& solver = *solver_;
+    auto cpu_pass = [&](const std::string& name, auto setup) { g.add_pass(name, graph::PassKind::cpu, setup); };
+
+    cpu_pass("events", [&](graph::PassBuilder& b) {
+        b.read(timeline);
+        body = b.write(body);
+        if (timeline_->has_drag()) drag = b.write(drag);
+        input = b.write(input);
+        return [this, dt](const graph::PassResources&, graph::ExecuteContext&) {
+            timeline_->advance(time_, dt, body_, drag_, frame_input_.frame.camera);
+        };
+    });
+    for (uint32_t sub = 0; sub < sd.solver.substeps; ++sub) {
+        const std::string s = sd.solver.substeps > 1 ? "[" + std::to_string(sub) + "]" : "";
+        cpu_pass("forces" + s, [&](graph::PassBuilder& b) {
+            body = b.write(body);
+            return [this, &solver, &settings, h](const graph::PassResources&, graph::ExecuteContext&) {
+                solver.begin_substep(body_, settings, h);
+            };
+        });
+        for (uint32_t it = 0; it < sd.solver.iterations; ++it) {
+            const std::string suffix = s + "." + std::to_string(it);
+            cpu_pass("distance" + suffix, [&](graph::PassBuilder& b) {
+                body = b.write(body);
+                return [this, &solver, &settings, h](const graph::PassResources&, graph::ExecuteContext&) {
+                    solver.project_distance(body_, settings, h);
+                };
+            });
+            cpu_pass("volume" + suffix, [&](graph::PassBuilder& b) {
+                b.read(volumes);
+                body = b.write(body);
+                return [this, &solver, &settings, h](const graph::PassResources&, graph::ExecuteContext&) {
+                    solver.project_volume(body_, settings, h);
+                };
+            });
+            cpu_pass("drag" + suffix, [&](graph::PassBuilder& b) {
+                b.read(drag);
+                body = b.write(body);
+                return [this, &solver](const graph::PassResources&, graph::ExecuteContext&) { solver.apply_drag(body_, drag_); };
+            });
+            cpu_pass("collide" + suffix, [&](graph::PassBuilder& b) {
+                b.read(colliders);
+                body = b.write(body);
+                return [this, &solver](const graph::PassResources&, graph::ExecuteContext&) {
+                    solver.collide(body_, scene_.simulation.colliders);
+                };
+            });
+        }
+        cpu_pass("velocities" + s, [&](graph::PassBuilder& b) {
+            body = b.write(body);
+            return [this, &solver, h](const graph::PassResources&, graph::ExecuteContext&) { solver.end_substep(body_, h); };
+        });
+    }
+    cpu_pass("normals", [&](graph::PassBuilder& b) {
+        body = b.write(body);
+        return [this, &solver](const graph::PassResources&, graph::ExecuteContext&) { solver.update_normals(body_); };
+    });
+    cpu_pass("map", [&](graph::PassBuilder& b) {
+        b.read(body);
+        input = b.write(input);
+        return [this](const graph::PassResources&, graph::ExecuteContext&) {
+            splat::map_points(body_.particles.x, body_.normals, appearance_, records_);
+            frame_input_.records = records_;
+            frame_input_.changed.clear();  // a simulated body moves every particle, every frame
+        };
+    });
+    if (renderer_) add_gpu_passes(g, *renderer_, gpu_resources_, input, sink);
+    return g.compile();
+}
+
+namespace {
+// The paper's Table 3 group of a pass, from its name.
+enum Group { events, forces, constraints, integrate, update, gpu_record, other };
+Group group_of(const std::string& name) {
+    auto starts = [&](const char* p) { return name.rfind(p, 0) == 0; };
+    if (starts("events")) return events;
+    if (starts("forces")) return forces;
+    if (starts("distance") || starts("volume") || starts("drag") || starts("collide")) return constraints;
+    if (starts("velocities") || starts("normals")) return integrate;
+    if (starts("map")) return update;
+    if (starts("upload") || starts("splat") || starts("readback")) return gpu_record;
+    return other;
+}
+} // namespace
+
+core::Status SceneRuntime::step() {
+    const core::Stopwatch frame_clock;
+    graph::ExecuteContext ctx{VK_NULL_HANDLE, frame_};
+    if (renderer_) {
+        auto cmd = renderer_->begin_frame();
+        if (!cmd.ok()) return cmd.error();
+        ctx.cmd = cmd.value();
+        gpu_resources_.refresh(*renderer_);
+    }
+    const auto& ms = graph_.execute(ctx);
+    if (renderer_) PBDSPLAT_TRY(renderer_->end_frame());
+    time_ += scene_.simulation.dt;
+    ++frame_;
+
+    FrameStats s;
+    s.frame = frame_;
+    s.time = time_;
+    s.particles = body_.particle_count();
+    s.gaussians = records_.size();
+    size_t k = 0;
+    for (const graph::PassInfo& p : graph_.describe()) {
+        if (p.culled) continue;
+        const double t = ms[k++];
+        switch (group_of(p.name)) {
+            case events: s.events_ms += t; break;
+            case forces: s.apply_forces_ms += t; break;
+            case constraints: s.constraints_ms += t; break;
+            case integrate: s.integrate_normals_ms += t; break;
+            case update: s.update_particles_ms += t; break;
+            case gpu_record: s.gpu_record_ms += t; break;
+            case other: break;
+        }
+    }
+    if (renderer_) s.uploaded_bytes = renderer_->timings().uploaded_bytes;
+    s.graph_ms = frame_clock.elapsed_ms();
+    stats_ = s;
+    for (const auto& x : body_.particles.x)
+        if (!x.allFinite())
+            return core::make_error("the simulation produced NaN or Inf at frame " + std::to_string(frame_) +
+                                    "; lower dt or raise the iterations or substeps");
+    return core::Status::success();
+}
+
+core::Result<core::ImageRgba8> SceneRuntime::finish() {
+    if (!renderer_) return core::make_error("this scene runtime has no renderer (created without a GPU context)");
+    return renderer_->finish();
+}
+
+} // namespace pbdsplat::scene

@@ -1,0 +1,65 @@
+#include "scene/timeline.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace pbdsplat::scene {
+
+Timeline::Timeline(const Scene& scene, const render::Camera& camera)
+    : orbit_degrees_per_second_(scene.render.orbit.degrees_per_second), base_camera_(camera) {
+    for (const Event& e : scene.events) {
+        if (auto* p = std::get_if<PressureEvent>(&e.data)) pressure_.push_back({e.time, p->duration, -1.0f, p->value});
+        if (auto* d = std::get_if<DragEvent>(&e.data)) drags_.push_back({e.time, *d, false});
+        if (auto* s = std::get_if<SpinEvent>(&e.data)) spins_.push_back({e.time, *s});
+    }
+}
+
+bool Timeline::has_drag() const { return !drags_.empty(); }
+
+void Timeline::advance(float t, float dt, sim::SoftBody& body, sim::DragConstraint& drag, render::Camera& camera) {
+    // Pressure: each ramp starts from whatever k is when it begins.
+    for (PressureRamp& r : pressure_) {
+        if (t < r.start || body.volumes.empty()) continue;
+        if (r.from < 0.0f) r.from = body.volumes[0].pressure;
+        const float u = r.duration > 0.0f ? std::min(1.0f, (t - r.start) / r.duration) : 1.0f;
+        if (t - r.start > r.duration + dt) continue;  // finished: leave k to later events
+        for (sim::VolumeConstraint& v : body.volumes) v.pressure = r.from + (r.to - r.from) * u;
+    }
+    // Drags: the particle nearest `from` follows a target moving from `from` to `to`.
+    drag.active = false;
+    for (ActiveDrag& d : drags_) {
+        if (t < d.start || t > d.start + d.event.duration) continue;
+        if (!d.picked) {
+            float best = std::numeric_limits<float>::max();
+            for (uint32_t i = 0; i < body.particle_count(); ++i) {
+                const float dist = (sim::xyz(body.particles.x[i]) - d.event.from).squaredNorm();
+                if (dist < best) best = dist, drag.particle = i;
+            }
+            d.picked = true;
+        }
+        const float u = d.event.duration > 0.0f ? (t - d.start) / d.event.duration : 1.0f;
+        drag.target = d.event.from + (d.event.to - d.event.from) * u;
+        drag.stiffness = d.event.stiffness;
+        drag.active = true;
+    }
+    // Spins: a rigid turn of the whole body about its centre (positions and the previous
+    // positions alike, so no velocity is invented).
+    for (const auto& [start, spin] : spins_) {
+        if (t < start || t >= start + spin.duration) continue;
+        Vec3f centre = Vec3f::Zero();
+        for (const auto& x : body.particles.x) centre += sim::xyz(x);
+        centre /= float(std::max<size_t>(1, body.particle_count()));
+        const Mat3f r = Eigen::AngleAxisf(math::radians(spin.degrees_per_second * dt), spin.axis).toRotationMatrix();
+        for (size_t i = 0; i < body.particle_count(); ++i) {
+            body.particles.x[i] = sim::to4(Vec3f(r * (sim::xyz(body.particles.x[i]) - centre) + centre));
+            body.particles.v[i] = sim::to4(Vec3f(r * sim::xyz(body.particles.v[i])));
+        }
+    }
+    // Camera orbit about the target's vertical axis.
+    if (orbit_degrees_per_second_ != 0.0f) {
+        const Mat3f r = Eigen::AngleAxisf(math::radians(orbit_degrees_per_second_ * (t + dt)), Vec3f::UnitY()).toRotationMatrix();
+        camera.eye = base_camera_.target + r * (base_camera_.eye - base_camera_.target);
+    }
+}
+
+} // namespace pbdsplat::scene

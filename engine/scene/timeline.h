@@ -1,0 +1,35 @@
+#pragma once
+// Plays a scene's timed events onto the body, the drag constraint and the camera, frame by
+// frame: pressure ramps, drags, spins, the camera orbit.
+#include <vector>
+
+#include "scene/scene.h"
+#include "sim/soft_body.h"
+
+namespace pbdsplat::scene {
+
+class Timeline {
+public:
+    Timeline(const Scene& scene, const render::Camera& initial_camera);
+
+    // Applies what happens during [t, t + dt): called once per frame before the solver.
+    void advance(float t, float dt, sim::SoftBody& body, sim::DragConstraint& drag, render::Camera& camera);
+    bool has_drag() const;
+
+private:
+    struct PressureRamp {
+        float start, duration, from = -1.0f, to;
+    };
+    struct ActiveDrag {
+        float start;
+        DragEvent event;
+        bool picked = false;
+    };
+    std::vector<PressureRamp> pressure_;
+    std::vector<ActiveDrag> drags_;
+    std::vector<std::pair<float, SpinEvent>> spins_;
+    float orbit_degrees_per_second_ = 0.0f;
+    render::Camera base_camera_;
+};
+
+} // namespace pbdsplat::scene

@@ -1,0 +1,98 @@
+#include <doctest/doctest.h>
+
+#include <map>
+
+#include "scene/default_scene.h"
+#include "scene/scene_file.h"
+#include "scene/scene_runtime.h"
+
+using namespace pbdsplat;
+
+namespace {
+scene::Scene load(const std::string& file) {
+    auto s = scene::load_scene(std::string(PBDSPLAT_TEST_SCENES_DIR) + "/" + file);
+    REQUIRE_MESSAGE(s.ok(), s.error().to_string());
+    return std::move(s).value();
+}
+
+// Pass name -> culled reason ("" when kept), for a simulation-only runtime.
+std::map<std::string, std::string> culling(const scene::Scene& s) {
+    auto rt = scene::SceneRuntime::create(s, {});
+    REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+    std::map<std::string, std::string> out;
+    for (const auto& p : rt.value()->graph().describe()) out[p.name] = p.culled ? p.reason : "";
+    return out;
+}
+} // namespace
+
+TEST_SUITE("scene/runtime") {
+    TEST_CASE("the default scene's graph keeps the volume and collision stages and culls the drag") {
+        const auto c = culling(scene::default_scene());
+        CHECK(c.at("volume.0").empty());
+        CHECK(c.at("collide.4").empty());
+        CHECK(c.at("drag.0") == "needs drag");
+        CHECK(c.at("events").empty());  // the pressure cycle and the orbit
+        // Without a renderer nothing reads the mapped Gaussians.
+        CHECK(c.at("map") == "unused");
+    }
+
+    TEST_CASE("a scene without pressure, colliders or events runs only the stages it needs") {
+        const auto c = culling(load("no_pressure.toml"));
+        for (int it = 0; it < 5; ++it) {
+            CHECK(c.at("volume." + std::to_string(it)) == "needs volume constraints");
+            CHECK(c.at("collide." + std::to_string(it)) == "needs colliders");
+            CHECK(c.at("distance." + std::to_string(it)).empty());
+        }
+        CHECK(c.at("events") == "needs timeline");
+        CHECK(c.at("forces").empty());
+        CHECK(c.at("normals").empty());
+    }
+
+    TEST_CASE("a drag event brings in the drag stage, and moves the body") {
+        const scene::Scene s = load("drag_spin.toml");
+        const auto c = culling(s);
+        CHECK(c.at("drag.0").empty());
+        auto rt = scene::SceneRuntime::create(s, {});
+        REQUIRE(rt.ok());
+        const Vec3f from(1.35f, 0.0f, 0.0f);
+        for (int f = 0; f < 40; ++f) REQUIRE(rt.value()->step().ok());
+        // Some particle was pulled well past where the torus was.
+        float farthest = 0.0f;
+        for (const auto& x : rt.value()->body().particles.x) farthest = std::max(farthest, x.x());
+        CHECK(farthest > 1.6f);
+    }
+
+    TEST_CASE("the default scene deflates and re-inflates on its timeline") {
+        auto rt = scene::SceneRuntime::create(scene::default_scene(), {});
+        REQUIRE(rt.ok());
+        const double v0 = rt.value()->body().volumes[0].rest_volume;
+        double smallest = 1e9;
+        for (int f = 0; f < 60 * 5; ++f) {
+            REQUIRE(rt.value()->step().ok());
+            smallest = std::min(smallest, rt.value()->body().volume(0) / v0);
+        }
+        CHECK(smallest == doctest::Approx(0.5).epsilon(0.03));
+        CHECK(rt.value()->body().volume(0) / v0 == doctest::Approx(1.0).epsilon(0.02));
+        CHECK(rt.value()->stats().frame == 300);
+        CHECK(rt.value()->stats().time == doctest::Approx(5.0f).epsilon(1e-3));
+    }
+
+    TEST_CASE("scenes with cut or tear events are refused with the reason") {
+        auto rt = scene::SceneRuntime::create(load("cut.toml"), {});
+        REQUIRE_FALSE(rt.ok());
+        CHECK(rt.error().message.find("needs the topology stage") != std::string::npos);
+    }
+
+    TEST_CASE("a missing model and an impossible pin are clear errors") {
+        scene::Scene s = scene::default_scene();
+        s.model.mesh = "no-such-model.obj";
+        auto a = scene::SceneRuntime::create(s, {});
+        REQUIRE_FALSE(a.ok());
+        CHECK(a.error().to_string().find("no-such-model.obj: no such file") == 0);
+        s = scene::default_scene();
+        s.simulation.pins = {999999};
+        auto b = scene::SceneRuntime::create(s, {});
+        REQUIRE_FALSE(b.ok());
+        CHECK(b.error().message.find("pinned particle 999999 does not exist") == 0);
+    }
+}

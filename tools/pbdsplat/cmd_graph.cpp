@@ -1,0 +1,77 @@
+#include <cstdio>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "pbdsplat/commands.h"
+#include "pbdsplat/gpu_options.h"
+#include "pbdsplat/scene_arg.h"
+#include "scene/scene_runtime.h"
+
+namespace pbdsplat::cli {
+
+int cmd_graph(const std::vector<std::string>& argv) {
+    static constexpr const char* help =
+        "usage: pbdsplat graph [SCENE.toml] [--present] [--dot FILE] [--json] [--validation] [--device NAME]\n"
+        "\n"
+        "Compiles the frame graph of a scene (default: the built-in one) and prints its passes in\n"
+        "execution order, with the culled ones marked and the reason: a resource the scene does not\n"
+        "have (\"needs volume constraints\") or an output nobody reads (\"unused\").\n"
+        "\n"
+        "  --present           as for a window: no readback of the image\n"
+        "  --dot FILE          also write the graph as Graphviz dot\n"
+        "  --json              print {\"passes\": [{\"name\", \"kind\", \"culled\", \"reason\", \"barriers\"}]}\n";
+    std::set<std::string> flags = k_gpu_flags;
+    flags.insert({"help", "json", "present"});
+    std::set<std::string> valued = k_gpu_options;
+    valued.insert("dot");
+    auto args = Args::parse(argv, flags, valued);
+    if (!args.ok()) return usage_error("graph", args.error().to_string());
+    if (args->has("help")) return std::fputs(help, stdout), 0;
+    auto scene = load_scene_arg(args->positionals());
+    if (!scene.ok()) return fail("graph", scene.error().to_string());
+    auto ctx = open_context(args.value());
+    if (!ctx.ok()) return fail("graph", ctx.error().to_string());
+    scene::RuntimeOptions options;
+    options.gpu = ctx.value().get();
+    options.readback = !args->has("present");
+    // Cut and tear events cannot run yet, but their graph can still be shown.
+    scene::Scene shown = scene.value();
+    const bool topology = shown.has_topology_events();
+    std::erase_if(shown.events, [](const scene::Event& e) {
+        return std::holds_alternative<scene::CutEvent>(e.data) || std::holds_alternative<scene::TearEvent>(e.data);
+    });
+    auto runtime = scene::SceneRuntime::create(shown, options);
+    if (!runtime.ok()) return fail("graph", runtime.error().to_string());
+    const auto passes = runtime.value()->graph().describe();
+
+    if (auto dot = args->get("dot")) {
+        std::ofstream out(*dot);
+        if (!out) return fail("graph", *dot + ": cannot write");
+        out << runtime.value()->graph().to_dot();
+    }
+    if (args->has("json")) {
+        nlohmann::json j = {{"scene", scene->name}, {"passes", nlohmann::json::array()}};
+        for (const auto& p : passes)
+            j["passes"].push_back({{"name", p.name},
+                                   {"kind", p.kind == graph::PassKind::gpu ? "gpu" : "cpu"},
+                                   {"culled", p.culled},
+                                   {"reason", p.reason},
+                                   {"barriers", p.barriers}});
+        std::printf("%s\n", j.dump().c_str());
+    } else {
+        size_t kept = 0;
+        for (const auto& p : passes) {
+            kept += p.culled ? 0 : 1;
+            std::printf("  %-16s %s  %s%s\n", p.name.c_str(), p.kind == graph::PassKind::gpu ? "gpu" : "cpu",
+                        p.culled ? "culled: " : "", p.culled ? p.reason.c_str()
+                                                             : (p.barriers ? (std::to_string(p.barriers) + " barrier(s)").c_str() : ""));
+        }
+        std::printf("scene %s: %zu of %zu passes run%s\n", scene->name.c_str(), kept, passes.size(),
+                    topology ? " (its cut/tear events need the topology stage, not in this build)" : "");
+    }
+    if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("graph", v.error().to_string());
+    return 0;
+}
+
+} // namespace pbdsplat::cli
