@@ -1,6 +1,7 @@
 #include "scene/scene_runtime.h"
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 
 #include "core/timer.h"
@@ -51,6 +52,27 @@ core::Result<sim::SoftBody> make_scene_body(const Scene& scene) {
             if ((x.array() >= region.min.array()).all() && (x.array() <= region.max.array()).all()) b.pin(i);
         }
     return b;
+}
+
+void changed_ranges(std::span<const splat::GaussianRecord> before, std::span<const splat::GaussianRecord> after,
+                    std::vector<gpu::ByteRange>& out) {
+    // Blocks of 256 records (6 KiB): small enough to skip what a local drag leaves alone, large
+    // enough that the copy list stays short. Touching blocks merge into one range.
+    constexpr size_t k_block = 256;
+    constexpr size_t k_size = sizeof(splat::GaussianRecord);
+    out.clear();
+    if (before.size() != after.size()) {
+        out.push_back({0, after.size_bytes()});
+        return;
+    }
+    for (size_t start = 0; start < after.size(); start += k_block) {
+        const size_t n = std::min(k_block, after.size() - start);
+        if (std::memcmp(before.data() + start, after.data() + start, n * k_size) == 0) continue;
+        const VkDeviceSize offset = start * k_size, bytes = n * k_size;
+        if (!out.empty() && out.back().offset + out.back().size == offset) out.back().size += bytes;
+        else out.push_back({offset, bytes});
+    }
+    if (out.empty()) out.push_back({0, 0});  // nothing changed: an empty range, not "everything"
 }
 
 core::Result<std::unique_ptr<SceneRuntime>> SceneRuntime::create(const Scene& scene, const RuntimeOptions& options) {
@@ -180,7 +202,8 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         return [this](const graph::PassResources&, graph::ExecuteContext&) {
             splat::map_points(body_.particles.x, body_.normals, appearance_, records_);
             frame_input_.records = records_;
-            frame_input_.changed.clear();  // a simulated body moves every particle, every frame
+            changed_ranges(previous_records_, records_, frame_input_.changed);
+            previous_records_ = records_;
         };
     });
     if (renderer_) add_gpu_passes(g, *renderer_, gpu_resources_, input, sink);

@@ -61,6 +61,7 @@ private:
     sim::DragConstraint drag_;
     splat::Appearance appearance_;
     std::vector<splat::GaussianRecord> records_;
+    std::vector<splat::GaussianRecord> previous_records_;  // what the GPU holds: for changed ranges
     std::unique_ptr<render::SplatRenderer> renderer_;
     GpuPassResources gpu_resources_;
     GpuFrameInput frame_input_;
@@ -71,6 +72,11 @@ private:
     float time_ = 0.0f;
     uint64_t frame_ = 0;
 };
+
+// The byte ranges of `after` that differ from `before` (all of it when the counts differ), so
+// only what changed is uploaded; a single empty range when nothing did.
+void changed_ranges(std::span<const splat::GaussianRecord> before, std::span<const splat::GaussianRecord> after,
+                    std::vector<gpu::ByteRange>& out);
 
 // Loads the mesh of a scene (next to the scene file first), applies the transform, builds the
 // body with its pins. Shared by the runtime and the tools that only simulate.

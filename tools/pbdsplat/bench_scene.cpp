@@ -74,7 +74,7 @@ int bench_scene(const std::vector<std::string>& argv) {
                     s.particles, kept, total, frames.value());
         std::printf("  events                 %8.3f ms\n  apply forces           %8.3f ms\n  constraint projection  %8.3f ms\n"
                     "  integrate + normals    %8.3f ms\n  update particles       %8.3f ms\n  GPU recording          %8.3f ms\n"
-                    "  frame (CPU)            %8.3f ms\n",
+                    "  frame (wall)           %8.3f ms (waits for the GPU when it is the bottleneck)\n",
                     core::median(events), core::median(forces), core::median(constraints), core::median(integrate),
                     core::median(update), core::median(gpu_record), core::median(frame));
     }

@@ -35,7 +35,7 @@ int cmd_render(const std::vector<std::string>& argv) {
         "Runs a scene (default: the built-in scenes/default.toml) offscreen for N frames and writes\n"
         "images. With --out ending in .png, the last frame goes to that file; otherwise PATH is a\n"
         "folder that receives frame_0000.png, frame_0001.png, ..., frames.csv (particle counts and\n"
-        "per-stage milliseconds of every frame) and, when ffmpeg is on the PATH, video.mp4.\n"
+        "per-stage milliseconds and uploaded bytes of every frame) and, when ffmpeg is on the PATH, video.mp4.\n"
         "\n"
         "  --frames N          frames to simulate and render (default 1)\n"
         "  --out PATH          output file (.png) or folder (default out/render.png)\n"
@@ -87,7 +87,7 @@ int cmd_render(const std::vector<std::string>& argv) {
         csv.open(dir / "frames.csv");
         if (!csv) return fail("render", (dir / "frames.csv").string() + ": cannot write");
         csv << "frame,time,particles,gaussians,events_ms,apply_forces_ms,constraints_ms,integrate_normals_ms,"
-               "update_particles_ms,gpu_record_ms,frame_ms\n";
+               "update_particles_ms,gpu_record_ms,frame_ms,uploaded_bytes\n";
     }
     const bool tty = isatty(STDERR_FILENO) != 0;
     for (uint32_t f = 0; f < frames.value(); ++f) {
@@ -104,7 +104,7 @@ int cmd_render(const std::vector<std::string>& argv) {
             const auto& s = runtime.value()->stats();
             csv << s.frame - 1 << ',' << s.time << ',' << s.particles << ',' << s.gaussians << ',' << s.events_ms << ','
                 << s.apply_forces_ms << ',' << s.constraints_ms << ',' << s.integrate_normals_ms << ','
-                << s.update_particles_ms << ',' << s.gpu_record_ms << ',' << s.graph_ms << '\n';
+                << s.update_particles_ms << ',' << s.gpu_record_ms << ',' << s.graph_ms << ',' << s.uploaded_bytes << '\n';
         }
         if (tty && frames.value() > 1) progress(f + 1, frames.value());
     }

@@ -12,6 +12,7 @@ int bench_splat(const std::vector<std::string>& args);
 int bench_sim(const std::vector<std::string>& args);
 int bench_sim_error(const std::vector<std::string>& args);
 int bench_scene(const std::vector<std::string>& args);
+int bench_graph(const std::vector<std::string>& args);
 int cmd_graph(const std::vector<std::string>& args);
 int cmd_validate_scene(const std::vector<std::string>& args);
 
