@@ -21,13 +21,22 @@ struct ModelDesc {
     float scale = 1.0f;
 };
 
+enum class SurfaceMode { boundary, vertices };
+
+struct SurfaceDesc {
+    SurfaceMode mode = SurfaceMode::boundary;  // boundary particles, or mesh vertices only (Fig. 14a)
+    float eta = 0.5f;            // h = eta * mean edge length (boundary mode; vertices mode uses eta = 1)
+    bool stretch_scale = false;  // grow splats with the stretch of their triangle
+    uint32_t seed = 1;           // sampling seed
+};
+
 struct MaterialDesc {
     Vec3f color{0.85f, 0.32f, 0.25f};  // linear rgb
     float opacity = 0.98f;             // sigmoid(o) of every splat, in (0, 1)
     float shininess = 48.0f;
     float diffuse = 1.0f;   // weight of the light's diffuse term
     float specular = 0.35f;
-    float splat_scale = 0.6f;  // splat std dev in mean edge lengths
+    float splat_scale = 0.9f;  // splat std dev, in units of the sampling spacing h
 };
 
 struct PinRegion {
@@ -91,6 +100,7 @@ struct Scene {
     std::string source_dir;  // directory of the scene file (models are looked up there first)
     ModelDesc model;
     MaterialDesc material;
+    SurfaceDesc surface;
     SimulationDesc simulation;
     RenderDesc render;
     std::vector<Event> events;  // sorted by time

@@ -166,6 +166,14 @@ void read_material(Reader::Table& t, MaterialDesc& m) {
     t.finish();
 }
 
+void read_surface(Reader::Table& t, SurfaceDesc& d) {
+    d.mode = t.choice("mode", "boundary", {"boundary", "vertices"}) == "vertices" ? SurfaceMode::vertices : SurfaceMode::boundary;
+    d.eta = t.real("eta", d.eta, 0.05, 4.0);
+    d.stretch_scale = t.flag("stretch_scale", d.stretch_scale);
+    d.seed = t.count("seed", d.seed, 0, 0x7fffffff);
+    t.finish();
+}
+
 void read_simulation(const Reader& r, Reader::Table& t, SimulationDesc& s) {
     sim::SolverSettings& solver = s.solver;
     solver.mode = t.choice("mode", "paper", {"paper", "xpbd"}) == "xpbd" ? sim::SolverMode::xpbd : sim::SolverMode::paper;
@@ -329,6 +337,10 @@ core::Result<Scene> parse_scene(const std::string& text, const std::string& name
             Reader::Table m(r, *t, "material");
             read_material(m, scene.material);
         }
+        if (const toml::table* t = top.table("surface")) {
+            Reader::Table d(r, *t, "surface");
+            read_surface(d, scene.surface);
+        }
         if (const toml::table* t = top.table("simulation")) {
             Reader::Table s(r, *t, "simulation");
             read_simulation(r, s, scene.simulation);
@@ -381,6 +393,9 @@ std::string to_toml(const Scene& sc) {
     o << "[material]\ncolor = " << vec<3>(mat.color) << "\nopacity = " << num(mat.opacity) << "\nshininess = "
       << num(mat.shininess) << "\ndiffuse = " << num(mat.diffuse) << "\nspecular = " << num(mat.specular)
       << "\nsplat_scale = " << num(mat.splat_scale) << "\n\n";
+    const SurfaceDesc& sf = sc.surface;
+    o << "[surface]\nmode = " << (sf.mode == SurfaceMode::vertices ? "\"vertices\"" : "\"boundary\"") << "\neta = " << num(sf.eta)
+      << "\nstretch_scale = " << (sf.stretch_scale ? "true" : "false") << "\nseed = " << sf.seed << "\n\n";
     const SimulationDesc& s = sc.simulation;
     o << "[simulation]\nmode = " << (s.solver.mode == sim::SolverMode::xpbd ? "\"xpbd\"" : "\"paper\"") << "\ndt = " << num(s.dt)
       << "\niterations = " << s.solver.iterations << "\nsubsteps = " << s.solver.substeps

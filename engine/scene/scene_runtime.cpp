@@ -105,7 +105,14 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     const MaterialDesc& mat = scene_.material;
     appearance_.albedo = mat.color;
     appearance_.opacity_logit = math::logit(mat.opacity);
-    appearance_.scale = mat.splat_scale * mesh::mean_edge_length(mesh::TriangleMesh{body_.rest_positions, body_.triangles});
+    const mesh::TriangleMesh rest{body_.rest_positions, body_.triangles, {}, {}, {}};
+    const SurfaceDesc& sd_surface = scene_.surface;
+    const bool boundary = sd_surface.mode == SurfaceMode::boundary;
+    h_ = surface::spacing(rest, boundary ? sd_surface.eta : 1.0f);
+    if (!(h_ > 0.0f)) return core::make_error("the mesh has no edges to derive the sampling spacing from");
+    if (boundary) boundary_ = surface::sample_surface(rest, {h_, sd_surface.seed});
+    if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
+    appearance_.scale = mat.splat_scale * h_;
     frame_input_.frame.lighting.intensity *= mat.diffuse;
     frame_input_.frame.lighting.specular = mat.specular;
     frame_input_.frame.lighting.shininess = mat.shininess;
@@ -114,7 +121,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         render::RendererOptions ro;
         ro.width = scene_.render.width;
         ro.height = scene_.render.height;
-        ro.max_splats = uint32_t(std::max<size_t>(1, body_.particle_count()));
+        ro.max_splats = uint32_t(std::max<size_t>(1, body_.particle_count() + boundary_.size()));
         ro.frames_in_flight = options.frames_in_flight;
         ro.upload_path = options.upload_path;
         auto r = render::SplatRenderer::create(*options.gpu, ro);
@@ -133,6 +140,8 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     auto colliders = g.import("colliders", sd.colliders.empty() ? nullptr : &scene_.simulation.colliders);
     auto drag = g.import("drag", timeline_->has_drag() ? &drag_ : static_cast<sim::DragConstraint*>(nullptr));
     auto input = g.import("frame input", &frame_input_);
+    auto samples = g.import("boundary particles", boundary ? &boundary_ : static_cast<surface::BoundaryParticles*>(nullptr));
+    auto stretch = g.import("stretch", sd_surface.stretch_scale ? &stretch_ : static_cast<splat::StretchScale*>(nullptr));
     auto sink = g.import("image", options.readback ? &sink_ : static_cast<ImageSink*>(nullptr));
     stage_of_pass_.clear();
 
@@ -196,11 +205,28 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         body = b.write(body);
         return [this, &solver](const graph::PassResources&, graph::ExecuteContext&) { solver.update_normals(body_); };
     });
+    cpu_pass("boundary particles", [&](graph::PassBuilder& b) {
+        b.read(body);
+        samples = b.write(samples);
+        return [this](const graph::PassResources&, graph::ExecuteContext&) {
+            surface::update_boundary_particles(body_.triangles, body_.particles.x, body_.normals, boundary_);
+        };
+    });
+    cpu_pass("stretch", [&](graph::PassBuilder& b) {
+        b.read(body);
+        stretch = b.write(stretch);
+        return [this](const graph::PassResources&, graph::ExecuteContext&) { stretch_.update(body_.particles.x, body_.triangles); };
+    });
+    const bool keep = options.keep_records;
     cpu_pass("map", [&](graph::PassBuilder& b) {
         b.read(body);
+        if (boundary) b.read(samples);
+        if (sd_surface.stretch_scale) b.read(stretch);
         input = b.write(input);
-        return [this](const graph::PassResources&, graph::ExecuteContext&) {
-            splat::map_points(body_.particles.x, body_.normals, appearance_, records_);
+        if (keep) b.side_effect();
+        return [this, boundary](const graph::PassResources&, graph::ExecuteContext&) {
+            splat::map_body(body_.particles.x, body_.normals, {}, body_.triangles, boundary ? &boundary_ : nullptr,
+                            appearance_, stretch_.empty() ? nullptr : &stretch_, records_);
             frame_input_.records = records_;
             changed_ranges(previous_records_, records_, frame_input_.changed);
             previous_records_ = records_;
@@ -219,7 +245,7 @@ Group group_of(const std::string& name) {
     if (starts("forces")) return forces;
     if (starts("distance") || starts("volume") || starts("drag") || starts("collide")) return constraints;
     if (starts("velocities") || starts("normals")) return integrate;
-    if (starts("map")) return update;
+    if (starts("map") || starts("boundary") || starts("stretch")) return update;
     if (starts("upload") || starts("splat") || starts("readback")) return gpu_record;
     return other;
 }
@@ -243,6 +269,7 @@ core::Status SceneRuntime::step() {
     s.frame = frame_;
     s.time = time_;
     s.particles = body_.particle_count();
+    s.boundary_particles = boundary_.size();
     s.gaussians = records_.size();
     size_t k = 0;
     for (const graph::PassInfo& p : graph_.describe()) {

@@ -13,12 +13,15 @@
 #include "scene/scene.h"
 #include "scene/timeline.h"
 #include "sim/solver.h"
+#include "splat/mapping.h"
+#include "surface/boundary_particles.h"
 
 namespace pbdsplat::scene {
 
 struct RuntimeOptions {
     gpu::Context* gpu = nullptr;  // null: simulation only (no upload, splat or readback)
     bool readback = true;         // read each frame's image back (offscreen); false when presenting
+    bool keep_records = false;    // map to Gaussians even without a renderer (export, metrics)
     unsigned threads = 1;
     std::optional<gpu::UploadPath> upload_path;
     uint32_t frames_in_flight = 2;
@@ -28,7 +31,7 @@ struct RuntimeOptions {
 struct FrameStats {
     uint64_t frame = 0;
     float time = 0.0f;  // simulated seconds at the end of the frame
-    size_t particles = 0, gaussians = 0;
+    size_t particles = 0, boundary_particles = 0, gaussians = 0;
     double events_ms = 0.0, apply_forces_ms = 0.0, constraints_ms = 0.0, integrate_normals_ms = 0.0,
            update_particles_ms = 0.0, gpu_record_ms = 0.0, graph_ms = 0.0;
     uint64_t uploaded_bytes = 0;  // of the newest finished GPU frame
@@ -47,6 +50,9 @@ public:
     const graph::FrameGraph& graph() const { return graph_; }
     const FrameStats& stats() const { return stats_; }
     const sim::SoftBody& body() const { return body_; }
+    const surface::BoundaryParticles& boundary_particles() const { return boundary_; }
+    const std::vector<splat::GaussianRecord>& records() const { return records_; }
+    float spacing() const { return h_; }
     const Scene& scene() const { return scene_; }
 
 private:
@@ -60,6 +66,8 @@ private:
     std::unique_ptr<Timeline> timeline_;
     sim::DragConstraint drag_;
     splat::Appearance appearance_;
+    surface::BoundaryParticles boundary_;
+    splat::StretchScale stretch_;
     std::vector<splat::GaussianRecord> records_;
     std::vector<splat::GaussianRecord> previous_records_;  // what the GPU holds: for changed ranges
     std::unique_ptr<render::SplatRenderer> renderer_;
@@ -70,6 +78,7 @@ private:
     std::vector<std::string> stage_of_pass_;  // the Table 3 group of each kept pass
     FrameStats stats_;
     float time_ = 0.0f;
+    float h_ = 0.0f;  // sampling spacing
     uint64_t frame_ = 0;
 };
 

@@ -1,0 +1,84 @@
+#include "splat/mapping.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pbdsplat::splat {
+
+StretchScale::StretchScale(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles) {
+    inverse_rest_.resize(triangles.size());
+    for (size_t t = 0; t < triangles.size(); ++t) {
+        const Vec3f e1 = rest[triangles[t][1]] - rest[triangles[t][0]];
+        const Vec3f e2 = rest[triangles[t][2]] - rest[triangles[t][0]];
+        // Coordinates of the edges in an orthonormal frame of the triangle's plane.
+        const Vec3f u = e1.normalized();
+        const Vec3f w = (e2 - e2.dot(u) * u).normalized();
+        Eigen::Matrix2f dm;
+        dm << e1.norm(), e2.dot(u), 0.0f, e2.dot(w);
+        inverse_rest_[t] = std::abs(dm.determinant()) > 1e-20f ? Eigen::Matrix2f(dm.inverse()) : Eigen::Matrix2f::Identity();
+    }
+    const size_t n = rest.size();
+    ring_start_.assign(n + 1, 0);
+    for (const auto& t : triangles)
+        for (uint32_t v : t) ++ring_start_[v + 1];
+    for (size_t i = 0; i < n; ++i) ring_start_[i + 1] += ring_start_[i];
+    ring_.resize(ring_start_.back());
+    std::vector<uint32_t> fill(ring_start_.begin(), ring_start_.end() - 1);
+    for (uint32_t t = 0; t < triangles.size(); ++t)
+        for (uint32_t v : triangles[t]) ring_[fill[v]++] = t;
+    triangle_.assign(triangles.size(), 1.0f);
+    vertex_.assign(n, 1.0f);
+}
+
+void StretchScale::update(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangles) {
+    for (size_t t = 0; t < triangles.size(); ++t) {
+        const Vec3f e1 = (x[triangles[t][1]] - x[triangles[t][0]]).head<3>();
+        const Vec3f e2 = (x[triangles[t][2]] - x[triangles[t][0]]).head<3>();
+        Eigen::Matrix<float, 3, 2> ds;
+        ds << e1, e2;
+        const Eigen::Matrix<float, 3, 2> f = ds * inverse_rest_[t];
+        const Eigen::Matrix2f ftf = f.transpose() * f;
+        // Largest eigenvalue of the symmetric 2x2 F^T F: the squared largest singular value.
+        const float tr = ftf.trace(), det = ftf.determinant();
+        const float lambda = 0.5f * tr + std::sqrt(std::max(0.0f, 0.25f * tr * tr - det));
+        triangle_[t] = std::max(1.0f, std::sqrt(lambda));
+    }
+    for (size_t v = 0; v + 1 < ring_start_.size(); ++v) {
+        float m = 1.0f;
+        for (uint32_t r = ring_start_[v]; r < ring_start_[v + 1]; ++r) m = std::max(m, triangle_[ring_[r]]);
+        vertex_[v] = m;
+    }
+}
+
+void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const Vec3f> colors,
+              std::span<const mesh::Triangle> triangles, const surface::BoundaryParticles* samples, const Appearance& look,
+              const StretchScale* stretch, std::vector<GaussianRecord>& out) {
+    const size_t n = x.size(), m = samples ? samples->size() : 0;
+    out.resize(n + m);
+    map_points(x, normals, look, out);  // resizes to n, keeps capacity
+    out.resize(n + m);
+    const GaussianRecord base = make_record(Vec3f::Zero(), Vec3f::UnitZ(), look);
+    auto color_bytes = [](const Vec3f& c, GaussianRecord& r) {
+        for (int k = 0; k < 3; ++k) r.color[k] = uint8_t(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
+    };
+    if (!colors.empty())
+        for (size_t i = 0; i < n; ++i) color_bytes(colors[i], out[i]);
+    if (stretch && !stretch->empty())
+        for (size_t i = 0; i < n; ++i) out[i].scale_half = float_to_half(look.scale * stretch->vertex(uint32_t(i)));
+    for (size_t k = 0; k < m; ++k) {
+        GaussianRecord r = base;
+        const Vec3f& p = samples->position[k];
+        r.position[0] = p.x(), r.position[1] = p.y(), r.position[2] = p.z();
+        encode_octahedral(samples->normal[k], r.normal_oct);
+        const uint32_t t = samples->triangle[k];
+        if (!colors.empty()) {
+            const auto& tri = triangles[t];
+            const Vec2f b = samples->bary[k];
+            color_bytes((1.0f - b.x() - b.y()) * colors[tri[0]] + b.x() * colors[tri[1]] + b.y() * colors[tri[2]], r);
+        }
+        if (stretch && !stretch->empty()) r.scale_half = float_to_half(look.scale * stretch->triangle(t));
+        out[n + k] = r;
+    }
+}
+
+} // namespace pbdsplat::splat

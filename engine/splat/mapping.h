@@ -1,0 +1,40 @@
+#pragma once
+// The particle-to-Gaussian mapping (paper eqs. 11-13 and 21): one isotropic Gaussian per
+// simulation particle and per boundary particle, centre = position, R = I, the scale s0 from
+// the sampling spacing h, opacity = sigmoid(o), colour from the material (or vertex colours).
+#include <span>
+#include <vector>
+
+#include "mesh/triangle_mesh.h"
+#include "splat/gaussian_record.h"
+#include "surface/boundary_particles.h"
+
+namespace pbdsplat::splat {
+
+// Grows a splat with the stretch of its triangle (the largest singular value of the
+// triangle's deformation gradient, at least 1), so stretching does not open holes (the
+// paper's limitation 7.5.2).
+class StretchScale {
+public:
+    StretchScale() = default;
+    StretchScale(std::span<const Vec3f> rest_positions, std::span<const mesh::Triangle> triangles);
+    // Per-triangle and per-vertex factors for the current positions.
+    void update(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangles);
+    float triangle(uint32_t t) const { return triangle_[t]; }
+    float vertex(uint32_t v) const { return vertex_[v]; }
+    bool empty() const { return inverse_rest_.empty(); }
+
+private:
+    std::vector<Eigen::Matrix2f> inverse_rest_;  // D_m^-1 in each triangle's own rest frame
+    std::vector<uint32_t> ring_start_, ring_;     // vertex -> incident triangles
+    std::vector<float> triangle_, vertex_;
+};
+
+// Records for the particles (x, normals), then for the boundary particles (may be null).
+// `colors`, when not empty, gives a colour per particle (boundary particles interpolate it).
+// `stretch`, when not null, scales each splat by its stretch factor.
+void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const Vec3f> colors,
+              std::span<const mesh::Triangle> triangles, const surface::BoundaryParticles* samples, const Appearance& look,
+              const StretchScale* stretch, std::vector<GaussianRecord>& out);
+
+} // namespace pbdsplat::splat
