@@ -27,7 +27,8 @@ endfunction()
 
 # --help everywhere, on stdout, exit 0.
 foreach(cmd "--help" "info;--help" "render;--help" "bench;--help" "bench;splat;--help" "bench;sim;--help"
-           "bench;sim-error;--help" "bench;scene;--help" "graph;--help" "validate-scene;--help")
+           "bench;sim-error;--help" "bench;scene;--help" "bench;graph;--help" "graph;--help" "validate-scene;--help"
+           "export-ply;--help")
   expect("help: ${cmd}" 0 ${cmd})
   expect_contains("help: ${cmd}" "${last_out}" "usage: pbdsplat")
 endforeach()
@@ -147,6 +148,16 @@ expect("validate-scene broken" 1 validate-scene "${WORK_DIR}/broken.toml")
 expect_contains("validate-scene broken" "${last_err}" "broken.toml:2:14: 'simulation.iterations' = -3 is out of range")
 expect("render a cut scene" 1 render "${SCENES_DIR}/cut.toml")
 expect_contains("render a cut scene" "${last_err}" "needs the topology stage")
+
+# export-ply, then the file rendered as a static scene.
+expect("export-ply" 0 export-ply --frame 2 out/scene.ply)
+expect_contains("export-ply" "${last_out}" "boundary particles")
+expect("render a .ply" 0 render out/scene.ply --width 64 --height 48 --out out/ply.png --validation)
+if(NOT EXISTS "${WORK_DIR}/out/ply.png")
+  message(SEND_ERROR "render a .ply: out/ply.png was not written")
+  math(EXPR failures "${failures} + 1")
+endif()
+expect("export-ply without an output" 2 export-ply --frame 2)
 
 if(failures GREATER 0)
   message(FATAL_ERROR "${failures} CLI check(s) failed")

@@ -10,7 +10,9 @@
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/scene_arg.h"
 #include "pbdsplat/upload_path_arg.h"
+#include "scene/offscreen_renderer.h"
 #include "scene/scene_runtime.h"
+#include "splat/ply.h"
 
 namespace pbdsplat::cli {
 namespace {
@@ -25,17 +27,54 @@ void progress(uint32_t done, uint32_t total) {
 
 bool ffmpeg_available() { return std::system("command -v ffmpeg >/dev/null 2>&1") == 0; }
 
+// A .ply of Gaussians as a static scene: the camera looks at their bounds from the front.
+int render_ply(const std::string& file, const Args& args, uint32_t width, uint32_t height, const std::filesystem::path& out) {
+    auto records = splat::read_ply(file);
+    if (!records.ok()) return fail("render", records.error().to_string());
+    if (records->empty()) return fail("render", file + ": holds no Gaussians");
+    Vec3f lo = Vec3f::Constant(1e30f), hi = Vec3f::Constant(-1e30f);
+    for (const auto& r : records.value()) {
+        const Vec3f p(r.position[0], r.position[1], r.position[2]);
+        lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    }
+    render::FrameInputs frame;
+    const Vec3f centre = 0.5f * (lo + hi);
+    const float diag = std::max((hi - lo).norm(), 1e-6f);
+    frame.camera.target = centre;
+    frame.camera.eye = centre + Vec3f(0.0f, 0.25f, 1.2f) * diag;
+    frame.camera.z_near = 0.01f * diag;
+    frame.camera.z_far = 10.0f * diag;
+    auto ctx = open_context(args);
+    if (!ctx.ok()) return fail("render", ctx.error().to_string());
+    render::RendererOptions ro;
+    ro.width = width ? width : 1280;
+    ro.height = height ? height : 720;
+    ro.max_splats = uint32_t(records->size());
+    ro.frames_in_flight = 1;
+    auto renderer = scene::OffscreenRenderer::create(*ctx.value(), ro);
+    if (!renderer.ok()) return fail("render", renderer.error().to_string());
+    if (auto s = renderer.value()->render(records.value(), frame); !s.ok()) return fail("render", s.error().to_string());
+    auto image = renderer.value()->finish();
+    if (!image.ok()) return fail("render", image.error().to_string());
+    const std::filesystem::path target = out.extension() == ".png" ? out : out / "frame_0000.png";
+    if (auto s = core::write_png(target.string(), image.value()); !s.ok()) return fail("render", s.error().to_string());
+    if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("render", v.error().to_string());
+    std::printf("wrote %s (%zu Gaussians from %s)\n", target.string().c_str(), records->size(), file.c_str());
+    return 0;
+}
+
 } // namespace
 
 int cmd_render(const std::vector<std::string>& argv) {
     static constexpr const char* help =
-        "usage: pbdsplat render [SCENE.toml] [--frames N] [--out PATH] [--width W] [--height H]\n"
+        "usage: pbdsplat render [SCENE.toml | GAUSSIANS.ply] [--frames N] [--out PATH] [--width W] [--height H]\n"
         "                       [--threads T] [--upload auto|staged|direct] [--validation] [--device NAME]\n"
         "\n"
         "Runs a scene (default: the built-in scenes/default.toml) offscreen for N frames and writes\n"
         "images. With --out ending in .png, the last frame goes to that file; otherwise PATH is a\n"
         "folder that receives frame_0000.png, frame_0001.png, ..., frames.csv (particle counts and\n"
         "per-stage milliseconds and uploaded bytes of every frame) and, when ffmpeg is on the PATH, video.mp4.\n"
+        "A .ply of Gaussians (3DGS layout, e.g. from export-ply) renders as one static image.\n"
         "\n"
         "  --frames N          frames to simulate and render (default 1)\n"
         "  --out PATH          output file (.png) or folder (default out/render.png)\n"
@@ -58,11 +97,6 @@ int cmd_render(const std::vector<std::string>& argv) {
                                  height.ok() ? nullptr : &height.error(), threads.ok() ? nullptr : &threads.error(),
                                  upload.ok() ? nullptr : &upload.error()})
         if (e) return usage_error("render", e->to_string());
-    auto scene = load_scene_arg(args->positionals());
-    if (!scene.ok()) return fail("render", scene.error().to_string());
-    if (width.value()) scene->render.width = width.value();
-    if (height.value()) scene->render.height = height.value();
-
     const std::filesystem::path out = args->get_or("out", "out/render.png");
     const bool single = out.extension() == ".png";
     const std::filesystem::path dir = single ? out.parent_path() : out;
@@ -71,6 +105,14 @@ int cmd_render(const std::vector<std::string>& argv) {
         std::filesystem::create_directories(dir, ec);
         if (ec) return fail("render", dir.string() + ": cannot create the folder: " + ec.message());
     }
+    const auto& pos = args->positionals();
+    if (pos.size() == 1 && std::filesystem::path(pos[0]).extension() == ".ply")
+        return render_ply(pos[0], args.value(), width.value(), height.value(), out);
+
+    auto scene = load_scene_arg(args->positionals());
+    if (!scene.ok()) return fail("render", scene.error().to_string());
+    if (width.value()) scene->render.width = width.value();
+    if (height.value()) scene->render.height = height.value();
 
     auto ctx = open_context(args.value());
     if (!ctx.ok()) return fail("render", ctx.error().to_string());

@@ -15,6 +15,7 @@ int bench_scene(const std::vector<std::string>& args);
 int bench_graph(const std::vector<std::string>& args);
 int cmd_graph(const std::vector<std::string>& args);
 int cmd_validate_scene(const std::vector<std::string>& args);
+int cmd_export_ply(const std::vector<std::string>& args);
 
 // Prints "pbdsplat <command>: <message>" to stderr and returns 1.
 int fail(const std::string& command, const std::string& message);

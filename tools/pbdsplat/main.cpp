@@ -17,6 +17,7 @@ constexpr const char* k_help =
     "  render    run a scene offscreen (default: the built-in one) and write PNG images\n"
     "  graph     the compiled frame graph of a scene, with culled passes marked (--json, --dot)\n"
     "  validate-scene  check scene files without running them\n"
+    "  export-ply  a scene's Gaussians at a frame, as a 3DGS .ply\n"
     "  bench     benchmarks that print figures (bench --help lists them)\n"
     "\n"
     "Every command takes --help. Errors go to stderr with a non-zero exit.\n";
@@ -31,6 +32,7 @@ constexpr Command k_commands[] = {
     {"bench", pbdsplat::cli::cmd_bench},
     {"graph", pbdsplat::cli::cmd_graph},
     {"validate-scene", pbdsplat::cli::cmd_validate_scene},
+    {"export-ply", pbdsplat::cli::cmd_export_ply},
 };
 
 } // namespace

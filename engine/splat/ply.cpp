@@ -1,0 +1,136 @@
+#include "splat/ply.h"
+
+#include <algorithm>
+#include <cmath>
+#include <bit>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace pbdsplat::splat {
+namespace {
+
+constexpr float k_sh_c0 = 0.28209479177387814f;  // Y_0^0: colour = 0.5 + C0 * f_dc
+constexpr int k_rest = 45;
+
+std::vector<std::string> property_names() {
+    std::vector<std::string> n = {"x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2"};
+    for (int i = 0; i < k_rest; ++i) n.push_back("f_rest_" + std::to_string(i));
+    for (const char* s : {"opacity", "scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3"}) n.push_back(s);
+    return n;
+}
+
+} // namespace
+
+std::string ply_header(size_t count) {
+    std::string h = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(count) + "\n";
+    for (const auto& name : property_names()) h += "property float " + name + "\n";
+    return h + "end_header\n";
+}
+
+core::Status write_ply(const std::string& path, std::span<const GaussianRecord> records) {
+    static_assert(std::endian::native == std::endian::little, "PLY writing assumes a little-endian host");
+    std::ofstream out(path, std::ios::binary);
+    if (!out) return core::make_error(path, 0, "cannot write (does the folder exist and is it writable?)");
+    out << ply_header(records.size());
+    const size_t stride = property_names().size();
+    std::vector<float> row(stride, 0.0f);
+    for (const GaussianRecord& r : records) {
+        std::fill(row.begin(), row.end(), 0.0f);
+        row[0] = r.position[0], row[1] = r.position[1], row[2] = r.position[2];
+        const Vec3f n = decode_octahedral(r.normal_oct);
+        row[3] = n.x(), row[4] = n.y(), row[5] = n.z();
+        for (int c = 0; c < 3; ++c) row[size_t(6 + c)] = (float(r.color[c]) / 255.0f - 0.5f) / k_sh_c0;
+        const size_t o = 9 + k_rest;
+        row[o] = half_to_float(r.opacity_half);
+        const float log_scale = std::log(std::max(half_to_float(r.scale_half), 1e-30f));
+        row[o + 1] = row[o + 2] = row[o + 3] = log_scale;
+        row[o + 4] = 1.0f;  // identity rotation, w first
+        out.write(reinterpret_cast<const char*>(row.data()), std::streamsize(row.size() * sizeof(float)));
+    }
+    if (!out) return core::make_error(path, 0, "write error (disk full?)");
+    return core::Status::success();
+}
+
+core::Result<std::vector<GaussianRecord>> read_ply(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return core::make_error(path, 0, "cannot open the file (does it exist and is it readable?)");
+    std::string line;
+    int line_no = 0;
+    auto next = [&]() -> bool {
+        if (!std::getline(in, line)) return false;
+        ++line_no;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        return true;
+    };
+    if (!next() || line != "ply") return core::make_error(path, 1, "not a PLY file (the first line must be 'ply')");
+    size_t count = 0;
+    bool have_vertex = false, in_vertex = false;
+    std::map<std::string, size_t> column;
+    size_t stride = 0;
+    while (true) {
+        if (!next()) return core::make_error(path, line_no, "the header ends without 'end_header'");
+        if (line == "end_header") break;
+        std::istringstream ls(line);
+        std::string word;
+        ls >> word;
+        if (word == "comment" || word == "obj_info") continue;
+        if (word == "format") {
+            std::string fmt, version;
+            ls >> fmt >> version;
+            if (fmt != "binary_little_endian")
+                return core::make_error(path, line_no, "format '" + fmt + "' is not supported: 3DGS files are binary_little_endian");
+        } else if (word == "element") {
+            std::string name;
+            long long n = -1;
+            ls >> name >> n;
+            if (have_vertex && in_vertex)
+                return core::make_error(path, line_no, "elements after 'vertex' are not supported in a 3DGS file");
+            in_vertex = name == "vertex";
+            if (!in_vertex) return core::make_error(path, line_no, "element '" + name + "' is not part of a 3DGS file");
+            if (n < 0) return core::make_error(path, line_no, "the vertex count must be a whole number >= 0");
+            count = size_t(n);
+            have_vertex = true;
+        } else if (word == "property") {
+            std::string type, name;
+            ls >> type >> name;
+            if (!in_vertex) return core::make_error(path, line_no, "property outside the vertex element");
+            if (type != "float" && type != "float32")
+                return core::make_error(path, line_no, "property '" + name + "' is " + type + "; 3DGS properties are float");
+            column[name] = stride++;
+        } else {
+            return core::make_error(path, line_no, "unexpected header line '" + line + "'");
+        }
+    }
+    if (!have_vertex) return core::make_error(path, line_no, "no 'element vertex' in the header");
+    for (const char* need : {"x", "y", "z", "f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0", "scale_1", "scale_2"})
+        if (!column.count(need)) return core::make_error(path, line_no, std::string("the header lacks property '") + need + "'");
+    std::vector<float> data(count * stride);
+    in.read(reinterpret_cast<char*>(data.data()), std::streamsize(data.size() * sizeof(float)));
+    if (size_t(in.gcount()) != data.size() * sizeof(float))
+        return core::make_error(path, 0, "truncated: the header announces " + std::to_string(count) + " Gaussians (" +
+                                             std::to_string(data.size() * sizeof(float)) + " bytes) but only " +
+                                             std::to_string(in.gcount()) + " bytes follow");
+    std::vector<GaussianRecord> out(count);
+    const bool normals = column.count("nx") && column.count("ny") && column.count("nz");
+    auto col = [&](size_t i, const char* name) { return data[i * stride + column.at(name)]; };
+    for (size_t i = 0; i < count; ++i) {
+        GaussianRecord& r = out[i];
+        r.position[0] = col(i, "x"), r.position[1] = col(i, "y"), r.position[2] = col(i, "z");
+        for (int k = 0; k < 3; ++k)
+            if (!std::isfinite(r.position[k]))
+                return core::make_error(path, 0, "Gaussian " + std::to_string(i) + " has a non-finite position");
+        encode_octahedral(normals ? Vec3f(col(i, "nx"), col(i, "ny"), col(i, "nz")) : Vec3f::UnitZ(), r.normal_oct);
+        const char* dc[3] = {"f_dc_0", "f_dc_1", "f_dc_2"};
+        for (int c = 0; c < 3; ++c)
+            r.color[c] = uint8_t(std::lround(std::clamp(0.5f + k_sh_c0 * col(i, dc[c]), 0.0f, 1.0f) * 255.0f));
+        r.color[3] = 255;
+        const float s = std::max({col(i, "scale_0"), col(i, "scale_1"), col(i, "scale_2")});
+        r.scale_half = float_to_half(std::exp(s));
+        r.opacity_half = float_to_half(col(i, "opacity"));
+    }
+    return out;
+}
+
+} // namespace pbdsplat::splat
