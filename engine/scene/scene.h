@@ -36,7 +36,7 @@ struct MaterialDesc {
     float shininess = 48.0f;
     float diffuse = 1.0f;   // weight of the light's diffuse term
     float specular = 0.35f;
-    float splat_scale = 0.9f;  // splat std dev, in units of the sampling spacing h
+    float splat_scale = 0.7f;  // splat std dev, in units of the sampling spacing h
 };
 
 struct PinRegion {
