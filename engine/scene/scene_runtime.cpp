@@ -225,7 +225,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         input = b.write(input);
         if (keep) b.side_effect();
         return [this, boundary](const graph::PassResources&, graph::ExecuteContext&) {
-            splat::map_body(body_.particles.x, body_.normals, {}, body_.triangles, boundary ? &boundary_ : nullptr,
+            splat::map_body(body_.particles.x, body_.normals, body_.colors, body_.triangles, boundary ? &boundary_ : nullptr,
                             appearance_, stretch_.empty() ? nullptr : &stretch_, records_);
             frame_input_.records = records_;
             changed_ranges(previous_records_, records_, frame_input_.changed);

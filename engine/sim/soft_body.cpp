@@ -40,6 +40,7 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     d.distance_lambda.assign(b.distance_lambda.size(), 0.0);
     d.volumes = b.volumes;
     d.rest_positions = b.rest_positions;
+    d.colors = b.colors;
     return d;
 }
 
@@ -54,6 +55,7 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
     b.particles.resize(n);
     for (size_t i = 0; i < n; ++i) b.particles.x[i] = b.particles.x_prev[i] = to4(m.positions[i]);
     b.rest_positions = m.positions;
+    b.colors = m.colors;
     b.triangles = m.triangles;
 
     // Masses: lumped from a third of each incident triangle's area, or uniform.

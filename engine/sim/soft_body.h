@@ -38,6 +38,7 @@ struct SoftBodyT {
     std::vector<Real> distance_lambda;  // XPBD multipliers, one per distance constraint
     std::vector<VolumeConstraint> volumes;
     std::vector<Vec3f> rest_positions;  // rest state (new edges take rest lengths from it)
+    std::vector<Vec3f> colors;          // per-particle colours from the mesh file; empty if none
 
     size_t particle_count() const { return particles.size(); }
     // Current volume of a volume constraint (caps included).

@@ -1,6 +1,9 @@
 #include <doctest/doctest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <map>
+#include <set>
 
 #include "scene/default_scene.h"
 #include "scene/scene_file.h"
@@ -118,5 +121,38 @@ TEST_SUITE("scene/runtime") {
         scene::changed_ranges(a, b, ranges);
         REQUIRE(ranges.size() == 1);
         CHECK(ranges[0].size == b.size() * sizeof(splat::GaussianRecord));
+    }
+}
+
+TEST_SUITE("scene/runtime") {
+    TEST_CASE("vertex colours of an OBJ reach the Gaussians, interpolated on boundary particles") {
+        const std::string path = (std::filesystem::temp_directory_path() / "pbdsplat_colored.obj").string();
+        {
+            std::ofstream obj(path);
+            // A tetrahedron: red, green, blue and white corners.
+            obj << "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nv 0 0 1 1 1 1\n"
+                   "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+        }
+        scene::Scene s = scene::default_scene();
+        s.model.mesh = path;
+        s.events.clear();
+        s.surface.eta = 0.3f;
+        scene::RuntimeOptions o;
+        o.keep_records = true;
+        auto rt = scene::SceneRuntime::create(s, o);
+        REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+        REQUIRE(rt.value()->step().ok());
+        const auto& records = rt.value()->records();
+        REQUIRE(records.size() > 4);
+        std::set<std::array<uint8_t, 3>> corner_colours;
+        for (size_t i = 0; i < 4; ++i) corner_colours.insert({records[i].color[0], records[i].color[1], records[i].color[2]});
+        CHECK(corner_colours.count({255, 0, 0}) == 1);
+        CHECK(corner_colours.count({255, 255, 255}) == 1);
+        // A boundary particle inside a face mixes its corners' colours: no pure corner colour.
+        bool mixed = false;
+        for (size_t i = 4; i < records.size(); ++i)
+            if (!corner_colours.count({records[i].color[0], records[i].color[1], records[i].color[2]})) mixed = true;
+        CHECK(mixed);
+        std::filesystem::remove(path);
     }
 }
