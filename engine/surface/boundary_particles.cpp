@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
-#include <unordered_map>
+#include <bit>
 
 #include "core/assert.h"
 
@@ -11,32 +11,80 @@ namespace pbdsplat::surface {
 namespace {
 
 // A hash grid of accepted points with cell size h: any point within h lies in the 27 cells
-// around a query.
+// around a query. Open addressing over cell keys, with the points of a cell chained through
+// an index array: sampling asks it millions of times, so no node allocation and no rehash of
+// vectors.
 class PointGrid {
 public:
-    explicit PointGrid(float h) : inv_h_(1.0f / h), h2_(h * h) {}
+    PointGrid(float h, size_t expected_points) : inv_h_(1.0f / h), h2_(h * h) {
+        size_t cap = 1024;
+        while (cap < expected_points * 2) cap <<= 1;
+        keys_.assign(cap, k_empty);
+        heads_.assign(cap, k_end);
+        mask_ = cap - 1;
+        shift_ = 64 - std::countr_zero(cap);
+        points_.reserve(expected_points);
+        next_.reserve(expected_points);
+    }
     bool near(const Vec3f& p) const {
         const Eigen::Vector3i c = cell(p);
         for (int dz = -1; dz <= 1; ++dz)
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
-                    auto it = cells_.find(key(c + Eigen::Vector3i(dx, dy, dz)));
-                    if (it == cells_.end()) continue;
-                    for (const Vec3f& q : it->second)
-                        if ((q - p).squaredNorm() < h2_) return true;
+                    const size_t slot = find(key(c + Eigen::Vector3i(dx, dy, dz)));
+                    if (slot == k_end) continue;
+                    for (uint32_t i = heads_[slot]; i != k_end; i = next_[i])
+                        if ((points_[i] - p).squaredNorm() < h2_) return true;
                 }
         return false;
     }
-    void add(const Vec3f& p) { cells_[key(cell(p))].push_back(p); }
+    void add(const Vec3f& p) {
+        if ((points_.size() + 1) * 2 > keys_.size()) grow();
+        const uint64_t k = key(cell(p));
+        size_t slot = slot_of(k);
+        while (keys_[slot] != k_empty && keys_[slot] != k) slot = (slot + 1) & mask_;
+        keys_[slot] = k;
+        next_.push_back(heads_[slot]);
+        heads_[slot] = uint32_t(points_.size());
+        points_.push_back(p);
+    }
 
 private:
+    static constexpr uint64_t k_empty = ~0ull;
+    static constexpr uint32_t k_end = ~0u;
+    // Fibonacci hashing: the high bits of the product mix all of x, y and z.
+    size_t slot_of(uint64_t k) const { return size_t((k * 0x9E3779B97F4A7C15ull) >> shift_); }
+    size_t find(uint64_t k) const {
+        size_t slot = slot_of(k);
+        while (true) {
+            if (keys_[slot] == k) return slot;
+            if (keys_[slot] == k_empty) return k_end;
+            slot = (slot + 1) & mask_;
+        }
+    }
+    void grow() {
+        std::vector<Vec3f> old = std::move(points_);
+        const size_t cap = keys_.size() * 2;
+        keys_.assign(cap, k_empty);
+        heads_.assign(cap, k_end);
+        mask_ = cap - 1;
+        shift_ = 64 - std::countr_zero(cap);
+        points_.clear();
+        next_.clear();
+        for (const Vec3f& q : old) add(q);
+    }
     Eigen::Vector3i cell(const Vec3f& p) const { return (p * inv_h_).array().floor().cast<int>(); }
     static uint64_t key(const Eigen::Vector3i& c) {
         return (uint64_t(uint32_t(c.x()) & 0x1fffff) << 42) | (uint64_t(uint32_t(c.y()) & 0x1fffff) << 21) |
                uint64_t(uint32_t(c.z()) & 0x1fffff);
     }
     float inv_h_, h2_;
-    std::unordered_map<uint64_t, std::vector<Vec3f>> cells_;
+    size_t mask_ = 0;
+    int shift_ = 54;
+    std::vector<uint64_t> keys_;
+    std::vector<uint32_t> heads_;  // per slot: the newest point in that cell
+    std::vector<uint32_t> next_;   // per point: the next point in its cell
+    std::vector<Vec3f> points_;
 };
 
 struct Candidate {
@@ -109,7 +157,7 @@ BoundaryParticles sample_surface(const mesh::TriangleMesh& m, const SamplingOpti
 void fill_triangles(const mesh::TriangleMesh& m, std::span<const uint32_t> triangles, const SamplingOptions& o,
                     BoundaryParticles& samples) {
     PBDSPLAT_ASSERT(o.h > 0.0f && std::isfinite(o.h), "boundary particle spacing h must be positive");
-    PointGrid grid(o.h);
+    PointGrid grid(o.h, m.positions.size() + samples.size() + 1024);
     for (const Vec3f& v : m.positions) grid.add(v);  // the simulation particles are samples too
     for (size_t i = 0; i < samples.size(); ++i) grid.add(position_of(m, samples.triangle[i], samples.bary[i]));
     std::mt19937 rng(o.seed);

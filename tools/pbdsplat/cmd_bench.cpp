@@ -13,6 +13,7 @@ constexpr const char* k_bench_help =
     "  sim-error Stage A run time against error, PBD and XPBD, to CSV and SVG plots\n"
     "  graph     the frame graph's own overhead per frame\n"
     "  scene     a scene through its frame graph: median ms per stage and per frame\n"
+    "  surface   boundary particles: sampling and update time, coverage against eta\n"
     "  splat     GPU milliseconds of upload, draw and readback for N splats (median of repeats)\n"
     "\n"
     "Every suite takes --help and --json.\n";
@@ -30,6 +31,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
     if (argv[0] == "sim-error") return bench_sim_error(rest);
     if (argv[0] == "scene") return bench_scene(rest);
     if (argv[0] == "graph") return bench_graph(rest);
+    if (argv[0] == "surface") return bench_surface(rest);
     return usage_error("bench", "unknown suite '" + argv[0] + "' (see pbdsplat bench --help)");
 }
 
