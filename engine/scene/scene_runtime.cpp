@@ -141,6 +141,9 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     auto drag = g.import("drag", timeline_->has_drag() ? &drag_ : static_cast<sim::DragConstraint*>(nullptr));
     auto input = g.import("frame input", &frame_input_);
     auto samples = g.import("boundary particles", boundary ? &boundary_ : static_cast<surface::BoundaryParticles*>(nullptr));
+    // Sorting only matters when splats are composited with "over" and the scene asks for it.
+    const bool sorted = scene_.render.sort && scene_.render.frame.style.blend == render::Blend::over;
+    auto sort = g.import("sort", sorted ? &sort_scratch_ : static_cast<splat::SortScratch*>(nullptr));
     auto stretch = g.import("stretch", sd_surface.stretch_scale ? &stretch_ : static_cast<splat::StretchScale*>(nullptr));
     auto sink = g.import("image", options.readback ? &sink_ : static_cast<ImageSink*>(nullptr));
     stage_of_pass_.clear();
@@ -224,9 +227,22 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         if (sd_surface.stretch_scale) b.read(stretch);
         input = b.write(input);
         if (keep) b.side_effect();
-        return [this, boundary](const graph::PassResources&, graph::ExecuteContext&) {
+        return [this, boundary, sorted](const graph::PassResources&, graph::ExecuteContext&) {
             splat::map_body(body_.particles.x, body_.normals, body_.colors, body_.triangles, boundary ? &boundary_ : nullptr,
                             appearance_, stretch_.empty() ? nullptr : &stretch_, records_);
+            frame_input_.records = records_;
+            if (sorted) return;  // the sort stage reorders them and works out what changed
+            changed_ranges(previous_records_, records_, frame_input_.changed);
+            previous_records_ = records_;
+        };
+    });
+    cpu_pass("sort", [&](graph::PassBuilder& b) {
+        b.read(sort);
+        input = b.write(input);
+        if (keep) b.side_effect();
+        return [this](const graph::PassResources&, graph::ExecuteContext&) {
+            const render::Camera& c = frame_input_.frame.camera;
+            splat::sort_far_to_near(records_, math::look_at(c.eye, c.target, c.up), sort_scratch_);
             frame_input_.records = records_;
             changed_ranges(previous_records_, records_, frame_input_.changed);
             previous_records_ = records_;
@@ -245,7 +261,7 @@ Group group_of(const std::string& name) {
     if (starts("forces")) return forces;
     if (starts("distance") || starts("volume") || starts("drag") || starts("collide")) return constraints;
     if (starts("velocities") || starts("normals")) return integrate;
-    if (starts("map") || starts("boundary") || starts("stretch")) return update;
+    if (starts("map") || starts("boundary") || starts("stretch") || starts("sort")) return update;
     if (starts("upload") || starts("splat") || starts("readback")) return gpu_record;
     return other;
 }

@@ -14,6 +14,7 @@
 #include "scene/timeline.h"
 #include "sim/solver.h"
 #include "splat/mapping.h"
+#include "splat/sort.h"
 #include "surface/boundary_particles.h"
 
 namespace pbdsplat::scene {
@@ -68,6 +69,7 @@ private:
     splat::Appearance appearance_;
     surface::BoundaryParticles boundary_;
     splat::StretchScale stretch_;
+    splat::SortScratch sort_scratch_;
     std::vector<splat::GaussianRecord> records_;
     std::vector<splat::GaussianRecord> previous_records_;  // what the GPU holds: for changed ranges
     std::unique_ptr<render::SplatRenderer> renderer_;

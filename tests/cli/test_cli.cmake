@@ -158,6 +158,7 @@ if(NOT EXISTS "${WORK_DIR}/out/ply.png")
   math(EXPR failures "${failures} + 1")
 endif()
 expect("export-ply without an output" 2 export-ply --frame 2)
+expect("render a sorted scene" 0 render "${SCENES_DIR}/sorted.toml" --frames 2 --width 64 --height 48 --out out/sorted.png --validation)
 
 if(failures GREATER 0)
   message(FATAL_ERROR "${failures} CLI check(s) failed")

@@ -156,3 +156,36 @@ TEST_SUITE("scene/runtime") {
         std::filesystem::remove(path);
     }
 }
+
+TEST_SUITE("scene/runtime") {
+    TEST_CASE("the sort stage runs only for sorted 'over' blending, and orders far to near") {
+        scene::Scene s = scene::default_scene();
+        CHECK(culling(s).at("sort") == "needs sort");  // sorting off by default
+        s.render.sort = true;
+        s.render.frame.style.blend = render::Blend::additive;
+        CHECK(culling(s).at("sort") == "needs sort");  // additive blending does not depend on order
+        s.render.frame.style.blend = render::Blend::over;
+        CHECK(culling(s).at("sort") == "unused");  // nothing reads the order without a renderer
+
+        s.render.orbit.degrees_per_second = 0.0f;  // keep the camera the test measures from
+        scene::RuntimeOptions o;
+        o.keep_records = true;  // ...unless the records are kept (export, metrics)
+        auto rt = scene::SceneRuntime::create(s, o);
+        REQUIRE(rt.ok());
+        for (const auto& p : rt.value()->graph().describe())
+            if (p.name == "sort") CHECK_FALSE(p.culled);
+        for (int f = 0; f < 3; ++f) REQUIRE(rt.value()->step().ok());
+        // Depth along the viewing direction never decreases towards the end: nearest last.
+        const render::Camera& cam = s.render.frame.camera;
+        const Vec3f forward = (cam.target - cam.eye).normalized();
+        const auto& records = rt.value()->records();
+        size_t inversions = 0;
+        float previous = 1e30f;
+        for (const auto& r : records) {
+            const float distance = (Vec3f(r.position[0], r.position[1], r.position[2]) - cam.eye).dot(forward);
+            inversions += distance > previous + 0.01f ? 1 : 0;
+            previous = distance;
+        }
+        CHECK(inversions == 0);
+    }
+}

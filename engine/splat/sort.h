@@ -1,0 +1,19 @@
+#pragma once
+// Far-to-near order for "over" blending (paper section 5.4), on the CPU: records sorted by the
+// view-space depth of their centres, ties kept in their original order.
+#include <span>
+#include <vector>
+
+#include "splat/gaussian_record.h"
+
+namespace pbdsplat::splat {
+
+// Reorders `records` in place, farthest first, for the camera `view` (world to view, looking
+// down -z). `scratch` keeps its allocations between frames.
+struct SortScratch {
+    std::vector<std::pair<float, uint32_t>> keys;
+    std::vector<GaussianRecord> copy;
+};
+void sort_far_to_near(std::vector<GaussianRecord>& records, const Mat4f& view, SortScratch& scratch);
+
+} // namespace pbdsplat::splat
