@@ -84,6 +84,7 @@ struct SpinEvent {
 };
 struct CutEvent {
     std::optional<std::array<Vec2f, 2>> segment;  // screen pixels, with the camera of that moment
+    Vec2f screen{1280.0f, 720.0f};  // the resolution the pixels refer to (the scene file's)
     std::optional<std::pair<Vec3f, Vec3f>> plane;  // point and normal
 };
 struct TearEvent {

@@ -357,6 +357,9 @@ core::Result<Scene> parse_scene(const std::string& text, const std::string& name
         return f.error;
     }
     std::stable_sort(scene.events.begin(), scene.events.end(), [](const Event& a, const Event& b) { return a.time < b.time; });
+    // Segment pixels refer to the resolution written in the file, whatever a run overrides.
+    for (Event& e : scene.events)
+        if (auto* c = std::get_if<CutEvent>(&e.data)) c->screen = Vec2f(float(scene.render.width), float(scene.render.height));
     return scene;
 }
 

@@ -7,6 +7,7 @@
 #include "core/timer.h"
 #include "mesh/mesh_spec.h"
 #include "mesh/triangle_mesh.h"
+#include "topology/separate.h"
 
 namespace pbdsplat::scene {
 
@@ -76,10 +77,11 @@ void changed_ranges(std::span<const splat::GaussianRecord> before, std::span<con
 }
 
 core::Result<std::unique_ptr<SceneRuntime>> SceneRuntime::create(const Scene& scene, const RuntimeOptions& options) {
-    if (scene.has_topology_events())
-        return core::make_error("scene '" + scene.name +
-                                "' has cut or tear events; running them needs the topology stage, which this build "
-                                "does not have yet (validate-scene and graph accept the file)");
+    for (const Event& e : scene.events)
+        if (std::holds_alternative<TearEvent>(e.data))
+            return core::make_error("scene '" + scene.name +
+                                    "' has a tear event; tearing is not in this build yet (validate-scene and graph "
+                                    "accept the file)");
     if (auto v = sim::validate(scene.simulation.solver); !v.ok()) return v.error();
     const uint32_t projections = scene.simulation.solver.iterations * scene.simulation.solver.substeps;
     if (projections > 256)
@@ -121,7 +123,9 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         render::RendererOptions ro;
         ro.width = scene_.render.width;
         ro.height = scene_.render.height;
-        ro.max_splats = uint32_t(std::max<size_t>(1, body_.particle_count() + boundary_.size()));
+        // A cut duplicates vertices along its path: leave room for them.
+        const size_t splats = body_.particle_count() + boundary_.size();
+        ro.max_splats = uint32_t(std::max<size_t>(1, scene_.has_topology_events() ? 2 * splats : splats));
         ro.frames_in_flight = options.frames_in_flight;
         ro.upload_path = options.upload_path;
         auto r = render::SplatRenderer::create(*options.gpu, ro);
@@ -140,12 +144,6 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     auto colliders = g.import("colliders", sd.colliders.empty() ? nullptr : &scene_.simulation.colliders);
     auto drag = g.import("drag", timeline_->has_drag() ? &drag_ : static_cast<sim::DragConstraint*>(nullptr));
     auto input = g.import("frame input", &frame_input_);
-    auto samples = g.import("boundary particles", boundary ? &boundary_ : static_cast<surface::BoundaryParticles*>(nullptr));
-    // Sorting only matters when splats are composited with "over" and the scene asks for it.
-    const bool sorted = scene_.render.sort && scene_.render.frame.style.blend == render::Blend::over;
-    auto sort = g.import("sort", sorted ? &sort_scratch_ : static_cast<splat::SortScratch*>(nullptr));
-    auto stretch = g.import("stretch", sd_surface.stretch_scale ? &stretch_ : static_cast<splat::StretchScale*>(nullptr));
-    auto sink = g.import("image", options.readback ? &sink_ : static_cast<ImageSink*>(nullptr));
     stage_of_pass_.clear();
 
     const float dt = sd.dt;
@@ -154,6 +152,15 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     sim::Solver& solver = *solver_;
     auto cpu_pass = [&](const std::string& name, auto setup) { g.add_pass(name, graph::PassKind::cpu, setup); };
 
+    auto samples = g.import("boundary particles", boundary ? &boundary_ : static_cast<surface::BoundaryParticles*>(nullptr));
+    // Sorting only matters when splats are composited with "over" and the scene asks for it.
+    const bool sorted = scene_.render.sort && scene_.render.frame.style.blend == render::Blend::over;
+    auto sort = g.import("sort", sorted ? &sort_scratch_ : static_cast<splat::SortScratch*>(nullptr));
+    auto stretch = g.import("stretch", sd_surface.stretch_scale ? &stretch_ : static_cast<splat::StretchScale*>(nullptr));
+    auto sink = g.import("image", options.readback ? &sink_ : static_cast<ImageSink*>(nullptr));
+    for (const Event& e : scene_.events)
+        if (std::holds_alternative<CutEvent>(e.data)) pending_cuts_.push_back(e);
+    auto cuts = g.import("cut events", pending_cuts_.empty() ? static_cast<std::vector<Event>*>(nullptr) : &pending_cuts_);
     cpu_pass("events", [&](graph::PassBuilder& b) {
         b.read(timeline);
         body = b.write(body);
@@ -161,6 +168,18 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         input = b.write(input);
         return [this, dt](const graph::PassResources&, graph::ExecuteContext&) {
             timeline_->advance(time_, dt, body_, drag_, frame_input_.frame.camera);
+        };
+    });
+    cpu_pass("topology", [&](graph::PassBuilder& b) {
+        b.read(cuts);
+        body = b.write(body);
+        samples = b.write(samples);
+        return [this, dt](const graph::PassResources&, graph::ExecuteContext&) {
+            while (topology_status_.ok() && !pending_cuts_.empty() && pending_cuts_.front().time < time_ + dt) {
+                topology_status_ = apply_cut(std::get<CutEvent>(pending_cuts_.front().data));
+                pending_cuts_.erase(pending_cuts_.begin());
+                ++stats_.cuts;
+            }
         };
     });
     for (uint32_t sub = 0; sub < sd.solver.substeps; ++sub) {
@@ -257,7 +276,7 @@ namespace {
 enum Group { events, forces, constraints, integrate, update, gpu_record, other };
 Group group_of(const std::string& name) {
     auto starts = [&](const char* p) { return name.rfind(p, 0) == 0; };
-    if (starts("events")) return events;
+    if (starts("events") || starts("topology")) return events;
     if (starts("forces")) return forces;
     if (starts("distance") || starts("volume") || starts("drag") || starts("collide")) return constraints;
     if (starts("velocities") || starts("normals")) return integrate;
@@ -266,6 +285,54 @@ Group group_of(const std::string& name) {
     return other;
 }
 } // namespace
+
+core::Status SceneRuntime::apply_cut(const CutEvent& cut) {
+    std::function<bool(uint32_t)> side, splittable = [](uint32_t) { return true; };
+    Vec3f point, normal;
+    const render::Camera& cam = frame_input_.frame.camera;
+    const float aspect = cut.screen.x() / cut.screen.y();
+    const Mat4f view_proj = math::perspective(math::radians(cam.fov_y_degrees), aspect, cam.z_near, cam.z_far) *
+                            math::look_at(cam.eye, cam.target, cam.up);
+    // Pixel -> world-space direction of its view ray.
+    const Vec2f screen = cut.screen;
+    auto ray = [&](const Vec2f& px) {
+        const Vec2f ndc(2.0f * px.x() / screen.x() - 1.0f, 2.0f * px.y() / screen.y() - 1.0f);
+        const Mat4f inv = view_proj.inverse();
+        const Vec4f far_point = inv * Vec4f(ndc.x(), ndc.y(), 1.0f, 1.0f);
+        return Vec3f((far_point.head<3>() / far_point.w() - cam.eye).normalized());
+    };
+    if (cut.plane) {
+        point = cut.plane->first;
+        normal = cut.plane->second;
+    } else {
+        // The band swept by the segment along the view rays: the plane through the eye that
+        // holds both rays, limited to what projects inside the segment's extent.
+        const Vec2f a = (*cut.segment)[0], b = (*cut.segment)[1];
+        point = cam.eye;
+        normal = ray(a).cross(ray(b));
+        if (normal.norm() < 1e-9f) return core::make_error("cut segment is too short to define a cut");
+        normal.normalize();
+        const Vec2f ab = b - a;
+        splittable = [this, view_proj, a, ab, screen](uint32_t v) {
+            const Vec4f c = view_proj * Vec4f(body_.particles.x[v].x(), body_.particles.x[v].y(), body_.particles.x[v].z(), 1.0f);
+            if (c.w() <= 0.0f) return false;
+            const Vec2f px((c.x() / c.w() * 0.5f + 0.5f) * screen.x(), (c.y() / c.w() * 0.5f + 0.5f) * screen.y());
+            const float u = (px - a).dot(ab) / ab.squaredNorm();
+            return u >= 0.0f && u <= 1.0f;
+        };
+    }
+    side = [this, point, normal](uint32_t t) {
+        const auto& tri = body_.triangles[t];
+        const Vec3f centre = (sim::xyz(body_.particles.x[tri[0]]) + sim::xyz(body_.particles.x[tri[1]]) +
+                              sim::xyz(body_.particles.x[tri[2]])) / 3.0f;
+        return normal.dot(centre - point) >= 0.0f;
+    };
+    auto change = topology::separate(body_, side, splittable);
+    if (!change.ok()) return change.error();
+    PBDSPLAT_TRY(topology::check_invariants(body_));
+    if (!stretch_.empty()) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
+    return core::Status::success();
+}
 
 core::Status SceneRuntime::step() {
     const core::Stopwatch frame_clock;
@@ -278,10 +345,12 @@ core::Status SceneRuntime::step() {
     }
     const auto& ms = graph_.execute(ctx);
     if (renderer_) PBDSPLAT_TRY(renderer_->end_frame());
+    if (!topology_status_.ok()) return topology_status_;
     time_ += scene_.simulation.dt;
     ++frame_;
 
     FrameStats s;
+    s.cuts = stats_.cuts;
     s.frame = frame_;
     s.time = time_;
     s.particles = body_.particle_count();

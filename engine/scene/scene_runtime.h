@@ -33,7 +33,8 @@ struct FrameStats {
     uint64_t frame = 0;
     float time = 0.0f;  // simulated seconds at the end of the frame
     size_t particles = 0, boundary_particles = 0, gaussians = 0;
-    double events_ms = 0.0, apply_forces_ms = 0.0, constraints_ms = 0.0, integrate_normals_ms = 0.0,
+    size_t cuts = 0;  // cut events applied so far
+    double events_ms = 0.0, topology_ms = 0.0, apply_forces_ms = 0.0, constraints_ms = 0.0, integrate_normals_ms = 0.0,
            update_particles_ms = 0.0, gpu_record_ms = 0.0, graph_ms = 0.0;
     uint64_t uploaded_bytes = 0;  // of the newest finished GPU frame
 };
@@ -81,6 +82,10 @@ private:
     FrameStats stats_;
     float time_ = 0.0f;
     float h_ = 0.0f;  // sampling spacing
+    // Cut events not yet applied, in time order, and what the last topology change did.
+    std::vector<Event> pending_cuts_;
+    core::Status apply_cut(const CutEvent& cut);
+    core::Status topology_status_;
     uint64_t frame_ = 0;
 };
 

@@ -146,8 +146,8 @@ expect("validate-scene scenes/" 0 validate-scene ${shipped})
 file(WRITE "${WORK_DIR}/broken.toml" "[simulation]\niterations = -3\n")
 expect("validate-scene broken" 1 validate-scene "${WORK_DIR}/broken.toml")
 expect_contains("validate-scene broken" "${last_err}" "broken.toml:2:14: 'simulation.iterations' = -3 is out of range")
-expect("render a cut scene" 1 render "${SCENES_DIR}/cut.toml")
-expect_contains("render a cut scene" "${last_err}" "needs the topology stage")
+expect("render a tear scene" 1 render "${SCENES_DIR}/cut.toml")
+expect_contains("render a tear scene" "${last_err}" "tearing is not in this build")
 
 # export-ply, then the file rendered as a static scene.
 expect("export-ply" 0 export-ply --frame 2 out/scene.ply)

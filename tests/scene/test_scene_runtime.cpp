@@ -70,20 +70,35 @@ TEST_SUITE("scene/runtime") {
         REQUIRE(rt.ok());
         const double v0 = rt.value()->body().volumes[0].rest_volume;
         double smallest = 1e9;
-        for (int f = 0; f < 60 * 5; ++f) {
+        for (int f = 0; f < 290; ++f) {  // until 4.83 s, before the cut at 5 s
             REQUIRE(rt.value()->step().ok());
             smallest = std::min(smallest, rt.value()->body().volume(0) / v0);
         }
         CHECK(smallest == doctest::Approx(0.5).epsilon(0.03));
         CHECK(rt.value()->body().volume(0) / v0 == doctest::Approx(1.0).epsilon(0.02));
-        CHECK(rt.value()->stats().frame == 300);
-        CHECK(rt.value()->stats().time == doctest::Approx(5.0f).epsilon(1e-3));
+        CHECK(rt.value()->stats().frame == 290);
+        CHECK(rt.value()->stats().time == doctest::Approx(290.0f / 60.0f).epsilon(1e-3));
+        CHECK(rt.value()->stats().cuts == 0);
     }
 
-    TEST_CASE("scenes with cut or tear events are refused with the reason") {
+    TEST_CASE("scenes with tear events are refused with the reason") {
         auto rt = scene::SceneRuntime::create(load("cut.toml"), {});
         REQUIRE_FALSE(rt.ok());
-        CHECK(rt.error().message.find("needs the topology stage") != std::string::npos);
+        CHECK(rt.error().message.find("tearing is not in this build") != std::string::npos);
+    }
+
+    TEST_CASE("a cut event runs through the topology stage; scenes without cuts cull it") {
+        CHECK(culling(load("no_pressure.toml")).at("topology") == "needs cut events");
+        scene::Scene s = load("cut.toml");
+        std::erase_if(s.events, [](const scene::Event& e) { return std::holds_alternative<scene::TearEvent>(e.data); });
+        CHECK(culling(s).at("topology").empty());
+        auto rt = scene::SceneRuntime::create(s, {});
+        REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+        const size_t before = rt.value()->body().particle_count();
+        for (int f = 0; f < 45; ++f) REQUIRE(rt.value()->step().ok());  // the cut is at 0.5 s
+        CHECK(rt.value()->stats().cuts == 1);
+        CHECK(rt.value()->body().particle_count() > before);
+        CHECK(rt.value()->body().volumes.size() == 2);
     }
 
     TEST_CASE("a missing model and an impossible pin are clear errors") {

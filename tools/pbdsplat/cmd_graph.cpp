@@ -35,12 +35,11 @@ int cmd_graph(const std::vector<std::string>& argv) {
     scene::RuntimeOptions options;
     options.gpu = ctx.value().get();
     options.readback = !args->has("present");
-    // Cut and tear events cannot run yet, but their graph can still be shown.
+    // Tear events cannot run yet, but the rest of their scene's graph can still be shown.
     scene::Scene shown = scene.value();
-    const bool topology = shown.has_topology_events();
-    std::erase_if(shown.events, [](const scene::Event& e) {
-        return std::holds_alternative<scene::CutEvent>(e.data) || std::holds_alternative<scene::TearEvent>(e.data);
-    });
+    const bool tearing = std::erase_if(shown.events, [](const scene::Event& e) {
+                             return std::holds_alternative<scene::TearEvent>(e.data);
+                         }) > 0;
     auto runtime = scene::SceneRuntime::create(shown, options);
     if (!runtime.ok()) return fail("graph", runtime.error().to_string());
     const auto passes = runtime.value()->graph().describe();
@@ -68,7 +67,7 @@ int cmd_graph(const std::vector<std::string>& argv) {
                                                              : (p.barriers ? (std::to_string(p.barriers) + " barrier(s)").c_str() : ""));
         }
         std::printf("scene %s: %zu of %zu passes run%s\n", scene->name.c_str(), kept, passes.size(),
-                    topology ? " (its cut/tear events need the topology stage, not in this build)" : "");
+                    tearing ? " (its tear events are left out: tearing is not in this build)" : "");
     }
     if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("graph", v.error().to_string());
     return 0;
