@@ -60,11 +60,18 @@ struct CameraOrbit {
     float degrees_per_second = 0.0f;  // about the camera target's y axis
 };
 
+// A camera path: eye and target keyframes, linearly interpolated, held after the last one.
+struct CameraKey {
+    float time = 0.0f;
+    Vec3f eye, target;
+};
+
 struct RenderDesc {
     uint32_t width = 1280, height = 720;
     render::FrameInputs frame;  // camera, lighting, splat style, background
     bool sort = false;          // far-to-near sort for "over" blending
     CameraOrbit orbit;
+    std::vector<CameraKey> path;  // sorted by time; when given, it replaces eye and target
 };
 
 // Timeline events. Times in seconds from the start.

@@ -255,6 +255,19 @@ void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
         k.fov_y_degrees = c.real("fov_degrees", k.fov_y_degrees, 1.0, 170.0);
         d.orbit.degrees_per_second = c.real("orbit_degrees_per_second", d.orbit.degrees_per_second, -3600, 3600);
         if ((k.eye - k.target).norm() < 1e-6f) r.fail(cam->source(), "'render.camera': eye and target coincide");
+        if (const toml::array* path = c.array("path")) {
+            for (const toml::node& n : *path) {
+                if (!n.is_table()) r.fail(n.source(), "'render.camera.path' holds tables {time, eye, target}");
+                Reader::Table key_table(r, *n.as_table(), "render.camera.path");
+                CameraKey key{key_table.real("time", 0.0f, 0.0, 1e6), key_table.vec<3>("eye", d.frame.camera.eye),
+                              key_table.vec<3>("target", d.frame.camera.target)};
+                if ((key.eye - key.target).norm() < 1e-6f) r.fail(n.source(), "camera path key: eye and target coincide");
+                if (!d.path.empty() && key.time <= d.path.back().time)
+                    r.fail(n.source(), "camera path keys must be in increasing time");
+                key_table.finish();
+                d.path.push_back(key);
+            }
+        }
         c.finish();
     }
     if (const toml::table* light = t.table("light")) {
@@ -437,6 +450,11 @@ std::string to_toml(const Scene& sc) {
       << "\nkappa = " << num(d.frame.style.kappa) << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()))
       << "\n\n[render.camera]\neye = " << vec<3>(c.eye) << "\ntarget = " << vec<3>(c.target) << "\nup = " << vec<3>(c.up)
       << "\nfov_degrees = " << num(c.fov_y_degrees) << "\norbit_degrees_per_second = " << num(d.orbit.degrees_per_second)
+      << "\npath = [";
+    for (size_t i = 0; i < d.path.size(); ++i)
+        o << (i ? ", " : "") << "{ time = " << num(d.path[i].time) << ", eye = " << vec<3>(d.path[i].eye)
+          << ", target = " << vec<3>(d.path[i].target) << " }";
+    o << "]"
       << "\n\n[render.light]\ndirection = " << vec<3>(l.direction) << "\ncolor = " << vec<3>(l.color) << "\nintensity = "
       << num(l.intensity) << "\nambient = " << vec<3>(l.ambient) << "\n";
     for (const Event& e : sc.events) {

@@ -136,7 +136,8 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     // The resources: what exists depends on the scene, and decides which passes survive.
     const SimulationDesc& sd = scene_.simulation;
     const bool has_volume = sd.solver.volume && !body_.volumes.empty();
-    const bool has_events = !scene_.events.empty() || scene_.render.orbit.degrees_per_second != 0.0f;
+    const bool has_events = !scene_.events.empty() || scene_.render.orbit.degrees_per_second != 0.0f ||
+                            !scene_.render.path.empty();
     graph::FrameGraph& g = graph_;
     auto body = g.import("body", &body_, true);
     auto timeline = g.import("timeline", has_events ? timeline_.get() : static_cast<Timeline*>(nullptr));

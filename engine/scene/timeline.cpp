@@ -6,7 +6,7 @@
 namespace pbdsplat::scene {
 
 Timeline::Timeline(const Scene& scene, const render::Camera& camera)
-    : orbit_degrees_per_second_(scene.render.orbit.degrees_per_second), base_camera_(camera) {
+    : orbit_degrees_per_second_(scene.render.orbit.degrees_per_second), path_(scene.render.path), base_camera_(camera) {
     for (const Event& e : scene.events) {
         if (auto* p = std::get_if<PressureEvent>(&e.data)) pressure_.push_back({e.time, p->duration, -1.0f, p->value});
         if (auto* d = std::get_if<DragEvent>(&e.data)) drags_.push_back({e.time, *d, false});
@@ -55,10 +55,24 @@ void Timeline::advance(float t, float dt, sim::SoftBody& body, sim::DragConstrai
             body.particles.v[i] = sim::to4(Vec3f(r * sim::xyz(body.particles.v[i])));
         }
     }
-    // Camera orbit about the target's vertical axis.
+    // Camera path: eye and target between the keys around t + dt, held outside them.
+    if (!path_.empty()) {
+        const float at = t + dt;
+        size_t k = 0;
+        while (k + 1 < path_.size() && path_[k + 1].time <= at) ++k;
+        const CameraKey& a = path_[k];
+        const CameraKey& b = k + 1 < path_.size() ? path_[k + 1] : a;
+        const float u = b.time > a.time ? std::clamp((at - a.time) / (b.time - a.time), 0.0f, 1.0f) : 0.0f;
+        base_camera_.eye = a.eye + (b.eye - a.eye) * u;
+        base_camera_.target = a.target + (b.target - a.target) * u;
+        camera.eye = base_camera_.eye;
+        camera.target = base_camera_.target;
+    }
+    // Camera orbit about the target's vertical axis (of the path, when there is one).
     if (orbit_degrees_per_second_ != 0.0f) {
         const Mat3f r = Eigen::AngleAxisf(math::radians(orbit_degrees_per_second_ * (t + dt)), Vec3f::UnitY()).toRotationMatrix();
         camera.eye = base_camera_.target + r * (base_camera_.eye - base_camera_.target);
+        camera.target = base_camera_.target;
     }
 }
 

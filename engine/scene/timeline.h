@@ -29,6 +29,7 @@ private:
     std::vector<ActiveDrag> drags_;
     std::vector<std::pair<float, SpinEvent>> spins_;
     float orbit_degrees_per_second_ = 0.0f;
+    std::vector<CameraKey> path_;
     render::Camera base_camera_;
 };
 

@@ -48,6 +48,7 @@ sort = true
 [render.camera]
 eye = [0, 1, 4]
 orbit_degrees_per_second = 20
+path = [{ time = 0, eye = [0, 1, 4], target = [0, 0, 0] }, { time = 2.5, eye = [3, 1, 3], target = [0, 0.5, 0] }]
 
 [[events]]
 time = 2.0
@@ -102,6 +103,8 @@ TEST_SUITE("scene/scene_file") {
         CHECK(s.simulation.colliders.boxes.size() == 1);
         CHECK(s.render.frame.style.blend == render::Blend::additive);
         CHECK(s.render.orbit.degrees_per_second == 20.0f);
+        REQUIRE(s.render.path.size() == 2);
+        CHECK(s.render.path[1].eye == Vec3f(3, 1, 3));
         REQUIRE(s.events.size() == 6);
         CHECK(s.events.front().time == 0.5f);  // sorted by time
         CHECK(std::string(scene::event_type_name(s.events.front().data)) == "drag");
@@ -130,6 +133,8 @@ TEST_SUITE("scene/scene_file") {
               "bad.toml:3:8: 'events.type' must be one of pressure, drag, spin, cut, tear, not 'explode'");
         CHECK(refusal("[model\nmesh = 1\n").find("bad.toml:1:") == 0);  // truncated table header
         CHECK(refusal("frames = 10\n") == "bad.toml:1:1: unknown key 'frames'");
+        CHECK(refusal("[render.camera]\npath = [{ time = 2, eye = [0, 0, 3] }, { time = 1, eye = [0, 0, 4] }]\n")
+                  .find("bad.toml:2:40: camera path keys must be in increasing time") == 0);
     }
 
     TEST_CASE("every scene in scenes/ validates") {

@@ -8,6 +8,7 @@
 #include "scene/default_scene.h"
 #include "scene/scene_file.h"
 #include "scene/scene_runtime.h"
+#include "scene/timeline.h"
 
 using namespace pbdsplat;
 
@@ -202,5 +203,24 @@ TEST_SUITE("scene/runtime") {
             previous = distance;
         }
         CHECK(inversions == 0);
+    }
+}
+
+TEST_SUITE("scene/runtime") {
+    TEST_CASE("a camera path interpolates its keys and holds the last") {
+        scene::Scene s = scene::default_scene();
+        s.events.clear();
+        s.render.orbit.degrees_per_second = 0.0f;
+        s.render.path = {{0.0f, Vec3f(0, 0, 4), Vec3f::Zero()}, {1.0f, Vec3f(4, 0, 0), Vec3f(0, 1, 0)}};
+        scene::Timeline timeline(s, s.render.frame.camera);
+        auto body = scene::make_scene_body(s);
+        REQUIRE(body.ok());
+        sim::DragConstraint drag;
+        render::Camera camera = s.render.frame.camera;
+        timeline.advance(0.4f, 0.1f, body.value(), drag, camera);  // at 0.5 s
+        CHECK((camera.eye - Vec3f(2, 0, 2)).norm() < 1e-5f);
+        CHECK((camera.target - Vec3f(0, 0.5f, 0)).norm() < 1e-5f);
+        timeline.advance(3.0f, 0.1f, body.value(), drag, camera);
+        CHECK((camera.eye - Vec3f(4, 0, 0)).norm() < 1e-5f);
     }
 }

@@ -16,6 +16,7 @@ constexpr const char* k_bench_help =
     "  surface   boundary particles: sampling and update time, coverage against eta\n"
     "  splat     GPU milliseconds of upload, draw and readback for N splats (median of repeats)\n"
     "\n"
+    "`pbdsplat bench SCENE.toml [options]` runs the scene suite on that file.\n"
     "Every suite takes --help and --json.\n";
 
 } // namespace
@@ -30,6 +31,8 @@ int cmd_bench(const std::vector<std::string>& argv) {
     if (argv[0] == "sim") return bench_sim(rest);
     if (argv[0] == "sim-error") return bench_sim_error(rest);
     if (argv[0] == "scene") return bench_scene(rest);
+    // `pbdsplat bench FILE.toml` is `pbdsplat bench scene FILE.toml`.
+    if (argv[0].size() > 5 && argv[0].compare(argv[0].size() - 5, 5, ".toml") == 0) return bench_scene(argv);
     if (argv[0] == "graph") return bench_graph(rest);
     if (argv[0] == "surface") return bench_surface(rest);
     return usage_error("bench", "unknown suite '" + argv[0] + "' (see pbdsplat bench --help)");
