@@ -21,41 +21,17 @@ core::Result<std::unique_ptr<MeshRaster>> MeshRaster::create(gpu::Context& ctx, 
                                  gpu::MemoryUsage::upload);
     if (!i.ok()) return i.error();
     m->indices_ = std::move(i).value();
-    auto u = gpu::Buffer::create(ctx, sizeof(gpu_types::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::upload);
-    if (!u.ok()) return u.error();
-    m->uniforms_ = std::move(u).value();
-
-    VkDescriptorSetLayoutBinding ubo{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr};
-    VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    set_info.bindingCount = 1;
-    set_info.pBindings = &ubo;
-    VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
-    PBDSPLAT_VK_TRY(vkCreateDescriptorSetLayout(ctx.vk(), &set_info, nullptr, &set_layout));
-    m->set_layout_ = gpu::DescriptorSetLayout(ctx.vk(), set_layout);
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1};
-    VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pool_info.maxSets = 1;
-    pool_info.poolSizeCount = 1;
-    pool_info.pPoolSizes = &size;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    PBDSPLAT_VK_TRY(vkCreateDescriptorPool(ctx.vk(), &pool_info, nullptr, &pool));
-    m->pool_ = gpu::DescriptorPool(ctx.vk(), pool);
-    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    alloc.descriptorPool = pool;
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &set_layout;
-    PBDSPLAT_VK_TRY(vkAllocateDescriptorSets(ctx.vk(), &alloc, &m->set_));
-    VkDescriptorBufferInfo buffer_info{m->uniforms_.handle(), 0, sizeof(gpu_types::FrameUniforms)};
-    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    write.dstSet = m->set_;
-    write.descriptorCount = 1;
-    write.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    write.pBufferInfo = &buffer_info;
-    vkUpdateDescriptorSets(ctx.vk(), 1, &write, 0, nullptr);
+    auto set_layout = gpu::create_uniform_layout(ctx, VK_SHADER_STAGE_VERTEX_BIT);
+    if (!set_layout.ok()) return set_layout.error();
+    m->set_layout_ = std::move(set_layout).value();
+    const VkDescriptorSetLayout set_layout_handle = m->set_layout_.get();
+    auto uniforms = gpu::UniformSets::create(ctx, set_layout_handle, 1, sizeof(gpu_types::FrameUniforms));
+    if (!uniforms.ok()) return uniforms.error();
+    m->uniforms_ = std::move(uniforms).value();
 
     VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     layout_info.setLayoutCount = 1;
-    layout_info.pSetLayouts = &set_layout;
+    layout_info.pSetLayouts = &set_layout_handle;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     PBDSPLAT_VK_TRY(vkCreatePipelineLayout(ctx.vk(), &layout_info, nullptr, &layout));
     m->layout_ = gpu::PipelineLayout(ctx.vk(), layout);
@@ -83,11 +59,12 @@ core::Status MeshRaster::set_mesh(std::span<const Vec4f> positions, std::span<co
 
 void MeshRaster::draw(VkCommandBuffer cmd, const FrameInputs& inputs) {
     const auto u = make_frame_uniforms(inputs, target_.width(), target_.height());
-    std::memcpy(uniforms_.mapped(), &u, sizeof(u));
+    std::memcpy(uniforms_.mapped(0), &u, sizeof(u));
     const float clear[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     target_.begin(cmd, clear);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &set_, 0, nullptr);
+    const VkDescriptorSet set = uniforms_.set(0);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &set, 0, nullptr);
     const VkDeviceSize offset = 0;
     const VkBuffer vb = vertices_.handle();
     vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);

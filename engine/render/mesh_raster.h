@@ -9,6 +9,7 @@
 #include "gpu/buffer.h"
 #include "gpu/device_handle.h"
 #include "gpu/pipeline.h"
+#include "gpu/uniform_sets.h"
 #include "render/frame_inputs.h"
 #include "render/offscreen_target.h"
 #include "render/splat_renderer.h"
@@ -37,11 +38,10 @@ private:
     MeshRaster() = default;
     gpu::Context* ctx_ = nullptr;
     OffscreenTarget target_;
-    gpu::Buffer vertices_, indices_, uniforms_;
+    gpu::Buffer vertices_, indices_;
     uint32_t index_count_ = 0;
     gpu::DescriptorSetLayout set_layout_;
-    gpu::DescriptorPool pool_;
-    VkDescriptorSet set_ = VK_NULL_HANDLE;
+    gpu::UniformSets uniforms_;
     gpu::PipelineLayout layout_;
     gpu::Pipeline pipeline_;
 };

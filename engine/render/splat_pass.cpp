@@ -1,5 +1,6 @@
 #include "render/splat_pass.h"
 
+#include "gpu/uniform_sets.h"
 #include "splat/gaussian_record.h"
 
 namespace pbdsplat::render {
@@ -10,18 +11,14 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
                                 "' has no geometry shaders, which the splat pass needs (try another device with "
                                 "PBDSPLAT_DEVICE)");
     SplatPass p;
-    VkDescriptorSetLayoutBinding ubo{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1,
-                                     VK_SHADER_STAGE_GEOMETRY_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
-    VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    set_info.bindingCount = 1;
-    set_info.pBindings = &ubo;
-    VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
-    PBDSPLAT_VK_TRY(vkCreateDescriptorSetLayout(ctx.vk(), &set_info, nullptr, &set_layout));
-    p.set_layout_ = gpu::DescriptorSetLayout(ctx.vk(), set_layout);
+    auto set_layout = gpu::create_uniform_layout(ctx, VK_SHADER_STAGE_GEOMETRY_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+    if (!set_layout.ok()) return set_layout.error();
+    p.set_layout_ = std::move(set_layout).value();
+    const VkDescriptorSetLayout layout_handle = p.set_layout_.get();
 
     VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     layout_info.setLayoutCount = 1;
-    layout_info.pSetLayouts = &set_layout;
+    layout_info.pSetLayouts = &layout_handle;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     PBDSPLAT_VK_TRY(vkCreatePipelineLayout(ctx.vk(), &layout_info, nullptr, &layout));
     p.layout_ = gpu::PipelineLayout(ctx.vk(), layout);

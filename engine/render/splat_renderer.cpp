@@ -39,37 +39,10 @@ core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context&
     if (!pass.ok()) return pass.error();
     r->splat_ = std::move(pass).value();
 
-    VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, n};
-    VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pool_info.maxSets = n;
-    pool_info.poolSizeCount = 1;
-    pool_info.pPoolSizes = &pool_size;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    PBDSPLAT_VK_TRY(vkCreateDescriptorPool(ctx.vk(), &pool_info, nullptr, &pool));
-    r->descriptor_pool_ = gpu::DescriptorPool(ctx.vk(), pool);
-
+    auto uniforms = gpu::UniformSets::create(ctx, r->splat_.set_layout(), n, sizeof(gpu_types::FrameUniforms));
+    if (!uniforms.ok()) return uniforms.error();
+    r->uniforms_ = std::move(uniforms).value();
     for (uint32_t i = 0; i < n; ++i) {
-        auto ubo = gpu::Buffer::create(ctx, sizeof(gpu_types::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
-                                       gpu::MemoryUsage::upload);
-        if (!ubo.ok()) return ubo.error();
-        r->uniforms_.push_back(std::move(ubo).value());
-
-        const VkDescriptorSetLayout layout = r->splat_.set_layout();
-        VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-        alloc.descriptorPool = pool;
-        alloc.descriptorSetCount = 1;
-        alloc.pSetLayouts = &layout;
-        VkDescriptorSet set = VK_NULL_HANDLE;
-        PBDSPLAT_VK_TRY(vkAllocateDescriptorSets(ctx.vk(), &alloc, &set));
-        VkDescriptorBufferInfo buffer_info{r->uniforms_.back().handle(), 0, sizeof(gpu_types::FrameUniforms)};
-        VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-        write.dstSet = set;
-        write.descriptorCount = 1;
-        write.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-        write.pBufferInfo = &buffer_info;
-        vkUpdateDescriptorSets(ctx.vk(), 1, &write, 0, nullptr);
-        r->sets_.push_back(set);
-
         auto timer = gpu::GpuTimer::create(ctx, 8);
         if (!timer.ok()) return timer.error();
         r->timers_.push_back(std::move(timer).value());
@@ -140,9 +113,9 @@ core::Status SplatRenderer::upload(std::span<const splat::GaussianRecord> record
 void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
     const uint32_t slot = frames_.slot();
     const auto uniforms = make_frame_uniforms(inputs, target_.width(), target_.height());
-    std::memcpy(uniforms_[slot].mapped(), &uniforms, sizeof(uniforms));
+    std::memcpy(uniforms_.mapped(slot), &uniforms, sizeof(uniforms));
     target_.begin(cmd_, inputs.background.data());
-    splat_.record(cmd_, inputs.style.blend, sets_[slot], records_.buffer(slot), count);
+    splat_.record(cmd_, inputs.style.blend, uniforms_.set(slot), records_.buffer(slot), count);
     target_.end(cmd_);
     timers_[slot].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }

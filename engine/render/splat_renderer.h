@@ -12,6 +12,7 @@
 #include "gpu/frame_ring.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/stream_buffer.h"
+#include "gpu/uniform_sets.h"
 #include "render/frame_inputs.h"
 #include "render/offscreen_target.h"
 #include "render/splat_pass.h"
@@ -96,9 +97,7 @@ private:
     gpu::StreamBuffer records_;
     OffscreenTarget target_;
     SplatPass splat_;
-    gpu::DescriptorPool descriptor_pool_;
-    std::vector<gpu::Buffer> uniforms_;  // one per frame in flight
-    std::vector<VkDescriptorSet> sets_;
+    gpu::UniformSets uniforms_;  // one per frame in flight
     std::vector<gpu::GpuTimer> timers_;
     std::vector<bool> slot_pending_;     // slot has a submitted frame whose timings are unread
     std::vector<bool> slot_read_back_;   // slot's frame copied its image out

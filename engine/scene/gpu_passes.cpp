@@ -26,12 +26,11 @@ void add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer, GpuPa
         b.read(input);
         uploaded = b.write(records, upload_use);
         return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-            const GpuFrameInput& in = r.get(input);
+            GpuFrameInput& in = r.get(input);
             const gpu::ByteRange all{0, in.records.size_bytes()};
             const std::span<const gpu::ByteRange> ranges =
                 in.changed.empty() ? std::span<const gpu::ByteRange>(&all, 1) : std::span<const gpu::ByteRange>(in.changed);
-            const auto s = renderer.upload(in.records, ranges);
-            PBDSPLAT_ASSERT(s.ok(), s.ok() ? "" : s.error().to_string());
+            in.upload_status = renderer.upload(in.records, ranges);
         };
     });
     graph::Handle<graph::GpuImageRef> drawn;
@@ -42,7 +41,7 @@ void add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer, GpuPa
         b.write(depth, to_graph(render::uses::depth_attachment));
         b.side_effect();  // the colour target is what a frame is for (presented or read back)
         return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-            const GpuFrameInput& in = r.get(input);
+            GpuFrameInput& in = r.get(input);
             renderer.draw(in.frame, uint32_t(in.records.size()));
         };
     });

@@ -14,6 +14,7 @@ struct GpuFrameInput {
     std::span<const splat::GaussianRecord> records;
     std::vector<gpu::ByteRange> changed;  // since the previous frame; empty: everything
     render::FrameInputs frame;
+    core::Status upload_status;  // set by the upload pass; the frame's owner reports a failure
 };
 
 // Where a rendered image leaves the frame (a PNG, a test); absent when presenting to a window.

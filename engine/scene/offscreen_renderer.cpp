@@ -17,9 +17,6 @@ core::Result<std::unique_ptr<OffscreenRenderer>> OffscreenRenderer::create(gpu::
 
 core::Status OffscreenRenderer::render(std::span<const splat::GaussianRecord> records, const render::FrameInputs& inputs,
                                        std::span<const gpu::ByteRange> changed) {
-    if (records.size() > renderer_->max_splats())
-        return core::make_error(std::to_string(records.size()) + " Gaussians exceed the renderer's capacity of " +
-                                std::to_string(renderer_->max_splats()) + "; create it with a larger max_splats");
     auto cmd = renderer_->begin_frame();
     if (!cmd.ok()) return cmd.error();
     input_.records = records;
@@ -28,7 +25,8 @@ core::Status OffscreenRenderer::render(std::span<const splat::GaussianRecord> re
     resources_.refresh(*renderer_);
     graph::ExecuteContext ctx{cmd.value(), 0};
     graph_.execute(ctx);
-    return renderer_->end_frame();
+    PBDSPLAT_TRY(renderer_->end_frame());  // submitted even on failure, so the frame ring stays consistent
+    return input_.upload_status;
 }
 
 } // namespace pbdsplat::scene

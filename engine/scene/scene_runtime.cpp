@@ -11,6 +11,21 @@
 
 namespace pbdsplat::scene {
 
+namespace {
+// The paper's Table 3 group of a pass, from its name.
+enum Group { events, forces, constraints, integrate, update, gpu_record, other };
+Group group_of(const std::string& name) {
+    auto starts = [&](const char* p) { return name.rfind(p, 0) == 0; };
+    if (starts("events") || starts("topology")) return events;
+    if (starts("forces")) return forces;
+    if (starts("distance") || starts("volume") || starts("drag") || starts("collide")) return constraints;
+    if (starts("velocities") || starts("normals")) return integrate;
+    if (starts("map") || starts("boundary") || starts("stretch") || starts("sort")) return update;
+    if (starts("upload") || starts("splat") || starts("readback")) return gpu_record;
+    return other;
+}
+} // namespace
+
 core::Result<sim::SoftBody> make_scene_body(const Scene& scene) {
     mesh::MeshSpecOptions mo;
     mo.file_fit_diagonal = scene.model.fit;
@@ -145,7 +160,6 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     auto colliders = g.import("colliders", sd.colliders.empty() ? nullptr : &scene_.simulation.colliders);
     auto drag = g.import("drag", timeline_->has_drag() ? &drag_ : static_cast<sim::DragConstraint*>(nullptr));
     auto input = g.import("frame input", &frame_input_);
-    stage_of_pass_.clear();
 
     const float dt = sd.dt;
     const float h = dt / float(sd.solver.substeps);
@@ -250,10 +264,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         return [this, boundary, sorted](const graph::PassResources&, graph::ExecuteContext&) {
             splat::map_body(body_.particles.x, body_.normals, body_.colors, body_.triangles, boundary ? &boundary_ : nullptr,
                             appearance_, stretch_.empty() ? nullptr : &stretch_, records_);
-            frame_input_.records = records_;
-            if (sorted) return;  // the sort stage reorders them and works out what changed
-            changed_ranges(previous_records_, records_, frame_input_.changed);
-            previous_records_ = records_;
+            if (!sorted) publish_records();  // else the sort stage reorders them first
         };
     });
     cpu_pass("sort", [&](graph::PassBuilder& b) {
@@ -263,29 +274,23 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         return [this](const graph::PassResources&, graph::ExecuteContext&) {
             const render::Camera& c = frame_input_.frame.camera;
             splat::sort_far_to_near(records_, math::look_at(c.eye, c.target, c.up), sort_scratch_);
-            frame_input_.records = records_;
-            changed_ranges(previous_records_, records_, frame_input_.changed);
-            previous_records_ = records_;
+            publish_records();
         };
     });
     if (renderer_) add_gpu_passes(g, *renderer_, gpu_resources_, input, sink);
-    return g.compile();
+    PBDSPLAT_TRY(g.compile());
+    group_of_kept_pass_.clear();
+    for (const graph::PassInfo& p : g.describe())
+        if (!p.culled) group_of_kept_pass_.push_back(group_of(p.name));
+    return core::Status::success();
 }
 
-namespace {
-// The paper's Table 3 group of a pass, from its name.
-enum Group { events, forces, constraints, integrate, update, gpu_record, other };
-Group group_of(const std::string& name) {
-    auto starts = [&](const char* p) { return name.rfind(p, 0) == 0; };
-    if (starts("events") || starts("topology")) return events;
-    if (starts("forces")) return forces;
-    if (starts("distance") || starts("volume") || starts("drag") || starts("collide")) return constraints;
-    if (starts("velocities") || starts("normals")) return integrate;
-    if (starts("map") || starts("boundary") || starts("stretch") || starts("sort")) return update;
-    if (starts("upload") || starts("splat") || starts("readback")) return gpu_record;
-    return other;
+void SceneRuntime::publish_records() {
+    frame_input_.records = records_;
+    changed_ranges(previous_records_, records_, frame_input_.changed);
+    previous_records_ = records_;
 }
-} // namespace
+
 
 core::Status SceneRuntime::apply_cut(const CutEvent& cut) {
     std::function<bool(uint32_t)> side, splittable = [](uint32_t) { return true; };
@@ -347,6 +352,7 @@ core::Status SceneRuntime::step() {
     const auto& ms = graph_.execute(ctx);
     if (renderer_) PBDSPLAT_TRY(renderer_->end_frame());
     if (!topology_status_.ok()) return topology_status_;
+    if (renderer_) PBDSPLAT_TRY(frame_input_.upload_status);
     time_ += scene_.simulation.dt;
     ++frame_;
 
@@ -357,11 +363,9 @@ core::Status SceneRuntime::step() {
     s.particles = body_.particle_count();
     s.boundary_particles = boundary_.size();
     s.gaussians = records_.size();
-    size_t k = 0;
-    for (const graph::PassInfo& p : graph_.describe()) {
-        if (p.culled) continue;
-        const double t = ms[k++];
-        switch (group_of(p.name)) {
+    for (size_t k = 0; k < ms.size(); ++k) {
+        const double t = ms[k];
+        switch (group_of_kept_pass_[k]) {
             case events: s.events_ms += t; break;
             case forces: s.apply_forces_ms += t; break;
             case constraints: s.constraints_ms += t; break;

@@ -78,7 +78,8 @@ private:
     GpuFrameInput frame_input_;
     ImageSink sink_;
     graph::FrameGraph graph_;
-    std::vector<std::string> stage_of_pass_;  // the Table 3 group of each kept pass
+    std::vector<int> group_of_kept_pass_;  // the Table 3 group of each kept pass, in execution order
+    void publish_records();                // hands records_ to the GPU passes with what changed
     FrameStats stats_;
     float time_ = 0.0f;
     float h_ = 0.0f;  // sampling spacing

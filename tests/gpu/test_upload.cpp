@@ -74,4 +74,21 @@ TEST_SUITE("gpu/upload") {
         for (const auto& img : images) CHECK(img.pixels == expected->pixels);
         test::require_no_validation_messages(*ctx);
     }
+
+    TEST_CASE("more Gaussians than the renderer holds is an error, and the renderer stays usable") {
+        auto ctx = test::open_validated_context();
+        auto scene = scene::make_builtin_scene(2);
+        render::RendererOptions o;
+        o.width = 64;
+        o.height = 48;
+        o.max_splats = 100;
+        auto r = scene::OffscreenRenderer::create(*ctx, o);
+        REQUIRE(r.ok());
+        const auto s = r.value()->render(scene.records, scene.frame);  // 162 records
+        REQUIRE_FALSE(s.ok());
+        CHECK(s.error().message.find("exceed the renderer's capacity of 100") != std::string::npos);
+        REQUIRE(r.value()->render(std::span(scene.records).first(100), scene.frame).ok());
+        CHECK(r.value()->finish().ok());
+        test::require_no_validation_messages(*ctx);
+    }
 }

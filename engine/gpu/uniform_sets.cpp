@@ -1,0 +1,47 @@
+#include "gpu/uniform_sets.h"
+
+namespace pbdsplat::gpu {
+
+core::Result<DescriptorSetLayout> create_uniform_layout(const Context& ctx, VkShaderStageFlags stages) {
+    VkDescriptorSetLayoutBinding ubo{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, stages, nullptr};
+    VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    info.bindingCount = 1;
+    info.pBindings = &ubo;
+    VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+    PBDSPLAT_VK_TRY(vkCreateDescriptorSetLayout(ctx.vk(), &info, nullptr, &layout));
+    return DescriptorSetLayout(ctx.vk(), layout);
+}
+
+core::Result<UniformSets> UniformSets::create(Context& ctx, VkDescriptorSetLayout layout, uint32_t count, VkDeviceSize bytes) {
+    UniformSets u;
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, count};
+    VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pool_info.maxSets = count;
+    pool_info.poolSizeCount = 1;
+    pool_info.pPoolSizes = &size;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    PBDSPLAT_VK_TRY(vkCreateDescriptorPool(ctx.vk(), &pool_info, nullptr, &pool));
+    u.pool_ = DescriptorPool(ctx.vk(), pool);
+    for (uint32_t i = 0; i < count; ++i) {
+        auto buffer = Buffer::create(ctx, bytes, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryUsage::upload);
+        if (!buffer.ok()) return buffer.error();
+        u.buffers_.push_back(std::move(buffer).value());
+        VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        alloc.descriptorPool = pool;
+        alloc.descriptorSetCount = 1;
+        alloc.pSetLayouts = &layout;
+        VkDescriptorSet set = VK_NULL_HANDLE;
+        PBDSPLAT_VK_TRY(vkAllocateDescriptorSets(ctx.vk(), &alloc, &set));
+        VkDescriptorBufferInfo info{u.buffers_.back().handle(), 0, bytes};
+        VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        write.dstSet = set;
+        write.descriptorCount = 1;
+        write.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        write.pBufferInfo = &info;
+        vkUpdateDescriptorSets(ctx.vk(), 1, &write, 0, nullptr);
+        u.sets_.push_back(set);
+    }
+    return u;
+}
+
+} // namespace pbdsplat::gpu
