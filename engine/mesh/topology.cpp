@@ -85,3 +85,71 @@ uint32_t triangle_components(const TriangleMesh& mesh, std::vector<uint32_t>& co
 }
 
 } // namespace pbdsplat::mesh
+
+namespace pbdsplat::mesh {
+
+std::vector<std::vector<uint32_t>> boundary_loops(std::span<const Triangle> triangles, size_t vertex_count) {
+    // Outgoing directed edges per vertex in CSR form; (a, b) is a boundary edge when b has no
+    // edge back to a.
+    std::vector<uint32_t> start(vertex_count + 1, 0), to(triangles.size() * 3);
+    for (const Triangle& t : triangles)
+        for (uint32_t v : t) ++start[v + 1];
+    for (size_t v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (const Triangle& t : triangles)
+        for (int k = 0; k < 3; ++k) to[fill[t[size_t(k)]]++] = t[size_t((k + 1) % 3)];
+    auto has_edge = [&](uint32_t a, uint32_t b) {
+        for (uint32_t e = start[a]; e < start[a + 1]; ++e)
+            if (to[e] == b) return true;
+        return false;
+    };
+    constexpr uint32_t none = UINT32_MAX;
+    std::vector<uint32_t> next(vertex_count, none);
+    std::vector<uint32_t> starts;
+    for (const Triangle& t : triangles)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
+            if (!has_edge(b, a)) {
+                next[b] = a;  // against the triangles' direction, as boundary_loops(mesh) does
+                starts.push_back(b);
+            }
+        }
+    std::vector<std::vector<uint32_t>> loops;
+    std::vector<uint8_t> used(vertex_count, 0);
+    for (uint32_t s : starts) {
+        if (used[s]) continue;
+        std::vector<uint32_t> loop;
+        for (uint32_t v = s; v != none && !used[v]; v = next[v]) {
+            used[v] = 1;
+            loop.push_back(v);
+        }
+        if (loop.size() >= 3) loops.push_back(std::move(loop));
+    }
+    return loops;
+}
+
+uint32_t vertex_components(std::span<const Triangle> triangles, size_t vertex_count, std::vector<uint32_t>& component) {
+    std::vector<uint32_t> parent(vertex_count);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto find = [&](uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    for (const Triangle& t : triangles) {
+        const uint32_t r = find(t[0]);
+        parent[find(t[1])] = r;
+        parent[find(t[2])] = find(t[0]);
+    }
+    constexpr uint32_t none = UINT32_MAX;
+    std::vector<uint32_t> id(vertex_count, none);
+    uint32_t count = 0;
+    component.resize(triangles.size());
+    for (size_t f = 0; f < triangles.size(); ++f) {
+        uint32_t& c = id[find(triangles[f][0])];
+        if (c == none) c = count++;
+        component[f] = c;
+    }
+    return count;
+}
+
+} // namespace pbdsplat::mesh

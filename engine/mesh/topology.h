@@ -1,6 +1,7 @@
 #pragma once
 // Connectivity derived from a triangle list: unique edges, boundary loops and components.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "mesh/triangle_mesh.h"
@@ -21,5 +22,13 @@ std::vector<std::vector<uint32_t>> boundary_loops(const TriangleMesh& mesh);
 // Component id of each triangle (connected through shared edges), ids from 0 in order of
 // first triangle; returns the number of components.
 uint32_t triangle_components(const TriangleMesh& mesh, std::vector<uint32_t>& component_of_triangle);
+
+// Fast forms for meshes known to be manifold with boundary and free of bow-ties (what the
+// topology stage keeps): plain arrays instead of hash maps, so a cut on a large mesh stays
+// cheap. Loops follow the same direction convention as boundary_loops above; components
+// through shared vertices equal components through shared edges when there are no bow-ties.
+std::vector<std::vector<uint32_t>> boundary_loops(std::span<const Triangle> triangles, size_t vertex_count);
+uint32_t vertex_components(std::span<const Triangle> triangles, size_t vertex_count,
+                           std::vector<uint32_t>& component_of_triangle);
 
 } // namespace pbdsplat::mesh

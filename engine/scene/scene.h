@@ -10,6 +10,7 @@
 #include "render/frame_inputs.h"
 #include "sim/colliders.h"
 #include "sim/solver.h"
+#include "topology/cut.h"
 
 namespace pbdsplat::scene {
 
@@ -54,6 +55,8 @@ struct SimulationDesc {
     std::vector<uint32_t> pins;      // particle indices of the repaired, reordered mesh
     std::vector<PinRegion> pin_regions;
     sim::Colliders colliders;        // friction copied from `friction`
+    topology::CutOptions cut;        // snapping and the volume policy of cuts and tears
+    uint32_t fade_frames = 8;        // splats created by a cut fade in over this many frames
 };
 
 struct CameraOrbit {
@@ -95,7 +98,9 @@ struct CutEvent {
     std::optional<std::pair<Vec3f, Vec3f>> plane;  // point and normal
 };
 struct TearEvent {
-    float threshold = 1.5f;  // stretch ratio beyond which edges tear
+    float threshold = 1.5f;      // stretch ratio beyond which edges tear
+    uint32_t max_per_frame = 4;  // tears per frame
+    float duration = 0.0f;       // tearing stays on this long; 0 = to the end
 };
 using EventData = std::variant<PressureEvent, DragEvent, SpinEvent, CutEvent, TearEvent>;
 struct Event {

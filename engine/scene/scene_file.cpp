@@ -190,6 +190,10 @@ void read_simulation(const Reader& r, Reader::Table& t, SimulationDesc& s) {
     solver.damping = t.real("damping", solver.damping, 0.0, 1000.0);
     s.mass = t.real("mass", s.mass, 1e-6, 1e6);
     s.friction = t.real("friction", s.friction, 0.0, 10.0);
+    const std::string policy = t.choice("cut_volume", "cap", {"cap", "burst", "rebase"});
+    s.cut.volume = policy == "burst" ? topology::VolumePolicy::burst : policy == "rebase" ? topology::VolumePolicy::rebase : topology::VolumePolicy::cap;
+    s.cut.snap = float(t.real("cut_snap", s.cut.snap, 0.0, 0.45));
+    s.fade_frames = t.count("fade_frames", s.fade_frames, 1, 600);
     if (const toml::array* pins = t.array("pins"))
         for (const toml::node& p : *pins) {
             auto i = p.as_integer();
@@ -321,6 +325,8 @@ Event read_event(const Reader& r, const toml::node& n) {
     } else {
         TearEvent te;
         te.threshold = t.real("threshold", te.threshold, 1.01, 100.0);
+        te.max_per_frame = t.count("max_per_frame", te.max_per_frame, 1, 1000);
+        te.duration = t.real("duration", te.duration, 0.0, 1e6);
         e.data = te;
     }
     t.finish();
@@ -419,7 +425,8 @@ std::string to_toml(const Scene& sc) {
       << "\nvolume = " << (s.solver.volume ? "true" : "false") << "\nvolume_stiffness = " << num(s.solver.volume_stiffness)
       << "\nvolume_compliance = " << num(s.volume_compliance) << "\npressure = " << num(s.pressure)
       << "\ngravity = " << vec<3>(s.solver.gravity) << "\ndamping = " << num(s.solver.damping) << "\nmass = " << num(s.mass)
-      << "\nfriction = " << num(s.friction) << "\npins = [";
+      << "\nfriction = " << num(s.friction) << "\ncut_volume = \"" << topology::volume_policy_name(s.cut.volume)
+      << "\"\ncut_snap = " << num(s.cut.snap) << "\nfade_frames = " << s.fade_frames << "\npins = [";
     for (size_t i = 0; i < s.pins.size(); ++i) o << (i ? ", " : "") << s.pins[i];
     o << "]\npin_regions = [";
     for (size_t i = 0; i < s.pin_regions.size(); ++i)
@@ -470,7 +477,8 @@ std::string to_toml(const Scene& sc) {
             if (cu->segment) o << "from = " << vec<2>((*cu->segment)[0]) << "\nto = " << vec<2>((*cu->segment)[1]) << "\n";
             if (cu->plane) o << "point = " << vec<3>(cu->plane->first) << "\nnormal = " << vec<3>(cu->plane->second) << "\n";
         }
-        if (auto* te = std::get_if<TearEvent>(&e.data)) o << "threshold = " << num(te->threshold) << "\n";
+        if (auto* te = std::get_if<TearEvent>(&e.data))
+            o << "threshold = " << num(te->threshold) << "\nmax_per_frame = " << te->max_per_frame << "\nduration = " << num(te->duration) << "\n";
     }
     return o.str();
 }

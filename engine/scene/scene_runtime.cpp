@@ -7,7 +7,10 @@
 #include "core/timer.h"
 #include "mesh/mesh_spec.h"
 #include "mesh/triangle_mesh.h"
-#include "topology/separate.h"
+#include "surface/remap.h"
+#include "topology/cut.h"
+#include "topology/invariants.h"
+#include "topology/tear.h"
 
 namespace pbdsplat::scene {
 
@@ -92,11 +95,6 @@ void changed_ranges(std::span<const splat::GaussianRecord> before, std::span<con
 }
 
 core::Result<std::unique_ptr<SceneRuntime>> SceneRuntime::create(const Scene& scene, const RuntimeOptions& options) {
-    for (const Event& e : scene.events)
-        if (std::holds_alternative<TearEvent>(e.data))
-            return core::make_error("scene '" + scene.name +
-                                    "' has a tear event; tearing is not in this build yet (validate-scene and graph "
-                                    "accept the file)");
     if (auto v = sim::validate(scene.simulation.solver); !v.ok()) return v.error();
     const uint32_t projections = scene.simulation.solver.iterations * scene.simulation.solver.substeps;
     if (projections > 256)
@@ -140,7 +138,10 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         ro.height = scene_.render.height;
         // A cut duplicates vertices along its path: leave room for them.
         const size_t splats = body_.particle_count() + boundary_.size();
-        ro.max_splats = uint32_t(std::max<size_t>(1, scene_.has_topology_events() ? 2 * splats : splats));
+        // Tearing keeps opening new boundary: more room than for scripted cuts.
+        bool tears = false;
+        for (const Event& e : scene_.events) tears = tears || std::holds_alternative<TearEvent>(e.data);
+        ro.max_splats = uint32_t(std::max<size_t>(1, scene_.has_topology_events() ? (tears ? 4 : 2) * splats : splats));
         ro.frames_in_flight = options.frames_in_flight;
         ro.upload_path = options.upload_path;
         auto r = render::SplatRenderer::create(*options.gpu, ro);
@@ -174,8 +175,13 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     auto stretch = g.import("stretch", sd_surface.stretch_scale ? &stretch_ : static_cast<splat::StretchScale*>(nullptr));
     auto sink = g.import("image", options.readback ? &sink_ : static_cast<ImageSink*>(nullptr));
     for (const Event& e : scene_.events)
-        if (std::holds_alternative<CutEvent>(e.data)) pending_cuts_.push_back(e);
-    auto cuts = g.import("cut events", pending_cuts_.empty() ? static_cast<std::vector<Event>*>(nullptr) : &pending_cuts_);
+        if (std::holds_alternative<CutEvent>(e.data) || std::holds_alternative<TearEvent>(e.data)) pending_topology_.push_back(e);
+    check_topology_ = options.check_topology;
+#ifndef NDEBUG
+    check_topology_ = true;
+#endif
+    fade_ = splat::FadeIn(scene_.simulation.fade_frames);
+    auto cuts = g.import("topology events", pending_topology_.empty() ? static_cast<std::vector<Event>*>(nullptr) : &pending_topology_);
     cpu_pass("events", [&](graph::PassBuilder& b) {
         b.read(timeline);
         body = b.write(body);
@@ -190,11 +196,21 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         body = b.write(body);
         samples = b.write(samples);
         return [this, dt](const graph::PassResources&, graph::ExecuteContext&) {
-            while (topology_status_.ok() && !pending_cuts_.empty() && pending_cuts_.front().time < time_ + dt) {
-                topology_status_ = apply_cut(std::get<CutEvent>(pending_cuts_.front().data));
-                pending_cuts_.erase(pending_cuts_.begin());
-                ++stats_.cuts;
+            const core::Stopwatch clock;
+            while (topology_status_.ok() && !pending_topology_.empty() && pending_topology_.front().time < time_ + dt) {
+                const Event e = pending_topology_.front();
+                pending_topology_.erase(pending_topology_.begin());
+                if (const auto* c = std::get_if<CutEvent>(&e.data)) {
+                    topology_status_ = apply_cut(*c);
+                    ++cuts_;
+                } else {
+                    tearing_ = std::get<TearEvent>(e.data);
+                    tearing_until_ = tearing_->duration > 0.0f ? e.time + tearing_->duration : 1e30f;
+                }
             }
+            if (tearing_ && time_ >= tearing_until_) tearing_.reset();
+            if (tearing_ && topology_status_.ok()) topology_status_ = apply_tears();
+            topology_ms_ = clock.elapsed_ms();
         };
     });
     for (uint32_t sub = 0; sub < sd.solver.substeps; ++sub) {
@@ -264,6 +280,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         return [this, boundary, sorted](const graph::PassResources&, graph::ExecuteContext&) {
             splat::map_body(body_.particles.x, body_.normals, body_.colors, body_.triangles, boundary ? &boundary_ : nullptr,
                             appearance_, stretch_.empty() ? nullptr : &stretch_, records_);
+            fade_.apply(body_.particle_count(), records_);
             if (!sorted) publish_records();  // else the sort stage reorders them first
         };
     });
@@ -293,49 +310,50 @@ void SceneRuntime::publish_records() {
 
 
 core::Status SceneRuntime::apply_cut(const CutEvent& cut) {
-    std::function<bool(uint32_t)> side, splittable = [](uint32_t) { return true; };
-    Vec3f point, normal;
-    const render::Camera& cam = frame_input_.frame.camera;
-    const float aspect = cut.screen.x() / cut.screen.y();
-    const Mat4f view_proj = math::perspective(math::radians(cam.fov_y_degrees), aspect, cam.z_near, cam.z_far) *
-                            math::look_at(cam.eye, cam.target, cam.up);
-    // Pixel -> world-space direction of its view ray.
-    const Vec2f screen = cut.screen;
-    auto ray = [&](const Vec2f& px) {
-        const Vec2f ndc(2.0f * px.x() / screen.x() - 1.0f, 2.0f * px.y() / screen.y() - 1.0f);
-        const Mat4f inv = view_proj.inverse();
-        const Vec4f far_point = inv * Vec4f(ndc.x(), ndc.y(), 1.0f, 1.0f);
-        return Vec3f((far_point.head<3>() / far_point.w() - cam.eye).normalized());
-    };
+    core::Result<topology::CutSurface> surface = core::make_error("cut: no surface");
     if (cut.plane) {
-        point = cut.plane->first;
-        normal = cut.plane->second;
+        surface = topology::plane_cut(cut.plane->first, cut.plane->second);
     } else {
-        // The band swept by the segment along the view rays: the plane through the eye that
-        // holds both rays, limited to what projects inside the segment's extent.
-        const Vec2f a = (*cut.segment)[0], b = (*cut.segment)[1];
-        point = cam.eye;
-        normal = ray(a).cross(ray(b));
-        if (normal.norm() < 1e-9f) return core::make_error("cut segment is too short to define a cut");
-        normal.normalize();
-        const Vec2f ab = b - a;
-        splittable = [this, view_proj, a, ab, screen](uint32_t v) {
-            const Vec4f c = view_proj * Vec4f(body_.particles.x[v].x(), body_.particles.x[v].y(), body_.particles.x[v].z(), 1.0f);
-            if (c.w() <= 0.0f) return false;
-            const Vec2f px((c.x() / c.w() * 0.5f + 0.5f) * screen.x(), (c.y() / c.w() * 0.5f + 0.5f) * screen.y());
-            const float u = (px - a).dot(ab) / ab.squaredNorm();
-            return u >= 0.0f && u <= 1.0f;
-        };
+        const render::Camera& cam = frame_input_.frame.camera;
+        const Mat4f view_proj = math::perspective(math::radians(cam.fov_y_degrees), cut.screen.x() / cut.screen.y(), cam.z_near, cam.z_far) *
+                                math::look_at(cam.eye, cam.target, cam.up);
+        surface = topology::screen_cut(view_proj, cam.eye, cut.screen, (*cut.segment)[0], (*cut.segment)[1]);
     }
-    side = [this, point, normal](uint32_t t) {
-        const auto& tri = body_.triangles[t];
-        const Vec3f centre = (sim::xyz(body_.particles.x[tri[0]]) + sim::xyz(body_.particles.x[tri[1]]) +
-                              sim::xyz(body_.particles.x[tri[2]])) / 3.0f;
-        return normal.dot(centre - point) >= 0.0f;
-    };
-    auto change = topology::separate(body_, side, splittable);
+    if (!surface.ok()) return surface.error();
+    auto change = topology::cut(body_, surface.value(), scene_.simulation.cut);
     if (!change.ok()) return change.error();
-    PBDSPLAT_TRY(topology::check_invariants(body_));
+    return after_topology_change(change.value());
+}
+
+core::Status SceneRuntime::apply_tears() {
+    topology::TearOptions options;
+    options.threshold = tearing_->threshold;
+    options.max_per_frame = tearing_->max_per_frame;
+    for (uint32_t k = 0; k < options.max_per_frame; ++k) {
+        auto change = topology::tear_once(body_, options, scene_.simulation.cut);
+        if (!change.ok()) return change.error();
+        if (!change.value()) break;  // nothing strained enough
+        ++tears_;
+        PBDSPLAT_TRY(after_topology_change(*change.value()));
+    }
+    return core::Status::success();
+}
+
+core::Status SceneRuntime::after_topology_change(const topology::TopologyChange& change) {
+    last_change_ = change;
+    if (!change.changed()) return core::Status::success();
+    if (check_topology_) PBDSPLAT_TRY(topology::check_invariants(body_));
+    // New particles get the neighbours' normals now; the integrate stage refreshes them.
+    sim::update_normals(body_.rings, body_.particles.x, body_.normals, 0, body_.particle_count());
+    fade_.add_particles(change.particles_before, change.new_particles());
+    if (scene_.surface.mode == SurfaceMode::boundary) {
+        surface::remap_samples(change.splits, boundary_);
+        const size_t before = boundary_.size();
+        const mesh::TriangleMesh rest{body_.rest_positions, body_.triangles, {}, {}, {}};
+        surface::fill_triangles(rest, change.touched_triangles, {h_, scene_.surface.seed + uint32_t(cuts_ + tears_) + 1}, boundary_);
+        surface::update_boundary_particles(body_.triangles, body_.particles.x, body_.normals, boundary_);
+        fade_.add_samples(before, boundary_.size() - before);
+    }
     if (!stretch_.empty()) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
     return core::Status::success();
 }
@@ -357,7 +375,9 @@ core::Status SceneRuntime::step() {
     ++frame_;
 
     FrameStats s;
-    s.cuts = stats_.cuts;
+    s.cuts = cuts_;
+    s.tears = tears_;
+    s.topology_ms = topology_ms_;
     s.frame = frame_;
     s.time = time_;
     s.particles = body_.particle_count();

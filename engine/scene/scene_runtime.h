@@ -13,9 +13,11 @@
 #include "scene/scene.h"
 #include "scene/timeline.h"
 #include "sim/solver.h"
+#include "splat/fade_in.h"
 #include "splat/mapping.h"
 #include "splat/sort.h"
 #include "surface/boundary_particles.h"
+#include "topology/topology_change.h"
 
 namespace pbdsplat::scene {
 
@@ -26,6 +28,8 @@ struct RuntimeOptions {
     unsigned threads = 1;
     std::optional<gpu::UploadPath> upload_path;
     uint32_t frames_in_flight = 2;
+    // Check every mesh invariant after each topology change (always on in debug builds).
+    bool check_topology = false;
 };
 
 // Per-frame figures, grouped as the paper's Tables 3 and 4.
@@ -33,8 +37,10 @@ struct FrameStats {
     uint64_t frame = 0;
     float time = 0.0f;  // simulated seconds at the end of the frame
     size_t particles = 0, boundary_particles = 0, gaussians = 0;
-    size_t cuts = 0;  // cut events applied so far
-    double events_ms = 0.0, topology_ms = 0.0, apply_forces_ms = 0.0, constraints_ms = 0.0, integrate_normals_ms = 0.0,
+    size_t cuts = 0;   // cut events applied so far
+    size_t tears = 0;  // edges torn so far
+    double topology_ms = 0.0;  // this frame's cuts and tears, with the boundary particles' refill
+    double events_ms = 0.0, apply_forces_ms = 0.0, constraints_ms = 0.0, integrate_normals_ms = 0.0,
            update_particles_ms = 0.0, gpu_record_ms = 0.0, graph_ms = 0.0;
     uint64_t uploaded_bytes = 0;  // of the newest finished GPU frame
 };
@@ -56,6 +62,8 @@ public:
     const std::vector<splat::GaussianRecord>& records() const { return records_; }
     float spacing() const { return h_; }
     const Scene& scene() const { return scene_; }
+    // What the most recent cut or tear did (empty before any).
+    const topology::TopologyChange& last_topology_change() const { return last_change_; }
 
 private:
     SceneRuntime() = default;
@@ -83,10 +91,20 @@ private:
     FrameStats stats_;
     float time_ = 0.0f;
     float h_ = 0.0f;  // sampling spacing
-    // Cut events not yet applied, in time order, and what the last topology change did.
-    std::vector<Event> pending_cuts_;
+    // Cut and tear events not yet started, in time order; the tearing now on, if any.
+    std::vector<Event> pending_topology_;
+    std::optional<TearEvent> tearing_;
+    float tearing_until_ = 0.0f;
     core::Status apply_cut(const CutEvent& cut);
+    core::Status apply_tears();
+    // Everything downstream of the mesh follows a change: samples, fades, stretch, invariants.
+    core::Status after_topology_change(const topology::TopologyChange& change);
     core::Status topology_status_;
+    splat::FadeIn fade_;
+    bool check_topology_ = false;
+    size_t cuts_ = 0, tears_ = 0;
+    double topology_ms_ = 0.0;
+    topology::TopologyChange last_change_;
     uint64_t frame_ = 0;
 };
 

@@ -21,25 +21,29 @@ double constraint_volume(const VolumeConstraint& c, const Vec4ArrayT<Real>& x) {
 }
 
 void build_rings(VolumeConstraint& c) {
-    uint32_t max_v = 0;
-    for (const auto& t : c.triangles) max_v = std::max({max_v, t[0], t[1], t[2]});
-    std::vector<uint32_t> count(size_t(max_v) + 1, 0);
-    for (const auto& t : c.triangles)
-        for (uint32_t v : t) ++count[v];
+    // The vertices in increasing order (memory order for the gather), found by sorting rather
+    // than by arrays as long as the whole body: a body cut into many pieces has many small
+    // constraints, and each must cost its own size only.
     c.vertices.clear();
+    for (const auto& t : c.triangles) c.vertices.insert(c.vertices.end(), t.begin(), t.end());
+    std::sort(c.vertices.begin(), c.vertices.end());
     c.ring_start.assign(1, 0);
-    std::vector<uint32_t> slot(count.size(), 0);
-    for (uint32_t v = 0; v < count.size(); ++v) {
-        if (!count[v]) continue;
-        slot[v] = c.ring_start.back();
-        c.vertices.push_back(v);
-        c.ring_start.push_back(c.ring_start.back() + count[v]);
+    size_t unique = 0;
+    for (size_t k = 0; k < c.vertices.size();) {
+        size_t e = k;
+        while (e < c.vertices.size() && c.vertices[e] == c.vertices[k]) ++e;
+        c.vertices[unique++] = c.vertices[k];
+        c.ring_start.push_back(c.ring_start.back() + uint32_t(e - k));
+        k = e;
     }
+    c.vertices.resize(unique);
+    std::vector<uint32_t> slot(c.ring_start.begin(), c.ring_start.end() - 1);
+    auto index = [&](uint32_t v) { return size_t(std::lower_bound(c.vertices.begin(), c.vertices.end(), v) - c.vertices.begin()); };
     c.ring.assign(c.ring_start.back(), {0, 0});
     for (const auto& t : c.triangles) {
-        c.ring[slot[t[0]]++] = {t[1], t[2]};
-        c.ring[slot[t[1]]++] = {t[2], t[0]};
-        c.ring[slot[t[2]]++] = {t[0], t[1]};
+        c.ring[slot[index(t[0])]++] = {t[1], t[2]};
+        c.ring[slot[index(t[1])]++] = {t[2], t[0]};
+        c.ring[slot[index(t[2])]++] = {t[0], t[1]};
     }
 }
 

@@ -157,9 +157,20 @@ BoundaryParticles sample_surface(const mesh::TriangleMesh& m, const SamplingOpti
 void fill_triangles(const mesh::TriangleMesh& m, std::span<const uint32_t> triangles, const SamplingOptions& o,
                     BoundaryParticles& samples) {
     PBDSPLAT_ASSERT(o.h > 0.0f && std::isfinite(o.h), "boundary particle spacing h must be positive");
-    PointGrid grid(o.h, m.positions.size() + samples.size() + 1024);
-    for (const Vec3f& v : m.positions) grid.add(v);  // the simulation particles are samples too
-    for (size_t i = 0; i < samples.size(); ++i) grid.add(position_of(m, samples.triangle[i], samples.bary[i]));
+    // Only points near the triangles can block a candidate: a local refill stays local.
+    Eigen::AlignedBox3f near;
+    for (uint32_t t : triangles)
+        for (uint32_t v : m.triangles[t]) near.extend(m.positions[v]);
+    if (near.isEmpty()) return;
+    near.min().array() -= o.h;
+    near.max().array() += o.h;
+    PointGrid grid(o.h, triangles.size() == m.triangles.size() ? m.positions.size() + samples.size() + 1024 : 1024);
+    for (const Vec3f& v : m.positions)
+        if (near.contains(v)) grid.add(v);  // the simulation particles are samples too
+    for (size_t i = 0; i < samples.size(); ++i) {
+        const Vec3f p = position_of(m, samples.triangle[i], samples.bary[i]);
+        if (near.contains(p)) grid.add(p);
+    }
     std::mt19937 rng(o.seed);
     accept(m, candidates(m, triangles, o.candidates / (o.h * o.h), rng), grid, samples);
 }

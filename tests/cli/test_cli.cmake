@@ -146,8 +146,7 @@ expect("validate-scene scenes/" 0 validate-scene ${shipped})
 file(WRITE "${WORK_DIR}/broken.toml" "[simulation]\niterations = -3\n")
 expect("validate-scene broken" 1 validate-scene "${WORK_DIR}/broken.toml")
 expect_contains("validate-scene broken" "${last_err}" "broken.toml:2:14: 'simulation.iterations' = -3 is out of range")
-expect("render a tear scene" 1 render "${SCENES_DIR}/cut.toml")
-expect_contains("render a tear scene" "${last_err}" "tearing is not in this build")
+expect("render a cut and tear scene" 0 render "${SCENES_DIR}/tear.toml" --frames 40 --width 96 --height 64 --out out/tear.png --validation)
 
 # export-ply, then the file rendered as a static scene.
 expect("export-ply" 0 export-ply --frame 2 out/scene.ply)

@@ -3,7 +3,10 @@
 #include <random>
 
 #include "mesh/procedural.h"
+#include "sim/soft_body.h"
 #include "surface/boundary_particles.h"
+#include "surface/remap.h"
+#include "topology/cut.h"
 
 using namespace pbdsplat;
 
@@ -133,5 +136,38 @@ TEST_SUITE("surface/boundary_particles") {
         const auto b = surface::sample_surface(sphere, {h, 4});
         CHECK(a.triangle == b.triangle);
         CHECK(a.bary == b.bary);
+    }
+
+    TEST_CASE("after a cut, samples move to the child triangles without moving in space, and the new faces fill") {
+        auto made = sim::make_soft_body(mesh::icosphere(3), {});
+        REQUIRE(made.ok());
+        sim::SoftBody b = std::move(made).value();
+        const mesh::TriangleMesh rest{b.rest_positions, b.triangles, {}, {}, {}};
+        const float h = surface::spacing(rest, 0.5f);
+        surface::BoundaryParticles s = surface::sample_surface(rest, {h, 3});
+        surface::update_boundary_particles(b.triangles, b.particles.x, b.normals, s);
+        const std::vector<Vec3f> before = s.position;
+        auto plane = topology::plane_cut(Vec3f(0.05f, 0.0f, 0.0f), Vec3f(1.0f, 0.4f, 0.1f));
+        REQUIRE(plane.ok());
+        auto change = topology::cut(b, plane.value());
+        REQUIRE(change.ok());
+        const size_t moved = surface::remap_samples(change->splits, s);
+        CHECK(moved > 0);
+        surface::update_boundary_particles(b.triangles, b.particles.x, b.normals, s);
+        float worst = 0.0f;
+        for (size_t i = 0; i < before.size(); ++i) worst = std::max(worst, (s.position[i] - before[i]).norm());
+        CHECK(worst < 1e-5f);
+        for (size_t i = 0; i < s.size(); ++i) {
+            CHECK(s.triangle[i] < b.triangles.size());
+            CHECK(s.bary[i].minCoeff() >= 0.0f);
+            CHECK(s.bary[i].sum() <= 1.0f + 1e-5f);
+        }
+        // The refill is local: it only adds samples on the touched triangles.
+        const size_t count = s.size();
+        const mesh::TriangleMesh after{b.rest_positions, b.triangles, {}, {}, {}};
+        surface::fill_triangles(after, change->touched_triangles, {h, 4}, s);
+        std::vector<uint8_t> touched(b.triangles.size(), 0);
+        for (uint32_t t : change->touched_triangles) touched[t] = 1;
+        for (size_t i = count; i < s.size(); ++i) CHECK(touched[s.triangle[i]]);
     }
 }

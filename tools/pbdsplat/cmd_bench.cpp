@@ -14,6 +14,7 @@ constexpr const char* k_bench_help =
     "  graph     the frame graph's own overhead per frame\n"
     "  scene     a scene through its frame graph: median ms per stage and per frame\n"
     "  surface   boundary particles: sampling and update time, coverage against eta\n"
+    "  cut       one line cut: its milliseconds, the crossed region, Stage A before and after\n"
     "  splat     GPU milliseconds of upload, draw and readback for N splats (median of repeats)\n"
     "\n"
     "`pbdsplat bench SCENE.toml [options]` runs the scene suite on that file.\n"
@@ -35,6 +36,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
     if (argv[0].size() > 5 && argv[0].compare(argv[0].size() - 5, 5, ".toml") == 0) return bench_scene(argv);
     if (argv[0] == "graph") return bench_graph(rest);
     if (argv[0] == "surface") return bench_surface(rest);
+    if (argv[0] == "cut") return bench_cut(rest);
     return usage_error("bench", "unknown suite '" + argv[0] + "' (see pbdsplat bench --help)");
 }
 

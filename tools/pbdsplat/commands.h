@@ -14,6 +14,7 @@ int bench_sim_error(const std::vector<std::string>& args);
 int bench_scene(const std::vector<std::string>& args);
 int bench_graph(const std::vector<std::string>& args);
 int bench_surface(const std::vector<std::string>& args);
+int bench_cut(const std::vector<std::string>& args);
 int cmd_graph(const std::vector<std::string>& args);
 int cmd_validate_scene(const std::vector<std::string>& args);
 int cmd_export_ply(const std::vector<std::string>& args);

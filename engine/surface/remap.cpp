@@ -1,0 +1,44 @@
+#include "surface/remap.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+namespace pbdsplat::surface {
+
+size_t remap_samples(std::span<const mesh::TriangleSplit> splits, BoundaryParticles& s) {
+    if (splits.empty()) return 0;
+    std::unordered_multimap<uint32_t, const mesh::TriangleSplit*> children;
+    uint32_t top = 0;
+    for (const mesh::TriangleSplit& c : splits) children.emplace(c.parent, &c), top = std::max(top, c.parent);
+    std::vector<uint8_t> is_parent(size_t(top) + 1, 0);  // skips the hash lookup for most samples
+    for (const mesh::TriangleSplit& c : splits) is_parent[c.parent] = 1;
+    size_t moved = 0;
+    for (size_t i = 0; i < s.size(); ++i) {
+        if (s.triangle[i] > top || !is_parent[s.triangle[i]]) continue;
+        const auto [first, last] = children.equal_range(s.triangle[i]);
+        if (first == last) continue;
+        const Vec3f p(1.0f - s.bary[i].x() - s.bary[i].y(), s.bary[i].x(), s.bary[i].y());
+        // The child whose coordinates of p are least negative holds it (exactly one holds it up
+        // to rounding; the test tolerates points on a shared child edge).
+        float best_min = -1e30f;
+        const mesh::TriangleSplit* best = nullptr;
+        Vec3f best_lambda = Vec3f::Zero();
+        for (auto it = first; it != last; ++it) {
+            const auto& c = it->second->corners;
+            Mat3f m;
+            m.col(0) = c[0];
+            m.col(1) = c[1];
+            m.col(2) = c[2];
+            const Vec3f lambda = m.colPivHouseholderQr().solve(p);
+            const float lo = lambda.minCoeff();
+            if (lo > best_min) best_min = lo, best = it->second, best_lambda = lambda;
+        }
+        const Vec3f l = best_lambda.cwiseMax(0.0f) / best_lambda.cwiseMax(0.0f).sum();
+        s.triangle[i] = best->triangle;
+        s.bary[i] = Vec2f(l.y(), l.z());
+        ++moved;
+    }
+    return moved;
+}
+
+} // namespace pbdsplat::surface

@@ -1,0 +1,140 @@
+#include "topology/cut.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/timer.h"
+#include "mesh/topology.h"
+#include "topology/edit.h"
+#include "topology/volume_policy.h"
+
+namespace pbdsplat::topology {
+
+const char* volume_policy_name(VolumePolicy p) {
+    switch (p) {
+    case VolumePolicy::cap: return "cap";
+    case VolumePolicy::burst: return "burst";
+    case VolumePolicy::rebase: return "rebase";
+    }
+    return "?";
+}
+
+namespace {
+
+// Which side of the cut surface each vertex is on: -1, +1, or 0 for "on the cut" (within its
+// reach, exactly on the plane or snapped there).
+std::vector<int8_t> classify(const sim::SoftBody& b, const CutSurface& s, float snap, float reference) {
+    const size_t n = b.particle_count();
+    std::vector<float> d(n);
+    for (size_t v = 0; v < n; ++v) d[v] = s.distance(sim::xyz(b.particles.x[v]));
+    std::vector<int8_t> sign(n);
+    for (size_t v = 0; v < n; ++v) sign[v] = d[v] < 0.0f ? int8_t(-1) : int8_t(1);
+    for (size_t v = 0; v < n; ++v)
+        if (d[v] == 0.0f && s.reaches(sim::xyz(b.particles.x[v]))) sign[v] = 0;
+    // Snap: a crossing near an end moves onto that vertex. Near means within `snap` of the edge,
+    // or within `snap` mean edge lengths of rest distance, so repeated cuts through one region
+    // cannot make ever smaller triangles. Decided from the unsnapped distances, so the result
+    // does not depend on the order edges are visited.
+    if (!(reference > 0.0f)) {
+        double mean_rest = 0.0;
+        for (const sim::DistanceConstraint& c : b.distance) mean_rest += double(c.rest);
+        reference = float(b.distance.empty() ? 0.0 : mean_rest / double(b.distance.size()));
+    }
+    const float reach = snap * reference;
+    std::vector<uint8_t> snapped(n, 0);
+    for (const mesh::Triangle& t : b.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t i = std::min(t[size_t(k)], t[size_t((k + 1) % 3)]);
+            const uint32_t j = std::max(t[size_t(k)], t[size_t((k + 1) % 3)]);
+            if (!((d[i] < 0.0f && d[j] > 0.0f) || (d[i] > 0.0f && d[j] < 0.0f))) continue;
+            const float u = d[i] / (d[i] - d[j]);
+            const float rest = (b.rest_positions[j] - b.rest_positions[i]).norm();
+            const bool near_i = u < snap || u * rest < reach, near_j = u > 1.0f - snap || (1.0f - u) * rest < reach;
+            if (!near_i && !near_j) continue;
+            const Vec3f at = sim::xyz(b.particles.x[i]) + u * (sim::xyz(b.particles.x[j]) - sim::xyz(b.particles.x[i]));
+            if (s.reaches(at)) snapped[near_i && (!near_j || u < 0.5f) ? i : j] = 1;
+        }
+    for (size_t v = 0; v < n; ++v)
+        if (snapped[v]) sign[v] = 0;
+    return sign;
+}
+
+float rest_area(const sim::SoftBody& b, const mesh::Triangle& t) {
+    const Vec3f& p = b.rest_positions[t[0]];
+    return 0.5f * (b.rest_positions[t[1]] - p).cross(b.rest_positions[t[2]] - p).norm();
+}
+
+} // namespace
+
+core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const CutOptions& o) {
+    if (!(o.snap >= 0.0f && o.snap < 0.5f)) return core::make_error("cut: snap must be in [0, 0.5)");
+    if (!(o.reference_edge_length >= 0.0f) || !std::isfinite(o.reference_edge_length))
+        return core::make_error("cut: reference_edge_length must be finite and >= 0");
+    if (!s.point.allFinite() || !s.normal.allFinite() || std::abs(s.normal.norm() - 1.0f) > 1e-3f)
+        return core::make_error("cut: the surface needs a finite point and a unit normal");
+    for (const Vec4f& x : b.particles.x)
+        if (!x.head<3>().allFinite()) return core::make_error("cut: a particle position is not finite; the body is broken");
+
+    const core::Stopwatch clock;
+    Edit e(b);
+    e.sign = classify(b, s, o.snap, o.reference_edge_length);
+
+    // Eq. 26: one new particle per crossed edge, shared by both triangles of the edge.
+    const size_t t0 = b.triangles.size();
+    std::vector<uint32_t> parents;
+    for (uint32_t t = 0; t < t0; ++t) {
+        bool crossed = false;
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t i = std::min(b.triangles[t][size_t(k)], b.triangles[t][size_t((k + 1) % 3)]);
+            const uint32_t j = std::max(b.triangles[t][size_t(k)], b.triangles[t][size_t((k + 1) % 3)]);
+            if (e.sign[i] * e.sign[j] >= 0) continue;
+            if (e.point_on(i, j) != UINT32_MAX) {
+                crossed = true;
+                continue;
+            }
+            const float di = s.distance(sim::xyz(b.particles.x[i])), dj = s.distance(sim::xyz(b.particles.x[j]));
+            const float u = std::clamp(di / (di - dj), o.snap, 1.0f - o.snap);
+            const Vec3f at = sim::xyz(b.particles.x[i]) + u * (sim::xyz(b.particles.x[j]) - sim::xyz(b.particles.x[i]));
+            if (!s.reaches(at)) continue;
+            e.add_edge_point(i, j, u);
+            crossed = true;
+        }
+        if (crossed) parents.push_back(t);
+    }
+    e.change.crossed_edges = e.edge_points();
+    e.change.crossed_triangles = parents.size();
+    if (parents.empty() && std::none_of(e.sign.begin(), e.sign.end(), [](int8_t v) { return v == 0; })) {
+        e.finish();
+        e.change.ms = clock.elapsed_ms();
+        return std::move(e.change);
+    }
+    e.change.components_before = e.count_components();
+
+    // Eq. 27: re-triangulate every crossed triangle around its new particles.
+    for (uint32_t t : parents) e.retriangulate(t);
+    for (const mesh::TriangleSplit& sp : e.change.splits) {
+        const float parent = rest_area(b, e.parent_triangle(sp.parent));
+        if (parent > 0.0f) e.change.min_child_area_ratio = std::min(e.change.min_child_area_ratio, rest_area(b, b.triangles[sp.triangle]) / parent);
+    }
+
+    // Eq. 28: duplicate the vertices on the cut per fan of triangles, then masses, distance
+    // constraints and volumes follow the new lists.
+    e.split_vertices_along_cut();
+    if (parents.empty() && e.change.duplicated_vertices == 0) {  // touched vertices only, opened nothing
+        e.finish();
+        e.change.ms = clock.elapsed_ms();
+        return std::move(e.change);
+    }
+    e.redistribute_mass();
+    e.update_distance_constraints();
+    apply_volume_policy(b, o.volume, e.old_volume_of_triangles(), e.old_volumes);
+    e.change.components_after = e.count_components();
+    const core::Stopwatch rebuild;
+    sim::rebuild_derived(b);
+    e.change.rebuild_ms = rebuild.elapsed_ms();
+    e.finish();
+    e.change.ms = clock.elapsed_ms();
+    return std::move(e.change);
+}
+
+} // namespace pbdsplat::topology

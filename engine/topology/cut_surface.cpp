@@ -1,0 +1,53 @@
+#include "topology/cut_surface.h"
+
+#include <cmath>
+
+namespace pbdsplat::topology {
+
+core::Result<CutSurface> plane_cut(const Vec3f& point, const Vec3f& normal) {
+    if (!point.allFinite() || !normal.allFinite()) return core::make_error("cut plane: point and normal must be finite");
+    const float len = normal.norm();
+    if (!(len > 1e-12f)) return core::make_error("cut plane: the normal must not be zero");
+    CutSurface s;
+    s.point = point;
+    s.normal = normal / len;
+    return s;
+}
+
+core::Result<CutSurface> screen_cut(const Mat4f& view_proj, const Vec3f& eye, const Vec2f& screen, const Vec2f& a,
+                                    const Vec2f& b) {
+    if (!view_proj.allFinite() || !eye.allFinite() || !a.allFinite() || !b.allFinite())
+        return core::make_error("cut stroke: camera and stroke must be finite");
+    if (!(screen.x() > 0.0f && screen.y() > 0.0f)) return core::make_error("cut stroke: the screen size must be positive");
+    const Vec2f ab = b - a;
+    if (ab.norm() < 1.0f) return core::make_error("cut stroke: the segment is shorter than a pixel");
+    const Mat4f inverse = view_proj.inverse();
+    auto ray = [&](const Vec2f& px) {
+        const Vec2f ndc(2.0f * px.x() / screen.x() - 1.0f, 2.0f * px.y() / screen.y() - 1.0f);
+        const Vec4f far_point = inverse * Vec4f(ndc.x(), ndc.y(), 1.0f, 1.0f);
+        return Vec3f((far_point.head<3>() / far_point.w() - eye).normalized());
+    };
+    auto plane = plane_cut(eye, ray(a).cross(ray(b)));
+    if (!plane.ok()) return core::make_error("cut stroke: its two ends look along the same ray");
+    CutSurface s = std::move(plane).value();
+    const float inv_len2 = 1.0f / ab.squaredNorm();
+    s.inside = [view_proj, screen, a, ab, inv_len2](const Vec3f& x) {
+        const Vec4f c = view_proj * Vec4f(x.x(), x.y(), x.z(), 1.0f);
+        if (!(c.w() > 0.0f)) return false;  // behind the eye
+        const Vec2f px((c.x() / c.w() * 0.5f + 0.5f) * screen.x(), (c.y() / c.w() * 0.5f + 0.5f) * screen.y());
+        const float u = (px - a).dot(ab) * inv_len2;
+        return u >= 0.0f && u <= 1.0f;
+    };
+    return s;
+}
+
+CutSurface local_cut(const Vec3f& point, const Vec3f& unit_normal, float radius) {
+    CutSurface s;
+    s.point = point;
+    s.normal = unit_normal;
+    const float r2 = radius * radius;
+    s.inside = [point, r2](const Vec3f& x) { return (x - point).squaredNorm() <= r2; };
+    return s;
+}
+
+} // namespace pbdsplat::topology

@@ -1,0 +1,34 @@
+#pragma once
+// The surface a cut follows (paper section 5.7): a plane, optionally restricted to part of it.
+// A screen-space stroke defines the plane through the eye holding the view rays of its two
+// ends, restricted to what projects inside the stroke; scripts may use a whole world plane.
+#include <functional>
+
+#include "core/math.h"
+#include "core/result.h"
+
+namespace pbdsplat::topology {
+
+struct CutSurface {
+    Vec3f point = Vec3f::Zero();
+    Vec3f normal = Vec3f::UnitX();  // unit; the positive side is where normal . (x - point) > 0
+    // Which points of the plane the cut reaches; empty means all of it. Called with points of
+    // the plane only (edge crossings, vertices lying on the plane).
+    std::function<bool(const Vec3f&)> inside;
+
+    float distance(const Vec3f& x) const { return normal.dot(x - point); }
+    bool reaches(const Vec3f& x) const { return !inside || inside(x); }
+};
+
+// A whole world plane through `point` with normal `normal` (need not be unit length).
+core::Result<CutSurface> plane_cut(const Vec3f& point, const Vec3f& normal);
+
+// The band swept by the screen segment a-b (pixels of a `screen`-sized view, y down) along the
+// view rays of the camera `view_proj` placed at `eye`.
+core::Result<CutSurface> screen_cut(const Mat4f& view_proj, const Vec3f& eye, const Vec2f& screen, const Vec2f& a,
+                                    const Vec2f& b);
+
+// A ball-limited plane: what tearing uses to open a short slit across one edge.
+CutSurface local_cut(const Vec3f& point, const Vec3f& unit_normal, float radius);
+
+} // namespace pbdsplat::topology

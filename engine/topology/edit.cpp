@@ -1,0 +1,297 @@
+#include "topology/edit.h"
+
+#include <algorithm>
+#include <numeric>
+#include <unordered_set>
+
+#include "core/assert.h"
+#include "mesh/topology.h"
+#include "sim/volume.h"
+
+namespace pbdsplat::topology {
+
+namespace {
+float area_of(const std::vector<Vec3f>& p, const mesh::Triangle& t) {
+    return 0.5f * (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]).norm();
+}
+} // namespace
+
+Edit::Edit(sim::SoftBody& body) : b_(body), n0_(body.particle_count()), t0_(body.triangles.size()) {
+    change.particles_before = n0_;
+    change.triangles_before = t0_;
+    for (const sim::VolumeConstraint& v : b_.volumes)
+        old_volumes.push_back({v.rest_volume, sim::constraint_volume<float>(v, b_.particles.x), v.pressure, v.compliance,
+                               v.triangles.size(), v.cap_loops.size()});
+    old_volume_of_vertex_.assign(n0_, -1);
+    for (size_t k = 0; k < b_.volumes.size(); ++k)
+        for (const auto& t : b_.volumes[k].triangles)
+            for (uint32_t v : t) old_volume_of_vertex_[v] = int32_t(k);
+}
+
+uint32_t Edit::point_on(uint32_t i, uint32_t j) const {
+    const auto it = point_of_edge_.find(edge_key(i, j));
+    return it == point_of_edge_.end() ? UINT32_MAX : points_[it->second].vertex;
+}
+
+uint32_t Edit::new_particle(uint32_t from) {
+    const uint32_t v = uint32_t(b_.particle_count());
+    sim::Particles& p = b_.particles;
+    p.x.push_back(p.x[from]);
+    p.x_prev.push_back(p.x_prev[from]);
+    p.v.push_back(p.v[from]);
+    p.w.push_back(p.w[from]);
+    b_.rest_positions.push_back(b_.rest_positions[from]);
+    if (!b_.colors.empty()) b_.colors.push_back(b_.colors[from]);
+    b_.normals.push_back(from < b_.normals.size() ? b_.normals[from] : Vec3f::UnitY());
+    origin_.push_back(origin(from));
+    return v;
+}
+
+void Edit::add_edge_point(uint32_t i, uint32_t j, float t) {
+    PBDSPLAT_ASSERT(i < j && i < n0_ && j < n0_, "edge points split original edges, given as (low, high)");
+    const uint32_t v = new_particle(i);
+    origin_.back() = v;  // an edge point is its own origin
+    sim::Particles& p = b_.particles;
+    auto lerp4 = [t](const Vec4f& a, const Vec4f& c) { return Vec4f(a + t * (c - a)); };
+    p.x[v] = lerp4(p.x[i], p.x[j]);
+    p.x_prev[v] = lerp4(p.x_prev[i], p.x_prev[j]);
+    p.v[v] = lerp4(p.v[i], p.v[j]);
+    p.w[v] = 1.0f;  // set by redistribute_mass
+    b_.rest_positions[v] = b_.rest_positions[i] + t * (b_.rest_positions[j] - b_.rest_positions[i]);
+    if (!b_.colors.empty()) b_.colors[v] = b_.colors[i] + t * (b_.colors[j] - b_.colors[i]);
+    const Vec3f n = b_.normals[i] + t * (b_.normals[j] - b_.normals[i]);
+    b_.normals[v] = n.norm() > 0.0f ? Vec3f(n.normalized()) : b_.normals[i];
+    point_of_edge_.emplace(edge_key(i, j), uint32_t(points_.size()));
+    points_.push_back({i, j, t, v});
+}
+
+int Edit::side(const mesh::Triangle& t) const {
+    for (uint32_t v : t)
+        if (v < n0_ && sign[v] != 0) return sign[v];
+    return 1;
+}
+
+void Edit::add_child(uint32_t parent, bool first, const mesh::Triangle& corners, const std::array<Vec3f, 3>& bary) {
+    uint32_t index = parent;
+    if (first) {
+        b_.triangles[parent] = corners;
+    } else {
+        index = uint32_t(b_.triangles.size());
+        b_.triangles.push_back(corners);
+    }
+    change.splits.push_back({index, parent, bary});
+}
+
+void Edit::retriangulate(uint32_t t) {
+    const mesh::Triangle tri = b_.triangles[t];
+    parents_.emplace(t, tri);
+    uint32_t point[3];
+    float u[3];  // parameter of the point from corner k toward corner k + 1
+    int crossed = 0;
+    for (int k = 0; k < 3; ++k) {
+        const uint32_t a = tri[size_t(k)], c = tri[size_t((k + 1) % 3)];
+        const auto it = point_of_edge_.find(edge_key(a, c));
+        point[k] = UINT32_MAX;
+        if (it == point_of_edge_.end()) continue;
+        const EdgePoint& ep = points_[it->second];
+        point[k] = ep.vertex;
+        u[k] = ep.i == a ? ep.t : 1.0f - ep.t;
+        ++crossed;
+    }
+    const Vec3f e[3] = {Vec3f::UnitX(), Vec3f::UnitY(), Vec3f::UnitZ()};
+    auto on_edge = [&](int k) { return Vec3f((1.0f - u[k]) * e[k] + u[k] * e[(k + 1) % 3]); };
+    PBDSPLAT_ASSERT(crossed == 1 || crossed == 2, "a plane crosses one or two edges of a triangle; three means the vertex sides are inconsistent");
+    if (crossed == 1) {
+        const int k = point[0] != UINT32_MAX ? 0 : point[1] != UINT32_MAX ? 1 : 2;
+        const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+        const uint32_t p = point[k];
+        const Vec3f bp = on_edge(k);
+        add_child(t, true, {tri[size_t(k)], p, tri[size_t(k2)]}, {e[k], bp, e[k2]});
+        add_child(t, false, {p, tri[size_t(k1)], tri[size_t(k2)]}, {bp, e[k1], e[k2]});
+        return;
+    }
+    // The lone vertex a is where both crossed edges meet: edges k (a -> b) and k + 2 (c -> a).
+    const int k = point[0] != UINT32_MAX && point[2] != UINT32_MAX ? 0 : point[0] != UINT32_MAX ? 1 : 2;
+    const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+    const uint32_t a = tri[size_t(k)], bb = tri[size_t(k1)], c = tri[size_t(k2)];
+    const uint32_t p = point[k], q = point[k2];
+    const Vec3f bp = on_edge(k), bq = on_edge(k2);
+    add_child(t, true, {a, p, q}, {e[k], bp, bq});
+    // The quad p, b, c, q: split along its shorter rest diagonal.
+    const auto& r = b_.rest_positions;
+    if ((r[p] - r[c]).squaredNorm() <= (r[bb] - r[q]).squaredNorm()) {
+        add_child(t, false, {p, bb, c}, {bp, e[k1], e[k2]});
+        add_child(t, false, {p, c, q}, {bp, e[k2], bq});
+    } else {
+        add_child(t, false, {p, bb, q}, {bp, e[k1], bq});
+        add_child(t, false, {bb, c, q}, {e[k1], e[k2], bq});
+    }
+}
+
+void Edit::split_vertices_along_cut() {
+    // Triangles around every vertex on the cut, gathered in one pass.
+    std::unordered_map<uint32_t, std::vector<uint32_t>> around;
+    for (uint32_t t = 0; t < b_.triangles.size(); ++t)
+        for (uint32_t v : b_.triangles[t])
+            if (on_cut(v)) around[v].push_back(t);
+    std::vector<uint32_t> candidates;
+    candidates.reserve(around.size());
+    for (const auto& [v, tris] : around) candidates.push_back(v);
+    std::sort(candidates.begin(), candidates.end());  // deterministic copy numbering
+
+    std::vector<uint32_t> root;
+    for (uint32_t v : candidates) {
+        const std::vector<uint32_t>& fan = around[v];
+        const size_t m = fan.size();
+        root.resize(m);
+        std::iota(root.begin(), root.end(), 0u);
+        auto find = [&](uint32_t x) {
+            while (root[x] != x) x = root[x] = root[root[x]];
+            return x;
+        };
+        for (size_t a = 0; a < m; ++a)
+            for (size_t c = a + 1; c < m; ++c) {
+                const mesh::Triangle& ta = b_.triangles[fan[a]];
+                const mesh::Triangle& tc = b_.triangles[fan[c]];
+                for (uint32_t w : ta) {
+                    if (w == v || std::find(tc.begin(), tc.end(), w) == tc.end()) continue;
+                    // They share edge (v, w): joined unless it is a cut edge.
+                    if (!(on_cut(w) && side(ta) != side(tc))) root[find(uint32_t(a))] = find(uint32_t(c));
+                }
+            }
+        // Fans ordered by their lowest triangle; the first keeps v.
+        std::vector<std::pair<uint32_t, uint32_t>> fan_of;  // (root, lowest triangle)
+        for (size_t a = 0; a < m; ++a) {
+            const uint32_t r = find(uint32_t(a));
+            auto it = std::find_if(fan_of.begin(), fan_of.end(), [r](const auto& f) { return f.first == r; });
+            if (it == fan_of.end()) fan_of.push_back({r, fan[a]});
+            else it->second = std::min(it->second, fan[a]);
+        }
+        if (fan_of.size() < 2) continue;
+        std::sort(fan_of.begin(), fan_of.end(), [](const auto& x, const auto& y) { return x.second < y.second; });
+        for (size_t g = 1; g < fan_of.size(); ++g) {
+            const uint32_t copy = new_particle(v);
+            ++change.duplicated_vertices;
+            for (size_t a = 0; a < m; ++a)
+                if (find(uint32_t(a)) == fan_of[g].first)
+                    for (uint32_t& corner : b_.triangles[fan[a]])
+                        if (corner == v) corner = copy;
+        }
+        local_triangles_.insert(local_triangles_.end(), fan.begin(), fan.end());
+    }
+}
+
+void Edit::redistribute_mass() {
+    // The region: corners of the re-triangulated triangles and of the triangles re-pointed.
+    std::vector<uint32_t> region;
+    for (const mesh::TriangleSplit& s : change.splits) region.insert(region.end(), b_.triangles[s.triangle].begin(), b_.triangles[s.triangle].end());
+    for (uint32_t t : local_triangles_) region.insert(region.end(), b_.triangles[t].begin(), b_.triangles[t].end());
+    std::sort(region.begin(), region.end());
+    region.erase(std::unique(region.begin(), region.end()), region.end());
+    if (region.empty()) return;
+    // Per-particle scratch, so the pass over all triangles below costs no hashing.
+    std::vector<float> area(b_.particle_count(), -1.0f);
+    double mass = 0.0;
+    for (uint32_t v : region) {
+        area[v] = 0.0f;
+        if (v < n0_ && b_.particles.w[v] > 0.0f) mass += 1.0 / double(b_.particles.w[v]);
+    }
+    for (const mesh::Triangle& t : b_.triangles) {
+        if (area[t[0]] < 0.0f && area[t[1]] < 0.0f && area[t[2]] < 0.0f) continue;
+        const float third = area_of(b_.rest_positions, t) / 3.0f;
+        for (uint32_t v : t)
+            if (area[v] >= 0.0f) area[v] += third;
+    }
+    // Pinned particles (and their copies) stay pinned and take no share.
+    double total = 0.0;
+    for (uint32_t v : region)
+        if (b_.particles.w[v] > 0.0f) total += area[v];
+    for (uint32_t v : region) {
+        if (b_.particles.w[v] == 0.0f) continue;
+        const double m = total > 0.0 ? mass * double(area[v]) / total : 0.0;
+        b_.particles.w[v] = m > 0.0 ? float(1.0 / m) : 0.0f;
+    }
+}
+
+void Edit::update_distance_constraints() {
+    // The local triangles: the children and those around duplicated vertices.
+    std::vector<uint32_t> local = local_triangles_;
+    for (const mesh::TriangleSplit& s : change.splits) local.push_back(s.triangle);
+    std::sort(local.begin(), local.end());
+    local.erase(std::unique(local.begin(), local.end()), local.end());
+    local_triangles_ = local;
+
+    // Old edges whose constraints are re-made: the parents' edges, and every edge of a local
+    // triangle in terms of the original vertices.
+    std::unordered_set<uint64_t> old_edges;
+    std::vector<uint8_t> touched(n0_, 0);
+    auto mark = [&](uint32_t a, uint32_t c) {
+        if (a >= n0_ || c >= n0_) return;
+        old_edges.insert(edge_key(a, c));
+        touched[a] = touched[c] = 1;
+    };
+    for (const auto& [t, tri] : parents_)
+        for (int k = 0; k < 3; ++k) mark(tri[size_t(k)], tri[size_t((k + 1) % 3)]);
+    for (uint32_t t : local)
+        for (int k = 0; k < 3; ++k) mark(origin(b_.triangles[t][size_t(k)]), origin(b_.triangles[t][size_t((k + 1) % 3)]));
+
+    struct Definition {
+        float rest, compliance;
+    };
+    std::unordered_map<uint64_t, Definition> definition;
+    float default_compliance = b_.distance.empty() ? 0.0f : b_.distance.front().compliance;
+    std::erase_if(b_.distance, [&](const sim::DistanceConstraint& c) {
+        if (!touched[c.i] || !touched[c.j]) return false;
+        const uint64_t k = edge_key(c.i, c.j);
+        if (!old_edges.count(k)) return false;
+        definition[k] = {c.rest, c.compliance};
+        default_compliance = c.compliance;
+        return true;
+    });
+
+    std::unordered_set<uint64_t> emitted;
+    for (uint32_t t : local)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = b_.triangles[t][size_t(k)], c = b_.triangles[t][size_t((k + 1) % 3)];
+            if (!emitted.insert(edge_key(a, c)).second) continue;
+            const uint32_t oa = origin(a), oc = origin(c);
+            if (auto it = definition.find(edge_key(oa, oc)); it != definition.end()) {
+                b_.distance.push_back({a, c, it->second.rest, it->second.compliance});
+                continue;
+            }
+            if (!is_edge_point(oa) && !is_edge_point(oc)) continue;  // an edge nobody constrained
+            // A half of a split edge keeps the fraction t of the parent's rest length; a new
+            // edge across a triangle takes its length in the rest state.
+            const uint32_t pv = is_edge_point(oa) ? oa : oc, other = pv == oa ? oc : oa;
+            const EdgePoint& ep = points_[pv - n0_];
+            const auto parent = definition.find(edge_key(ep.i, ep.j));
+            const float compliance = parent != definition.end() ? parent->second.compliance : default_compliance;
+            float rest = (b_.rest_positions[a] - b_.rest_positions[c]).norm();
+            if ((other == ep.i || other == ep.j) && parent != definition.end())
+                rest = parent->second.rest * (other == ep.i ? ep.t : 1.0f - ep.t);
+            b_.distance.push_back({a, c, rest, compliance});
+        }
+}
+
+std::vector<int32_t> Edit::old_volume_of_triangles() const {
+    std::vector<int32_t> out(b_.triangles.size(), -1);
+    for (size_t t = 0; t < out.size(); ++t) {
+        uint32_t o = origin(b_.triangles[t][0]);
+        if (is_edge_point(o)) o = points_[o - n0_].i;
+        out[t] = old_volume_of_vertex_[o];
+    }
+    return out;
+}
+
+size_t Edit::count_components() const {
+    std::vector<uint32_t> comp;
+    return mesh::vertex_components(b_.triangles, b_.particle_count(), comp);
+}
+
+void Edit::finish() {
+    change.particles_after = b_.particle_count();
+    change.triangles_after = b_.triangles.size();
+    change.touched_triangles = local_triangles_;
+}
+
+} // namespace pbdsplat::topology

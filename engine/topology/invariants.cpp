@@ -1,0 +1,117 @@
+#include "topology/invariants.h"
+
+#include <algorithm>
+#include <numeric>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "mesh/topology.h"
+#include "topology/edit.h"
+
+namespace pbdsplat::topology {
+
+namespace {
+core::Status broken(const std::string& what) { return core::make_error("topology invariant broken: " + what); }
+} // namespace
+
+core::Status check_invariants(const sim::SoftBody& b, const InvariantOptions& o) {
+    const size_t n = b.particle_count();
+    if (b.particles.x_prev.size() != n || b.particles.v.size() != n || b.particles.w.size() != n ||
+        b.rest_positions.size() != n || b.normals.size() != n || (!b.colors.empty() && b.colors.size() != n))
+        return broken("the per-particle arrays differ in length");
+    for (size_t i = 0; i < n; ++i)
+        if (!b.particles.x[i].allFinite() || !b.particles.v[i].allFinite() || !std::isfinite(b.particles.w[i]) ||
+            b.particles.w[i] < 0.0f)
+            return broken("particle " + std::to_string(i) + " has a non-finite state or a negative inverse mass");
+
+    double mean_area = 0.0;
+    for (const auto& t : b.triangles) {
+        for (uint32_t v : t)
+            if (v >= n) return broken("a triangle refers to particle " + std::to_string(v) + " of " + std::to_string(n));
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return broken("a triangle repeats a corner");
+        mean_area += 0.5 * double((b.rest_positions[t[1]] - b.rest_positions[t[0]]).cross(b.rest_positions[t[2]] - b.rest_positions[t[0]]).norm());
+    }
+    mean_area /= double(std::max<size_t>(1, b.triangles.size()));
+    for (size_t f = 0; f < b.triangles.size(); ++f) {
+        const auto& t = b.triangles[f];
+        const double a = 0.5 * double((b.rest_positions[t[1]] - b.rest_positions[t[0]]).cross(b.rest_positions[t[2]] - b.rest_positions[t[0]]).norm());
+        if (a < double(o.min_area_ratio) * mean_area)
+            return broken("triangle " + std::to_string(f) + " is a sliver (rest area " + std::to_string(a) + ", mean " + std::to_string(mean_area) + ")");
+    }
+
+    // Orientation and manifoldness from the directed edges.
+    std::unordered_set<uint64_t> directed;
+    directed.reserve(b.triangles.size() * 3);
+    for (const auto& t : b.triangles)
+        for (int k = 0; k < 3; ++k)
+            if (!directed.insert((uint64_t(t[size_t(k)]) << 32) | t[size_t((k + 1) % 3)]).second)
+                return broken("edge " + std::to_string(t[size_t(k)]) + "-" + std::to_string(t[size_t((k + 1) % 3)]) +
+                              " is used twice in one direction (orientation or manifoldness broken)");
+
+    // One fan per vertex: around v, the triangles joined through shared edges form one group.
+    std::vector<uint32_t> start(n + 1, 0), ring(b.triangles.size() * 3);
+    for (const auto& t : b.triangles)
+        for (uint32_t v : t) ++start[v + 1];
+    for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (uint32_t f = 0; f < b.triangles.size(); ++f)
+        for (uint32_t v : b.triangles[f]) ring[fill[v]++] = f;
+    std::vector<uint32_t> root;
+    for (uint32_t v = 0; v < n; ++v) {
+        const uint32_t m = start[v + 1] - start[v];
+        if (m < 2) continue;
+        root.resize(m);
+        std::iota(root.begin(), root.end(), 0u);
+        auto find = [&](uint32_t x) {
+            while (root[x] != x) x = root[x] = root[root[x]];
+            return x;
+        };
+        uint32_t groups = m;
+        for (uint32_t a = 0; a < m; ++a)
+            for (uint32_t c = a + 1; c < m; ++c) {
+                const auto& ta = b.triangles[ring[start[v] + a]];
+                const auto& tc = b.triangles[ring[start[v] + c]];
+                for (uint32_t w : ta)
+                    if (w != v && std::find(tc.begin(), tc.end(), w) != tc.end() && find(a) != find(c)) {
+                        root[find(a)] = find(c);
+                        --groups;
+                    }
+            }
+        if (groups != 1) return broken("vertex " + std::to_string(v) + " is a bow-tie (" + std::to_string(groups) + " fans)");
+    }
+
+    for (const auto& c : b.distance) {
+        if (c.i >= n || c.j >= n || c.i == c.j) return broken("a distance constraint refers to a missing particle");
+        if (!directed.count((uint64_t(c.i) << 32) | c.j) && !directed.count((uint64_t(c.j) << 32) | c.i))
+            return broken("distance constraint " + std::to_string(c.i) + "-" + std::to_string(c.j) + " is not on a surface edge");
+        if (!(c.rest >= 0.0f) || !std::isfinite(c.rest)) return broken("a distance constraint has a bad rest length");
+    }
+    std::vector<uint32_t> comp;
+    mesh::vertex_components(b.triangles, n, comp);
+    std::vector<uint32_t> comp_of_vertex(n, UINT32_MAX);
+    for (size_t f = 0; f < b.triangles.size(); ++f)
+        for (uint32_t v : b.triangles[f]) comp_of_vertex[v] = comp[f];
+    for (size_t k = 0; k < b.volumes.size(); ++k) {
+        const auto& vol = b.volumes[k];
+        uint32_t c0 = UINT32_MAX;
+        for (const auto& t : vol.triangles)
+            for (uint32_t i : t) {
+                if (i >= n || comp_of_vertex[i] == UINT32_MAX) return broken("a volume constraint refers to a missing particle");
+                if (c0 == UINT32_MAX) c0 = comp_of_vertex[i];
+                if (comp_of_vertex[i] != c0) return broken("volume constraint " + std::to_string(k) + " spans two components");
+            }
+        if (!(vol.rest_volume > 0.0) || !std::isfinite(vol.rest_volume)) return broken("a volume constraint has no positive rest volume");
+    }
+    return core::Status::success();
+}
+
+MeshCounts count_components_and_loops(const sim::SoftBody& b) {
+    std::vector<uint32_t> comp;
+    MeshCounts c;
+    c.components = mesh::vertex_components(b.triangles, b.particle_count(), comp);
+    c.boundary_loops = mesh::boundary_loops(b.triangles, b.particle_count()).size();
+    return c;
+}
+
+} // namespace pbdsplat::topology

@@ -1,0 +1,32 @@
+#pragma once
+// The before/after record of one topology change, so that the surface, mapping and upload
+// stages react only to what changed and the cost can be reported (paper Tables 2-4).
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "mesh/triangle_split.h"
+
+namespace pbdsplat::topology {
+
+struct TopologyChange {
+    size_t particles_before = 0, particles_after = 0;
+    size_t triangles_before = 0, triangles_after = 0;
+    size_t components_before = 0, components_after = 0;
+    size_t crossed_edges = 0;       // edges split by a new particle (eq. 26)
+    size_t crossed_triangles = 0;   // triangles re-triangulated (eq. 27)
+    size_t duplicated_vertices = 0; // copies made so the sides separate (eq. 28)
+    // Children of every re-triangulated triangle; triangles not listed kept their index.
+    std::vector<mesh::TriangleSplit> splits;
+    // Triangles whose corners or shape changed (children and re-pointed ones), new indices.
+    std::vector<uint32_t> touched_triangles;
+    float min_child_area_ratio = 1.0f;  // smallest child / parent rest area: no slivers
+    double ms = 0.0;          // the whole change
+    double rebuild_ms = 0.0;  // of which: solver data derived from the new lists
+
+    bool changed() const { return particles_after != particles_before || triangles_after != triangles_before; }
+    // Particles [particles_before, particles_after) are new.
+    size_t new_particles() const { return particles_after - particles_before; }
+};
+
+} // namespace pbdsplat::topology

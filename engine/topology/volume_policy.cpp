@@ -1,0 +1,57 @@
+#include "topology/volume_policy.h"
+
+#include "mesh/topology.h"
+#include "sim/volume.h"
+
+namespace pbdsplat::topology {
+
+void apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, std::span<const int32_t> old_of_triangle,
+                         std::span<const OldVolume> old) {
+    if (old.empty()) return;
+    std::vector<uint32_t> comp;
+    const uint32_t nc = mesh::vertex_components(b.triangles, b.particle_count(), comp);
+    std::vector<sim::VolumeConstraint> pieces(nc);
+    std::vector<int32_t> from(nc, -1);
+    for (size_t t = 0; t < b.triangles.size(); ++t) {
+        pieces[comp[t]].triangles.push_back(b.triangles[t]);
+        if (from[comp[t]] < 0) from[comp[t]] = old_of_triangle[t];
+    }
+    std::vector<uint32_t> comp_of_vertex(b.particle_count(), UINT32_MAX);
+    for (size_t t = 0; t < b.triangles.size(); ++t)
+        for (uint32_t v : b.triangles[t]) comp_of_vertex[v] = comp[t];
+    for (auto& loop : mesh::boundary_loops(b.triangles, b.particle_count()))
+        pieces[comp_of_vertex[loop[0]]].cap_loops.push_back(std::move(loop));
+
+    // Volumes now (capped).
+    std::vector<double> now(nc, 0.0);
+    std::vector<uint32_t> pieces_of_old(old.size(), 0);
+    for (uint32_t c = 0; c < nc; ++c) {
+        if (from[c] < 0) continue;
+        now[c] = sim::constraint_volume<float>(pieces[c], b.particles.x);
+        ++pieces_of_old[size_t(from[c])];
+    }
+    std::vector<sim::VolumeConstraint> out;
+    for (uint32_t c = 0; c < nc; ++c) {
+        if (from[c] < 0) continue;
+        const OldVolume& parent = old[size_t(from[c])];
+        sim::VolumeConstraint& v = pieces[c];
+        v.pressure = parent.pressure;
+        v.compliance = parent.compliance;
+        const bool unchanged = pieces_of_old[size_t(from[c])] == 1 && v.triangles.size() == parent.triangles &&
+                               v.cap_loops.size() == parent.cap_loops;
+        if (unchanged) {
+            v.rest_volume = parent.rest_volume;
+        } else if (policy == VolumePolicy::burst && !v.cap_loops.empty()) {
+            continue;  // opened: the pressure escapes
+        } else if (policy == VolumePolicy::rebase) {
+            v.rest_volume = now[c] / double(v.pressure);  // the target is the volume it has now
+        } else {
+            const double before = parent.now;
+            v.rest_volume = before > 0.0 ? parent.rest_volume * now[c] / before : 0.0;
+        }
+        if (v.rest_volume > 0.0) out.push_back(std::move(v));
+    }
+    b.volumes = std::move(out);
+}
+
+} // namespace pbdsplat::topology

@@ -1,0 +1,21 @@
+#pragma once
+// Internal to the topology room: the volume constraints after a topology change, one per
+// connected component, by the scene's policy (see VolumePolicy in cut.h).
+#include <span>
+#include <vector>
+
+#include "sim/soft_body.h"
+#include "topology/cut.h"
+#include "topology/edit.h"
+
+namespace pbdsplat::topology {
+
+// `old_volume_of_triangle[t]`: the constraint (in `old_volumes`) triangle t's material belonged
+// to before the change, -1 for none.
+// Components whose triangles and boundary loops did not change keep their constraint as it was.
+// Under `cap` a piece keeps its parent's ratio of volume to target, so no piece jumps: with a
+// planar cut through a closed body the pieces' targets sum to the parent's.
+void apply_volume_policy(sim::SoftBody& body, VolumePolicy policy, std::span<const int32_t> old_volume_of_triangle,
+                         std::span<const OldVolume> old_volumes);
+
+} // namespace pbdsplat::topology
