@@ -20,10 +20,31 @@ double constraint_volume(const VolumeConstraint& c, const Vec4ArrayT<Real>& x) {
     return v / 6.0;
 }
 
-void build_rings(VolumeConstraint& c) {
-    // The vertices in increasing order (memory order for the gather), found by sorting rather
-    // than by arrays as long as the whole body: a body cut into many pieces has many small
-    // constraints, and each must cost its own size only.
+namespace {
+// Counting arrays as long as the body: linear, best for a constraint over most of the body.
+void build_rings_dense(VolumeConstraint& c, uint32_t max_v) {
+    std::vector<uint32_t> count(size_t(max_v) + 1, 0);
+    for (const auto& t : c.triangles)
+        for (uint32_t v : t) ++count[v];
+    c.vertices.clear();
+    c.ring_start.assign(1, 0);
+    std::vector<uint32_t> slot(count.size(), 0);
+    for (uint32_t v = 0; v < count.size(); ++v) {
+        if (!count[v]) continue;
+        slot[v] = c.ring_start.back();
+        c.vertices.push_back(v);
+        c.ring_start.push_back(c.ring_start.back() + count[v]);
+    }
+    c.ring.assign(c.ring_start.back(), {0, 0});
+    for (const auto& t : c.triangles) {
+        c.ring[slot[t[0]]++] = {t[1], t[2]};
+        c.ring[slot[t[1]]++] = {t[2], t[0]};
+        c.ring[slot[t[2]]++] = {t[0], t[1]};
+    }
+}
+
+// Sorting: costs the constraint's own size only, for the many small pieces of a cut body.
+void build_rings_sparse(VolumeConstraint& c) {
     c.vertices.clear();
     for (const auto& t : c.triangles) c.vertices.insert(c.vertices.end(), t.begin(), t.end());
     std::sort(c.vertices.begin(), c.vertices.end());
@@ -45,6 +66,15 @@ void build_rings(VolumeConstraint& c) {
         c.ring[slot[index(t[1])]++] = {t[2], t[0]};
         c.ring[slot[index(t[2])]++] = {t[0], t[1]};
     }
+}
+} // namespace
+
+void build_rings(VolumeConstraint& c) {
+    // Either way the vertices come out in increasing order (memory order for the gather).
+    uint32_t max_v = 0;
+    for (const auto& t : c.triangles) max_v = std::max({max_v, t[0], t[1], t[2]});
+    if (c.triangles.size() * 16 >= size_t(max_v)) build_rings_dense(c, max_v);
+    else build_rings_sparse(c);
 }
 
 size_t volume_blocks(const VolumeConstraint& c) { return (c.vertices.size() + k_volume_block - 1) / k_volume_block; }
