@@ -1,9 +1,11 @@
 #version 460
-// Splat pass, fragment stage: elliptical Gaussian mask (paper section 5.6.1) and shading, with
-// premultiplied alpha for the "over" blend.
+// Splat pass, fragment stage: elliptical Gaussian mask (paper section 5.6.1) and shading
+// (section 5.6.2), with premultiplied alpha for the "over" blend.
 #include "gpu_types.h"
 
 layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
+layout(set = 0, binding = 1) uniform sampler2D env_map;
+#include "shading.glsl"
 
 layout(location = 0) in vec2 g_uv;
 layout(location = 1) in vec3 g_world;
@@ -22,14 +24,6 @@ void main() {
     const float kappa = frame.splat.x;
     const float weight = exp(-0.5 * kappa * kappa * r2);
     const float alpha = clamp(g_opacity * weight * g_color.a, 0.0, 1.0);  // eq. 21 times the fade
-
-    const vec3 n = normalize(g_normal);
-    const vec3 l = frame.light_dir.xyz;
-    const vec3 v = normalize(frame.camera_pos.xyz - g_world);
-    const float diffuse = max(dot(n, l), 0.0);
-    const vec3 h = normalize(l + v);
-    const float specular = diffuse > 0.0 ? pow(max(dot(n, h), 0.0), frame.material.x) : 0.0;
-    const vec3 light = frame.light_color.rgb * frame.light_dir.w;
-    const vec3 color = g_color.rgb * (frame.ambient.rgb + diffuse * light) + frame.ambient.w * specular * light;
+    const vec3 color = shade(g_color.rgb, normalize(g_normal), g_world);
     out_color = vec4(color * alpha, alpha);
 }

@@ -12,13 +12,29 @@ core::Result<DescriptorSetLayout> create_uniform_layout(const Context& ctx, VkSh
     return DescriptorSetLayout(ctx.vk(), layout);
 }
 
-core::Result<UniformSets> UniformSets::create(Context& ctx, VkDescriptorSetLayout layout, uint32_t count, VkDeviceSize bytes) {
+core::Result<DescriptorSetLayout> create_frame_layout(const Context& ctx, const FrameSetStages& stages) {
+    const VkDescriptorSetLayoutBinding bindings[3] = {
+        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, stages.uniforms, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, stages.texture, nullptr},
+        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages.storage, nullptr}};
+    VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    info.bindingCount = 3;
+    info.pBindings = bindings;
+    VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+    PBDSPLAT_VK_TRY(vkCreateDescriptorSetLayout(ctx.vk(), &info, nullptr, &layout));
+    return DescriptorSetLayout(ctx.vk(), layout);
+}
+
+core::Result<UniformSets> UniformSets::create(Context& ctx, VkDescriptorSetLayout layout, uint32_t count, VkDeviceSize bytes,
+                                              const FrameSetResources* extra) {
     UniformSets u;
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, count};
+    const VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, count},
+                                           {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, count},
+                                           {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, count}};
     VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool_info.maxSets = count;
-    pool_info.poolSizeCount = 1;
-    pool_info.pPoolSizes = &size;
+    pool_info.poolSizeCount = extra ? 3 : 1;
+    pool_info.pPoolSizes = sizes;
     VkDescriptorPool pool = VK_NULL_HANDLE;
     PBDSPLAT_VK_TRY(vkCreateDescriptorPool(ctx.vk(), &pool_info, nullptr, &pool));
     u.pool_ = DescriptorPool(ctx.vk(), pool);
@@ -39,6 +55,21 @@ core::Result<UniformSets> UniformSets::create(Context& ctx, VkDescriptorSetLayou
         write.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
         write.pBufferInfo = &info;
         vkUpdateDescriptorSets(ctx.vk(), 1, &write, 0, nullptr);
+        if (extra) {
+            VkDescriptorImageInfo image{extra->texture_sampler, extra->texture_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+            VkDescriptorBufferInfo storage{extra->storage.size() > 1 ? extra->storage[i] : extra->storage.front(), 0, VK_WHOLE_SIZE};
+            VkWriteDescriptorSet more[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+            more[0].dstSet = more[1].dstSet = set;
+            more[0].dstBinding = 1;
+            more[0].descriptorCount = 1;
+            more[0].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+            more[0].pImageInfo = &image;
+            more[1].dstBinding = 2;
+            more[1].descriptorCount = 1;
+            more[1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            more[1].pBufferInfo = &storage;
+            vkUpdateDescriptorSets(ctx.vk(), 2, more, 0, nullptr);
+        }
         u.sets_.push_back(set);
     }
     return u;

@@ -11,10 +11,25 @@ namespace pbdsplat::gpu {
 // A set layout with one uniform buffer at binding 0, seen by `stages`.
 core::Result<DescriptorSetLayout> create_uniform_layout(const Context& ctx, VkShaderStageFlags stages);
 
+// The frame set of the splat passes: the uniforms at 0, a sampled texture at 1 and a storage
+// buffer at 2 (the records, for the paths that pull them), each seen by its own stages.
+struct FrameSetStages {
+    VkShaderStageFlags uniforms = 0, texture = 0, storage = 0;
+};
+core::Result<DescriptorSetLayout> create_frame_layout(const Context& ctx, const FrameSetStages& stages);
+
+// What bindings 1 and 2 of each frame set point at; storage[i] is set i's (one entry: all sets).
+struct FrameSetResources {
+    VkImageView texture_view = VK_NULL_HANDLE;
+    VkSampler texture_sampler = VK_NULL_HANDLE;
+    std::vector<VkBuffer> storage;
+};
+
 class UniformSets {
 public:
     // `count` host-visible buffers of `bytes` each, with a set per buffer.
-    static core::Result<UniformSets> create(Context& ctx, VkDescriptorSetLayout layout, uint32_t count, VkDeviceSize bytes);
+    static core::Result<UniformSets> create(Context& ctx, VkDescriptorSetLayout layout, uint32_t count, VkDeviceSize bytes,
+                                            const FrameSetResources* extra = nullptr);
     UniformSets() = default;
 
     VkDescriptorSet set(uint32_t i) const { return sets_[i]; }

@@ -1,6 +1,9 @@
 #pragma once
 // What the renderer needs from the scene each frame, besides the Gaussian records.
+#include <vector>
+
 #include "core/math.h"
+#include "gpu_types.h"
 
 namespace pbdsplat::render {
 
@@ -13,6 +16,34 @@ struct Camera {
     float z_far = 100.0f;
 };
 
+// How the environment map is looked up (paper sections 5.6.2 and 7.2): from the world position
+// relative to the body's centre (the paper's), from the normal, or the normal for the diffuse
+// term and the position for the specular one. `off` leaves the flat ambient term.
+enum class EnvSampling { off, position, normal, hybrid };
+const char* env_sampling_name(EnvSampling s);
+
+struct Environment {
+    EnvSampling sampling = EnvSampling::position;
+    float diffuse = 1.0f;    // k_d of eq. 24
+    float specular = 1.0f;   // scales the material's specular strength for the reflection
+    float intensity = 1.0f;  // of the whole map
+    Vec3f center = Vec3f::Zero();  // the body's centre, updated every frame by the scene
+};
+
+enum class LightType { directional, point, spot };
+
+// Direct lights besides the key light (eq. 25): at most k_max_lights of them.
+inline constexpr size_t k_max_lights = PBDSPLAT_MAX_LIGHTS;
+struct Light {
+    LightType type = LightType::point;
+    Vec3f position = Vec3f(0.0f, 2.0f, 2.0f);   // point, spot
+    Vec3f direction = Vec3f(0.0f, -1.0f, 0.0f);  // spot axis (away from the light); directional: towards the light
+    Vec3f color{1.0f, 1.0f, 1.0f};
+    float intensity = 1.0f;
+    float range = 10.0f;  // point and spot: no light beyond
+    float inner_degrees = 15.0f, outer_degrees = 25.0f;  // spot cone
+};
+
 struct Lighting {
     Vec3f direction{0.4f, 0.7f, 0.6f};  // from the surface towards the light; normalised on use
     Vec3f color{1.0f, 1.0f, 1.0f};
@@ -20,6 +51,8 @@ struct Lighting {
     Vec3f ambient{0.18f, 0.18f, 0.2f};
     float specular = 0.35f;
     float shininess = 48.0f;
+    Environment environment;
+    std::vector<Light> lights;
 };
 
 enum class Blend { over, additive };

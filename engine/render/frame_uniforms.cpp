@@ -1,5 +1,7 @@
 #include "render/frame_uniforms.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 
 namespace pbdsplat::render {
@@ -12,7 +14,7 @@ gpu_types::mat4 to_gpu(const Mat4f& m) {
 gpu_types::vec4 to_gpu(const Vec3f& v, float w) { return {v.x(), v.y(), v.z(), w}; }
 } // namespace
 
-gpu_types::FrameUniforms make_frame_uniforms(const FrameInputs& in, uint32_t width, uint32_t height) {
+gpu_types::FrameUniforms make_frame_uniforms(const FrameInputs& in, uint32_t width, uint32_t height, const std::array<Vec3f, 9>* sh) {
     const Camera& c = in.camera;
     gpu_types::FrameUniforms u{};
     u.view = to_gpu(math::look_at(c.eye, c.target, c.up));
@@ -27,7 +29,30 @@ gpu_types::FrameUniforms make_frame_uniforms(const FrameInputs& in, uint32_t wid
     u.splat = {s.kappa, s.sharpness.x(), s.sharpness.y(), s.scale_multiplier};
     u.material = {l.shininess, 0.0f, 0.0f, 0.0f};
     u.visibility = {s.depth_push, s.core_r2, 0.0f, 0.0f};
+    const Environment& e = l.environment;
+    u.environment = {float(int(e.sampling)), e.diffuse, e.specular, e.intensity};
+    const size_t lights = std::min<size_t>(l.lights.size(), PBDSPLAT_MAX_LIGHTS);
+    u.env_center = to_gpu(e.center, float(lights));
+    for (size_t k = 0; k < 9; ++k) u.env_sh[k] = to_gpu(sh ? (*sh)[k] : Vec3f::Zero(), 0.0f);
+    for (size_t k = 0; k < lights; ++k) {
+        const Light& g = l.lights[k];
+        const bool directional = g.type == LightType::directional;
+        u.light_position[k] = to_gpu(directional ? Vec3f(g.direction.normalized()) : g.position, float(int(g.type)));
+        u.light_radiance[k] = to_gpu(g.color * g.intensity, g.range);
+        u.light_spot[k] = to_gpu(g.direction.normalized(), 0.0f);
+        u.light_cone[k] = {std::cos(math::radians(g.inner_degrees)), std::cos(math::radians(g.outer_degrees)), 0.0f, 0.0f};
+    }
     return u;
+}
+
+const char* env_sampling_name(EnvSampling s) {
+    switch (s) {
+    case EnvSampling::off: return "off";
+    case EnvSampling::position: return "position";
+    case EnvSampling::normal: return "normal";
+    case EnvSampling::hybrid: return "hybrid";
+    }
+    return "?";
 }
 
 } // namespace pbdsplat::render

@@ -5,13 +5,45 @@
 
 namespace pbdsplat::render {
 
-core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat color, VkFormat depth) {
-    if (!ctx.caps().geometry_shader)
-        return core::make_error("device '" + ctx.caps().name +
-                                "' has no geometry shaders, which the splat pass needs (try another device with "
-                                "PBDSPLAT_DEVICE)");
+namespace {
+constexpr uint32_t k_splats_per_mesh_group = 32;  // SPLATS_PER_GROUP in splat.mesh
+}
+
+const char* splat_path_name(SplatPath p) {
+    switch (p) {
+    case SplatPath::geometry: return "gs";
+    case SplatPath::mesh: return "mesh";
+    case SplatPath::vertex: return "vertex";
+    }
+    return "?";
+}
+
+SplatPath best_splat_path(const gpu::DeviceCaps& caps) {
+    if (caps.mesh_shader) return SplatPath::mesh;
+    if (caps.geometry_shader) return SplatPath::geometry;
+    return SplatPath::vertex;
+}
+
+std::string splat_path_unsupported(const gpu::DeviceCaps& caps, SplatPath path) {
+    if (path == SplatPath::mesh && !caps.mesh_shader)
+        return "device '" + caps.name + "' has no VK_EXT_mesh_shader (Lavapipe has it from Mesa 24; use --path gs or vertex)";
+    if (path == SplatPath::geometry && !caps.geometry_shader)
+        return "device '" + caps.name + "' has no geometry shaders (use --path vertex)";
+    return {};
+}
+
+core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path) {
+    if (const std::string why = splat_path_unsupported(ctx.caps(), path); !why.empty()) return core::make_error(why);
     SplatPass p;
-    auto set_layout = gpu::create_uniform_layout(ctx, VK_SHADER_STAGE_GEOMETRY_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+    p.path_ = path;
+    const VkShaderStageFlags front = path == SplatPath::geometry ? VK_SHADER_STAGE_GEOMETRY_BIT
+                                     : path == SplatPath::mesh  ? VK_SHADER_STAGE_MESH_BIT_EXT
+                                                                : VK_SHADER_STAGE_VERTEX_BIT;
+    gpu::FrameSetStages stages;
+    stages.uniforms = front | VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages.texture = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages.storage = path == SplatPath::geometry ? VkShaderStageFlags(VK_SHADER_STAGE_VERTEX_BIT) : front;
+    auto set_layout = gpu::create_frame_layout(ctx, stages);
     if (!set_layout.ok()) return set_layout.error();
     p.set_layout_ = std::move(set_layout).value();
     const VkDescriptorSetLayout layout_handle = p.set_layout_.get();
@@ -19,31 +51,47 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     layout_info.setLayoutCount = 1;
     layout_info.pSetLayouts = &layout_handle;
+    const VkPushConstantRange count_range{VK_SHADER_STAGE_MESH_BIT_EXT, 0, sizeof(uint32_t)};
+    if (path == SplatPath::mesh) {
+        layout_info.pushConstantRangeCount = 1;
+        layout_info.pPushConstantRanges = &count_range;
+    }
     VkPipelineLayout layout = VK_NULL_HANDLE;
     PBDSPLAT_VK_TRY(vkCreatePipelineLayout(ctx.vk(), &layout_info, nullptr, &layout));
     p.layout_ = gpu::PipelineLayout(ctx.vk(), layout);
 
     gpu::GraphicsPipelineDesc desc;
-    desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "splat.vert"},
-                   {VK_SHADER_STAGE_GEOMETRY_BIT, "splat.geom"},
-                   {VK_SHADER_STAGE_FRAGMENT_BIT, "splat.frag"}};
-    desc.bindings = {{0, sizeof(splat::GaussianRecord), VK_VERTEX_INPUT_RATE_VERTEX}};
-    desc.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, SPLAT_OFFSET_POSITION},
-                       {1, 0, VK_FORMAT_R16G16_SNORM, SPLAT_OFFSET_NORMAL},
-                       {2, 0, VK_FORMAT_R8G8B8A8_UNORM, SPLAT_OFFSET_COLOR},
-                       {3, 0, VK_FORMAT_R16G16_SFLOAT, SPLAT_OFFSET_SCALE_OPACITY}};
-    desc.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
+    switch (path) {
+    case SplatPath::geometry:
+        desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "splat.vert"}, {VK_SHADER_STAGE_GEOMETRY_BIT, "splat.geom"}};
+        desc.bindings = {{0, sizeof(splat::GaussianRecord), VK_VERTEX_INPUT_RATE_VERTEX}};
+        desc.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, SPLAT_OFFSET_POSITION},
+                           {1, 0, VK_FORMAT_R16G16_SNORM, SPLAT_OFFSET_NORMAL},
+                           {2, 0, VK_FORMAT_R8G8B8A8_UNORM, SPLAT_OFFSET_COLOR},
+                           {3, 0, VK_FORMAT_R16G16_SFLOAT, SPLAT_OFFSET_SCALE_OPACITY}};
+        desc.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
+        break;
+    case SplatPath::mesh:
+        desc.stages = {{VK_SHADER_STAGE_MESH_BIT_EXT, "splat.mesh"}};
+        p.draw_mesh_tasks_ = reinterpret_cast<PFN_vkCmdDrawMeshTasksEXT>(vkGetDeviceProcAddr(ctx.vk(), "vkCmdDrawMeshTasksEXT"));
+        if (!p.draw_mesh_tasks_) return core::make_error("vkCmdDrawMeshTasksEXT is missing although the device reports VK_EXT_mesh_shader");
+        break;
+    case SplatPath::vertex:
+        desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "splat_pull.vert"}};
+        desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+        break;
+    }
+    desc.stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, "splat_visibility.frag"});
     desc.color_format = color;
     desc.depth_format = depth;
     desc.layout = layout;
-    desc.stages[2].second = "splat_visibility.frag";
     desc.color_write = false;
     desc.specialization = 1u;  // k_visibility_pass
     auto visibility = gpu::create_graphics_pipeline(ctx, desc);
     if (!visibility.ok()) return visibility.error();
     p.visibility_ = std::move(visibility).value();
 
-    desc.stages[2].second = "splat.frag";
+    desc.stages.back().second = "splat.frag";
     desc.color_write = true;
     desc.specialization.reset();
     desc.depth_write = false;
@@ -59,18 +107,31 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     return p;
 }
 
+void SplatPass::draw(VkCommandBuffer cmd, uint32_t count) const {
+    switch (path_) {
+    case SplatPath::geometry: vkCmdDraw(cmd, count, 1, 0, 0); break;
+    case SplatPath::vertex: vkCmdDraw(cmd, 6 * count, 1, 0, 0); break;
+    case SplatPath::mesh:
+        vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_MESH_BIT_EXT, 0, sizeof(uint32_t), &count);
+        draw_mesh_tasks_(cmd, (count + k_splats_per_mesh_group - 1) / k_splats_per_mesh_group, 1, 1);
+        break;
+    }
+}
+
 void SplatPass::record(VkCommandBuffer cmd, Blend blend, VkDescriptorSet frame_set, VkBuffer records,
                        uint32_t count) const {
     if (count == 0) return;
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &frame_set, 0, nullptr);
-    const VkDeviceSize offset = 0;
-    vkCmdBindVertexBuffers(cmd, 0, 1, &records, &offset);
+    if (path_ == SplatPath::geometry) {
+        const VkDeviceSize offset = 0;
+        vkCmdBindVertexBuffers(cmd, 0, 1, &records, &offset);
+    }
     if (blend == Blend::over) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, visibility_.get());
-        vkCmdDraw(cmd, count, 1, 0, 0);
+        draw(cmd, count);
     }
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, blend == Blend::additive ? additive_.get() : over_.get());
-    vkCmdDraw(cmd, count, 1, 0, 0);
+    draw(cmd, count);
 }
 
 } // namespace pbdsplat::render

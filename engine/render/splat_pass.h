@@ -1,27 +1,43 @@
 #pragma once
-// The splat pass, geometry-shader path: one point per Gaussian record in, one masked and
-// shaded quad out (paper sections 5.5-5.6).
+// The splat pass: one masked and shaded quad per Gaussian record (paper sections 5.4-5.6), by
+// one of three interchangeable paths that draw the same quads (shaders/shared/
+// splat_footprint.glsl): a geometry shader expanding points, a mesh shader expanding a fixed
+// number of splats per workgroup, or vertex pulling (six vertices per splat) for devices with
+// neither.
+#include <optional>
+
 #include "gpu/device_handle.h"
 #include "gpu/pipeline.h"
 #include "render/frame_inputs.h"
 
 namespace pbdsplat::render {
 
+enum class SplatPath { geometry, mesh, vertex };
+const char* splat_path_name(SplatPath p);
+// The best path the device has: mesh, then geometry, then vertex pulling.
+SplatPath best_splat_path(const gpu::DeviceCaps& caps);
+// Why the device cannot run `path` (empty when it can).
+std::string splat_path_unsupported(const gpu::DeviceCaps& caps, SplatPath path);
+
 class SplatPass {
 public:
-    // Fails with a clear reason on a device without geometry shaders.
-    static core::Result<SplatPass> create(const gpu::Context& ctx, VkFormat color, VkFormat depth);
+    // Fails with a clear reason when the device lacks what the path needs.
+    static core::Result<SplatPass> create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path);
     SplatPass() = default;
 
+    SplatPath path() const { return path_; }
     VkDescriptorSetLayout set_layout() const { return set_layout_.get(); }
     void record(VkCommandBuffer cmd, Blend blend, VkDescriptorSet frame_set, VkBuffer records, uint32_t count) const;
 
 private:
+    SplatPath path_ = SplatPath::geometry;
     gpu::DescriptorSetLayout set_layout_;
     gpu::PipelineLayout layout_;
     gpu::Pipeline visibility_;
     gpu::Pipeline over_;
     gpu::Pipeline additive_;
+    PFN_vkCmdDrawMeshTasksEXT draw_mesh_tasks_ = nullptr;
+    void draw(VkCommandBuffer cmd, uint32_t count) const;
 };
 
 } // namespace pbdsplat::render

@@ -27,7 +27,8 @@ core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context&
         if (!ring.ok()) return ring.error();
         r->ring_ = std::move(ring).value();
     }
-    auto records = gpu::StreamBuffer::create(ctx, record_bytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, path, n);
+    auto records = gpu::StreamBuffer::create(ctx, record_bytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                             path, n);
     if (!records.ok()) return records.error();
     r->records_ = std::move(records).value();
 
@@ -35,11 +36,23 @@ core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context&
     if (!target.ok()) return target.error();
     r->target_ = std::move(target).value();
 
-    auto pass = SplatPass::create(ctx, k_color_format, k_depth_format);
+    auto pass = SplatPass::create(ctx, k_color_format, k_depth_format, options.path.value_or(best_splat_path(ctx.caps())));
     if (!pass.ok()) return pass.error();
     r->splat_ = std::move(pass).value();
 
-    auto uniforms = gpu::UniformSets::create(ctx, r->splat_.set_layout(), n, sizeof(gpu_types::FrameUniforms));
+    core::Result<EnvironmentMap> map = options.environment_map.empty() ? core::Result<EnvironmentMap>(procedural_sky(options.sky_sun))
+                                                                       : load_environment_map(options.environment_map);
+    if (!map.ok()) return map.error();
+    r->sh_ = irradiance_sh(map.value());
+    auto texture = gpu::Texture::create_rgba16f(ctx, map->width, map->height, map->rgba);
+    if (!texture.ok()) return texture.error();
+    r->environment_ = std::move(texture).value();
+
+    gpu::FrameSetResources extra;
+    extra.texture_view = r->environment_.view();
+    extra.texture_sampler = r->environment_.sampler();
+    for (uint32_t i = 0; i < n; ++i) extra.storage.push_back(r->records_.buffer(i));
+    auto uniforms = gpu::UniformSets::create(ctx, r->splat_.set_layout(), n, sizeof(gpu_types::FrameUniforms), &extra);
     if (!uniforms.ok()) return uniforms.error();
     r->uniforms_ = std::move(uniforms).value();
     for (uint32_t i = 0; i < n; ++i) {
@@ -112,7 +125,7 @@ core::Status SplatRenderer::upload(std::span<const splat::GaussianRecord> record
 
 void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
     const uint32_t slot = frames_.slot();
-    const auto uniforms = make_frame_uniforms(inputs, target_.width(), target_.height());
+    const auto uniforms = make_frame_uniforms(inputs, target_.width(), target_.height(), &sh_);
     std::memcpy(uniforms_.mapped(slot), &uniforms, sizeof(uniforms));
     target_.begin(cmd_, inputs.background.data());
     splat_.record(cmd_, inputs.style.blend, uniforms_.set(slot), records_.buffer(slot), count);

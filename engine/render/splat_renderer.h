@@ -12,7 +12,9 @@
 #include "gpu/frame_ring.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/stream_buffer.h"
+#include "gpu/texture.h"
 #include "gpu/uniform_sets.h"
+#include "render/environment.h"
 #include "render/frame_inputs.h"
 #include "render/offscreen_target.h"
 #include "render/splat_pass.h"
@@ -26,6 +28,11 @@ struct RendererOptions {
     uint32_t max_splats = 1u << 20;
     uint32_t frames_in_flight = 2;
     std::optional<gpu::UploadPath> upload_path;  // default: direct on unified memory, else staged
+    std::optional<SplatPath> path;               // default: the best the device has
+    // Equirectangular environment map (PNG or .hdr); empty: a procedural sky lit from the key
+    // light's direction `sky_sun`.
+    std::string environment_map;
+    Vec3f sky_sun{0.4f, 0.7f, 0.6f};
 };
 
 // GPU milliseconds of the last finished frame, from timestamps (0 when the device has none).
@@ -84,6 +91,8 @@ public:
     uint32_t width() const { return target_.width(); }
     uint32_t height() const { return target_.height(); }
     uint32_t max_splats() const { return options_.max_splats; }
+    SplatPath path() const { return splat_.path(); }
+    const std::array<Vec3f, 9>& environment_sh() const { return sh_; }
     const gpu::Context& context() const { return *ctx_; }
 
 private:
@@ -97,6 +106,8 @@ private:
     gpu::StreamBuffer records_;
     OffscreenTarget target_;
     SplatPass splat_;
+    gpu::Texture environment_;
+    std::array<Vec3f, 9> sh_{};
     gpu::UniformSets uniforms_;  // one per frame in flight
     std::vector<gpu::GpuTimer> timers_;
     std::vector<bool> slot_pending_;     // slot has a submitted frame whose timings are unread

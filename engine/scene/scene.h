@@ -8,6 +8,7 @@
 
 #include "core/math.h"
 #include "render/frame_inputs.h"
+#include "render/splat_pass.h"
 #include "sim/colliders.h"
 #include "sim/solver.h"
 #include "topology/cut.h"
@@ -75,6 +76,8 @@ struct RenderDesc {
     bool sort = false;          // far-to-near sort for "over" blending
     CameraOrbit orbit;
     std::vector<CameraKey> path;  // sorted by time; when given, it replaces eye and target
+    std::optional<render::SplatPath> splat_path;  // empty: the best the device has
+    std::string environment_map;  // equirectangular PNG or .hdr (next to the scene file); empty: procedural sky
 };
 
 // Timeline events. Times in seconds from the start.

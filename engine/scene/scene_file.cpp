@@ -21,6 +21,8 @@ struct ParseFailure {
 class Reader {
 public:
     explicit Reader(std::string file) : file_(std::move(file)) {}
+    // Where the file is: relative paths inside it are taken from there.
+    std::string directory() const { return std::filesystem::path(file_).parent_path().string(); }
 
     [[noreturn]] void fail(const toml::source_region& at, const std::string& what) const {
         throw ParseFailure{core::Error{what, file_ + ":" + std::to_string(at.begin.line) + ":" +
@@ -124,6 +126,7 @@ public:
                     r_.fail(k.source().begin.line ? k.source() : v.source(), "unknown key '" + where(std::string(k.str())) + "'");
         }
         const toml::table& raw() const { return t_; }
+        const toml::source_region& source_of(const std::string& key) const { return t_.get(key)->source(); }
 
     private:
         static std::string fmt(double v) {
@@ -273,6 +276,49 @@ void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
             }
         }
         c.finish();
+    }
+    const std::string path = t.choice("path", "auto", {"auto", "gs", "mesh", "vertex"});
+    if (path == "gs") d.splat_path = render::SplatPath::geometry;
+    else if (path == "mesh") d.splat_path = render::SplatPath::mesh;
+    else if (path == "vertex") d.splat_path = render::SplatPath::vertex;
+    render::Environment& env = d.frame.lighting.environment;
+    const std::string sampling = t.choice("environment", "position", {"position", "normal", "hybrid", "off"});
+    env.sampling = sampling == "normal" ? render::EnvSampling::normal
+                   : sampling == "hybrid" ? render::EnvSampling::hybrid
+                   : sampling == "off"    ? render::EnvSampling::off
+                                          : render::EnvSampling::position;
+    env.intensity = t.real("environment_intensity", env.intensity, 0.0, 100.0);
+    env.diffuse = t.real("environment_diffuse", env.diffuse, 0.0, 100.0);
+    env.specular = t.real("environment_specular", env.specular, 0.0, 100.0);
+    if (t.has("environment_map")) {
+        d.environment_map = t.text("environment_map", "");
+        if (d.environment_map.empty()) r.fail(t.source_of("environment_map"), "'render.environment_map' must name a PNG or .hdr file");
+        const std::filesystem::path map(d.environment_map);
+        if (map.is_relative()) d.environment_map = (std::filesystem::path(r.directory()) / map).string();
+        if (!std::filesystem::exists(d.environment_map))
+            r.fail(t.source_of("environment_map"), "'render.environment_map': no such file '" + d.environment_map + "'");
+    }
+    if (const toml::array* lights = t.array("lights")) {
+        for (const toml::node& n : *lights) {
+            if (!n.is_table()) r.fail(n.source(), "'render.lights' holds tables {type, position, direction, color, intensity, ...}");
+            if (d.frame.lighting.lights.size() == render::k_max_lights)
+                r.fail(n.source(), "'render.lights': at most " + std::to_string(render::k_max_lights) + " lights");
+            Reader::Table lt(r, *n.as_table(), "render.lights");
+            render::Light l;
+            const std::string type = lt.choice("type", "point", {"point", "spot", "directional"});
+            l.type = type == "spot" ? render::LightType::spot : type == "directional" ? render::LightType::directional : render::LightType::point;
+            l.position = lt.vec<3>("position", l.position);
+            l.direction = lt.vec<3>("direction", l.direction);
+            if (l.direction.norm() < 1e-6f) r.fail(n.source(), "'render.lights.direction' must not be the zero vector");
+            l.color = lt.vec<3>("color", l.color, 0.0, 100.0);
+            l.intensity = lt.real("intensity", l.intensity, 0.0, 1000.0);
+            l.range = lt.real("range", l.range, 1e-3, 1e6);
+            l.inner_degrees = lt.real("inner_degrees", l.inner_degrees, 0.0, 89.0);
+            l.outer_degrees = lt.real("outer_degrees", l.outer_degrees, 0.1, 89.9);
+            if (l.outer_degrees <= l.inner_degrees) r.fail(n.source(), "'render.lights': outer_degrees must exceed inner_degrees");
+            lt.finish();
+            d.frame.lighting.lights.push_back(l);
+        }
     }
     if (const toml::table* light = t.table("light")) {
         Reader::Table l(r, *light, "render.light");
@@ -454,8 +500,20 @@ std::string to_toml(const Scene& sc) {
     const render::Lighting& l = d.frame.lighting;
     o << "[render]\nwidth = " << d.width << "\nheight = " << d.height << "\nblend = "
       << (d.frame.style.blend == render::Blend::additive ? "\"additive\"" : "\"over\"") << "\nsort = " << (d.sort ? "true" : "false")
-      << "\nkappa = " << num(d.frame.style.kappa) << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()))
-      << "\n\n[render.camera]\neye = " << vec<3>(c.eye) << "\ntarget = " << vec<3>(c.target) << "\nup = " << vec<3>(c.up)
+      << "\nkappa = " << num(d.frame.style.kappa) << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()));
+    o << "\npath = \"" << (d.splat_path ? render::splat_path_name(*d.splat_path) : "auto") << "\"\nenvironment = \""
+      << render::env_sampling_name(l.environment.sampling) << "\"\nenvironment_intensity = " << num(l.environment.intensity)
+      << "\nenvironment_diffuse = " << num(l.environment.diffuse) << "\nenvironment_specular = " << num(l.environment.specular);
+    if (!d.environment_map.empty()) o << "\nenvironment_map = \"" << d.environment_map << "\"";
+    o << "\nlights = [";
+    for (size_t i = 0; i < l.lights.size(); ++i) {
+        const render::Light& g = l.lights[i];
+        o << (i ? ", " : "") << "{ type = \"" << (g.type == render::LightType::spot ? "spot" : g.type == render::LightType::directional ? "directional" : "point")
+          << "\", position = " << vec<3>(g.position) << ", direction = " << vec<3>(g.direction) << ", color = " << vec<3>(g.color)
+          << ", intensity = " << num(g.intensity) << ", range = " << num(g.range) << ", inner_degrees = " << num(g.inner_degrees)
+          << ", outer_degrees = " << num(g.outer_degrees) << " }";
+    }
+    o << "]\n\n[render.camera]\neye = " << vec<3>(c.eye) << "\ntarget = " << vec<3>(c.target) << "\nup = " << vec<3>(c.up)
       << "\nfov_degrees = " << num(c.fov_y_degrees) << "\norbit_degrees_per_second = " << num(d.orbit.degrees_per_second)
       << "\npath = [";
     for (size_t i = 0; i < d.path.size(); ++i)

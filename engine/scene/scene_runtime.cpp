@@ -144,6 +144,9 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         ro.max_splats = uint32_t(std::max<size_t>(1, scene_.has_topology_events() ? (tears ? 4 : 2) * splats : splats));
         ro.frames_in_flight = options.frames_in_flight;
         ro.upload_path = options.upload_path;
+        ro.path = options.splat_path ? options.splat_path : scene_.render.splat_path;
+        ro.environment_map = scene_.render.environment_map;
+        ro.sky_sun = scene_.render.frame.lighting.direction;
         auto r = render::SplatRenderer::create(*options.gpu, ro);
         if (!r.ok()) return r.error();
         renderer_ = std::move(r).value();
@@ -281,6 +284,10 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
             splat::map_body(body_.particles.x, body_.normals, body_.colors, body_.triangles, boundary ? &boundary_ : nullptr,
                             appearance_, stretch_.empty() ? nullptr : &stretch_, records_);
             fade_.apply(body_.particle_count(), records_);
+            // Position-based environment lookups look out from the body's centre.
+            Vec4f centre = Vec4f::Zero();
+            for (const Vec4f& x : body_.particles.x) centre += x;
+            frame_input_.frame.lighting.environment.center = centre.head<3>() / float(std::max<size_t>(1, body_.particle_count()));
             if (!sorted) publish_records();  // else the sort stage reorders them first
         };
     });

@@ -30,6 +30,7 @@ struct RuntimeOptions {
     uint32_t frames_in_flight = 2;
     // Check every mesh invariant after each topology change (always on in debug builds).
     bool check_topology = false;
+    std::optional<render::SplatPath> splat_path;  // overrides the scene's
 };
 
 // Per-frame figures, grouped as the paper's Tables 3 and 4.

@@ -27,6 +27,7 @@ struct alignas(16) mat4 { float m[16]; };  // column-major, as GLSL reads it
 #define SPLAT_OFFSET_SCALE_OPACITY 20
 
 // ---- Per-frame constants (set 0, binding 0) ---------------------------------------------------
+#define PBDSPLAT_MAX_LIGHTS 4
 struct FrameUniforms {
     mat4 view;         // world -> view
     mat4 proj;         // view -> clip (Vulkan: y down, z in [0,1])
@@ -40,8 +41,18 @@ struct FrameUniforms {
     vec4 material;     // x: shininess; yzw unused
     vec4 visibility;   // x: depth push of the visibility pass, in splat std devs;
                        // y: r^2 of the opaque core that writes depth there
+    // Environment lighting (paper eqs. 24-25, section 7.2).
+    vec4 environment;  // x: sampling (0 off: ambient only, 1 position, 2 normal, 3 hybrid);
+                       // y: diffuse weight k_d; z: specular weight; w: intensity
+    vec4 env_center;   // xyz: the point position-based lookups look out from; w: light count
+    vec4 env_sh[9];    // irradiance as 9 spherical-harmonic coefficients (rgb), cosine lobe applied
+    // Extra direct lights (eq. 25), besides the key light above.
+    vec4 light_position[PBDSPLAT_MAX_LIGHTS];  // xyz: position, or direction to the light; w: 0 dir, 1 point, 2 spot
+    vec4 light_radiance[PBDSPLAT_MAX_LIGHTS];  // rgb: colour * intensity; w: range (point, spot)
+    vec4 light_spot[PBDSPLAT_MAX_LIGHTS];      // xyz: spot axis, away from the light; w: unused
+    vec4 light_cone[PBDSPLAT_MAX_LIGHTS];      // x: cos of the inner angle, y: cos of the outer angle
 };
-PBDSPLAT_GPU_SIZE(FrameUniforms, 2 * 64 + 8 * 16);
+PBDSPLAT_GPU_SIZE(FrameUniforms, 2 * 64 + 8 * 16 + 11 * 16 + 4 * PBDSPLAT_MAX_LIGHTS * 16);
 
 #ifdef __cplusplus
 } // namespace pbdsplat::gpu_types
