@@ -15,6 +15,11 @@ layout(location = 4) in float g_opacity;
 
 layout(location = 0) out vec4 out_color;
 
+// The colour pass tests depth without writing it, so testing before the shader runs changes
+// nothing but the cost: fragments hidden behind the visibility pass's surface are never shaded
+// (a discard cannot turn off early tests here, because nothing is written).
+layout(early_fragment_tests) in;
+
 void main() {
     // Eqs. 22-23: normalise by the sharpness and discard outside the unit ellipse.
     const vec2 u = g_uv / frame.splat.yz;

@@ -27,7 +27,7 @@ endfunction()
 
 # --help everywhere, on stdout, exit 0.
 foreach(cmd "--help" "info;--help" "render;--help" "bench;--help" "bench;splat;--help" "bench;sim;--help"
-           "bench;sim-error;--help" "bench;scene;--help" "bench;graph;--help" "graph;--help" "validate-scene;--help"
+           "bench;sim-error;--help" "bench;scene;--help" "bench;graph;--help" "bench;cut;--help" "bench;render;--help" "graph;--help" "validate-scene;--help"
            "export-ply;--help")
   expect("help: ${cmd}" 0 ${cmd})
   expect_contains("help: ${cmd}" "${last_out}" "usage: pbdsplat")
@@ -79,6 +79,28 @@ if(json_error)
   message(SEND_ERROR "bench splat --json: no median_ms.draw: ${json_error}\n${last_out}")
   math(EXPR failures "${failures} + 1")
 endif()
+
+# bench cut --json and bench render --json: the figures their issues name.
+expect("bench cut --json" 0 bench cut --mesh icosphere:2 --cuts 2 --frames 2 --json)
+foreach(key particles_before particles_after median_cut_ms)
+  string(JSON value ERROR_VARIABLE json_error GET "${last_out}" ${key})
+  if(json_error)
+    message(SEND_ERROR "bench cut --json: key '${key}' missing: ${json_error}\n${last_out}")
+    math(EXPR failures "${failures} + 1")
+  endif()
+endforeach()
+expect("bench cut: bad policy" 2 bench cut --policy shred)
+expect("bench render --json" 0 bench render --splats 300 --width 64 --height 48 --repeat 2 --warmup 0 --path vertex --json --validation)
+foreach(key median_ms path)
+  string(JSON value ERROR_VARIABLE json_error GET "${last_out}" ${key})
+  if(json_error)
+    message(SEND_ERROR "bench render --json: key '${key}' missing: ${json_error}\n${last_out}")
+    math(EXPR failures "${failures} + 1")
+  endif()
+endforeach()
+expect("bench render: gpu sort" 1 bench render --sort gpu)
+expect_contains("bench render: gpu sort" "${last_err}" "not in this build")
+expect("bench render: bad path" 2 bench render --path teleport)
 
 # bench sim --json: particles, constraints and the Stage A medians.
 expect("bench sim --json" 0 bench sim --mesh icosphere:2 --frames 5 --warmup 0 --json)

@@ -15,6 +15,7 @@ int bench_scene(const std::vector<std::string>& args);
 int bench_graph(const std::vector<std::string>& args);
 int bench_surface(const std::vector<std::string>& args);
 int bench_cut(const std::vector<std::string>& args);
+int bench_render(const std::vector<std::string>& args);
 int cmd_graph(const std::vector<std::string>& args);
 int cmd_validate_scene(const std::vector<std::string>& args);
 int cmd_export_ply(const std::vector<std::string>& args);
