@@ -39,20 +39,37 @@ SplatQuad splat_quad(vec3 world, float s0, bool visibility_pass) {
     const float lperp = length(vperp);
     const vec2 up2 = lperp > 1e-3 * length(u2) ? vperp / (lperp + eps) : vec2(-r2.y, r2.x);
 
-    // Eqs. 19-20 take the lengths of u and v_perp alone; with an isotropic Gaussian the dropped
-    // axis still projects onto the plane, so we take the footprint's full extent along r2 and
-    // up2 (the square root of the projected covariance), which reduces to eq. 19 when the
-    // dropped axis is parallel to the view direction.
-    float lr = 0.0, lu = 0.0;
+    // Eqs. 19-20 take the lengths of u and v_perp alone, which is exact only where the view ray
+    // through the centre is the optical axis. Off axis a sphere projects to an ellipse stretched
+    // away from the image centre, so we map each axis through the perspective Jacobian at the
+    // centre (in view-plane units at the centre's depth: a' = a.xy + p a.z, p = c.xy / -c.z),
+    // and turn the Gram-Schmidt frame onto the principal axes of the projected covariance
+    // M = sum a' a'^T: the quad then bounds the projected Gaussian at the cut-off and the
+    // fragment stage's axis-aligned ellipse is that projection. Where M is isotropic (on the
+    // axis) the paper's frame stays.
+    const vec3 c0 = (frame.view * vec4(world, 1.0)).xyz;
+    const vec2 p = c0.xy / max(-c0.z, 1e-6);
+    float m00 = 0.0, m01 = 0.0, m11 = 0.0;
     for (int k = 0; k < 3; ++k) {
-        lr += dot(a[k].xy, r2) * dot(a[k].xy, r2);
-        lu += dot(a[k].xy, up2) * dot(a[k].xy, up2);
+        const vec2 ap = a[k].xy + p * a[k].z;
+        m00 += ap.x * ap.x;
+        m01 += ap.x * ap.y;
+        m11 += ap.y * ap.y;
     }
+    const float half_diff = 0.5 * (m00 - m11);
+    const float root = sqrt(half_diff * half_diff + m01 * m01);
+    const float l1 = 0.5 * (m00 + m11) + root, l2 = max(0.5 * (m00 + m11) - root, 0.0);
+    vec2 r = r2, u = up2;
+    if (root > 1e-4 * l1) {
+        r = normalize(half_diff >= 0.0 ? vec2(l1 - m11, m01) : vec2(m01, l1 - m00));
+        u = vec2(-r.y, r.x);
+    }
+    const float lr = sqrt(l1), lu = sqrt(l2);
     // The visibility pass only needs the core that writes depth: a smaller quad, less fill.
     q.extent = visibility_pass ? sqrt(frame.visibility.y) : 1.0;
     const float kappa = frame.splat.x * q.extent;
-    q.axis_right = kappa * sqrt(lr) * vec3(r2, 0.0);
-    q.axis_up = kappa * sqrt(lu) * vec3(up2, 0.0);
+    q.axis_right = kappa * lr * vec3(r, 0.0);
+    q.axis_up = kappa * lu * vec3(u, 0.0);
     return q;
 }
 

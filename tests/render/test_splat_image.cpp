@@ -119,6 +119,59 @@ TEST_SUITE("render/splat") {
         test::require_no_validation_messages(*ctx);
     }
 
+    TEST_CASE("the quad bounds the projected Gaussian at the cut-off, tightly, also near the screen edges") {
+        auto ctx = test::open_validated_context();
+        render::FrameInputs frame;
+        frame.camera.eye = Vec3f(0, 0, 3);
+        frame.camera.fov_y_degrees = 100.0f;  // strong perspective towards the edges
+        frame.background = Vec4f(0, 0, 0, 1);
+        frame.lighting.environment.sampling = render::EnvSampling::off;
+        frame.lighting.ambient = Vec3f(1, 1, 1);
+        frame.lighting.intensity = 0.0f;
+        frame.lighting.specular = 0.0f;
+        splat::Appearance look;
+        look.albedo = Vec3f(1, 1, 1);
+        look.opacity_logit = 8.0f;
+        look.scale = 0.15f;
+        const uint32_t w = 240, h = 180;
+        const auto u = render::make_frame_uniforms(frame, w, h);
+        Mat4f view, proj;
+        std::memcpy(view.data(), u.view.m, sizeof(u.view.m));
+        std::memcpy(proj.data(), u.proj.m, sizeof(u.proj.m));
+        auto to_pixel = [&](const Vec3f& x) {
+            const Vec4f c = proj * view * x.homogeneous();
+            return Vec2f((c.x() / c.w() * 0.5f + 0.5f) * float(w), (c.y() / c.w() * 0.5f + 0.5f) * float(h));
+        };
+        const float kappa = frame.style.kappa;
+        // The centre of the view, an edge and a corner (seen at a grazing angle from the eye).
+        for (const Vec3f& centre : {Vec3f(0.0f, 0.0f, 0.0f), Vec3f(4.6f, 0.2f, -0.5f), Vec3f(-4.2f, -3.2f, -0.4f)}) {
+            const auto img = render_once(*ctx, {splat::make_record(centre, Vec3f(0, 0, 1), look)}, frame, w, h);
+            // Sigma_2D = J (s0^2 I) J^T, with J the pixel Jacobian at the centre (central differences).
+            Eigen::Matrix<float, 2, 3> jac;
+            for (int k = 0; k < 3; ++k) {
+                const Vec3f e = Vec3f::Unit(k) * 1e-3f;
+                jac.col(k) = (to_pixel(centre + e) - to_pixel(centre - e)) / 2e-3f;
+            }
+            const Eigen::Matrix2f cov = look.scale * look.scale * jac * jac.transpose();
+            const Eigen::Matrix2f inv = cov.inverse();
+            const Vec2f c = to_pixel(centre);
+            size_t inside = 0, inside_lit = 0, lit_far = 0;
+            for (uint32_t y = 0; y < h; ++y)
+                for (uint32_t x = 0; x < w; ++x) {
+                    const Vec2f d = Vec2f(float(x) + 0.5f, float(y) + 0.5f) - c;
+                    const float m = std::sqrt(d.dot(inv * d));  // Mahalanobis distance, in sigmas
+                    const bool lit = img.at(x, y)[0] > 0;
+                    if (m <= 0.9f * kappa) inside += 1, inside_lit += lit ? 1 : 0;
+                    if (lit && m > 1.15f * kappa) ++lit_far;
+                }
+            INFO("splat at " << centre.transpose() << ", pixel centre " << c.transpose());
+            CHECK(inside > 30);
+            CHECK(inside_lit == inside);  // the quad covers the ellipse up to the cut-off
+            CHECK(lit_far == 0);          // and no square around it: nothing lit beyond it
+        }
+        test::require_no_validation_messages(*ctx);
+    }
+
     TEST_CASE("no splats, or fully transparent ones, leave the background") {
         auto ctx = test::open_validated_context();
         render::FrameInputs frame;
