@@ -1,6 +1,7 @@
 #version 460
 // Splat pass, vertex stage: unpacks one Gaussian record and hands it to the geometry shader.
 #include "gpu_types.h"
+#include "splat_codec.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec2 in_normal_oct;
@@ -10,12 +11,6 @@ layout(location = 3) in vec2 in_scale_opacity;
 layout(location = 0) out vec3 v_normal;
 layout(location = 1) out vec4 v_color;
 layout(location = 2) out vec2 v_scale_opacity;
-
-vec3 decode_octahedral(vec2 e) {
-    vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
-    if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
-    return normalize(n);
-}
 
 void main() {
     gl_Position = vec4(in_position, 1.0);  // world position; the geometry shader projects

@@ -2,27 +2,12 @@
 
 #include <cstring>
 
+#include "core/half.h"
 #include "gpu/barriers.h"
 #include "gpu/buffer.h"
 
 namespace pbdsplat::gpu {
 
-namespace {
-uint16_t to_half(float f) {
-    // Round-to-nearest float -> IEEE half, enough for radiance values (no denormal care needed
-    // beyond flushing them to zero).
-    uint32_t x;
-    std::memcpy(&x, &f, 4);
-    const uint32_t sign = (x >> 16) & 0x8000u;
-    const int32_t exp = int32_t((x >> 23) & 0xffu) - 127 + 15;
-    uint32_t mant = x & 0x7fffffu;
-    if (exp <= 0) return uint16_t(sign);
-    if (exp >= 31) return uint16_t(sign | 0x7c00u);
-    mant += 0x1000u;  // round
-    if (mant & 0x800000u) return uint16_t(sign | (uint32_t(exp + 1) << 10));
-    return uint16_t(sign | (uint32_t(exp) << 10) | (mant >> 13));
-}
-} // namespace
 
 core::Status submit_once(Context& ctx, const std::function<void(VkCommandBuffer)>& record) {
     VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -66,7 +51,7 @@ core::Result<Texture> Texture::create_rgba16f(Context& ctx, uint32_t width, uint
     auto staging = Buffer::create(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::upload);
     if (!staging.ok()) return staging.error();
     auto* half = static_cast<uint16_t*>(staging->mapped());
-    for (size_t i = 0; i < texels.size(); ++i) half[i] = to_half(texels[i]);
+    for (size_t i = 0; i < texels.size(); ++i) half[i] = core::float_to_half(texels[i]);
     const VkImage img = t.image_.handle();
     const VkBuffer src = staging->handle();
     PBDSPLAT_TRY(submit_once(ctx, [&](VkCommandBuffer cmd) {

@@ -21,41 +21,7 @@ std::vector<Edge> unique_edges(const TriangleMesh& mesh) {
 }
 
 std::vector<std::vector<uint32_t>> boundary_loops(const TriangleMesh& mesh) {
-    // Directed edges with no twin are boundary; on a manifold mesh each boundary vertex has one
-    // outgoing boundary edge, so following them closes every loop.
-    std::unordered_map<uint64_t, uint32_t> directed;
-    directed.reserve(mesh.triangles.size() * 3);
-    auto key = [](uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; };
-    for (const Triangle& t : mesh.triangles)
-        for (int k = 0; k < 3; ++k) directed[key(t[size_t(k)], t[size_t((k + 1) % 3)])] = 1;
-    std::unordered_map<uint32_t, uint32_t> next;  // boundary vertex -> next along the loop
-    std::vector<uint32_t> starts;
-    for (const Triangle& t : mesh.triangles)
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
-            if (!directed.count(key(b, a))) {
-                // Reverse direction: the loop runs against its triangles, as a hole's rim does
-                // when seen from outside, so a fan over it continues the surface outward.
-                next[b] = a;
-                starts.push_back(b);
-            }
-        }
-    std::vector<std::vector<uint32_t>> loops;
-    std::unordered_map<uint32_t, bool> used;
-    for (uint32_t s : starts) {
-        if (used[s]) continue;
-        std::vector<uint32_t> loop;
-        uint32_t v = s;
-        while (!used[v]) {
-            used[v] = true;
-            loop.push_back(v);
-            auto it = next.find(v);
-            if (it == next.end()) break;  // not closed: only possible on a non-manifold input
-            v = it->second;
-        }
-        if (loop.size() >= 3) loops.push_back(std::move(loop));
-    }
-    return loops;
+    return boundary_loops(std::span<const Triangle>(mesh.triangles), mesh.positions.size());
 }
 
 uint32_t triangle_components(const TriangleMesh& mesh, std::vector<uint32_t>& component) {
@@ -84,13 +50,11 @@ uint32_t triangle_components(const TriangleMesh& mesh, std::vector<uint32_t>& co
     return uint32_t(id.size());
 }
 
-} // namespace pbdsplat::mesh
-
-namespace pbdsplat::mesh {
-
 std::vector<std::vector<uint32_t>> boundary_loops(std::span<const Triangle> triangles, size_t vertex_count) {
     // Outgoing directed edges per vertex in CSR form; (a, b) is a boundary edge when b has no
-    // edge back to a.
+    // edge back to a. On a manifold mesh each boundary vertex has one outgoing boundary edge,
+    // so following them closes every loop; elsewhere the last edge seen wins and an open chain
+    // ends where it runs out.
     std::vector<uint32_t> start(vertex_count + 1, 0), to(triangles.size() * 3);
     for (const Triangle& t : triangles)
         for (uint32_t v : t) ++start[v + 1];
@@ -110,7 +74,9 @@ std::vector<std::vector<uint32_t>> boundary_loops(std::span<const Triangle> tria
         for (int k = 0; k < 3; ++k) {
             const uint32_t a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
             if (!has_edge(b, a)) {
-                next[b] = a;  // against the triangles' direction, as boundary_loops(mesh) does
+                // Reverse direction: the loop runs against its triangles, as a hole's rim does
+                // when seen from outside, so a fan over it continues the surface outward.
+                next[b] = a;
                 starts.push_back(b);
             }
         }

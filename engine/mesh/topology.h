@@ -23,11 +23,11 @@ std::vector<std::vector<uint32_t>> boundary_loops(const TriangleMesh& mesh);
 // first triangle; returns the number of components.
 uint32_t triangle_components(const TriangleMesh& mesh, std::vector<uint32_t>& component_of_triangle);
 
-// Fast forms for meshes known to be manifold with boundary and free of bow-ties (what the
-// topology stage keeps): plain arrays instead of hash maps, so a cut on a large mesh stays
-// cheap. Loops follow the same direction convention as boundary_loops above; components
-// through shared vertices equal components through shared edges when there are no bow-ties.
+// The same from a bare triangle list over `vertex_count` vertices (no copy of a mesh needed).
 std::vector<std::vector<uint32_t>> boundary_loops(std::span<const Triangle> triangles, size_t vertex_count);
+
+// Components through shared vertices, with plain arrays (cheap on large meshes): equal to
+// components through shared edges on meshes without bow-ties, which the topology stage keeps.
 uint32_t vertex_components(std::span<const Triangle> triangles, size_t vertex_count,
                            std::vector<uint32_t>& component_of_triangle);
 

@@ -20,7 +20,15 @@ struct Camera {
 // relative to the body's centre (the paper's), from the normal, or the normal for the diffuse
 // term and the position for the specular one. `off` leaves the flat ambient term.
 enum class EnvSampling { off, position, normal, hybrid };
-const char* env_sampling_name(EnvSampling s);
+inline const char* env_sampling_name(EnvSampling s) {
+    switch (s) {
+    case EnvSampling::off: return "off";
+    case EnvSampling::position: return "position";
+    case EnvSampling::normal: return "normal";
+    case EnvSampling::hybrid: return "hybrid";
+    }
+    return "?";
+}
 
 struct Environment {
     EnvSampling sampling = EnvSampling::position;

@@ -45,14 +45,4 @@ gpu_types::FrameUniforms make_frame_uniforms(const FrameInputs& in, uint32_t wid
     return u;
 }
 
-const char* env_sampling_name(EnvSampling s) {
-    switch (s) {
-    case EnvSampling::off: return "off";
-    case EnvSampling::position: return "position";
-    case EnvSampling::normal: return "normal";
-    case EnvSampling::hybrid: return "hybrid";
-    }
-    return "?";
-}
-
 } // namespace pbdsplat::render

@@ -42,6 +42,8 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     gpu::FrameSetStages stages;
     stages.uniforms = front | VK_SHADER_STAGE_FRAGMENT_BIT;
     stages.texture = VK_SHADER_STAGE_FRAGMENT_BIT;
+    // The geometry path takes records as vertex attributes; its binding 2 is declared only so
+    // that every path shares one set shape.
     stages.storage = path == SplatPath::geometry ? VkShaderStageFlags(VK_SHADER_STAGE_VERTEX_BIT) : front;
     auto set_layout = gpu::create_frame_layout(ctx, stages);
     if (!set_layout.ok()) return set_layout.error();

@@ -284,10 +284,14 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
             splat::map_body(body_.particles.x, body_.normals, body_.colors, body_.triangles, boundary ? &boundary_ : nullptr,
                             appearance_, stretch_.empty() ? nullptr : &stretch_, records_);
             fade_.apply(body_.particle_count(), records_);
-            // Position-based environment lookups look out from the body's centre.
-            Vec4f centre = Vec4f::Zero();
-            for (const Vec4f& x : body_.particles.x) centre += x;
-            frame_input_.frame.lighting.environment.center = centre.head<3>() / float(std::max<size_t>(1, body_.particle_count()));
+            // Position-based environment lookups look out from the body's centre; nothing else
+            // reads it.
+            render::Environment& env = frame_input_.frame.lighting.environment;
+            if (env.sampling == render::EnvSampling::position || env.sampling == render::EnvSampling::hybrid) {
+                Vec4f centre = Vec4f::Zero();
+                for (const Vec4f& x : body_.particles.x) centre += x;
+                env.center = centre.head<3>() / float(std::max<size_t>(1, body_.particle_count()));
+            }
             if (!sorted) publish_records();  // else the sort stage reorders them first
         };
     });
@@ -350,14 +354,12 @@ core::Status SceneRuntime::after_topology_change(const topology::TopologyChange&
     last_change_ = change;
     if (!change.changed()) return core::Status::success();
     if (check_topology_) PBDSPLAT_TRY(topology::check_invariants(body_));
-    // New particles get the neighbours' normals now; the integrate stage refreshes them.
-    sim::update_normals(body_.rings, body_.particles.x, body_.normals, 0, body_.particle_count());
     fade_.add_particles(change.particles_before, change.new_particles());
     if (scene_.surface.mode == SurfaceMode::boundary) {
         surface::remap_samples(change.splits, boundary_);
         const size_t before = boundary_.size();
-        const mesh::TriangleMesh rest{body_.rest_positions, body_.triangles, {}, {}, {}};
-        surface::fill_triangles(rest, change.touched_triangles, {h_, scene_.surface.seed + uint32_t(cuts_ + tears_) + 1}, boundary_);
+        surface::fill_triangles(body_.rest_positions, body_.triangles, change.touched_triangles,
+                                {h_, scene_.surface.seed + uint32_t(cuts_ + tears_) + 1}, boundary_);
         surface::update_boundary_particles(body_.triangles, body_.particles.x, body_.normals, boundary_);
         fade_.add_samples(before, boundary_.size() - before);
     }

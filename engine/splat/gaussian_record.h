@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "core/half.h"
 #include "core/math.h"
 #include "gpu_types.h"
 
@@ -24,8 +25,8 @@ static_assert(offsetof(GaussianRecord, normal_oct) == SPLAT_OFFSET_NORMAL);
 static_assert(offsetof(GaussianRecord, color) == SPLAT_OFFSET_COLOR);
 static_assert(offsetof(GaussianRecord, scale_half) == SPLAT_OFFSET_SCALE_OPACITY);
 
-uint16_t float_to_half(float f);
-float half_to_float(uint16_t h);
+using core::float_to_half;
+using core::half_to_float;
 
 // Octahedral encoding of a unit vector into two snorm16 (error below 1e-4 rad).
 void encode_octahedral(const Vec3f& n, int16_t out[2]);

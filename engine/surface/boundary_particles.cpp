@@ -87,6 +87,12 @@ private:
     std::vector<Vec3f> points_;
 };
 
+// The rest surface being sampled, without owning (or copying) it.
+struct SurfaceView {
+    std::span<const Vec3f> positions;
+    std::span<const mesh::Triangle> triangles;
+};
+
 struct Candidate {
     uint32_t triangle;
     Vec2f bary;
@@ -95,7 +101,7 @@ struct Candidate {
 
 // Uniform random candidates over the triangles, `density` per unit area; shuffled so that the
 // greedy pass below is dart throwing (blue noise) rather than a scan.
-std::vector<Candidate> candidates(const mesh::TriangleMesh& m, std::span<const uint32_t> triangles, float density,
+std::vector<Candidate> candidates(const SurfaceView& m, std::span<const uint32_t> triangles, float density,
                                   std::mt19937& rng) {
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     std::vector<Candidate> out;
@@ -118,12 +124,12 @@ std::vector<Candidate> candidates(const mesh::TriangleMesh& m, std::span<const u
     return out;
 }
 
-Vec3f position_of(const mesh::TriangleMesh& m, uint32_t t, const Vec2f& b) {
+Vec3f position_of(const SurfaceView& m, uint32_t t, const Vec2f& b) {
     const auto& tri = m.triangles[t];
     return (1.0f - b.x() - b.y()) * m.positions[tri[0]] + b.x() * m.positions[tri[1]] + b.y() * m.positions[tri[2]];
 }
 
-void accept(const mesh::TriangleMesh& m, const std::vector<Candidate>& cands, PointGrid& grid, BoundaryParticles& out) {
+void accept(const SurfaceView& m, const std::vector<Candidate>& cands, PointGrid& grid, BoundaryParticles& out) {
     for (const Candidate& c : cands) {
         if (grid.near(c.position)) continue;
         grid.add(c.position);
@@ -154,8 +160,14 @@ BoundaryParticles sample_surface(const mesh::TriangleMesh& m, const SamplingOpti
     return out;
 }
 
-void fill_triangles(const mesh::TriangleMesh& m, std::span<const uint32_t> triangles, const SamplingOptions& o,
+void fill_triangles(const mesh::TriangleMesh& mesh, std::span<const uint32_t> triangles, const SamplingOptions& o,
                     BoundaryParticles& samples) {
+    fill_triangles(mesh.positions, mesh.triangles, triangles, o, samples);
+}
+
+void fill_triangles(std::span<const Vec3f> positions, std::span<const mesh::Triangle> all_triangles,
+                    std::span<const uint32_t> triangles, const SamplingOptions& o, BoundaryParticles& samples) {
+    const SurfaceView m{positions, all_triangles};
     PBDSPLAT_ASSERT(o.h > 0.0f && std::isfinite(o.h), "boundary particle spacing h must be positive");
     // Only points near the triangles can block a candidate: a local refill stays local.
     Eigen::AlignedBox3f near;

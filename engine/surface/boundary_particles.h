@@ -42,6 +42,9 @@ BoundaryParticles sample_surface(const mesh::TriangleMesh& mesh, const SamplingO
 // cut or tear.
 void fill_triangles(const mesh::TriangleMesh& mesh, std::span<const uint32_t> triangles, const SamplingOptions& options,
                     BoundaryParticles& samples);
+// The same on a surface given as rest positions and triangles (a body's, without copying them).
+void fill_triangles(std::span<const Vec3f> positions, std::span<const mesh::Triangle> all_triangles,
+                    std::span<const uint32_t> triangles, const SamplingOptions& options, BoundaryParticles& samples);
 
 // Moves every sample onto the deformed surface: positions from `x` (one float4 per mesh vertex,
 // w ignored), normals from the vertex normals.

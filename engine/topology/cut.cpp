@@ -21,13 +21,25 @@ const char* volume_policy_name(VolumePolicy p) {
 
 namespace {
 
-// Which side of the cut surface each vertex is on: -1, +1, or 0 for "on the cut" (within its
-// reach, exactly on the plane or snapped there).
-std::vector<int8_t> classify(const sim::SoftBody& b, const CutSurface& s, float snap, float reference) {
+Vec3f crossing_point(const sim::SoftBody& b, uint32_t i, uint32_t j, float u) {
+    return sim::xyz(b.particles.x[i]) + u * (sim::xyz(b.particles.x[j]) - sim::xyz(b.particles.x[i]));
+}
+
+// Each vertex's signed distance to the cut plane, and its side: -1, +1, or 0 for "on the cut"
+// (within its reach, exactly on the plane or snapped there).
+struct Sides {
+    std::vector<float> distance;
+    std::vector<int8_t> sign;
+};
+
+Sides classify(const sim::SoftBody& b, const CutSurface& s, float snap, float reference) {
     const size_t n = b.particle_count();
-    std::vector<float> d(n);
+    Sides out;
+    std::vector<float>& d = out.distance;
+    d.resize(n);
     for (size_t v = 0; v < n; ++v) d[v] = s.distance(sim::xyz(b.particles.x[v]));
-    std::vector<int8_t> sign(n);
+    std::vector<int8_t>& sign = out.sign;
+    sign.resize(n);
     for (size_t v = 0; v < n; ++v) sign[v] = d[v] < 0.0f ? int8_t(-1) : int8_t(1);
     for (size_t v = 0; v < n; ++v)
         if (d[v] == 0.0f && s.reaches(sim::xyz(b.particles.x[v]))) sign[v] = 0;
@@ -51,12 +63,11 @@ std::vector<int8_t> classify(const sim::SoftBody& b, const CutSurface& s, float 
             const float rest = (b.rest_positions[j] - b.rest_positions[i]).norm();
             const bool near_i = u < snap || u * rest < reach, near_j = u > 1.0f - snap || (1.0f - u) * rest < reach;
             if (!near_i && !near_j) continue;
-            const Vec3f at = sim::xyz(b.particles.x[i]) + u * (sim::xyz(b.particles.x[j]) - sim::xyz(b.particles.x[i]));
-            if (s.reaches(at)) snapped[near_i && (!near_j || u < 0.5f) ? i : j] = 1;
+            if (s.reaches(crossing_point(b, i, j, u))) snapped[near_i && (!near_j || u < 0.5f) ? i : j] = 1;
         }
     for (size_t v = 0; v < n; ++v)
         if (snapped[v]) sign[v] = 0;
-    return sign;
+    return out;
 }
 
 float rest_area(const sim::SoftBody& b, const mesh::Triangle& t) {
@@ -77,7 +88,8 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
 
     const core::Stopwatch clock;
     Edit e(b);
-    e.sign = classify(b, s, o.snap, o.reference_edge_length);
+    Sides sides = classify(b, s, o.snap, o.reference_edge_length);
+    e.sign = std::move(sides.sign);
 
     // Eq. 26: one new particle per crossed edge, shared by both triangles of the edge.
     const size_t t0 = b.triangles.size();
@@ -92,10 +104,9 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
                 crossed = true;
                 continue;
             }
-            const float di = s.distance(sim::xyz(b.particles.x[i])), dj = s.distance(sim::xyz(b.particles.x[j]));
+            const float di = sides.distance[i], dj = sides.distance[j];
             const float u = std::clamp(di / (di - dj), o.snap, 1.0f - o.snap);
-            const Vec3f at = sim::xyz(b.particles.x[i]) + u * (sim::xyz(b.particles.x[j]) - sim::xyz(b.particles.x[i]));
-            if (!s.reaches(at)) continue;
+            if (!s.reaches(crossing_point(b, i, j, u))) continue;
             e.add_edge_point(i, j, u);
             crossed = true;
         }

@@ -15,18 +15,18 @@ core::Status validate(const TearOptions& o) {
     return core::Status::success();
 }
 
-std::optional<StrainedEdge> most_strained_edge(const sim::SoftBody& b, float threshold) {
-    std::optional<StrainedEdge> best;
-    float best_ratio = threshold;
+std::vector<StrainedEdge> strained_edges(const sim::SoftBody& b, float threshold, size_t limit) {
+    std::vector<StrainedEdge> strained;
     for (const sim::DistanceConstraint& c : b.distance) {
         if (!(c.rest > 0.0f)) continue;
         const float ratio = (b.particles.x[c.i] - b.particles.x[c.j]).head<3>().norm() / c.rest;
-        if (ratio > best_ratio) {
-            best_ratio = ratio;
-            best = StrainedEdge{c.i, c.j, ratio};
-        }
+        if (ratio > threshold) strained.push_back({c.i, c.j, ratio});
     }
-    return best;
+    const size_t n = std::min(strained.size(), limit);
+    std::partial_sort(strained.begin(), strained.begin() + ptrdiff_t(n), strained.end(),
+                      [](const StrainedEdge& x, const StrainedEdge& y) { return x.ratio > y.ratio || (x.ratio == y.ratio && x.i < y.i); });
+    strained.resize(n);
+    return strained;
 }
 
 namespace {
@@ -52,17 +52,7 @@ bool splits_ring(const sim::SoftBody& b, uint32_t v, const Vec3f& normal, float&
 core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const TearOptions& tear, const CutOptions& cut_options) {
     PBDSPLAT_TRY(validate(tear));
     // The most strained edges first; the first that can open does.
-    std::vector<StrainedEdge> strained;
-    for (const sim::DistanceConstraint& c : b.distance) {
-        if (!(c.rest > 0.0f)) continue;
-        const float ratio = (b.particles.x[c.i] - b.particles.x[c.j]).head<3>().norm() / c.rest;
-        if (ratio > tear.threshold) strained.push_back({c.i, c.j, ratio});
-    }
-    const size_t tries = std::min<size_t>(strained.size(), 16);
-    std::partial_sort(strained.begin(), strained.begin() + ptrdiff_t(tries), strained.end(),
-                      [](const StrainedEdge& x, const StrainedEdge& y) { return x.ratio > y.ratio || (x.ratio == y.ratio && x.i < y.i); });
-    for (size_t k = 0; k < tries; ++k) {
-        const StrainedEdge& e = strained[k];
+    for (const StrainedEdge& e : strained_edges(b, tear.threshold, 16)) {
         const Vec3f xi = sim::xyz(b.particles.x[e.i]), xj = sim::xyz(b.particles.x[e.j]);
         const Vec3f along = (xj - xi).normalized();
         // Split an end vertex across the edge: the plane through it, normal to the edge. Its fan

@@ -4,6 +4,7 @@
 // strain concentrates at its tips, with a cap on splits per frame so it never shatters the
 // body in one step.
 #include <optional>
+#include <vector>
 
 #include "core/result.h"
 #include "sim/soft_body.h"
@@ -22,8 +23,8 @@ struct StrainedEdge {
     uint32_t i = 0, j = 0;
     float ratio = 1.0f;  // current / rest length
 };
-// The distance constraint with the largest stretch ratio above `threshold`, if any.
-std::optional<StrainedEdge> most_strained_edge(const sim::SoftBody& body, float threshold);
+// The distance constraints stretched beyond `threshold`, most strained first, at most `limit`.
+std::vector<StrainedEdge> strained_edges(const sim::SoftBody& body, float threshold, size_t limit);
 
 // Tears at the most strained edge that can open: one of its end vertices is split by the plane
 // through it normal to the edge (a pinned end never is). Nothing when no edge passes.

@@ -4,6 +4,8 @@
 #ifndef PBDSPLAT_SPLAT_FOOTPRINT_GLSL
 #define PBDSPLAT_SPLAT_FOOTPRINT_GLSL
 
+#include "splat_codec.glsl"
+
 struct SplatQuad {
     vec3 centre;      // view space (eq. 15), pushed back in the visibility pass
     vec3 axis_right;  // view space, kappa * l_r along r (eq. 19)
@@ -18,8 +20,9 @@ SplatQuad splat_quad(vec3 world, float s0, bool visibility_pass) {
     // the columns of the view rotation, scaled.
     const mat3 rv = mat3(frame.view);
     const vec3 a[3] = vec3[3](s0 * rv[0], s0 * rv[1], s0 * rv[2]);
+    const vec3 c0 = (frame.view * vec4(world, 1.0)).xyz;  // eq. 15
     SplatQuad q;
-    q.centre = (frame.view * vec4(world, 1.0)).xyz;
+    q.centre = c0;
     if (visibility_pass) q.centre.z -= frame.visibility.x * s0;  // the camera looks down -z
 
     // Eq. 16: view-plane contribution of each axis; drop the weakest.
@@ -47,7 +50,6 @@ SplatQuad splat_quad(vec3 world, float s0, bool visibility_pass) {
     // M = sum a' a'^T: the quad then bounds the projected Gaussian at the cut-off and the
     // fragment stage's axis-aligned ellipse is that projection. Where M is isotropic (on the
     // axis) the paper's frame stays.
-    const vec3 c0 = (frame.view * vec4(world, 1.0)).xyz;
     const vec2 p = c0.xy / max(-c0.z, 1e-6);
     float m00 = 0.0, m01 = 0.0, m11 = 0.0;
     for (int k = 0; k < 3; ++k) {
@@ -80,13 +82,5 @@ void splat_corner(SplatQuad q, vec3 world, int i, out vec4 clip, out vec3 corner
     corner_world = world + transpose(mat3(frame.view)) * offset;
     uv = k_quad_corners[i] * q.extent;
 }
-
-vec3 decode_octahedral(vec2 e) {
-    vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
-    if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
-    return normalize(n);
-}
-
-float sigmoid(float o) { return 1.0 / (1.0 + exp(-o)); }
 
 #endif

@@ -3,6 +3,8 @@
 #ifndef PBDSPLAT_SPLAT_RECORD_GLSL
 #define PBDSPLAT_SPLAT_RECORD_GLSL
 
+#include "splat_codec.glsl"
+
 layout(set = 0, binding = 2, std430) readonly buffer Records { uint record_words[]; };
 
 struct SplatRecord {

@@ -4,10 +4,10 @@
 #include <nlohmann/json.hpp>
 
 #include "core/timer.h"
-#include "mesh/procedural.h"
 #include "pbdsplat/args.h"
 #include "pbdsplat/commands.h"
 #include "pbdsplat/gpu_options.h"
+#include "pbdsplat/splat_sphere.h"
 #include "scene/offscreen_renderer.h"
 #include "splat/sort.h"
 
@@ -74,13 +74,7 @@ int bench_render(const std::vector<std::string>& argv) {
         if (!why.empty()) return fail("bench render", why);
     }
 
-    const auto points = mesh::fibonacci_sphere(count.value(), 1.0f);
-    splat::Appearance look;
-    look.scale = 0.6f * std::sqrt(4.0f * k_pi / float(count.value()));
-    std::vector<splat::GaussianRecord> records;
-    splat::map_points(points, points, look, records);
-    render::FrameInputs frame;
-    frame.camera.eye = Vec3f(0.0f, 0.5f, 3.5f);
+    auto [records, frame] = make_splat_sphere(count.value());
     frame.lighting.environment.sampling = environment;
     render::RendererOptions options;
     options.width = width.value();

@@ -4,9 +4,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/timer.h"
-#include "mesh/procedural.h"
 #include "pbdsplat/commands.h"
 #include "pbdsplat/gpu_options.h"
+#include "pbdsplat/splat_sphere.h"
 #include "pbdsplat/upload_path_arg.h"
 #include "scene/offscreen_renderer.h"
 
@@ -52,15 +52,7 @@ int bench_splat(const std::vector<std::string>& argv) {
     if (!ctx.value()->caps().timestamps)
         return fail("bench splat", "device '" + ctx.value()->caps().name + "' has no timestamp queries to measure with");
 
-    // A sphere of splats filling about a third of the image, sized to close the surface.
-    const auto points = mesh::fibonacci_sphere(count.value(), 1.0f);
-    splat::Appearance look;
-    look.scale = 0.6f * std::sqrt(4.0f * k_pi / float(count.value()));
-    std::vector<splat::GaussianRecord> records;
-    splat::map_points(points, points, look, records);
-    render::FrameInputs frame;
-    frame.camera.eye = Vec3f(0.0f, 0.5f, 3.5f);
-
+    auto [records, frame] = make_splat_sphere(count.value());
     render::RendererOptions options;
     options.width = width.value();
     options.height = height.value();
