@@ -18,7 +18,7 @@ function(pbdsplat_embed_shaders target)
     set(dep ${out_dir}/${name}.d)
     add_custom_command(
       OUTPUT ${inc}
-      COMMAND ${GLSLC_EXECUTABLE} --target-env=vulkan1.2 -O -Werror
+      COMMAND ${GLSLC_EXECUTABLE} --target-env=vulkan1.3 -O -Werror
               -I ${ARG_INCLUDE_DIR} -MD -MF ${dep} -MT ${inc}
               -mfmt=num -o ${inc} ${abs}
       DEPENDS ${abs}

@@ -1,5 +1,26 @@
 #version 460
-// Mesh raster pass: a plain mask of what the mesh covers.
+// Mesh raster pass: a plain coverage mask, or the surface lit exactly as the splats are
+// (shading.glsl), for side-by-side views and image comparisons.
+#include "gpu_types.h"
+
+layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
+layout(set = 0, binding = 1) uniform sampler2D env_map;
+#include "shading.glsl"
+
+layout(constant_id = 0) const bool k_mask = true;
+layout(push_constant) uniform Push { vec4 albedo; } push;
+
+layout(location = 0) in vec3 v_world;
+layout(location = 1) in vec3 v_normal;
 layout(location = 0) out vec4 out_color;
 
-void main() { out_color = vec4(1.0); }
+void main() {
+    if (k_mask) {
+        out_color = vec4(1.0);
+        return;
+    }
+    // A cut opens the body: its inside faces the camera too, lit from the side that is seen.
+    vec3 n = normalize(v_normal);
+    if (dot(n, frame.camera_pos.xyz - v_world) < 0.0) n = -n;
+    out_color = vec4(shade(push.albedo.rgb, n, v_world), 1.0);
+}

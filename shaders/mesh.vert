@@ -1,8 +1,17 @@
 #version 460
-// Mesh raster pass (coverage reference): the deformed simulation mesh, positions as float4.
+// Mesh raster pass: the deformed simulation mesh (positions as float4, normals per vertex), the
+// mesh-based pipeline the paper compares against and the reference for coverage metrics.
 #include "gpu_types.h"
 
 layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(location = 0) in vec4 in_position;
+layout(location = 1) in vec3 in_normal;
 
-void main() { gl_Position = frame.proj * frame.view * vec4(in_position.xyz, 1.0); }
+layout(location = 0) out vec3 v_world;
+layout(location = 1) out vec3 v_normal;
+
+void main() {
+    v_world = in_position.xyz;
+    v_normal = in_normal;
+    gl_Position = frame.proj * frame.view * vec4(in_position.xyz, 1.0);
+}

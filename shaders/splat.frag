@@ -7,11 +7,12 @@ layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(set = 0, binding = 1) uniform sampler2D env_map;
 #include "shading.glsl"
 
+layout(constant_id = 1) const bool k_shade_per_corner = false;
+
 layout(location = 0) in vec2 g_uv;
 layout(location = 1) in vec3 g_world;
 layout(location = 2) in vec3 g_normal;
-layout(location = 3) in vec4 g_color;
-layout(location = 4) in float g_opacity;
+layout(location = 3) in vec4 g_color;  // rgb: albedo, or the colour shaded at the corners; a: opacity
 
 layout(location = 0) out vec4 out_color;
 
@@ -28,7 +29,7 @@ void main() {
     // The quad spans kappa standard deviations, so r = 1 sits at kappa sigma.
     const float kappa = frame.splat.x;
     const float weight = exp(-0.5 * kappa * kappa * r2);
-    const float alpha = clamp(g_opacity * weight * g_color.a, 0.0, 1.0);  // eq. 21 times the fade
-    const vec3 color = shade(g_color.rgb, normalize(g_normal), g_world);
+    const float alpha = clamp(g_color.a * weight, 0.0, 1.0);  // eq. 21 times the fade
+    const vec3 color = k_shade_per_corner ? g_color.rgb : shade(g_color.rgb, normalize(g_normal), g_world);
     out_color = vec4(color * alpha, alpha);
 }

@@ -7,7 +7,10 @@ layout(points) in;
 layout(triangle_strip, max_vertices = 4) out;
 
 layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
+layout(set = 0, binding = 1) uniform sampler2D env_map;
 #include "splat_footprint.glsl"
+#include "shading.glsl"
+#include "splat_corner.glsl"
 
 // The visibility pass pushes every quad back along the view ray, so splats of the front surface
 // later blend over one another while the hidden surfaces behind stay rejected.
@@ -20,8 +23,7 @@ layout(location = 2) in vec2 v_scale_opacity[];
 layout(location = 0) out vec2 g_uv;         // [-1,1]^2 across the quad
 layout(location = 1) out vec3 g_world;      // world position of the fragment (for env lookups)
 layout(location = 2) out vec3 g_normal;
-layout(location = 3) out vec4 g_color;      // rgb albedo, a = fade
-layout(location = 4) out float g_opacity;   // sigmoid(o), eq. 21
+layout(location = 3) out vec4 g_color;      // see corner_color()
 
 void main() {
     const vec3 world = gl_in[0].gl_Position.xyz;
@@ -31,8 +33,7 @@ void main() {
     for (int i = 0; i < 4; ++i) {
         splat_corner(q, world, i, gl_Position, g_world, g_uv);
         g_normal = v_normal[0];
-        g_color = v_color[0];
-        g_opacity = sigmoid(v_scale_opacity[0].y);
+        g_color = corner_color(v_color[0].rgb, v_color[0].a, v_scale_opacity[0].y, v_normal[0], g_world);
         EmitVertex();
     }
     EndPrimitive();

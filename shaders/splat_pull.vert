@@ -5,7 +5,10 @@
 #include "gpu_types.h"
 
 layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
+layout(set = 0, binding = 1) uniform sampler2D env_map;
 #include "splat_footprint.glsl"
+#include "shading.glsl"
+#include "splat_corner.glsl"
 #include "splat_record.glsl"
 
 layout(constant_id = 0) const bool k_visibility_pass = false;
@@ -14,7 +17,6 @@ layout(location = 0) out vec2 g_uv;
 layout(location = 1) out vec3 g_world;
 layout(location = 2) out vec3 g_normal;
 layout(location = 3) out vec4 g_color;
-layout(location = 4) out float g_opacity;
 
 // Strip corners (0, 1, 2) and (2, 1, 3): the strip's two triangles.
 const int k_corner_of_vertex[6] = int[6](0, 1, 2, 2, 1, 3);
@@ -23,14 +25,14 @@ void main() {
     const SplatRecord r = read_record(uint(gl_VertexIndex) / 6u);
     const float s0 = r.scale * frame.splat.w;
     g_normal = r.normal;
-    g_color = r.color;
-    g_opacity = sigmoid(r.opacity_logit);
     if (!(s0 > 0.0)) {  // nothing to draw: a point outside the clip volume
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
         g_uv = vec2(0.0);
         g_world = r.position;
+        g_color = vec4(0.0);
         return;
     }
     const SplatQuad q = splat_quad(r.position, s0, k_visibility_pass);
     splat_corner(q, r.position, k_corner_of_vertex[gl_VertexIndex % 6], gl_Position, g_world, g_uv);
+    g_color = corner_color(r.color.rgb, r.color.a, r.opacity_logit, r.normal, g_world);
 }

@@ -19,6 +19,18 @@ void buffer_barrier(VkCommandBuffer cmd, VkBuffer buffer, Access before, Access 
     vkCmdPipelineBarrier2(cmd, &dep);
 }
 
+void memory_barrier(VkCommandBuffer cmd, Access before, Access after) {
+    VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+    b.srcStageMask = before.stage;
+    b.srcAccessMask = before.access;
+    b.dstStageMask = after.stage;
+    b.dstAccessMask = after.access;
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.memoryBarrierCount = 1;
+    dep.pMemoryBarriers = &b;
+    vkCmdPipelineBarrier2(cmd, &dep);
+}
+
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, Access before,
                    VkImageLayout old_layout, Access after, VkImageLayout new_layout) {
     VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};

@@ -13,6 +13,10 @@ struct Access {
 void buffer_barrier(VkCommandBuffer cmd, VkBuffer buffer, Access before, Access after,
                     VkDeviceSize offset = 0, VkDeviceSize size = VK_WHOLE_SIZE);
 
+// Orders all memory accesses of `before` against `after` (e.g. one compute dispatch feeding
+// the next), for work inside a pass whose steps the frame graph does not see.
+void memory_barrier(VkCommandBuffer cmd, Access before, Access after);
+
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, Access before,
                    VkImageLayout old_layout, Access after, VkImageLayout new_layout);
 

@@ -18,9 +18,11 @@ core::Result<ShaderModule> load_shader(const Context& ctx, const std::string& na
 core::Result<Pipeline> create_graphics_pipeline(const Context& ctx, const GraphicsPipelineDesc& desc) {
     std::vector<ShaderModule> modules;
     std::vector<VkPipelineShaderStageCreateInfo> stages;
-    const uint32_t spec_value = desc.specialization.value_or(0);
-    const VkSpecializationMapEntry spec_entry{0, 0, sizeof(uint32_t)};
-    VkSpecializationInfo spec{1, &spec_entry, sizeof(uint32_t), &spec_value};
+    std::vector<VkSpecializationMapEntry> spec_entries;
+    for (uint32_t i = 0; i < desc.specialization.size(); ++i)
+        spec_entries.push_back({i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)});
+    const VkSpecializationInfo spec{uint32_t(spec_entries.size()), spec_entries.data(),
+                                    desc.specialization.size() * sizeof(uint32_t), desc.specialization.data()};
     for (const auto& [stage, name] : desc.stages) {
         auto m = load_shader(ctx, name);
         if (!m.ok()) return m.error();
@@ -29,7 +31,7 @@ core::Result<Pipeline> create_graphics_pipeline(const Context& ctx, const Graphi
         s.stage = stage;
         s.module = modules.back().get();
         s.pName = "main";
-        if (desc.specialization) s.pSpecializationInfo = &spec;
+        if (!desc.specialization.empty()) s.pSpecializationInfo = &spec;
         stages.push_back(s);
     }
 
@@ -100,6 +102,32 @@ core::Result<Pipeline> create_graphics_pipeline(const Context& ctx, const Graphi
     info.layout = desc.layout;
     VkPipeline p = VK_NULL_HANDLE;
     PBDSPLAT_VK_TRY(vkCreateGraphicsPipelines(ctx.vk(), VK_NULL_HANDLE, 1, &info, nullptr, &p));
+    return Pipeline(ctx.vk(), p);
+}
+
+core::Result<PipelineLayout> create_pipeline_layout(const Context& ctx, VkDescriptorSetLayout set_layout,
+                                                    VkPushConstantRange push) {
+    VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    info.setLayoutCount = 1;
+    info.pSetLayouts = &set_layout;
+    info.pushConstantRangeCount = push.size > 0 ? 1 : 0;
+    info.pPushConstantRanges = &push;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    PBDSPLAT_VK_TRY(vkCreatePipelineLayout(ctx.vk(), &info, nullptr, &layout));
+    return PipelineLayout(ctx.vk(), layout);
+}
+
+core::Result<Pipeline> create_compute_pipeline(const Context& ctx, const std::string& shader, VkPipelineLayout layout) {
+    auto module = load_shader(ctx, shader);
+    if (!module.ok()) return module.error();
+    VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    info.stage.module = module->get();
+    info.stage.pName = "main";
+    info.layout = layout;
+    VkPipeline p = VK_NULL_HANDLE;
+    PBDSPLAT_VK_TRY(vkCreateComputePipelines(ctx.vk(), VK_NULL_HANDLE, 1, &info, nullptr, &p));
     return Pipeline(ctx.vk(), p);
 }
 

@@ -24,13 +24,17 @@ struct GraphicsPipelineDesc {
     bool depth_test = true;
     bool depth_write = true;
     bool color_write = true;
-    // Value of specialization constant 0 (a bool or uint) given to every stage.
-    std::optional<uint32_t> specialization;
+    // Values of specialization constants 0, 1, ... (bools or uints), given to every stage.
+    std::vector<uint32_t> specialization;
     VkCullModeFlags cull = VK_CULL_MODE_NONE;
     BlendMode blend = BlendMode::none;
     VkPipelineLayout layout = VK_NULL_HANDLE;
 };
 
 core::Result<Pipeline> create_graphics_pipeline(const Context& ctx, const GraphicsPipelineDesc& desc);
+// One descriptor set layout and at most one push-constant range (size 0: none).
+core::Result<PipelineLayout> create_pipeline_layout(const Context& ctx, VkDescriptorSetLayout set_layout,
+                                                    VkPushConstantRange push = {});
+core::Result<Pipeline> create_compute_pipeline(const Context& ctx, const std::string& shader, VkPipelineLayout layout);
 
 } // namespace pbdsplat::gpu

@@ -6,68 +6,92 @@
 
 namespace pbdsplat::render {
 
-core::Result<std::unique_ptr<MeshRaster>> MeshRaster::create(gpu::Context& ctx, uint32_t width, uint32_t height,
-                                                             size_t max_vertices, size_t max_triangles) {
+core::Result<std::unique_ptr<MeshRaster>> MeshRaster::create(gpu::Context& ctx, const MeshRasterOptions& options) {
     auto m = std::unique_ptr<MeshRaster>(new MeshRaster());
     m->ctx_ = &ctx;
-    auto target = OffscreenTarget::create(ctx, width, height, 1);
+    auto target = OffscreenTarget::create(ctx, options.width, options.height, 1);
     if (!target.ok()) return target.error();
     m->target_ = std::move(target).value();
-    auto v = gpu::Buffer::create(ctx, std::max<size_t>(1, max_vertices) * sizeof(Vec4f), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
-                                 gpu::MemoryUsage::upload);
-    if (!v.ok()) return v.error();
-    m->vertices_ = std::move(v).value();
-    auto i = gpu::Buffer::create(ctx, std::max<size_t>(1, max_triangles) * 3 * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
-                                 gpu::MemoryUsage::upload);
-    if (!i.ok()) return i.error();
-    m->indices_ = std::move(i).value();
-    auto set_layout = gpu::create_uniform_layout(ctx, VK_SHADER_STAGE_VERTEX_BIT);
+    const size_t nv = std::max<size_t>(1, options.max_vertices), nt = std::max<size_t>(1, options.max_triangles);
+    struct Want { gpu::Buffer* buffer; VkDeviceSize bytes; VkBufferUsageFlags usage; };
+    // The positions double as the frame set's storage binding, which no mesh shader reads.
+    for (const Want& w : {Want{&m->vertices_, nv * sizeof(Vec4f), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT},
+                          Want{&m->normals_, nv * sizeof(Vec3f), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT},
+                          Want{&m->indices_, nt * 3 * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT}}) {
+        auto b = gpu::Buffer::create(ctx, w.bytes, w.usage, gpu::MemoryUsage::upload);
+        if (!b.ok()) return b.error();
+        *w.buffer = std::move(b).value();
+    }
+    std::memset(m->normals_.mapped(), 0, m->normals_.size());
+    auto environment = make_environment_texture(ctx, options.environment_map, options.sky_sun);
+    if (!environment.ok()) return environment.error();
+    m->environment_ = std::move(environment).value();
+
+    gpu::FrameSetStages stages;
+    stages.uniforms = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages.texture = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages.storage = VK_SHADER_STAGE_VERTEX_BIT;
+    auto set_layout = gpu::create_frame_layout(ctx, stages);
     if (!set_layout.ok()) return set_layout.error();
     m->set_layout_ = std::move(set_layout).value();
     const VkDescriptorSetLayout set_layout_handle = m->set_layout_.get();
-    auto uniforms = gpu::UniformSets::create(ctx, set_layout_handle, 1, sizeof(gpu_types::FrameUniforms));
+    gpu::FrameSetResources extra;
+    extra.texture_view = m->environment_.texture.view();
+    extra.texture_sampler = m->environment_.texture.sampler();
+    extra.storage = {m->vertices_.handle()};
+    auto uniforms = gpu::UniformSets::create(ctx, set_layout_handle, 1, sizeof(gpu_types::FrameUniforms), &extra);
     if (!uniforms.ok()) return uniforms.error();
     m->uniforms_ = std::move(uniforms).value();
 
-    VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    layout_info.setLayoutCount = 1;
-    layout_info.pSetLayouts = &set_layout_handle;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    PBDSPLAT_VK_TRY(vkCreatePipelineLayout(ctx.vk(), &layout_info, nullptr, &layout));
-    m->layout_ = gpu::PipelineLayout(ctx.vk(), layout);
+    auto pipeline_layout = gpu::create_pipeline_layout(ctx, set_layout_handle, {VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(float) * 4});
+    if (!pipeline_layout.ok()) return pipeline_layout.error();
+    m->layout_ = std::move(pipeline_layout).value();
+    const VkPipelineLayout layout = m->layout_.get();
     gpu::GraphicsPipelineDesc desc;
     desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "mesh.vert"}, {VK_SHADER_STAGE_FRAGMENT_BIT, "mesh.frag"}};
-    desc.bindings = {{0, sizeof(Vec4f), VK_VERTEX_INPUT_RATE_VERTEX}};
-    desc.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 0}};
+    desc.bindings = {{0, sizeof(Vec4f), VK_VERTEX_INPUT_RATE_VERTEX}, {1, sizeof(Vec3f), VK_VERTEX_INPUT_RATE_VERTEX}};
+    desc.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 0}, {1, 1, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     desc.color_format = k_color_format;
     desc.depth_format = k_depth_format;
     desc.layout = layout;
-    auto pipeline = gpu::create_graphics_pipeline(ctx, desc);
-    if (!pipeline.ok()) return pipeline.error();
-    m->pipeline_ = std::move(pipeline).value();
+    desc.specialization = {1u};  // k_mask
+    auto mask = gpu::create_graphics_pipeline(ctx, desc);
+    if (!mask.ok()) return mask.error();
+    m->mask_ = std::move(mask).value();
+    desc.specialization = {0u};
+    auto shaded = gpu::create_graphics_pipeline(ctx, desc);
+    if (!shaded.ok()) return shaded.error();
+    m->shaded_ = std::move(shaded).value();
     return m;
 }
 
-core::Status MeshRaster::set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles) {
+core::Status MeshRaster::set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles,
+                                  std::span<const Vec3f> normals) {
     if (positions.size_bytes() > vertices_.size() || triangles.size() * 3 * sizeof(uint32_t) > indices_.size())
         return core::make_error("the mesh is larger than this MeshRaster was created for");
+    if (!normals.empty() && normals.size() != positions.size())
+        return core::make_error("MeshRaster::set_mesh: " + std::to_string(normals.size()) + " normals for " +
+                                std::to_string(positions.size()) + " positions");
     std::memcpy(vertices_.mapped(), positions.data(), positions.size_bytes());
+    if (!normals.empty()) std::memcpy(normals_.mapped(), normals.data(), normals.size_bytes());
     std::memcpy(indices_.mapped(), triangles.data(), triangles.size() * 3 * sizeof(uint32_t));
     index_count_ = uint32_t(triangles.size() * 3);
     return core::Status::success();
 }
 
-void MeshRaster::draw(VkCommandBuffer cmd, const FrameInputs& inputs) {
-    const auto u = make_frame_uniforms(inputs, target_.width(), target_.height());
+void MeshRaster::draw(VkCommandBuffer cmd, const FrameInputs& inputs, MeshView view, const Vec3f& albedo) {
+    const auto u = make_frame_uniforms(inputs, target_.width(), target_.height(), &environment_.sh);
     std::memcpy(uniforms_.mapped(0), &u, sizeof(u));
-    const float clear[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    target_.begin(cmd, clear);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
+    const float clear_mask[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    target_.begin(cmd, view == MeshView::mask ? clear_mask : inputs.background.data());
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, view == MeshView::mask ? mask_.get() : shaded_.get());
     const VkDescriptorSet set = uniforms_.set(0);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &set, 0, nullptr);
-    const VkDeviceSize offset = 0;
-    const VkBuffer vb = vertices_.handle();
-    vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
+    const float push[4] = {albedo.x(), albedo.y(), albedo.z(), 1.0f};
+    vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(push), push);
+    const VkDeviceSize offsets[2] = {0, 0};
+    const VkBuffer vbs[2] = {vertices_.handle(), normals_.handle()};
+    vkCmdBindVertexBuffers(cmd, 0, 2, vbs, offsets);
     vkCmdBindIndexBuffer(cmd, indices_.handle(), 0, VK_INDEX_TYPE_UINT32);
     vkCmdDrawIndexed(cmd, index_count_, 1, 0, 0, 0);
     target_.end(cmd);

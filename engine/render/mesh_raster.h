@@ -1,6 +1,7 @@
 #pragma once
-// Rasterises the deformed simulation mesh into a mask (and depth): the reference the splats'
-// coverage is measured against (hole ratio, silhouette IoU). Not part of a normal frame.
+// Rasterises the deformed simulation mesh: as a coverage mask (the reference the splats'
+// hole ratio and silhouette IoU are measured against) or lit with the splats' own shading (the
+// mesh-based pipeline the paper compares against, for side-by-side views and error metrics).
 #include <array>
 #include <memory>
 #include <span>
@@ -10,40 +11,55 @@
 #include "gpu/device_handle.h"
 #include "gpu/pipeline.h"
 #include "gpu/uniform_sets.h"
+#include "render/environment_texture.h"
 #include "render/frame_inputs.h"
 #include "render/offscreen_target.h"
 #include "render/splat_renderer.h"
 
 namespace pbdsplat::render {
 
+enum class MeshView { mask, shaded };
+
+struct MeshRasterOptions {
+    uint32_t width = 1280, height = 720;
+    size_t max_vertices = 0, max_triangles = 0;
+    // The same environment the splat renderer would use (see RendererOptions).
+    std::string environment_map;
+    Vec3f sky_sun{0.4f, 0.7f, 0.6f};
+};
+
 class MeshRaster {
 public:
-    static core::Result<std::unique_ptr<MeshRaster>> create(gpu::Context& ctx, uint32_t width, uint32_t height,
-                                                            size_t max_vertices, size_t max_triangles);
+    static core::Result<std::unique_ptr<MeshRaster>> create(gpu::Context& ctx, const MeshRasterOptions& options);
 
     // Copies the mesh into the (host-visible) vertex and index buffers; call while no frame
-    // using them is in flight.
-    core::Status set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles);
-    // Draws into the target (in attachment layouts), then copies the colour image out (the
-    // caller's frame graph places the barriers: uses::color_attachment etc.).
-    void draw(VkCommandBuffer cmd, const FrameInputs& inputs);
+    // using them is in flight. `normals` (one per position) are needed for MeshView::shaded.
+    core::Status set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles,
+                          std::span<const Vec3f> normals = {});
+    // Draws into the target (in attachment layouts); the caller's frame graph places the
+    // barriers (uses::color_attachment etc.). A mask clears to transparent black, a shaded view
+    // to the frame's background.
+    void draw(VkCommandBuffer cmd, const FrameInputs& inputs, MeshView view = MeshView::mask,
+              const Vec3f& albedo = Vec3f(0.8f, 0.2f, 0.2f));
     void readback(VkCommandBuffer cmd) { target_.record_readback(cmd, 0); }
     core::ImageRgba8 read() const { return target_.read(0); }
 
     VkImage color_image() const { return target_.color().handle(); }
     VkImage depth_image() const { return target_.depth().handle(); }
     VkBuffer readback_buffer() const { return target_.readback_buffer(0); }
+    uint32_t triangle_count() const { return index_count_ / 3; }
 
 private:
     MeshRaster() = default;
     gpu::Context* ctx_ = nullptr;
     OffscreenTarget target_;
-    gpu::Buffer vertices_, indices_;
+    gpu::Buffer vertices_, normals_, indices_;
     uint32_t index_count_ = 0;
+    EnvironmentTexture environment_;
     gpu::DescriptorSetLayout set_layout_;
     gpu::UniformSets uniforms_;
     gpu::PipelineLayout layout_;
-    gpu::Pipeline pipeline_;
+    gpu::Pipeline mask_, shaded_;
 };
 
 } // namespace pbdsplat::render

@@ -32,16 +32,19 @@ std::string splat_path_unsupported(const gpu::DeviceCaps& caps, SplatPath path) 
     return {};
 }
 
-core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path) {
+core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path,
+                                          SplatShading shading) {
     if (const std::string why = splat_path_unsupported(ctx.caps(), path); !why.empty()) return core::make_error(why);
     SplatPass p;
     p.path_ = path;
+    p.shading_ = shading;
+    const uint32_t per_corner = shading == SplatShading::corner ? 1u : 0u;
     const VkShaderStageFlags front = path == SplatPath::geometry ? VK_SHADER_STAGE_GEOMETRY_BIT
                                      : path == SplatPath::mesh  ? VK_SHADER_STAGE_MESH_BIT_EXT
                                                                 : VK_SHADER_STAGE_VERTEX_BIT;
     gpu::FrameSetStages stages;
     stages.uniforms = front | VK_SHADER_STAGE_FRAGMENT_BIT;
-    stages.texture = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages.texture = VK_SHADER_STAGE_FRAGMENT_BIT | front;  // the front stage shades per corner
     // The geometry path takes records as vertex attributes; its binding 2 is declared only so
     // that every path shares one set shape.
     stages.storage = path == SplatPath::geometry ? VkShaderStageFlags(VK_SHADER_STAGE_VERTEX_BIT) : front;
@@ -50,17 +53,11 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     p.set_layout_ = std::move(set_layout).value();
     const VkDescriptorSetLayout layout_handle = p.set_layout_.get();
 
-    VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    layout_info.setLayoutCount = 1;
-    layout_info.pSetLayouts = &layout_handle;
     const VkPushConstantRange count_range{VK_SHADER_STAGE_MESH_BIT_EXT, 0, sizeof(uint32_t)};
-    if (path == SplatPath::mesh) {
-        layout_info.pushConstantRangeCount = 1;
-        layout_info.pPushConstantRanges = &count_range;
-    }
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    PBDSPLAT_VK_TRY(vkCreatePipelineLayout(ctx.vk(), &layout_info, nullptr, &layout));
-    p.layout_ = gpu::PipelineLayout(ctx.vk(), layout);
+    auto pipeline_layout = gpu::create_pipeline_layout(ctx, layout_handle, path == SplatPath::mesh ? count_range : VkPushConstantRange{});
+    if (!pipeline_layout.ok()) return pipeline_layout.error();
+    p.layout_ = std::move(pipeline_layout).value();
+    const VkPipelineLayout layout = p.layout_.get();
 
     gpu::GraphicsPipelineDesc desc;
     switch (path) {
@@ -76,7 +73,10 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     case SplatPath::mesh:
         desc.stages = {{VK_SHADER_STAGE_MESH_BIT_EXT, "splat.mesh"}};
         p.draw_mesh_tasks_ = reinterpret_cast<PFN_vkCmdDrawMeshTasksEXT>(vkGetDeviceProcAddr(ctx.vk(), "vkCmdDrawMeshTasksEXT"));
-        if (!p.draw_mesh_tasks_) return core::make_error("vkCmdDrawMeshTasksEXT is missing although the device reports VK_EXT_mesh_shader");
+        p.draw_mesh_tasks_indirect_ = reinterpret_cast<PFN_vkCmdDrawMeshTasksIndirectEXT>(
+            vkGetDeviceProcAddr(ctx.vk(), "vkCmdDrawMeshTasksIndirectEXT"));
+        if (!p.draw_mesh_tasks_ || !p.draw_mesh_tasks_indirect_)
+            return core::make_error("vkCmdDrawMeshTasks(Indirect)EXT is missing although the device reports VK_EXT_mesh_shader");
         break;
     case SplatPath::vertex:
         desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "splat_pull.vert"}};
@@ -88,14 +88,14 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     desc.depth_format = depth;
     desc.layout = layout;
     desc.color_write = false;
-    desc.specialization = 1u;  // k_visibility_pass
+    desc.specialization = {1u, per_corner};  // k_visibility_pass, k_shade_per_corner
     auto visibility = gpu::create_graphics_pipeline(ctx, desc);
     if (!visibility.ok()) return visibility.error();
     p.visibility_ = std::move(visibility).value();
 
     desc.stages.back().second = "splat.frag";
     desc.color_write = true;
-    desc.specialization.reset();
+    desc.specialization = {0u, per_corner};
     desc.depth_write = false;
     desc.blend = gpu::BlendMode::over_premultiplied;
     auto over = gpu::create_graphics_pipeline(ctx, desc);
@@ -109,7 +109,23 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     return p;
 }
 
-void SplatPass::draw(VkCommandBuffer cmd, uint32_t count) const {
+void SplatPass::draw(VkCommandBuffer cmd, const SplatSource& s) const {
+    const uint32_t count = s.count;
+    if (s.indirect) {
+        // The sort padded its output to whole mesh workgroups with zero-scale records, so the
+        // mesh shader may read up to the padded capacity.
+        const uint32_t padded = (count + SORT_MESH_GROUP - 1) / SORT_MESH_GROUP * SORT_MESH_GROUP;
+        constexpr VkDeviceSize word = 4;
+        switch (path_) {
+        case SplatPath::geometry: vkCmdDrawIndirect(cmd, s.indirect, SORT_CONTROL_DRAW * word, 1, 0); break;
+        case SplatPath::vertex: vkCmdDrawIndirect(cmd, s.indirect, SORT_CONTROL_DRAW_PULL * word, 1, 0); break;
+        case SplatPath::mesh:
+            vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_MESH_BIT_EXT, 0, sizeof(uint32_t), &padded);
+            draw_mesh_tasks_indirect_(cmd, s.indirect, SORT_CONTROL_MESH * word, 1, 0);
+            break;
+        }
+        return;
+    }
     switch (path_) {
     case SplatPath::geometry: vkCmdDraw(cmd, count, 1, 0, 0); break;
     case SplatPath::vertex: vkCmdDraw(cmd, 6 * count, 1, 0, 0); break;
@@ -120,20 +136,20 @@ void SplatPass::draw(VkCommandBuffer cmd, uint32_t count) const {
     }
 }
 
-void SplatPass::record(VkCommandBuffer cmd, Blend blend, VkDescriptorSet frame_set, VkBuffer records,
-                       uint32_t count) const {
-    if (count == 0) return;
+void SplatPass::record(VkCommandBuffer cmd, Blend blend, SplatOrder order, VkDescriptorSet frame_set,
+                       const SplatSource& source) const {
+    if (source.count == 0) return;
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &frame_set, 0, nullptr);
     if (path_ == SplatPath::geometry) {
         const VkDeviceSize offset = 0;
-        vkCmdBindVertexBuffers(cmd, 0, 1, &records, &offset);
+        vkCmdBindVertexBuffers(cmd, 0, 1, &source.records, &offset);
     }
-    if (blend == Blend::over) {
+    if (blend == Blend::over && order == SplatOrder::unsorted) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, visibility_.get());
-        draw(cmd, count);
+        draw(cmd, source);
     }
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, blend == Blend::additive ? additive_.get() : over_.get());
-    draw(cmd, count);
+    draw(cmd, source);
 }
 
 } // namespace pbdsplat::render

@@ -2,10 +2,20 @@
 
 #include <cstring>
 
+#include "core/assert.h"
 #include "core/timer.h"
 #include "render/frame_uniforms.h"
 
 namespace pbdsplat::render {
+
+Use uses::records_read(SplatPath path) {
+    switch (path) {
+    case SplatPath::geometry: return {{VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT}};
+    case SplatPath::mesh: return {{VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT}};
+    case SplatPath::vertex: return {{VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT}};
+    }
+    return {};
+}
 
 core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context& ctx, const RendererOptions& options) {
     if (options.max_splats == 0) return core::make_error("max_splats must be at least 1");
@@ -36,17 +46,15 @@ core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context&
     if (!target.ok()) return target.error();
     r->target_ = std::move(target).value();
 
-    auto pass = SplatPass::create(ctx, k_color_format, k_depth_format, options.path.value_or(best_splat_path(ctx.caps())));
+    auto pass = SplatPass::create(ctx, k_color_format, k_depth_format, options.path.value_or(best_splat_path(ctx.caps())),
+                                  options.shading);
     if (!pass.ok()) return pass.error();
     r->splat_ = std::move(pass).value();
 
-    core::Result<EnvironmentMap> map = options.environment_map.empty() ? core::Result<EnvironmentMap>(procedural_sky(options.sky_sun))
-                                                                       : load_environment_map(options.environment_map);
-    if (!map.ok()) return map.error();
-    r->sh_ = irradiance_sh(map.value());
-    auto texture = gpu::Texture::create_rgba16f(ctx, map->width, map->height, map->rgba);
-    if (!texture.ok()) return texture.error();
-    r->environment_ = std::move(texture).value();
+    auto environment = make_environment_texture(ctx, options.environment_map, options.sky_sun);
+    if (!environment.ok()) return environment.error();
+    r->sh_ = environment->sh;
+    r->environment_ = std::move(environment->texture);
 
     gpu::FrameSetResources extra;
     extra.texture_view = r->environment_.view();
@@ -55,6 +63,18 @@ core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context&
     auto uniforms = gpu::UniformSets::create(ctx, r->splat_.set_layout(), n, sizeof(gpu_types::FrameUniforms), &extra);
     if (!uniforms.ok()) return uniforms.error();
     r->uniforms_ = std::move(uniforms).value();
+    if (options.gpu_sort) {
+        std::vector<VkBuffer> records_per_slot;
+        for (uint32_t i = 0; i < n; ++i) records_per_slot.push_back(r->records_.buffer(i));
+        auto sort = GpuSort::create(ctx, options.max_splats, records_per_slot);
+        if (!sort.ok()) return sort.error();
+        r->sort_ = std::move(sort).value();
+        extra.storage.clear();
+        for (uint32_t i = 0; i < n; ++i) extra.storage.push_back(r->sort_.sorted_records(i));
+        auto sorted = gpu::UniformSets::create(ctx, r->splat_.set_layout(), n, sizeof(gpu_types::FrameUniforms), &extra);
+        if (!sorted.ok()) return sorted.error();
+        r->sorted_uniforms_ = std::move(sorted).value();
+    }
     for (uint32_t i = 0; i < n; ++i) {
         auto timer = gpu::GpuTimer::create(ctx, 8);
         if (!timer.ok()) return timer.error();
@@ -78,6 +98,7 @@ core::Status SplatRenderer::collect_timings(uint32_t slot) {
     GpuTimings t = slot_cpu_[slot];
     for (const auto& [label, ms] : marks.value()) {
         if (label == "upload") t.upload_ms = ms;
+        else if (label == "sort") t.sort_ms = ms;
         else if (label == "draw") t.draw_ms = ms;
         else if (label == "readback") t.readback_ms = ms;
     }
@@ -123,12 +144,31 @@ core::Status SplatRenderer::upload(std::span<const splat::GaussianRecord> record
     return core::Status::success();
 }
 
+void SplatRenderer::sort(const FrameInputs& inputs, uint32_t count) {
+    PBDSPLAT_ASSERT(has_gpu_sort(), "SplatRenderer::sort without the GPU sort: create the renderer with options.gpu_sort");
+    const uint32_t slot = frames_.slot();
+    const Camera& c = inputs.camera;
+    SortView v;
+    v.view = math::look_at(c.eye, c.target, c.up);
+    v.proj = math::perspective(math::radians(c.fov_y_degrees), float(target_.width()) / float(target_.height()), c.z_near, c.z_far);
+    v.z_near = c.z_near;
+    v.z_far = c.z_far;
+    v.cull_radius_per_scale = inputs.style.kappa * inputs.style.scale_multiplier;
+    sort_.record(cmd_, slot, count, v);
+    timers_[slot].mark(cmd_, "sort", VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+}
+
 void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
     const uint32_t slot = frames_.slot();
     const auto uniforms = make_frame_uniforms(inputs, target_.width(), target_.height(), &sh_);
-    std::memcpy(uniforms_.mapped(slot), &uniforms, sizeof(uniforms));
+    const bool gpu_sorted = inputs.style.blend == Blend::over && inputs.style.order == SplatOrder::gpu;
+    PBDSPLAT_ASSERT(!gpu_sorted || has_gpu_sort(), "SplatOrder::gpu needs a renderer created with options.gpu_sort");
+    const gpu::UniformSets& sets = gpu_sorted ? sorted_uniforms_ : uniforms_;
+    std::memcpy(sets.mapped(slot), &uniforms, sizeof(uniforms));
     target_.begin(cmd_, inputs.background.data());
-    splat_.record(cmd_, inputs.style.blend, uniforms_.set(slot), records_.buffer(slot), count);
+    SplatSource source{records_.buffer(slot), count};
+    if (gpu_sorted) source = {sort_.sorted_records(slot), count, sort_.control(slot)};
+    splat_.record(cmd_, inputs.style.blend, inputs.style.order, sets.set(slot), source);
     target_.end(cmd_);
     timers_[slot].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }

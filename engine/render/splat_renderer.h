@@ -14,8 +14,9 @@
 #include "gpu/stream_buffer.h"
 #include "gpu/texture.h"
 #include "gpu/uniform_sets.h"
-#include "render/environment.h"
+#include "render/environment_texture.h"
 #include "render/frame_inputs.h"
+#include "render/gpu_sort.h"
 #include "render/offscreen_target.h"
 #include "render/splat_pass.h"
 #include "splat/gaussian_record.h"
@@ -33,12 +34,16 @@ struct RendererOptions {
     // light's direction `sky_sun`.
     std::string environment_map;
     Vec3f sky_sun{0.4f, 0.7f, 0.6f};
+    SplatShading shading = SplatShading::fragment;
+    // Create the GPU depth sort (frames drawn with SplatOrder::gpu need it).
+    bool gpu_sort = false;
 };
 
 // GPU milliseconds of the last finished frame, from timestamps (0 when the device has none).
 struct GpuTimings {
     double upload_cpu_ms = 0.0;  // CPU: writing the records (in place, or into the staging ring)
     double upload_ms = 0.0;      // GPU: the staging copy (about 0 on the direct path)
+    double sort_ms = 0.0;  // GPU: cull, radix sort and gather (0 without the GPU sort)
     double draw_ms = 0.0;
     double readback_ms = 0.0;
     uint64_t uploaded_bytes = 0;
@@ -51,7 +56,10 @@ struct Use {
 };
 namespace uses {
 inline constexpr Use upload_write{{VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT}};
-inline constexpr Use vertex_read{{VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT, VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT}};
+inline constexpr Use compute_read{{VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT}};
+inline constexpr Use compute_write{{VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT}};
+inline constexpr Use indirect_read{{VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT, VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT}};
 inline constexpr Use color_attachment{{VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                                        VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT},
                                       VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
@@ -62,6 +70,9 @@ inline constexpr Use depth_attachment{{VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_
 inline constexpr Use color_copy_source{{VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT},
                                        VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
 inline constexpr Use readback_write{{VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT}};
+// How the splat pass reads its records: vertex attributes, or storage reads in the stage that
+// pulls them.
+Use records_read(SplatPath path);
 } // namespace uses
 
 class SplatRenderer {
@@ -77,6 +88,9 @@ public:
 
     // Operations on the frame being recorded.
     core::Status upload(std::span<const splat::GaussianRecord> records, std::span<const gpu::ByteRange> changed);
+    // Culls and sorts the uploaded records far to near (needs options.gpu_sort); a following
+    // draw() with SplatOrder::gpu draws the result.
+    void sort(const FrameInputs& inputs, uint32_t count);
     void draw(const FrameInputs& inputs, uint32_t count);
     void readback();
 
@@ -85,6 +99,9 @@ public:
     VkImage color_image() const { return target_.color().handle(); }
     VkImage depth_image() const { return target_.depth().handle(); }
     VkBuffer readback_buffer() const { return target_.readback_buffer(frames_.slot()); }
+    bool has_gpu_sort() const { return sort_.capacity() > 0; }
+    VkBuffer sorted_records_buffer() const { return has_gpu_sort() ? sort_.sorted_records(frames_.slot()) : VK_NULL_HANDLE; }
+    VkBuffer sort_control_buffer() const { return has_gpu_sort() ? sort_.control(frames_.slot()) : VK_NULL_HANDLE; }
 
     GpuTimings timings() const { return timings_; }
     gpu::UploadPath upload_path() const { return records_.path(); }
@@ -109,6 +126,8 @@ private:
     gpu::Texture environment_;
     std::array<Vec3f, 9> sh_{};
     gpu::UniformSets uniforms_;  // one per frame in flight
+    GpuSort sort_;
+    gpu::UniformSets sorted_uniforms_;  // the same, with the sorted records at the storage binding
     std::vector<gpu::GpuTimer> timers_;
     std::vector<bool> slot_pending_;     // slot has a submitted frame whose timings are unread
     std::vector<bool> slot_read_back_;   // slot's frame copied its image out

@@ -13,7 +13,12 @@ namespace {
 core::Result<core::ImageRgba8> mesh_mask(gpu::Context& ctx, std::span<const Vec4f> x,
                                          std::span<const std::array<uint32_t, 3>> triangles,
                                          const render::FrameInputs& frame, uint32_t width, uint32_t height) {
-    auto raster = render::MeshRaster::create(ctx, width, height, x.size(), triangles.size());
+    render::MeshRasterOptions mo;
+    mo.width = width;
+    mo.height = height;
+    mo.max_vertices = x.size();
+    mo.max_triangles = triangles.size();
+    auto raster = render::MeshRaster::create(ctx, mo);
     if (!raster.ok()) return raster.error();
     render::MeshRaster& m = *raster.value();
     PBDSPLAT_TRY(m.set_mesh(x, triangles));

@@ -5,6 +5,8 @@ namespace pbdsplat::scene {
 void GpuPassResources::refresh(const render::SplatRenderer& r) {
     records.buffer = r.records_buffer();
     readback.buffer = r.readback_buffer();
+    sorted.buffer = r.sorted_records_buffer();
+    sort_control.buffer = r.sort_control_buffer();
     color.image = r.color_image();
     depth.image = r.depth_image();
 }
@@ -12,7 +14,7 @@ void GpuPassResources::refresh(const render::SplatRenderer& r) {
 graph::GpuUse to_graph(const render::Use& u) { return {u.access.stage, u.access.access, u.layout}; }
 
 void add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer, GpuPassResources& res,
-                    graph::Handle<GpuFrameInput> input, graph::Handle<ImageSink> sink) {
+                    graph::Handle<GpuFrameInput> input, graph::Handle<ImageSink> sink, bool gpu_sort) {
     const auto records = g.import("gpu records", &res.records);
     const auto color = g.import("colour target", &res.color);
     const auto depth = g.import("depth target", &res.depth);
@@ -33,10 +35,31 @@ void add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer, GpuPa
             in.upload_status = renderer.upload(in.records, ranges);
         };
     });
+    const render::Use records_read = render::uses::records_read(renderer.path());
+    graph::Handle<graph::GpuBufferRef> sorted, control;
+    if (gpu_sort) {
+        sorted = g.import("sorted records", &res.sorted);
+        control = g.import("sort control", &res.sort_control);
+        g.add_pass("gpu sort", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+            b.read(input);
+            b.read(uploaded, to_graph(render::uses::compute_read));
+            sorted = b.write(sorted, to_graph(render::uses::compute_write));
+            control = b.write(control, to_graph(render::uses::compute_write));
+            return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
+                GpuFrameInput& in = r.get(input);
+                renderer.sort(in.frame, uint32_t(in.records.size()));
+            };
+        });
+    }
     graph::Handle<graph::GpuImageRef> drawn;
     g.add_pass("splat", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
         b.read(input);
-        b.read(uploaded, to_graph(render::uses::vertex_read));
+        if (gpu_sort) {
+            b.read(sorted, to_graph(records_read));
+            b.read(control, to_graph(render::uses::indirect_read));
+        } else {
+            b.read(uploaded, to_graph(records_read));
+        }
         drawn = b.write(color, to_graph(render::uses::color_attachment));
         b.write(depth, to_graph(render::uses::depth_attachment));
         b.side_effect();  // the colour target is what a frame is for (presented or read back)

@@ -24,6 +24,7 @@ struct ImageSink {};
 // the record buffer and the readback buffer change with the frame slot.
 struct GpuPassResources {
     graph::GpuBufferRef records, readback;
+    graph::GpuBufferRef sorted, sort_control;  // with the GPU sort
     graph::GpuImageRef color{VK_NULL_HANDLE, VK_IMAGE_ASPECT_COLOR_BIT};
     graph::GpuImageRef depth{VK_NULL_HANDLE, VK_IMAGE_ASPECT_DEPTH_BIT};
     void refresh(const render::SplatRenderer& r);
@@ -31,9 +32,10 @@ struct GpuPassResources {
 
 graph::GpuUse to_graph(const render::Use& u);
 
-// Declares "upload", "splat" and "readback". The readback pass needs `sink`; without one it is
-// culled. `input` is the version of the frame input the passes read (after the mapping).
+// Declares "upload", "gpu sort" (when `gpu_sort`: the frames are drawn with SplatOrder::gpu),
+// "splat" and "readback". The readback pass needs `sink`; without one it is culled. `input` is
+// the version of the frame input the passes read (after the mapping).
 void add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer, GpuPassResources& resources,
-                    graph::Handle<GpuFrameInput> input, graph::Handle<ImageSink> sink);
+                    graph::Handle<GpuFrameInput> input, graph::Handle<ImageSink> sink, bool gpu_sort = false);
 
 } // namespace pbdsplat::scene

@@ -10,7 +10,7 @@ core::Result<std::unique_ptr<OffscreenRenderer>> OffscreenRenderer::create(gpu::
     r->renderer_ = std::move(renderer).value();
     const auto input = r->graph_.import("frame input", &r->input_);
     const auto sink = r->graph_.import("image", &r->sink_);
-    add_gpu_passes(r->graph_, *r->renderer_, r->resources_, input, sink);
+    add_gpu_passes(r->graph_, *r->renderer_, r->resources_, input, sink, options.gpu_sort);
     PBDSPLAT_TRY(r->graph_.compile());
     return r;
 }

@@ -21,6 +21,7 @@ public:
     render::GpuTimings timings() const { return renderer_->timings(); }
     gpu::UploadPath upload_path() const { return renderer_->upload_path(); }
     const graph::FrameGraph& graph() const { return graph_; }
+    const render::SplatRenderer& splat_renderer() const { return *renderer_; }
 
 private:
     OffscreenRenderer() = default;

@@ -74,6 +74,9 @@ struct RenderDesc {
     uint32_t width = 1280, height = 720;
     render::FrameInputs frame;  // camera, lighting, splat style, background
     bool sort = false;          // far-to-near sort for "over" blending
+    // Where that sort runs; empty: chosen per device (render::preferred_sort).
+    std::optional<render::SplatOrder> sort_on;
+    render::SplatShading shading = render::SplatShading::fragment;
     CameraOrbit orbit;
     std::vector<CameraKey> path;  // sorted by time; when given, it replaces eye and target
     std::optional<render::SplatPath> splat_path;  // empty: the best the device has

@@ -250,6 +250,11 @@ void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
     render::SplatStyle& style = d.frame.style;
     style.blend = t.choice("blend", "over", {"over", "additive"}) == "additive" ? render::Blend::additive : render::Blend::over;
     d.sort = t.flag("sort", d.sort);
+    const std::string sort_on = t.choice("sort_on", "auto", {"auto", "cpu", "gpu"});
+    if (sort_on == "cpu") d.sort_on = render::SplatOrder::cpu;
+    else if (sort_on == "gpu") d.sort_on = render::SplatOrder::gpu;
+    d.shading = t.choice("shading", "fragment", {"fragment", "corner"}) == "corner" ? render::SplatShading::corner
+                                                                                    : render::SplatShading::fragment;
     style.kappa = t.real("kappa", style.kappa, 1.0, 6.0);
     const Vec3f bg = t.vec<3>("background", Vec3f(d.frame.background.head<3>()), 0.0, 1.0);
     d.frame.background = Vec4f(bg.x(), bg.y(), bg.z(), 1.0f);
@@ -500,6 +505,8 @@ std::string to_toml(const Scene& sc) {
     const render::Lighting& l = d.frame.lighting;
     o << "[render]\nwidth = " << d.width << "\nheight = " << d.height << "\nblend = "
       << (d.frame.style.blend == render::Blend::additive ? "\"additive\"" : "\"over\"") << "\nsort = " << (d.sort ? "true" : "false")
+      << "\nsort_on = \"" << (d.sort_on ? render::splat_order_name(*d.sort_on) : "auto") << "\"\nshading = \""
+      << (d.shading == render::SplatShading::corner ? "corner" : "fragment") << "\""
       << "\nkappa = " << num(d.frame.style.kappa) << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()));
     o << "\npath = \"" << (d.splat_path ? render::splat_path_name(*d.splat_path) : "auto") << "\"\nenvironment = \""
       << render::env_sampling_name(l.environment.sampling) << "\"\nenvironment_intensity = " << num(l.environment.intensity)

@@ -24,7 +24,7 @@ Group group_of(const std::string& name) {
     if (starts("distance") || starts("volume") || starts("drag") || starts("collide")) return constraints;
     if (starts("velocities") || starts("normals")) return integrate;
     if (starts("map") || starts("boundary") || starts("stretch") || starts("sort")) return update;
-    if (starts("upload") || starts("splat") || starts("readback")) return gpu_record;
+    if (starts("upload") || starts("gpu sort") || starts("splat") || starts("readback")) return gpu_record;
     return other;
 }
 } // namespace
@@ -132,8 +132,20 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     frame_input_.frame.lighting.specular = mat.specular;
     frame_input_.frame.lighting.shininess = mat.shininess;
 
+    // Where the far-to-near sort runs, when the scene asks for one: the override, the scene's
+    // choice, or what suits the device; without a device there is only the CPU.
+    render::SplatOrder order = render::SplatOrder::unsorted;
+    if (scene_.render.sort && scene_.render.frame.style.blend == render::Blend::over) {
+        order = options.sort_on.value_or(scene_.render.sort_on.value_or(
+            options.gpu ? render::preferred_sort(options.gpu->caps()) : render::SplatOrder::cpu));
+        if (!options.gpu) order = render::SplatOrder::cpu;
+    }
+    frame_input_.frame.style.order = order;
+
     if (options.gpu) {
         render::RendererOptions ro;
+        ro.shading = scene_.render.shading;
+        ro.gpu_sort = order == render::SplatOrder::gpu;
         ro.width = scene_.render.width;
         ro.height = scene_.render.height;
         // A cut duplicates vertices along its path: leave room for them.
@@ -173,7 +185,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
 
     auto samples = g.import("boundary particles", boundary ? &boundary_ : static_cast<surface::BoundaryParticles*>(nullptr));
     // Sorting only matters when splats are composited with "over" and the scene asks for it.
-    const bool sorted = scene_.render.sort && scene_.render.frame.style.blend == render::Blend::over;
+    const bool sorted = order == render::SplatOrder::cpu;  // the GPU sort is a GPU pass
     auto sort = g.import("sort", sorted ? &sort_scratch_ : static_cast<splat::SortScratch*>(nullptr));
     auto stretch = g.import("stretch", sd_surface.stretch_scale ? &stretch_ : static_cast<splat::StretchScale*>(nullptr));
     auto sink = g.import("image", options.readback ? &sink_ : static_cast<ImageSink*>(nullptr));
@@ -305,7 +317,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
             publish_records();
         };
     });
-    if (renderer_) add_gpu_passes(g, *renderer_, gpu_resources_, input, sink);
+    if (renderer_) add_gpu_passes(g, *renderer_, gpu_resources_, input, sink, order == render::SplatOrder::gpu);
     PBDSPLAT_TRY(g.compile());
     group_of_kept_pass_.clear();
     for (const graph::PassInfo& p : g.describe())

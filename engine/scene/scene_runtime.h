@@ -31,6 +31,7 @@ struct RuntimeOptions {
     // Check every mesh invariant after each topology change (always on in debug builds).
     bool check_topology = false;
     std::optional<render::SplatPath> splat_path;  // overrides the scene's
+    std::optional<render::SplatOrder> sort_on;    // overrides the scene's (and the device's choice)
 };
 
 // Per-frame figures, grouped as the paper's Tables 3 and 4.

@@ -54,6 +54,30 @@ struct FrameUniforms {
 };
 PBDSPLAT_GPU_SIZE(FrameUniforms, 2 * 64 + 8 * 16 + 11 * 16 + 4 * PBDSPLAT_MAX_LIGHTS * 16);
 
+// ---- GPU depth sort (render/gpu_sort.h): push constants of every sort kernel ----------------
+// The control block (storage, 32-bit words) the sort leaves for the draw: the visible count,
+// then the indirect arguments of each splat path.
+#define SORT_CONTROL_VISIBLE 0    // splats that survived culling
+#define SORT_CONTROL_DRAW 1       // VkDrawIndirectCommand, one point per splat (geometry path)
+#define SORT_CONTROL_DRAW_PULL 5  // VkDrawIndirectCommand, six vertices per splat (vertex pulling)
+#define SORT_CONTROL_MESH 9       // VkDrawMeshTasksIndirectCommandEXT (mesh path)
+#define SORT_CONTROL_WORDS 12
+#define SORT_MESH_GROUP 32        // splats per mesh-shader workgroup (SPLATS_PER_GROUP)
+struct SortPush {
+    vec4 depth_row;   // view-space z = dot(depth_row, vec4(p, 1)); farther is more negative
+    vec4 planes[4];   // the frustum's side planes in world space, normalised, inside positive
+    vec4 limits;      // x: near distance, y: far distance, z: cull radius per unit of splat scale
+    uint count;       // input records this frame
+    uint shift;       // radix pass: the digit's lowest bit
+    uint src_offset;  // radix pass: where the keys and values are read (0 or capacity)
+    uint dst_offset;  // ... and written
+    uint tiles;       // tiles of SORT_TILE elements covering `count`
+    uint scan_length; // scan: entries in the tile-count array
+    uint write_total; // scan: 1 = store the total as the visible count
+    uint pad;
+};
+PBDSPLAT_GPU_SIZE(SortPush, 128);
+
 #ifdef __cplusplus
 } // namespace pbdsplat::gpu_types
 #endif
