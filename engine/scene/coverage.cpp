@@ -1,15 +1,11 @@
 #include "scene/coverage.h"
 
-#include "gpu/frame_ring.h"
-#include "graph/frame_graph.h"
-#include "render/mesh_raster.h"
-#include "scene/gpu_passes.h"
+#include "scene/mesh_image.h"
 #include "scene/offscreen_renderer.h"
 
 namespace pbdsplat::scene {
 namespace {
 
-// The mesh mask through a small frame graph: raster, then readback; barriers derived.
 core::Result<core::ImageRgba8> mesh_mask(gpu::Context& ctx, std::span<const Vec4f> x,
                                          std::span<const std::array<uint32_t, 3>> triangles,
                                          const render::FrameInputs& frame, uint32_t width, uint32_t height) {
@@ -20,38 +16,10 @@ core::Result<core::ImageRgba8> mesh_mask(gpu::Context& ctx, std::span<const Vec4
     mo.max_triangles = triangles.size();
     auto raster = render::MeshRaster::create(ctx, mo);
     if (!raster.ok()) return raster.error();
-    render::MeshRaster& m = *raster.value();
-    PBDSPLAT_TRY(m.set_mesh(x, triangles));
-    graph::GpuImageRef color{m.color_image(), VK_IMAGE_ASPECT_COLOR_BIT}, depth{m.depth_image(), VK_IMAGE_ASPECT_DEPTH_BIT};
-    graph::GpuBufferRef readback{m.readback_buffer()};
-    ImageSink sink;
-    graph::FrameGraph g;
-    auto hc = g.import("mesh colour", &color);
-    auto hd = g.import("mesh depth", &depth);
-    auto hr = g.import("mesh readback", &readback);
-    auto hs = g.import("image", &sink);
-    g.add_pass("mesh raster", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-        hc = b.write(hc, to_graph(render::uses::color_attachment));
-        b.write(hd, to_graph(render::uses::depth_attachment));
-        return [&m, &frame](const graph::PassResources&, graph::ExecuteContext& c) { m.draw(c.cmd, frame); };
-    });
-    g.add_pass("mesh readback", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-        b.read(hc, to_graph(render::uses::color_copy_source));
-        b.write(hr, to_graph(render::uses::readback_write));
-        b.write(hs);
-        b.side_effect();
-        return [&m](const graph::PassResources&, graph::ExecuteContext& c) { m.readback(c.cmd); };
-    });
-    PBDSPLAT_TRY(g.compile());
-    auto ring = gpu::FrameRing::create(ctx, 1);
-    if (!ring.ok()) return ring.error();
-    auto cmd = ring->begin();
-    if (!cmd.ok()) return cmd.error();
-    graph::ExecuteContext ec{cmd.value(), 0};
-    g.execute(ec);
-    PBDSPLAT_TRY(ring->submit());
-    PBDSPLAT_TRY(ring->wait_all());
-    return m.read();
+    PBDSPLAT_TRY(raster.value()->set_mesh(x, triangles));
+    auto image = render_mesh_image(ctx, *raster.value(), frame, render::MeshView::mask);
+    if (!image.ok()) return image.error();
+    return std::move(image->image);
 }
 
 } // namespace

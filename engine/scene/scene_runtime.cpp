@@ -416,7 +416,13 @@ core::Status SceneRuntime::step() {
             case other: break;
         }
     }
-    if (renderer_) s.uploaded_bytes = renderer_->timings().uploaded_bytes;
+    if (renderer_) {
+        const render::GpuTimings g = renderer_->timings();
+        s.uploaded_bytes = g.uploaded_bytes;
+        s.gpu_upload_ms = g.upload_ms;
+        s.gpu_sort_ms = g.sort_ms;
+        s.gpu_draw_ms = g.draw_ms;
+    }
     s.graph_ms = frame_clock.elapsed_ms();
     stats_ = s;
     for (const auto& x : body_.particles.x)

@@ -45,6 +45,10 @@ struct FrameStats {
     double events_ms = 0.0, apply_forces_ms = 0.0, constraints_ms = 0.0, integrate_normals_ms = 0.0,
            update_particles_ms = 0.0, gpu_record_ms = 0.0, graph_ms = 0.0;
     uint64_t uploaded_bytes = 0;  // of the newest finished GPU frame
+    // GPU time of the newest finished frame, per pass, from timestamps (0 where the device has
+    // none or the pass did not run): the paper's "GPU Scene" row, broken down.
+    double gpu_upload_ms = 0.0, gpu_sort_ms = 0.0, gpu_draw_ms = 0.0;
+    double gpu_scene_ms() const { return gpu_upload_ms + gpu_sort_ms + gpu_draw_ms; }
 };
 
 class SceneRuntime {

@@ -92,8 +92,14 @@ expect_json_keys("bench cut --json" particles_before particles_after median_cut_
 expect("bench cut: bad policy" 2 bench cut --policy shred)
 expect("bench render --json" 0 bench render --splats 300 --width 64 --height 48 --repeat 2 --warmup 0 --path vertex --json --validation)
 expect_json_keys("bench render --json" median_ms path)
-expect("bench render: gpu sort" 1 bench render --sort gpu)
-expect_contains("bench render: gpu sort" "${last_err}" "not in this build")
+expect("bench render: gpu sort" 0 bench render --splats 300 --width 64 --height 48 --repeat 2 --warmup 0 --path vertex --sort gpu --shading corner --json --validation)
+expect_json_keys("bench render: gpu sort" median_ms path gpu_sort_ms)
+expect("bench render: meshraster" 0 bench render --splats 300 --width 64 --height 48 --repeat 2 --warmup 0 --path meshraster --json --validation)
+expect_json_keys("bench render: meshraster" median_ms path triangles)
+expect("bench scene --json" 0 bench scene --frames 3 --json --validation)
+expect_json_keys("bench scene --json" median_ms stages_median_ms gpu_median_ms)
+expect("bench render: meshraster sorted" 2 bench render --path meshraster --sort cpu)
+expect("bench render: bad shading" 2 bench render --shading phong)
 expect("bench render: bad path" 2 bench render --path teleport)
 
 # bench sim --json: particles, constraints and the Stage A medians.

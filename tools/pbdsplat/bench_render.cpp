@@ -15,26 +15,29 @@ namespace pbdsplat::cli {
 
 int bench_render(const std::vector<std::string>& argv) {
     static constexpr const char* help =
-        "usage: pbdsplat bench render [--splats N] [--path gs|mesh|vertex] [--sort off|cpu]\n"
-        "                             [--width W] [--height H] [--repeat R] [--warmup K] [--json]\n"
-        "                             [--validation] [--device NAME]\n"
+        "usage: pbdsplat bench render [--splats N] [--path gs|mesh|vertex|meshraster] [--sort off|cpu|gpu]\n"
+        "                             [--shading fragment|corner] [--environment E] [--width W] [--height H]\n"
+        "                             [--repeat R] [--warmup K] [--json] [--validation] [--device NAME]\n"
         "\n"
         "Milliseconds per frame of the splat pass for N splats on a sphere filling about a third of\n"
-        "the image: the GPU draw time (visibility and colour passes, from timestamps), the CPU\n"
-        "far-to-near sort when --sort cpu, and the whole frame's wall time; medians of R frames.\n"
-        "The three paths draw the same image, so their figures compare at equal quality.\n"
+        "the image: the GPU time of the sort and draw passes (timestamps), the CPU far-to-near sort\n"
+        "when --sort cpu, and the whole frame's wall time; medians of R frames. The three splat\n"
+        "paths draw the same image, so their figures compare at equal quality. --path meshraster\n"
+        "draws a lit icosphere with about as many vertices as N instead: the mesh pipeline the\n"
+        "paper compares against.\n"
         "\n"
         "  --splats N          default 20000\n"
-        "  --path P            gs, mesh or vertex (default: the best the device has)\n"
-        "  --sort S            off (default) or cpu; the GPU sort is not in this build\n"
+        "  --path P            gs, mesh, vertex (default: the best the device has) or meshraster\n"
+        "  --sort S            off (default: the visibility pass), cpu or gpu (compute cull + radix sort)\n"
+        "  --shading S         fragment (default) or corner: where the lighting is evaluated\n"
         "  --environment E     position (default), normal, hybrid or off: the shading's lookups\n"
         "  --width W, --height H   default 1280x720\n"
         "  --repeat R          measured frames (default 20); --warmup K unmeasured first (default 3)\n"
-        "  --json              one JSON object: median_ms (draw + sort), path, and the parts\n";
+        "  --json              one JSON object: median_ms (sort + draw), path, and the parts\n";
     std::set<std::string> flags = k_gpu_flags;
     flags.insert({"json", "help"});
     std::set<std::string> valued = k_gpu_options;
-    valued.insert({"splats", "path", "sort", "width", "height", "repeat", "warmup", "environment"});
+    valued.insert({"splats", "path", "sort", "width", "height", "repeat", "warmup", "environment", "shading"});
     auto args = Args::parse(argv, flags, valued);
     if (!args.ok()) return usage_error("bench render", args.error().to_string());
     if (args->has("help")) return std::fputs(help, stdout), 0;
@@ -49,13 +52,18 @@ int bench_render(const std::vector<std::string>& argv) {
         if (e) return usage_error("bench render", e->to_string());
     std::optional<render::SplatPath> path;
     const std::string path_arg = args->get_or("path", "auto");
+    const bool mesh_raster = path_arg == "meshraster";
     if (path_arg == "gs") path = render::SplatPath::geometry;
     else if (path_arg == "mesh") path = render::SplatPath::mesh;
     else if (path_arg == "vertex") path = render::SplatPath::vertex;
-    else if (path_arg != "auto") return usage_error("bench render", "--path must be gs, mesh or vertex, not '" + path_arg + "'");
+    else if (path_arg != "auto" && !mesh_raster)
+        return usage_error("bench render", "--path must be gs, mesh, vertex or meshraster, not '" + path_arg + "'");
     const std::string sort = args->get_or("sort", "off");
-    if (sort == "gpu") return fail("bench render", "--sort gpu: the GPU sort is not in this build (use off or cpu)");
-    if (sort != "off" && sort != "cpu") return usage_error("bench render", "--sort must be off or cpu, not '" + sort + "'");
+    if (sort != "off" && sort != "cpu" && sort != "gpu") return usage_error("bench render", "--sort must be off, cpu or gpu, not '" + sort + "'");
+    if (mesh_raster && sort != "off") return usage_error("bench render", "--path meshraster draws opaque triangles: no --sort");
+    const std::string shading_arg = args->get_or("shading", "fragment");
+    if (shading_arg != "fragment" && shading_arg != "corner")
+        return usage_error("bench render", "--shading must be fragment or corner, not '" + shading_arg + "'");
 
     const std::string env_arg = args->get_or("environment", "position");
     render::EnvSampling environment = render::EnvSampling::position;
@@ -76,7 +84,30 @@ int bench_render(const std::vector<std::string>& argv) {
 
     auto [records, frame] = make_splat_sphere(count.value());
     frame.lighting.environment.sampling = environment;
+    if (mesh_raster) {
+        auto r = bench_mesh_raster(*ctx.value(), count.value(), frame, width.value(), height.value(), warmup.value(), repeat.value());
+        if (!r.ok()) return fail("bench render", r.error().to_string());
+        if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("bench render", v.error().to_string());
+        if (args->has("json")) {
+            const nlohmann::json j = {{"suite", "render"}, {"device", caps.name}, {"driver", caps.driver},
+                                      {"path", "meshraster"}, {"splats", count.value()}, {"vertices", r->vertices},
+                                      {"triangles", r->triangles}, {"environment", render::env_sampling_name(environment)},
+                                      {"width", width.value()}, {"height", height.value()}, {"repeat", repeat.value()},
+                                      {"median_ms", r->median_ms}};
+            std::printf("%s\n", j.dump().c_str());
+        } else {
+            std::printf("device %s (%s)\n", caps.name.c_str(), caps.driver.c_str());
+            std::printf("mesh raster of an icosphere (%zu vertices, %zu triangles) at %ux%u, median of %u frames:\n",
+                        r->vertices, r->triangles, width.value(), height.value(), repeat.value());
+            std::printf("  draw   %8.3f ms GPU\n", r->median_ms);
+        }
+        return 0;
+    }
+    if (sort == "cpu") frame.style.order = render::SplatOrder::cpu;
+    if (sort == "gpu") frame.style.order = render::SplatOrder::gpu;
     render::RendererOptions options;
+    options.gpu_sort = sort == "gpu";
+    options.shading = shading_arg == "corner" ? render::SplatShading::corner : render::SplatShading::fragment;
     options.width = width.value();
     options.height = height.value();
     options.max_splats = count.value();
@@ -88,7 +119,7 @@ int bench_render(const std::vector<std::string>& argv) {
 
     splat::SortScratch scratch;
     const Mat4f view = math::look_at(frame.camera.eye, frame.camera.target, frame.camera.up);
-    std::vector<double> draw, sort_ms, wall;
+    std::vector<double> draw, sort_ms, gpu_sort_ms, wall;
     for (uint32_t i = 0; i < warmup.value() + repeat.value(); ++i) {
         const core::Stopwatch frame_clock;
         double sorting = 0.0;
@@ -102,25 +133,28 @@ int bench_render(const std::vector<std::string>& argv) {
         if (!img.ok()) return fail("bench render", img.error().to_string());
         if (i < warmup.value()) continue;
         draw.push_back(renderer.value()->timings().draw_ms);
+        gpu_sort_ms.push_back(renderer.value()->timings().sort_ms);
         sort_ms.push_back(sorting);
         wall.push_back(frame_clock.elapsed_ms());
     }
     if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("bench render", v.error().to_string());
-    const double median_ms = core::median(draw) + core::median(sort_ms);
+    const double median_ms = core::median(draw) + core::median(sort_ms) + core::median(gpu_sort_ms);
     if (args->has("json")) {
         const nlohmann::json j = {{"suite", "render"}, {"device", caps.name}, {"driver", caps.driver},
-                                  {"splats", count.value()}, {"path", render::splat_path_name(used)}, {"sort", sort}, {"environment", render::env_sampling_name(environment)},
+                                  {"splats", count.value()}, {"path", render::splat_path_name(used)}, {"sort", sort}, {"environment", render::env_sampling_name(environment)}, {"shading", shading_arg},
                                   {"width", width.value()}, {"height", height.value()}, {"repeat", repeat.value()},
                                   {"median_ms", median_ms}, {"draw_ms", core::median(draw)},
-                                  {"sort_ms", core::median(sort_ms)}, {"frame_wall_ms", core::median(wall)}};
+                                  {"sort_ms", core::median(sort_ms)}, {"gpu_sort_ms", core::median(gpu_sort_ms)},
+                                  {"frame_wall_ms", core::median(wall)}};
         std::printf("%s\n", j.dump().c_str());
         return 0;
     }
     std::printf("device %s (%s)\n", caps.name.c_str(), caps.driver.c_str());
-    std::printf("%u splats at %ux%u, path %s, sort %s, median of %u frames:\n", count.value(), width.value(),
-                height.value(), render::splat_path_name(used), sort.c_str(), repeat.value());
-    std::printf("  draw   %8.3f ms GPU (visibility + colour passes)\n", core::median(draw));
-    std::printf("  sort   %8.3f ms CPU\n", core::median(sort_ms));
+    std::printf("%u splats at %ux%u, path %s, sort %s, shading per %s, median of %u frames:\n", count.value(), width.value(),
+                height.value(), render::splat_path_name(used), sort.c_str(), shading_arg.c_str(), repeat.value());
+    std::printf("  draw   %8.3f ms GPU (%s)\n", core::median(draw), sort == "off" ? "visibility + colour passes" : "colour pass");
+    if (sort == "cpu") std::printf("  sort   %8.3f ms CPU\n", core::median(sort_ms));
+    if (sort == "gpu") std::printf("  sort   %8.3f ms GPU (cull, radix sort, gather)\n", core::median(gpu_sort_ms));
     std::printf("  frame  %8.3f ms wall (upload, draw, readback)\n", core::median(wall));
     return 0;
 }
