@@ -84,6 +84,8 @@ struct FrameGraph::Impl {
 
 FrameGraph::FrameGraph() : impl_(std::make_unique<Impl>()) {}
 FrameGraph::~FrameGraph() = default;
+FrameGraph::FrameGraph(FrameGraph&&) noexcept = default;
+FrameGraph& FrameGraph::operator=(FrameGraph&&) noexcept = default;
 
 uint32_t FrameGraph::import_resource(std::string name, void* data, const std::type_info& type, bool persistent, int gpu) {
     impl_->resources.push_back({std::move(name), data, type, persistent, gpu});
@@ -259,7 +261,10 @@ core::Status FrameGraph::compile() {
                 s.visible_stages = a.use.stage;
             } else {
                 if ((s.last_write.stage && !(s.visible_stages & a.use.stage)) || layout_change) {
-                    pass.barriers.push_back({r, s.last_write, {a.use.stage, a.use.access}, s.layout, a.use.layout});
+                    // Chain through the stages an earlier barrier made the write (and its layout
+                    // transition) visible to, so this reader is ordered after that transition too.
+                    pass.barriers.push_back({r, {s.last_write.stage | s.visible_stages, s.last_write.access},
+                                             {a.use.stage, a.use.access}, s.layout, a.use.layout});
                     s.visible_stages |= a.use.stage;
                 }
                 s.read_stages |= a.use.stage;
@@ -283,11 +288,15 @@ const std::vector<double>& FrameGraph::execute(ExecuteContext& ctx) {
         if (ctx.cmd != VK_NULL_HANDLE)
             for (const auto& b : pass.barriers) {
                 const Impl::Resource& r = g.resources[b.resource];
+                // A handle left null this frame (a swapchain image that could not be acquired)
+                // gets no barrier; the passes that use it skip their work too.
                 if (r.gpu == 1) {
-                    gpu::buffer_barrier(ctx.cmd, static_cast<GpuBufferRef*>(r.data)->buffer, b.before, b.after);
+                    const VkBuffer buffer = static_cast<GpuBufferRef*>(r.data)->buffer;
+                    if (buffer != VK_NULL_HANDLE) gpu::buffer_barrier(ctx.cmd, buffer, b.before, b.after);
                 } else {
                     const auto* img = static_cast<GpuImageRef*>(r.data);
-                    gpu::image_barrier(ctx.cmd, img->image, img->aspect, b.before, b.old_layout, b.after, b.new_layout);
+                    if (img->image != VK_NULL_HANDLE)
+                        gpu::image_barrier(ctx.cmd, img->image, img->aspect, b.before, b.old_layout, b.after, b.new_layout);
                 }
             }
         if (pass.run) pass.run(resources, ctx);

@@ -107,6 +107,8 @@ public:
     ~FrameGraph();
     FrameGraph(const FrameGraph&) = delete;
     FrameGraph& operator=(const FrameGraph&) = delete;
+    FrameGraph(FrameGraph&&) noexcept;
+    FrameGraph& operator=(FrameGraph&&) noexcept;
 
     // Brings outside data into the graph. `data` may be null: the resource is then absent and
     // every pass that reads or writes it is culled. `persistent`: its final state outlives the

@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "core/assert.h"
 #include "render/frame_uniforms.h"
 
 namespace pbdsplat::render {
@@ -14,15 +15,18 @@ core::Result<std::unique_ptr<MeshRaster>> MeshRaster::create(gpu::Context& ctx, 
     m->target_ = std::move(target).value();
     const size_t nv = std::max<size_t>(1, options.max_vertices), nt = std::max<size_t>(1, options.max_triangles);
     struct Want { gpu::Buffer* buffer; VkDeviceSize bytes; VkBufferUsageFlags usage; };
-    // The positions double as the frame set's storage binding, which no mesh shader reads.
-    for (const Want& w : {Want{&m->vertices_, nv * sizeof(Vec4f), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT},
-                          Want{&m->normals_, nv * sizeof(Vec3f), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT},
-                          Want{&m->indices_, nt * 3 * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT}}) {
-        auto b = gpu::Buffer::create(ctx, w.bytes, w.usage, gpu::MemoryUsage::upload);
-        if (!b.ok()) return b.error();
-        *w.buffer = std::move(b).value();
+    m->slots_.resize(std::max(1u, options.slots));
+    for (Slot& slot : m->slots_) {
+        // The positions double as the frame set's storage binding, which no mesh shader reads.
+        for (const Want& w : {Want{&slot.vertices, nv * sizeof(Vec4f), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT},
+                              Want{&slot.normals, nv * sizeof(Vec3f), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT},
+                              Want{&slot.indices, nt * 3 * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT}}) {
+            auto b = gpu::Buffer::create(ctx, w.bytes, w.usage, gpu::MemoryUsage::upload);
+            if (!b.ok()) return b.error();
+            *w.buffer = std::move(b).value();
+        }
+        std::memset(slot.normals.mapped(), 0, slot.normals.size());
     }
-    std::memset(m->normals_.mapped(), 0, m->normals_.size());
     auto environment = make_environment_texture(ctx, options.environment_map, options.sky_sun);
     if (!environment.ok()) return environment.error();
     m->environment_ = std::move(environment).value();
@@ -38,8 +42,8 @@ core::Result<std::unique_ptr<MeshRaster>> MeshRaster::create(gpu::Context& ctx, 
     gpu::FrameSetResources extra;
     extra.texture_view = m->environment_.texture.view();
     extra.texture_sampler = m->environment_.texture.sampler();
-    extra.storage = {m->vertices_.handle()};
-    auto uniforms = gpu::UniformSets::create(ctx, set_layout_handle, 1, sizeof(gpu_types::FrameUniforms), &extra);
+    for (const Slot& slot : m->slots_) extra.storage.push_back(slot.vertices.handle());
+    auto uniforms = gpu::UniformSets::create(ctx, set_layout_handle, uint32_t(m->slots_.size()), sizeof(gpu_types::FrameUniforms), &extra);
     if (!uniforms.ok()) return uniforms.error();
     m->uniforms_ = std::move(uniforms).value();
 
@@ -66,34 +70,38 @@ core::Result<std::unique_ptr<MeshRaster>> MeshRaster::create(gpu::Context& ctx, 
 }
 
 core::Status MeshRaster::set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles,
-                                  std::span<const Vec3f> normals) {
-    if (positions.size_bytes() > vertices_.size() || triangles.size() * 3 * sizeof(uint32_t) > indices_.size())
+                                  std::span<const Vec3f> normals, uint32_t slot_index) {
+    PBDSPLAT_ASSERT(slot_index < slots_.size(), "MeshRaster: slot out of range; create it with options.slots");
+    Slot& slot = slots_[slot_index];
+    if (positions.size_bytes() > slot.vertices.size() || triangles.size() * 3 * sizeof(uint32_t) > slot.indices.size())
         return core::make_error("the mesh is larger than this MeshRaster was created for");
     if (!normals.empty() && normals.size() != positions.size())
         return core::make_error("MeshRaster::set_mesh: " + std::to_string(normals.size()) + " normals for " +
                                 std::to_string(positions.size()) + " positions");
-    std::memcpy(vertices_.mapped(), positions.data(), positions.size_bytes());
-    if (!normals.empty()) std::memcpy(normals_.mapped(), normals.data(), normals.size_bytes());
-    std::memcpy(indices_.mapped(), triangles.data(), triangles.size() * 3 * sizeof(uint32_t));
-    index_count_ = uint32_t(triangles.size() * 3);
+    std::memcpy(slot.vertices.mapped(), positions.data(), positions.size_bytes());
+    if (!normals.empty()) std::memcpy(slot.normals.mapped(), normals.data(), normals.size_bytes());
+    std::memcpy(slot.indices.mapped(), triangles.data(), triangles.size() * 3 * sizeof(uint32_t));
+    slot.index_count = uint32_t(triangles.size() * 3);
     return core::Status::success();
 }
 
-void MeshRaster::draw(VkCommandBuffer cmd, const FrameInputs& inputs, MeshView view, const Vec3f& albedo) {
+void MeshRaster::draw(VkCommandBuffer cmd, const FrameInputs& inputs, MeshView view, const Vec3f& albedo, uint32_t slot_index) {
+    PBDSPLAT_ASSERT(slot_index < slots_.size(), "MeshRaster: slot out of range; create it with options.slots");
+    const Slot& slot = slots_[slot_index];
     const auto u = make_frame_uniforms(inputs, target_.width(), target_.height(), &environment_.sh);
-    std::memcpy(uniforms_.mapped(0), &u, sizeof(u));
+    std::memcpy(uniforms_.mapped(slot_index), &u, sizeof(u));
     const float clear_mask[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     target_.begin(cmd, view == MeshView::mask ? clear_mask : inputs.background.data());
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, view == MeshView::mask ? mask_.get() : shaded_.get());
-    const VkDescriptorSet set = uniforms_.set(0);
+    const VkDescriptorSet set = uniforms_.set(slot_index);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &set, 0, nullptr);
     const float push[4] = {albedo.x(), albedo.y(), albedo.z(), 1.0f};
     vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(push), push);
     const VkDeviceSize offsets[2] = {0, 0};
-    const VkBuffer vbs[2] = {vertices_.handle(), normals_.handle()};
+    const VkBuffer vbs[2] = {slot.vertices.handle(), slot.normals.handle()};
     vkCmdBindVertexBuffers(cmd, 0, 2, vbs, offsets);
-    vkCmdBindIndexBuffer(cmd, indices_.handle(), 0, VK_INDEX_TYPE_UINT32);
-    vkCmdDrawIndexed(cmd, index_count_, 1, 0, 0, 0);
+    vkCmdBindIndexBuffer(cmd, slot.indices.handle(), 0, VK_INDEX_TYPE_UINT32);
+    vkCmdDrawIndexed(cmd, slot.index_count, 1, 0, 0, 0);
     target_.end(cmd);
 }
 

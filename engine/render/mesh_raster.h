@@ -26,6 +26,9 @@ struct MeshRasterOptions {
     // The same environment the splat renderer would use (see RendererOptions).
     std::string environment_map;
     Vec3f sky_sun{0.4f, 0.7f, 0.6f};
+    // Copies of the mesh buffers, one per frame in flight, so the CPU never writes what the
+    // GPU may still read.
+    uint32_t slots = 1;
 };
 
 class MeshRaster {
@@ -35,26 +38,30 @@ public:
     // Copies the mesh into the (host-visible) vertex and index buffers; call while no frame
     // using them is in flight. `normals` (one per position) are needed for MeshView::shaded.
     core::Status set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles,
-                          std::span<const Vec3f> normals = {});
+                          std::span<const Vec3f> normals = {}, uint32_t slot = 0);
     // Draws into the target (in attachment layouts); the caller's frame graph places the
     // barriers (uses::color_attachment etc.). A mask clears to transparent black, a shaded view
     // to the frame's background.
     void draw(VkCommandBuffer cmd, const FrameInputs& inputs, MeshView view = MeshView::mask,
-              const Vec3f& albedo = Vec3f(0.8f, 0.2f, 0.2f));
+              const Vec3f& albedo = Vec3f(0.8f, 0.2f, 0.2f), uint32_t slot = 0);
     void readback(VkCommandBuffer cmd) { target_.record_readback(cmd, 0); }
     core::ImageRgba8 read() const { return target_.read(0); }
 
     VkImage color_image() const { return target_.color().handle(); }
     VkImage depth_image() const { return target_.depth().handle(); }
     VkBuffer readback_buffer() const { return target_.readback_buffer(0); }
-    uint32_t triangle_count() const { return index_count_ / 3; }
+    uint32_t width() const { return target_.width(); }
+    uint32_t height() const { return target_.height(); }
 
 private:
     MeshRaster() = default;
     gpu::Context* ctx_ = nullptr;
     OffscreenTarget target_;
-    gpu::Buffer vertices_, normals_, indices_;
-    uint32_t index_count_ = 0;
+    struct Slot {
+        gpu::Buffer vertices, normals, indices;
+        uint32_t index_count = 0;
+    };
+    std::vector<Slot> slots_;
     EnvironmentTexture environment_;
     gpu::DescriptorSetLayout set_layout_;
     gpu::UniformSets uniforms_;

@@ -120,9 +120,9 @@ core::Result<VkCommandBuffer> SplatRenderer::begin_frame() {
     return cmd_;
 }
 
-core::Status SplatRenderer::end_frame() {
+core::Status SplatRenderer::end_frame(const VkSemaphoreSubmitInfo* wait, const VkSemaphoreSubmitInfo* signal) {
     const uint32_t slot = frames_.slot();
-    PBDSPLAT_TRY(frames_.submit());
+    PBDSPLAT_TRY(frames_.submit(wait, signal));
     slot_pending_[slot] = true;
     last_slot_ = slot;
     any_frame_ = true;

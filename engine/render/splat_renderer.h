@@ -82,7 +82,10 @@ public:
 
     // Waits for the next slot's previous frame, collects its timings and starts recording.
     core::Result<VkCommandBuffer> begin_frame();
-    core::Status end_frame();
+    // Submits the frame; a windowed frame waits on the swapchain image and signals its present.
+    core::Status end_frame(const VkSemaphoreSubmitInfo* wait = nullptr, const VkSemaphoreSubmitInfo* signal = nullptr);
+    uint32_t slot() const { return frames_.slot(); }
+    uint32_t frames_in_flight() const { return options_.frames_in_flight; }
     // Waits for the GPU and returns the newest frame's image (read back by readback()).
     core::Result<core::ImageRgba8> finish();
 

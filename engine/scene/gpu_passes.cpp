@@ -13,8 +13,9 @@ void GpuPassResources::refresh(const render::SplatRenderer& r) {
 
 graph::GpuUse to_graph(const render::Use& u) { return {u.access.stage, u.access.access, u.layout}; }
 
-void add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer, GpuPassResources& res,
-                    graph::Handle<GpuFrameInput> input, graph::Handle<ImageSink> sink, bool gpu_sort) {
+graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer,
+                                                 GpuPassResources& res, graph::Handle<GpuFrameInput> input,
+                                                 graph::Handle<ImageSink> sink, bool gpu_sort) {
     const auto records = g.import("gpu records", &res.records);
     const auto color = g.import("colour target", &res.color);
     const auto depth = g.import("depth target", &res.depth);
@@ -75,6 +76,7 @@ void add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer, GpuPa
         b.side_effect();
         return [&renderer](const graph::PassResources&, graph::ExecuteContext&) { renderer.readback(); };
     });
+    return drawn;
 }
 
 } // namespace pbdsplat::scene

@@ -1,6 +1,7 @@
 #pragma once
 // The GPU passes of a frame (upload, splat, readback) declared into a frame graph, which
 // derives their barriers from the uses in render/splat_renderer.h.
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -32,10 +33,30 @@ struct GpuPassResources {
 
 graph::GpuUse to_graph(const render::Use& u);
 
+// The images a windowed frame shows, as the graph has them after drawing.
+struct PresentSources {
+    graph::Handle<graph::GpuImageRef> splats;  // the splat pass's colour target
+    graph::Handle<graph::GpuImageRef> mesh;    // the lit mesh raster's, when the view asks for it
+    uint32_t width = 0, height = 0;            // of both targets
+    std::function<uint32_t()> slot;            // the frame slot being recorded
+};
+
+// Where a windowed frame goes (the demo's swapchain): declares the passes that take the drawn
+// images to the screen, and the semaphores this frame's submit waits on and signals.
+class Presenter {
+public:
+    virtual ~Presenter() = default;
+    virtual void add_passes(graph::FrameGraph& g, const PresentSources& sources) = 0;
+    virtual const VkSemaphoreSubmitInfo* wait_semaphore() const = 0;
+    virtual const VkSemaphoreSubmitInfo* signal_semaphore() const = 0;
+};
+
 // Declares "upload", "gpu sort" (when `gpu_sort`: the frames are drawn with SplatOrder::gpu),
 // "splat" and "readback". The readback pass needs `sink`; without one it is culled. `input` is
 // the version of the frame input the passes read (after the mapping).
-void add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer, GpuPassResources& resources,
-                    graph::Handle<GpuFrameInput> input, graph::Handle<ImageSink> sink, bool gpu_sort = false);
+// Returns the colour target as the splat pass leaves it.
+graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer,
+                                                 GpuPassResources& resources, graph::Handle<GpuFrameInput> input,
+                                                 graph::Handle<ImageSink> sink, bool gpu_sort = false);
 
 } // namespace pbdsplat::scene

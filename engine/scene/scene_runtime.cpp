@@ -1,5 +1,7 @@
 #include "scene/scene_runtime.h"
 
+#include "sim/drag.h"
+
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
@@ -112,6 +114,8 @@ core::Result<std::unique_ptr<SceneRuntime>> SceneRuntime::create(const Scene& sc
 SceneRuntime::~SceneRuntime() = default;
 
 core::Status SceneRuntime::build(const RuntimeOptions& options) {
+    options_ = options;
+    readback_ = options.readback;
     pool_ = std::make_unique<core::ThreadPool>(std::max(1u, options.threads));
     solver_ = std::make_unique<sim::Solver>(pool_.get());
     frame_input_.frame = scene_.render.frame;
@@ -141,11 +145,16 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         if (!options.gpu) order = render::SplatOrder::cpu;
     }
     frame_input_.frame.style.order = order;
+    sorted_order_ = options.sort_on.value_or(scene_.render.sort_on.value_or(
+        options.gpu ? render::preferred_sort(options.gpu->caps()) : render::SplatOrder::cpu));
+    if (!options.gpu) sorted_order_ = render::SplatOrder::cpu;
+    base_scale_multiplier_ = frame_input_.frame.style.scale_multiplier;
 
     if (options.gpu) {
         render::RendererOptions ro;
         ro.shading = scene_.render.shading;
-        ro.gpu_sort = order == render::SplatOrder::gpu;
+        // Interactive runs may switch the sort on later: have it ready.
+        ro.gpu_sort = order == render::SplatOrder::gpu || (options.interactive && sorted_order_ == render::SplatOrder::gpu);
         ro.width = scene_.render.width;
         ro.height = scene_.render.height;
         // A cut duplicates vertices along its path: leave room for them.
@@ -153,7 +162,9 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         // Tearing keeps opening new boundary: more room than for scripted cuts.
         bool tears = false;
         for (const Event& e : scene_.events) tears = tears || std::holds_alternative<TearEvent>(e.data);
-        ro.max_splats = uint32_t(std::max<size_t>(1, scene_.has_topology_events() ? (tears ? 4 : 2) * splats : splats));
+        // Interactive runs may be cut and cut again: the most room.
+        const size_t room = options.interactive || tears ? 4 : scene_.has_topology_events() ? 2 : 1;
+        ro.max_splats = uint32_t(std::max<size_t>(1, room * splats));
         ro.frames_in_flight = options.frames_in_flight;
         ro.upload_path = options.upload_path;
         ro.path = options.splat_path ? options.splat_path : scene_.render.splat_path;
@@ -164,6 +175,23 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         renderer_ = std::move(r).value();
     }
 
+    for (const Event& e : scene_.events)
+        if (std::holds_alternative<CutEvent>(e.data) || std::holds_alternative<TearEvent>(e.data)) pending_topology_.push_back(e);
+    check_topology_ = options.check_topology;
+#ifndef NDEBUG
+    check_topology_ = true;
+#endif
+    fade_ = splat::FadeIn(scene_.simulation.fade_frames);
+    order_ = order;
+    return build_graph();
+}
+
+core::Status SceneRuntime::build_graph() {
+    const RuntimeOptions& options = options_;
+    const render::SplatOrder order = order_;
+    const SurfaceDesc& sd_surface = scene_.surface;
+    const bool boundary = sd_surface.mode == SurfaceMode::boundary;
+    graph_ = graph::FrameGraph();
     // The resources: what exists depends on the scene, and decides which passes survive.
     const SimulationDesc& sd = scene_.simulation;
     const bool has_volume = sd.solver.volume && !body_.volumes.empty();
@@ -174,7 +202,8 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     auto timeline = g.import("timeline", has_events ? timeline_.get() : static_cast<Timeline*>(nullptr));
     auto volumes = g.import("volume constraints", has_volume ? &body_.volumes : static_cast<std::vector<sim::VolumeConstraint>*>(nullptr));
     auto colliders = g.import("colliders", sd.colliders.empty() ? nullptr : &scene_.simulation.colliders);
-    auto drag = g.import("drag", timeline_->has_drag() ? &drag_ : static_cast<sim::DragConstraint*>(nullptr));
+    const bool drags = timeline_->has_drag() || options.interactive;
+    auto drag = g.import("drag", drags ? &drag_ : static_cast<sim::DragConstraint*>(nullptr));
     auto input = g.import("frame input", &frame_input_);
 
     const float dt = sd.dt;
@@ -188,22 +217,20 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     const bool sorted = order == render::SplatOrder::cpu;  // the GPU sort is a GPU pass
     auto sort = g.import("sort", sorted ? &sort_scratch_ : static_cast<splat::SortScratch*>(nullptr));
     auto stretch = g.import("stretch", sd_surface.stretch_scale ? &stretch_ : static_cast<splat::StretchScale*>(nullptr));
-    auto sink = g.import("image", options.readback ? &sink_ : static_cast<ImageSink*>(nullptr));
-    for (const Event& e : scene_.events)
-        if (std::holds_alternative<CutEvent>(e.data) || std::holds_alternative<TearEvent>(e.data)) pending_topology_.push_back(e);
-    check_topology_ = options.check_topology;
-#ifndef NDEBUG
-    check_topology_ = true;
-#endif
-    fade_ = splat::FadeIn(scene_.simulation.fade_frames);
-    auto cuts = g.import("topology events", pending_topology_.empty() ? static_cast<std::vector<Event>*>(nullptr) : &pending_topology_);
+    auto sink = g.import("image", readback_ ? &sink_ : static_cast<ImageSink*>(nullptr));
+    const bool topology_events = !pending_topology_.empty() || options.interactive;
+    auto cuts = g.import("topology events", topology_events ? &pending_topology_ : static_cast<std::vector<Event>*>(nullptr));
+    // Paused: nothing moves, so no simulation stage runs; the frame is drawn again as it was.
+    if (!paused_) {
     cpu_pass("events", [&](graph::PassBuilder& b) {
-        b.read(timeline);
+        if (!options.interactive) b.read(timeline);
         body = b.write(body);
-        if (timeline_->has_drag()) drag = b.write(drag);
+        if (drags) drag = b.write(drag);
         input = b.write(input);
         return [this, dt](const graph::PassResources&, graph::ExecuteContext&) {
-            timeline_->advance(time_, dt, body_, drag_, frame_input_.frame.camera);
+            render::Camera scripted = frame_input_.frame.camera;
+            timeline_->advance(time_, dt, body_, drag_, camera_override_ ? scripted : frame_input_.frame.camera);
+            if (user_drag_.active) drag_ = user_drag_;  // the hand wins over the script
         };
     });
     cpu_pass("topology", [&](graph::PassBuilder& b) {
@@ -212,6 +239,16 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         samples = b.write(samples);
         return [this, dt](const graph::PassResources&, graph::ExecuteContext&) {
             const core::Stopwatch clock;
+            for (const CutEvent& c : user_cuts_) {
+                if (!topology_status_.ok()) break;
+                const size_t particles = body_.particle_count();
+                const core::Status s = apply_cut(c);
+                if (!s.ok()) note_ = "cut failed: " + s.error().to_string();
+                else if (body_.particle_count() == particles) note_ = "the stroke cut nothing";
+                else note_ = "cut: " + std::to_string(body_.particle_count() - particles) + " particles split off";
+                if (s.ok()) ++cuts_;
+            }
+            user_cuts_.clear();
             while (topology_status_.ok() && !pending_topology_.empty() && pending_topology_.front().time < time_ + dt) {
                 const Event e = pending_topology_.front();
                 pending_topology_.erase(pending_topology_.begin());
@@ -273,6 +310,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         body = b.write(body);
         return [this, &solver](const graph::PassResources&, graph::ExecuteContext&) { solver.update_normals(body_); };
     });
+    }  // !paused_
     cpu_pass("boundary particles", [&](graph::PassBuilder& b) {
         b.read(body);
         samples = b.write(samples);
@@ -293,7 +331,8 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         input = b.write(input);
         if (keep) b.side_effect();
         return [this, boundary, sorted](const graph::PassResources&, graph::ExecuteContext&) {
-            splat::map_body(body_.particles.x, body_.normals, body_.colors, body_.triangles, boundary ? &boundary_ : nullptr,
+            splat::map_body(body_.particles.x, body_.normals, body_.colors, body_.triangles,
+                            boundary && show_boundary_ ? &boundary_ : nullptr,
                             appearance_, stretch_.empty() ? nullptr : &stretch_, records_);
             fade_.apply(body_.particle_count(), records_);
             // Position-based environment lookups look out from the body's centre; nothing else
@@ -317,7 +356,28 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
             publish_records();
         };
     });
-    if (renderer_) add_gpu_passes(g, *renderer_, gpu_resources_, input, sink, order == render::SplatOrder::gpu);
+    if (renderer_) {
+        const auto drawn = add_gpu_passes(g, *renderer_, gpu_resources_, input, sink, order == render::SplatOrder::gpu);
+        PresentSources sources{drawn, {}, renderer_->width(), renderer_->height(), [this] { return renderer_->slot(); }};
+        if (mesh_raster_ && (view_ == DisplayView::mesh || view_ == DisplayView::side_by_side)) {
+            auto mesh_color = g.import("mesh colour", &mesh_color_);
+            auto mesh_depth = g.import("mesh depth", &mesh_depth_);
+            g.add_pass("mesh", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+                b.read(body);
+                b.read(input);
+                mesh_color = b.write(mesh_color, to_graph(render::uses::color_attachment));
+                b.write(mesh_depth, to_graph(render::uses::depth_attachment));
+                return [this](const graph::PassResources&, graph::ExecuteContext& c) {
+                    const uint32_t slot = renderer_->slot();
+                    if (const core::Status s = mesh_raster_->set_mesh(body_.particles.x, body_.triangles, body_.normals, slot); !s.ok())
+                        note_ = "mesh view: " + s.error().to_string();  // drawn with the last mesh that fitted
+                    mesh_raster_->draw(c.cmd, frame_input_.frame, render::MeshView::shaded, appearance_.albedo, slot);
+                };
+            });
+            sources.mesh = mesh_color;
+        }
+        if (options.presenter) options.presenter->add_passes(g, sources);
+    }
     PBDSPLAT_TRY(g.compile());
     group_of_kept_pass_.clear();
     for (const graph::PassInfo& p : g.describe())
@@ -389,10 +449,13 @@ core::Status SceneRuntime::step() {
         gpu_resources_.refresh(*renderer_);
     }
     const auto& ms = graph_.execute(ctx);
-    if (renderer_) PBDSPLAT_TRY(renderer_->end_frame());
+    if (renderer_) {
+        Presenter* p = options_.presenter;
+        PBDSPLAT_TRY(renderer_->end_frame(p ? p->wait_semaphore() : nullptr, p ? p->signal_semaphore() : nullptr));
+    }
     if (!topology_status_.ok()) return topology_status_;
     if (renderer_) PBDSPLAT_TRY(frame_input_.upload_status);
-    time_ += scene_.simulation.dt;
+    if (!paused_) time_ += scene_.simulation.dt;
     ++frame_;
 
     FrameStats s;
@@ -435,6 +498,123 @@ core::Status SceneRuntime::step() {
 core::Result<core::ImageRgba8> SceneRuntime::finish() {
     if (!renderer_) return core::make_error("this scene runtime has no renderer (created without a GPU context)");
     return renderer_->finish();
+}
+
+const char* display_view_name(DisplayView v) {
+    switch (v) {
+    case DisplayView::splats: return "splats";
+    case DisplayView::mesh: return "mesh";
+    case DisplayView::points: return "points";
+    case DisplayView::side_by_side: return "splats | mesh";
+    }
+    return "?";
+}
+
+namespace {
+// The unit view ray through a pixel (window coordinates, y down).
+Vec3f pixel_ray(const render::Camera& c, const Vec2f& pixel, const Vec2f& size) {
+    const Vec3f forward = (c.target - c.eye).normalized();
+    const Vec3f right = forward.cross(c.up).normalized();
+    const Vec3f up = right.cross(forward);
+    const float tan_half = std::tan(math::radians(c.fov_y_degrees) * 0.5f);
+    const float nx = 2.0f * pixel.x() / size.x() - 1.0f, ny = 2.0f * pixel.y() / size.y() - 1.0f;
+    return (forward + nx * tan_half * (size.x() / size.y()) * right - ny * tan_half * up).normalized();
+}
+} // namespace
+
+void SceneRuntime::set_camera(const render::Camera& camera) {
+    frame_input_.frame.camera = camera;
+    camera_override_ = true;
+}
+
+bool SceneRuntime::begin_drag(const Vec2f& pixel, const Vec2f& view_size) {
+    const render::Camera& c = frame_input_.frame.camera;
+    const Vec3f ray = pixel_ray(c, pixel, view_size);
+    // Within a few sampling spacings of the ray: the splats' size, roughly.
+    const auto picked = sim::pick_particle(body_.particles, c.eye, ray, 3.0f * h_);
+    if (!picked) return false;
+    const Vec3f forward = (c.target - c.eye).normalized();
+    drag_depth_ = (sim::xyz(body_.particles.x[*picked]) - c.eye).dot(forward);
+    user_drag_.particle = *picked;
+    user_drag_.target = sim::xyz(body_.particles.x[*picked]);
+    user_drag_.stiffness = DragEvent{}.stiffness;
+    user_drag_.active = true;
+    return true;
+}
+
+void SceneRuntime::move_drag(const Vec2f& pixel, const Vec2f& view_size) {
+    if (!user_drag_.active) return;
+    const render::Camera& c = frame_input_.frame.camera;
+    const Vec3f ray = pixel_ray(c, pixel, view_size);
+    const float along = ray.dot((c.target - c.eye).normalized());
+    if (along > 1e-4f) user_drag_.target = c.eye + ray * (drag_depth_ / along);
+}
+
+void SceneRuntime::end_drag() {
+    user_drag_.active = false;
+    drag_.active = false;
+}
+
+void SceneRuntime::queue_cut(const Vec2f& a, const Vec2f& b, const Vec2f& view_size) {
+    if ((b - a).norm() < 2.0f) {
+        note_ = "cut stroke too short";
+        return;
+    }
+    CutEvent c;
+    c.segment = std::array<Vec2f, 2>{a, b};
+    c.screen = view_size;
+    user_cuts_.push_back(c);
+}
+
+void SceneRuntime::scale_pressure(float factor) {
+    for (sim::VolumeConstraint& v : body_.volumes) v.pressure = std::clamp(v.pressure * factor, 0.0f, 100.0f);
+}
+
+float SceneRuntime::pressure() const { return body_.volumes.empty() ? 0.0f : body_.volumes.front().pressure; }
+
+core::Status SceneRuntime::set_readback(bool readback) {
+    if (readback == readback_) return core::Status::success();
+    readback_ = readback;
+    return build_graph();
+}
+
+core::Status SceneRuntime::set_paused(bool paused) {
+    if (paused == paused_) return core::Status::success();
+    paused_ = paused;
+    return build_graph();
+}
+
+core::Status SceneRuntime::set_sorted(bool sorted) {
+    const bool blend_over = scene_.render.frame.style.blend == render::Blend::over;
+    render::SplatOrder order = sorted && blend_over ? sorted_order_ : render::SplatOrder::unsorted;
+    if (order == render::SplatOrder::gpu && !(renderer_ && renderer_->has_gpu_sort())) order = render::SplatOrder::cpu;
+    if (order == order_) return core::Status::success();
+    order_ = order;
+    frame_input_.frame.style.order = order;
+    return build_graph();
+}
+
+core::Status SceneRuntime::set_view(DisplayView view) {
+    if (view == view_) return core::Status::success();
+    if ((view == DisplayView::mesh || view == DisplayView::side_by_side) && !mesh_raster_ && renderer_ && options_.gpu) {
+        render::MeshRasterOptions mo;
+        mo.width = renderer_->width();
+        mo.height = renderer_->height();
+        mo.max_vertices = renderer_->max_splats();  // room for what cuts add, as for the splats
+        mo.max_triangles = 4 * body_.triangles.size() + 1024;
+        mo.environment_map = scene_.render.environment_map;
+        mo.sky_sun = scene_.render.frame.lighting.direction;
+        mo.slots = renderer_->frames_in_flight();
+        auto raster = render::MeshRaster::create(*options_.gpu, mo);
+        if (!raster.ok()) return raster.error();
+        mesh_raster_ = std::move(raster).value();
+        mesh_color_.image = mesh_raster_->color_image();
+        mesh_depth_.image = mesh_raster_->depth_image();
+    }
+    view_ = view;
+    // Particles as points: the same splats, a fraction of their size.
+    frame_input_.frame.style.scale_multiplier = base_scale_multiplier_ * (view == DisplayView::points ? 0.3f : 1.0f);
+    return build_graph();
 }
 
 } // namespace pbdsplat::scene

@@ -15,6 +15,7 @@
 #include "sim/solver.h"
 #include "splat/fade_in.h"
 #include "splat/mapping.h"
+#include "render/mesh_raster.h"
 #include "splat/sort.h"
 #include "surface/boundary_particles.h"
 #include "topology/topology_change.h"
@@ -32,7 +33,16 @@ struct RuntimeOptions {
     bool check_topology = false;
     std::optional<render::SplatPath> splat_path;  // overrides the scene's
     std::optional<render::SplatOrder> sort_on;    // overrides the scene's (and the device's choice)
+    // Interaction between steps (drags, cuts): keeps the drag and topology stages in the graph
+    // even when the scene scripts none.
+    bool interactive = false;
+    // Windowed frames: the passes that take the image to the screen (not owned).
+    Presenter* presenter = nullptr;
 };
+
+// What a windowed frame shows.
+enum class DisplayView { splats, mesh, points, side_by_side };
+const char* display_view_name(DisplayView v);
 
 // Per-frame figures, grouped as the paper's Tables 3 and 4.
 struct FrameStats {
@@ -70,10 +80,63 @@ public:
     const Scene& scene() const { return scene_; }
     // What the most recent cut or tear did (empty before any).
     const topology::TopologyChange& last_topology_change() const { return last_change_; }
+    float time() const { return time_; }
+
+    // ---- Interaction (the windowed demo, scripted input); call between steps. -------------
+    // Pixels are window coordinates (y down) of a view `view_size` large.
+    // From now on the camera is the caller's: the scene's orbit and camera path stop moving it.
+    void set_camera(const render::Camera& camera);
+    const render::Camera& camera() const { return frame_input_.frame.camera; }
+    // Grabs the particle nearest the view ray through `pixel`; false when the ray misses the body.
+    bool begin_drag(const Vec2f& pixel, const Vec2f& view_size);
+    // Moves the grabbed particle's target under `pixel`, at the depth it was grabbed at.
+    void move_drag(const Vec2f& pixel, const Vec2f& view_size);
+    void end_drag();
+    bool dragging() const { return user_drag_.active; }
+    // A cut along the stroke a -> b, applied at the next step. A stroke that cuts nothing, or
+    // fails, is reported by interaction_note() and the run goes on.
+    void queue_cut(const Vec2f& a, const Vec2f& b, const Vec2f& view_size);
+    const std::string& interaction_note() const { return note_; }
+    // Multiplies every volume constraint's pressure factor k.
+    void scale_pressure(float factor);
+    float pressure() const;
+    void set_environment_sampling(render::EnvSampling s) { frame_input_.frame.lighting.environment.sampling = s; }
+    render::EnvSampling environment_sampling() const { return frame_input_.frame.lighting.environment.sampling; }
+    // Hides or shows the boundary particles' splats (the particles' own stay).
+    void set_boundary_visible(bool visible) { show_boundary_ = visible; }
+    bool boundary_visible() const { return show_boundary_; }
+    // These change which passes run, so the graph is rebuilt.
+    core::Status set_paused(bool paused);
+    bool paused() const { return paused_; }
+    core::Status set_sorted(bool sorted);  // far to near on the device's preferred side, or not
+    render::SplatOrder order() const { return order_; }
+    core::Status set_view(DisplayView view);
+    // Reads frames back (for finish()) from the next step on; windowed runs turn it on only for
+    // a screenshot.
+    core::Status set_readback(bool readback);
+    DisplayView view() const { return view_; }
 
 private:
     SceneRuntime() = default;
     core::Status build(const RuntimeOptions& options);
+    // The frame graph for the current settings; run again when one that changes it does.
+    core::Status build_graph();
+    RuntimeOptions options_;
+    render::SplatOrder order_ = render::SplatOrder::unsorted;
+    render::SplatOrder sorted_order_ = render::SplatOrder::cpu;  // what set_sorted(true) picks
+    sim::DragConstraint user_drag_;
+    float drag_depth_ = 0.0f;
+    std::vector<CutEvent> user_cuts_;
+    std::string note_;
+    bool camera_override_ = false;
+    bool paused_ = false;
+    bool readback_ = true;
+    bool show_boundary_ = true;
+    DisplayView view_ = DisplayView::splats;
+    float base_scale_multiplier_ = 1.0f;
+    std::unique_ptr<render::MeshRaster> mesh_raster_;  // made when a view first shows the mesh
+    graph::GpuImageRef mesh_color_{VK_NULL_HANDLE, VK_IMAGE_ASPECT_COLOR_BIT};
+    graph::GpuImageRef mesh_depth_{VK_NULL_HANDLE, VK_IMAGE_ASPECT_DEPTH_BIT};
 
     Scene scene_;
     sim::SoftBody body_;

@@ -40,7 +40,7 @@ endfunction()
 # --help everywhere, on stdout, exit 0.
 foreach(cmd "--help" "info;--help" "render;--help" "bench;--help" "bench;splat;--help" "bench;sim;--help"
            "bench;sim-error;--help" "bench;scene;--help" "bench;graph;--help" "bench;cut;--help" "bench;render;--help" "graph;--help" "validate-scene;--help"
-           "export-ply;--help")
+           "export-ply;--help" "run;--help")
   expect("help: ${cmd}" 0 ${cmd})
   expect_contains("help: ${cmd}" "${last_out}" "usage: pbdsplat")
 endforeach()
@@ -85,6 +85,19 @@ if(json_error)
   message(SEND_ERROR "bench splat --json: no median_ms.draw: ${json_error}\n${last_out}")
   math(EXPR failures "${failures} + 1")
 endif()
+
+# run: without a display it says so and points to render; bad arguments fail before a window.
+set(saved_display "$ENV{DISPLAY}")
+set(saved_wayland "$ENV{WAYLAND_DISPLAY}")
+unset(ENV{DISPLAY})
+unset(ENV{WAYLAND_DISPLAY})
+expect("run without a display" 1 run --frames 1)
+expect_contains("run without a display" "${last_err}" "pbdsplat render")
+expect("run: screenshot past the end" 2 run --frames 5 --screenshot-at 9)
+expect("run: missing script" 1 run --script no-such.script)
+expect_contains("run: missing script" "${last_err}" "no-such.script")
+set(ENV{DISPLAY} "${saved_display}")
+set(ENV{WAYLAND_DISPLAY} "${saved_wayland}")
 
 # bench cut --json and bench render --json: the figures their issues name.
 expect("bench cut --json" 0 bench cut --mesh icosphere:2 --cuts 2 --frames 2 --json)

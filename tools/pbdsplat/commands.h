@@ -6,6 +6,7 @@
 namespace pbdsplat::cli {
 
 int cmd_info(const std::vector<std::string>& args);
+int cmd_run(const std::vector<std::string>& argv);
 int cmd_render(const std::vector<std::string>& args);
 int cmd_bench(const std::vector<std::string>& args);
 int bench_splat(const std::vector<std::string>& args);

@@ -14,6 +14,7 @@ constexpr const char* k_help =
     "\n"
     "commands:\n"
     "  info      the Vulkan device and the features that matter (--json)\n"
+    "  run       run a scene live in a window: drag, cut, tear (needs a display)\n"
     "  render    run a scene offscreen (default: the built-in one) and write PNG images\n"
     "  graph     the compiled frame graph of a scene, with culled passes marked (--json, --dot)\n"
     "  validate-scene  check scene files without running them\n"
@@ -28,6 +29,7 @@ struct Command {
 };
 constexpr Command k_commands[] = {
     {"info", pbdsplat::cli::cmd_info},
+    {"run", pbdsplat::cli::cmd_run},
     {"render", pbdsplat::cli::cmd_render},
     {"bench", pbdsplat::cli::cmd_bench},
     {"graph", pbdsplat::cli::cmd_graph},
