@@ -36,6 +36,35 @@ Vec3f sample_nearest(const EnvironmentMap& m, const Vec3f& d) {
     return m.texel(x, y);
 }
 
+EnvironmentMap procedural_studio(const Vec3f& key, uint32_t width, uint32_t height) {
+    EnvironmentMap m;
+    m.width = width;
+    m.height = height;
+    m.rgba.resize(size_t(width) * height * 4);
+    const Vec3f k = Vec3f(key.x(), 0.3f, key.z()).normalized();
+    const Vec3f fill = Vec3f(-k.x(), 0.1f, -k.z()).normalized();
+    // A soft box: bright inside a cone, falling off smoothly at its rim.
+    auto box = [](const Vec3f& d, const Vec3f& axis, float cos_inner, float cos_outer) {
+        const float c = d.dot(axis);
+        return std::clamp((c - cos_outer) / (cos_inner - cos_outer), 0.0f, 1.0f);
+    };
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) {
+            const Vec3f d = equirect_direction(m, float(x) + 0.5f, float(y) + 0.5f);
+            Vec3f c = d.y() >= 0.0f ? Vec3f(0.05f, 0.05f, 0.06f) : Vec3f(0.09f, 0.08f, 0.07f);  // walls, floor
+            c += box(d, k, 0.93f, 0.88f) * Vec3f(3.0f, 2.9f, 2.7f);
+            c += box(d, fill, 0.95f, 0.90f) * Vec3f(0.9f, 1.0f, 1.2f);
+            if (d.y() > 0.85f && std::abs(d.x()) < 0.2f) c += Vec3f(1.6f, 1.6f, 1.6f);  // overhead strip
+            float* p = &m.rgba[(size_t(y) * width + x) * 4];
+            p[0] = c.x(), p[1] = c.y(), p[2] = c.z(), p[3] = 1.0f;
+        }
+    return m;
+}
+
+bool is_procedural_map_name(const std::string& name) {
+    return name == std::string(k_procedural_prefix) + "sky" || name == std::string(k_procedural_prefix) + "studio";
+}
+
 EnvironmentMap procedural_sky(const Vec3f& sun, uint32_t width, uint32_t height) {
     EnvironmentMap m;
     m.width = width;

@@ -27,6 +27,14 @@ Vec3f sample_nearest(const EnvironmentMap& map, const Vec3f& direction);
 // A soft sky: a horizon-to-zenith gradient, a darker ground and a warm glow around `sun`.
 EnvironmentMap procedural_sky(const Vec3f& sun, uint32_t width = 256, uint32_t height = 128);
 
+// A photo studio: a dark room lit by two large soft boxes (key and fill, from `key`'s side and
+// opposite) and a bright strip overhead; the "other environment map" of the paper's Figure 10.
+EnvironmentMap procedural_studio(const Vec3f& key, uint32_t width = 256, uint32_t height = 128);
+
+// The procedural maps by name, as scene files give them ("procedural:sky", "procedural:studio").
+inline constexpr const char* k_procedural_prefix = "procedural:";
+bool is_procedural_map_name(const std::string& name);
+
 // PNG (8-bit, sRGB) or .hdr (Radiance RGBE) files; errors name the file and the reason.
 core::Result<EnvironmentMap> load_environment_map(const std::string& path);
 

@@ -14,7 +14,8 @@ struct EnvironmentTexture {
     std::array<Vec3f, 9> sh{};
 };
 
-// `map_path` empty: the procedural sky lit from `sun`.
+// `map_path` empty or "procedural:sky": the procedural sky lit from `sun`; "procedural:studio":
+// the studio; anything else: a PNG or .hdr file.
 core::Result<EnvironmentTexture> make_environment_texture(gpu::Context& ctx, const std::string& map_path, const Vec3f& sun);
 
 } // namespace pbdsplat::render

@@ -15,6 +15,7 @@ const char* event_type_name(const EventData& e) {
         const char* operator()(const SpinEvent&) const { return "spin"; }
         const char* operator()(const CutEvent&) const { return "cut"; }
         const char* operator()(const TearEvent&) const { return "tear"; }
+        const char* operator()(const OpacityEvent&) const { return "opacity"; }
     };
     return std::visit(Visitor{}, e);
 }

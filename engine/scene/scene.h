@@ -108,7 +108,12 @@ struct TearEvent {
     uint32_t max_per_frame = 4;  // tears per frame
     float duration = 0.0f;       // tearing stays on this long; 0 = to the end
 };
-using EventData = std::variant<PressureEvent, DragEvent, SpinEvent, CutEvent, TearEvent>;
+// The splats' opacity sigmoid(o) ramps linearly to `value` (Figure 13's sweep).
+struct OpacityEvent {
+    float value = 1.0f;     // in (0, 1)
+    float duration = 0.0f;  // 0 = at once
+};
+using EventData = std::variant<PressureEvent, DragEvent, SpinEvent, CutEvent, TearEvent, OpacityEvent>;
 struct Event {
     float time = 0.0f;
     EventData data;

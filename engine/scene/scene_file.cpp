@@ -10,6 +10,8 @@
 
 #include <toml++/toml.h>
 
+#include "render/environment.h"
+
 namespace pbdsplat::scene {
 namespace {
 
@@ -297,11 +299,18 @@ void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
     env.specular = t.real("environment_specular", env.specular, 0.0, 100.0);
     if (t.has("environment_map")) {
         d.environment_map = t.text("environment_map", "");
-        if (d.environment_map.empty()) r.fail(t.source_of("environment_map"), "'render.environment_map' must name a PNG or .hdr file");
-        const std::filesystem::path map(d.environment_map);
-        if (map.is_relative()) d.environment_map = (std::filesystem::path(r.directory()) / map).string();
-        if (!std::filesystem::exists(d.environment_map))
-            r.fail(t.source_of("environment_map"), "'render.environment_map': no such file '" + d.environment_map + "'");
+        if (d.environment_map.empty())
+            r.fail(t.source_of("environment_map"), "'render.environment_map' must name a PNG or .hdr file, or procedural:sky or procedural:studio");
+        if (d.environment_map.rfind(render::k_procedural_prefix, 0) == 0) {
+            if (!render::is_procedural_map_name(d.environment_map))
+                r.fail(t.source_of("environment_map"), "'render.environment_map': unknown procedural map '" + d.environment_map +
+                                                           "' (procedural:sky or procedural:studio)");
+        } else {
+            const std::filesystem::path map(d.environment_map);
+            if (map.is_relative()) d.environment_map = (std::filesystem::path(r.directory()) / map).string();
+            if (!std::filesystem::exists(d.environment_map))
+                r.fail(t.source_of("environment_map"), "'render.environment_map': no such file '" + d.environment_map + "'");
+        }
     }
     if (const toml::array* lights = t.array("lights")) {
         for (const toml::node& n : *lights) {
@@ -343,9 +352,14 @@ Event read_event(const Reader& r, const toml::node& n) {
     Reader::Table t(r, *n.as_table(), "events");
     Event e;
     e.time = t.real("time", 0.0f, 0.0, 1e6);
-    const std::string type = t.choice("type", "pressure", {"pressure", "drag", "spin", "cut", "tear"});
+    const std::string type = t.choice("type", "pressure", {"pressure", "drag", "spin", "cut", "tear", "opacity"});
     if (!t.has("type")) r.fail(n.source(), "an event needs a 'type' (pressure, drag, spin, cut, tear)");
-    if (type == "pressure") {
+    if (type == "opacity") {
+        OpacityEvent o;
+        o.value = t.real("value", o.value, 0.01, 0.999);
+        o.duration = t.real("duration", o.duration, 0.0, 1e6);
+        e.data = o;
+    } else if (type == "pressure") {
         PressureEvent p;
         p.value = t.real("value", p.value, 0.01, 100.0);
         p.duration = t.real("duration", p.duration, 0.0, 1e6);
@@ -542,6 +556,7 @@ std::string to_toml(const Scene& sc) {
             if (cu->segment) o << "from = " << vec<2>((*cu->segment)[0]) << "\nto = " << vec<2>((*cu->segment)[1]) << "\n";
             if (cu->plane) o << "point = " << vec<3>(cu->plane->first) << "\nnormal = " << vec<3>(cu->plane->second) << "\n";
         }
+        if (auto* op = std::get_if<OpacityEvent>(&e.data)) o << "value = " << num(op->value) << "\nduration = " << num(op->duration) << "\n";
         if (auto* te = std::get_if<TearEvent>(&e.data))
             o << "threshold = " << num(te->threshold) << "\nmax_per_frame = " << te->max_per_frame << "\nduration = " << num(te->duration) << "\n";
     }

@@ -229,7 +229,10 @@ core::Status SceneRuntime::build_graph() {
         input = b.write(input);
         return [this, dt](const graph::PassResources&, graph::ExecuteContext&) {
             render::Camera scripted = frame_input_.frame.camera;
-            timeline_->advance(time_, dt, body_, drag_, camera_override_ ? scripted : frame_input_.frame.camera);
+            float opacity = math::sigmoid(appearance_.opacity_logit);
+            const float before = opacity;
+            timeline_->advance(time_, dt, body_, drag_, camera_override_ ? scripted : frame_input_.frame.camera, opacity);
+            if (opacity != before) appearance_.opacity_logit = math::logit(opacity);
             if (user_drag_.active) drag_ = user_drag_;  // the hand wins over the script
         };
     });

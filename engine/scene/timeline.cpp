@@ -9,6 +9,7 @@ Timeline::Timeline(const Scene& scene, const render::Camera& camera)
     : orbit_degrees_per_second_(scene.render.orbit.degrees_per_second), path_(scene.render.path), base_camera_(camera) {
     for (const Event& e : scene.events) {
         if (auto* p = std::get_if<PressureEvent>(&e.data)) pressure_.push_back({e.time, p->duration, -1.0f, p->value});
+        if (auto* o = std::get_if<OpacityEvent>(&e.data)) opacity_.push_back({e.time, o->duration, -1.0f, o->value});
         if (auto* d = std::get_if<DragEvent>(&e.data)) drags_.push_back({e.time, *d, false});
         if (auto* s = std::get_if<SpinEvent>(&e.data)) spins_.push_back({e.time, *s});
     }
@@ -16,7 +17,18 @@ Timeline::Timeline(const Scene& scene, const render::Camera& camera)
 
 bool Timeline::has_drag() const { return !drags_.empty(); }
 
-void Timeline::advance(float t, float dt, sim::SoftBody& body, sim::DragConstraint& drag, render::Camera& camera) {
+void Timeline::advance(float t, float dt, sim::SoftBody& body, sim::DragConstraint& drag, render::Camera& camera, float& opacity) {
+    for (PressureRamp& r : opacity_) {
+        if (t < r.start) continue;
+        if (r.from < 0.0f) r.from = opacity;
+        if (t - r.start > r.duration + dt) {  // over: land on the value once, even if frames skipped it
+            if (!r.finished) opacity = r.to;
+            r.finished = true;
+            continue;
+        }
+        const float u = r.duration > 0.0f ? std::min(1.0f, (t - r.start) / r.duration) : 1.0f;
+        opacity = r.from + (r.to - r.from) * u;
+    }
     // Pressure: each ramp starts from whatever k is when it begins.
     for (PressureRamp& r : pressure_) {
         if (t < r.start || body.volumes.empty()) continue;

@@ -13,12 +13,14 @@ public:
     Timeline(const Scene& scene, const render::Camera& initial_camera);
 
     // Applies what happens during [t, t + dt): called once per frame before the solver.
-    void advance(float t, float dt, sim::SoftBody& body, sim::DragConstraint& drag, render::Camera& camera);
+    // `opacity`: the splats' sigmoid(o), changed by opacity ramps.
+    void advance(float t, float dt, sim::SoftBody& body, sim::DragConstraint& drag, render::Camera& camera, float& opacity);
     bool has_drag() const;
 
 private:
     struct PressureRamp {
         float start, duration, from = -1.0f, to;
+        bool finished = false;
     };
     struct ActiveDrag {
         float start;
@@ -26,6 +28,7 @@ private:
         bool picked = false;
     };
     std::vector<PressureRamp> pressure_;
+    std::vector<PressureRamp> opacity_;  // the same shape: from what it is when the ramp starts
     std::vector<ActiveDrag> drags_;
     std::vector<std::pair<float, SpinEvent>> spins_;
     float orbit_degrees_per_second_ = 0.0f;

@@ -130,7 +130,7 @@ TEST_SUITE("scene/scene_file") {
         CHECK(refusal("[material]\ncolor = [1, 0]\n") == "bad.toml:2:9: 'material.color' must be an array of 3 numbers");
         CHECK(refusal("[[events]]\ntime = 1\ntype = \"cut\"\n").find("bad.toml:1:1: a cut event needs either") == 0);
         CHECK(refusal("[[events]]\ntime = 1\ntype = \"explode\"\n") ==
-              "bad.toml:3:8: 'events.type' must be one of pressure, drag, spin, cut, tear, not 'explode'");
+              "bad.toml:3:8: 'events.type' must be one of pressure, drag, spin, cut, tear, opacity, not 'explode'");
         CHECK(refusal("[model\nmesh = 1\n").find("bad.toml:1:") == 0);  // truncated table header
         CHECK(refusal("frames = 10\n") == "bad.toml:1:1: unknown key 'frames'");
         CHECK(refusal("[render.camera]\npath = [{ time = 2, eye = [0, 0, 3] }, { time = 1, eye = [0, 0, 4] }]\n")

@@ -234,10 +234,38 @@ TEST_SUITE("scene/runtime") {
         REQUIRE(body.ok());
         sim::DragConstraint drag;
         render::Camera camera = s.render.frame.camera;
-        timeline.advance(0.4f, 0.1f, body.value(), drag, camera);  // at 0.5 s
+        float opacity = 0.9f;
+        timeline.advance(0.4f, 0.1f, body.value(), drag, camera, opacity);  // at 0.5 s
         CHECK((camera.eye - Vec3f(2, 0, 2)).norm() < 1e-5f);
         CHECK((camera.target - Vec3f(0, 0.5f, 0)).norm() < 1e-5f);
-        timeline.advance(3.0f, 0.1f, body.value(), drag, camera);
+        timeline.advance(3.0f, 0.1f, body.value(), drag, camera, opacity);
         CHECK((camera.eye - Vec3f(4, 0, 0)).norm() < 1e-5f);
+        CHECK(opacity == 0.9f);  // no opacity events: untouched
+    }
+
+    TEST_CASE("an opacity event ramps the splats' opacity from what it is to its value, then holds") {
+        scene::Scene s = scene::default_scene();
+        s.events.clear();
+        s.events.push_back({1.0f, scene::OpacityEvent{0.2f, 2.0f}});
+        scene::Timeline timeline(s, s.render.frame.camera);
+        auto body = scene::make_scene_body(s);
+        REQUIRE(body.ok());
+        sim::DragConstraint drag;
+        render::Camera camera = s.render.frame.camera;
+        float opacity = 0.8f;
+        timeline.advance(0.5f, 0.1f, body.value(), drag, camera, opacity);
+        CHECK(opacity == 0.8f);  // not started
+        timeline.advance(2.0f, 0.1f, body.value(), drag, camera, opacity);
+        CHECK(opacity == doctest::Approx(0.5f));  // half way from 0.8 to 0.2
+        timeline.advance(5.0f, 0.1f, body.value(), drag, camera, opacity);
+        CHECK(opacity == doctest::Approx(0.2f).epsilon(1e-5));
+        // Through a scene file too: the event type parses and writes back.
+        auto parsed = scene::parse_scene("[[events]]\ntime = 1\ntype = \"opacity\"\nvalue = 0.3\nduration = 2\n", "t.toml");
+        REQUIRE_MESSAGE(parsed.ok(), parsed.error().to_string());
+        REQUIRE(parsed->events.size() == 1);
+        CHECK(std::get<scene::OpacityEvent>(parsed->events[0].data).value == doctest::Approx(0.3f));
+        auto bad = scene::parse_scene("[[events]]\ntime = 1\ntype = \"opacity\"\nvalue = 1.5\n", "bad.toml");
+        REQUIRE_FALSE(bad.ok());
+        CHECK(bad.error().to_string().find("bad.toml") != std::string::npos);
     }
 }
