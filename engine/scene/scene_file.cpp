@@ -356,6 +356,7 @@ Event read_event(const Reader& r, const toml::node& n) {
     if (!t.has("type")) r.fail(n.source(), "an event needs a 'type' (pressure, drag, spin, cut, tear)");
     if (type == "opacity") {
         OpacityEvent o;
+        if (!t.has("value")) r.fail(n.source(), "an opacity event needs 'value' (the opacity to reach, 0.01 to 0.999)");
         o.value = t.real("value", o.value, 0.01, 0.999);
         o.duration = t.real("duration", o.duration, 0.0, 1e6);
         e.data = o;

@@ -13,6 +13,12 @@ inline sim::SoftBody make_body(mesh::TriangleMesh m, sim::SoftBodyDesc desc = {}
     return std::move(b).value();
 }
 
+inline double total_mass(const sim::SoftBody& b) {
+    double m = 0.0;
+    for (float w : b.particles.w) m += w > 0.0f ? 1.0 / double(w) : 0.0;
+    return m;
+}
+
 inline bool all_finite(const sim::SoftBody& b) {
     for (size_t i = 0; i < b.particle_count(); ++i)
         if (!b.particles.x[i].allFinite() || !b.particles.v[i].allFinite()) return false;

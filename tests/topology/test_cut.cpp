@@ -7,6 +7,7 @@
 #include "mesh/mesh_spec.h"
 #include "mesh/model_path.h"
 #include "mesh/procedural.h"
+#include "sim/sim_fixtures.h"
 #include "sim/solver.h"
 #include "sim/state_hash.h"
 #include "topology/cut.h"
@@ -15,16 +16,8 @@
 using namespace pbdsplat;
 
 namespace {
-sim::SoftBody body_of(mesh::TriangleMesh m, sim::SoftBodyDesc d = {}) {
-    auto b = sim::make_soft_body(std::move(m), d);
-    REQUIRE_MESSAGE(b.ok(), b.error().to_string());
-    return std::move(b).value();
-}
-double total_mass(const sim::SoftBody& b) {
-    double m = 0.0;
-    for (float w : b.particles.w) m += w > 0.0f ? 1.0 / double(w) : 0.0;
-    return m;
-}
+sim::SoftBody body_of(mesh::TriangleMesh m, sim::SoftBodyDesc d = {}) { return test::make_body(std::move(m), d); }
+using test::total_mass;
 double total_volume(const sim::SoftBody& b) {
     double v = 0.0;
     for (size_t k = 0; k < b.volumes.size(); ++k) v += b.volume(k);
