@@ -39,7 +39,7 @@ endfunction()
 
 # --help everywhere, on stdout, exit 0.
 foreach(cmd "--help" "info;--help" "render;--help" "bench;--help" "bench;splat;--help" "bench;sim;--help"
-           "bench;sim-error;--help" "bench;scene;--help" "bench;graph;--help" "bench;cut;--help" "bench;render;--help" "graph;--help" "validate-scene;--help"
+           "bench;sim-error;--help" "bench;scene;--help" "bench;graph;--help" "bench;cut;--help" "bench;render;--help" "bench;render-error;--help" "bench;temporal;--help" "graph;--help" "validate-scene;--help"
            "export-ply;--help" "run;--help")
   expect("help: ${cmd}" 0 ${cmd})
   expect_contains("help: ${cmd}" "${last_out}" "usage: pbdsplat")
@@ -109,6 +109,10 @@ expect("bench render: gpu sort" 0 bench render --splats 300 --width 64 --height 
 expect_json_keys("bench render: gpu sort" median_ms path gpu_sort_ms)
 expect("bench render: meshraster" 0 bench render --splats 300 --width 64 --height 48 --repeat 2 --warmup 0 --path meshraster --json --validation)
 expect_json_keys("bench render: meshraster" median_ms path triangles)
+expect("bench render-error --json" 0 bench render-error --splats 200 --width 32 --height 24 --repeat 1 --out-dir out/bench --json --validation)
+expect_json_keys("bench render-error --json" variants reference_ms)
+expect("bench temporal --json" 0 bench temporal --from 0 --frames 3 --width 32 --height 24 --out-dir out/bench --json --validation)
+expect_json_keys("bench temporal --json" splats_calm mesh_calm)
 expect("bench scene --json" 0 bench scene --frames 3 --json --validation)
 expect_json_keys("bench scene --json" median_ms stages_median_ms gpu_median_ms)
 expect("bench render: meshraster sorted" 2 bench render --path meshraster --sort cpu)

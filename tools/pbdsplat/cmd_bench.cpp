@@ -15,7 +15,9 @@ constexpr const char* k_bench_help =
     "  scene     a scene through its frame graph: median ms per stage and per frame\n"
     "  surface   boundary particles: sampling and update time, coverage against eta\n"
     "  cut       one line cut: its milliseconds, the crossed region, Stage A before and after\n"
-    "  render    splat pass ms per frame by path (gs, mesh, vertex) and sort (off, cpu)\n"
+    "  render    splat pass ms per frame by path (gs, mesh, vertex, meshraster), sort, shading\n"
+    "  render-error  rendering time against image error, against a supersampled reference\n"
+    "  temporal  frame-to-frame luminance change (flicker) of splats and mesh, around a cut\n"
     "  splat     GPU milliseconds of upload, draw and readback for N splats (median of repeats)\n"
     "\n"
     "`pbdsplat bench SCENE.toml [options]` runs the scene suite on that file.\n"
@@ -39,6 +41,8 @@ int cmd_bench(const std::vector<std::string>& argv) {
     if (argv[0] == "surface") return bench_surface(rest);
     if (argv[0] == "cut") return bench_cut(rest);
     if (argv[0] == "render") return bench_render(rest);
+    if (argv[0] == "render-error") return bench_render_error(rest);
+    if (argv[0] == "temporal") return bench_temporal(rest);
     return usage_error("bench", "unknown suite '" + argv[0] + "' (see pbdsplat bench --help)");
 }
 

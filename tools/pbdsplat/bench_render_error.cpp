@@ -1,0 +1,205 @@
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/timer.h"
+#include "pbdsplat/args.h"
+#include "pbdsplat/commands.h"
+#include "pbdsplat/gpu_options.h"
+#include "pbdsplat/splat_sphere.h"
+#include "pbdsplat/svg_plot.h"
+#include "scene/offscreen_renderer.h"
+#include "splat/sort.h"
+
+namespace pbdsplat::cli {
+namespace {
+
+struct Variant {
+    std::string name;
+    render::SplatPath path = render::SplatPath::geometry;
+    render::SplatOrder order = render::SplatOrder::unsorted;
+    render::SplatShading shading = render::SplatShading::fragment;
+    float kappa = 3.0f, scale = 1.0f;
+};
+
+struct Measured {
+    Variant v;
+    double ms = 0.0, psnr = 0.0, share_over = 0.0;
+};
+
+// Renders `records` `repeat` times; the image and the median GPU ms (sort + draw, plus the
+// CPU sort where the order is the CPU's).
+core::Result<std::pair<core::ImageRgba8, double>> render(gpu::Context& ctx, std::vector<splat::GaussianRecord> records,
+                                                        render::FrameInputs frame, const Variant& v, uint32_t w, uint32_t h,
+                                                        uint32_t repeat) {
+    render::RendererOptions o;
+    o.width = w;
+    o.height = h;
+    o.path = v.path;
+    o.shading = v.shading;
+    o.max_splats = uint32_t(records.size());
+    o.frames_in_flight = 1;
+    o.gpu_sort = v.order == render::SplatOrder::gpu;
+    frame.style.order = v.order;
+    frame.style.kappa = v.kappa;
+    frame.style.scale_multiplier = v.scale;
+    auto r = scene::OffscreenRenderer::create(ctx, o);
+    if (!r.ok()) return r.error();
+    std::vector<double> ms;
+    core::ImageRgba8 image;
+    splat::SortScratch scratch;
+    const Mat4f view = math::look_at(frame.camera.eye, frame.camera.target, frame.camera.up);
+    for (uint32_t i = 0; i < repeat + 1; ++i) {
+        const core::Stopwatch clock;
+        if (v.order == render::SplatOrder::cpu) splat::sort_far_to_near(records, view, scratch);
+        const double sort_ms = clock.elapsed_ms();
+        PBDSPLAT_TRY(r.value()->render(records, frame));
+        auto img = r.value()->finish();
+        if (!img.ok()) return img.error();
+        image = std::move(img).value();
+        if (i > 0) ms.push_back(sort_ms + r.value()->timings().sort_ms + r.value()->timings().draw_ms);  // the first warms up
+    }
+    return std::pair{std::move(image), core::median(ms)};
+}
+
+core::ImageRgba8 downsample(const core::ImageRgba8& big, uint32_t factor) {
+    core::ImageRgba8 out(big.width / factor, big.height / factor);
+    for (uint32_t y = 0; y < out.height; ++y)
+        for (uint32_t x = 0; x < out.width; ++x)
+            for (int c = 0; c < 4; ++c) {
+                uint32_t sum = 0;
+                for (uint32_t dy = 0; dy < factor; ++dy)
+                    for (uint32_t dx = 0; dx < factor; ++dx) sum += big.at(x * factor + dx, y * factor + dy)[c];
+                out.at(x, y)[c] = uint8_t((sum + factor * factor / 2) / (factor * factor));
+            }
+    return out;
+}
+
+} // namespace
+
+int bench_render_error(const std::vector<std::string>& argv) {
+    static constexpr const char* help =
+        "usage: pbdsplat bench render-error [--splats N] [--width W] [--height H] [--repeat R] [--out-dir DIR]\n"
+        "                                   [--json] [--validation] [--device NAME]\n"
+        "\n"
+        "Rendering, time against error: N splats on a sphere rendered by every path the device has,\n"
+        "unsorted and sorted (CPU, GPU), shaded per fragment and per corner, and with other cut-offs\n"
+        "(kappa) and splat scales; each image against a reference (geometry shader, sorted on the\n"
+        "CPU, per-fragment shading, rendered at 4x the resolution and averaged down). Prints the\n"
+        "median GPU ms (sort + draw) of R frames, the PSNR and the share of pixels off by more than\n"
+        "2/255, and writes DIR/render_error.csv and DIR/render_error.svg.\n"
+        "\n"
+        "  --splats N          default 10000\n"
+        "  --width W, --height H   default 480x270\n"
+        "  --repeat R          measured frames per variant (default 3)\n"
+        "  --out-dir DIR       default docs/bench\n"
+        "  --json              one JSON object: the reference and every variant\n";
+    std::set<std::string> flags = k_gpu_flags;
+    flags.insert({"json", "help"});
+    std::set<std::string> valued = k_gpu_options;
+    valued.insert({"splats", "width", "height", "repeat", "out-dir"});
+    auto args = Args::parse(argv, flags, valued);
+    if (!args.ok()) return usage_error("bench render-error", args.error().to_string());
+    if (args->has("help")) return std::fputs(help, stdout), 0;
+    auto count = args->get_uint("splats", 10000, 1, 1u << 22);
+    auto width = args->get_uint("width", 480, 16, 4096);
+    auto height = args->get_uint("height", 270, 16, 4096);
+    auto repeat = args->get_uint("repeat", 3, 1, 1000);
+    for (const core::Error* e : {count.ok() ? nullptr : &count.error(), width.ok() ? nullptr : &width.error(),
+                                 height.ok() ? nullptr : &height.error(), repeat.ok() ? nullptr : &repeat.error()})
+        if (e) return usage_error("bench render-error", e->to_string());
+    const std::filesystem::path out_dir = args->get_or("out-dir", "docs/bench");
+    auto ctx = open_context(args.value());
+    if (!ctx.ok()) return fail("bench render-error", ctx.error().to_string());
+    const gpu::DeviceCaps& caps = ctx.value()->caps();
+
+    auto [records, frame] = make_splat_sphere(count.value());
+    const uint32_t w = width.value(), h = height.value();
+    Variant reference_variant{"reference", render::SplatPath::geometry, render::SplatOrder::cpu};
+    auto reference = render(*ctx.value(), records, frame, reference_variant, 4 * w, 4 * h, 1);
+    if (!reference.ok()) return fail("bench render-error", reference.error().to_string());
+    const core::ImageRgba8 truth = downsample(reference->first, 4);
+
+    std::vector<Variant> variants;
+    for (const render::SplatPath p : {render::SplatPath::geometry, render::SplatPath::mesh, render::SplatPath::vertex}) {
+        if (!render::splat_path_unsupported(caps, p).empty()) {
+            std::fprintf(stderr, "bench render-error: SKIPPED path %s: %s\n", render::splat_path_name(p),
+                         render::splat_path_unsupported(caps, p).c_str());
+            continue;
+        }
+        for (const render::SplatOrder o : {render::SplatOrder::unsorted, render::SplatOrder::cpu, render::SplatOrder::gpu})
+            for (const render::SplatShading s : {render::SplatShading::fragment, render::SplatShading::corner})
+                variants.push_back({std::string(render::splat_path_name(p)) + ", sort " + render::splat_order_name(o) + ", " +
+                                        (s == render::SplatShading::corner ? "corner" : "fragment"),
+                                    p, o, s});
+    }
+    for (const float kappa : {2.0f, 2.5f, 3.5f})
+        variants.push_back({"gs, sort cpu, kappa " + std::to_string(kappa).substr(0, 3), render::SplatPath::geometry,
+                            render::SplatOrder::cpu, render::SplatShading::fragment, kappa});
+    for (const float scale : {0.7f, 1.4f})
+        variants.push_back({"gs, sort cpu, scale " + std::to_string(scale).substr(0, 3), render::SplatPath::geometry,
+                            render::SplatOrder::cpu, render::SplatShading::fragment, 3.0f, scale});
+
+    std::vector<Measured> results;
+    for (const Variant& v : variants) {
+        auto r = render(*ctx.value(), records, frame, v, w, h, repeat.value());
+        if (!r.ok()) return fail("bench render-error", v.name + ": " + r.error().to_string());
+        auto diff = core::compare_images(r->first, truth, 2);
+        if (!diff.ok()) return fail("bench render-error", diff.error().to_string());
+        results.push_back({v, r->second, diff->psnr_db, diff->share_over});
+    }
+    if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("bench render-error", v.error().to_string());
+
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec) return fail("bench render-error", out_dir.string() + ": cannot create the folder: " + ec.message());
+    {
+        std::ofstream csv(out_dir / "render_error.csv");
+        if (!csv) return fail("bench render-error", (out_dir / "render_error.csv").string() + ": cannot write");
+        csv << "variant,path,sort,shading,kappa,scale,ms,psnr_db,share_over_2\n";
+        for (const Measured& m : results)
+            csv << '"' << m.v.name << "\"," << render::splat_path_name(m.v.path) << ',' << render::splat_order_name(m.v.order) << ','
+                << (m.v.shading == render::SplatShading::corner ? "corner" : "fragment") << ',' << m.v.kappa << ',' << m.v.scale
+                << ',' << m.ms << ',' << m.psnr << ',' << m.share_over << '\n';
+    }
+    PlotSpec plot;
+    plot.title = "Rendering: time against error (" + std::to_string(count.value()) + " splats, " + std::to_string(w) + "x" +
+                 std::to_string(h) + ", against a 4x supersampled sorted reference)";
+    plot.x_label = "GPU ms per frame (sort + draw)";
+    plot.y_label = "PSNR (dB)";
+    plot.log_y = false;
+    for (const render::SplatPath p : {render::SplatPath::geometry, render::SplatPath::mesh, render::SplatPath::vertex}) {
+        PlotSeries s;
+        s.name = render::splat_path_name(p);
+        for (const Measured& m : results)
+            if (m.v.path == p && std::isfinite(m.psnr)) {
+                s.x.push_back(m.ms);
+                s.y.push_back(m.psnr);
+                s.labels.push_back(m.v.name.substr(m.v.name.find(',') + 2));
+            }
+        if (!s.x.empty()) plot.series.push_back(s);
+    }
+    std::ofstream(out_dir / "render_error.svg") << render_svg(plot);
+
+    if (args->has("json")) {
+        nlohmann::json j = {{"suite", "render-error"}, {"device", caps.name}, {"splats", count.value()}, {"width", w},
+                            {"height", h}, {"reference_ms", reference->second}, {"variants", nlohmann::json::array()}};
+        for (const Measured& m : results)
+            j["variants"].push_back({{"name", m.v.name}, {"ms", m.ms}, {"psnr_db", std::isfinite(m.psnr) ? m.psnr : 999.0},
+                                     {"share_over_2", m.share_over}});
+        std::printf("%s\n", j.dump().c_str());
+        return 0;
+    }
+    std::printf("%u splats at %ux%u on %s; reference: gs, CPU-sorted, per fragment, 4x supersampled\n", count.value(), w, h,
+                caps.name.c_str());
+    std::printf("  %-40s %10s %10s %12s\n", "variant", "GPU ms", "PSNR dB", "> 2/255");
+    for (const Measured& m : results)
+        std::printf("  %-40s %10.2f %10.2f %11.2f%%\n", m.v.name.c_str(), m.ms, m.psnr, 100.0 * m.share_over);
+    std::printf("wrote %s and render_error.svg\n", (out_dir / "render_error.csv").string().c_str());
+    return 0;
+}
+
+} // namespace pbdsplat::cli
