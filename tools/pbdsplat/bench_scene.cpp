@@ -12,7 +12,8 @@ namespace pbdsplat::cli {
 
 int bench_scene(const std::vector<std::string>& argv) {
     static constexpr const char* help =
-        "usage: pbdsplat bench scene [SCENE.toml] [--frames N] [--threads T] [--json] [--validation] [--device NAME]\n"
+        "usage: pbdsplat bench scene [SCENE.toml] [--frames N] [--threads T] [--before-after] [--json]\n"
+        "                            [--validation] [--device NAME]\n"
         "\n"
         "Runs a scene (default: the built-in one) through its frame graph without writing images and\n"
         "prints the median milliseconds per frame of each stage group and of the whole frame, and the\n"
@@ -20,9 +21,11 @@ int bench_scene(const std::vector<std::string>& argv) {
         "\n"
         "  --frames N          frames (default 240)\n"
         "  --threads T         simulation threads (default 1)\n"
+        "  --before-after      also the medians before and after the first cut or tear, and the change\n"
+        "                      (the paper's Tables 2-4)\n"
         "  --json              print one JSON object on stdout\n";
     std::set<std::string> flags = k_gpu_flags;
-    flags.insert({"help", "json"});
+    flags.insert({"help", "json", "before-after"});
     std::set<std::string> valued = k_gpu_options;
     valued.insert({"frames", "threads"});
     auto args = Args::parse(argv, flags, valued);
@@ -44,6 +47,12 @@ int bench_scene(const std::vector<std::string>& argv) {
     if (!runtime.ok()) return fail("bench scene", runtime.error().to_string());
 
     std::vector<double> events, forces, constraints, integrate, update, gpu_record, frame, gpu_upload, gpu_sort, gpu_draw;
+    // The paper's rows, split at the first topology change: CPU frame (the CPU stages), GPU
+    // scene (the GPU passes), and the four update stages.
+    struct Split {
+        std::vector<double> cpu_frame, gpu_scene, apply, constraints, integrate, update;
+        size_t particles = 0, gaussians = 0, frames = 0;
+    } before, after;
     for (uint32_t f = 0; f < frames.value(); ++f) {
         if (auto s = runtime.value()->step(); !s.ok()) return fail("bench scene", s.error().to_string());
         const auto& s = runtime.value()->stats();
@@ -51,6 +60,13 @@ int bench_scene(const std::vector<std::string>& argv) {
         integrate.push_back(s.integrate_normals_ms), update.push_back(s.update_particles_ms);
         gpu_record.push_back(s.gpu_record_ms), frame.push_back(s.graph_ms);
         gpu_upload.push_back(s.gpu_upload_ms), gpu_sort.push_back(s.gpu_sort_ms), gpu_draw.push_back(s.gpu_draw_ms);
+        Split& part = s.cuts + s.tears == 0 ? before : after;
+        part.cpu_frame.push_back(s.events_ms + s.apply_forces_ms + s.constraints_ms + s.integrate_normals_ms +
+                                 s.update_particles_ms + s.gpu_record_ms + s.topology_ms);
+        part.gpu_scene.push_back(s.gpu_scene_ms());
+        part.apply.push_back(s.apply_forces_ms), part.constraints.push_back(s.constraints_ms);
+        part.integrate.push_back(s.integrate_normals_ms), part.update.push_back(s.update_particles_ms);
+        part.particles = s.particles, part.gaussians = s.gaussians, ++part.frames;
     }
     if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("bench scene", v.error().to_string());
     size_t kept = 0, total = 0;
@@ -74,7 +90,14 @@ int bench_scene(const std::vector<std::string>& argv) {
                                                      {"sort", core::median(gpu_sort)},
                                                      {"draw", core::median(gpu_draw)}}},
                                   {"gpu_timestamps", ctx.value()->caps().timestamps}};
-        std::printf("%s\n", j.dump().c_str());
+        nlohmann::json out = j;
+        if (args->has("before-after"))
+            for (const auto& [name, part] : {std::pair<const char*, const Split*>{"before", &before}, {"after", &after}})
+                out[name] = {{"frames", part->frames}, {"particles", part->particles}, {"gaussians", part->gaussians},
+                             {"cpu_frame_ms", core::median(part->cpu_frame)}, {"gpu_scene_ms", core::median(part->gpu_scene)},
+                             {"apply_forces_ms", core::median(part->apply)}, {"constraint_projection_ms", core::median(part->constraints)},
+                             {"integrate_normals_ms", core::median(part->integrate)}, {"update_particles_ms", core::median(part->update)}};
+        std::printf("%s\n", out.dump().c_str());
     } else {
         std::printf("scene %s: %zu particles, %zu of %zu passes run, median of %u frames:\n", scene->name.c_str(),
                     s.particles, kept, total, frames.value());
@@ -89,6 +112,25 @@ int bench_scene(const std::vector<std::string>& argv) {
                         core::median(gpu_upload), core::median(gpu_sort), core::median(gpu_draw));
         else
             std::printf("GPU Scene: device '%s' has no timestamp queries\n", ctx.value()->caps().name.c_str());
+        if (args->has("before-after")) {
+            if (after.frames == 0 || before.frames == 0) {
+                std::printf("before/after: the run has no frames on one side of a cut or tear\n");
+            } else {
+                std::printf("before and after the first cut or tear (%zu -> %zu particles, %zu -> %zu Gaussians; medians, ms):\n",
+                            before.particles, after.particles, before.gaussians, after.gaussians);
+                auto row = [](const char* name, const std::vector<double>& b, const std::vector<double>& a) {
+                    const double mb = core::median(b), ma = core::median(a);
+                    std::printf("  %-28s %9.3f %9.3f %+9.3f %+8.2f%%\n", name, mb, ma, ma - mb, mb > 0 ? 100.0 * (ma - mb) / mb : 0.0);
+                };
+                std::printf("  %-28s %9s %9s %9s %9s\n", "", "before", "after", "delta", "delta %");
+                row("CPU frame", before.cpu_frame, after.cpu_frame);
+                row("GPU scene", before.gpu_scene, after.gpu_scene);
+                row("apply forces", before.apply, after.apply);
+                row("constraint projection", before.constraints, after.constraints);
+                row("integrate + normals", before.integrate, after.integrate);
+                row("update particles", before.update, after.update);
+            }
+        }
     }
     return 0;
 }

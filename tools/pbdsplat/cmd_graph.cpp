@@ -35,12 +35,7 @@ int cmd_graph(const std::vector<std::string>& argv) {
     scene::RuntimeOptions options;
     options.gpu = ctx.value().get();
     options.readback = !args->has("present");
-    // Tear events cannot run yet, but the rest of their scene's graph can still be shown.
-    scene::Scene shown = scene.value();
-    const bool tearing = std::erase_if(shown.events, [](const scene::Event& e) {
-                             return std::holds_alternative<scene::TearEvent>(e.data);
-                         }) > 0;
-    auto runtime = scene::SceneRuntime::create(shown, options);
+    auto runtime = scene::SceneRuntime::create(scene.value(), options);
     if (!runtime.ok()) return fail("graph", runtime.error().to_string());
     const auto passes = runtime.value()->graph().describe();
 
@@ -66,8 +61,7 @@ int cmd_graph(const std::vector<std::string>& argv) {
                         p.culled ? "culled: " : "", p.culled ? p.reason.c_str()
                                                              : (p.barriers ? (std::to_string(p.barriers) + " barrier(s)").c_str() : ""));
         }
-        std::printf("scene %s: %zu of %zu passes run%s\n", scene->name.c_str(), kept, passes.size(),
-                    tearing ? " (its tear events are left out: tearing is not in this build)" : "");
+        std::printf("scene %s: %zu of %zu passes run\n", scene->name.c_str(), kept, passes.size());
     }
     if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("graph", v.error().to_string());
     return 0;
