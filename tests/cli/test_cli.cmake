@@ -109,6 +109,8 @@ expect("bench render: gpu sort" 0 bench render --splats 300 --width 64 --height 
 expect_json_keys("bench render: gpu sort" median_ms path gpu_sort_ms)
 expect("bench render: meshraster" 0 bench render --splats 300 --width 64 --height 48 --repeat 2 --warmup 0 --path meshraster --json --validation)
 expect_json_keys("bench render: meshraster" median_ms path triangles)
+expect("bench sim-error --after-cut" 0 bench sim-error --meshes icosphere:2 --seconds 0.2 --after-cut --out-dir out/bench --json)
+expect_json_keys("bench sim-error --after-cut" runs frames)
 expect("bench render-error --json" 0 bench render-error --splats 200 --width 32 --height 24 --repeat 1 --out-dir out/bench --json --validation)
 expect_json_keys("bench render-error --json" variants reference_ms)
 expect("bench temporal --json" 0 bench temporal --from 0 --frames 3 --width 32 --height 24 --out-dir out/bench --json --validation)

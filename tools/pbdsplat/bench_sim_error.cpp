@@ -11,6 +11,7 @@
 #include "pbdsplat/commands.h"
 #include "pbdsplat/svg_plot.h"
 #include "sim/solver.h"
+#include "topology/cut.h"
 
 namespace pbdsplat::cli {
 namespace {
@@ -59,15 +60,18 @@ int bench_sim_error(const std::vector<std::string>& argv) {
         "\n"
         "  --meshes LIST       comma-separated mesh specs (default icosphere:4,teapot.obj,stanford-bunny.obj)\n"
         "  --seconds T         simulated time (default 2)\n"
+        "  --after-cut         first open a slit in each body (a plane cut limited to a ball on its +x\n"
+        "                      side), so the figures are those after a topology change\n"
         "  --out-dir DIR       where the CSV and plots go (default docs/bench)\n"
         "  --json              print one JSON object on stdout\n";
-    auto args = Args::parse(argv, {"json", "help"}, {"meshes", "seconds", "out-dir"});
+    auto args = Args::parse(argv, {"json", "help", "after-cut"}, {"meshes", "seconds", "out-dir"});
     if (!args.ok()) return usage_error("bench sim-error", args.error().to_string());
     if (args->has("help")) return std::fputs(help, stdout), 0;
     auto seconds = args->get_float("seconds", 2.0f, 0.1f, 60.0f);
     if (!seconds.ok()) return usage_error("bench sim-error", seconds.error().to_string());
     const std::string list = args->get_or("meshes", "icosphere:4,teapot.obj,stanford-bunny.obj");
     const std::filesystem::path out_dir = args->get_or("out-dir", "docs/bench");
+    const std::string stem = args->has("after-cut") ? "sim_error_after_cut" : "sim_error";
     const int frames = int(std::lround(seconds.value() * 60.0f));
     const float dt = 1.0f / 60.0f;
 
@@ -86,6 +90,18 @@ int bench_sim_error(const std::vector<std::string>& argv) {
         if (!made.ok()) return fail("bench sim-error", made.error().to_string());
         sim::SoftBody start = std::move(made).value();
         start.pin(start.extreme_particle(1));
+        const std::string label = args->has("after-cut") ? spec + " after a cut" : spec;
+        if (args->has("after-cut")) {
+            // A slit across the +x side: the body stays one piece (hanging from its pin) with a
+            // new boundary, re-indexed constraints and a capped volume.
+            const Vec3f side = sim::xyz(start.particles.x[start.extreme_particle(0)]);
+            auto surface = topology::plane_cut(side, Vec3f::UnitY());
+            if (!surface.ok()) return fail("bench sim-error", surface.error().to_string());
+            const float r = 0.25f * diagonal;
+            surface->inside = [side, r](const Vec3f& x) { return (x - side).squaredNorm() < r * r; };
+            auto change = topology::cut(start, surface.value());
+            if (!change.ok()) return fail("bench sim-error", spec + ": " + change.error().to_string());
+        }
 
         std::fprintf(stderr, "%s: %zu particles, reference (XPBD S=64, double)...\n", spec.c_str(), start.particle_count());
         sim::SoftBodyT<double> reference = sim::to_double(start);
@@ -109,7 +125,7 @@ int bench_sim_error(const std::vector<std::string>& argv) {
             std::vector<double> ms;
             for (int f = 0; f < frames; ++f) ms.push_back(solver.step(body, dt, s, {}, {}).total());
             Run r;
-            r.mesh = spec;
+            r.mesh = label;
             r.method = mode == sim::SolverMode::xpbd ? "xpbd" : "pbd";
             r.iterations = iterations;
             r.substeps = substeps;
@@ -127,7 +143,7 @@ int bench_sim_error(const std::vector<std::string>& argv) {
         for (uint32_t i : {1u, 2u, 5u, 10u, 20u}) measure(sim::SolverMode::paper, i, 1);
         for (uint32_t s : {1u, 2u, 4u, 8u, 16u}) measure(sim::SolverMode::xpbd, 1, s);
         Run ref;
-        ref.mesh = spec;
+        ref.mesh = label;
         ref.method = "reference";
         ref.iterations = 1;
         ref.substeps = 64;
@@ -140,22 +156,23 @@ int bench_sim_error(const std::vector<std::string>& argv) {
     std::filesystem::create_directories(out_dir, ec);
     if (ec) return fail("bench sim-error", out_dir.string() + ": cannot create the folder: " + ec.message());
     {
-        std::ofstream csv(out_dir / "sim_error.csv");
-        if (!csv) return fail("bench sim-error", (out_dir / "sim_error.csv").string() + ": cannot write");
+        std::ofstream csv(out_dir / (stem + ".csv"));
+        if (!csv) return fail("bench sim-error", (out_dir / (stem + ".csv")).string() + ": cannot write");
         csv << "mesh,method,iterations,substeps,ms_per_frame,position_error_rel,mean_strain,volume_error_rel\n";
         for (const Run& r : runs)
             csv << r.mesh << ',' << r.method << ',' << r.iterations << ',' << r.substeps << ',' << r.ms_per_frame << ','
                 << r.position_error << ',' << r.strain << ',' << r.volume_error << '\n';
     }
     for (const auto& [file, metric, label] :
-         {std::tuple{"sim_error_position.svg", &Run::position_error, "RMS position error / bounding-box diagonal"},
-          std::tuple{"sim_error_strain.svg", &Run::strain, "mean relative edge strain"}}) {
+         {std::tuple{stem + "_position.svg", &Run::position_error, "RMS position error / bounding-box diagonal"},
+          std::tuple{stem + "_strain.svg", &Run::strain, "mean relative edge strain"}}) {
         PlotSpec plot;
         plot.title = std::string("Stage A: time against ") + label + " after " + std::to_string(frames) + " frames";
         plot.x_label = "ms per frame (one thread)";
         plot.y_label = label;
-        for (const std::string& spec : meshes)
+        for (const std::string& mesh_spec : meshes)
             for (const char* method : {"pbd", "xpbd"}) {
+                const std::string spec = args->has("after-cut") ? mesh_spec + " after a cut" : mesh_spec;
                 PlotSeries s;
                 s.name = spec + (std::string(method) == "pbd" ? " PBD (I)" : " XPBD (S)");
                 for (const Run& r : runs)
@@ -181,7 +198,7 @@ int bench_sim_error(const std::vector<std::string>& argv) {
                                  {"volume_error_rel", r.volume_error}});
         std::printf("%s\n", j.dump().c_str());
     } else {
-        std::printf("wrote %s, sim_error_position.svg, sim_error_strain.svg\n", (out_dir / "sim_error.csv").string().c_str());
+        std::printf("wrote %s, %s_position.svg, %s_strain.svg\n", (out_dir / (stem + ".csv")).string().c_str(), stem.c_str(), stem.c_str());
     }
     return 0;
 }
