@@ -452,6 +452,7 @@ core::Status SceneRuntime::step() {
         gpu_resources_.refresh(*renderer_);
     }
     const auto& ms = graph_.execute(ctx);
+    last_pass_ms_ = ms;
     if (renderer_) {
         Presenter* p = options_.presenter;
         PBDSPLAT_TRY(renderer_->end_frame(p ? p->wait_semaphore() : nullptr, p ? p->signal_semaphore() : nullptr));

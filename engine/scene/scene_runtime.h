@@ -73,6 +73,8 @@ public:
 
     const graph::FrameGraph& graph() const { return graph_; }
     const FrameStats& stats() const { return stats_; }
+    // CPU milliseconds of each pass the last step ran, in the order of graph().describe()'s kept passes.
+    const std::vector<double>& pass_ms() const { return last_pass_ms_; }
     const sim::SoftBody& body() const { return body_; }
     const surface::BoundaryParticles& boundary_particles() const { return boundary_; }
     const std::vector<splat::GaussianRecord>& records() const { return records_; }
@@ -158,6 +160,7 @@ private:
     std::vector<int> group_of_kept_pass_;  // the Table 3 group of each kept pass, in execution order
     void publish_records();                // hands records_ to the GPU passes with what changed
     FrameStats stats_;
+    std::vector<double> last_pass_ms_;
     float time_ = 0.0f;
     float h_ = 0.0f;  // sampling spacing
     // Cut and tear events not yet started, in time order; the tearing now on, if any.

@@ -39,7 +39,7 @@ endfunction()
 
 # --help everywhere, on stdout, exit 0.
 foreach(cmd "--help" "info;--help" "render;--help" "bench;--help" "bench;splat;--help" "bench;sim;--help"
-           "bench;sim-error;--help" "bench;scene;--help" "bench;graph;--help" "bench;cut;--help" "bench;render;--help" "bench;render-error;--help" "bench;temporal;--help" "graph;--help" "validate-scene;--help"
+           "bench;sim-error;--help" "bench;scene;--help" "bench;graph;--help" "bench;cut;--help" "bench;render;--help" "bench;render-error;--help" "bench;temporal;--help" "bench;coverage;--help" "graph;--help" "validate-scene;--help"
            "export-ply;--help" "run;--help")
   expect("help: ${cmd}" 0 ${cmd})
   expect_contains("help: ${cmd}" "${last_out}" "usage: pbdsplat")
@@ -115,6 +115,8 @@ expect("bench render-error --json" 0 bench render-error --splats 200 --width 32 
 expect_json_keys("bench render-error --json" variants reference_ms)
 expect("bench temporal --json" 0 bench temporal --from 0 --frames 3 --width 32 --height 24 --out-dir out/bench --json --validation)
 expect_json_keys("bench temporal --json" splats_calm mesh_calm)
+expect("bench coverage --json" 0 bench coverage --frames 4 --every 2 --width 32 --height 24 --out-dir out/bench --json --validation)
+expect_json_keys("bench coverage --json" modes)
 expect("bench scene --json" 0 bench scene --frames 3 --json --validation)
 expect_json_keys("bench scene --json" median_ms stages_median_ms gpu_median_ms)
 expect("bench render: meshraster sorted" 2 bench render --path meshraster --sort cpu)

@@ -21,11 +21,12 @@ int bench_scene(const std::vector<std::string>& argv) {
         "\n"
         "  --frames N          frames (default 240)\n"
         "  --threads T         simulation threads (default 1)\n"
+        "  --passes            also the median CPU ms of every pass that runs (what culling a pass saves)\n"
         "  --before-after      also the medians before and after the first cut or tear, and the change\n"
         "                      (the paper's Tables 2-4)\n"
         "  --json              print one JSON object on stdout\n";
     std::set<std::string> flags = k_gpu_flags;
-    flags.insert({"help", "json", "before-after"});
+    flags.insert({"help", "json", "before-after", "passes"});
     std::set<std::string> valued = k_gpu_options;
     valued.insert({"frames", "threads"});
     auto args = Args::parse(argv, flags, valued);
@@ -53,6 +54,7 @@ int bench_scene(const std::vector<std::string>& argv) {
         std::vector<double> cpu_frame, gpu_scene, apply, constraints, integrate, update;
         size_t particles = 0, gaussians = 0, frames = 0;
     } before, after;
+    std::vector<std::vector<double>> per_pass;  // per kept pass, per frame
     for (uint32_t f = 0; f < frames.value(); ++f) {
         if (auto s = runtime.value()->step(); !s.ok()) return fail("bench scene", s.error().to_string());
         const auto& s = runtime.value()->stats();
@@ -60,6 +62,9 @@ int bench_scene(const std::vector<std::string>& argv) {
         integrate.push_back(s.integrate_normals_ms), update.push_back(s.update_particles_ms);
         gpu_record.push_back(s.gpu_record_ms), frame.push_back(s.graph_ms);
         gpu_upload.push_back(s.gpu_upload_ms), gpu_sort.push_back(s.gpu_sort_ms), gpu_draw.push_back(s.gpu_draw_ms);
+        const auto& pm = runtime.value()->pass_ms();
+        if (per_pass.size() < pm.size()) per_pass.resize(pm.size());
+        for (size_t k = 0; k < pm.size(); ++k) per_pass[k].push_back(pm[k]);
         Split& part = s.cuts + s.tears == 0 ? before : after;
         part.cpu_frame.push_back(s.events_ms + s.apply_forces_ms + s.constraints_ms + s.integrate_normals_ms +
                                  s.update_particles_ms + s.gpu_record_ms + s.topology_ms);
@@ -91,6 +96,12 @@ int bench_scene(const std::vector<std::string>& argv) {
                                                      {"draw", core::median(gpu_draw)}}},
                                   {"gpu_timestamps", ctx.value()->caps().timestamps}};
         nlohmann::json out = j;
+        if (args->has("passes")) {
+            out["passes_median_ms"] = nlohmann::json::object();
+            size_t k = 0;
+            for (const auto& p : runtime.value()->graph().describe())
+                if (!p.culled && k < per_pass.size()) out["passes_median_ms"][p.name] = core::median(per_pass[k++]);
+        }
         if (args->has("before-after"))
             for (const auto& [name, part] : {std::pair<const char*, const Split*>{"before", &before}, {"after", &after}})
                 out[name] = {{"frames", part->frames}, {"particles", part->particles}, {"gaussians", part->gaussians},
@@ -112,6 +123,14 @@ int bench_scene(const std::vector<std::string>& argv) {
                         core::median(gpu_upload), core::median(gpu_sort), core::median(gpu_draw));
         else
             std::printf("GPU Scene: device '%s' has no timestamp queries\n", ctx.value()->caps().name.c_str());
+        if (args->has("passes")) {
+            std::printf("per pass (median CPU ms; GPU passes: recording):\n");
+            size_t k = 0;
+            for (const auto& p : runtime.value()->graph().describe()) {
+                if (p.culled) std::printf("  %-22s culled: %s\n", p.name.c_str(), p.reason.c_str());
+                else if (k < per_pass.size()) std::printf("  %-22s %9.4f\n", p.name.c_str(), core::median(per_pass[k++]));
+            }
+        }
         if (args->has("before-after")) {
             if (after.frames == 0 || before.frames == 0) {
                 std::printf("before/after: the run has no frames on one side of a cut or tear\n");

@@ -18,6 +18,7 @@ constexpr const char* k_bench_help =
     "  render    splat pass ms per frame by path (gs, mesh, vertex, meshraster), sort, shading\n"
     "  render-error  rendering time against image error, against a supersampled reference\n"
     "  temporal  frame-to-frame luminance change (flicker) of splats and mesh, around a cut\n"
+    "  coverage  hole ratio and silhouette IoU through deformation and cuts, by surface mode\n"
     "  splat     GPU milliseconds of upload, draw and readback for N splats (median of repeats)\n"
     "\n"
     "`pbdsplat bench SCENE.toml [options]` runs the scene suite on that file.\n"
@@ -43,6 +44,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
     if (argv[0] == "render") return bench_render(rest);
     if (argv[0] == "render-error") return bench_render_error(rest);
     if (argv[0] == "temporal") return bench_temporal(rest);
+    if (argv[0] == "coverage") return bench_coverage(rest);
     return usage_error("bench", "unknown suite '" + argv[0] + "' (see pbdsplat bench --help)");
 }
 

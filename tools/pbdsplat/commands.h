@@ -19,6 +19,7 @@ int bench_cut(const std::vector<std::string>& args);
 int bench_render(const std::vector<std::string>& args);
 int bench_render_error(const std::vector<std::string>& args);
 int bench_temporal(const std::vector<std::string>& args);
+int bench_coverage(const std::vector<std::string>& args);
 int cmd_graph(const std::vector<std::string>& args);
 int cmd_validate_scene(const std::vector<std::string>& args);
 int cmd_export_ply(const std::vector<std::string>& args);
