@@ -23,6 +23,9 @@ struct Variant {
     render::SplatOrder order = render::SplatOrder::unsorted;
     render::SplatShading shading = render::SplatShading::fragment;
     float kappa = 3.0f, scale = 1.0f;
+    // Splats per area against the reference's: the sampling density that eta sets (spacing h =
+    // eta * edge length, so density ~ 1 / eta^2); each splat's size follows its spacing.
+    float density = 1.0f;
 };
 
 struct Measured {
@@ -87,7 +90,7 @@ int bench_render_error(const std::vector<std::string>& argv) {
         "\n"
         "Rendering, time against error: N splats on a sphere rendered by every path the device has,\n"
         "unsorted and sorted (CPU, GPU), shaded per fragment and per corner, and with other cut-offs\n"
-        "(kappa) and splat scales; each image against a reference (geometry shader, sorted on the\n"
+        "(kappa), sampling densities (eta) and splat scales; each image against a reference (geometry shader, sorted on the\n"
         "CPU, per-fragment shading, rendered at 4x the resolution and averaged down). Prints the\n"
         "median GPU ms (sort + draw) of R frames, the PSNR and the share of pixels off by more than\n"
         "2/255, and writes DIR/render_error.csv and DIR/render_error.svg.\n"
@@ -139,13 +142,20 @@ int bench_render_error(const std::vector<std::string>& argv) {
     for (const float kappa : {2.0f, 2.5f, 3.5f})
         variants.push_back({"gs, sort cpu, kappa " + std::to_string(kappa).substr(0, 3), render::SplatPath::geometry,
                             render::SplatOrder::cpu, render::SplatShading::fragment, kappa});
+    for (const float density : {0.5f, 2.0f})
+        variants.push_back({std::string("gs, sort cpu, eta x") + (density < 1.0f ? "1.41" : "0.71") + " (density x" +
+                                std::to_string(density).substr(0, 3) + ")",
+                            render::SplatPath::geometry, render::SplatOrder::cpu, render::SplatShading::fragment, 3.0f, 1.0f,
+                            density});
     for (const float scale : {0.7f, 1.4f})
         variants.push_back({"gs, sort cpu, scale " + std::to_string(scale).substr(0, 3), render::SplatPath::geometry,
                             render::SplatOrder::cpu, render::SplatShading::fragment, 3.0f, scale});
 
     std::vector<Measured> results;
     for (const Variant& v : variants) {
-        auto r = render(*ctx.value(), records, frame, v, w, h, repeat.value());
+        const auto denser = v.density == 1.0f ? SplatSphere{records, frame}
+                                              : make_splat_sphere(std::max<uint32_t>(1, uint32_t(float(count.value()) * v.density)));
+        auto r = render(*ctx.value(), denser.records, frame, v, w, h, repeat.value());
         if (!r.ok()) return fail("bench render-error", v.name + ": " + r.error().to_string());
         auto diff = core::compare_images(r->first, truth, 2);
         if (!diff.ok()) return fail("bench render-error", diff.error().to_string());
@@ -159,11 +169,11 @@ int bench_render_error(const std::vector<std::string>& argv) {
     {
         std::ofstream csv(out_dir / "render_error.csv");
         if (!csv) return fail("bench render-error", (out_dir / "render_error.csv").string() + ": cannot write");
-        csv << "variant,path,sort,shading,kappa,scale,ms,psnr_db,share_over_2\n";
+        csv << "variant,path,sort,shading,kappa,scale,density,ms,psnr_db,share_over_2\n";
         for (const Measured& m : results)
             csv << '"' << m.v.name << "\"," << render::splat_path_name(m.v.path) << ',' << render::splat_order_name(m.v.order) << ','
                 << (m.v.shading == render::SplatShading::corner ? "corner" : "fragment") << ',' << m.v.kappa << ',' << m.v.scale
-                << ',' << m.ms << ',' << m.psnr << ',' << m.share_over << '\n';
+                << ',' << m.v.density << ',' << m.ms << ',' << m.psnr << ',' << m.share_over << '\n';
     }
     PlotSpec plot;
     plot.title = "Rendering: time against error (" + std::to_string(count.value()) + " splats, " + std::to_string(w) + "x" +
