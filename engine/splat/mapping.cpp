@@ -5,6 +5,13 @@
 
 namespace pbdsplat::splat {
 
+namespace {
+// Twice the area over the longest edge squared: 0.87 for an equilateral triangle; below this a
+// triangle counts as a sliver.
+constexpr float k_min_shape_quality = 0.02f;
+constexpr float k_max_stretch_factor = 3.0f;
+} // namespace
+
 StretchScale::StretchScale(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles) {
     inverse_rest_.resize(triangles.size());
     for (size_t t = 0; t < triangles.size(); ++t) {
@@ -15,7 +22,12 @@ StretchScale::StretchScale(std::span<const Vec3f> rest, std::span<const mesh::Tr
         const Vec3f w = (e2 - e2.dot(u) * u).normalized();
         Eigen::Matrix2f dm;
         dm << e1.norm(), e2.dot(u), 0.0f, e2.dot(w);
-        inverse_rest_[t] = std::abs(dm.determinant()) > 1e-20f ? Eigen::Matrix2f(dm.inverse()) : Eigen::Matrix2f::Identity();
+        // A sliver (a cut's re-triangulation makes some) has an ill-conditioned rest frame: a
+        // tiny movement of its vertices reads as a huge stretch. Such triangles keep factor 1;
+        // their neighbours cover them.
+        const float longest = std::max({e1.norm(), e2.norm(), (e2 - e1).norm()});
+        const bool sliver = !(std::abs(dm.determinant()) > k_min_shape_quality * longest * longest);
+        inverse_rest_[t] = sliver ? Eigen::Matrix2f::Zero() : Eigen::Matrix2f(dm.inverse());
     }
     const size_t n = rest.size();
     ring_start_.assign(n + 1, 0);
@@ -41,7 +53,9 @@ void StretchScale::update(std::span<const Vec4f> x, std::span<const mesh::Triang
         // Largest eigenvalue of the symmetric 2x2 F^T F: the squared largest singular value.
         const float tr = ftf.trace(), det = ftf.determinant();
         const float lambda = 0.5f * tr + std::sqrt(std::max(0.0f, 0.25f * tr * tr - det));
-        triangle_[t] = std::max(1.0f, std::sqrt(lambda));
+        // Zero inverse (a sliver): factor 1. Otherwise at most k_max_stretch_factor, so no
+        // splat ever grows past a few spacings whatever the mesh does.
+        triangle_[t] = std::clamp(std::sqrt(lambda), 1.0f, k_max_stretch_factor);
     }
     for (size_t v = 0; v + 1 < ring_start_.size(); ++v) {
         float m = 1.0f;

@@ -18,7 +18,8 @@ class StretchScale {
 public:
     StretchScale() = default;
     StretchScale(std::span<const Vec3f> rest_positions, std::span<const mesh::Triangle> triangles);
-    // Per-triangle and per-vertex factors for the current positions.
+    // Per-triangle and per-vertex factors for the current positions: the largest singular value
+    // of each triangle's deformation gradient, clamped to [1, 3]; slivers keep 1.
     void update(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangles);
     float triangle(uint32_t t) const { return triangle_[t]; }
     float vertex(uint32_t v) const { return vertex_[v]; }

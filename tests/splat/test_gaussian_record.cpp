@@ -5,6 +5,7 @@
 #include <random>
 
 #include "splat/gaussian_record.h"
+#include "splat/mapping.h"
 
 using namespace pbdsplat;
 
@@ -53,5 +54,34 @@ TEST_SUITE("splat/gaussian_record") {
         CHECK(int(r.color[3]) == 128);
         CHECK(splat::half_to_float(r.scale_half) == doctest::Approx(0.03f).epsilon(1e-3));
         CHECK(splat::half_to_float(r.opacity_half) == doctest::Approx(2.0f));
+    }
+}
+
+TEST_SUITE("splat/gaussian_record") {
+    TEST_CASE("stretch-aware scale: the triangle's largest stretch, never below 1 or above 3, slivers left alone") {
+        const std::vector<Vec3f> rest = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}, {3, 0, 0}, {2.5f, 1e-4f, 0}};
+        const std::vector<mesh::Triangle> triangles = {{0, 1, 2}, {3, 4, 5}};
+        splat::StretchScale s(rest, triangles);
+        auto with = [&](std::vector<Vec3f> p) {
+            std::vector<Vec4f> x;
+            for (const Vec3f& q : p) x.emplace_back(q.x(), q.y(), q.z(), 0.0f);
+            s.update(x, triangles);
+        };
+        std::vector<Vec3f> p = rest;
+        p[1] = {2, 0, 0};  // stretched twice along x
+        with(p);
+        CHECK(s.triangle(0) == doctest::Approx(2.0f));
+        CHECK(s.vertex(1) == doctest::Approx(2.0f));
+        p[1] = {0.5f, 0, 0};  // compressed: splats do not shrink
+        with(p);
+        CHECK(s.triangle(0) == doctest::Approx(1.0f));
+        p[1] = {10, 0, 0};  // torn far apart: capped
+        with(p);
+        CHECK(s.triangle(0) == doctest::Approx(3.0f));
+        // The sliver's apex moves by 1e-2: a hundredfold "stretch" of a degenerate frame.
+        p = rest;
+        p[5] = {2.5f, 1e-2f, 0};
+        with(p);
+        CHECK(s.triangle(1) == doctest::Approx(1.0f));
     }
 }
