@@ -1,5 +1,7 @@
 #include "topology/invariants.h"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <numeric>
 #include <string>
@@ -37,7 +39,11 @@ core::Status check_invariants(const sim::SoftBody& b, const InvariantOptions& o)
         const auto& t = b.triangles[f];
         const double a = 0.5 * double((b.rest_positions[t[1]] - b.rest_positions[t[0]]).cross(b.rest_positions[t[2]] - b.rest_positions[t[0]]).norm());
         if (a < double(o.min_area_ratio) * mean_area)
-            return broken("triangle " + std::to_string(f) + " is a sliver (rest area " + std::to_string(a) + ", mean " + std::to_string(mean_area) + ")");
+            {
+                char buf[160];
+                std::snprintf(buf, sizeof(buf), "triangle %zu is a sliver (rest area %.3g, %.3g of the mean %.3g)", f, a, a / mean_area, mean_area);
+                return broken(buf);
+            }
     }
 
     // Orientation and manifoldness from the directed edges.
