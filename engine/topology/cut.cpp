@@ -65,6 +65,22 @@ Sides classify(const sim::SoftBody& b, const CutSurface& s, float snap, float re
             if (!near_i && !near_j) continue;
             if (s.reaches(crossing_point(b, i, j, u))) snapped[near_i && (!near_j || u < 0.5f) ? i : j] = 1;
         }
+    // A crossed triangle's corner piece (the lone vertex and the two crossings) has u_ab * u_ac
+    // of its area: where that is a sliver next to the reference triangle, the cut goes through
+    // the lone vertex instead. Without this, cuts repeated through one region shrink corners
+    // generation after generation (u <= 1 - snap keeps each child above a tenth of its parent,
+    // not above any absolute size).
+    const float min_corner_area = 0.05f * 0.433f * reference * reference;  // 5 % of an equilateral triangle
+    for (const mesh::Triangle& t : b.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = t[size_t(k)], p = t[size_t((k + 1) % 3)], q = t[size_t((k + 2) % 3)];
+            const bool lone = (d[a] < 0.0f && d[p] > 0.0f && d[q] > 0.0f) || (d[a] > 0.0f && d[p] < 0.0f && d[q] < 0.0f);
+            if (!lone || snapped[a] || snapped[p] || snapped[q]) continue;
+            const float u_p = d[a] / (d[a] - d[p]), u_q = d[a] / (d[a] - d[q]);
+            const Vec3f& ra = b.rest_positions[a];
+            const float area = 0.5f * (b.rest_positions[p] - ra).cross(b.rest_positions[q] - ra).norm();
+            if (u_p * u_q * area < min_corner_area && s.reaches(sim::xyz(b.particles.x[a]))) snapped[a] = 1;
+        }
     for (size_t v = 0; v < n; ++v)
         if (snapped[v]) sign[v] = 0;
     return out;
