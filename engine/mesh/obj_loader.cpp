@@ -155,6 +155,16 @@ core::Result<TriangleMesh> parse_obj(const std::string& text, const std::string&
             Triangle t{};
             for (size_t k = 0; k < 3; ++k) {
                 const tinyobj::index_t c = idx[offset + k];
+                // The loader passes some indices through unchecked (found by fuzzing: a face's
+                // texture-coordinate index past the vt lines read past the array).
+                if (c.vertex_index < 0 || size_t(c.vertex_index) >= n)
+                    return core::make_error(name, 0, "a face refers to vertex " + std::to_string(c.vertex_index + 1) + " of " + std::to_string(n));
+                if (c.normal_index >= 0 && size_t(c.normal_index) * 3 + 2 >= a.normals.size())
+                    return core::make_error(name, 0, "a face refers to normal " + std::to_string(c.normal_index + 1) + " of " +
+                                                         std::to_string(a.normals.size() / 3));
+                if (c.texcoord_index >= 0 && size_t(c.texcoord_index) * 2 + 1 >= a.texcoords.size())
+                    return core::make_error(name, 0, "a face refers to texture coordinate " + std::to_string(c.texcoord_index + 1) +
+                                                         " of " + std::to_string(a.texcoords.size() / 2));
                 t[k] = uint32_t(c.vertex_index);
                 if (has_normals && c.normal_index >= 0 && !normal_set[t[k]]) {
                     const size_t q = size_t(c.normal_index) * 3;

@@ -462,11 +462,22 @@ std::string vec(const Eigen::Matrix<float, N, 1>& v) {
     for (int k = 0; k < N; ++k) s += (k ? ", " : "") + num(double(v[k]));
     return s + "]";
 }
+// A TOML basic string: quotes, backslashes and control characters escaped (found by fuzzing:
+// a mesh name with an escaped newline was written back raw, and the file no longer parsed).
 std::string quoted(const std::string& t) {
     std::string o = "\"";
-    for (char c : t) {
-        if (c == '"' || c == '\\') o += '\\';
-        o += c;
+    for (const char c : t) {
+        const auto u = static_cast<unsigned char>(c);
+        if (c == '"' || c == '\\') {
+            o += '\\';
+            o += c;
+        } else if (u < 0x20 || u == 0x7f) {
+            char buf[8];
+            std::snprintf(buf, sizeof(buf), "\\u%04x", unsigned(u));
+            o += buf;
+        } else {
+            o += c;
+        }
     }
     return o + "\"";
 }
@@ -526,7 +537,7 @@ std::string to_toml(const Scene& sc) {
     o << "\npath = \"" << (d.splat_path ? render::splat_path_name(*d.splat_path) : "auto") << "\"\nenvironment = \""
       << render::env_sampling_name(l.environment.sampling) << "\"\nenvironment_intensity = " << num(l.environment.intensity)
       << "\nenvironment_diffuse = " << num(l.environment.diffuse) << "\nenvironment_specular = " << num(l.environment.specular);
-    if (!d.environment_map.empty()) o << "\nenvironment_map = \"" << d.environment_map << "\"";
+    if (!d.environment_map.empty()) o << "\nenvironment_map = " << quoted(d.environment_map);
     o << "\nlights = [";
     for (size_t i = 0; i < l.lights.size(); ++i) {
         const render::Light& g = l.lights[i];
