@@ -31,13 +31,15 @@ int bench_render(const std::vector<std::string>& argv) {
         "  --sort S            off (default: the visibility pass), cpu or gpu (compute cull + radix sort)\n"
         "  --shading S         fragment (default) or corner: where the lighting is evaluated\n"
         "  --environment E     position (default), normal, hybrid or off: the shading's lookups\n"
+        "  --scale S           splat size multiplier (default 1: sized to close the surface); the\n"
+        "                      JSON's coverage says how many screens of quads that draws\n"
         "  --width W, --height H   default 1280x720\n"
         "  --repeat R          measured frames (default 20); --warmup K unmeasured first (default 3)\n"
         "  --json              one JSON object: median_ms (sort + draw), path, and the parts\n";
     std::set<std::string> flags = k_gpu_flags;
     flags.insert({"json", "help"});
     std::set<std::string> valued = k_gpu_options;
-    valued.insert({"splats", "path", "sort", "width", "height", "repeat", "warmup", "environment", "shading"});
+    valued.insert({"splats", "path", "sort", "width", "height", "repeat", "warmup", "environment", "shading", "scale"});
     auto args = Args::parse(argv, flags, valued);
     if (!args.ok()) return usage_error("bench render", args.error().to_string());
     if (args->has("help")) return std::fputs(help, stdout), 0;
@@ -84,6 +86,14 @@ int bench_render(const std::vector<std::string>& argv) {
 
     auto [records, frame] = make_splat_sphere(count.value());
     frame.lighting.environment.sampling = environment;
+    auto scale = args->get_float("scale", 1.0f, 0.01f, 100.0f);
+    if (!scale.ok()) return usage_error("bench render", scale.error().to_string());
+    frame.style.scale_multiplier = scale.value();
+    // Screens of quad area drawn: each quad spans 2 kappa sigma at its distance (about 3.5 here).
+    const float sigma = splat::half_to_float(records.front().scale_half) * scale.value();
+    const float pixels_per_unit = float(height.value()) / (2.0f * 3.5f * std::tan(math::radians(frame.camera.fov_y_degrees) * 0.5f));
+    const float quad_side = 2.0f * frame.style.kappa * sigma * pixels_per_unit;
+    const double screens = double(quad_side) * quad_side * count.value() / (double(width.value()) * height.value());
     if (mesh_raster) {
         auto r = bench_mesh_raster(*ctx.value(), count.value(), frame, width.value(), height.value(), warmup.value(), repeat.value());
         if (!r.ok()) return fail("bench render", r.error().to_string());
@@ -142,6 +152,7 @@ int bench_render(const std::vector<std::string>& argv) {
     if (args->has("json")) {
         const nlohmann::json j = {{"suite", "render"}, {"device", caps.name}, {"driver", caps.driver},
                                   {"splats", count.value()}, {"path", render::splat_path_name(used)}, {"sort", sort}, {"environment", render::env_sampling_name(environment)}, {"shading", shading_arg},
+                                  {"scale", scale.value()}, {"quad_screens", screens},
                                   {"width", width.value()}, {"height", height.value()}, {"repeat", repeat.value()},
                                   {"median_ms", median_ms}, {"draw_ms", core::median(draw)},
                                   {"sort_ms", core::median(sort_ms)}, {"gpu_sort_ms", core::median(gpu_sort_ms)},
