@@ -33,4 +33,12 @@ private:
     std::vector<std::string> positionals_;
 };
 
+// The first of several parsed values that failed (for one usage message), or null.
+template <class... T>
+const core::Error* first_error(const core::Result<T>&... results) {
+    const core::Error* first = nullptr;
+    ((first = first ? first : (results.ok() ? nullptr : &results.error())), ...);
+    return first;
+}
+
 } // namespace pbdsplat::cli

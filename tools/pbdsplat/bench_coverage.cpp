@@ -43,9 +43,7 @@ int bench_coverage(const std::vector<std::string>& argv) {
     auto every = args->get_uint("every", 20, 1, 100000);
     auto width = args->get_uint("width", 320, 16, 4096);
     auto height = args->get_uint("height", 180, 16, 4096);
-    for (const core::Error* e : {frames.ok() ? nullptr : &frames.error(), every.ok() ? nullptr : &every.error(),
-                                 width.ok() ? nullptr : &width.error(), height.ok() ? nullptr : &height.error()})
-        if (e) return usage_error("bench coverage", e->to_string());
+    if (const core::Error* e = first_error(frames, every, width, height)) return usage_error("bench coverage", e->to_string());
     auto base = load_scene_arg(args->positionals());
     if (!base.ok()) return fail("bench coverage", base.error().to_string());
     const std::filesystem::path out_dir = args->get_or("out-dir", "docs/bench");

@@ -48,10 +48,7 @@ int bench_render(const std::vector<std::string>& argv) {
     auto height = args->get_uint("height", 720, 16, 16384);
     auto repeat = args->get_uint("repeat", 20, 1, 100000);
     auto warmup = args->get_uint("warmup", 3, 0, 100000);
-    for (const core::Error* e : {count.ok() ? nullptr : &count.error(), width.ok() ? nullptr : &width.error(),
-                                 height.ok() ? nullptr : &height.error(), repeat.ok() ? nullptr : &repeat.error(),
-                                 warmup.ok() ? nullptr : &warmup.error()})
-        if (e) return usage_error("bench render", e->to_string());
+    if (const core::Error* e = first_error(count, width, height, repeat, warmup)) return usage_error("bench render", e->to_string());
     std::optional<render::SplatPath> path;
     const std::string path_arg = args->get_or("path", "auto");
     const bool mesh_raster = path_arg == "meshraster";

@@ -111,9 +111,7 @@ int bench_render_error(const std::vector<std::string>& argv) {
     auto width = args->get_uint("width", 480, 16, 4096);
     auto height = args->get_uint("height", 270, 16, 4096);
     auto repeat = args->get_uint("repeat", 3, 1, 1000);
-    for (const core::Error* e : {count.ok() ? nullptr : &count.error(), width.ok() ? nullptr : &width.error(),
-                                 height.ok() ? nullptr : &height.error(), repeat.ok() ? nullptr : &repeat.error()})
-        if (e) return usage_error("bench render-error", e->to_string());
+    if (const core::Error* e = first_error(count, width, height, repeat)) return usage_error("bench render-error", e->to_string());
     const std::filesystem::path out_dir = args->get_or("out-dir", "docs/bench");
     auto ctx = open_context(args.value());
     if (!ctx.ok()) return fail("bench render-error", ctx.error().to_string());

@@ -45,12 +45,7 @@ int bench_sim(const std::vector<std::string>& argv) {
     auto pin = args->get_choice("pin", "top", {"top", "none"});
     auto mode = args->get_choice("mode", "paper", {"paper", "xpbd"});
     auto volume = args->get_choice("volume", "on", {"on", "off"});
-    for (const core::Error* e : {iterations.ok() ? nullptr : &iterations.error(), substeps.ok() ? nullptr : &substeps.error(),
-                                 frames.ok() ? nullptr : &frames.error(), warmup.ok() ? nullptr : &warmup.error(),
-                                 threads.ok() ? nullptr : &threads.error(),
-                                 pin.ok() ? nullptr : &pin.error(), mode.ok() ? nullptr : &mode.error(),
-                                 volume.ok() ? nullptr : &volume.error()})
-        if (e) return usage_error("bench sim", e->to_string());
+    if (const core::Error* e = first_error(iterations, substeps, frames, warmup, threads, pin, mode, volume)) return usage_error("bench sim", e->to_string());
     const std::string spec = args->get_or("mesh", "icosphere:5");
 
     auto repaired = mesh::load_mesh_spec(spec);

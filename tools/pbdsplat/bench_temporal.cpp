@@ -65,9 +65,7 @@ int bench_temporal(const std::vector<std::string>& argv) {
     auto frames = args->get_uint("frames", 120, 2, 100000);
     auto width = args->get_uint("width", 320, 16, 4096);
     auto height = args->get_uint("height", 180, 16, 4096);
-    for (const core::Error* e : {from.ok() ? nullptr : &from.error(), frames.ok() ? nullptr : &frames.error(),
-                                 width.ok() ? nullptr : &width.error(), height.ok() ? nullptr : &height.error()})
-        if (e) return usage_error("bench temporal", e->to_string());
+    if (const core::Error* e = first_error(from, frames, width, height)) return usage_error("bench temporal", e->to_string());
     auto scene = load_scene_arg(args->positionals());
     if (!scene.ok()) return fail("bench temporal", scene.error().to_string());
     scene->render.width = width.value();

@@ -93,10 +93,7 @@ int cmd_render(const std::vector<std::string>& argv) {
     auto height = args->get_uint("height", 0, 16, 16384);
     auto threads = args->get_uint("threads", 1, 1, 64);
     auto upload = parse_upload_path(args->get_or("upload", "auto"));
-    for (const core::Error* e : {frames.ok() ? nullptr : &frames.error(), width.ok() ? nullptr : &width.error(),
-                                 height.ok() ? nullptr : &height.error(), threads.ok() ? nullptr : &threads.error(),
-                                 upload.ok() ? nullptr : &upload.error()})
-        if (e) return usage_error("render", e->to_string());
+    if (const core::Error* e = first_error(frames, width, height, threads, upload)) return usage_error("render", e->to_string());
     const std::filesystem::path out = args->get_or("out", "out/render.png");
     const bool single = out.extension() == ".png";
     const std::filesystem::path dir = single ? out.parent_path() : out;
