@@ -32,6 +32,13 @@ core::Result<uint32_t> number(const std::string& spec, const std::string& field,
 
 } // namespace
 
+bool is_procedural_spec(const std::string& spec) {
+    const std::string kind = split(spec, ':')[0];
+    for (const char* k : {"icosphere", "uvsphere", "torus", "box", "capsule", "grid"})
+        if (kind == k) return true;
+    return false;
+}
+
 core::Result<RepairedMesh> load_mesh_spec(const std::string& spec, const MeshSpecOptions& options) {
     const auto parts = split(spec, ':');
     const std::string& kind = parts[0];

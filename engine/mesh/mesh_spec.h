@@ -15,6 +15,9 @@ struct MeshSpecOptions {
     float file_fit_diagonal = 2.0f;
 };
 
+// True for the procedural kinds above (whatever their parameters), false for a file.
+bool is_procedural_spec(const std::string& spec);
+
 core::Result<RepairedMesh> load_mesh_spec(const std::string& spec, const MeshSpecOptions& options = {});
 
 } // namespace pbdsplat::mesh

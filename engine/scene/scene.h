@@ -45,8 +45,24 @@ struct PinRegion {
     Vec3f min, max;  // particles inside this box (world space, after the transform) are pinned
 };
 
+// A model file's simulation mesh, when the scene does not say: enough particles for the
+// physics of a whole body, few enough that Stage A stays well under a millisecond or two.
+inline constexpr uint32_t k_default_simulation_particles = 2000;
+// Shape matching on by default: a body resting on the ground keeps its shape.
+inline constexpr float k_default_shape_stiffness = 0.3f;
+
+inline sim::SolverSettings default_scene_solver() {
+    sim::SolverSettings s;
+    s.shape_stiffness = k_default_shape_stiffness;
+    return s;
+}
+
 struct SimulationDesc {
-    sim::SolverSettings solver;
+    sim::SolverSettings solver = default_scene_solver();
+    // Particles of the simulation mesh (quadric decimation of the model); the model's own
+    // surface rides on it as embedded samples. Empty: model files are decimated to
+    // k_default_simulation_particles, procedural meshes keep theirs. 0: the model's vertices.
+    std::optional<uint32_t> particles;
     float dt = 1.0f / 60.0f;
     float mass = 1.0f;
     float compliance = 0.0f;         // XPBD stretch compliance, m/N

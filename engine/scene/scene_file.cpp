@@ -189,6 +189,9 @@ void read_simulation(const Reader& r, Reader::Table& t, SimulationDesc& s) {
     s.compliance = t.real("compliance", s.compliance, 0.0, 1e3);
     solver.volume = t.flag("volume", solver.volume);
     solver.volume_stiffness = t.real("volume_stiffness", solver.volume_stiffness, 1e-4, 1.0);
+    solver.shape_stiffness = t.real("shape_stiffness", solver.shape_stiffness, 0.0, 1.0);
+    solver.shape_compliance = t.real("shape_compliance", solver.shape_compliance, 0.0, 1e3);
+    if (t.has("particles")) s.particles = t.count("particles", 0, 0, 10'000'000);
     s.volume_compliance = t.real("volume_compliance", s.volume_compliance, 0.0, 1e3);
     s.pressure = t.real("pressure", s.pressure, 0.01, 100.0);
     solver.gravity = t.vec<3>("gravity", solver.gravity, -1000, 1000);
@@ -500,10 +503,13 @@ std::string to_toml(const Scene& sc) {
       << "\niterations = " << s.solver.iterations << "\nsubsteps = " << s.solver.substeps
       << "\nstiffness = " << num(s.solver.stretch_stiffness) << "\ncompliance = " << num(s.compliance)
       << "\nvolume = " << (s.solver.volume ? "true" : "false") << "\nvolume_stiffness = " << num(s.solver.volume_stiffness)
-      << "\nvolume_compliance = " << num(s.volume_compliance) << "\npressure = " << num(s.pressure)
+      << "\nvolume_compliance = " << num(s.volume_compliance) << "\nshape_stiffness = " << num(s.solver.shape_stiffness)
+      << "\nshape_compliance = " << num(s.solver.shape_compliance) << "\npressure = " << num(s.pressure)
       << "\ngravity = " << vec<3>(s.solver.gravity) << "\ndamping = " << num(s.solver.damping) << "\nmass = " << num(s.mass)
       << "\nfriction = " << num(s.friction) << "\ncut_volume = \"" << topology::volume_policy_name(s.cut.volume)
-      << "\"\ncut_snap = " << num(s.cut.snap) << "\nfade_frames = " << s.fade_frames << "\npins = [";
+      << "\"\ncut_snap = " << num(s.cut.snap) << "\nfade_frames = " << s.fade_frames;
+    if (s.particles) o << "\nparticles = " << *s.particles;
+    o << "\npins = [";
     for (size_t i = 0; i < s.pins.size(); ++i) o << (i ? ", " : "") << s.pins[i];
     o << "]\npin_regions = [";
     for (size_t i = 0; i < s.pin_regions.size(); ++i)

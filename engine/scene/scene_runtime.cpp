@@ -7,6 +7,7 @@
 #include "core/timer.h"
 #include "mesh/mesh_spec.h"
 #include "mesh/triangle_mesh.h"
+#include "surface/embedding.h"
 #include "surface/remap.h"
 #include "topology/cut.h"
 #include "topology/invariants.h"
@@ -21,57 +22,13 @@ Group group_of(const std::string& name) {
     auto starts = [&](const char* p) { return name.rfind(p, 0) == 0; };
     if (starts("events") || starts("topology")) return events;
     if (starts("forces")) return forces;
-    if (starts("distance") || starts("volume") || starts("drag") || starts("collide")) return constraints;
+    if (starts("distance") || starts("volume") || starts("shape") || starts("drag") || starts("collide")) return constraints;
     if (starts("velocities") || starts("normals")) return integrate;
     if (starts("map") || starts("boundary") || starts("stretch") || starts("sort")) return update;
     if (starts("upload") || starts("gpu sort") || starts("splat") || starts("readback")) return gpu_record;
     return other;
 }
 } // namespace
-
-core::Result<sim::SoftBody> make_scene_body(const Scene& scene) {
-    mesh::MeshSpecOptions mo;
-    mo.file_fit_diagonal = scene.model.fit;
-    std::string spec = scene.model.mesh;
-    // A model file is looked up next to the scene first.
-    if (!scene.source_dir.empty()) {
-        const std::filesystem::path beside = std::filesystem::path(scene.source_dir) / spec;
-        std::error_code ec;
-        if (std::filesystem::is_regular_file(beside, ec)) spec = beside.string();
-    }
-    auto repaired = mesh::load_mesh_spec(spec, mo);
-    if (!repaired.ok()) return repaired.error();
-    mesh::TriangleMesh m = std::move(repaired).value().mesh;
-    const ModelDesc& md = scene.model;
-    const Mat3f r = (Eigen::AngleAxisf(math::radians(md.rotate_degrees.z()), Vec3f::UnitZ()) *
-                     Eigen::AngleAxisf(math::radians(md.rotate_degrees.y()), Vec3f::UnitY()) *
-                     Eigen::AngleAxisf(math::radians(md.rotate_degrees.x()), Vec3f::UnitX()))
-                        .toRotationMatrix();
-    for (Vec3f& p : m.positions) p = r * (p * md.scale) + md.translate;
-
-    const SimulationDesc& s = scene.simulation;
-    sim::SoftBodyDesc desc;
-    desc.total_mass = s.mass;
-    desc.stretch_compliance = s.compliance;
-    desc.volume = s.solver.volume;
-    desc.pressure = s.pressure;
-    desc.volume_compliance = s.volume_compliance;
-    auto body = sim::make_soft_body(std::move(m), desc);
-    if (!body.ok()) return body.error();
-    sim::SoftBody b = std::move(body).value();
-    for (uint32_t pin : s.pins) {
-        if (pin >= b.particle_count())
-            return core::make_error("pinned particle " + std::to_string(pin) + " does not exist: the mesh has " +
-                                    std::to_string(b.particle_count()) + " particles");
-        b.pin(pin);
-    }
-    for (const PinRegion& region : s.pin_regions)
-        for (uint32_t i = 0; i < b.particle_count(); ++i) {
-            const Vec3f x = sim::xyz(b.particles.x[i]);
-            if ((x.array() >= region.min.array()).all() && (x.array() <= region.max.array()).all()) b.pin(i);
-        }
-    return b;
-}
 
 void changed_ranges(std::span<const splat::GaussianRecord> before, std::span<const splat::GaussianRecord> after,
                     std::vector<gpu::ByteRange>& out) {
@@ -102,9 +59,11 @@ core::Result<std::unique_ptr<SceneRuntime>> SceneRuntime::create(const Scene& sc
                                 " constraint sweeps a frame; a scene may ask for at most 256");
     auto rt = std::unique_ptr<SceneRuntime>(new SceneRuntime());
     rt->scene_ = scene;
-    auto body = make_scene_body(scene);
-    if (!body.ok()) return body.error();
-    rt->body_ = std::move(body).value();
+    auto model = load_scene_model(scene);
+    if (!model.ok()) return model.error();
+    rt->body_ = std::move(model.value().body);
+    rt->fine_ = std::move(model.value().fine);
+    rt->decimation_ = model.value().decimation;
     PBDSPLAT_TRY(rt->build(options));
     return rt;
 }
@@ -125,9 +84,16 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     const mesh::TriangleMesh rest{body_.rest_positions, body_.triangles, {}, {}, {}};
     const SurfaceDesc& sd_surface = scene_.surface;
     const bool boundary = sd_surface.mode == SurfaceMode::boundary;
-    h_ = surface::spacing(rest, boundary ? sd_surface.eta : 1.0f);
+    // Boundary particles sample the model's own surface (h from its edges) and ride on the
+    // simulation mesh; without a separate model surface they sample the simulation mesh.
+    h_ = boundary && fine_ ? surface::spacing(*fine_, sd_surface.eta) : surface::spacing(rest, boundary ? sd_surface.eta : 1.0f);
     if (!(h_ > 0.0f)) return core::make_error("the mesh has no edges to derive the sampling spacing from");
-    if (boundary) boundary_ = surface::sample_surface(rest, {h_, sd_surface.seed});
+    if (boundary && fine_) {
+        const auto points = surface::sample_points(*fine_, body_.rest_positions, {h_, sd_surface.seed});
+        surface::embed_points(points, body_.rest_positions, body_.triangles, body_.normals, boundary_, &embedding_);
+    } else if (boundary) {
+        boundary_ = surface::sample_surface(rest, {h_, sd_surface.seed});
+    }
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
     appearance_.scale = mat.splat_scale * h_;
     frame_input_.frame.lighting.intensity *= mat.diffuse;
@@ -199,6 +165,8 @@ core::Status SceneRuntime::build_graph() {
     auto body = g.import("body", &body_, true);
     auto timeline = g.import("timeline", has_events ? timeline_.get() : static_cast<Timeline*>(nullptr));
     auto volumes = g.import("volume constraints", has_volume ? &body_.volumes : static_cast<std::vector<sim::VolumeConstraint>*>(nullptr));
+    const bool has_shape = sd.solver.shape_stiffness > 0.0f && body_.shape_matching;
+    auto shapes = g.import("shape clusters", has_shape ? &body_.shapes : static_cast<std::vector<sim::ShapeCluster>*>(nullptr));
     auto colliders = g.import("colliders", sd.colliders.empty() ? nullptr : &scene_.simulation.colliders);
     const bool drags = timeline_->has_drag() || options.interactive;
     auto drag = g.import("drag", drags ? &drag_ : static_cast<sim::DragConstraint*>(nullptr));
@@ -287,6 +255,13 @@ core::Status SceneRuntime::build_graph() {
                 body = b.write(body);
                 return [this, &solver, &settings, h](const graph::PassResources&, graph::ExecuteContext&) {
                     solver.project_volume(body_, settings, h);
+                };
+            });
+            cpu_pass("shape" + suffix, [&](graph::PassBuilder& b) {
+                b.read(shapes);
+                body = b.write(body);
+                return [this, &solver, &settings, h](const graph::PassResources&, graph::ExecuteContext&) {
+                    solver.project_shape(body_, settings, h);
                 };
             });
             cpu_pass("drag" + suffix, [&](graph::PassBuilder& b) {

@@ -11,6 +11,7 @@
 #include "graph/frame_graph.h"
 #include "scene/gpu_passes.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
 #include "scene/timeline.h"
 #include "sim/solver.h"
 #include "splat/fade_in.h"
@@ -18,6 +19,7 @@
 #include "render/mesh_raster.h"
 #include "splat/sort.h"
 #include "surface/boundary_particles.h"
+#include "surface/embedding.h"
 #include "topology/topology_change.h"
 
 namespace pbdsplat::scene {
@@ -76,6 +78,11 @@ public:
     // CPU milliseconds of each pass the last step ran, in the order of graph().describe()'s kept passes.
     const std::vector<double>& pass_ms() const { return last_pass_ms_; }
     const sim::SoftBody& body() const { return body_; }
+    // The model's full-resolution surface (rest pose, scene space) when the body simulates a
+    // decimated copy of it; empty otherwise.
+    const std::optional<mesh::TriangleMesh>& fine_surface() const { return fine_; }
+    const mesh::DecimateReport& decimation() const { return decimation_; }
+    const surface::EmbeddingStats& embedding() const { return embedding_; }
     const surface::BoundaryParticles& boundary_particles() const { return boundary_; }
     const std::vector<splat::GaussianRecord>& records() const { return records_; }
     float spacing() const { return h_; }
@@ -142,6 +149,9 @@ private:
 
     Scene scene_;
     sim::SoftBody body_;
+    std::optional<mesh::TriangleMesh> fine_;  // the model's surface when the body is decimated
+    mesh::DecimateReport decimation_;
+    surface::EmbeddingStats embedding_;
     std::unique_ptr<core::ThreadPool> pool_;
     std::unique_ptr<sim::Solver> solver_;
     std::unique_ptr<Timeline> timeline_;
@@ -185,8 +195,5 @@ private:
 void changed_ranges(std::span<const splat::GaussianRecord> before, std::span<const splat::GaussianRecord> after,
                     std::vector<gpu::ByteRange>& out);
 
-// Loads the mesh of a scene (next to the scene file first), applies the transform, builds the
-// body with its pins. Shared by the runtime and the tools that only simulate.
-core::Result<sim::SoftBody> make_scene_body(const Scene& scene);
 
 } // namespace pbdsplat::scene

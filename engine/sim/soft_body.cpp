@@ -18,6 +18,12 @@ void rebuild_derived(SoftBodyT<Real>& b) {
     b.rings = build_vertex_rings(b.triangles, b.particle_count());
     b.normals.resize(b.particle_count(), Vec3f(0.0f, 1.0f, 0.0f));
     for (VolumeConstraint& v : b.volumes) build_rings(v);
+    b.shapes.clear();
+    if (b.shape_matching) {
+        std::vector<float> w(b.particles.w.size());
+        for (size_t i = 0; i < w.size(); ++i) w[i] = float(b.particles.w[i]);
+        b.shapes = build_shape_clusters(b.triangles, b.rest_positions, w);
+    }
 }
 template void rebuild_derived<float>(SoftBodyT<float>&);
 template void rebuild_derived<double>(SoftBodyT<double>&);
@@ -39,6 +45,8 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     d.distance_colours = b.distance_colours;
     d.distance_lambda.assign(b.distance_lambda.size(), 0.0);
     d.volumes = b.volumes;
+    d.shape_matching = b.shape_matching;
+    d.shapes = b.shapes;
     d.rest_positions = b.rest_positions;
     d.colors = b.colors;
     return d;
@@ -57,6 +65,7 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
     b.rest_positions = m.positions;
     b.colors = m.colors;
     b.triangles = m.triangles;
+    b.shape_matching = desc.shape_matching;
 
     // Masses: lumped from a third of each incident triangle's area, or uniform.
     std::vector<double> mass(n, 0.0);

@@ -11,6 +11,7 @@
 #include "sim/constraints.h"
 #include "sim/integrate.h"
 #include "sim/particles.h"
+#include "sim/shape.h"
 #include "sim/volume.h"
 
 namespace pbdsplat::sim {
@@ -24,6 +25,7 @@ struct SoftBodyDesc {
     bool volume = true;            // one volume constraint per component
     float pressure = 1.0f;         // k of every volume constraint
     float volume_compliance = 0.0f;
+    bool shape_matching = false;   // one shape-matching cluster per connected piece
     bool reorder = true;           // Morton-order particles for cache locality
 };
 
@@ -37,6 +39,9 @@ struct SoftBodyT {
     std::vector<uint32_t> distance_colours;    // colour c holds distance[start[c], start[c + 1])
     std::vector<Real> distance_lambda;  // XPBD multipliers, one per distance constraint
     std::vector<VolumeConstraint> volumes;
+    // Shape matching, one cluster per piece, rebuilt with the derived data (after every cut).
+    bool shape_matching = false;
+    std::vector<ShapeCluster> shapes;
     std::vector<Vec3f> rest_positions;  // rest state (new edges take rest lengths from it)
     std::vector<Vec3f> colors;          // per-particle colours from the mesh file; empty if none
 

@@ -9,6 +9,7 @@
 #include "sim/distance.h"
 #include "sim/drag.h"
 #include "sim/integrate.h"
+#include "sim/shape.h"
 #include "sim/volume.h"
 
 namespace pbdsplat::sim {
@@ -22,6 +23,10 @@ core::Status validate(const SolverSettings& s) {
         return core::make_error("stretch stiffness must be in (0, 1]");
     if (!(s.volume_stiffness > 0.0f && s.volume_stiffness <= 1.0f))
         return core::make_error("volume stiffness must be in (0, 1]");
+    if (!(s.shape_stiffness >= 0.0f && s.shape_stiffness <= 1.0f))
+        return core::make_error("shape stiffness must be in [0, 1] (0 turns shape matching off)");
+    if (!(s.shape_compliance >= 0.0f) || !std::isfinite(s.shape_compliance))
+        return core::make_error("shape compliance must be >= 0");
     return core::Status::success();
 }
 
@@ -102,6 +107,18 @@ void SolverT<Real>::project_volume(SoftBodyT<Real>& body, const SolverSettings& 
 }
 
 template <class Real>
+void SolverT<Real>::project_shape(SoftBodyT<Real>& body, const SolverSettings& s, Real h) {
+    if (!(s.shape_stiffness > 0.0f) || body.shapes.empty()) return;
+    const bool xpbd = s.mode == SolverMode::xpbd && s.shape_compliance > 0.0f;
+    const Real k = Real(per_iteration(s.shape_stiffness, s.iterations * s.substeps));
+    const Real alpha = Real(s.shape_compliance) / (h * h);
+    // Pieces are independent: one per thread when there are several large ones.
+    for_range(body.shapes.size(), 2, [&](size_t b, size_t e) {
+        for (size_t c = b; c < e; ++c) sim::project_shape<Real>(body.shapes[c], body.particles, k, xpbd, alpha);
+    });
+}
+
+template <class Real>
 void SolverT<Real>::apply_drag(SoftBodyT<Real>& body, const DragConstraint& drag) {
     solve_drag(drag, body.particles);
 }
@@ -141,6 +158,7 @@ StageTimings SolverT<Real>::step(SoftBodyT<Real>& body, float dt, const SolverSe
         for (uint32_t it = 0; it < s.iterations; ++it) {
             project_distance(body, s, h);
             if (volume) project_volume(body, s, h);
+            project_shape(body, s, h);
             apply_drag(body, drag);
             collide(body, colliders);
         }

@@ -25,13 +25,17 @@ struct SolverSettings {
     float damping = 0.0f;             // velocity decay rate, 1/s
     float stretch_stiffness = 1.0f;   // PBD, per frame's worth of iterations
     float volume_stiffness = 1.0f;    // PBD
+    // Shape matching toward each piece's rest shape (bodies built with shape_matching): PBD
+    // stiffness per frame in [0, 1], 0 = off. XPBD uses `shape_compliance` when it is > 0.
+    float shape_stiffness = 0.0f;
+    float shape_compliance = 0.0f;
     bool volume = true;               // project the body's volume constraints
 };
 
 // Milliseconds per stage of the last step, named as in the paper's Tables 3 and 4.
 struct StageTimings {
     double apply_forces = 0.0;       // external forces and prediction
-    double constraints = 0.0;        // distance, volume, collisions, drag
+    double constraints = 0.0;        // distance, volume, shape, collisions, drag
     double integrate_normals = 0.0;  // velocities and normals
     double total() const { return apply_forces + constraints + integrate_normals; }
 };
@@ -53,11 +57,12 @@ public:
                       const DragConstraint& drag);
 
     // The stages, for callers that schedule them themselves (the frame graph). `h` is the
-    // substep length; a substep is begin_substep, I x [distance, volume, drag, collide],
+    // substep length; a substep is begin_substep, I x [distance, volume, shape, drag, collide],
     // end_substep; a frame is S substeps, then update_normals.
     void begin_substep(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
     void project_distance(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
     void project_volume(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
+    void project_shape(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
     void apply_drag(SoftBodyT<Real>& body, const DragConstraint& drag);
     void collide(SoftBodyT<Real>& body, const Colliders& colliders);
     void end_substep(SoftBodyT<Real>& body, Real h);

@@ -146,6 +146,8 @@ void accept(const SurfaceView& m, const std::vector<Candidate>& cands, PointGrid
 void BoundaryParticles::clear() {
     triangle.clear();
     bary.clear();
+    offset.clear();
+    local_normal.clear();
     position.clear();
     normal.clear();
 }
@@ -165,26 +167,83 @@ void fill_triangles(const mesh::TriangleMesh& mesh, std::span<const uint32_t> tr
     fill_triangles(mesh.positions, mesh.triangles, triangles, o, samples);
 }
 
-void fill_triangles(std::span<const Vec3f> positions, std::span<const mesh::Triangle> all_triangles,
-                    std::span<const uint32_t> triangles, const SamplingOptions& o, BoundaryParticles& samples) {
-    const SurfaceView m{positions, all_triangles};
+namespace {
+// Blocks candidates within h of the anchors and of the samples already placed, over the box
+// around `triangles` (a local refill stays local), then throws darts.
+void fill(const SurfaceView& m, std::span<const Vec3f> anchors, std::span<const uint32_t> triangles,
+          const SamplingOptions& o, BoundaryParticles& samples) {
     PBDSPLAT_ASSERT(o.h > 0.0f && std::isfinite(o.h), "boundary particle spacing h must be positive");
-    // Only points near the triangles can block a candidate: a local refill stays local.
     Eigen::AlignedBox3f near;
     for (uint32_t t : triangles)
         for (uint32_t v : m.triangles[t]) near.extend(m.positions[v]);
     if (near.isEmpty()) return;
     near.min().array() -= o.h;
     near.max().array() += o.h;
-    PointGrid grid(o.h, triangles.size() == m.triangles.size() ? m.positions.size() + samples.size() + 1024 : 1024);
-    for (const Vec3f& v : m.positions)
-        if (near.contains(v)) grid.add(v);  // the simulation particles are samples too
+    PointGrid grid(o.h, triangles.size() == m.triangles.size() ? anchors.size() + samples.size() + 1024 : 1024);
+    for (const Vec3f& v : anchors)
+        if (near.contains(v)) grid.add(v);
     for (size_t i = 0; i < samples.size(); ++i) {
         const Vec3f p = position_of(m, samples.triangle[i], samples.bary[i]);
         if (near.contains(p)) grid.add(p);
     }
     std::mt19937 rng(o.seed);
     accept(m, candidates(m, triangles, o.candidates / (o.h * o.h), rng), grid, samples);
+}
+
+// New samples on an embedded surface sit at the mean offset of their triangle's samples (the
+// fine surface's height over the coarse triangle there), with the face normal.
+void embed_new_samples(size_t first, BoundaryParticles& s) {
+    if (!s.embedded()) return;
+    std::vector<std::pair<uint32_t, uint32_t>> by_triangle;  // (triangle, sample) of the old ones
+    by_triangle.reserve(first);
+    for (size_t i = 0; i < first; ++i) by_triangle.emplace_back(s.triangle[i], uint32_t(i));
+    std::sort(by_triangle.begin(), by_triangle.end());
+    s.offset.resize(s.size(), 0.0f);
+    s.local_normal.resize(s.size(), Vec3f::UnitZ());
+    for (size_t i = first; i < s.size(); ++i) {
+        auto lo = std::lower_bound(by_triangle.begin(), by_triangle.end(), std::make_pair(s.triangle[i], 0u));
+        float sum = 0.0f;
+        uint32_t n = 0;
+        for (; lo != by_triangle.end() && lo->first == s.triangle[i]; ++lo) sum += s.offset[lo->second], ++n;
+        s.offset[i] = n ? sum / float(n) : 0.0f;
+        s.local_normal[i] = Vec3f::UnitZ();
+    }
+}
+} // namespace
+
+void fill_triangles(std::span<const Vec3f> positions, std::span<const mesh::Triangle> all_triangles,
+                    std::span<const uint32_t> triangles, const SamplingOptions& o, BoundaryParticles& samples) {
+    const size_t first = samples.size();
+    fill({positions, all_triangles}, positions, triangles, o, samples);
+    embed_new_samples(first, samples);
+}
+
+std::vector<SurfacePoint> sample_points(const mesh::TriangleMesh& surface, std::span<const Vec3f> anchors,
+                                        const SamplingOptions& o) {
+    std::vector<uint32_t> all(surface.triangles.size());
+    for (uint32_t t = 0; t < all.size(); ++t) all[t] = t;
+    BoundaryParticles s;
+    fill({surface.positions, surface.triangles}, anchors, all, o, s);
+    const std::vector<Vec3f> vn = mesh::vertex_normals(surface);
+    std::vector<SurfacePoint> out(s.size());
+    for (size_t i = 0; i < s.size(); ++i) {
+        const auto& t = surface.triangles[s.triangle[i]];
+        const float b1 = s.bary[i].x(), b2 = s.bary[i].y(), b0 = 1.0f - b1 - b2;
+        const Vec3f n = b0 * vn[t[0]] + b1 * vn[t[1]] + b2 * vn[t[2]];
+        out[i] = {s.position[i], n.norm() > 0.0f ? Vec3f(n.normalized()) : s.normal[i]};
+    }
+    return out;
+}
+
+Mat3f triangle_frame(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+    Mat3f f;
+    const Vec3f e1 = b - a, n = e1.cross(c - a);
+    const float le = e1.norm(), ln = n.norm();
+    if (!(le > 0.0f) || !(ln > 0.0f)) return Mat3f::Identity();  // degenerate: no rotation known
+    f.col(0) = e1 / le;
+    f.col(2) = n / ln;
+    f.col(1) = f.col(2).cross(f.col(0));
+    return f;
 }
 
 void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::span<const Vec4f> x,
@@ -194,6 +253,25 @@ void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::s
     s.normal.resize(count);
     const uint32_t* tri_index = s.triangle.data();
     const Vec2f* bary = s.bary.data();
+    if (s.embedded()) {
+        // Frames once per triangle, not once per sample: a coarse triangle carries dozens.
+        thread_local std::vector<Mat3f> frames;
+        frames.resize(triangles.size());
+        for (size_t t = 0; t < triangles.size(); ++t) {
+            const auto& tri = triangles[t];
+            frames[t] = triangle_frame(x[tri[0]].head<3>(), x[tri[1]].head<3>(), x[tri[2]].head<3>());
+        }
+        const float* d = s.offset.data();
+        const Vec3f* ln = s.local_normal.data();
+        for (size_t i = 0; i < count; ++i) {
+            const auto& t = triangles[tri_index[i]];
+            const float b1 = bary[i].x(), b2 = bary[i].y(), b0 = 1.0f - b1 - b2;
+            const Vec3f interpolated = b0 * n[t[0]] + b1 * n[t[1]] + b2 * n[t[2]];
+            s.position[i] = (b0 * x[t[0]] + b1 * x[t[1]] + b2 * x[t[2]]).head<3>() + d[i] * interpolated;
+            s.normal[i] = frames[tri_index[i]] * ln[i];
+        }
+        return;
+    }
     for (size_t i = 0; i < count; ++i) {
         const auto& t = triangles[tri_index[i]];
         const float b1 = bary[i].x(), b2 = bary[i].y(), b0 = 1.0f - b1 - b2;

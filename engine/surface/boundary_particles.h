@@ -4,6 +4,11 @@
 // Each is stored as (triangle, barycentric coordinates) and follows the deforming mesh:
 // x = sum b_i x_i, n = normalise(sum b_i n_i). The mesh vertices (the simulation particles)
 // count as samples too, so boundary particles fill the space between them.
+//
+// When the simulation mesh is a decimated copy of a detailed model, the samples come from the
+// detailed surface and are embedded in the coarse one (surface/embedding.h): each also has a
+// signed offset d along the interpolated vertex normal, x = sum b_i x_i + d sum b_i n_i, and
+// its own normal in its triangle's frame, so the fine shape rides on the coarse physics.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -17,12 +22,21 @@ struct BoundaryParticles {
     // Compact arrays, one entry per sample.
     std::vector<uint32_t> triangle;
     std::vector<Vec2f> bary;  // (b1, b2); b0 = 1 - b1 - b2
+    // Embedded samples only (both empty otherwise, or one entry per sample): the offset along
+    // the interpolated vertex normal, and the rest normal in the triangle's frame
+    // (edge 0-1, in-plane perpendicular, face normal).
+    std::vector<float> offset;
+    std::vector<Vec3f> local_normal;
     // Updated every frame.
     std::vector<Vec3f> position;
     std::vector<Vec3f> normal;
 
     size_t size() const { return triangle.size(); }
+    bool embedded() const { return !offset.empty() || (!local_normal.empty()); }
     void clear();
+    // Keeps the samples for which keep(i) is true, in order, in every array.
+    template <class Keep>
+    size_t keep_if(const Keep& keep);
 };
 
 struct SamplingOptions {
@@ -37,6 +51,16 @@ float spacing(const mesh::TriangleMesh& mesh, float eta);
 // Samples the whole surface. The mesh's vertices act as samples already placed.
 BoundaryParticles sample_surface(const mesh::TriangleMesh& mesh, const SamplingOptions& options);
 
+// A sample of a surface as a free point: position and (interpolated vertex) normal.
+struct SurfacePoint {
+    Vec3f position;
+    Vec3f normal;
+};
+// Samples the whole of `surface` with the same maximal sampler; `anchors` act as samples
+// already placed (the simulation particles of a coarser mesh that carries this surface).
+std::vector<SurfacePoint> sample_points(const mesh::TriangleMesh& surface, std::span<const Vec3f> anchors,
+                                        const SamplingOptions& options);
+
 // Adds samples on the given triangles only, keeping h away from every sample already present
 // (anywhere) and from the vertices; existing samples do not move. For local resampling after a
 // cut or tear.
@@ -47,8 +71,34 @@ void fill_triangles(std::span<const Vec3f> positions, std::span<const mesh::Tria
                     std::span<const uint32_t> triangles, const SamplingOptions& options, BoundaryParticles& samples);
 
 // Moves every sample onto the deformed surface: positions from `x` (one float4 per mesh vertex,
-// w ignored), normals from the vertex normals.
+// w ignored), normals from the vertex normals (embedded samples: offset along the interpolated
+// normal, own normal turned with the triangle's frame).
+// The orthonormal frame of triangle (a, b, c): columns edge a-b, in-plane perpendicular, normal.
+Mat3f triangle_frame(const Vec3f& a, const Vec3f& b, const Vec3f& c);
+
 void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::span<const Vec4f> x,
                                std::span<const Vec3f> vertex_normals, BoundaryParticles& samples);
+
+template <class Keep>
+size_t BoundaryParticles::keep_if(const Keep& keep) {
+    size_t out = 0;
+    const bool off = !offset.empty(), nl = !local_normal.empty(), pos = position.size() == size();
+    for (size_t i = 0; i < size(); ++i) {
+        if (!keep(i)) continue;
+        triangle[out] = triangle[i];
+        bary[out] = bary[i];
+        if (off) offset[out] = offset[i];
+        if (nl) local_normal[out] = local_normal[i];
+        if (pos) position[out] = position[i], normal[out] = normal[i];
+        ++out;
+    }
+    const size_t dropped = size() - out;
+    triangle.resize(out);
+    bary.resize(out);
+    if (off) offset.resize(out);
+    if (nl) local_normal.resize(out);
+    if (pos) position.resize(out), normal.resize(out);
+    return dropped;
+}
 
 } // namespace pbdsplat::surface

@@ -1,0 +1,108 @@
+#include "mesh/closest_point.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pbdsplat::mesh {
+
+Vec2f closest_point_barycentric(const Vec3f& p, const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+    // Voronoi regions of the vertices, then the edges, then the face (Ericson, Real-Time
+    // Collision Detection, 5.1.5), returning weights instead of the point.
+    const Vec3f ab = b - a, ac = c - a, ap = p - a;
+    const float d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0.0f && d2 <= 0.0f) return {0.0f, 0.0f};
+    const Vec3f bp = p - b;
+    const float d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0.0f && d4 <= d3) return {1.0f, 0.0f};
+    const float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return {d1 / (d1 - d3), 0.0f};
+    const Vec3f cp = p - c;
+    const float d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0.0f && d5 <= d6) return {0.0f, 1.0f};
+    const float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return {0.0f, d2 / (d2 - d6)};
+    const float va = d3 * d6 - d5 * d4;
+    if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) {
+        const float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return {1.0f - w, w};
+    }
+    const float denom = 1.0f / (va + vb + vc);
+    return {vb * denom, vc * denom};
+}
+
+TriangleGrid::TriangleGrid(std::span<const Vec3f> positions, std::span<const Triangle> triangles)
+    : positions_(positions), triangles_(triangles), stamp_(triangles.size(), 0) {
+    Eigen::AlignedBox3f box;
+    double extent = 0.0;
+    for (const Triangle& t : triangles) {
+        Eigen::AlignedBox3f tb;
+        for (uint32_t v : t) tb.extend(positions[v]);
+        box.extend(tb);
+        extent += double(tb.sizes().maxCoeff());
+    }
+    if (triangles.empty()) return;
+    cell_ = std::max(float(extent / double(triangles.size())), 1e-6f * std::max(1e-6f, box.sizes().maxCoeff()));
+    // Bound the cell count: a few cells per triangle are plenty.
+    while (double((box.sizes() / cell_).array().ceil().prod()) > 8.0 * double(triangles.size()) + 64.0) cell_ *= 1.25f;
+    origin_ = box.min();
+    dims_ = ((box.sizes() / cell_).array().floor().cast<int>() + 1).max(1);
+    const size_t cells = size_t(dims_.x()) * size_t(dims_.y()) * size_t(dims_.z());
+    std::vector<uint32_t> count(cells + 1, 0);
+    auto for_cells = [&](const Triangle& t, auto&& fn) {
+        Eigen::AlignedBox3f tb;
+        for (uint32_t v : t) tb.extend(positions[v]);
+        const Eigen::Vector3i lo = cell_of(tb.min()), hi = cell_of(tb.max());
+        for (int z = lo.z(); z <= hi.z(); ++z)
+            for (int y = lo.y(); y <= hi.y(); ++y)
+                for (int x = lo.x(); x <= hi.x(); ++x) fn((size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x));
+    };
+    for (const Triangle& t : triangles) for_cells(t, [&](size_t c) { ++count[c + 1]; });
+    for (size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
+    start_ = count;
+    items_.resize(count.back());
+    for (uint32_t i = 0; i < triangles.size(); ++i) for_cells(triangles[i], [&](size_t c) { items_[count[c]++] = i; });
+}
+
+Eigen::Vector3i TriangleGrid::cell_of(const Vec3f& p) const {
+    const Eigen::Vector3i c = ((p - origin_) / cell_).array().floor().cast<int>();
+    return c.cwiseMax(0).cwiseMin(dims_ - Eigen::Vector3i::Ones());
+}
+
+void TriangleGrid::near(const Vec3f& p, float radius, std::vector<uint32_t>& out) const {
+    out.clear();
+    if (triangles_.empty()) return;
+    if (++query_ == 0) std::fill(stamp_.begin(), stamp_.end(), 0), query_ = 1;
+    const Eigen::Vector3i lo = cell_of(p - Vec3f::Constant(radius)), hi = cell_of(p + Vec3f::Constant(radius));
+    for (int z = lo.z(); z <= hi.z(); ++z)
+        for (int y = lo.y(); y <= hi.y(); ++y)
+            for (int x = lo.x(); x <= hi.x(); ++x) {
+                const size_t c = (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);
+                for (uint32_t k = start_[c]; k < start_[c + 1]; ++k) {
+                    const uint32_t t = items_[k];
+                    if (stamp_[t] == query_) continue;
+                    stamp_[t] = query_;
+                    out.push_back(t);
+                }
+            }
+}
+
+float TriangleGrid::distance(const Vec3f& p) const {
+    if (triangles_.empty()) return std::numeric_limits<float>::infinity();
+    std::vector<uint32_t> cand;
+    const float reach = cell_ * float(dims_.maxCoeff() + 1);
+    for (float r = cell_;; r *= 2.0f) {
+        near(p, r, cand);
+        float best = std::numeric_limits<float>::infinity();
+        for (uint32_t t : cand) {
+            const Triangle& tri = triangles_[t];
+            const Vec3f &a = positions_[tri[0]], &b = positions_[tri[1]], &c = positions_[tri[2]];
+            const Vec2f w = closest_point_barycentric(p, a, b, c);
+            best = std::min(best, (a + w.x() * (b - a) + w.y() * (c - a) - p).norm());
+        }
+        // Everything within r was searched: a hit closer than r is the answer.
+        if (best <= r || r > reach) return best;
+    }
+}
+
+} // namespace pbdsplat::mesh

@@ -1,0 +1,32 @@
+#pragma once
+// The model of a scene brought into the simulation: the repaired full-resolution surface, the
+// simulation mesh decimated from it (or the model itself), and the body built on that.
+#include <optional>
+
+#include "core/result.h"
+#include "mesh/decimate.h"
+#include "mesh/triangle_mesh.h"
+#include "scene/scene.h"
+#include "sim/soft_body.h"
+
+namespace pbdsplat::scene {
+
+struct SceneModel {
+    sim::SoftBody body;
+    // The model's own surface, transformed into the scene, when the body is a decimated copy
+    // of it; empty when the body simulates the model's vertices.
+    std::optional<mesh::TriangleMesh> fine;
+    mesh::DecimateReport decimation;
+};
+
+// The simulation size a scene asks for: 0 keeps the model's vertices.
+uint32_t simulation_particles(const Scene& scene);
+
+// Loads the mesh (next to the scene file first), applies the transform, decimates to the
+// simulation size, builds the body with its pins.
+core::Result<SceneModel> load_scene_model(const Scene& scene);
+
+// The body only: for the tools that only simulate.
+core::Result<sim::SoftBody> make_scene_body(const Scene& scene);
+
+} // namespace pbdsplat::scene

@@ -1,0 +1,29 @@
+#pragma once
+// The fine surface riding on the coarse one (paper sections 4.2 and 5.2, with a simulation
+// mesh decimated from the model): samples of the model's full-resolution surface, each
+// embedded in the simulation triangle nearest to it as barycentric coordinates plus a signed
+// offset along the interpolated vertex normal. In the rest pose the embedding reproduces each
+// sample exactly; under deformation the samples follow the coarse triangles, so the model's
+// detail costs no solver time.
+#include <span>
+#include <vector>
+
+#include "mesh/triangle_mesh.h"
+#include "surface/boundary_particles.h"
+
+namespace pbdsplat::surface {
+
+struct EmbeddingStats {
+    size_t samples = 0;
+    size_t outside = 0;    // samples whose coordinates fall outside their triangle (allowed, exact)
+    size_t fallback = 0;   // samples no triangle reproduced exactly: closest point + face-normal offset
+    float max_rest_error = 0.0f;  // largest |embedded - sample| at rest
+    float max_offset = 0.0f;      // largest |d|
+};
+
+// Embeds `points` in the coarse rest mesh (`rest`, `triangles`, unit vertex normals
+// `rest_normals`, the ones the solver computes at rest). Appends to `out`.
+void embed_points(std::span<const SurfacePoint> points, std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles,
+                  std::span<const Vec3f> rest_normals, BoundaryParticles& out, EmbeddingStats* stats = nullptr);
+
+} // namespace pbdsplat::surface
