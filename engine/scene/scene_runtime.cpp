@@ -6,6 +6,7 @@
 
 #include "core/timer.h"
 #include "mesh/mesh_spec.h"
+#include "mesh/topology.h"
 #include "mesh/triangle_mesh.h"
 #include "surface/embedding.h"
 #include "surface/remap.h"
@@ -381,7 +382,7 @@ core::Status SceneRuntime::apply_cut(const CutEvent& cut) {
     if (!surface.ok()) return surface.error();
     auto change = topology::cut(body_, surface.value(), scene_.simulation.cut);
     if (!change.ok()) return change.error();
-    return after_topology_change(change.value());
+    return after_topology_change(change.value(), &surface.value());
 }
 
 core::Status SceneRuntime::apply_tears() {
@@ -398,13 +399,23 @@ core::Status SceneRuntime::apply_tears() {
     return core::Status::success();
 }
 
-core::Status SceneRuntime::after_topology_change(const topology::TopologyChange& change) {
+core::Status SceneRuntime::after_topology_change(const topology::TopologyChange& change, const topology::CutSurface* cut) {
     last_change_ = change;
     if (!change.changed()) return core::Status::success();
     if (check_topology_) PBDSPLAT_TRY(topology::check_invariants(body_));
     fade_.add_particles(change.particles_before, change.new_particles());
     if (scene_.surface.mode == SurfaceMode::boundary) {
         surface::remap_samples(change.splits, boundary_);
+        if (fine_vertices_) surface::remap_samples(change.splits, *fine_vertices_);
+        if (cut && boundary_.embedded()) {
+            const auto side = [cut](const Vec3f& p) {
+                const float d = cut->distance(p);
+                return cut->reaches(p - d * cut->normal) ? d : 0.0f;
+            };
+            const size_t dropped = surface::drop_across_cut(side, change.touched_triangles, body_.triangles, body_.particles.x, boundary_);
+            // Fades index samples by position in the array: dropping shifts them, so start over.
+            if (dropped) fade_.reset_samples();
+        }
         const size_t before = boundary_.size();
         surface::fill_triangles(body_.rest_positions, body_.triangles, change.touched_triangles,
                                 {h_, scene_.surface.seed + uint32_t(cuts_ + tears_) + 1}, boundary_);
@@ -413,6 +424,48 @@ core::Status SceneRuntime::after_topology_change(const topology::TopologyChange&
     }
     if (!stretch_.empty()) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
     return core::Status::success();
+}
+
+void SceneRuntime::deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles) {
+    if (!fine_) {
+        x = body_.particles.x;
+        triangles = body_.triangles;
+        return;
+    }
+    if (!fine_vertices_) {
+        // Embedded on demand: only coverage checks ask. Before any cut the rest mesh is the
+        // one the samples were embedded in; after one, its children hold the same surface.
+        const std::vector<Vec3f> normals = mesh::vertex_normals(*fine_);
+        std::vector<surface::SurfacePoint> points(fine_->positions.size());
+        for (size_t i = 0; i < points.size(); ++i) points[i] = {fine_->positions[i], normals[i]};
+        fine_vertices_.emplace();
+        std::vector<Vec3f> rest_normals(body_.particle_count());
+        {
+            sim::SoftBody rest = body_;
+            for (size_t i = 0; i < rest.particle_count(); ++i) rest.particles.x[i] = sim::to4(rest.rest_positions[i]);
+            sim::Solver().update_normals(rest);
+            rest_normals = rest.normals;
+        }
+        surface::embed_points(points, body_.rest_positions, body_.triangles, rest_normals, *fine_vertices_);
+    }
+    surface::update_boundary_particles(body_.triangles, body_.particles.x, body_.normals, *fine_vertices_);
+    const surface::BoundaryParticles& fv = *fine_vertices_;
+    x.resize(fv.size());
+    for (size_t i = 0; i < fv.size(); ++i) x[i] = sim::to4(fv.position[i]);
+    std::vector<uint32_t> comp_of_triangle;
+    mesh::vertex_components(body_.triangles, body_.particle_count(), comp_of_triangle);
+    triangles.clear();
+    for (const mesh::Triangle& t : fine_->triangles) {
+        const uint32_t c = comp_of_triangle[fv.triangle[t[0]]];
+        if (comp_of_triangle[fv.triangle[t[1]]] != c || comp_of_triangle[fv.triangle[t[2]]] != c) continue;
+        bool torn = false;
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = t[k], b = t[(k + 1) % 3];
+            const float rest = (fine_->positions[a] - fine_->positions[b]).norm();
+            torn = torn || (x[a] - x[b]).norm() > 3.0f * rest + 1e-6f;
+        }
+        if (!torn) triangles.push_back(t);
+    }
 }
 
 core::Status SceneRuntime::step() {

@@ -83,6 +83,11 @@ public:
     const std::optional<mesh::TriangleMesh>& fine_surface() const { return fine_; }
     const mesh::DecimateReport& decimation() const { return decimation_; }
     const surface::EmbeddingStats& embedding() const { return embedding_; }
+    // The surface the splats stand for, as it is now: the model's full-resolution mesh carried
+    // by the simulation mesh (its vertices embedded like the samples), or the simulation mesh
+    // itself. Triangles that a cut or tear tore across (corners on different pieces, or an
+    // edge stretched past 3x) are left out. For coverage against a mesh raster.
+    void deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles);
     const surface::BoundaryParticles& boundary_particles() const { return boundary_; }
     const std::vector<splat::GaussianRecord>& records() const { return records_; }
     float spacing() const { return h_; }
@@ -152,6 +157,7 @@ private:
     std::optional<mesh::TriangleMesh> fine_;  // the model's surface when the body is decimated
     mesh::DecimateReport decimation_;
     surface::EmbeddingStats embedding_;
+    std::optional<surface::BoundaryParticles> fine_vertices_;  // made on the first deformed_surface()
     std::unique_ptr<core::ThreadPool> pool_;
     std::unique_ptr<sim::Solver> solver_;
     std::unique_ptr<Timeline> timeline_;
@@ -180,7 +186,7 @@ private:
     core::Status apply_cut(const CutEvent& cut);
     core::Status apply_tears();
     // Everything downstream of the mesh follows a change: samples, fades, stretch, invariants.
-    core::Status after_topology_change(const topology::TopologyChange& change);
+    core::Status after_topology_change(const topology::TopologyChange& change, const topology::CutSurface* cut = nullptr);
     core::Status topology_status_;
     splat::FadeIn fade_;
     bool check_topology_ = false;

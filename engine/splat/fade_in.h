@@ -18,6 +18,9 @@ public:
     // `particle_count` of them, then the boundary particles'), then advances one frame.
     void apply(size_t particle_count, std::vector<GaussianRecord>& records);
     size_t fading() const { return items_.size(); }
+    // Forgets the boundary particles still fading (their indices no longer hold: samples were
+    // dropped); they show at once.
+    void reset_samples() { std::erase_if(items_, [](const Item& i) { return i.sample; }); }
 
 private:
     struct Item {

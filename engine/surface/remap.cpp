@@ -42,3 +42,25 @@ size_t remap_samples(std::span<const mesh::TriangleSplit> splits, BoundaryPartic
 }
 
 } // namespace pbdsplat::surface
+
+namespace pbdsplat::surface {
+
+size_t drop_across_cut(const std::function<float(const Vec3f&)>& side, std::span<const uint32_t> triangles,
+                       std::span<const mesh::Triangle> all, std::span<const Vec4f> x, BoundaryParticles& s) {
+    if (triangles.empty() || s.position.size() != s.size()) return 0;
+    // The side of each touched triangle, by its centre (its corners lie on one side or on the cut).
+    std::unordered_map<uint32_t, float> side_of;
+    side_of.reserve(triangles.size());
+    for (uint32_t t : triangles) {
+        const auto& tri = all[t];
+        side_of[t] = side(((x[tri[0]] + x[tri[1]] + x[tri[2]]) / 3.0f).head<3>());
+    }
+    return s.keep_if([&](size_t i) {
+        const auto it = side_of.find(s.triangle[i]);
+        if (it == side_of.end() || it->second == 0.0f) return true;
+        const float d = side(s.position[i]);
+        return d == 0.0f || (d > 0.0f) == (it->second > 0.0f);
+    });
+}
+
+} // namespace pbdsplat::surface

@@ -22,6 +22,7 @@ int bench_temporal(const std::vector<std::string>& args);
 int bench_coverage(const std::vector<std::string>& args);
 int cmd_graph(const std::vector<std::string>& args);
 int cmd_validate_scene(const std::vector<std::string>& args);
+int cmd_check(const std::vector<std::string>& args);
 int cmd_export_ply(const std::vector<std::string>& args);
 
 // Prints "pbdsplat <command>: <message>" to stderr and returns 1.

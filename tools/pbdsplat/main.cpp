@@ -18,6 +18,7 @@ constexpr const char* k_help =
     "  render    run a scene offscreen (default: the built-in one) and write PNG images\n"
     "  graph     the compiled frame graph of a scene, with culled passes marked (--json, --dot)\n"
     "  validate-scene  check scene files without running them\n"
+    "  check     run a scene and measure shape, strays, holes, pieces and volume (--json)\n"
     "  export-ply  a scene's Gaussians at a frame, as a 3DGS .ply\n"
     "  bench     benchmarks that print figures (bench --help lists them)\n"
     "\n"
@@ -34,6 +35,7 @@ constexpr Command k_commands[] = {
     {"bench", pbdsplat::cli::cmd_bench},
     {"graph", pbdsplat::cli::cmd_graph},
     {"validate-scene", pbdsplat::cli::cmd_validate_scene},
+    {"check", pbdsplat::cli::cmd_check},
     {"export-ply", pbdsplat::cli::cmd_export_ply},
 };
 

@@ -1,0 +1,81 @@
+#include "scene/scene_check.h"
+
+#include <algorithm>
+
+#include "scene/coverage.h"
+#include "scene/scene_runtime.h"
+#include "sim/shape_error.h"
+#include "splat/strays.h"
+#include "topology/invariants.h"
+
+namespace pbdsplat::scene {
+
+core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o) {
+    RuntimeOptions ro;  // simulation and mapping only: coverage renders its own pair of images
+    ro.keep_records = true;
+    ro.check_topology = true;
+    auto created = SceneRuntime::create(scene, ro);
+    if (!created.ok()) return created.error();
+    SceneRuntime& rt = *created.value();
+    if (auto s = topology::check_invariants(rt.body()); !s.ok())
+        return core::make_error("the simulation mesh as loaded: " + s.error().to_string());
+    CheckReport report;
+    std::vector<double> stage_a;
+    std::vector<Vec3f> centres;
+    std::vector<Vec4f> x;
+    std::vector<mesh::Triangle> triangles;
+    for (uint32_t f = 0; f < o.frames; ++f) {
+        PBDSPLAT_TRY(rt.step());
+        const FrameStats& st = rt.stats();
+        stage_a.push_back(st.apply_forces_ms + st.constraints_ms + st.integrate_normals_ms);
+        if ((f + 1) % o.every != 0 && f + 1 != o.frames) continue;
+        CheckSample s;
+        s.frame = st.frame;
+        s.time = st.time;
+        s.cuts = st.cuts;
+        s.tears = st.tears;
+        const sim::ShapeReport shape = sim::shape_report(rt.body());
+        s.shape_error = shape.max_error;
+        s.pieces = shape.pieces.size();
+        for (const sim::PieceShape& p : shape.pieces) s.volume_error = std::max(s.volume_error, p.volume_error);
+        s.particles = st.particles;
+        s.gaussians = st.gaussians;
+        // Every splat centre: the particles' and the boundary particles'.
+        centres.clear();
+        for (const Vec4f& p : rt.body().particles.x) centres.push_back(p.head<3>());
+        for (const Vec3f& p : rt.boundary_particles().position) centres.push_back(p);
+        s.strays = splat::count_strays(centres, rt.spacing()).strays;
+        if (o.gpu) {
+            rt.deformed_surface(x, triangles);
+            render::FrameInputs frame = scene.render.frame;
+            frame.camera = rt.camera();
+            auto c = measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height);
+            if (!c.ok()) return core::make_error("frame " + std::to_string(s.frame) + ": " + c.error().to_string());
+            s.hole_ratio = c->hole_ratio;
+            s.iou = c->silhouette_iou;
+        }
+        report.samples.push_back(s);
+    }
+    for (const CheckSample& s : report.samples) {
+        report.shape_error_max = std::max(report.shape_error_max, s.shape_error);
+        if (s.cuts == 0 && s.tears == 0) report.shape_error_before_topology = std::max(report.shape_error_before_topology, s.shape_error);
+        report.strays_max = std::max(report.strays_max, s.strays);
+        report.volume_error_max = std::max(report.volume_error_max, s.volume_error);
+        if (s.hole_ratio >= 0.0) {
+            report.hole_ratio_max = std::max(report.hole_ratio_max, s.hole_ratio);
+            report.iou_min = report.iou_min < 0.0 ? s.iou : std::min(report.iou_min, s.iou);
+        }
+    }
+    if (!report.samples.empty()) {
+        report.pieces = report.samples.back().pieces;
+        report.particles = report.samples.back().particles;
+        report.gaussians = report.samples.back().gaussians;
+    }
+    if (!stage_a.empty()) {
+        std::nth_element(stage_a.begin(), stage_a.begin() + stage_a.size() / 2, stage_a.end());
+        report.stage_a_ms = stage_a[stage_a.size() / 2];
+    }
+    return report;
+}
+
+} // namespace pbdsplat::scene

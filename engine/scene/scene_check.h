@@ -1,0 +1,48 @@
+#pragma once
+// `pbdsplat check`: runs a scene offscreen and measures, every few frames, whether it shows
+// what a user expects of a soft body: that it keeps its shape (per piece), that no splat
+// floats away from the surface, that the splats close the surface (hole ratio and silhouette
+// IoU against a raster of the same deformed surface), how many pieces there are, and how far
+// each piece's volume is from its target.
+#include <cstdint>
+#include <vector>
+
+#include "core/result.h"
+#include "gpu/context.h"
+#include "scene/scene.h"
+
+namespace pbdsplat::scene {
+
+struct CheckOptions {
+    uint32_t frames = 120;
+    uint32_t every = 10;            // measure every this many frames (and the last)
+    uint32_t width = 320, height = 180;  // coverage images
+    gpu::Context* gpu = nullptr;    // null: no coverage (shape, strays and pieces only)
+};
+
+struct CheckSample {
+    uint64_t frame = 0;
+    float time = 0.0f;
+    size_t cuts = 0, tears = 0;
+    double shape_error = 0.0;  // the worst piece
+    size_t strays = 0;
+    double hole_ratio = -1.0, iou = -1.0;  // -1: not measured (no GPU)
+    size_t pieces = 0, particles = 0, gaussians = 0;
+    double volume_error = 0.0;  // the worst piece with a volume constraint
+};
+
+struct CheckReport {
+    std::vector<CheckSample> samples;
+    double shape_error_max = 0.0;
+    double shape_error_before_topology = 0.0;  // worst before the first cut or tear
+    size_t strays_max = 0;
+    double hole_ratio_max = -1.0, iou_min = -1.0;
+    double volume_error_max = 0.0;
+    size_t pieces = 0;  // at the end
+    size_t particles = 0, gaussians = 0;  // at the end
+    double stage_a_ms = 0.0;  // median of the frames' Stage A (forces, constraints, integrate)
+};
+
+core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& options);
+
+} // namespace pbdsplat::scene

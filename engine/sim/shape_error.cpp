@@ -1,0 +1,62 @@
+#include "sim/shape_error.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mesh/topology.h"
+
+namespace pbdsplat::sim {
+
+ShapeReport shape_report(const SoftBody& body, size_t min_particles) {
+    ShapeReport out;
+    const size_t n = body.particle_count();
+    std::vector<uint32_t> comp_of_triangle;
+    const uint32_t pieces = mesh::vertex_components(body.triangles, n, comp_of_triangle);
+    std::vector<uint32_t> comp(n, UINT32_MAX);
+    for (size_t t = 0; t < body.triangles.size(); ++t)
+        for (uint32_t v : body.triangles[t]) comp[v] = comp_of_triangle[t];
+    std::vector<std::vector<uint32_t>> members(pieces);
+    for (uint32_t v = 0; v < n; ++v)
+        if (comp[v] != UINT32_MAX) members[comp[v]].push_back(v);
+    for (const auto& m : members) {
+        if (m.empty()) continue;
+        Vec3d rc = Vec3d::Zero(), xc = Vec3d::Zero();
+        Eigen::AlignedBox3d box;
+        for (uint32_t v : m) {
+            const Vec3d r = body.rest_positions[v].cast<double>();
+            rc += r, xc += body.particles.x[v].head<3>().cast<double>();
+            box.extend(r);
+        }
+        rc /= double(m.size()), xc /= double(m.size());
+        Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+        for (uint32_t v : m)
+            h += (body.particles.x[v].head<3>().cast<double>() - xc) * (body.rest_positions[v].cast<double>() - rc).transpose();
+        Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
+        Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+        d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+        const Eigen::Matrix3d r = svd.matrixU() * d * svd.matrixV().transpose();
+        double sum = 0.0;
+        for (uint32_t v : m) {
+            const Vec3d aligned = r * (body.rest_positions[v].cast<double>() - rc) + xc;
+            sum += (body.particles.x[v].head<3>().cast<double>() - aligned).squaredNorm();
+        }
+        const double diag = std::max(box.diagonal().norm(), 1e-12);
+        out.pieces.push_back({m.size(), std::sqrt(sum / double(m.size())) / diag, 0.0});
+    }
+    // The volume constraint of each piece: matched by its first particle.
+    for (const VolumeConstraint& vc : body.volumes) {
+        if (vc.triangles.empty() || !(vc.rest_volume > 0.0)) continue;
+        const double v = body.volume(size_t(&vc - body.volumes.data()));
+        const double err = std::abs(v / (vc.rest_volume * double(vc.pressure)) - 1.0);
+        const uint32_t c = comp[vc.triangles.front()[0]];
+        size_t index = 0;
+        for (uint32_t k = 0; k < c; ++k) index += members[k].empty() ? 0 : 1;
+        if (index < out.pieces.size()) out.pieces[index].volume_error = std::max(out.pieces[index].volume_error, err);
+    }
+    std::stable_sort(out.pieces.begin(), out.pieces.end(), [](const PieceShape& a, const PieceShape& b) { return a.particles > b.particles; });
+    for (const PieceShape& p : out.pieces)
+        if (p.particles >= min_particles) out.max_error = std::max(out.max_error, p.error);
+    return out;
+}
+
+} // namespace pbdsplat::sim

@@ -1,0 +1,101 @@
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
+
+#include "pbdsplat/args.h"
+#include "pbdsplat/commands.h"
+#include "pbdsplat/gpu_options.h"
+#include "pbdsplat/scene_arg.h"
+#include "scene/scene_check.h"
+
+namespace pbdsplat::cli {
+
+int cmd_check(const std::vector<std::string>& argv) {
+    static const std::string help = std::string(
+        "usage: pbdsplat check [SCENE.toml] [--frames N] [--every K] [--width W --height H] [--no-gpu]\n"
+        "                      [--json] [--validation] [--device NAME]\n"
+        "\n"
+        "Runs a scene offscreen (default: the built-in one) and measures every K frames:\n"
+        "  shape error   per connected piece, RMS distance of the simulation particles from their rest\n"
+        "                shape after the best rigid alignment, over the piece's rest diagonal (worst piece)\n"
+        "  strays        Gaussians with no neighbour within 3x the median spacing\n"
+        "  hole ratio    share of the deformed surface's raster pixels the splats leave below half alpha\n"
+        "  IoU           silhouette of the splats against that raster\n"
+        "  pieces        connected components; volume error |V / (k V0) - 1|, worst piece\n"
+        "\n"
+        "  --frames N          frames to run (default 120)\n"
+        "  --every K           measure every K frames and at the last (default 10)\n"
+        "  --width W, --height H   coverage images (default 320x180)\n"
+        "  --no-gpu            skip the coverage images (shape, strays, pieces and volume only)\n"
+        "  --json              one JSON object: shape_error_max, strays_max, hole_ratio_max, iou_min,\n"
+        "                      pieces, volume_error_max and every measured frame\n") + k_gpu_help;
+    std::set<std::string> flags = k_gpu_flags;
+    flags.insert({"json", "help", "no-gpu"});
+    std::set<std::string> valued = k_gpu_options;
+    valued.insert({"frames", "every", "width", "height"});
+    auto args = Args::parse(argv, flags, valued);
+    if (!args.ok()) return usage_error("check", args.error().to_string());
+    if (args->has("help")) return std::fputs(help.c_str(), stdout), 0;
+    auto frames = args->get_uint("frames", 120, 1, 100000);
+    auto every = args->get_uint("every", 10, 1, 100000);
+    auto width = args->get_uint("width", 320, 16, 4096);
+    auto height = args->get_uint("height", 180, 16, 4096);
+    if (const core::Error* e = first_error(frames, every, width, height)) return usage_error("check", e->to_string());
+    auto sc = load_scene_arg(args->positionals());
+    if (!sc.ok()) return fail("check", sc.error().to_string());
+    scene::CheckOptions o;
+    o.frames = frames.value();
+    o.every = every.value();
+    o.width = width.value();
+    o.height = height.value();
+    std::unique_ptr<gpu::Context> ctx;
+    if (!args->has("no-gpu")) {
+        auto c = open_context(args.value());
+        if (!c.ok()) return fail("check", c.error().to_string() + " (--no-gpu checks without coverage)");
+        ctx = std::move(c).value();
+        o.gpu = ctx.get();
+    }
+    auto report = scene::check_scene(sc.value(), o);
+    if (!report.ok()) return fail("check", sc->name + ": " + report.error().to_string());
+    if (ctx)
+        if (auto v = check_validation(*ctx); !v.ok()) return fail("check", v.error().to_string());
+    const scene::CheckReport& r = report.value();
+    if (args->has("json")) {
+        nlohmann::json samples = nlohmann::json::array();
+        for (const scene::CheckSample& s : r.samples)
+            samples.push_back({{"frame", s.frame}, {"time", s.time}, {"cuts", s.cuts}, {"tears", s.tears},
+                               {"shape_error", s.shape_error}, {"strays", s.strays}, {"hole_ratio", s.hole_ratio},
+                               {"iou", s.iou}, {"pieces", s.pieces}, {"particles", s.particles},
+                               {"gaussians", s.gaussians}, {"volume_error", s.volume_error}});
+        const nlohmann::json j = {{"scene", sc->name},
+                                  {"frames", o.frames},
+                                  {"shape_error_max", r.shape_error_max},
+                                  {"shape_error_before_topology", r.shape_error_before_topology},
+                                  {"strays_max", r.strays_max},
+                                  {"hole_ratio_max", r.hole_ratio_max},
+                                  {"iou_min", r.iou_min},
+                                  {"pieces", r.pieces},
+                                  {"volume_error_max", r.volume_error_max},
+                                  {"particles", r.particles},
+                                  {"gaussians", r.gaussians},
+                                  {"stage_a_ms", r.stage_a_ms},
+                                  {"samples", samples}};
+        std::printf("%s\n", j.dump().c_str());
+        return 0;
+    }
+    std::printf("%s, %u frames (measured every %u):\n", sc->name.c_str(), o.frames, o.every);
+    std::printf("  %6s %6s %5s %5s %8s %6s %8s %6s %6s %8s\n", "frame", "time", "cuts", "tears", "shape", "strays", "holes%",
+                "IoU", "pieces", "volume");
+    for (const scene::CheckSample& s : r.samples)
+        std::printf("  %6llu %6.2f %5zu %5zu %8.4f %6zu %8.3f %6.3f %6zu %8.4f\n", (unsigned long long)s.frame, s.time, s.cuts,
+                    s.tears, s.shape_error, s.strays, s.hole_ratio < 0.0 ? -1.0 : 100.0 * s.hole_ratio, s.iou, s.pieces,
+                    s.volume_error);
+    std::printf("worst: shape %.4f (%.4f before any cut or tear), strays %zu, holes %.3f %%, IoU %.3f; %zu pieces at the end;\n"
+                "       %zu particles, %zu Gaussians; Stage A %.3f ms a frame (median)\n",
+                r.shape_error_max, r.shape_error_before_topology, r.strays_max,
+                r.hole_ratio_max < 0.0 ? -1.0 : 100.0 * r.hole_ratio_max, r.iou_min, r.pieces, r.particles, r.gaussians,
+                r.stage_a_ms);
+    return 0;
+}
+
+} // namespace pbdsplat::cli
