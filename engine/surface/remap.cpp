@@ -1,6 +1,8 @@
 #include "surface/remap.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <unordered_map>
 
 namespace pbdsplat::surface {
@@ -48,18 +50,25 @@ namespace pbdsplat::surface {
 size_t drop_across_cut(const std::function<float(const Vec3f&)>& side, std::span<const uint32_t> triangles,
                        std::span<const mesh::Triangle> all, std::span<const Vec4f> x, BoundaryParticles& s) {
     if (triangles.empty() || s.position.size() != s.size()) return 0;
-    // The side of each touched triangle, by its centre (its corners lie on one side or on the cut).
-    std::unordered_map<uint32_t, float> side_of;
-    side_of.reserve(triangles.size());
-    for (uint32_t t : triangles) {
-        const auto& tri = all[t];
-        side_of[t] = side(((x[tri[0]] + x[tri[1]] + x[tri[2]]) / 3.0f).head<3>());
-    }
+    // Not only the touched triangles: a neighbour with a corner snapped onto the cut is not
+    // re-triangulated, yet its samples can hang over the cut just the same. A sample is across
+    // when it lies on a side of the cut where none of its triangle's corners lies: a snapped
+    // cut runs through vertices, a little off the ideal surface, and triangles there may reach
+    // over it by that much with their samples rightly on them. Triangle extents cached once.
+    std::vector<Vec2f> extent(all.size(), Vec2f(1.0f, -1.0f));  // (lowest, highest) corner side
     return s.keep_if([&](size_t i) {
-        const auto it = side_of.find(s.triangle[i]);
-        if (it == side_of.end() || it->second == 0.0f) return true;
         const float d = side(s.position[i]);
-        return d == 0.0f || (d > 0.0f) == (it->second > 0.0f);
+        if (d == 0.0f) return true;
+        Vec2f& e = extent[s.triangle[i]];
+        if (e.x() > e.y()) {
+            const auto& tri = all[s.triangle[i]];
+            e = Vec2f(1e30f, -1e30f);
+            for (uint32_t v : tri) {
+                const float c = side(x[v].head<3>());
+                e = Vec2f(std::min(e.x(), c), std::max(e.y(), c));
+            }
+        }
+        return d > 0.0f ? e.y() > 0.0f : e.x() < 0.0f;
     });
 }
 

@@ -16,7 +16,7 @@ size_t remap_samples(std::span<const mesh::TriangleSplit> splits, BoundaryPartic
 
 namespace pbdsplat::surface {
 
-// After a cut: samples on `triangles` (the touched ones) that sit on the other side of the cut
+// After a cut (`triangles`: the touched ones; none, no cut): samples that sit on the other side of the cut
 // than their own triangle are dropped. An embedded sample is carried by its offset, not only
 // by its coordinates, so near the cut it can hang over the cut surface; the local refill then
 // fills its place from the right side. `side(p)` is the signed distance to the cut surface

@@ -1,0 +1,41 @@
+# Label `scenes`: every shipped scene runs through `pbdsplat check` and shows what its header
+# claims, with thresholds here. Scenes on models from ../shared/models are skipped (ctest shows
+# a skip, return code 77) where the models are not on the search path.
+# Args: -DPBDSPLAT=<exe> -DSCENES_DIR=<scenes/> -DMODEL=<name or empty> -DSCENE=<stem> -DFRAMES=N -DCHECKS=<list>
+# CHECKS: key<=value or key>=value over the JSON keys of `pbdsplat check --json`.
+if(MODEL)
+  set(found FALSE)
+  foreach(dir "$ENV{PBDSPLAT_MODELS}" "${SCENES_DIR}/../models" "${SCENES_DIR}/../../shared/models")
+    if(dir AND EXISTS "${dir}/${MODEL}")
+      set(found TRUE)
+    endif()
+  endforeach()
+  if(NOT found)
+    message("SKIPPED: ${SCENE} needs ${MODEL}, which is not on the model search path")
+    cmake_language(EXIT 77)
+  endif()
+endif()
+execute_process(COMMAND ${PBDSPLAT} check ${SCENES_DIR}/${SCENE}.toml --frames ${FRAMES} --every 10 --width 240 --height 135
+                        --validation --json
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "${SCENE}: pbdsplat check failed (${rc}): ${err}")
+endif()
+set(failed "")
+foreach(c IN LISTS CHECKS)
+  string(REGEX MATCH "^([a-z_]+)(<=|>=)(.+)$" _ "${c}")
+  set(key ${CMAKE_MATCH_1})
+  set(op ${CMAKE_MATCH_2})
+  set(limit ${CMAKE_MATCH_3})
+  string(JSON value GET "${out}" ${key})
+  execute_process(COMMAND awk "BEGIN { v = ${value}; l = ${limit}; exit !((\"${op}\" == \"<=\") ? v <= l : v >= l) }"
+                  RESULT_VARIABLE ok)
+  if(ok EQUAL 0)
+    message(STATUS "${SCENE}: ${key} = ${value} (${op} ${limit})")
+  else()
+    string(APPEND failed "\n  ${key} = ${value}, expected ${op} ${limit}")
+  endif()
+endforeach()
+if(failed)
+  message(FATAL_ERROR "${SCENE} does not show what its header claims:${failed}")
+endif()

@@ -1,0 +1,64 @@
+#include <doctest/doctest.h>
+
+#include "scene/scene_runtime.h"
+#include "sim/shape_error.h"
+
+using namespace pbdsplat;
+
+namespace {
+scene::Scene bumpy_scene(uint32_t particles) {
+    scene::Scene sc;
+    sc.model.mesh = "icosphere:5";
+    sc.simulation.particles = particles;
+    sc.simulation.solver.gravity = Vec3f::Zero();
+    return sc;
+}
+} // namespace
+
+TEST_SUITE("scene/two_resolutions") {
+    TEST_CASE("simulation.particles decimates the model; the samples keep its density") {
+        auto coarse = scene::SceneRuntime::create(bumpy_scene(600), {});
+        auto full = scene::SceneRuntime::create(bumpy_scene(0), {});
+        REQUIRE(coarse.ok());
+        REQUIRE(full.ok());
+        CHECK(coarse.value()->body().particle_count() < 800);
+        CHECK(full.value()->body().particle_count() == 10242);
+        CHECK(coarse.value()->fine_surface().has_value());
+        CHECK(!full.value()->fine_surface().has_value());
+        // Same spacing (the model's edges), so about as many splats in all.
+        CHECK(coarse.value()->spacing() == doctest::Approx(full.value()->spacing()));
+        const double n_coarse = double(coarse.value()->body().particle_count() + coarse.value()->boundary_particles().size());
+        const double n_full = double(full.value()->body().particle_count() + full.value()->boundary_particles().size());
+        CHECK(n_coarse > 0.8 * n_full);
+        CHECK(n_coarse < 1.25 * n_full);
+    }
+
+    TEST_CASE("after a cut no sample sits on the wrong side of the cut surface") {
+        scene::Scene sc = bumpy_scene(500);
+        // Pieces pulled apart by nothing: the cut alone is tested.
+        sc.events.push_back({0.0f, scene::CutEvent{std::nullopt, {1280, 720}, std::make_pair(Vec3f(0.07f, 0, 0), Vec3f(1, 0.2f, 0))}});
+        scene::RuntimeOptions ro;
+        ro.check_topology = true;
+        auto rt = scene::SceneRuntime::create(sc, ro);
+        REQUIRE(rt.ok());
+        for (int f = 0; f < 3; ++f) REQUIRE(rt.value()->step().ok());
+        CHECK(rt.value()->stats().cuts == 1);
+        CHECK(sim::shape_report(rt.value()->body()).pieces.size() == 2);
+        const Vec3f n = Vec3f(1, 0.2f, 0).normalized();
+        const auto& s = rt.value()->boundary_particles();
+        const auto& b = rt.value()->body();
+        size_t wrong = 0;
+        for (size_t i = 0; i < s.size(); ++i) {
+            // Across: on a side of the cut plane where none of its triangle's corners is.
+            const auto& t = b.triangles[s.triangle[i]];
+            const float side_s = n.dot(s.position[i] - Vec3f(0.07f, 0, 0));
+            bool with_a_corner = false;
+            for (uint32_t v : t) {
+                const float c = n.dot(sim::xyz(b.particles.x[v]) - Vec3f(0.07f, 0, 0));
+                with_a_corner = with_a_corner || (side_s > 0.0f ? c > -1e-5f : c < 1e-5f);
+            }
+            if (!with_a_corner) ++wrong;
+        }
+        CHECK(wrong == 0);
+    }
+}
