@@ -87,22 +87,40 @@ void TriangleGrid::near(const Vec3f& p, float radius, std::vector<uint32_t>& out
             }
 }
 
-float TriangleGrid::distance(const Vec3f& p) const {
-    if (triangles_.empty()) return std::numeric_limits<float>::infinity();
+void TriangleGrid::closest(const Vec3f& p, float factor, float margin, std::vector<ClosestPoint>& out) const {
+    out.clear();
+    if (triangles_.empty()) return;
     std::vector<uint32_t> cand;
     const float reach = cell_ * float(dims_.maxCoeff() + 1);
-    for (float r = cell_;; r *= 2.0f) {
+    for (float r = cell_;;) {
         near(p, r, cand);
+        out.clear();
         float best = std::numeric_limits<float>::infinity();
         for (uint32_t t : cand) {
             const Triangle& tri = triangles_[t];
             const Vec3f &a = positions_[tri[0]], &b = positions_[tri[1]], &c = positions_[tri[2]];
             const Vec2f w = closest_point_barycentric(p, a, b, c);
-            best = std::min(best, (a + w.x() * (b - a) + w.y() * (c - a) - p).norm());
+            const float d = (a + w.x() * (b - a) + w.y() * (c - a) - p).norm();
+            out.push_back({d, t, w});
+            best = std::min(best, d);
         }
-        // Everything within r was searched: a hit closer than r is the answer.
-        if (best <= r || r > reach) return best;
+        // Everything within r was searched: done once the band we want fits inside it.
+        const float wanted = factor * best + margin;
+        if (wanted <= r || r > reach) {
+            std::erase_if(out, [&](const ClosestPoint& c) { return c.distance > wanted; });
+            std::sort(out.begin(), out.end(), [](const ClosestPoint& x, const ClosestPoint& y) {
+                return x.distance != y.distance ? x.distance < y.distance : x.triangle < y.triangle;
+            });
+            return;
+        }
+        r = std::max(wanted, 2.0f * r);
     }
+}
+
+float TriangleGrid::distance(const Vec3f& p) const {
+    std::vector<ClosestPoint> c;
+    closest(p, 1.0f, 0.0f, c);
+    return c.empty() ? std::numeric_limits<float>::infinity() : c.front().distance;
 }
 
 } // namespace pbdsplat::mesh

@@ -13,6 +13,14 @@ namespace pbdsplat::mesh {
 // The point of triangle (a, b, c) closest to p, as barycentric weights of b and c.
 Vec2f closest_point_barycentric(const Vec3f& p, const Vec3f& a, const Vec3f& b, const Vec3f& c);
 
+// A triangle's closest point to a query: the distance, the triangle, and the point as
+// barycentric weights of its corners 1 and 2.
+struct ClosestPoint {
+    float distance;
+    uint32_t triangle;
+    Vec2f bary;
+};
+
 class TriangleGrid {
 public:
     // Cells about as large as the triangles; the mesh must outlive the grid.
@@ -20,7 +28,10 @@ public:
 
     // Triangles that may lie within `radius` of p (every one that does, and some more).
     void near(const Vec3f& p, float radius, std::vector<uint32_t>& out) const;
-    // The distance from p to the mesh (exact), searching outwards ring by ring.
+    // Every triangle whose closest point lies within `factor` x the nearest distance + `margin`
+    // of p, nearest first (ties by index): the nearest and its rivals, searched outwards.
+    void closest(const Vec3f& p, float factor, float margin, std::vector<ClosestPoint>& out) const;
+    // The distance from p to the mesh (exact).
     float distance(const Vec3f& p) const;
     float cell_size() const { return cell_; }
 

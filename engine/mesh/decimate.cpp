@@ -110,9 +110,8 @@ core::Result<DecimatedMesh> decimate(const TriangleMesh& m, const DecimateOption
     }
     if (!oriented_manifold(best->mesh))
         return core::make_error(name + ": the decimated mesh folds over itself; try another simulation.particles");
-    std::optional<RepairedMesh>& repaired = best;
-    out.mesh = std::move(repaired->mesh);
-    out.report.repair = repaired->report;
+    out.mesh = std::move(best->mesh);
+    out.report.repair = best->report;
     out.report.output_vertices = out.mesh.vertex_count();
     out.report.output_triangles = out.mesh.triangle_count();
     out.report.relative_error = error;

@@ -20,6 +20,10 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
     if (auto s = topology::check_invariants(rt.body()); !s.ok())
         return core::make_error("the simulation mesh as loaded: " + s.error().to_string());
     CheckReport report;
+    report.model_vertices = rt.decimation().input_vertices;
+    report.simulation_particles = rt.body().particle_count();
+    if (rt.fine_surface())
+        report.embedding_error = rt.embedding().max_rest_error / std::max(mesh::bounds(*rt.fine_surface()).diagonal(), 1e-12f);
     std::vector<double> stage_a;
     std::vector<Vec3f> centres;
     std::vector<Vec4f> x;

@@ -41,6 +41,10 @@ struct CheckReport {
     size_t pieces = 0;  // at the end
     size_t particles = 0, gaussians = 0;  // at the end
     double stage_a_ms = 0.0;  // median of the frames' Stage A (forces, constraints, integrate)
+    // The simulation mesh against the model: the model's vertices, and how exactly the
+    // embedded samples reproduce its surface at rest (largest error over the diagonal).
+    size_t model_vertices = 0, simulation_particles = 0;
+    double embedding_error = 0.0;
 };
 
 core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& options);

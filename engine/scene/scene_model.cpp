@@ -73,7 +73,7 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
             if ((x.array() >= region.min.array()).all() && (x.array() <= region.max.array()).all()) b.pin(i);
         }
     // Pins change the masses the shape clusters weigh the fit with.
-    if (!s.pins.empty() || !s.pin_regions.empty()) sim::rebuild_derived(b);
+    if (!s.pins.empty() || !s.pin_regions.empty()) sim::rebuild_shape_clusters(b);
     out.body = std::move(b);
     return out;
 }

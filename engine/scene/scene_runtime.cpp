@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cstring>
-#include <filesystem>
 
 #include "core/timer.h"
-#include "mesh/mesh_spec.h"
 #include "mesh/topology.h"
 #include "mesh/triangle_mesh.h"
+#include "sim/integrate.h"
 #include "surface/embedding.h"
 #include "surface/remap.h"
 #include "topology/cut.h"
@@ -412,7 +411,7 @@ core::Status SceneRuntime::after_topology_change(const topology::TopologyChange&
                 const float d = cut->distance(p);
                 return cut->reaches(p - d * cut->normal) ? d : 0.0f;
             };
-            const size_t dropped = surface::drop_across_cut(side, change.touched_triangles, body_.triangles, body_.particles.x, boundary_);
+            const size_t dropped = surface::drop_across_cut(side, body_.triangles, body_.particles.x, boundary_);
             // Fades index samples by position in the array: dropping shifts them, so start over.
             if (dropped) fade_.reset_samples();
         }
@@ -439,13 +438,10 @@ void SceneRuntime::deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Tri
         std::vector<surface::SurfacePoint> points(fine_->positions.size());
         for (size_t i = 0; i < points.size(); ++i) points[i] = {fine_->positions[i], normals[i]};
         fine_vertices_.emplace();
-        std::vector<Vec3f> rest_normals(body_.particle_count());
-        {
-            sim::SoftBody rest = body_;
-            for (size_t i = 0; i < rest.particle_count(); ++i) rest.particles.x[i] = sim::to4(rest.rest_positions[i]);
-            sim::Solver().update_normals(rest);
-            rest_normals = rest.normals;
-        }
+        sim::Vec4Array rest(body_.particle_count());
+        for (size_t i = 0; i < rest.size(); ++i) rest[i] = sim::to4(body_.rest_positions[i]);
+        std::vector<Vec3f> rest_normals(rest.size());
+        sim::update_normals(body_.rings, rest, rest_normals, 0, rest.size());
         surface::embed_points(points, body_.rest_positions, body_.triangles, rest_normals, *fine_vertices_);
     }
     surface::update_boundary_particles(body_.triangles, body_.particles.x, body_.normals, *fine_vertices_);

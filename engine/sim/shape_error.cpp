@@ -18,8 +18,8 @@ ShapeReport shape_report(const SoftBody& body, size_t min_particles) {
     std::vector<std::vector<uint32_t>> members(pieces);
     for (uint32_t v = 0; v < n; ++v)
         if (comp[v] != UINT32_MAX) members[comp[v]].push_back(v);
+    // Every component has a triangle, so none is empty and pieces[c] is component c's.
     for (const auto& m : members) {
-        if (m.empty()) continue;
         Vec3d rc = Vec3d::Zero(), xc = Vec3d::Zero();
         Eigen::AlignedBox3d box;
         for (uint32_t v : m) {
@@ -43,15 +43,13 @@ ShapeReport shape_report(const SoftBody& body, size_t min_particles) {
         const double diag = std::max(box.diagonal().norm(), 1e-12);
         out.pieces.push_back({m.size(), std::sqrt(sum / double(m.size())) / diag, 0.0});
     }
-    // The volume constraint of each piece: matched by its first particle.
-    for (const VolumeConstraint& vc : body.volumes) {
+    // The volume constraint of each piece, found by its first corner.
+    for (size_t k = 0; k < body.volumes.size(); ++k) {
+        const VolumeConstraint& vc = body.volumes[k];
         if (vc.triangles.empty() || !(vc.rest_volume > 0.0)) continue;
-        const double v = body.volume(size_t(&vc - body.volumes.data()));
-        const double err = std::abs(v / (vc.rest_volume * double(vc.pressure)) - 1.0);
-        const uint32_t c = comp[vc.triangles.front()[0]];
-        size_t index = 0;
-        for (uint32_t k = 0; k < c; ++k) index += members[k].empty() ? 0 : 1;
-        if (index < out.pieces.size()) out.pieces[index].volume_error = std::max(out.pieces[index].volume_error, err);
+        const double err = std::abs(body.volume(k) / (vc.rest_volume * double(vc.pressure)) - 1.0);
+        PieceShape& piece = out.pieces[comp[vc.triangles.front()[0]]];
+        piece.volume_error = std::max(piece.volume_error, err);
     }
     std::stable_sort(out.pieces.begin(), out.pieces.end(), [](const PieceShape& a, const PieceShape& b) { return a.particles > b.particles; });
     for (const PieceShape& p : out.pieces)

@@ -18,13 +18,19 @@ void rebuild_derived(SoftBodyT<Real>& b) {
     b.rings = build_vertex_rings(b.triangles, b.particle_count());
     b.normals.resize(b.particle_count(), Vec3f(0.0f, 1.0f, 0.0f));
     for (VolumeConstraint& v : b.volumes) build_rings(v);
-    b.shapes.clear();
-    if (b.shape_matching) {
-        std::vector<float> w(b.particles.w.size());
-        for (size_t i = 0; i < w.size(); ++i) w[i] = float(b.particles.w[i]);
-        b.shapes = build_shape_clusters(b.triangles, b.rest_positions, w);
-    }
+    rebuild_shape_clusters(b);
 }
+
+template <class Real>
+void rebuild_shape_clusters(SoftBodyT<Real>& b) {
+    b.shapes.clear();
+    if (!b.shape_matching) return;
+    std::vector<float> w(b.particles.w.size());
+    for (size_t i = 0; i < w.size(); ++i) w[i] = float(b.particles.w[i]);
+    b.shapes = build_shape_clusters(b.triangles, b.rest_positions, w);
+}
+template void rebuild_shape_clusters<float>(SoftBodyT<float>&);
+template void rebuild_shape_clusters<double>(SoftBodyT<double>&);
 template void rebuild_derived<float>(SoftBodyT<float>&);
 template void rebuild_derived<double>(SoftBodyT<double>&);
 

@@ -72,6 +72,11 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh mesh, const SoftBodyDes
 template <class Real>
 void rebuild_derived(SoftBodyT<Real>& body);
 
+// Rebuilds only the shape-matching clusters (part of rebuild_derived): after pinning, which
+// changes the masses the fit weighs particles by.
+template <class Real>
+void rebuild_shape_clusters(SoftBodyT<Real>& body);
+
 // The same body in double precision (state converted, constraints shared).
 SoftBodyT<double> to_double(const SoftBody& body);
 

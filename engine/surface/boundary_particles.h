@@ -22,7 +22,7 @@ struct BoundaryParticles {
     // Compact arrays, one entry per sample.
     std::vector<uint32_t> triangle;
     std::vector<Vec2f> bary;  // (b1, b2); b0 = 1 - b1 - b2
-    // Embedded samples only (both empty otherwise, or one entry per sample): the offset along
+    // Embedded samples only (both empty otherwise, both one entry per sample): the offset along
     // the interpolated vertex normal, and the rest normal in the triangle's frame
     // (edge 0-1, in-plane perpendicular, face normal).
     std::vector<float> offset;
@@ -32,7 +32,7 @@ struct BoundaryParticles {
     std::vector<Vec3f> normal;
 
     size_t size() const { return triangle.size(); }
-    bool embedded() const { return !offset.empty() || (!local_normal.empty()); }
+    bool embedded() const { return !offset.empty(); }
     void clear();
     // Keeps the samples for which keep(i) is true, in order, in every array.
     template <class Keep>

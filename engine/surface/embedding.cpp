@@ -53,38 +53,22 @@ void embed_points(std::span<const SurfacePoint> points, std::span<const Vec3f> r
     for (size_t t = 0; t < triangles.size(); ++t)
         frames[t] = triangle_frame(rest[triangles[t][0]], rest[triangles[t][1]], rest[triangles[t][2]]);
 
-    std::vector<uint32_t> near;
-    struct Candidate {
-        float distance;
-        uint32_t triangle;
-        Vec2f bary;
-    };
-    std::vector<Candidate> cands;
+    std::vector<mesh::ClosestPoint> cands;
     const size_t first = out.size();
     out.offset.resize(first, 0.0f);
     out.local_normal.resize(first, Vec3f::UnitZ());
     for (const SurfacePoint& sp : points) {
         const Vec3f& p = sp.position;
-        const float reach = grid.distance(p);
-        grid.near(p, 1.5f * reach + 0.25f * grid.cell_size(), near);
-        cands.clear();
-        for (uint32_t t : near) {
-            const auto& tri = triangles[t];
-            const Vec2f w = mesh::closest_point_barycentric(p, rest[tri[0]], rest[tri[1]], rest[tri[2]]);
-            const Vec3f q = rest[tri[0]] + w.x() * (rest[tri[1]] - rest[tri[0]]) + w.y() * (rest[tri[2]] - rest[tri[0]]);
-            cands.push_back({(q - p).norm(), t, w});
-        }
-        std::sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) {
-            return a.distance != b.distance ? a.distance < b.distance : a.triangle < b.triangle;
-        });
+        // The nearest triangle and its rivals up to half as far again: on a thin part the
+        // nearest may be the far side's.
+        grid.closest(p, 1.5f, 0.25f * grid.cell_size(), cands);
         // The nearest triangle that faces the same way as the sample and reproduces it with
         // coordinates inside (or just outside) the triangle: the sample's own part of the
         // coarse surface, not the far side of a thin ear.
         Solve best;
         uint32_t best_t = UINT32_MAX;
         float best_score = 1e30f;
-        for (const Candidate& c : cands) {
-            if (c.distance > 1.5f * reach + 1e-6f) break;
+        for (const mesh::ClosestPoint& c : cands) {
             const auto& tri = triangles[c.triangle];
             if (frames[c.triangle].col(2).dot(sp.normal) < -0.2f) continue;
             const std::array<Vec3f, 3> x{rest[tri[0]], rest[tri[1]], rest[tri[2]]};
@@ -103,7 +87,7 @@ void embed_points(std::span<const SurfacePoint> points, std::span<const Vec3f> r
             // Nothing reproduces it (a sample beyond every triangle's normal field): the closest
             // point, offset along the face normal.
             ++st.fallback;
-            const Candidate& c = cands.front();
+            const mesh::ClosestPoint& c = cands.front();
             const auto& tri = triangles[c.triangle];
             const Vec3f nb = rest_normals[tri[0]] + c.bary.x() * (rest_normals[tri[1]] - rest_normals[tri[0]]) +
                              c.bary.y() * (rest_normals[tri[2]] - rest_normals[tri[0]]);

@@ -47,9 +47,9 @@ size_t remap_samples(std::span<const mesh::TriangleSplit> splits, BoundaryPartic
 
 namespace pbdsplat::surface {
 
-size_t drop_across_cut(const std::function<float(const Vec3f&)>& side, std::span<const uint32_t> triangles,
-                       std::span<const mesh::Triangle> all, std::span<const Vec4f> x, BoundaryParticles& s) {
-    if (triangles.empty() || s.position.size() != s.size()) return 0;
+size_t drop_across_cut(const std::function<float(const Vec3f&)>& side, std::span<const mesh::Triangle> all,
+                       std::span<const Vec4f> x, BoundaryParticles& s) {
+    if (s.position.size() != s.size()) return 0;
     // Not only the touched triangles: a neighbour with a corner snapped onto the cut is not
     // re-triangulated, yet its samples can hang over the cut just the same. A sample is across
     // when it lies on a side of the cut where none of its triangle's corners lies: a snapped

@@ -16,12 +16,12 @@ size_t remap_samples(std::span<const mesh::TriangleSplit> splits, BoundaryPartic
 
 namespace pbdsplat::surface {
 
-// After a cut (`triangles`: the touched ones; none, no cut): samples that sit on the other side of the cut
-// than their own triangle are dropped. An embedded sample is carried by its offset, not only
-// by its coordinates, so near the cut it can hang over the cut surface; the local refill then
-// fills its place from the right side. `side(p)` is the signed distance to the cut surface
-// (0 where the cut does not reach p). Returns how many were dropped.
-size_t drop_across_cut(const std::function<float(const Vec3f&)>& side, std::span<const uint32_t> triangles,
-                       std::span<const mesh::Triangle> all_triangles, std::span<const Vec4f> x, BoundaryParticles& samples);
+// After a cut: embedded samples that lie on a side of the cut where none of their triangle's
+// corners lies are dropped. An embedded sample is carried by its offset, not only by its
+// coordinates, so near the cut it can hang over the cut surface; the local refill then fills
+// its place from the right side. `side(p)` is the signed distance to the cut surface (0 where
+// the cut does not reach p). Returns how many were dropped.
+size_t drop_across_cut(const std::function<float(const Vec3f&)>& side, std::span<const mesh::Triangle> triangles,
+                       std::span<const Vec4f> x, BoundaryParticles& samples);
 
 } // namespace pbdsplat::surface

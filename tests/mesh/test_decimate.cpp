@@ -33,7 +33,7 @@ TEST_SUITE("mesh/decimate") {
             const float d = (a + w.x() * (b - a) + w.y() * (c - a) - p).norm();
             float best = 1e9f;
             for (int i = 0; i <= 200; ++i)
-                for (int j = 0; i + j <= 200; ++j) best = std::min(best, (a + (i / 200.0f) * (b - a) + (j / 200.0f) * (c - a) - p).norm());
+                for (int j = 0; i + j <= 200; ++j) best = std::min(best, (a + (float(i) / 200.0f) * (b - a) + (float(j) / 200.0f) * (c - a) - p).norm());
             CHECK(d <= best + 1e-5f);
             CHECK(d >= best - 0.02f);
         }

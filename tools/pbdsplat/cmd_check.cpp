@@ -79,11 +79,17 @@ int cmd_check(const std::vector<std::string>& argv) {
                                   {"particles", r.particles},
                                   {"gaussians", r.gaussians},
                                   {"stage_a_ms", r.stage_a_ms},
+                                  {"model_vertices", r.model_vertices},
+                                  {"simulation_particles", r.simulation_particles},
+                                  {"embedding_error", r.embedding_error},
                                   {"samples", samples}};
         std::printf("%s\n", j.dump().c_str());
         return 0;
     }
-    std::printf("%s, %u frames (measured every %u):\n", sc->name.c_str(), o.frames, o.every);
+    std::printf("%s, %u frames (measured every %u); %zu simulation particles for the model's %zu vertices",
+                sc->name.c_str(), o.frames, o.every, r.simulation_particles, r.model_vertices);
+    if (r.embedding_error > 0.0) std::printf(" (surface embedded, rest error %.2g of the diagonal)", r.embedding_error);
+    std::printf(":\n");
     std::printf("  %6s %6s %5s %5s %8s %6s %8s %6s %6s %8s\n", "frame", "time", "cuts", "tears", "shape", "strays", "holes%",
                 "IoU", "pieces", "volume");
     for (const scene::CheckSample& s : r.samples)
