@@ -44,10 +44,9 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
         for (const sim::PieceShape& p : shape.pieces) s.volume_error = std::max(s.volume_error, p.volume_error);
         s.particles = st.particles;
         s.gaussians = st.gaussians;
-        // Every splat centre: the particles' and the boundary particles'.
+        // Every splat drawn (the records), not the particles: strays are what a user sees.
         centres.clear();
-        for (const Vec4f& p : rt.body().particles.x) centres.push_back(p.head<3>());
-        for (const Vec3f& p : rt.boundary_particles().position) centres.push_back(p);
+        for (const splat::GaussianRecord& r : rt.records()) centres.emplace_back(r.position[0], r.position[1], r.position[2]);
         s.strays = splat::count_strays(centres, rt.spacing()).strays;
         if (o.gpu) {
             rt.deformed_surface(x, triangles);

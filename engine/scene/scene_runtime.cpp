@@ -88,8 +88,12 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     // simulation mesh; without a separate model surface they sample the simulation mesh.
     h_ = boundary && fine_ ? surface::spacing(*fine_, sd_surface.eta) : surface::spacing(rest, boundary ? sd_surface.eta : 1.0f);
     if (!(h_ > 0.0f)) return core::make_error("the mesh has no edges to derive the sampling spacing from");
+    // With an embedded surface the samples are the splats: the simulation particles sit on the
+    // coarse mesh, off the model's surface wherever it curves, and after a cut the new ones
+    // lie on the coarse cut line, away from the fine samples: drawn, they float as strays.
+    splat_particles_ = !(boundary && fine_);
     if (boundary && fine_) {
-        const auto points = surface::sample_points(*fine_, body_.rest_positions, {h_, sd_surface.seed});
+        const auto points = surface::sample_points(*fine_, {}, {h_, sd_surface.seed});
         surface::embed_points(points, body_.rest_positions, body_.triangles, body_.normals, boundary_, &embedding_);
     } else if (boundary) {
         boundary_ = surface::sample_surface(rest, {h_, sd_surface.seed});
@@ -307,10 +311,12 @@ core::Status SceneRuntime::build_graph() {
         input = b.write(input);
         if (keep) b.side_effect();
         return [this, boundary, sorted](const graph::PassResources&, graph::ExecuteContext&) {
-            splat::map_body(body_.particles.x, body_.normals, body_.colors, body_.triangles,
+            const bool particles = splat_particles_;
+            splat::map_body(particles ? std::span<const Vec4f>(body_.particles.x) : std::span<const Vec4f>(),
+                            particles ? std::span<const Vec3f>(body_.normals) : std::span<const Vec3f>(), body_.colors, body_.triangles,
                             boundary && show_boundary_ ? &boundary_ : nullptr,
                             appearance_, stretch_.empty() ? nullptr : &stretch_, records_);
-            fade_.apply(body_.particle_count(), records_);
+            fade_.apply(particles ? body_.particle_count() : 0, records_);
             // Position-based environment lookups look out from the body's centre; nothing else
             // reads it.
             render::Environment& env = frame_input_.frame.lighting.environment;
@@ -402,21 +408,30 @@ core::Status SceneRuntime::after_topology_change(const topology::TopologyChange&
     last_change_ = change;
     if (!change.changed()) return core::Status::success();
     if (check_topology_) PBDSPLAT_TRY(topology::check_invariants(body_));
-    fade_.add_particles(change.particles_before, change.new_particles());
+    if (splat_particles_) fade_.add_particles(change.particles_before, change.new_particles());
     if (scene_.surface.mode == SurfaceMode::boundary) {
         surface::remap_samples(change.splits, boundary_);
         if (fine_vertices_) surface::remap_samples(change.splits, *fine_vertices_);
+        std::vector<uint32_t> refill(change.touched_triangles.begin(), change.touched_triangles.end());
         if (cut && boundary_.embedded()) {
             const auto side = [cut](const Vec3f& p) {
                 const float d = cut->distance(p);
                 return cut->reaches(p - d * cut->normal) ? d : 0.0f;
             };
-            const size_t dropped = surface::drop_across_cut(side, body_.triangles, body_.particles.x, boundary_);
+            std::vector<uint32_t> emptied;
+            const size_t dropped = surface::drop_across_cut(side, body_.triangles, body_.particles.x, boundary_, &emptied);
             // Fades index samples by position in the array: dropping shifts them, so start over.
             if (dropped) fade_.reset_samples();
+            // Where samples were dropped beyond the re-triangulated ones, refill too.
+            refill.insert(refill.end(), emptied.begin(), emptied.end());
+            std::sort(refill.begin(), refill.end());
+            refill.erase(std::unique(refill.begin(), refill.end()), refill.end());
         }
         const size_t before = boundary_.size();
-        surface::fill_triangles(body_.rest_positions, body_.triangles, change.touched_triangles,
+        std::vector<uint32_t> piece;
+        mesh::vertex_components(body_.triangles, body_.particle_count(), piece);
+        surface::fill_triangles(body_.rest_positions, body_.triangles, refill,
+                                splat_particles_ ? std::span<const Vec3f>(body_.rest_positions) : std::span<const Vec3f>(), piece,
                                 {h_, scene_.surface.seed + uint32_t(cuts_ + tears_) + 1}, boundary_);
         surface::update_boundary_particles(body_.triangles, body_.particles.x, body_.normals, boundary_);
         fade_.add_samples(before, boundary_.size() - before);

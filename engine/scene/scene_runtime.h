@@ -90,6 +90,9 @@ public:
     void deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles);
     const surface::BoundaryParticles& boundary_particles() const { return boundary_; }
     const std::vector<splat::GaussianRecord>& records() const { return records_; }
+    // Whether the simulation particles are drawn as splats (first in records()), or only the
+    // boundary particles are (an embedded model surface).
+    bool splat_particles() const { return splat_particles_; }
     float spacing() const { return h_; }
     const Scene& scene() const { return scene_; }
     // What the most recent cut or tear did (empty before any).
@@ -179,6 +182,7 @@ private:
     std::vector<double> last_pass_ms_;
     float time_ = 0.0f;
     float h_ = 0.0f;  // sampling spacing
+    bool splat_particles_ = true;  // the particles are splats too (not with an embedded surface)
     // Cut and tear events not yet started, in time order; the tearing now on, if any.
     std::vector<Event> pending_topology_;
     std::optional<TearEvent> tearing_;

@@ -25,8 +25,10 @@ public:
         shift_ = 64 - std::countr_zero(cap);
         points_.reserve(expected_points);
         next_.reserve(expected_points);
+        tags_.reserve(expected_points);
     }
-    bool near(const Vec3f& p) const {
+    // Any point within h of p carrying the same tag (k_any matches every tag).
+    bool near(const Vec3f& p, uint32_t tag = k_any) const {
         const Eigen::Vector3i c = cell(p);
         for (int dz = -1; dz <= 1; ++dz)
             for (int dy = -1; dy <= 1; ++dy)
@@ -34,11 +36,13 @@ public:
                     const size_t slot = find(key(c + Eigen::Vector3i(dx, dy, dz)));
                     if (slot == k_end) continue;
                     for (uint32_t i = heads_[slot]; i != k_end; i = next_[i])
-                        if ((points_[i] - p).squaredNorm() < h2_) return true;
+                        if ((tag == k_any || tags_[i] == k_any || tags_[i] == tag) && (points_[i] - p).squaredNorm() < h2_)
+                            return true;
                 }
         return false;
     }
-    void add(const Vec3f& p) {
+    static constexpr uint32_t k_any = ~0u;
+    void add(const Vec3f& p, uint32_t tag = k_any) {
         if ((points_.size() + 1) * 2 > keys_.size()) grow();
         const uint64_t k = key(cell(p));
         size_t slot = slot_of(k);
@@ -47,6 +51,7 @@ public:
         next_.push_back(heads_[slot]);
         heads_[slot] = uint32_t(points_.size());
         points_.push_back(p);
+        tags_.push_back(tag);
     }
 
 private:
@@ -64,6 +69,7 @@ private:
     }
     void grow() {
         std::vector<Vec3f> old = std::move(points_);
+        std::vector<uint32_t> old_tags = std::move(tags_);
         const size_t cap = keys_.size() * 2;
         keys_.assign(cap, k_empty);
         heads_.assign(cap, k_end);
@@ -71,7 +77,8 @@ private:
         shift_ = 64 - std::countr_zero(cap);
         points_.clear();
         next_.clear();
-        for (const Vec3f& q : old) add(q);
+        tags_.clear();
+        for (size_t i = 0; i < old.size(); ++i) add(old[i], old_tags[i]);
     }
     Eigen::Vector3i cell(const Vec3f& p) const { return (p * inv_h_).array().floor().cast<int>(); }
     static uint64_t key(const Eigen::Vector3i& c) {
@@ -85,6 +92,7 @@ private:
     std::vector<uint32_t> heads_;  // per slot: the newest point in that cell
     std::vector<uint32_t> next_;   // per point: the next point in its cell
     std::vector<Vec3f> points_;
+    std::vector<uint32_t> tags_;  // per point: the piece it belongs to, or k_any
 };
 
 // The rest surface being sampled, without owning (or copying) it.
@@ -129,10 +137,15 @@ Vec3f position_of(const SurfaceView& m, uint32_t t, const Vec2f& b) {
     return (1.0f - b.x() - b.y()) * m.positions[tri[0]] + b.x() * m.positions[tri[1]] + b.y() * m.positions[tri[2]];
 }
 
-void accept(const SurfaceView& m, const std::vector<Candidate>& cands, PointGrid& grid, BoundaryParticles& out) {
+// `piece`, when not empty, is the piece of each triangle: a candidate is blocked only by points
+// of its own piece. At the moment of a cut both sides of it coincide, and a gap on one side
+// must not count as covered by the other side's samples, which leave with the other piece.
+void accept(const SurfaceView& m, const std::vector<Candidate>& cands, std::span<const uint32_t> piece, PointGrid& grid,
+            BoundaryParticles& out) {
     for (const Candidate& c : cands) {
-        if (grid.near(c.position)) continue;
-        grid.add(c.position);
+        const uint32_t tag = piece.empty() ? PointGrid::k_any : piece[c.triangle];
+        if (grid.near(c.position, tag)) continue;
+        grid.add(c.position, tag);
         out.triangle.push_back(c.triangle);
         out.bary.push_back(c.bary);
         out.position.push_back(c.position);
@@ -171,7 +184,7 @@ namespace {
 // Blocks candidates within h of the anchors and of the samples already placed, over the box
 // around `triangles` (a local refill stays local), then throws darts.
 void fill(const SurfaceView& m, std::span<const Vec3f> anchors, std::span<const uint32_t> triangles,
-          const SamplingOptions& o, BoundaryParticles& samples) {
+          std::span<const uint32_t> piece, const SamplingOptions& o, BoundaryParticles& samples) {
     PBDSPLAT_ASSERT(o.h > 0.0f && std::isfinite(o.h), "boundary particle spacing h must be positive");
     Eigen::AlignedBox3f near;
     for (uint32_t t : triangles)
@@ -180,14 +193,22 @@ void fill(const SurfaceView& m, std::span<const Vec3f> anchors, std::span<const 
     near.min().array() -= o.h;
     near.max().array() += o.h;
     PointGrid grid(o.h, triangles.size() == m.triangles.size() ? anchors.size() + samples.size() + 1024 : 1024);
-    for (const Vec3f& v : anchors)
-        if (near.contains(v)) grid.add(v);
+    // Anchors are the mesh's vertices (or none): a vertex's piece is that of any triangle using it.
+    std::vector<uint32_t> piece_of_vertex;
+    if (!piece.empty() && !anchors.empty()) {
+        piece_of_vertex.assign(anchors.size(), PointGrid::k_any);
+        for (size_t t = 0; t < m.triangles.size(); ++t)
+            for (uint32_t v : m.triangles[t])
+                if (v < anchors.size()) piece_of_vertex[v] = piece[t];
+    }
+    for (size_t v = 0; v < anchors.size(); ++v)
+        if (near.contains(anchors[v])) grid.add(anchors[v], piece_of_vertex.empty() ? PointGrid::k_any : piece_of_vertex[v]);
     for (size_t i = 0; i < samples.size(); ++i) {
         const Vec3f p = position_of(m, samples.triangle[i], samples.bary[i]);
-        if (near.contains(p)) grid.add(p);
+        if (near.contains(p)) grid.add(p, piece.empty() ? PointGrid::k_any : piece[samples.triangle[i]]);
     }
     std::mt19937 rng(o.seed);
-    accept(m, candidates(m, triangles, o.candidates / (o.h * o.h), rng), grid, samples);
+    accept(m, candidates(m, triangles, o.candidates / (o.h * o.h), rng), piece, grid, samples);
 }
 
 // New samples on an embedded surface sit at the mean offset of their triangle's samples (the
@@ -213,8 +234,14 @@ void embed_new_samples(size_t first, BoundaryParticles& s) {
 
 void fill_triangles(std::span<const Vec3f> positions, std::span<const mesh::Triangle> all_triangles,
                     std::span<const uint32_t> triangles, const SamplingOptions& o, BoundaryParticles& samples) {
+    fill_triangles(positions, all_triangles, triangles, positions, {}, o, samples);
+}
+
+void fill_triangles(std::span<const Vec3f> positions, std::span<const mesh::Triangle> all_triangles,
+                    std::span<const uint32_t> triangles, std::span<const Vec3f> anchors, std::span<const uint32_t> piece,
+                    const SamplingOptions& o, BoundaryParticles& samples) {
     const size_t first = samples.size();
-    fill({positions, all_triangles}, positions, triangles, o, samples);
+    fill({positions, all_triangles}, anchors, triangles, piece, o, samples);
     embed_new_samples(first, samples);
 }
 
@@ -223,7 +250,7 @@ std::vector<SurfacePoint> sample_points(const mesh::TriangleMesh& surface, std::
     std::vector<uint32_t> all(surface.triangles.size());
     for (uint32_t t = 0; t < all.size(); ++t) all[t] = t;
     BoundaryParticles s;
-    fill({surface.positions, surface.triangles}, anchors, all, o, s);
+    fill({surface.positions, surface.triangles}, anchors, all, {}, o, s);
     const std::vector<Vec3f> vn = mesh::vertex_normals(surface);
     std::vector<SurfacePoint> out(s.size());
     for (size_t i = 0; i < s.size(); ++i) {

@@ -69,6 +69,13 @@ void fill_triangles(const mesh::TriangleMesh& mesh, std::span<const uint32_t> tr
 // The same on a surface given as rest positions and triangles (a body's, without copying them).
 void fill_triangles(std::span<const Vec3f> positions, std::span<const mesh::Triangle> all_triangles,
                     std::span<const uint32_t> triangles, const SamplingOptions& options, BoundaryParticles& samples);
+// The same with other points than the vertices counting as samples already placed (none when
+// the vertices are not drawn: a coarse simulation mesh carrying an embedded surface), and,
+// when `piece` (one entry per triangle) is given, samples blocking only within their piece: at
+// the moment of a cut its two sides coincide, and one side's samples leave with their piece.
+void fill_triangles(std::span<const Vec3f> positions, std::span<const mesh::Triangle> all_triangles,
+                    std::span<const uint32_t> triangles, std::span<const Vec3f> anchors, std::span<const uint32_t> piece,
+                    const SamplingOptions& options, BoundaryParticles& samples);
 
 // Moves every sample onto the deformed surface: positions from `x` (one float4 per mesh vertex,
 // w ignored), normals from the vertex normals (embedded samples: offset along the interpolated

@@ -48,7 +48,8 @@ size_t remap_samples(std::span<const mesh::TriangleSplit> splits, BoundaryPartic
 namespace pbdsplat::surface {
 
 size_t drop_across_cut(const std::function<float(const Vec3f&)>& side, std::span<const mesh::Triangle> all,
-                       std::span<const Vec4f> x, BoundaryParticles& s) {
+                       std::span<const Vec4f> x, BoundaryParticles& s, std::vector<uint32_t>* emptied) {
+    if (emptied) emptied->clear();
     if (s.position.size() != s.size()) return 0;
     // Not only the touched triangles: a neighbour with a corner snapped onto the cut is not
     // re-triangulated, yet its samples can hang over the cut just the same. A sample is across
@@ -56,7 +57,7 @@ size_t drop_across_cut(const std::function<float(const Vec3f&)>& side, std::span
     // cut runs through vertices, a little off the ideal surface, and triangles there may reach
     // over it by that much with their samples rightly on them. Triangle extents cached once.
     std::vector<Vec2f> extent(all.size(), Vec2f(1.0f, -1.0f));  // (lowest, highest) corner side
-    return s.keep_if([&](size_t i) {
+    const size_t dropped = s.keep_if([&](size_t i) {
         const float d = side(s.position[i]);
         if (d == 0.0f) return true;
         Vec2f& e = extent[s.triangle[i]];
@@ -68,8 +69,15 @@ size_t drop_across_cut(const std::function<float(const Vec3f&)>& side, std::span
                 e = Vec2f(std::min(e.x(), c), std::max(e.y(), c));
             }
         }
-        return d > 0.0f ? e.y() > 0.0f : e.x() < 0.0f;
+        const bool keep = d > 0.0f ? e.y() > 0.0f : e.x() < 0.0f;
+        if (!keep && emptied) emptied->push_back(s.triangle[i]);
+        return keep;
     });
+    if (emptied) {
+        std::sort(emptied->begin(), emptied->end());
+        emptied->erase(std::unique(emptied->begin(), emptied->end()), emptied->end());
+    }
+    return dropped;
 }
 
 } // namespace pbdsplat::surface

@@ -171,3 +171,27 @@ TEST_SUITE("surface/boundary_particles") {
         for (size_t i = count; i < s.size(); ++i) CHECK(touched[s.triangle[i]]);
     }
 }
+
+TEST_SUITE("surface/boundary_particles") {
+    TEST_CASE("a refill after a cut blocks only within the piece: each side of the cut gets its own samples") {
+        // Two coincident squares (the two sides of a cut, before the pieces move apart), each
+        // its own piece. The first is sampled; then the second is filled.
+        const std::vector<Vec3f> p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+        const std::vector<mesh::Triangle> t = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
+        const std::vector<uint32_t> first = {0, 1}, second = {2, 3}, piece = {0, 0, 1, 1};
+        const float h = 0.1f;
+        auto fill_second = [&](std::span<const uint32_t> pieces) {
+            surface::BoundaryParticles s;
+            surface::fill_triangles(p, t, first, {}, pieces, {h, 3}, s);
+            const size_t on_first = s.size();
+            surface::fill_triangles(p, t, second, {}, pieces, {h, 4}, s);
+            return std::pair(on_first, s.size() - on_first);
+        };
+        const auto [a, b] = fill_second(piece);
+        CHECK(a > 50);
+        CHECK(b > a / 2);  // the second side is sampled as densely as the first
+        const auto [c, d] = fill_second({});
+        CHECK(c == a);
+        CHECK(d < a / 10);  // without pieces the first side's samples block the second
+    }
+}
