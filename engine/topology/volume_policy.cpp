@@ -1,9 +1,26 @@
 #include "topology/volume_policy.h"
 
+#include <cmath>
+
+
 #include "mesh/topology.h"
 #include "sim/volume.h"
 
 namespace pbdsplat::topology {
+namespace {
+// A piece too thin or too small to hold air: a flake torn off a shell, a sliver of a few
+// triangles. Its capped volume is nearly zero against its area, so a volume constraint on it
+// has a tiny gradient and a projection step of C / |grad|^2 that flings its particles away: it
+// gets none and moves as cloth. A sphere scores V / A^1.5 = 0.094, a shallow dome of height
+// 0.05 r about 0.014.
+bool holds_air(const sim::VolumeConstraint& v, double volume, const sim::Vec4Array& x) {
+    if (v.triangles.size() < 12) return false;
+    double area = 0.0;
+    for (const auto& t : v.triangles)
+        area += 0.5 * double((x[t[1]] - x[t[0]]).head<3>().cross((x[t[2]] - x[t[0]]).head<3>()).norm());
+    return area > 0.0 && std::abs(volume) / std::pow(area, 1.5) >= 0.01;
+}
+} // namespace
 
 void apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, std::span<const int32_t> old_of_triangle,
                          std::span<const OldVolume> old) {
@@ -49,7 +66,7 @@ void apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, std::span<const 
             const double before = parent.now;
             v.rest_volume = before > 0.0 ? parent.rest_volume * now[c] / before : 0.0;
         }
-        if (v.rest_volume > 0.0) out.push_back(std::move(v));
+        if (v.rest_volume > 0.0 && (unchanged || holds_air(v, now[c], b.particles.x))) out.push_back(std::move(v));
     }
     b.volumes = std::move(out);
 }
