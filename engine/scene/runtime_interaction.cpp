@@ -77,7 +77,8 @@ void SceneRuntime::queue_cut(const Vec2f& a, const Vec2f& b, const Vec2f& view_s
 }
 
 void SceneRuntime::scale_pressure(float factor) {
-    for (sim::VolumeConstraint& v : body_.volumes) v.pressure = std::clamp(v.pressure * factor, 0.0f, 100.0f);
+    for (sim::VolumeConstraint& v : body_.volumes)
+        if (v.leak == 0.0f) v.pressure = std::clamp(v.pressure * factor, 0.0f, 100.0f);
 }
 
 float SceneRuntime::pressure() const { return body_.volumes.empty() ? 0.0f : body_.volumes.front().pressure; }

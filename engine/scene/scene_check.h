@@ -5,6 +5,7 @@
 // IoU against a raster of the same deformed surface), how many pieces there are, and how far
 // each piece's volume is from its target.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/result.h"
@@ -45,6 +46,9 @@ struct CheckReport {
     // embedded samples reproduce its surface at rest (largest error over the diagonal).
     size_t model_vertices = 0, simulation_particles = 0;
     double embedding_error = 0.0;
+    // Empty when the simulation mesh as loaded meets the topology invariants (and every cut
+    // and tear was then checked against them); else what it breaks.
+    std::string invariants_at_load;
 };
 
 core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& options);

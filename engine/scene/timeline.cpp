@@ -35,7 +35,8 @@ void Timeline::advance(float t, float dt, sim::SoftBody& body, sim::DragConstrai
         if (r.from < 0.0f) r.from = body.volumes[0].pressure;
         const float u = r.duration > 0.0f ? std::min(1.0f, (t - r.start) / r.duration) : 1.0f;
         if (t - r.start > r.duration + dt) continue;  // finished: leave k to later events
-        for (sim::VolumeConstraint& v : body.volumes) v.pressure = r.from + (r.to - r.from) * u;
+        for (sim::VolumeConstraint& v : body.volumes)
+            if (v.leak == 0.0f) v.pressure = r.from + (r.to - r.from) * u;  // an opened piece holds no pressure
     }
     // Drags: the particle nearest `from` follows a target moving from `from` to `to`.
     drag.active = false;

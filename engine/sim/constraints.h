@@ -2,6 +2,7 @@
 // Constraint data. Definitions never change after creation, except their particle indices (the
 // topology stage re-points them when a cut duplicates vertices).
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -33,6 +34,11 @@ struct VolumeConstraint {
     float pressure = 1.0f;     // k: target volume k * V0 (deflate < 1 < inflate)
     float compliance = 0.0f;   // XPBD
     double lambda = 0.0;       // XPBD multiplier, reset every substep
+    // An opened component (burst) leaks: its overpressure k - 1 decays at this rate (1/s)
+    // instead of vanishing at once, which snapped the stretched shell inward in one frame and
+    // imploded it. Once k is within 2 % of 1 the constraint rests. 0: sealed.
+    float leak = 0.0f;
+    bool leaking_done() const { return leak > 0.0f && std::abs(pressure - 1.0f) < 0.02f; }
 };
 
 // Pulls one particle toward a moving target: the mouse drag of the interactive demo.

@@ -46,7 +46,7 @@ ShapeReport shape_report(const SoftBody& body, size_t min_particles) {
     // The volume constraint of each piece, found by its first corner.
     for (size_t k = 0; k < body.volumes.size(); ++k) {
         const VolumeConstraint& vc = body.volumes[k];
-        if (vc.triangles.empty() || !(vc.rest_volume > 0.0)) continue;
+        if (vc.triangles.empty() || !(vc.rest_volume > 0.0) || vc.leak > 0.0f) continue;  // opened: no volume to keep
         const double err = std::abs(body.volume(k) / (vc.rest_volume * double(vc.pressure)) - 1.0);
         PieceShape& piece = out.pieces[comp[vc.triangles.front()[0]]];
         piece.volume_error = std::max(piece.volume_error, err);

@@ -61,6 +61,8 @@ void SolverT<Real>::begin_substep(SoftBodyT<Real>& body, const SolverSettings& s
     PBDSPLAT_ASSERT(body.rings.start.size() == p.size() + 1 && body.distance_lambda.size() == body.distance.size(),
                     "particles or triangles changed without rebuild_derived(body)");
     for_range(p.size(), k_particle_grain, [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, s.damping, h, b, e); });
+    for (VolumeConstraint& v : body.volumes)
+        if (v.leak > 0.0f) v.pressure = 1.0f + (v.pressure - 1.0f) * std::exp(-v.leak * float(h));
     if (s.mode == SolverMode::xpbd) {
         std::fill(body.distance_lambda.begin(), body.distance_lambda.end(), Real(0));
         for (VolumeConstraint& v : body.volumes) v.lambda = 0.0;
@@ -93,6 +95,7 @@ void SolverT<Real>::project_volume(SoftBodyT<Real>& body, const SolverSettings& 
     const Real k = Real(per_iteration(s.volume_stiffness, s.iterations * s.substeps));
     const Real inv_h2 = Real(1) / (h * h);
     for (VolumeConstraint& v : body.volumes) {
+        if (v.leaking_done()) continue;  // open and at ambient pressure: the shell alone holds it
         const size_t blocks = volume_blocks(v);
         sums_.assign(blocks, VolumeSums{});
         for_range(blocks, 2, [&](size_t b, size_t e) {

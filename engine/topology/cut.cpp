@@ -42,7 +42,7 @@ Sides classify(const sim::SoftBody& b, const CutSurface& s, float snap, float re
     sign.resize(n);
     for (size_t v = 0; v < n; ++v) sign[v] = d[v] < 0.0f ? int8_t(-1) : int8_t(1);
     for (size_t v = 0; v < n; ++v)
-        if (d[v] == 0.0f && s.reaches(sim::xyz(b.particles.x[v]))) sign[v] = 0;
+        if (d[v] == 0.0f && s.may_touch(uint32_t(v)) && s.reaches(sim::xyz(b.particles.x[v]))) sign[v] = 0;
     // Snap: a crossing near an end moves onto that vertex. Near means within `snap` of the edge,
     // or within `snap` mean edge lengths of rest distance, so repeated cuts through one region
     // cannot make ever smaller triangles. Decided from the unsnapped distances, so the result
@@ -59,6 +59,7 @@ Sides classify(const sim::SoftBody& b, const CutSurface& s, float snap, float re
             const uint32_t i = std::min(t[size_t(k)], t[size_t((k + 1) % 3)]);
             const uint32_t j = std::max(t[size_t(k)], t[size_t((k + 1) % 3)]);
             if (!((d[i] < 0.0f && d[j] > 0.0f) || (d[i] > 0.0f && d[j] < 0.0f))) continue;
+            if (!s.may_touch(i) || !s.may_touch(j)) continue;
             const float u = d[i] / (d[i] - d[j]);
             const float rest = (b.rest_positions[j] - b.rest_positions[i]).norm();
             const bool near_i = u < snap || u * rest < reach, near_j = u > 1.0f - snap || (1.0f - u) * rest < reach;
@@ -76,6 +77,7 @@ Sides classify(const sim::SoftBody& b, const CutSurface& s, float snap, float re
             const uint32_t a = t[size_t(k)], p = t[size_t((k + 1) % 3)], q = t[size_t((k + 2) % 3)];
             const bool lone = (d[a] < 0.0f && d[p] > 0.0f && d[q] > 0.0f) || (d[a] > 0.0f && d[p] < 0.0f && d[q] < 0.0f);
             if (!lone || snapped[a] || snapped[p] || snapped[q]) continue;
+            if (!s.may_touch(a) || !s.may_touch(p) || !s.may_touch(q)) continue;
             const float u_p = d[a] / (d[a] - d[p]), u_q = d[a] / (d[a] - d[q]);
             const Vec3f& ra = b.rest_positions[a];
             const float area = 0.5f * (b.rest_positions[p] - ra).cross(b.rest_positions[q] - ra).norm();
@@ -116,6 +118,7 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
             const uint32_t i = std::min(b.triangles[t][size_t(k)], b.triangles[t][size_t((k + 1) % 3)]);
             const uint32_t j = std::max(b.triangles[t][size_t(k)], b.triangles[t][size_t((k + 1) % 3)]);
             if (e.sign[i] * e.sign[j] >= 0) continue;
+            if (!s.may_touch(i) || !s.may_touch(j)) continue;
             if (e.point_on(i, j) != UINT32_MAX) {
                 crossed = true;
                 continue;
@@ -154,7 +157,7 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
     }
     e.redistribute_mass();
     e.update_distance_constraints();
-    apply_volume_policy(b, o.volume, e.old_volume_of_triangles(), e.old_volumes);
+    apply_volume_policy(b, o.volume, o.burst_leak, e.old_volume_of_triangles(), e.old_volumes);
     e.change.components_after = e.count_components();
     const core::Stopwatch rebuild;
     sim::rebuild_derived(b);

@@ -15,7 +15,8 @@ namespace pbdsplat::topology {
 enum class VolumePolicy {
     cap,     // virtual caps over the new boundary loops keep a volume defined; the pieces share
              // the original rest volume in proportion to their volumes at the cut
-    burst,   // an opened component loses its volume constraint: the pressure escapes
+    burst,   // an opened component leaks: its overpressure escapes over a few frames
+             // (CutOptions::burst_leak), then its volume constraint rests
     rebase,  // each changed piece takes the volume it has at the cut as its new target
 };
 const char* volume_policy_name(VolumePolicy p);
@@ -28,6 +29,7 @@ struct CutOptions {
     // one region cannot whittle triangles down; 0 takes the current mean.
     float reference_edge_length = 0.0f;
     VolumePolicy volume = VolumePolicy::cap;
+    float burst_leak = 4.0f;  // 1/s: how fast a burst component's overpressure escapes
 };
 
 // Cuts `body` along `surface` (current positions). Particles that move keep their state; new

@@ -2,7 +2,9 @@
 // The surface a cut follows (paper section 5.7): a plane, optionally restricted to part of it.
 // A screen-space stroke defines the plane through the eye holding the view rays of its two
 // ends, restricted to what projects inside the stroke; scripts may use a whole world plane.
+#include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "core/math.h"
 #include "core/result.h"
@@ -15,9 +17,14 @@ struct CutSurface {
     // Which points of the plane the cut reaches; empty means all of it. Called with points of
     // the plane only (edge crossings, vertices lying on the plane).
     std::function<bool(const Vec3f&)> inside;
+    // Which particles the cut may touch (one flag per particle); empty means all. A tear opens
+    // a slit in the torn vertex's own neighbourhood: on a crumpled shell, other layers pass
+    // through the same ball in space, and a purely geometric reach would cut them all.
+    std::vector<uint8_t> particles;
 
     float distance(const Vec3f& x) const { return normal.dot(x - point); }
     bool reaches(const Vec3f& x) const { return !inside || inside(x); }
+    bool may_touch(uint32_t particle) const { return particles.empty() || (particle < particles.size() && particles[particle]); }
 };
 
 // A whole world plane through `point` with normal `normal` (need not be unit length).

@@ -21,7 +21,7 @@ Edit::Edit(sim::SoftBody& body) : b_(body), n0_(body.particle_count()), t0_(body
     change.triangles_before = t0_;
     for (const sim::VolumeConstraint& v : b_.volumes)
         old_volumes.push_back({v.rest_volume, sim::constraint_volume<float>(v, b_.particles.x), v.pressure, v.compliance,
-                               v.triangles.size(), v.cap_loops.size()});
+                               v.leak, v.triangles.size(), v.cap_loops.size()});
     old_volume_of_vertex_.assign(n0_, -1);
     for (size_t k = 0; k < b_.volumes.size(); ++k)
         for (const auto& t : b_.volumes[k].triangles)

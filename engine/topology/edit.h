@@ -14,7 +14,7 @@ namespace pbdsplat::topology {
 // What the volume policy needs of a volume constraint from before the change.
 struct OldVolume {
     double rest_volume = 0.0, now = 0.0;  // now: its volume just before the change
-    float pressure = 1.0f, compliance = 0.0f;
+    float pressure = 1.0f, compliance = 0.0f, leak = 0.0f;
     size_t triangles = 0, cap_loops = 0;
 };
 

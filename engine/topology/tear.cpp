@@ -47,6 +47,21 @@ bool splits_ring(const sim::SoftBody& b, uint32_t v, const Vec3f& normal, float&
         }
     return pos && neg;
 }
+// Flags the particles within `rings` triangle rings of v.
+std::vector<uint8_t> neighbourhood(const sim::SoftBody& b, uint32_t v, int rings) {
+    std::vector<uint8_t> in(b.particle_count(), 0);
+    std::vector<uint32_t> front{v}, next;
+    in[v] = 1;
+    for (int r = 0; r < rings; ++r) {
+        next.clear();
+        for (uint32_t u : front)
+            for (uint32_t k = b.rings.start[u]; k < b.rings.start[u + 1]; ++k)
+                for (uint32_t w : b.rings.ring[k])
+                    if (!in[w]) in[w] = 1, next.push_back(w);
+        front.swap(next);
+    }
+    return in;
+}
 } // namespace
 
 core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const TearOptions& tear, const CutOptions& cut_options) {
@@ -60,8 +75,9 @@ core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const Te
         for (uint32_t v : {e.i, e.j}) {
             float radius = 0.0f;
             if (!splits_ring(b, v, along, radius)) continue;
-            auto change = cut(b, local_cut(sim::xyz(b.particles.x[v]), along, std::max(tear.reach * (xj - xi).norm(), 1.01f * radius)),
-                              cut_options);
+            CutSurface slit = local_cut(sim::xyz(b.particles.x[v]), along, std::max(tear.reach * (xj - xi).norm(), 1.01f * radius));
+            slit.particles = neighbourhood(b, v, 2);
+            auto change = cut(b, slit, cut_options);
             if (!change.ok()) return change.error();
             return std::optional<TopologyChange>(std::move(change).value());
         }

@@ -22,7 +22,7 @@ bool holds_air(const sim::VolumeConstraint& v, double volume, const sim::Vec4Arr
 }
 } // namespace
 
-void apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, std::span<const int32_t> old_of_triangle,
+void apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float leak, std::span<const int32_t> old_of_triangle,
                          std::span<const OldVolume> old) {
     if (old.empty()) return;
     std::vector<uint32_t> comp;
@@ -54,17 +54,18 @@ void apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, std::span<const 
         sim::VolumeConstraint& v = pieces[c];
         v.pressure = parent.pressure;
         v.compliance = parent.compliance;
+        v.leak = parent.leak;
         const bool unchanged = pieces_of_old[size_t(from[c])] == 1 && v.triangles.size() == parent.triangles &&
                                v.cap_loops.size() == parent.cap_loops;
         if (unchanged) {
             v.rest_volume = parent.rest_volume;
-        } else if (policy == VolumePolicy::burst && !v.cap_loops.empty()) {
-            continue;  // opened: the pressure escapes
         } else if (policy == VolumePolicy::rebase) {
             v.rest_volume = now[c] / double(v.pressure);  // the target is the volume it has now
         } else {
             const double before = parent.now;
             v.rest_volume = before > 0.0 ? parent.rest_volume * now[c] / before : 0.0;
+            // Opened: the pressure escapes through the opening, over a few frames.
+            if (policy == VolumePolicy::burst && !v.cap_loops.empty()) v.leak = std::max(v.leak, leak);
         }
         if (v.rest_volume > 0.0 && (unchanged || holds_air(v, now[c], b.particles.x))) out.push_back(std::move(v));
     }

@@ -15,7 +15,8 @@ namespace pbdsplat::topology {
 // Components whose triangles and boundary loops did not change keep their constraint as it was.
 // Under `cap` a piece keeps its parent's ratio of volume to target, so no piece jumps: with a
 // planar cut through a closed body the pieces' targets sum to the parent's.
-void apply_volume_policy(sim::SoftBody& body, VolumePolicy policy, std::span<const int32_t> old_volume_of_triangle,
+// `leak`: the rate at which a component opened under `burst` loses its overpressure (1/s).
+void apply_volume_policy(sim::SoftBody& body, VolumePolicy policy, float leak, std::span<const int32_t> old_volume_of_triangle,
                          std::span<const OldVolume> old_volumes);
 
 } // namespace pbdsplat::topology

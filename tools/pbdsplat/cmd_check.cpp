@@ -82,6 +82,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                                   {"model_vertices", r.model_vertices},
                                   {"simulation_particles", r.simulation_particles},
                                   {"embedding_error", r.embedding_error},
+                                  {"invariants_at_load", r.invariants_at_load.empty() ? "ok" : r.invariants_at_load},
                                   {"samples", samples}};
         std::printf("%s\n", j.dump().c_str());
         return 0;
@@ -90,6 +91,9 @@ int cmd_check(const std::vector<std::string>& argv) {
                 sc->name.c_str(), o.frames, o.every, r.simulation_particles, r.model_vertices);
     if (r.embedding_error > 0.0) std::printf(" (surface embedded, rest error %.2g of the diagonal)", r.embedding_error);
     std::printf(":\n");
+    if (!r.invariants_at_load.empty())
+        std::printf("  the mesh as loaded breaks the topology invariants, so cuts and tears ran unchecked: %s\n",
+                    r.invariants_at_load.c_str());
     std::printf("  %6s %6s %5s %5s %8s %6s %8s %6s %6s %8s\n", "frame", "time", "cuts", "tears", "shape", "strays", "holes%",
                 "IoU", "pieces", "volume");
     for (const scene::CheckSample& s : r.samples)
