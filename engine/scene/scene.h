@@ -27,7 +27,7 @@ enum class SurfaceMode { boundary, vertices };
 
 struct SurfaceDesc {
     SurfaceMode mode = SurfaceMode::boundary;  // boundary particles, or mesh vertices only (Fig. 14a)
-    float eta = 0.5f;            // h = eta * mean edge length (boundary mode; vertices mode uses eta = 1)
+    float eta = 0.5f;            // h = eta * mean edge length; in vertices mode it sizes the splats alike
     bool stretch_scale = false;  // grow splats with the stretch of their triangle
     uint32_t seed = 1;           // sampling seed
 };

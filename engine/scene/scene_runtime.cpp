@@ -85,8 +85,10 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     const SurfaceDesc& sd_surface = scene_.surface;
     const bool boundary = sd_surface.mode == SurfaceMode::boundary;
     // Boundary particles sample the model's own surface (h from its edges) and ride on the
-    // simulation mesh; without a separate model surface they sample the simulation mesh.
-    h_ = boundary && fine_ ? surface::spacing(*fine_, sd_surface.eta) : surface::spacing(rest, boundary ? sd_surface.eta : 1.0f);
+    // simulation mesh; without a separate model surface they sample the simulation mesh. The
+    // vertices-only mode keeps the same h, so its splats are as large as with boundary
+    // particles and show the holes those close (the paper's Figure 14a against 14b).
+    h_ = boundary && fine_ ? surface::spacing(*fine_, sd_surface.eta) : surface::spacing(rest, sd_surface.eta);
     if (!(h_ > 0.0f)) return core::make_error("the mesh has no edges to derive the sampling spacing from");
     // With an embedded surface the samples are the splats: the simulation particles sit on the
     // coarse mesh, off the model's surface wherever it curves, and after a cut the new ones
