@@ -13,6 +13,7 @@
 #include "mesh/topology.h"
 #include "scene/mesh_image.h"
 #include "scene/offscreen_renderer.h"
+#include "scene/scene_file.h"
 #include "scene/builtin_scene.h"
 #include "scene/default_scene.h"
 #include "scene/scene_runtime.h"
@@ -400,6 +401,31 @@ TEST_SUITE("render/lighting") {
 }
 
 TEST_SUITE("render/scene") {
+    TEST_CASE("the shipped shading scene looks different under normal and position lookups") {
+        auto ctx = test::open_validated_context();
+        auto shipped = scene::load_scene(std::string(PBDSPLAT_PROJECT_SCENES_DIR) + "/shading_normal_vs_position.toml");
+        REQUIRE_MESSAGE(shipped.ok(), shipped.error().to_string());
+        auto first_frame = [&](render::EnvSampling mode) {
+            scene::Scene s = shipped.value();
+            s.render.width = 240;
+            s.render.height = 180;
+            s.render.frame.lighting.environment.sampling = mode;
+            scene::RuntimeOptions o;
+            o.gpu = ctx.get();
+            auto rt = scene::SceneRuntime::create(s, o);
+            REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+            REQUIRE(rt.value()->step().ok());
+            auto img = rt.value()->finish();
+            REQUIRE_MESSAGE(img.ok(), img.error().to_string());
+            return std::move(img).value();
+        };
+        auto diff = core::compare_images(first_frame(render::EnvSampling::normal), first_frame(render::EnvSampling::position), 2);
+        REQUIRE(diff.ok());
+        CHECK(diff->share_over > 0.05);
+        CHECK(diff->psnr_db < 40.0);
+        test::require_no_validation_messages(*ctx);
+    }
+
     TEST_CASE("the default scene through its frame graph matches its golden image") {
         auto ctx = test::open_validated_context();
         scene::Scene s = scene::default_scene();
