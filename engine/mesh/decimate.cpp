@@ -48,6 +48,68 @@ bool oriented_manifold(const TriangleMesh& m) {
     std::sort(edges.begin(), edges.end());
     return std::adjacent_find(edges.begin(), edges.end()) == edges.end();
 }
+// Triangles under 1/1000 of the mean area: the topology stage rejects them (a sliver's normal
+// and its splats' shading are noise), and a cut through one makes worse.
+size_t slivers(const TriangleMesh& m) {
+    std::vector<float> area(m.triangles.size());
+    double mean = 0.0;
+    for (size_t t = 0; t < area.size(); ++t) {
+        const auto& tri = m.triangles[t];
+        area[t] = 0.5f * (m.positions[tri[1]] - m.positions[tri[0]]).cross(m.positions[tri[2]] - m.positions[tri[0]]).norm();
+        mean += double(area[t]);
+    }
+    mean /= double(std::max<size_t>(1, area.size()));
+    return size_t(std::count_if(area.begin(), area.end(), [&](float a) { return double(a) < 1e-3 * mean; }));
+}
+// Flips the longest edge of each sliver: the flat triangle (a, b, c), c nearly on a-b, and its
+// neighbour (b, a, d) become (a, d, c) and (d, b, c). An edge flip changes no vertex, keeps the
+// surface closed and oriented, and is taken only when both new triangles are larger than the
+// sliver and face the way the pair did. Returns how many were flipped.
+size_t flip_slivers(TriangleMesh& m) {
+    auto area = [&](const Triangle& t) {
+        return 0.5f * (m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]).norm();
+    };
+    auto normal = [&](const Triangle& t) {
+        return Vec3f((m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]));
+    };
+    double mean = 0.0;
+    for (const Triangle& t : m.triangles) mean += double(area(t));
+    mean /= double(std::max<size_t>(1, m.triangles.size()));
+    auto key = [](uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; };
+    std::unordered_map<uint64_t, uint32_t> directed;  // directed edge -> its triangle
+    for (uint32_t t = 0; t < m.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) directed[key(m.triangles[t][k], m.triangles[t][(k + 1) % 3])] = t;
+    size_t flipped = 0;
+    for (uint32_t t = 0; t < m.triangles.size(); ++t) {
+        const Triangle s = m.triangles[t];
+        if (double(area(s)) >= 1e-3 * mean) continue;
+        int longest = 0;
+        float best = -1.0f;
+        for (int k = 0; k < 3; ++k) {
+            const float len = (m.positions[s[(k + 1) % 3]] - m.positions[s[k]]).squaredNorm();
+            if (len > best) best = len, longest = k;
+        }
+        const uint32_t a = s[longest], b = s[(longest + 1) % 3], c = s[(longest + 2) % 3];
+        const auto other = directed.find(key(b, a));
+        if (other == directed.end()) continue;  // a border edge: nothing to flip with
+        const uint32_t u = other->second;
+        const Triangle& n = m.triangles[u];
+        uint32_t d = n[0] + n[1] + n[2] - a - b;
+        if (d == c || directed.count(key(c, d)) || directed.count(key(d, c))) continue;  // would double an edge
+        const Triangle t1{a, d, c}, t2{d, b, c};
+        const Vec3f before = normal(s) + normal(n);
+        if (!(area(t1) > area(s) && area(t2) > area(s)) || normal(t1).dot(before) <= 0.0f || normal(t2).dot(before) <= 0.0f)
+            continue;
+        for (const Triangle& old : {s, n})
+            for (int k = 0; k < 3; ++k) directed.erase(key(old[k], old[(k + 1) % 3]));
+        m.triangles[t] = t1;
+        m.triangles[u] = t2;
+        for (uint32_t q : {t, u})
+            for (int k = 0; k < 3; ++k) directed[key(m.triangles[q][k], m.triangles[q][(k + 1) % 3])] = q;
+        ++flipped;
+    }
+    return flipped;
+}
 } // namespace
 
 core::Result<DecimatedMesh> decimate(const TriangleMesh& m, const DecimateOptions& o, const std::string& name) {
@@ -67,9 +129,9 @@ core::Result<DecimatedMesh> decimate(const TriangleMesh& m, const DecimateOption
     indices.reserve(m.triangles.size() * 3);
     for (const Triangle& t : m.triangles) indices.insert(indices.end(), t.begin(), t.end());
     const size_t input_boundary = boundary_edge_count(m);
-    // meshopt_simplify can leave a collapsed sliver (three collinear corners) or pinch a thin
-    // part into a non-manifold edge; the repair would drop them and open holes. A slightly
-    // different target takes other collapses: the first clean result wins.
+    // meshopt_simplify can leave a collapsed sliver (three collinear corners, or nearly), or
+    // pinch a thin part into a non-manifold edge; the repair would drop them and open holes. A
+    // slightly different target takes other collapses: the first clean result wins.
     const float tries[] = {1.0f, 1.04f, 0.96f, 1.08f, 0.92f, 1.15f, 0.85f, 1.25f};
     std::optional<RepairedMesh> best;
     size_t best_score = SIZE_MAX;
@@ -78,11 +140,14 @@ core::Result<DecimatedMesh> decimate(const TriangleMesh& m, const DecimateOption
         float e = 0.0f;
         auto attempt = simplify(m, indices, uint32_t(float(o.target_vertices) * f), o.lock_border, e, name);
         if (!attempt.ok()) return attempt.error();
+        for (int pass = 0; pass < 3 && flip_slivers(attempt.value().mesh) > 0; ++pass) {
+        }
         const RepairReport& r = attempt.value().report;
         // Holes the decimation opened, with a fold (a directed edge used twice) worst of all.
         const size_t score = (oriented_manifold(attempt.value().mesh) ? 0 : 1000000) +
                              (r.boundary_edges > input_boundary ? r.boundary_edges - input_boundary : 0) +
-                             r.degenerate_triangles + r.duplicate_triangles + r.nonmanifold_edges + r.split_vertices;
+                             r.degenerate_triangles + r.duplicate_triangles + r.nonmanifold_edges + r.split_vertices +
+                             100 * slivers(attempt.value().mesh);
         if (score < best_score) best = std::move(attempt.value()), best_score = score, error = e;
         if (score == 0) break;
     }

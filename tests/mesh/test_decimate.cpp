@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <random>
 #include <set>
 
@@ -82,6 +83,15 @@ TEST_SUITE("mesh/decimate") {
                 for (int k = 0; k < 3; ++k) twice = twice || !directed.insert({t[k], t[(k + 1) % 3]}).second;
             CHECK(!twice);
             CHECK(vertex_distance(fine.value().mesh, c) < 0.02f);
+            // No sliver the topology invariants would reject (under 1/1000 of the mean area).
+            double mean = 0.0;
+            std::vector<double> area;
+            for (const auto& t : c.triangles) {
+                area.push_back(0.5 * double((c.positions[t[1]] - c.positions[t[0]]).cross(c.positions[t[2]] - c.positions[t[0]]).norm()));
+                mean += area.back();
+            }
+            mean /= double(area.size());
+            CHECK(*std::min_element(area.begin(), area.end()) >= 1e-3 * mean);
         }
     }
 }
