@@ -140,8 +140,9 @@ core::Result<DecimatedMesh> decimate(const TriangleMesh& m, const DecimateOption
         float e = 0.0f;
         auto attempt = simplify(m, indices, uint32_t(float(o.target_vertices) * f), o.lock_border, e, name);
         if (!attempt.ok()) return attempt.error();
-        for (int pass = 0; pass < 3 && flip_slivers(attempt.value().mesh) > 0; ++pass) {
-        }
+        // A flip can make a neighbour the next sliver's partner: a few passes settle it.
+        for (int pass = 0; pass < 3; ++pass)
+            if (flip_slivers(attempt.value().mesh) == 0) break;
         const RepairReport& r = attempt.value().report;
         // Holes the decimation opened, with a fold (a directed edge used twice) worst of all.
         const size_t score = (oriented_manifold(attempt.value().mesh) ? 0 : 1000000) +

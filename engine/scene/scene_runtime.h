@@ -89,10 +89,9 @@ public:
     // edge stretched past 3x) are left out. For coverage against a mesh raster.
     void deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles);
     const surface::BoundaryParticles& boundary_particles() const { return boundary_; }
+    // The splats of the last frame: the particles' first, then the boundary particles'; with an
+    // embedded model surface, the boundary particles' only.
     const std::vector<splat::GaussianRecord>& records() const { return records_; }
-    // Whether the simulation particles are drawn as splats (first in records()), or only the
-    // boundary particles are (an embedded model surface).
-    bool splat_particles() const { return splat_particles_; }
     float spacing() const { return h_; }
     const Scene& scene() const { return scene_; }
     // What the most recent cut or tear did (empty before any).
