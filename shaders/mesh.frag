@@ -15,12 +15,14 @@ layout(location = 1) in vec3 v_normal;
 layout(location = 0) out vec4 out_color;
 
 void main() {
+    // The mask's red channel says whether the outside of the surface is seen (1) or its inside,
+    // through an opening (0): measures that compare shading look at the outside only.
+    const bool outside = dot(v_normal, frame.camera_pos.xyz - v_world) >= 0.0;
     if (k_mask) {
-        out_color = vec4(1.0);
+        out_color = vec4(outside ? 1.0 : 0.0, 1.0, 1.0, 1.0);
         return;
     }
     // A cut opens the body: its inside faces the camera too, lit from the side that is seen.
-    vec3 n = normalize(v_normal);
-    if (dot(n, frame.camera_pos.xyz - v_world) < 0.0) n = -n;
+    const vec3 n = seen_side(normalize(v_normal), v_world);
     out_color = vec4(shade(push.albedo.rgb, n, v_world), 1.0);
 }

@@ -92,6 +92,7 @@ core::Result<RepairedMesh> load_mesh_spec(const std::string& spec, const MeshSpe
         RepairOptions o;
         o.center = options.file_fit_diagonal > 0.0f;
         o.fit_diagonal = options.file_fit_diagonal;
+        o.close_holes = options.close_holes;
         return repair(std::move(raw).value(), o, *path);
     }
     RepairOptions o;

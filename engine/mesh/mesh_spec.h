@@ -13,6 +13,7 @@ struct MeshSpecOptions {
     // Files are centred and scaled to this bounding-box diagonal (0 keeps their own scale), so
     // scenes behave alike whatever units a model was saved in. Procedural shapes keep theirs.
     float file_fit_diagonal = 2.0f;
+    bool close_holes = false;  // files: cap every boundary loop (RepairOptions::close_holes)
 };
 
 // True for the procedural kinds above (whatever their parameters), false for a file.

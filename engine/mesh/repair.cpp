@@ -119,7 +119,8 @@ std::string RepairReport::summary() const {
            ", non-manifold edges " + std::to_string(nonmanifold_edges) + ", split vertices " +
            std::to_string(split_vertices) + ", flipped " + std::to_string(flipped_triangles) + "; " +
            std::to_string(components) + " component(s), " + std::to_string(closed_components) + " closed, " +
-           std::to_string(boundary_loops) + " boundary loop(s), " + std::to_string(boundary_edges) + " boundary edges";
+           std::to_string(boundary_loops) + " boundary loop(s), " + std::to_string(boundary_edges) + " boundary edges" +
+           (capped_holes ? "; " + std::to_string(capped_holes) + " hole(s) capped" : std::string());
 }
 
 core::Result<RepairedMesh> repair(TriangleMesh m, const RepairOptions& options, const std::string& name) {
@@ -282,14 +283,34 @@ core::Result<RepairedMesh> repair(TriangleMesh m, const RepairOptions& options, 
     if (!(s > 0.0f) || !std::isfinite(s)) return core::make_error(name, 0, "the scale must be a positive number");
     for (Vec3f& p : m.positions) p = (p + shift) * s;
 
+    if (options.close_holes) {
+        // The loops run along their triangles' boundary edges, so the cap's triangles run
+        // against them: the orientation stays consistent across the seam.
+        for (const auto& loop : boundary_loops(m)) {
+            if (loop.size() < 3) continue;
+            Vec3f c = Vec3f::Zero();
+            for (uint32_t q : loop) c += m.positions[q];
+            c /= float(loop.size());
+            uint32_t centre = uint32_t(m.positions.size());
+            m.positions.push_back(c);
+            if (!m.normals.empty()) m.normals.push_back(Vec3f::UnitZ());
+            if (!m.colors.empty()) m.colors.push_back(m.colors[loop[0]]);
+            if (!m.uvs.empty()) m.uvs.push_back(m.uvs[loop[0]]);
+            for (size_t i = 0; i < loop.size(); ++i) m.triangles.push_back({loop[(i + 1) % loop.size()], loop[i], centre});
+            ++r.capped_holes;
+        }
+    }
+
     // What is left: components, closedness, boundary.
-    r.components = nc;
-    std::vector<size_t> boundary_in(nc, 0);
+    const uint32_t nc_out = r.capped_holes ? triangle_components(m, comp) : nc;
+    const uint32_t nf_out = uint32_t(m.triangles.size());
+    r.components = nc_out;
+    std::vector<size_t> boundary_in(nc_out, 0);
     {
         std::unordered_map<uint64_t, uint32_t> uses;
         for (const Triangle& t : m.triangles)
             for (int k = 0; k < 3; ++k) ++uses[edge_key(t[size_t(k)], t[size_t((k + 1) % 3)])];
-        for (uint32_t f = 0; f < nf; ++f)
+        for (uint32_t f = 0; f < nf_out; ++f)
             for (int k = 0; k < 3; ++k)
                 if (uses[edge_key(m.triangles[f][size_t(k)], m.triangles[f][size_t((k + 1) % 3)])] == 1)
                     ++boundary_in[comp[f]], ++r.boundary_edges;

@@ -15,6 +15,9 @@ struct RepairOptions {
     bool center = false;          // move the bounding-box centre to the origin
     float fit_diagonal = 0.0f;    // > 0: scale so the bounding-box diagonal has this length
     float scale = 1.0f;           // then multiply positions by this
+    // Caps every boundary loop with a fan around its centroid, so an open model (the teapot's
+    // lid rim and spout) can hold air: a balloon needs a closed surface.
+    bool close_holes = false;
 };
 
 struct RepairReport {
@@ -26,7 +29,8 @@ struct RepairReport {
     size_t nonmanifold_edges = 0;        // edges with more than two triangles, split apart
     size_t split_vertices = 0;           // vertex copies made to separate fans
     size_t flipped_triangles = 0;        // reversed for consistent, outward orientation
-    size_t boundary_edges = 0, boundary_loops = 0;
+    size_t boundary_edges = 0, boundary_loops = 0;  // after capping, with close_holes
+    size_t capped_holes = 0;
     size_t components = 0, closed_components = 0;
     size_t output_vertices = 0, output_triangles = 0;
 

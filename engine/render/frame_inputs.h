@@ -96,6 +96,10 @@ struct SplatStyle {
     // and hidden ones stay hidden. Additive blending needs neither.
     float depth_push = 2.0f;
     float core_r2 = 0.25f;
+    // Only where a splat is this opaque does it write depth: a fragment that lets most of the
+    // background through must not hide its own surface's neighbours' colour, nor the surface
+    // behind (dark specks); splats fading in after a cut write none.
+    float depth_min_alpha = 0.4f;
 };
 
 struct FrameInputs {

@@ -28,7 +28,7 @@ gpu_types::FrameUniforms make_frame_uniforms(const FrameInputs& in, uint32_t wid
     const SplatStyle& s = in.style;
     u.splat = {s.kappa, s.sharpness.x(), s.sharpness.y(), s.scale_multiplier};
     u.material = {l.shininess, 0.0f, 0.0f, 0.0f};
-    u.visibility = {s.depth_push, s.core_r2, 0.0f, 0.0f};
+    u.visibility = {s.depth_push, s.core_r2, s.depth_min_alpha, 0.0f};
     const Environment& e = l.environment;
     u.environment = {float(int(e.sampling)), e.diffuse, e.specular, e.intensity};
     const size_t lights = std::min<size_t>(l.lights.size(), PBDSPLAT_MAX_LIGHTS);

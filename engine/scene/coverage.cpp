@@ -1,14 +1,17 @@
 #include "scene/coverage.h"
 
+#include <memory>
+#include <vector>
+
 #include "scene/mesh_image.h"
 #include "scene/offscreen_renderer.h"
 
 namespace pbdsplat::scene {
 namespace {
 
-core::Result<core::ImageRgba8> mesh_mask(gpu::Context& ctx, std::span<const Vec4f> x,
-                                         std::span<const std::array<uint32_t, 3>> triangles,
-                                         const render::FrameInputs& frame, uint32_t width, uint32_t height) {
+core::Result<std::unique_ptr<render::MeshRaster>> mesh_raster(gpu::Context& ctx, std::span<const Vec4f> x,
+                                                              std::span<const std::array<uint32_t, 3>> triangles,
+                                                              uint32_t width, uint32_t height) {
     render::MeshRasterOptions mo;
     mo.width = width;
     mo.height = height;
@@ -16,22 +19,56 @@ core::Result<core::ImageRgba8> mesh_mask(gpu::Context& ctx, std::span<const Vec4
     mo.max_triangles = triangles.size();
     auto raster = render::MeshRaster::create(ctx, mo);
     if (!raster.ok()) return raster.error();
-    PBDSPLAT_TRY(raster.value()->set_mesh(x, triangles));
-    auto image = render_mesh_image(ctx, *raster.value(), frame, render::MeshView::mask);
-    if (!image.ok()) return image.error();
-    return std::move(image->image);
+    // Area-weighted vertex normals of the deformed mesh, for the lit image.
+    std::vector<Vec3f> normals(x.size(), Vec3f::Zero());
+    for (const auto& t : triangles) {
+        const Vec3f n = (x[t[1]] - x[t[0]]).head<3>().cross((x[t[2]] - x[t[0]]).head<3>());
+        for (uint32_t v : t) normals[v] += n;
+    }
+    for (Vec3f& n : normals) n = n.norm() > 0.0f ? Vec3f(n.normalized()) : Vec3f::UnitZ();
+    PBDSPLAT_TRY(raster.value()->set_mesh(x, triangles, normals));
+    return std::move(raster).value();
 }
 
 } // namespace
 
+double pixel_luminance(const uint8_t* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
+
+double speck_ratio(const core::ImageRgba8& splats, const core::ImageRgba8& shaded, const core::ImageRgba8& mask,
+                   core::ImageRgba8* marked) {
+    size_t inside = 0, specks = 0;
+    if (marked) *marked = splats;
+    for (size_t i = 0; i < size_t(mask.width) * mask.height; ++i) {
+        // The inside of the surface, seen through an opening: the splats shade one side only.
+        if (mask.pixels[i * 4 + 3] < 128 || mask.pixels[i * 4] < 128) continue;
+        ++inside;
+        const bool speck = pixel_luminance(&splats.pixels[i * 4]) < 0.5 * pixel_luminance(&shaded.pixels[i * 4]);
+        specks += speck ? 1 : 0;
+        if (speck && marked) {
+            uint8_t* p = &marked->pixels[i * 4];
+            p[0] = 255, p[1] = 0, p[2] = 255, p[3] = 255;
+        }
+    }
+    return inside ? double(specks) / double(inside) : 0.0;
+}
+
 core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f> x,
                                         std::span<const std::array<uint32_t, 3>> triangles,
                                         std::span<const splat::GaussianRecord> records, render::FrameInputs frame,
-                                        uint32_t width, uint32_t height) {
+                                        uint32_t width, uint32_t height, std::optional<Vec3f> albedo) {
     Coverage c;
-    auto mesh = mesh_mask(ctx, x, triangles, frame, width, height);
-    if (!mesh.ok()) return mesh.error();
-    c.mesh = std::move(mesh).value();
+    auto raster = mesh_raster(ctx, x, triangles, width, height);
+    if (!raster.ok()) return raster.error();
+    auto mask = render_mesh_image(ctx, *raster.value(), frame, render::MeshView::mask);
+    if (!mask.ok()) return mask.error();
+    c.mesh = std::move(mask->image);
+    if (albedo) {
+        render::FrameInputs lit = frame;
+        lit.background = Vec4f::Zero();
+        auto shaded = render_mesh_image(ctx, *raster.value(), lit, render::MeshView::shaded, *albedo);
+        if (!shaded.ok()) return shaded.error();
+        c.shaded = std::move(shaded->image);
+    }
 
     render::RendererOptions ro;
     ro.width = width;
@@ -58,6 +95,7 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
     if (c.mesh_pixels == 0) return core::make_error("the mesh is not in view: no coverage to measure");
     c.hole_ratio = double(holes) / double(c.mesh_pixels);
     c.silhouette_iou = double(both) / double(either);
+    if (albedo) c.speck_ratio = speck_ratio(c.splats, c.shaded, c.mesh);
     return c;
 }
 

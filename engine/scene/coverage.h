@@ -15,13 +15,22 @@ namespace pbdsplat::scene {
 struct Coverage {
     double hole_ratio = 0.0;
     double silhouette_iou = 0.0;
+    double speck_ratio = -1.0;  // -1: not measured (no albedo given)
     size_t mesh_pixels = 0;
     core::ImageRgba8 splats, mesh;  // the two images, for people to look at
+    core::ImageRgba8 shaded;        // the lit mesh (with an albedo only)
 };
+
+// Rec. 709 luma of an sRGB-encoded pixel, as bytes: the speck measure's brightness.
+double pixel_luminance(const uint8_t* rgba);
+// The speck ratio of a splat image (over a black background) against the lit mesh and its mask.
+// `marked`, when given, receives the splat image with every speck painted magenta.
+double speck_ratio(const core::ImageRgba8& splats, const core::ImageRgba8& shaded_mesh, const core::ImageRgba8& mesh_mask,
+                   core::ImageRgba8* marked = nullptr);
 
 core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f> x,
                                         std::span<const std::array<uint32_t, 3>> triangles,
                                         std::span<const splat::GaussianRecord> records, render::FrameInputs frame,
-                                        uint32_t width, uint32_t height);
+                                        uint32_t width, uint32_t height, std::optional<Vec3f> albedo = std::nullopt);
 
 } // namespace pbdsplat::scene

@@ -11,6 +11,7 @@
 #include "render/splat_pass.h"
 #include "sim/colliders.h"
 #include "sim/solver.h"
+#include "surface/density.h"
 #include "topology/cut.h"
 
 namespace pbdsplat::scene {
@@ -21,6 +22,7 @@ struct ModelDesc {
     Vec3f translate = Vec3f::Zero();
     Vec3f rotate_degrees = Vec3f::Zero();  // applied x, then y, then z
     float scale = 1.0f;
+    bool close_holes = false;  // cap the model's open boundary loops (a balloon needs a closed surface)
 };
 
 enum class SurfaceMode { boundary, vertices };
@@ -30,6 +32,8 @@ struct SurfaceDesc {
     float eta = 0.5f;            // h = eta * mean edge length; in vertices mode it sizes the splats alike
     bool stretch_scale = false;  // grow splats with the stretch of their triangle
     uint32_t seed = 1;           // sampling seed
+    // Boundary particles kept at the sampling density every frame (fades: simulation.fade_frames).
+    surface::DensityOptions density;
 };
 
 struct MaterialDesc {

@@ -1,11 +1,13 @@
 #include "scene/scene_check.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "scene/coverage.h"
 #include "scene/scene_runtime.h"
 #include "sim/shape_error.h"
 #include "splat/strays.h"
+#include "surface/density.h"
 #include "topology/invariants.h"
 
 namespace pbdsplat::scene {
@@ -35,6 +37,12 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
     std::vector<Vec3f> centres;
     std::vector<Vec4f> x;
     std::vector<mesh::Triangle> triangles;
+    double rest_area = -1.0;  // the area at rest, from the scene's first frame's surface
+    {
+        const mesh::TriangleMesh& m = rt.fine_surface() ? *rt.fine_surface() : mesh::TriangleMesh{rt.body().rest_positions, rt.body().triangles, {}, {}, {}};
+        rest_area = 0.0;
+        for (const auto& t : m.triangles) rest_area += 0.5 * double((m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]).norm());
+    }
     for (uint32_t f = 0; f < o.frames; ++f) {
         PBDSPLAT_TRY(rt.step());
         const FrameStats& st = rt.stats();
@@ -55,14 +63,36 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
         centres.clear();
         for (const splat::GaussianRecord& r : rt.records()) centres.emplace_back(r.position[0], r.position[1], r.position[2]);
         s.strays = splat::count_strays(centres, rt.spacing()).strays;
+        // Every splat drawn: the particles count where they are splats too.
+        if (rt.boundary_particles().size() > 1) {
+            const surface::SpacingReport sp = surface::spacing_report(centres, rt.spacing());
+            s.spacing_within = sp.within;
+            s.spacing_p05 = sp.p05;
+            s.spacing_p95 = sp.p95;
+        }
         if (o.gpu) {
             rt.deformed_surface(x, triangles);
+            double area = 0.0;
+            for (const auto& t : triangles) area += 0.5 * (x[t[1]] - x[t[0]]).head<3>().cross((x[t[2]] - x[t[0]]).head<3>()).norm();
+            if (rest_area < 0.0) rest_area = area;
+            s.area_ratio = rest_area > 0.0 ? area / rest_area : -1.0;
             render::FrameInputs frame = scene.render.frame;
             frame.camera = rt.camera();
-            auto c = measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height);
+            frame.style.order = rt.order();  // without a device: the CPU sort, records already in order
+            auto c = measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height, scene.material.color);
             if (!c.ok()) return core::make_error("frame " + std::to_string(s.frame) + ": " + c.error().to_string());
             s.hole_ratio = c->hole_ratio;
             s.iou = c->silhouette_iou;
+            s.speck_ratio = c->speck_ratio;
+            if (!o.images_dir.empty()) {
+                char stem[64];
+                std::snprintf(stem, sizeof stem, "/%s_f%04llu_", scene.name.c_str(), (unsigned long long)s.frame);
+                PBDSPLAT_TRY(core::write_png(o.images_dir + stem + "splats.png", c->splats));
+                PBDSPLAT_TRY(core::write_png(o.images_dir + stem + "mesh.png", c->shaded));
+                core::ImageRgba8 marked;
+                speck_ratio(c->splats, c->shaded, c->mesh, &marked);
+                PBDSPLAT_TRY(core::write_png(o.images_dir + stem + "specks.png", marked));
+            }
         }
         report.samples.push_back(s);
     }
@@ -74,7 +104,10 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
         if (s.hole_ratio >= 0.0) {
             report.hole_ratio_max = std::max(report.hole_ratio_max, s.hole_ratio);
             report.iou_min = report.iou_min < 0.0 ? s.iou : std::min(report.iou_min, s.iou);
+            report.speck_ratio_max = std::max(report.speck_ratio_max, s.speck_ratio);
         }
+        if (s.spacing_within >= 0.0)
+            report.spacing_within_min = report.spacing_within_min < 0.0 ? s.spacing_within : std::min(report.spacing_within_min, s.spacing_within);
     }
     if (!report.samples.empty()) {
         report.pieces = report.samples.back().pieces;

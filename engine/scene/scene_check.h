@@ -3,7 +3,8 @@
 // what a user expects of a soft body: that it keeps its shape (per piece), that no splat
 // floats away from the surface, that the splats close the surface (hole ratio and silhouette
 // IoU against a raster of the same deformed surface), how many pieces there are, and how far
-// each piece's volume is from its target.
+// each piece's volume is from its target, how many dark specks show through the front surface,
+// and whether the boundary particles keep their spacing.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@ struct CheckOptions {
     uint32_t every = 10;            // measure every this many frames (and the last)
     uint32_t width = 320, height = 180;  // coverage images
     gpu::Context* gpu = nullptr;    // null: no coverage (shape, strays and pieces only)
+    std::string images_dir;         // when set: splats, lit mesh and mask of every measured frame, as PNG
 };
 
 struct CheckSample {
@@ -27,7 +29,13 @@ struct CheckSample {
     size_t cuts = 0, tears = 0;
     double shape_error = 0.0;  // the worst piece
     size_t strays = 0;
-    double hole_ratio = -1.0, iou = -1.0;  // -1: not measured (no GPU)
+    double hole_ratio = -1.0, iou = -1.0, speck_ratio = -1.0;  // -1: not measured (no GPU)
+    // The splats' nearest-neighbour spacing: share within [0.7 h, 1.4 h] (-1: no boundary
+    // particles), and its 5th and 95th percentiles in units of h.
+    double spacing_within = -1.0, spacing_p05 = -1.0, spacing_p95 = -1.0;
+    // The deformed surface's area over its rest area (with a device only: the surface is
+    // embedded for the coverage images).
+    double area_ratio = -1.0;
     size_t pieces = 0, particles = 0, gaussians = 0;
     double volume_error = 0.0;  // the worst piece with a volume constraint
 };
@@ -37,7 +45,8 @@ struct CheckReport {
     double shape_error_max = 0.0;
     double shape_error_before_topology = 0.0;  // worst before the first cut or tear
     size_t strays_max = 0;
-    double hole_ratio_max = -1.0, iou_min = -1.0;
+    double hole_ratio_max = -1.0, iou_min = -1.0, speck_ratio_max = -1.0;
+    double spacing_within_min = -1.0;
     double volume_error_max = 0.0;
     size_t pieces = 0;  // at the end
     size_t particles = 0, gaussians = 0;  // at the end

@@ -157,6 +157,7 @@ void read_model(const Reader& r, Reader::Table& t, ModelDesc& m) {
     m.translate = t.vec<3>("translate", m.translate);
     m.rotate_degrees = t.vec<3>("rotate_degrees", m.rotate_degrees, -3600, 3600);
     m.scale = t.real("scale", m.scale, 1e-6, 1e6);
+    m.close_holes = t.flag("close_holes", m.close_holes);
     (void)r;
     t.finish();
 }
@@ -176,6 +177,12 @@ void read_surface(Reader::Table& t, SurfaceDesc& d) {
     d.eta = t.real("eta", d.eta, 0.05, 4.0);
     d.stretch_scale = t.flag("stretch_scale", d.stretch_scale);
     d.seed = t.count("seed", d.seed, 0, 0x7fffffff);
+    d.density.enabled = t.flag("density", d.density.enabled);
+    d.density.grow = t.real("density_grow", d.density.grow, 1.05, 4.0);
+    d.density.shrink = t.real("density_shrink", d.density.shrink, 0.2, 0.95);
+    d.density.retire_spacing = t.real("density_retire_spacing", d.density.retire_spacing, 0.3, 1.0);
+    d.density.insert_spacing = t.real("density_insert_spacing", d.density.insert_spacing, 0.3, 1.0);
+    d.density.budget = t.count("density_budget", d.density.budget, 1, 1u << 20);
     t.finish();
 }
 
@@ -261,6 +268,8 @@ void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
     d.shading = t.choice("shading", "fragment", {"fragment", "corner"}) == "corner" ? render::SplatShading::corner
                                                                                     : render::SplatShading::fragment;
     style.kappa = t.real("kappa", style.kappa, 1.0, 6.0);
+    style.depth_min_alpha = t.real("depth_min_alpha", style.depth_min_alpha, 0.0, 0.99);
+    style.depth_push = t.real("depth_push", style.depth_push, 0.0, 10.0);
     const Vec3f bg = t.vec<3>("background", Vec3f(d.frame.background.head<3>()), 0.0, 1.0);
     d.frame.background = Vec4f(bg.x(), bg.y(), bg.z(), 1.0f);
     if (const toml::table* cam = t.table("camera")) {
@@ -490,14 +499,19 @@ std::string to_toml(const Scene& sc) {
     std::ostringstream o;
     const ModelDesc& m = sc.model;
     o << "[model]\nmesh = " << quoted(m.mesh) << "\nfit = " << num(m.fit) << "\ntranslate = " << vec<3>(m.translate)
-      << "\nrotate_degrees = " << vec<3>(m.rotate_degrees) << "\nscale = " << num(m.scale) << "\n\n";
+      << "\nrotate_degrees = " << vec<3>(m.rotate_degrees) << "\nscale = " << num(m.scale)
+      << "\nclose_holes = " << (m.close_holes ? "true" : "false") << "\n\n";
     const MaterialDesc& mat = sc.material;
     o << "[material]\ncolor = " << vec<3>(mat.color) << "\nopacity = " << num(mat.opacity) << "\nshininess = "
       << num(mat.shininess) << "\ndiffuse = " << num(mat.diffuse) << "\nspecular = " << num(mat.specular)
       << "\nsplat_scale = " << num(mat.splat_scale) << "\n\n";
     const SurfaceDesc& sf = sc.surface;
     o << "[surface]\nmode = " << (sf.mode == SurfaceMode::vertices ? "\"vertices\"" : "\"boundary\"") << "\neta = " << num(sf.eta)
-      << "\nstretch_scale = " << (sf.stretch_scale ? "true" : "false") << "\nseed = " << sf.seed << "\n\n";
+      << "\nstretch_scale = " << (sf.stretch_scale ? "true" : "false") << "\nseed = " << sf.seed
+      << "\ndensity = " << (sf.density.enabled ? "true" : "false") << "\ndensity_grow = " << num(sf.density.grow)
+      << "\ndensity_shrink = " << num(sf.density.shrink) << "\ndensity_retire_spacing = " << num(sf.density.retire_spacing)
+      << "\ndensity_insert_spacing = " << num(sf.density.insert_spacing)
+      << "\ndensity_budget = " << sf.density.budget << "\n\n";
     const SimulationDesc& s = sc.simulation;
     o << "[simulation]\nmode = " << (s.solver.mode == sim::SolverMode::xpbd ? "\"xpbd\"" : "\"paper\"") << "\ndt = " << num(s.dt)
       << "\niterations = " << s.solver.iterations << "\nsubsteps = " << s.solver.substeps
@@ -539,7 +553,7 @@ std::string to_toml(const Scene& sc) {
       << (d.frame.style.blend == render::Blend::additive ? "\"additive\"" : "\"over\"") << "\nsort = " << (d.sort ? "true" : "false")
       << "\nsort_on = \"" << (d.sort_on ? render::splat_order_name(*d.sort_on) : "auto") << "\"\nshading = \""
       << (d.shading == render::SplatShading::corner ? "corner" : "fragment") << "\""
-      << "\nkappa = " << num(d.frame.style.kappa) << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()));
+      << "\nkappa = " << num(d.frame.style.kappa) << "\ndepth_min_alpha = " << num(d.frame.style.depth_min_alpha) << "\ndepth_push = " << num(d.frame.style.depth_push) << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()));
     o << "\npath = \"" << (d.splat_path ? render::splat_path_name(*d.splat_path) : "auto") << "\"\nenvironment = \""
       << render::env_sampling_name(l.environment.sampling) << "\"\nenvironment_intensity = " << num(l.environment.intensity)
       << "\nenvironment_diffuse = " << num(l.environment.diffuse) << "\nenvironment_specular = " << num(l.environment.specular);

@@ -14,6 +14,7 @@ uint32_t simulation_particles(const Scene& scene) {
 core::Result<SceneModel> load_scene_model(const Scene& scene) {
     mesh::MeshSpecOptions mo;
     mo.file_fit_diagonal = scene.model.fit;
+    mo.close_holes = scene.model.close_holes;
     std::string spec = scene.model.mesh;
     // A model file is looked up next to the scene first.
     if (!scene.source_dir.empty()) {

@@ -24,7 +24,7 @@ Group group_of(const std::string& name) {
     if (starts("forces")) return forces;
     if (starts("distance") || starts("volume") || starts("shape") || starts("drag") || starts("collide")) return constraints;
     if (starts("velocities") || starts("normals")) return integrate;
-    if (starts("map") || starts("boundary") || starts("stretch") || starts("sort")) return update;
+    if (starts("map") || starts("boundary") || starts("density") || starts("stretch") || starts("sort")) return update;
     if (starts("upload") || starts("gpu sort") || starts("splat") || starts("readback")) return gpu_record;
     return other;
 }
@@ -101,6 +101,11 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         boundary_ = surface::sample_surface(rest, {h_, sd_surface.seed});
     }
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
+    if (boundary && sd_surface.density.enabled) {
+        surface::DensityOptions o = sd_surface.density;
+        o.fade_frames = scene_.simulation.fade_frames;
+        density_ = surface::DensityControl(body_.rest_positions, body_.triangles, o);
+    }
     appearance_.scale = mat.splat_scale * h_;
     frame_input_.frame.lighting.intensity *= mat.diffuse;
     frame_input_.frame.lighting.specular = mat.specular;
@@ -300,6 +305,23 @@ core::Status SceneRuntime::build_graph() {
             surface::update_boundary_particles(body_.triangles, body_.particles.x, body_.normals, boundary_);
         };
     });
+    // Keeps the samples at their density as the surface stretches and shrinks, and advances
+    // their fades (also those of samples a cut or tear added).
+    auto density = g.import("density control", boundary ? &density_ : static_cast<surface::DensityControl*>(nullptr));
+    cpu_pass("density", [&](graph::PassBuilder& b) {
+        b.read(body);
+        b.read(density);
+        samples = b.write(samples);
+        return [this](const graph::PassResources&, graph::ExecuteContext&) {
+            if (density_.empty()) {
+                density_stats_ = {};
+                density_stats_.removed = uint32_t(surface::advance_fades(boundary_, &density_stats_.fading));
+                return;
+            }
+            density_stats_ = density_.update(body_.particles.x, body_.normals, body_.triangles, splat_particles_, h_,
+                                             scene_.surface.seed, boundary_);
+        };
+    });
     cpu_pass("stretch", [&](graph::PassBuilder& b) {
         b.read(body);
         stretch = b.write(stretch);
@@ -318,7 +340,7 @@ core::Status SceneRuntime::build_graph() {
                             particles ? std::span<const Vec3f>(body_.normals) : std::span<const Vec3f>(), body_.colors, body_.triangles,
                             boundary && show_boundary_ ? &boundary_ : nullptr,
                             appearance_, stretch_.empty() ? nullptr : &stretch_, records_);
-            fade_.apply(particles ? body_.particle_count() : 0, records_);
+            fade_.apply(records_);
             // Position-based environment lookups look out from the body's centre; nothing else
             // reads it.
             render::Environment& env = frame_input_.frame.lighting.environment;
@@ -421,9 +443,7 @@ core::Status SceneRuntime::after_topology_change(const topology::TopologyChange&
                 return cut->reaches(p - d * cut->normal) ? d : 0.0f;
             };
             std::vector<uint32_t> emptied;
-            const size_t dropped = surface::drop_across_cut(side, body_.triangles, body_.particles.x, boundary_, &emptied);
-            // Fades index samples by position in the array: dropping shifts them, so start over.
-            if (dropped) fade_.reset_samples();
+            surface::drop_across_cut(side, body_.triangles, body_.particles.x, boundary_, &emptied);
             // Where samples were dropped beyond the re-triangulated ones, refill too.
             refill.insert(refill.end(), emptied.begin(), emptied.end());
             std::sort(refill.begin(), refill.end());
@@ -436,7 +456,8 @@ core::Status SceneRuntime::after_topology_change(const topology::TopologyChange&
                                 splat_particles_ ? std::span<const Vec3f>(body_.rest_positions) : std::span<const Vec3f>(), piece,
                                 {h_, scene_.surface.seed + uint32_t(cuts_ + tears_) + 1}, boundary_);
         surface::update_boundary_particles(body_.triangles, body_.particles.x, body_.normals, boundary_);
-        fade_.add_samples(before, boundary_.size() - before);
+        surface::fade_in(boundary_, before, scene_.simulation.fade_frames);
+        if (!density_.empty()) density_.topology_changed(body_.rest_positions, body_.triangles, refill);
     }
     if (!stretch_.empty()) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
     return core::Status::success();
@@ -509,6 +530,7 @@ core::Status SceneRuntime::step() {
     s.time = time_;
     s.particles = body_.particle_count();
     s.boundary_particles = boundary_.size();
+    s.density = density_stats_;
     s.gaussians = records_.size();
     for (size_t k = 0; k < ms.size(); ++k) {
         const double t = ms[k];

@@ -19,6 +19,7 @@
 #include "render/mesh_raster.h"
 #include "splat/sort.h"
 #include "surface/boundary_particles.h"
+#include "surface/density.h"
 #include "surface/embedding.h"
 #include "topology/topology_change.h"
 
@@ -61,6 +62,7 @@ struct FrameStats {
     // none or the pass did not run): the paper's "GPU Scene" row, broken down.
     double gpu_upload_ms = 0.0, gpu_sort_ms = 0.0, gpu_draw_ms = 0.0;
     double gpu_scene_ms() const { return gpu_upload_ms + gpu_sort_ms + gpu_draw_ms; }
+    surface::DensityStats density;  // this frame's density control
 };
 
 class SceneRuntime {
@@ -167,6 +169,8 @@ private:
     splat::Appearance appearance_;
     surface::BoundaryParticles boundary_;
     splat::StretchScale stretch_;
+    surface::DensityControl density_;  // empty when the scene turns it off
+    surface::DensityStats density_stats_;
     splat::SortScratch sort_scratch_;
     std::vector<splat::GaussianRecord> records_;
     std::vector<splat::GaussianRecord> previous_records_;  // what the GPU holds: for changed ranges

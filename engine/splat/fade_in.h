@@ -1,7 +1,7 @@
 #pragma once
-// Splats created by a topology change fade in over a few frames instead of popping: their
+// Particles created by a topology change fade in over a few frames instead of popping: their
 // record's colour alpha (the shader's fade factor) rises from 0 to 1. Sparse: only splats
-// still fading cost anything.
+// still fading cost anything. (Boundary particles carry their own fade: surface/density.h.)
 #include <cstdint>
 #include <vector>
 
@@ -12,23 +12,17 @@ namespace pbdsplat::splat {
 class FadeIn {
 public:
     explicit FadeIn(uint32_t frames = 8) : frames_(frames < 1 ? 1 : frames) {}
-    void add_particles(size_t first, size_t count) { add(false, first, count); }
-    void add_samples(size_t first, size_t count) { add(true, first, count); }
-    // Writes the fade of every splat still fading into `records` (the particles' records first,
-    // `particle_count` of them, then the boundary particles'), then advances one frame.
-    void apply(size_t particle_count, std::vector<GaussianRecord>& records);
+    void add_particles(size_t first, size_t count);
+    // Writes the fade of every particle still fading into `records` (the particles' records
+    // first), then advances one frame.
+    void apply(std::vector<GaussianRecord>& records);
     size_t fading() const { return items_.size(); }
-    // Forgets the boundary particles still fading (their indices no longer hold: samples were
-    // dropped); they show at once.
-    void reset_samples() { std::erase_if(items_, [](const Item& i) { return i.sample; }); }
 
 private:
     struct Item {
-        bool sample;
         uint32_t index;
         uint32_t age;
     };
-    void add(bool sample, size_t first, size_t count);
     uint32_t frames_;
     std::vector<Item> items_;
 };

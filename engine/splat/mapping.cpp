@@ -91,6 +91,7 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
             color_bytes((1.0f - b.x() - b.y()) * colors[tri[0]] + b.x() * colors[tri[1]] + b.y() * colors[tri[2]], r);
         }
         if (stretch && !stretch->empty()) r.scale_half = float_to_half(look.scale * stretch->triangle(t));
+        if (k < samples->fade.size()) r.color[3] = uint8_t(std::lround(std::clamp(samples->fade[k], 0.0f, 1.0f) * 255.0f));
         out[n + k] = r;
     }
 }

@@ -3,97 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
-#include <bit>
 
 #include "core/assert.h"
+#include "surface/embedding.h"
+#include "surface/point_grid.h"
 
 namespace pbdsplat::surface {
 namespace {
-
-// A hash grid of accepted points with cell size h: any point within h lies in the 27 cells
-// around a query. Open addressing over cell keys, with the points of a cell chained through
-// an index array: sampling asks it millions of times, so no node allocation and no rehash of
-// vectors.
-class PointGrid {
-public:
-    PointGrid(float h, size_t expected_points) : inv_h_(1.0f / h), h2_(h * h) {
-        size_t cap = 1024;
-        while (cap < expected_points * 2) cap <<= 1;
-        keys_.assign(cap, k_empty);
-        heads_.assign(cap, k_end);
-        mask_ = cap - 1;
-        shift_ = 64 - std::countr_zero(cap);
-        points_.reserve(expected_points);
-        next_.reserve(expected_points);
-        tags_.reserve(expected_points);
-    }
-    // Any point within h of p carrying the same tag (k_any matches every tag).
-    bool near(const Vec3f& p, uint32_t tag = k_any) const {
-        const Eigen::Vector3i c = cell(p);
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const size_t slot = find(key(c + Eigen::Vector3i(dx, dy, dz)));
-                    if (slot == k_end) continue;
-                    for (uint32_t i = heads_[slot]; i != k_end; i = next_[i])
-                        if ((tag == k_any || tags_[i] == k_any || tags_[i] == tag) && (points_[i] - p).squaredNorm() < h2_)
-                            return true;
-                }
-        return false;
-    }
-    static constexpr uint32_t k_any = ~0u;
-    void add(const Vec3f& p, uint32_t tag = k_any) {
-        if ((points_.size() + 1) * 2 > keys_.size()) grow();
-        const uint64_t k = key(cell(p));
-        size_t slot = slot_of(k);
-        while (keys_[slot] != k_empty && keys_[slot] != k) slot = (slot + 1) & mask_;
-        keys_[slot] = k;
-        next_.push_back(heads_[slot]);
-        heads_[slot] = uint32_t(points_.size());
-        points_.push_back(p);
-        tags_.push_back(tag);
-    }
-
-private:
-    static constexpr uint64_t k_empty = ~0ull;
-    static constexpr uint32_t k_end = ~0u;
-    // Fibonacci hashing: the high bits of the product mix all of x, y and z.
-    size_t slot_of(uint64_t k) const { return size_t((k * 0x9E3779B97F4A7C15ull) >> shift_); }
-    size_t find(uint64_t k) const {
-        size_t slot = slot_of(k);
-        while (true) {
-            if (keys_[slot] == k) return slot;
-            if (keys_[slot] == k_empty) return k_end;
-            slot = (slot + 1) & mask_;
-        }
-    }
-    void grow() {
-        std::vector<Vec3f> old = std::move(points_);
-        std::vector<uint32_t> old_tags = std::move(tags_);
-        const size_t cap = keys_.size() * 2;
-        keys_.assign(cap, k_empty);
-        heads_.assign(cap, k_end);
-        mask_ = cap - 1;
-        shift_ = 64 - std::countr_zero(cap);
-        points_.clear();
-        next_.clear();
-        tags_.clear();
-        for (size_t i = 0; i < old.size(); ++i) add(old[i], old_tags[i]);
-    }
-    Eigen::Vector3i cell(const Vec3f& p) const { return (p * inv_h_).array().floor().cast<int>(); }
-    static uint64_t key(const Eigen::Vector3i& c) {
-        return (uint64_t(uint32_t(c.x()) & 0x1fffff) << 42) | (uint64_t(uint32_t(c.y()) & 0x1fffff) << 21) |
-               uint64_t(uint32_t(c.z()) & 0x1fffff);
-    }
-    float inv_h_, h2_;
-    size_t mask_ = 0;
-    int shift_ = 54;
-    std::vector<uint64_t> keys_;
-    std::vector<uint32_t> heads_;  // per slot: the newest point in that cell
-    std::vector<uint32_t> next_;   // per point: the next point in its cell
-    std::vector<Vec3f> points_;
-    std::vector<uint32_t> tags_;  // per point: the piece it belongs to, or k_any
-};
 
 // The rest surface being sampled, without owning (or copying) it.
 struct SurfaceView {
@@ -163,6 +79,8 @@ void BoundaryParticles::clear() {
     local_normal.clear();
     position.clear();
     normal.clear();
+    fade.clear();
+    fade_step.clear();
 }
 
 float spacing(const mesh::TriangleMesh& m, float eta) { return eta * mesh::mean_edge_length(m); }
@@ -211,8 +129,8 @@ void fill(const SurfaceView& m, std::span<const Vec3f> anchors, std::span<const 
     accept(m, candidates(m, triangles, o.candidates / (o.h * o.h), rng), piece, grid, samples);
 }
 
-// New samples on an embedded surface sit at the mean offset of their triangle's samples (the
-// fine surface's height over the coarse triangle there), with the face normal.
+// New samples on an embedded surface take the embedding of their triangle's nearest samples
+// (the fine surface's height over the coarse triangle there).
 void embed_new_samples(size_t first, BoundaryParticles& s) {
     if (!s.embedded()) return;
     std::vector<std::pair<uint32_t, uint32_t>> by_triangle;  // (triangle, sample) of the old ones
@@ -221,13 +139,12 @@ void embed_new_samples(size_t first, BoundaryParticles& s) {
     std::sort(by_triangle.begin(), by_triangle.end());
     s.offset.resize(s.size(), 0.0f);
     s.local_normal.resize(s.size(), Vec3f::UnitZ());
+    std::vector<uint32_t> same;
     for (size_t i = first; i < s.size(); ++i) {
         auto lo = std::lower_bound(by_triangle.begin(), by_triangle.end(), std::make_pair(s.triangle[i], 0u));
-        float sum = 0.0f;
-        uint32_t n = 0;
-        for (; lo != by_triangle.end() && lo->first == s.triangle[i]; ++lo) sum += s.offset[lo->second], ++n;
-        s.offset[i] = n ? sum / float(n) : 0.0f;
-        s.local_normal[i] = Vec3f::UnitZ();
+        same.clear();
+        for (; lo != by_triangle.end() && lo->first == s.triangle[i]; ++lo) same.push_back(lo->second);
+        interpolate_embedding(s, same, s.bary[i], s.offset[i], s.local_normal[i]);
     }
 }
 } // namespace

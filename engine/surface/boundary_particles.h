@@ -30,10 +30,23 @@ struct BoundaryParticles {
     // Updated every frame.
     std::vector<Vec3f> position;
     std::vector<Vec3f> normal;
+    // Samples fading in (new ones) or out (retired ones): the splat's opacity factor in [0, 1]
+    // and its change per frame (negative: retiring, removed once it reaches 0). Shorter than the
+    // other arrays (or empty) when the samples past its end were added at full opacity:
+    // samplers append without knowing about fades; padded() fills the rest with (1, 0).
+    std::vector<float> fade;
+    std::vector<float> fade_step;
 
     size_t size() const { return triangle.size(); }
     bool embedded() const { return !offset.empty(); }
     void clear();
+    float fade_of(size_t i) const { return i < fade.size() ? fade[i] : 1.0f; }
+    bool retiring(size_t i) const { return i < fade_step.size() && fade_step[i] < 0.0f; }
+    // Extends the fade arrays to every sample.
+    void pad_fades() {
+        fade.resize(size(), 1.0f);
+        fade_step.resize(size(), 0.0f);
+    }
     // Keeps the samples for which keep(i) is true, in order, in every array.
     template <class Keep>
     size_t keep_if(const Keep& keep);
@@ -89,7 +102,8 @@ void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::s
 template <class Keep>
 size_t BoundaryParticles::keep_if(const Keep& keep) {
     size_t out = 0;
-    const bool off = !offset.empty(), nl = !local_normal.empty(), pos = position.size() == size();
+    if (!fade.empty()) pad_fades();
+    const bool off = !offset.empty(), nl = !local_normal.empty(), pos = position.size() == size(), fd = !fade.empty();
     for (size_t i = 0; i < size(); ++i) {
         if (!keep(i)) continue;
         triangle[out] = triangle[i];
@@ -97,6 +111,7 @@ size_t BoundaryParticles::keep_if(const Keep& keep) {
         if (off) offset[out] = offset[i];
         if (nl) local_normal[out] = local_normal[i];
         if (pos) position[out] = position[i], normal[out] = normal[i];
+        if (fd) fade[out] = fade[i], fade_step[out] = fade_step[i];
         ++out;
     }
     const size_t dropped = size() - out;
@@ -105,6 +120,7 @@ size_t BoundaryParticles::keep_if(const Keep& keep) {
     if (off) offset.resize(out);
     if (nl) local_normal.resize(out);
     if (pos) position.resize(out), normal.resize(out);
+    if (fd) fade.resize(out), fade_step.resize(out);
     return dropped;
 }
 

@@ -1,7 +1,9 @@
 #include "surface/embedding.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 
 #include "mesh/closest_point.h"
 
@@ -110,6 +112,36 @@ void embed_points(std::span<const SurfacePoint> points, std::span<const Vec3f> r
     }
     st.samples = points.size();
     if (stats) *stats = st;
+}
+
+void interpolate_embedding(const BoundaryParticles& s, std::span<const uint32_t> same, const Vec2f& bary, float& offset,
+                           Vec3f& local_normal) {
+    offset = 0.0f;
+    local_normal = Vec3f::UnitZ();
+    if (same.empty() || !s.embedded()) return;
+    // The three nearest: enough to follow the fine surface's slope across the gap, few enough
+    // that a far sample on the other side of a fold does not pull the new one off the surface.
+    constexpr int k = 3;
+    std::array<std::pair<float, uint32_t>, k> best;
+    best.fill({std::numeric_limits<float>::infinity(), 0u});
+    for (uint32_t i : same) {
+        const float d2 = (s.bary[i] - bary).squaredNorm();
+        if (d2 >= best[k - 1].first) continue;
+        int j = k - 1;
+        while (j > 0 && best[j - 1].first > d2) best[j] = best[j - 1], --j;
+        best[j] = {d2, i};
+    }
+    float wsum = 0.0f, d = 0.0f;
+    Vec3f n = Vec3f::Zero();
+    for (const auto& [d2, i] : best) {
+        if (!std::isfinite(d2)) break;
+        const float w = 1.0f / (d2 + 1e-8f);
+        wsum += w;
+        d += w * s.offset[i];
+        n += w * s.local_normal[i];
+    }
+    offset = d / wsum;
+    if (n.norm() > 1e-6f) local_normal = n.normalized();
 }
 
 } // namespace pbdsplat::surface

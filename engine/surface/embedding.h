@@ -26,4 +26,11 @@ struct EmbeddingStats {
 void embed_points(std::span<const SurfacePoint> points, std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles,
                   std::span<const Vec3f> rest_normals, BoundaryParticles& out, EmbeddingStats* stats = nullptr);
 
+// The embedding of a new sample at `bary` on a triangle, from the embedded samples `same` (indices
+// into `samples`) of that triangle: offset and rest normal of the nearest ones in barycentric
+// space, inverse-distance weighted, so the new sample lies on the fine surface where its
+// neighbours do. With no neighbours: offset 0 and the face normal.
+void interpolate_embedding(const BoundaryParticles& samples, std::span<const uint32_t> same, const Vec2f& bary, float& offset,
+                           Vec3f& local_normal);
+
 } // namespace pbdsplat::surface

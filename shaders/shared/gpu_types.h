@@ -40,7 +40,8 @@ struct FrameUniforms {
                        // w: global scale multiplier
     vec4 material;     // x: shininess; yzw unused
     vec4 visibility;   // x: depth push of the visibility pass, in splat std devs;
-                       // y: r^2 of the opaque core that writes depth there
+                       // y: r^2 of the opaque core that writes depth there;
+                       // z: the least alpha (opacity x fade x falloff) that writes depth
     // Environment lighting (paper eqs. 24-25, section 7.2).
     vec4 environment;  // x: sampling (0 off: ambient only, 1 position, 2 normal, 3 hybrid);
                        // y: diffuse weight k_d; z: specular weight; w: intensity

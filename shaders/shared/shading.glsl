@@ -29,6 +29,11 @@ vec3 direct_light(vec3 albedo, vec3 n, vec3 t, vec3 l, vec3 radiance) {
     return (albedo * nl + frame.ambient.w * spec) * radiance;
 }
 
+// The normal turned towards the eye: the mesh raster lights a surface from the side that is
+// seen (the inside of a cut body faces the camera through the opening). Splats keep their own
+// normal: lit from behind, a body's far side would show as a bright fringe around its silhouette.
+vec3 seen_side(vec3 n, vec3 world) { return dot(n, frame.camera_pos.xyz - world) < 0.0 ? -n : n; }
+
 vec3 shade(vec3 albedo, vec3 n, vec3 world) {
     const vec3 t = normalize(frame.camera_pos.xyz - world);  // towards the eye
     vec3 color = direct_light(albedo, n, t, frame.light_dir.xyz, frame.light_color.rgb * frame.light_dir.w);

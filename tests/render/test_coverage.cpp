@@ -52,7 +52,8 @@ TEST_SUITE("render/coverage") {
         const auto c = coverage_of(*ctx, "icosphere:3");
         CHECK(c.boundary.mesh_pixels > 10000);
         CHECK(c.boundary.hole_ratio < 0.005);
-        CHECK(c.vertices.hole_ratio > 4.0 * c.boundary.hole_ratio + 0.01);
+        // Vertices alone miss the project's hole goal (0.5 %); boundary particles meet it.
+        CHECK(c.vertices.hole_ratio > 4.0 * c.boundary.hole_ratio + 0.005);
         CHECK(c.boundary.silhouette_iou > 0.8);  // the splats reach about one sigma past the silhouette
         test::require_no_validation_messages(*ctx);
     }
@@ -65,7 +66,8 @@ TEST_SUITE("render/coverage") {
         auto ctx = test::open_validated_context();
         const auto c = coverage_of(*ctx, "teapot.obj");
         CHECK(c.boundary.hole_ratio < 0.005);
-        CHECK(c.vertices.hole_ratio > 4.0 * c.boundary.hole_ratio + 0.01);
+        // Vertices alone miss the project's hole goal (0.5 %); boundary particles meet it.
+        CHECK(c.vertices.hole_ratio > 4.0 * c.boundary.hole_ratio + 0.005);
         test::require_no_validation_messages(*ctx);
     }
 }

@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <filesystem>
 
 #include <nlohmann/json.hpp>
 
@@ -22,17 +23,21 @@ int cmd_check(const std::vector<std::string>& argv) {
         "  hole ratio    share of the deformed surface's raster pixels the splats leave below half alpha\n"
         "  IoU           silhouette of the splats against that raster\n"
         "  pieces        connected components; volume error |V / (k V0) - 1|, worst piece\n"
+        "  specks        share of the raster's pixels where the splats are less than half as bright as\n"
+        "                the lit mesh (the background or a hidden surface showing through)\n"
+        "  spacing       share of boundary particles whose nearest neighbour lies in [0.7 h, 1.4 h]\n"
         "\n"
         "  --frames N          frames to run (default 120)\n"
         "  --every K           measure every K frames and at the last (default 10)\n"
         "  --width W, --height H   coverage images (default 320x180)\n"
         "  --no-gpu            skip the coverage images (shape, strays, pieces and volume only)\n"
+        "  --images DIR        write each measured frame's splat image and lit mesh as PNG into DIR\n"
         "  --json              one JSON object: shape_error_max, strays_max, hole_ratio_max, iou_min,\n"
         "                      pieces, volume_error_max and every measured frame\n") + k_gpu_help;
     std::set<std::string> flags = k_gpu_flags;
     flags.insert({"json", "help", "no-gpu"});
     std::set<std::string> valued = k_gpu_options;
-    valued.insert({"frames", "every", "width", "height"});
+    valued.insert({"frames", "every", "width", "height", "images"});
     auto args = Args::parse(argv, flags, valued);
     if (!args.ok()) return usage_error("check", args.error().to_string());
     if (args->has("help")) return std::fputs(help.c_str(), stdout), 0;
@@ -48,6 +53,13 @@ int cmd_check(const std::vector<std::string>& argv) {
     o.every = every.value();
     o.width = width.value();
     o.height = height.value();
+    if (args->has("images")) {
+        o.images_dir = *args->get("images");
+        std::error_code ec;
+        std::filesystem::create_directories(o.images_dir, ec);
+        if (ec || !std::filesystem::is_directory(o.images_dir))
+            return fail("check", "--images " + o.images_dir + ": cannot create that directory");
+    }
     std::unique_ptr<gpu::Context> ctx;
     if (!args->has("no-gpu")) {
         auto c = open_context(args.value());
@@ -65,7 +77,7 @@ int cmd_check(const std::vector<std::string>& argv) {
         for (const scene::CheckSample& s : r.samples)
             samples.push_back({{"frame", s.frame}, {"time", s.time}, {"cuts", s.cuts}, {"tears", s.tears},
                                {"shape_error", s.shape_error}, {"strays", s.strays}, {"hole_ratio", s.hole_ratio},
-                               {"iou", s.iou}, {"pieces", s.pieces}, {"particles", s.particles},
+                               {"iou", s.iou}, {"speck_ratio", s.speck_ratio}, {"spacing_within", s.spacing_within}, {"spacing_p05", s.spacing_p05}, {"spacing_p95", s.spacing_p95}, {"area_ratio", s.area_ratio}, {"pieces", s.pieces}, {"particles", s.particles},
                                {"gaussians", s.gaussians}, {"volume_error", s.volume_error}});
         const nlohmann::json j = {{"scene", sc->name},
                                   {"frames", o.frames},
@@ -74,6 +86,8 @@ int cmd_check(const std::vector<std::string>& argv) {
                                   {"strays_max", r.strays_max},
                                   {"hole_ratio_max", r.hole_ratio_max},
                                   {"iou_min", r.iou_min},
+                                  {"speck_ratio_max", r.speck_ratio_max},
+                                  {"spacing_within_min", r.spacing_within_min},
                                   {"pieces", r.pieces},
                                   {"volume_error_max", r.volume_error_max},
                                   {"particles", r.particles},
@@ -94,17 +108,18 @@ int cmd_check(const std::vector<std::string>& argv) {
     if (!r.invariants_at_load.empty())
         std::printf("  the mesh as loaded breaks the topology invariants, so cuts and tears ran unchecked: %s\n",
                     r.invariants_at_load.c_str());
-    std::printf("  %6s %6s %5s %5s %8s %6s %8s %6s %6s %8s\n", "frame", "time", "cuts", "tears", "shape", "strays", "holes%",
-                "IoU", "pieces", "volume");
+    std::printf("  %6s %6s %5s %5s %8s %6s %8s %6s %8s %8s %6s %8s %6s\n", "frame", "time", "cuts", "tears", "shape", "strays",
+                "holes%", "IoU", "specks%", "spacing", "pieces", "volume", "area");
+    auto percent = [](double v) { return v < 0.0 ? -1.0 : 100.0 * v; };
     for (const scene::CheckSample& s : r.samples)
-        std::printf("  %6llu %6.2f %5zu %5zu %8.4f %6zu %8.3f %6.3f %6zu %8.4f\n", (unsigned long long)s.frame, s.time, s.cuts,
-                    s.tears, s.shape_error, s.strays, s.hole_ratio < 0.0 ? -1.0 : 100.0 * s.hole_ratio, s.iou, s.pieces,
-                    s.volume_error);
-    std::printf("worst: shape %.4f (%.4f before any cut or tear), strays %zu, holes %.3f %%, IoU %.3f; %zu pieces at the end;\n"
+        std::printf("  %6llu %6.2f %5zu %5zu %8.4f %6zu %8.3f %6.3f %8.3f %8.3f %6zu %8.4f %6.3f\n", (unsigned long long)s.frame,
+                    s.time, s.cuts, s.tears, s.shape_error, s.strays, percent(s.hole_ratio), s.iou, percent(s.speck_ratio),
+                    s.spacing_within, s.pieces, s.volume_error, s.area_ratio);
+    std::printf("worst: shape %.4f (%.4f before any cut or tear), strays %zu, holes %.3f %%, IoU %.3f, specks %.3f %%,\n"
+                "       spacing within [0.7 h, 1.4 h] %.3f; %zu pieces at the end;\n"
                 "       %zu particles, %zu Gaussians; Stage A %.3f ms a frame (median)\n",
-                r.shape_error_max, r.shape_error_before_topology, r.strays_max,
-                r.hole_ratio_max < 0.0 ? -1.0 : 100.0 * r.hole_ratio_max, r.iou_min, r.pieces, r.particles, r.gaussians,
-                r.stage_a_ms);
+                r.shape_error_max, r.shape_error_before_topology, r.strays_max, percent(r.hole_ratio_max), r.iou_min,
+                percent(r.speck_ratio_max), r.spacing_within_min, r.pieces, r.particles, r.gaussians, r.stage_a_ms);
     return 0;
 }
 

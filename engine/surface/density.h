@@ -1,0 +1,90 @@
+#pragma once
+// Boundary particles kept at the sampling density while the surface deforms (paper sections
+// 4.2 and 5.2: samples "updated every frame to preserve the sampling density"). Samples ride
+// on the simulation triangles; where a triangle has stretched by `grow` since it was last
+// sampled, new samples are thrown onto its deformed shape (the maximal sampler, run locally,
+// h away from every sample near it); where it has shrunk to `shrink`, samples closer than
+// `retire_spacing` h to a kept one retire. New samples fade in, retired ones fade out and
+// then leave. Between the two thresholds nothing happens (hysteresis: no flicker), and a
+// per-frame budget of triangles spreads a sudden inflation over several frames.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/math.h"
+#include "mesh/triangle_mesh.h"
+#include "surface/boundary_particles.h"
+
+namespace pbdsplat::surface {
+
+struct DensityOptions {
+    bool enabled = true;
+    float grow = 1.1f;            // resample a triangle stretched this much since its last sampling
+    float shrink = 0.9f;          // thin a triangle shrunk to this
+    float retire_spacing = 0.9f;  // thinning keeps samples at least this many h apart
+    // New samples keep this many h from every other. Below 1: a maximal set at spacing h
+    // leaves neighbours up to 2h apart, and a stretched one more; only a closer throw splits them.
+    float insert_spacing = 0.85f;
+    uint32_t budget = 512;        // triangles resampled per frame, largest change first
+    uint32_t fade_frames = 6;     // new samples fade in, retired ones out, over this many frames
+    float candidates = 48.0f;     // candidate points per h^2 of deformed area
+};
+
+struct DensityStats {
+    uint32_t resampled = 0;  // triangles grown or thinned this frame
+    uint32_t pending = 0;    // triangles past a threshold left for later frames (budget)
+    uint32_t inserted = 0, retired = 0, removed = 0;
+    uint32_t fading = 0;     // samples still fading in or out
+};
+
+class DensityControl {
+public:
+    DensityControl() = default;
+    // `rest` and `triangles`: the simulation mesh whose triangles carry the samples.
+    DensityControl(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, const DensityOptions& options);
+    bool empty() const { return inverse_rest_.empty(); }
+    const DensityOptions& options() const { return options_; }
+
+    // After a topology change: the listed triangles (new or re-shaped, new indices) were
+    // refilled at rest spacing, the others kept their index and their samples.
+    void topology_changed(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles,
+                          std::span<const uint32_t> touched);
+
+    // One frame: measures every triangle's stretch, grows and thins within the budget, and
+    // advances the fades (removing samples that finished fading out). `x`: the particles
+    // (float4, w ignored); `normals`: their unit normals; `anchors_drawn`: the particles are
+    // splats too, so they block new samples like samples do. Positions of the samples must be
+    // current (update_boundary_particles) and are kept current for the new ones.
+    DensityStats update(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const mesh::Triangle> triangles,
+                        bool anchors_drawn, float h, uint32_t seed, BoundaryParticles& samples);
+
+    // Largest singular value of triangle t's deformation gradient at the last update.
+    float stretch(uint32_t t) const { return stretch_[t]; }
+    // The stretch at which triangle t was last sampled.
+    float sampled_at(uint32_t t) const { return reference_[t]; }
+
+private:
+    void set_rest(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, uint32_t t);
+    DensityOptions options_;
+    std::vector<Eigen::Matrix2f> inverse_rest_;  // per triangle, in its own rest frame; zero for slivers
+    std::vector<float> stretch_, reference_;
+    uint64_t frame_ = 0;
+};
+
+// Nearest-neighbour spacing of a point set, for the density goals: the share of points whose
+// nearest neighbour lies within [low, high] (both in units of h), and quantiles.
+struct SpacingReport {
+    size_t points = 0;
+    float within = 0.0f;  // share in [low h, high h]
+    float p05 = 0.0f, median = 0.0f, p95 = 0.0f;  // in units of h
+};
+SpacingReport spacing_report(std::span<const Vec3f> points, float h, float low = 0.7f, float high = 1.4f);
+
+// Advances the fades by one frame and removes the samples that finished fading out. Returns
+// how many were removed; `fading` receives how many still fade.
+size_t advance_fades(BoundaryParticles& samples, uint32_t* fading = nullptr);
+
+// Starts a fade-in over `frames` frames for samples [first, size()).
+void fade_in(BoundaryParticles& samples, size_t first, uint32_t frames);
+
+} // namespace pbdsplat::surface

@@ -1,0 +1,115 @@
+#pragma once
+// Internal to the surface room: the spatial hash the samplers block candidates with.
+#include <algorithm>
+#include <bit>
+#include <limits>
+#include <cstdint>
+#include <vector>
+
+#include "core/math.h"
+
+namespace pbdsplat::surface {
+
+// A hash grid of accepted points with cell size h: any point within h lies in the 27 cells
+// around a query. Open addressing over cell keys, with the points of a cell chained through
+// an index array: sampling asks it millions of times, so no node allocation and no rehash of
+// vectors.
+class PointGrid {
+public:
+    PointGrid(float h, size_t expected_points) : inv_h_(1.0f / h), h2_(h * h) {
+        size_t cap = 1024;
+        while (cap < expected_points * 2) cap <<= 1;
+        keys_.assign(cap, k_empty);
+        heads_.assign(cap, k_end);
+        mask_ = cap - 1;
+        shift_ = 64 - std::countr_zero(cap);
+        points_.reserve(expected_points);
+        next_.reserve(expected_points);
+        tags_.reserve(expected_points);
+    }
+    // Any point within h of p carrying the same tag (k_any matches every tag).
+    bool near(const Vec3f& p, uint32_t tag = k_any) const {
+        return !each_around(p, [&](uint32_t i) {
+            return !((tag == k_any || tags_[i] == k_any || tags_[i] == tag) && (points_[i] - p).squaredNorm() < h2_);
+        });
+    }
+    // The squared distance from p to the nearest point other than `self` (an index in insertion
+    // order) within one cell size; infinity when there is none.
+    float nearest_squared(const Vec3f& p, uint32_t self = k_end) const {
+        float best = std::numeric_limits<float>::infinity();
+        each_around(p, [&](uint32_t i) {
+            if (i != self) best = std::min(best, (points_[i] - p).squaredNorm());
+            return true;
+        });
+        return best;
+    }
+    static constexpr uint32_t k_any = ~0u;
+    void add(const Vec3f& p, uint32_t tag = k_any) {
+        if ((points_.size() + 1) * 2 > keys_.size()) grow();
+        const uint64_t k = key(cell(p));
+        size_t slot = slot_of(k);
+        while (keys_[slot] != k_empty && keys_[slot] != k) slot = (slot + 1) & mask_;
+        keys_[slot] = k;
+        next_.push_back(heads_[slot]);
+        heads_[slot] = uint32_t(points_.size());
+        points_.push_back(p);
+        tags_.push_back(tag);
+    }
+
+private:
+    // Visits the points in the 27 cells around p while visit(i) returns true; false when a
+    // visit stopped it.
+    template <class Visit>
+    bool each_around(const Vec3f& p, const Visit& visit) const {
+        const Eigen::Vector3i c = cell(p);
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const size_t slot = find(key(c + Eigen::Vector3i(dx, dy, dz)));
+                    if (slot == k_end) continue;
+                    for (uint32_t i = heads_[slot]; i != k_end; i = next_[i])
+                        if (!visit(i)) return false;
+                }
+        return true;
+    }
+    static constexpr uint64_t k_empty = ~0ull;
+    static constexpr uint32_t k_end = ~0u;
+    // Fibonacci hashing: the high bits of the product mix all of x, y and z.
+    size_t slot_of(uint64_t k) const { return size_t((k * 0x9E3779B97F4A7C15ull) >> shift_); }
+    size_t find(uint64_t k) const {
+        size_t slot = slot_of(k);
+        while (true) {
+            if (keys_[slot] == k) return slot;
+            if (keys_[slot] == k_empty) return k_end;
+            slot = (slot + 1) & mask_;
+        }
+    }
+    void grow() {
+        std::vector<Vec3f> old = std::move(points_);
+        std::vector<uint32_t> old_tags = std::move(tags_);
+        const size_t cap = keys_.size() * 2;
+        keys_.assign(cap, k_empty);
+        heads_.assign(cap, k_end);
+        mask_ = cap - 1;
+        shift_ = 64 - std::countr_zero(cap);
+        points_.clear();
+        next_.clear();
+        tags_.clear();
+        for (size_t i = 0; i < old.size(); ++i) add(old[i], old_tags[i]);
+    }
+    Eigen::Vector3i cell(const Vec3f& p) const { return (p * inv_h_).array().floor().cast<int>(); }
+    static uint64_t key(const Eigen::Vector3i& c) {
+        return (uint64_t(uint32_t(c.x()) & 0x1fffff) << 42) | (uint64_t(uint32_t(c.y()) & 0x1fffff) << 21) |
+               uint64_t(uint32_t(c.z()) & 0x1fffff);
+    }
+    float inv_h_, h2_;
+    size_t mask_ = 0;
+    int shift_ = 54;
+    std::vector<uint64_t> keys_;
+    std::vector<uint32_t> heads_;  // per slot: the newest point in that cell
+    std::vector<uint32_t> next_;   // per point: the next point in its cell
+    std::vector<Vec3f> points_;
+    std::vector<uint32_t> tags_;  // per point: the piece it belongs to, or k_any
+};
+
+} // namespace pbdsplat::surface

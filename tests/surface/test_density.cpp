@@ -1,0 +1,166 @@
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "mesh/procedural.h"
+#include "sim/soft_body.h"
+#include "surface/density.h"
+
+using namespace pbdsplat;
+
+namespace {
+
+// A sphere whose particles are scaled about its centre: a uniform stretch of every triangle.
+struct Balloon {
+    sim::SoftBody body;
+    float h = 0.0f;
+    surface::BoundaryParticles samples;
+    surface::DensityControl density;
+
+    Balloon() {
+        auto b = sim::make_soft_body(mesh::icosphere(3), {});
+        REQUIRE(b.ok());
+        body = std::move(b).value();
+        const mesh::TriangleMesh rest{body.rest_positions, body.triangles, {}, {}, {}};
+        h = surface::spacing(rest, 0.5f);
+        samples = surface::sample_surface(rest, {h, 7});
+        density = surface::DensityControl(body.rest_positions, body.triangles, {});
+        scale(1.0f);
+    }
+    void scale(float s) {
+        for (size_t i = 0; i < body.particle_count(); ++i)
+            body.particles.x[i] = Vec4f(s * body.rest_positions[i].x(), s * body.rest_positions[i].y(), s * body.rest_positions[i].z(), 0.0f);
+        surface::update_boundary_particles(body.triangles, body.particles.x, body.normals, samples);
+    }
+    surface::DensityStats frame() { return density.update(body.particles.x, body.normals, body.triangles, true, h, 3, samples); }
+    // Every splat: the samples and the particles (the vertices are drawn too).
+    std::vector<Vec3f> splats() const {
+        std::vector<Vec3f> out = samples.position;
+        for (const Vec4f& x : body.particles.x) out.push_back(x.head<3>());
+        return out;
+    }
+    // The largest distance from a random point of the deformed surface to its nearest splat.
+    float largest_gap(uint32_t points = 4000) const {
+        std::mt19937 rng(11);
+        std::uniform_real_distribution<float> u(0.0f, 1.0f);
+        const std::vector<Vec3f> s = splats();
+        float worst = 0.0f;
+        for (uint32_t k = 0; k < points; ++k) {
+            const auto& t = body.triangles[rng() % body.triangles.size()];
+            float a = u(rng), b = u(rng);
+            if (a + b > 1.0f) a = 1.0f - a, b = 1.0f - b;
+            const Vec3f p = ((1.0f - a - b) * body.particles.x[t[0]] + a * body.particles.x[t[1]] + b * body.particles.x[t[2]]).head<3>();
+            float best = 1e30f;
+            for (const Vec3f& q : s) best = std::min(best, (q - p).norm());
+            worst = std::max(worst, best);
+        }
+        return worst;
+    }
+};
+
+bool on_their_triangles(const surface::BoundaryParticles& s) {
+    for (size_t i = 0; i < s.size(); ++i) {
+        const Vec2f b = s.bary[i];
+        if (!(b.x() >= -1e-6f && b.y() >= -1e-6f && b.x() + b.y() <= 1.0f + 1e-6f)) return false;
+    }
+    return true;
+}
+
+} // namespace
+
+TEST_SUITE("surface/density") {
+    TEST_CASE("inflating a sphere to twice its area keeps the spacing and closes every gap") {
+        Balloon b;
+        const size_t at_rest = b.samples.size();
+        const float stretch = std::sqrt(2.0f);
+        for (int f = 1; f <= 30; ++f) {
+            b.scale(1.0f + (stretch - 1.0f) * float(std::min(f, 20)) / 20.0f);
+            b.frame();
+            // Throughout, not only at the end: the control keeps pace with the inflation.
+            const surface::SpacingReport r = surface::spacing_report(b.splats(), b.h);
+            CHECK_MESSAGE(r.within >= 0.95f, "frame " << f << ": " << r.within << " within [0.7 h, 1.4 h], p05 " << r.p05 << ", p95 " << r.p95);
+        }
+        CHECK(b.samples.size() > at_rest + at_rest / 2);  // twice the area: far more samples
+        CHECK(on_their_triangles(b.samples));
+        // Maximal: no point of the inflated surface is farther than about h from a splat.
+        CHECK(b.largest_gap() < 1.05f * b.h);
+        // The new samples have faded in.
+        for (size_t i = 0; i < b.samples.size(); ++i) REQUIRE(b.samples.fade_of(i) == 1.0f);
+    }
+
+    TEST_CASE("deflating retires samples without opening gaps") {
+        Balloon b;
+        const float stretch = std::sqrt(2.0f);
+        for (int f = 1; f <= 30; ++f) {
+            b.scale(1.0f + (stretch - 1.0f) * float(std::min(f, 20)) / 20.0f);
+            b.frame();
+        }
+        const size_t inflated = b.samples.size();
+        float worst_gap = 0.0f;
+        for (int f = 1; f <= 40; ++f) {
+            b.scale(stretch - (stretch - 1.0f) * float(std::min(f, 20)) / 20.0f);
+            b.frame();
+            if (f % 5 == 0) worst_gap = std::max(worst_gap, b.largest_gap(1500));
+        }
+        CHECK(b.samples.size() < inflated * 3 / 4);
+        const surface::SpacingReport r = surface::spacing_report(b.splats(), b.h);
+        CHECK_MESSAGE(r.within >= 0.95f, r.within << " within [0.7 h, 1.4 h], p05 " << r.p05 << ", p95 " << r.p95);
+        // Retired samples leave only where a kept one stands close by.
+        CHECK(worst_gap < 1.2f * b.h);
+        CHECK(on_their_triangles(b.samples));
+    }
+
+    TEST_CASE("between the thresholds nothing changes: no flicker") {
+        Balloon b;
+        const size_t n = b.samples.size();
+        for (int f = 0; f < 60; ++f) {
+            b.scale(1.0f + 0.04f * std::sin(0.3f * float(f)));  // breathing by 4 %
+            const surface::DensityStats s = b.frame();
+            REQUIRE(s.inserted == 0);
+            REQUIRE(s.retired == 0);
+        }
+        CHECK(b.samples.size() == n);
+    }
+
+    TEST_CASE("the per-frame budget spreads a sudden inflation over frames") {
+        Balloon b;
+        surface::DensityOptions o;
+        o.budget = 64;
+        b.density = surface::DensityControl(b.body.rest_positions, b.body.triangles, o);
+        b.scale(1.5f);
+        const surface::DensityStats first = b.frame();
+        CHECK(first.resampled == 64);
+        CHECK(first.pending == b.body.triangles.size() - 64);
+        uint32_t frames = 1;
+        while (b.frame().pending > 0 && frames < 100) ++frames;
+        CHECK(frames == (b.body.triangles.size() + 63) / 64 - 1);
+    }
+
+    TEST_CASE("fades ramp monotonically in and out, and a faded-out sample leaves") {
+        Balloon b;
+        const size_t n = b.samples.size();
+        surface::fade_in(b.samples, n - 3, 4);
+        b.samples.fade_step[0] = -0.25f;  // retiring
+        std::vector<float> last(b.samples.size(), 0.0f);
+        last[0] = 1.0f;
+        for (int f = 0; f < 4; ++f) {
+            uint32_t fading = 0;
+            const size_t removed = surface::advance_fades(b.samples, &fading);
+            if (f < 3) {
+                CHECK(removed == 0);
+                CHECK(b.samples.fade[0] < last[0]);
+                last[0] = b.samples.fade[0];
+                for (size_t i = n - 3; i < n; ++i) {
+                    CHECK(b.samples.fade[i] > last[i]);
+                    last[i] = b.samples.fade[i];
+                }
+            } else {
+                CHECK(removed == 1);
+                CHECK(fading == 0);
+            }
+        }
+        CHECK(b.samples.size() == n - 1);
+        for (size_t i = 0; i < b.samples.size(); ++i) CHECK(b.samples.fade_of(i) == 1.0f);
+    }
+}
