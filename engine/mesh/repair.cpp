@@ -284,8 +284,8 @@ core::Result<RepairedMesh> repair(TriangleMesh m, const RepairOptions& options, 
     for (Vec3f& p : m.positions) p = (p + shift) * s;
 
     if (options.close_holes) {
-        // The loops run along their triangles' boundary edges, so the cap's triangles run
-        // against them: the orientation stays consistent across the seam.
+        // A fan in the loop's own order has the mesh's orientation (the capped volume in
+        // signed_volume_of is summed the same way).
         for (const auto& loop : boundary_loops(m)) {
             if (loop.size() < 3) continue;
             Vec3f c = Vec3f::Zero();
@@ -296,7 +296,7 @@ core::Result<RepairedMesh> repair(TriangleMesh m, const RepairOptions& options, 
             if (!m.normals.empty()) m.normals.push_back(Vec3f::UnitZ());
             if (!m.colors.empty()) m.colors.push_back(m.colors[loop[0]]);
             if (!m.uvs.empty()) m.uvs.push_back(m.uvs[loop[0]]);
-            for (size_t i = 0; i < loop.size(); ++i) m.triangles.push_back({loop[(i + 1) % loop.size()], loop[i], centre});
+            for (size_t i = 0; i < loop.size(); ++i) m.triangles.push_back({loop[i], loop[(i + 1) % loop.size()], centre});
             ++r.capped_holes;
         }
     }

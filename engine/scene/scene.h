@@ -32,6 +32,7 @@ struct SurfaceDesc {
     float eta = 0.5f;            // h = eta * mean edge length; in vertices mode it sizes the splats alike
     bool stretch_scale = false;  // grow splats with the stretch of their triangle
     uint32_t seed = 1;           // sampling seed
+    bool edge_samples = true;    // small samples every h/2 along open boundaries (cuts, tears, rims)
     // Boundary particles kept at the sampling density every frame (fades: simulation.fade_frames).
     surface::DensityOptions density;
 };

@@ -34,7 +34,7 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
     if (rt.fine_surface())
         report.embedding_error = rt.embedding().max_rest_error / std::max(mesh::bounds(*rt.fine_surface()).diagonal(), 1e-12f);
     std::vector<double> stage_a;
-    std::vector<Vec3f> centres;
+    std::vector<Vec3f> centres, surface_centres;
     std::vector<Vec4f> x;
     std::vector<mesh::Triangle> triangles;
     double rest_area = -1.0;  // the area at rest, from the scene's first frame's surface
@@ -63,9 +63,15 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
         centres.clear();
         for (const splat::GaussianRecord& r : rt.records()) centres.emplace_back(r.position[0], r.position[1], r.position[2]);
         s.strays = splat::count_strays(centres, rt.spacing()).strays;
-        // Every splat drawn: the particles count where they are splats too.
+        // Every splat drawn (the particles count where they are splats too), but the edge
+        // samples: those lie h/2 apart along a boundary on purpose, with smaller splats.
         if (rt.boundary_particles().size() > 1) {
-            const surface::SpacingReport sp = surface::spacing_report(centres, rt.spacing());
+            float largest = 0.0f;
+            for (const splat::GaussianRecord& r : rt.records()) largest = std::max(largest, splat::half_to_float(r.scale_half));
+            surface_centres.clear();
+            for (const splat::GaussianRecord& r : rt.records())
+                if (splat::half_to_float(r.scale_half) > 0.75f * largest) surface_centres.emplace_back(r.position[0], r.position[1], r.position[2]);
+            const surface::SpacingReport sp = surface::spacing_report(surface_centres, rt.spacing());
             s.spacing_within = sp.within;
             s.spacing_p05 = sp.p05;
             s.spacing_p95 = sp.p95;

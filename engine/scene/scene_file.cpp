@@ -177,6 +177,7 @@ void read_surface(Reader::Table& t, SurfaceDesc& d) {
     d.eta = t.real("eta", d.eta, 0.05, 4.0);
     d.stretch_scale = t.flag("stretch_scale", d.stretch_scale);
     d.seed = t.count("seed", d.seed, 0, 0x7fffffff);
+    d.edge_samples = t.flag("edge_samples", d.edge_samples);
     d.density.enabled = t.flag("density", d.density.enabled);
     d.density.grow = t.real("density_grow", d.density.grow, 1.05, 4.0);
     d.density.shrink = t.real("density_shrink", d.density.shrink, 0.2, 0.95);
@@ -508,6 +509,7 @@ std::string to_toml(const Scene& sc) {
     const SurfaceDesc& sf = sc.surface;
     o << "[surface]\nmode = " << (sf.mode == SurfaceMode::vertices ? "\"vertices\"" : "\"boundary\"") << "\neta = " << num(sf.eta)
       << "\nstretch_scale = " << (sf.stretch_scale ? "true" : "false") << "\nseed = " << sf.seed
+      << "\nedge_samples = " << (sf.edge_samples ? "true" : "false")
       << "\ndensity = " << (sf.density.enabled ? "true" : "false") << "\ndensity_grow = " << num(sf.density.grow)
       << "\ndensity_shrink = " << num(sf.density.shrink) << "\ndensity_retire_spacing = " << num(sf.density.retire_spacing)
       << "\ndensity_insert_spacing = " << num(sf.density.insert_spacing)

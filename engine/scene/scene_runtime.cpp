@@ -7,6 +7,7 @@
 #include "mesh/topology.h"
 #include "mesh/triangle_mesh.h"
 #include "sim/integrate.h"
+#include "surface/edges.h"
 #include "surface/embedding.h"
 #include "surface/remap.h"
 #include "topology/cut.h"
@@ -100,6 +101,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     } else if (boundary) {
         boundary_ = surface::sample_surface(rest, {h_, sd_surface.seed});
     }
+    if (boundary && sd_surface.edge_samples) surface::lay_edge_samples(body_.rest_positions, body_.triangles, h_, {}, boundary_);
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
     if (boundary && sd_surface.density.enabled) {
         surface::DensityOptions o = sd_surface.density;
@@ -139,7 +141,12 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         for (const Event& e : scene_.events) tears = tears || std::holds_alternative<TearEvent>(e.data);
         // Interactive runs may be cut and cut again: the most room.
         const size_t room = options.interactive || tears ? 4 : scene_.has_topology_events() ? 2 : 1;
-        ro.max_splats = uint32_t(std::max<size_t>(1, room * splats));
+        // Density control adds samples where the surface grows: room for three times the area.
+        const size_t grow = density_.empty() ? 1 : 3;
+        ro.max_splats = uint32_t(std::max<size_t>(1, room * grow * splats));
+        // What the density control may fill: the renderer's capacity less the cuts' room.
+        if (!density_.empty())
+            density_.set_max_samples(grow * splats - (splat_particles_ ? body_.particle_count() : 0));
         ro.frames_in_flight = options.frames_in_flight;
         ro.upload_path = options.upload_path;
         ro.path = options.splat_path ? options.splat_path : scene_.render.splat_path;
@@ -449,14 +456,23 @@ core::Status SceneRuntime::after_topology_change(const topology::TopologyChange&
             std::sort(refill.begin(), refill.end());
             refill.erase(std::unique(refill.begin(), refill.end()), refill.end());
         }
+        // Edge samples are laid afresh along the new boundary, after the refill.
+        if (scene_.surface.edge_samples) boundary_.keep_if([this](size_t i) { return !boundary_.on_edge(i); });
         const size_t before = boundary_.size();
         std::vector<uint32_t> piece;
         mesh::vertex_components(body_.triangles, body_.particle_count(), piece);
         surface::fill_triangles(body_.rest_positions, body_.triangles, refill,
                                 splat_particles_ ? std::span<const Vec3f>(body_.rest_positions) : std::span<const Vec3f>(), piece,
                                 {h_, scene_.surface.seed + uint32_t(cuts_ + tears_) + 1}, boundary_);
+        const size_t edges_first = boundary_.size();
+        if (scene_.surface.edge_samples) surface::lay_edge_samples(body_.rest_positions, body_.triangles, h_, {}, boundary_);
         surface::update_boundary_particles(body_.triangles, body_.particles.x, body_.normals, boundary_);
         surface::fade_in(boundary_, before, scene_.simulation.fade_frames);
+        // Edge samples that were there before the change (on untouched triangles) stay shown.
+        std::vector<bool> touched(body_.triangles.size(), false);
+        for (uint32_t t : refill) touched[t] = true;
+        for (size_t i = edges_first; i < boundary_.size(); ++i)
+            if (!touched[boundary_.triangle[i]]) boundary_.fade[i] = 1.0f, boundary_.fade_step[i] = 0.0f;
         if (!density_.empty()) density_.topology_changed(body_.rest_positions, body_.triangles, refill);
     }
     if (!stretch_.empty()) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);

@@ -81,6 +81,7 @@ void BoundaryParticles::clear() {
     normal.clear();
     fade.clear();
     fade_step.clear();
+    size_factor.clear();
 }
 
 float spacing(const mesh::TriangleMesh& m, float eta) { return eta * mesh::mean_edge_length(m); }
@@ -129,9 +130,11 @@ void fill(const SurfaceView& m, std::span<const Vec3f> anchors, std::span<const 
     accept(m, candidates(m, triangles, o.candidates / (o.h * o.h), rng), piece, grid, samples);
 }
 
+} // namespace
+
 // New samples on an embedded surface take the embedding of their triangle's nearest samples
 // (the fine surface's height over the coarse triangle there).
-void embed_new_samples(size_t first, BoundaryParticles& s) {
+void embed_appended(size_t first, BoundaryParticles& s) {
     if (!s.embedded()) return;
     std::vector<std::pair<uint32_t, uint32_t>> by_triangle;  // (triangle, sample) of the old ones
     by_triangle.reserve(first);
@@ -147,7 +150,6 @@ void embed_new_samples(size_t first, BoundaryParticles& s) {
         interpolate_embedding(s, same, s.bary[i], s.offset[i], s.local_normal[i]);
     }
 }
-} // namespace
 
 void fill_triangles(std::span<const Vec3f> positions, std::span<const mesh::Triangle> all_triangles,
                     std::span<const uint32_t> triangles, const SamplingOptions& o, BoundaryParticles& samples) {
@@ -159,7 +161,7 @@ void fill_triangles(std::span<const Vec3f> positions, std::span<const mesh::Tria
                     const SamplingOptions& o, BoundaryParticles& samples) {
     const size_t first = samples.size();
     fill({positions, all_triangles}, anchors, triangles, piece, o, samples);
-    embed_new_samples(first, samples);
+    embed_appended(first, samples);
 }
 
 std::vector<SurfacePoint> sample_points(const mesh::TriangleMesh& surface, std::span<const Vec3f> anchors,

@@ -36,12 +36,17 @@ struct BoundaryParticles {
     // samplers append without knowing about fades; padded() fills the rest with (1, 0).
     std::vector<float> fade;
     std::vector<float> fade_step;
+    // The splat size of each sample relative to the material's (edge samples are smaller, see
+    // surface/edges.h); shorter than the other arrays (or empty) where it is 1, as for fades.
+    std::vector<float> size_factor;
 
     size_t size() const { return triangle.size(); }
     bool embedded() const { return !offset.empty(); }
     void clear();
     float fade_of(size_t i) const { return i < fade.size() ? fade[i] : 1.0f; }
     bool retiring(size_t i) const { return i < fade_step.size() && fade_step[i] < 0.0f; }
+    float size_of(size_t i) const { return i < size_factor.size() ? size_factor[i] : 1.0f; }
+    bool on_edge(size_t i) const { return size_of(i) < 1.0f; }
     // Extends the fade arrays to every sample.
     void pad_fades() {
         fade.resize(size(), 1.0f);
@@ -90,6 +95,10 @@ void fill_triangles(std::span<const Vec3f> positions, std::span<const mesh::Tria
                     std::span<const uint32_t> triangles, std::span<const Vec3f> anchors, std::span<const uint32_t> piece,
                     const SamplingOptions& options, BoundaryParticles& samples);
 
+// Gives samples [first, size()) of an embedded set the embedding of their triangles' nearest
+// older samples (interpolate_embedding); nothing for a set that is not embedded.
+void embed_appended(size_t first, BoundaryParticles& samples);
+
 // Moves every sample onto the deformed surface: positions from `x` (one float4 per mesh vertex,
 // w ignored), normals from the vertex normals (embedded samples: offset along the interpolated
 // normal, own normal turned with the triangle's frame).
@@ -103,7 +112,9 @@ template <class Keep>
 size_t BoundaryParticles::keep_if(const Keep& keep) {
     size_t out = 0;
     if (!fade.empty()) pad_fades();
-    const bool off = !offset.empty(), nl = !local_normal.empty(), pos = position.size() == size(), fd = !fade.empty();
+    if (!size_factor.empty()) size_factor.resize(size(), 1.0f);
+    const bool off = !offset.empty(), nl = !local_normal.empty(), pos = position.size() == size(), fd = !fade.empty(),
+               sz = !size_factor.empty();
     for (size_t i = 0; i < size(); ++i) {
         if (!keep(i)) continue;
         triangle[out] = triangle[i];
@@ -112,6 +123,7 @@ size_t BoundaryParticles::keep_if(const Keep& keep) {
         if (nl) local_normal[out] = local_normal[i];
         if (pos) position[out] = position[i], normal[out] = normal[i];
         if (fd) fade[out] = fade[i], fade_step[out] = fade_step[i];
+        if (sz) size_factor[out] = size_factor[i];
         ++out;
     }
     const size_t dropped = size() - out;
@@ -121,6 +133,7 @@ size_t BoundaryParticles::keep_if(const Keep& keep) {
     if (nl) local_normal.resize(out);
     if (pos) position.resize(out), normal.resize(out);
     if (fd) fade.resize(out), fade_step.resize(out);
+    if (sz) size_factor.resize(out);
     return dropped;
 }
 

@@ -56,6 +56,7 @@ DensityControl::DensityControl(std::span<const Vec3f> rest, std::span<const mesh
     for (uint32_t t = 0; t < triangles.size(); ++t) set_rest(rest, triangles, t);
     stretch_.assign(triangles.size(), 1.0f);
     reference_.assign(triangles.size(), 1.0f);
+    beyond_.assign(triangles.size(), 0);
 }
 
 void DensityControl::set_rest(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, uint32_t t) {
@@ -76,10 +77,12 @@ void DensityControl::topology_changed(std::span<const Vec3f> rest, std::span<con
     inverse_rest_.resize(triangles.size(), Eigen::Matrix2f::Zero());
     stretch_.resize(triangles.size(), 1.0f);
     reference_.resize(triangles.size(), 1.0f);
+    beyond_.resize(triangles.size(), 0);
     // A touched triangle was refilled from its rest shape: its samples stand for stretch 1.
     for (uint32_t t : touched) {
         set_rest(rest, triangles, t);
         reference_[t] = 1.0f;
+        beyond_[t] = 0;
     }
 }
 
@@ -97,8 +100,11 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
         const float sigma = inverse_rest_[t].isZero() ? reference_[t] : largest_singular_value(inverse_rest_[t], e1, e2);
         stretch_[t] = sigma;
         const float ratio = sigma / reference_[t];
-        if (ratio > options_.grow) work.push_back({std::log(ratio), t, true});
-        else if (ratio < options_.shrink && sigma > 0.0f) work.push_back({-std::log(ratio), t, false});
+        const int8_t side = ratio > options_.grow ? 1 : ratio < options_.shrink && sigma > 0.0f ? -1 : 0;
+        int8_t& run = beyond_[t];
+        run = side == 0 ? 0 : (run * side > 0 ? int8_t(std::min(int(run) + side, side * 100)) : side);
+        if (uint32_t(std::abs(run)) < std::max(1u, options_.settle_frames)) continue;
+        work.push_back({std::abs(std::log(ratio)), t, side > 0});
     }
     if (!work.empty() && options_.enabled) {
         const size_t take = std::min<size_t>(work.size(), options_.budget);
@@ -127,13 +133,14 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
         const float step = 1.0f / float(std::max(1u, options_.fade_frames));
         const bool embedded = s.embedded();
         thread_local std::vector<uint32_t> same;
+        thread_local PointGrid grid(h, 256);  // reset per triangle: no allocation once warm
         for (const Work& w : work) {
             const uint32_t t = w.triangle;
             const auto& tri = triangles[t];
             const Vec3f a = x[tri[0]].head<3>(), b = x[tri[1]].head<3>(), c = x[tri[2]].head<3>();
             same.assign(by_triangle[t].begin(), by_triangle[t].end());
             if (w.grow) {
-                PointGrid grid(options_.insert_spacing * h, 256);
+                grid.reset(options_.insert_spacing * h);
                 around(t, [&](uint32_t n) {
                     for (uint32_t i : by_triangle[n])
                         if (!s.retiring(i)) grid.add(s.position[i]);
@@ -159,6 +166,10 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
                     if (embedded) interpolate_embedding(s, same, Vec2f(b1, b2), d, local);
                     const Vec3f p = b0 * a + b1 * b + b2 * c + d * interpolated;
                     if (grid.near(p)) continue;
+                    if (max_samples_ && s.size() >= max_samples_) {
+                        stats.capped = true;
+                        break;
+                    }
                     grid.add(p);
                     s.triangle.push_back(t);
                     s.bary.emplace_back(b1, b2);
@@ -171,7 +182,7 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
                     ++stats.inserted;
                 }
             } else {
-                PointGrid grid(options_.retire_spacing * h, 256);
+                grid.reset(options_.retire_spacing * h);
                 around(t, [&](uint32_t n) {
                     if (n != t)
                         for (uint32_t i : by_triangle[n])
@@ -180,7 +191,7 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
                         for (uint32_t v : triangles[n]) grid.add(x[v].head<3>());
                 });
                 for (uint32_t i : same) {
-                    if (s.retiring(i)) continue;
+                    if (s.retiring(i) || s.on_edge(i)) continue;  // edge samples follow the boundary (surface/edges.h)
                     if (grid.near(s.position[i])) {
                         s.fade_step[i] = -step;
                         ++stats.retired;
@@ -190,6 +201,7 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
                 }
             }
             reference_[t] = stretch_[t];
+            beyond_[t] = 0;
         }
     }
     stats.removed = uint32_t(advance_fades(s, &stats.fading));

@@ -27,6 +27,9 @@ struct DensityOptions {
     float insert_spacing = 0.85f;
     uint32_t budget = 512;        // triangles resampled per frame, largest change first
     uint32_t fade_frames = 6;     // new samples fade in, retired ones out, over this many frames
+    // A triangle must stay past a threshold this many frames in a row before it is resampled:
+    // a landing or a jiggle that squashes it for a moment changes nothing (no churn, no flicker).
+    uint32_t settle_frames = 4;
     float candidates = 48.0f;     // candidate points per h^2 of deformed area
 };
 
@@ -35,6 +38,7 @@ struct DensityStats {
     uint32_t pending = 0;    // triangles past a threshold left for later frames (budget)
     uint32_t inserted = 0, retired = 0, removed = 0;
     uint32_t fading = 0;     // samples still fading in or out
+    bool capped = false;     // insertion stopped at the sample limit (set_max_samples)
 };
 
 class DensityControl {
@@ -43,6 +47,8 @@ public:
     // `rest` and `triangles`: the simulation mesh whose triangles carry the samples.
     DensityControl(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, const DensityOptions& options);
     bool empty() const { return inverse_rest_.empty(); }
+    // No insertion past this many samples (the renderer's capacity); 0: no limit.
+    void set_max_samples(size_t n) { max_samples_ = n; }
     const DensityOptions& options() const { return options_; }
 
     // After a topology change: the listed triangles (new or re-shaped, new indices) were
@@ -68,7 +74,9 @@ private:
     DensityOptions options_;
     std::vector<Eigen::Matrix2f> inverse_rest_;  // per triangle, in its own rest frame; zero for slivers
     std::vector<float> stretch_, reference_;
+    std::vector<int8_t> beyond_;  // frames in a row past a threshold: + grow side, - shrink side
     uint64_t frame_ = 0;
+    size_t max_samples_ = 0;
 };
 
 // Nearest-neighbour spacing of a point set, for the density goals: the share of points whose

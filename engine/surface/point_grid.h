@@ -27,6 +27,16 @@ public:
         next_.reserve(expected_points);
         tags_.reserve(expected_points);
     }
+    // Empties the grid for reuse with a new radius h, keeping its memory.
+    void reset(float h) {
+        inv_h_ = 1.0f / h;
+        h2_ = h * h;
+        std::fill(keys_.begin(), keys_.end(), k_empty);
+        std::fill(heads_.begin(), heads_.end(), k_end);
+        points_.clear();
+        next_.clear();
+        tags_.clear();
+    }
     // Any point within h of p carrying the same tag (k_any matches every tag).
     bool near(const Vec3f& p, uint32_t tag = k_any) const {
         return !each_around(p, [&](uint32_t i) {

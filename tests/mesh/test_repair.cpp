@@ -121,6 +121,29 @@ TEST_SUITE("mesh/repair") {
         CHECK(mesh::boundary_edge_count(sheet) == 32);
     }
 
+    TEST_CASE("close_holes caps every loop of an open surface, closed and outward") {
+        // A sphere with two polar caps cut away: two loops.
+        mesh::TriangleMesh m = mesh::icosphere(3);
+        std::erase_if(m.triangles, [&](const mesh::Triangle& t) {
+            for (uint32_t v : t)
+                if (std::abs(m.positions[v].y()) > 0.8f) return true;
+            return false;
+        });
+        REQUIRE(mesh::boundary_loops(m).size() == 2);
+        mesh::RepairOptions o;
+        o.close_holes = true;
+        auto r = mesh::repair(m, o, "test");
+        REQUIRE(r.ok());
+        CHECK(r->report.capped_holes == 2);
+        CHECK(r->report.boundary_edges == 0);
+        CHECK(mesh::is_closed_and_oriented(r->mesh));
+        CHECK(mesh::signed_volume(r->mesh) > 0.0);
+        // Without the option the loops stay open.
+        auto open = repaired(m);
+        CHECK(open.report.capped_holes == 0);
+        CHECK(mesh::boundary_loops(open.mesh).size() == 2);
+    }
+
     // The shared models and the quirks listed in their SOURCES.md.
     TEST_CASE("the shared test models load and repair as SOURCES.md describes") {
         struct Expect {
