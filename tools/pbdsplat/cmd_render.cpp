@@ -72,7 +72,8 @@ int cmd_render(const std::vector<std::string>& argv) {
         "\n"
         "Runs a scene (default: the built-in scenes/default.toml) offscreen for N frames and writes\n"
         "images. With --out ending in .png, the last frame goes to that file; otherwise PATH is a\n"
-        "folder that receives frame_0000.png, frame_0001.png, ..., frames.csv (particle counts and\n"
+        "folder that receives frame_0000.png, frame_0001.png, ..., frames.csv (particle counts,\n"
+        "boundary particles inserted, retired and fading by the density control, and\n"
         "per-stage milliseconds and uploaded bytes of every frame) and, when ffmpeg is on the PATH, video.mp4.\n"
         "A .ply of Gaussians (3DGS layout, e.g. from export-ply) renders as one static image.\n"
         "\n"
@@ -126,7 +127,7 @@ int cmd_render(const std::vector<std::string>& argv) {
         csv.open(dir / "frames.csv");
         if (!csv) return fail("render", (dir / "frames.csv").string() + ": cannot write");
         csv << "frame,time,particles,gaussians,events_ms,apply_forces_ms,constraints_ms,integrate_normals_ms,"
-               "update_particles_ms,gpu_record_ms,frame_ms,uploaded_bytes\n";
+               "update_particles_ms,gpu_record_ms,frame_ms,uploaded_bytes,samples_inserted,samples_retired,samples_fading\n";
     }
     const bool tty = isatty(STDERR_FILENO) != 0;
     for (uint32_t f = 0; f < frames.value(); ++f) {
@@ -143,7 +144,8 @@ int cmd_render(const std::vector<std::string>& argv) {
             const auto& s = runtime.value()->stats();
             csv << s.frame - 1 << ',' << s.time << ',' << s.particles << ',' << s.gaussians << ',' << s.events_ms << ','
                 << s.apply_forces_ms << ',' << s.constraints_ms << ',' << s.integrate_normals_ms << ','
-                << s.update_particles_ms << ',' << s.gpu_record_ms << ',' << s.graph_ms << ',' << s.uploaded_bytes << '\n';
+                << s.update_particles_ms << ',' << s.gpu_record_ms << ',' << s.graph_ms << ',' << s.uploaded_bytes << ','
+                << s.density.inserted << ',' << s.density.retired << ',' << s.density.fading << '\n';
         }
         if (tty && frames.value() > 1) progress(f + 1, frames.value());
     }
