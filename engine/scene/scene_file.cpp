@@ -183,6 +183,7 @@ void read_surface(Reader::Table& t, SurfaceDesc& d) {
     d.density.shrink = t.real("density_shrink", d.density.shrink, 0.2, 0.95);
     d.density.retire_spacing = t.real("density_retire_spacing", d.density.retire_spacing, 0.3, 1.0);
     d.density.insert_spacing = t.real("density_insert_spacing", d.density.insert_spacing, 0.3, 1.0);
+    d.density.settle_frames = t.count("density_settle_frames", d.density.settle_frames, 1, 60);
     d.density.budget = t.count("density_budget", d.density.budget, 1, 1u << 20);
     t.finish();
 }
@@ -513,6 +514,7 @@ std::string to_toml(const Scene& sc) {
       << "\ndensity = " << (sf.density.enabled ? "true" : "false") << "\ndensity_grow = " << num(sf.density.grow)
       << "\ndensity_shrink = " << num(sf.density.shrink) << "\ndensity_retire_spacing = " << num(sf.density.retire_spacing)
       << "\ndensity_insert_spacing = " << num(sf.density.insert_spacing)
+      << "\ndensity_settle_frames = " << sf.density.settle_frames
       << "\ndensity_budget = " << sf.density.budget << "\n\n";
     const SimulationDesc& s = sc.simulation;
     o << "[simulation]\nmode = " << (s.solver.mode == sim::SolverMode::xpbd ? "\"xpbd\"" : "\"paper\"") << "\ndt = " << num(s.dt)

@@ -102,7 +102,8 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
         const float ratio = sigma / reference_[t];
         const int8_t side = ratio > options_.grow ? 1 : ratio < options_.shrink && sigma > 0.0f ? -1 : 0;
         int8_t& run = beyond_[t];
-        run = side == 0 ? 0 : (run * side > 0 ? int8_t(std::min(int(run) + side, side * 100)) : side);
+        // Frames in a row on this side, counted up to 120 (the settle limit is at most 60).
+        run = side == 0 ? 0 : run * side > 0 ? int8_t(side * std::min(std::abs(int(run)) + 1, 120)) : side;
         if (uint32_t(std::abs(run)) < std::max(1u, options_.settle_frames)) continue;
         work.push_back({std::abs(std::log(ratio)), t, side > 0});
     }
