@@ -37,11 +37,16 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
     std::vector<Vec3f> centres, surface_centres;
     std::vector<Vec4f> x;
     std::vector<mesh::Triangle> triangles;
-    double rest_area = -1.0;  // the area at rest, from the scene's first frame's surface
-    {
-        const mesh::TriangleMesh& m = rt.fine_surface() ? *rt.fine_surface() : mesh::TriangleMesh{rt.body().rest_positions, rt.body().triangles, {}, {}, {}};
-        rest_area = 0.0;
-        for (const auto& t : m.triangles) rest_area += 0.5 * double((m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]).norm());
+    auto area_of = [&] {
+        double a = 0.0;
+        for (const auto& t : triangles) a += 0.5 * double((x[t[1]] - x[t[0]]).head<3>().cross((x[t[2]] - x[t[0]]).head<3>()).norm());
+        return a;
+    };
+    // The surface as the coverage images see it, before the first step: the area ratio's 1.
+    double rest_area = 0.0;
+    if (o.gpu) {
+        rt.deformed_surface(x, triangles);
+        rest_area = area_of();
     }
     for (uint32_t f = 0; f < o.frames; ++f) {
         PBDSPLAT_TRY(rt.step());
@@ -78,10 +83,7 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
         }
         if (o.gpu) {
             rt.deformed_surface(x, triangles);
-            double area = 0.0;
-            for (const auto& t : triangles) area += 0.5 * (x[t[1]] - x[t[0]]).head<3>().cross((x[t[2]] - x[t[0]]).head<3>()).norm();
-            if (rest_area < 0.0) rest_area = area;
-            s.area_ratio = rest_area > 0.0 ? area / rest_area : -1.0;
+            s.area_ratio = rest_area > 0.0 ? area_of() / rest_area : -1.0;
             render::FrameInputs frame = scene.render.frame;
             frame.camera = rt.camera();
             frame.style.order = rt.order();  // without a device: the CPU sort, records already in order

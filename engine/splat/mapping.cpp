@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mesh/deformation.h"
+
 namespace pbdsplat::splat {
 
 namespace {
@@ -13,22 +15,11 @@ constexpr float k_max_stretch_factor = 3.0f;
 } // namespace
 
 StretchScale::StretchScale(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles) {
+    // A sliver (a cut's re-triangulation makes some) keeps factor 1: its neighbours cover it.
     inverse_rest_.resize(triangles.size());
-    for (size_t t = 0; t < triangles.size(); ++t) {
-        const Vec3f e1 = rest[triangles[t][1]] - rest[triangles[t][0]];
-        const Vec3f e2 = rest[triangles[t][2]] - rest[triangles[t][0]];
-        // Coordinates of the edges in an orthonormal frame of the triangle's plane.
-        const Vec3f u = e1.normalized();
-        const Vec3f w = (e2 - e2.dot(u) * u).normalized();
-        Eigen::Matrix2f dm;
-        dm << e1.norm(), e2.dot(u), 0.0f, e2.dot(w);
-        // A sliver (a cut's re-triangulation makes some) has an ill-conditioned rest frame: a
-        // tiny movement of its vertices reads as a huge stretch. Such triangles keep factor 1;
-        // their neighbours cover them.
-        const float longest = std::max({e1.norm(), e2.norm(), (e2 - e1).norm()});
-        const bool sliver = !(std::abs(dm.determinant()) > k_min_shape_quality * longest * longest);
-        inverse_rest_[t] = sliver ? Eigen::Matrix2f::Zero() : Eigen::Matrix2f(dm.inverse());
-    }
+    for (size_t t = 0; t < triangles.size(); ++t)
+        inverse_rest_[t] = mesh::rest_frame_inverse(rest[triangles[t][0]], rest[triangles[t][1]], rest[triangles[t][2]],
+                                                    k_min_shape_quality);
     const size_t n = rest.size();
     ring_start_.assign(n + 1, 0);
     for (const auto& t : triangles)
@@ -46,16 +37,9 @@ void StretchScale::update(std::span<const Vec4f> x, std::span<const mesh::Triang
     for (size_t t = 0; t < triangles.size(); ++t) {
         const Vec3f e1 = (x[triangles[t][1]] - x[triangles[t][0]]).head<3>();
         const Vec3f e2 = (x[triangles[t][2]] - x[triangles[t][0]]).head<3>();
-        Eigen::Matrix<float, 3, 2> ds;
-        ds << e1, e2;
-        const Eigen::Matrix<float, 3, 2> f = ds * inverse_rest_[t];
-        const Eigen::Matrix2f ftf = f.transpose() * f;
-        // Largest eigenvalue of the symmetric 2x2 F^T F: the squared largest singular value.
-        const float tr = ftf.trace(), det = ftf.determinant();
-        const float lambda = 0.5f * tr + std::sqrt(std::max(0.0f, 0.25f * tr * tr - det));
         // Zero inverse (a sliver): factor 1. Otherwise at most k_max_stretch_factor, so no
         // splat ever grows past a few spacings whatever the mesh does.
-        triangle_[t] = std::clamp(std::sqrt(lambda), 1.0f, k_max_stretch_factor);
+        triangle_[t] = std::clamp(mesh::largest_stretch(inverse_rest_[t], e1, e2), 1.0f, k_max_stretch_factor);
     }
     for (size_t v = 0; v + 1 < ring_start_.size(); ++v) {
         float m = 1.0f;

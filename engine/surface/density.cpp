@@ -5,25 +5,12 @@
 #include <random>
 
 #include "core/assert.h"
+#include "mesh/deformation.h"
 #include "surface/embedding.h"
 #include "surface/point_grid.h"
 
 namespace pbdsplat::surface {
 namespace {
-
-// Twice the area over the longest edge squared below which a triangle counts as a sliver: its
-// rest frame is ill-conditioned, a tiny movement reads as a huge stretch. Slivers are never
-// resampled; their neighbours cover them.
-constexpr float k_min_shape_quality = 0.02f;
-
-float largest_singular_value(const Eigen::Matrix2f& inverse_rest, const Vec3f& e1, const Vec3f& e2) {
-    Eigen::Matrix<float, 3, 2> ds;
-    ds << e1, e2;
-    const Eigen::Matrix<float, 3, 2> f = ds * inverse_rest;
-    const Eigen::Matrix2f ftf = f.transpose() * f;
-    const float tr = ftf.trace(), det = ftf.determinant();
-    return std::sqrt(std::max(0.0f, 0.5f * tr + std::sqrt(std::max(0.0f, 0.25f * tr * tr - det))));
-}
 
 // Index lists by key (compressed rows): keys [0, n), values in insertion order.
 struct Rows {
@@ -60,16 +47,8 @@ DensityControl::DensityControl(std::span<const Vec3f> rest, std::span<const mesh
 }
 
 void DensityControl::set_rest(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, uint32_t t) {
-    const Vec3f e1 = rest[triangles[t][1]] - rest[triangles[t][0]];
-    const Vec3f e2 = rest[triangles[t][2]] - rest[triangles[t][0]];
-    const float l1 = e1.norm();
-    const Vec3f u = l1 > 0.0f ? Vec3f(e1 / l1) : Vec3f::UnitX();
-    const Vec3f w = (e2 - e2.dot(u) * u).normalized();
-    Eigen::Matrix2f dm;
-    dm << l1, e2.dot(u), 0.0f, e2.dot(w);
-    const float longest = std::max({l1, e2.norm(), (e2 - e1).norm()});
-    const bool sliver = !(std::abs(dm.determinant()) > k_min_shape_quality * longest * longest);
-    inverse_rest_[t] = sliver ? Eigen::Matrix2f::Zero() : Eigen::Matrix2f(dm.inverse());
+    // A sliver (zero inverse) is never resampled: its neighbours cover it.
+    inverse_rest_[t] = mesh::rest_frame_inverse(rest[triangles[t][0]], rest[triangles[t][1]], rest[triangles[t][2]]);
 }
 
 void DensityControl::topology_changed(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles,
@@ -97,7 +76,7 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
     for (uint32_t t = 0; t < triangles.size(); ++t) {
         const auto& tri = triangles[t];
         const Vec3f e1 = (x[tri[1]] - x[tri[0]]).head<3>(), e2 = (x[tri[2]] - x[tri[0]]).head<3>();
-        const float sigma = inverse_rest_[t].isZero() ? reference_[t] : largest_singular_value(inverse_rest_[t], e1, e2);
+        const float sigma = inverse_rest_[t].isZero() ? reference_[t] : mesh::largest_stretch(inverse_rest_[t], e1, e2);
         stretch_[t] = sigma;
         const float ratio = sigma / reference_[t];
         const int8_t side = ratio > options_.grow ? 1 : ratio < options_.shrink && sigma > 0.0f ? -1 : 0;

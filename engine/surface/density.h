@@ -49,7 +49,6 @@ public:
     bool empty() const { return inverse_rest_.empty(); }
     // No insertion past this many samples (the renderer's capacity); 0: no limit.
     void set_max_samples(size_t n) { max_samples_ = n; }
-    const DensityOptions& options() const { return options_; }
 
     // After a topology change: the listed triangles (new or re-shaped, new indices) were
     // refilled at rest spacing, the others kept their index and their samples.
@@ -64,16 +63,12 @@ public:
     DensityStats update(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const mesh::Triangle> triangles,
                         bool anchors_drawn, float h, uint32_t seed, BoundaryParticles& samples);
 
-    // Largest singular value of triangle t's deformation gradient at the last update.
-    float stretch(uint32_t t) const { return stretch_[t]; }
-    // The stretch at which triangle t was last sampled.
-    float sampled_at(uint32_t t) const { return reference_[t]; }
-
 private:
     void set_rest(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, uint32_t t);
     DensityOptions options_;
     std::vector<Eigen::Matrix2f> inverse_rest_;  // per triangle, in its own rest frame; zero for slivers
-    std::vector<float> stretch_, reference_;
+    std::vector<float> stretch_;    // largest singular value of each triangle's deformation, this frame
+    std::vector<float> reference_;  // the stretch each triangle was last sampled at
     std::vector<int8_t> beyond_;  // frames in a row past a threshold: + grow side, - shrink side
     uint64_t frame_ = 0;
     size_t max_samples_ = 0;
