@@ -1,10 +1,10 @@
 #version 460
-// Splat pass, geometry-shader path: expands one isotropic Gaussian into a view-plane quad
-// (paper section 5.5). The quad is only a carrier; the fragment stage masks the ellipse.
+// Splat pass, geometry-shader path: expands one isotropic Gaussian into a view-plane carrier
+// (paper section 5.5). The carrier only bounds the footprint; the fragment stage masks it.
 #include "gpu_types.h"
 
 layout(points) in;
-layout(triangle_strip, max_vertices = 4) out;
+layout(triangle_strip, max_vertices = 8) out;
 
 layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(set = 0, binding = 1) uniform sampler2D env_map;
@@ -12,15 +12,15 @@ layout(set = 0, binding = 1) uniform sampler2D env_map;
 #include "shading.glsl"
 #include "splat_corner.glsl"
 
-// The visibility pass pushes every quad back along the view ray, so splats of the front surface
-// later blend over one another while the hidden surfaces behind stay rejected.
+// The visibility pass pushes every carrier back along the view ray, so splats of the front
+// surface later blend over one another while the hidden surfaces behind stay rejected.
 layout(constant_id = 0) const bool k_visibility_pass = false;
 
 layout(location = 0) in vec3 v_normal[];
 layout(location = 1) in vec4 v_color[];
 layout(location = 2) in vec2 v_scale_opacity[];
 
-layout(location = 0) out vec2 g_uv;         // [-1,1]^2 across the quad
+layout(location = 0) out vec2 g_uv;         // see splat_quad(): std devs, or the paper's [-1,1]
 layout(location = 1) out vec3 g_world;      // world position of the fragment (for env lookups)
 layout(location = 2) out vec3 g_normal;
 layout(location = 3) out vec4 g_color;      // see corner_color()
@@ -29,11 +29,13 @@ void main() {
     const vec3 world = gl_in[0].gl_Position.xyz;
     const float s0 = v_scale_opacity[0].x * frame.splat.w;
     if (!(s0 > 0.0)) return;  // a zero or NaN scale draws nothing rather than garbage
-    const SplatQuad q = splat_quad(world, s0, k_visibility_pass);
-    for (int i = 0; i < 4; ++i) {
+    const float alpha = splat_alpha(v_color[0].a, v_scale_opacity[0].y);
+    const SplatQuad q = splat_quad(world, v_normal[0], s0, alpha, k_visibility_pass);
+    if (!(q.extent > 0.0)) return;  // too faint to show anywhere
+    for (int i = 0; i < k_carrier_corners; ++i) {
         splat_corner(q, world, i, gl_Position, g_world, g_uv);
         g_normal = v_normal[0];
-        g_color = corner_color(v_color[0].rgb, v_color[0].a, v_scale_opacity[0].y, v_normal[0], g_world);
+        g_color = corner_color(v_color[0].rgb, alpha, v_normal[0], g_world);
         EmitVertex();
     }
     EndPrimitive();

@@ -18,7 +18,7 @@ layout(location = 1) out vec3 g_world;
 layout(location = 2) out vec3 g_normal;
 layout(location = 3) out vec4 g_color;
 
-// Strip corners (0, 1, 2) and (2, 1, 3): the strip's two triangles.
+// Strip corners (0, 1, 2) and (2, 1, 3): the quad strip's two triangles.
 const int k_corner_of_vertex[6] = int[6](0, 1, 2, 2, 1, 3);
 
 void main() {
@@ -32,7 +32,10 @@ void main() {
         g_color = vec4(0.0);
         return;
     }
-    const SplatQuad q = splat_quad(r.position, s0, k_visibility_pass);
+    // Always the quad: six vertices per splat, each running the whole footprint, make an
+    // octagon's eighteen cost more than the fill it saves.
+    const float alpha = splat_alpha(r.color.a, r.opacity_logit);
+    const SplatQuad q = splat_quad(r.position, r.normal, s0, alpha, k_visibility_pass);
     splat_corner(q, r.position, k_corner_of_vertex[gl_VertexIndex % 6], gl_Position, g_world, g_uv);
-    g_color = corner_color(r.color.rgb, r.color.a, r.opacity_logit, r.normal, g_world);
+    g_color = corner_color(r.color.rgb, alpha, r.normal, g_world);
 }

@@ -84,18 +84,41 @@ inline const char* splat_order_name(SplatOrder o) {
 // the image differs by the lighting's variation across one splat).
 enum class SplatShading { fragment, corner };
 
+// What the fragment stage keeps of each splat. `gaussian`: the soft falloff, cut where its alpha
+// falls below 1/255, blended over a depth-only visibility pass (or sorted). `paper`: the
+// paper's flat disc (eqs. 19-23: a quad of half-size kappa s0, the unit ellipse of its
+// coordinates over the sharpness, constant opacity sigmoid(o)), one pass that tests and writes
+// depth, as the paper's real-time scheme draws it.
+enum class Footprint { gaussian, paper };
+inline const char* footprint_name(Footprint f) { return f == Footprint::paper ? "paper" : "gaussian"; }
+
+// The paper disc's half-size, in units of a record's scale s0, that closes the scenes' surfaces
+// (s0 = 0.7 h, the default splat_scale). A truly maximal Poisson-disk sample at spacing h leaves
+// no point farther than h from a sample (kappa 1.43), but the sampler's dart throwing is not
+// quite maximal and the density control lets a triangle stretch 10 % before it adds samples:
+// measured on the default scene at 1280x720, kappa 1.43 leaves pinholes on 0.085 % of the
+// surface, 1.6 on 0.005 %, 1.8 none (docs/BENCHMARKS.md). Discs of radius 1.26 h, then.
+inline constexpr float k_paper_closing_kappa = 1.8f;
+
 struct SplatStyle {
-    float kappa = 3.0f;       // quad half-size in standard deviations
+    Footprint footprint = Footprint::paper;
+    // Gaussian: a cap on each splat's reach in standard deviations (0: none, the 1/255 alpha
+    // cut-off alone). Paper: the disc's half-size in units of s0.
+    float kappa = 0.0f;
     Vec2f sharpness{1.0f, 1.0f};
     float scale_multiplier = 1.0f;
     Blend blend = Blend::over;
     SplatOrder order = SplatOrder::unsorted;  // only read with Blend::over
-    // "Over" blending without a sort: a depth-only pass first lays down each splat's core
-    // (r^2 < core_r2), pushed back by depth_push standard deviations; the colour pass then
-    // tests against it without writing, so neighbouring splats of one surface blend smoothly
-    // and hidden ones stay hidden. Additive blending needs neither.
+    // Gaussian "over" blending without a sort: a depth-only pass first lays down each splat's
+    // core (where its alpha reaches depth_min_alpha), pushed back by depth_push standard
+    // deviations; the colour pass then tests against it without writing, so neighbouring
+    // splats of one surface blend smoothly and hidden ones stay hidden. Additive blending and
+    // the paper's disc need neither.
     float depth_push = 2.0f;
-    float core_r2 = 0.25f;
+    // Splats whose normal faces the eye by less than this cosine are not drawn: set it (the
+    // scene does, while its body is closed) when nothing behind the near surface can show.
+    // Below -1: every splat is drawn.
+    float cull_facing = -2.0f;
     // Only where a splat is this opaque does it write depth: a fragment that lets most of the
     // background through must not hide its own surface's neighbours' colour, nor the surface
     // behind (dark specks); splats fading in after a cut write none.

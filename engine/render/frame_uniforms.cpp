@@ -14,6 +14,19 @@ gpu_types::mat4 to_gpu(const Mat4f& m) {
 gpu_types::vec4 to_gpu(const Vec3f& v, float w) { return {v.x(), v.y(), v.z(), w}; }
 } // namespace
 
+float paper_kappa(const SplatStyle& s) { return s.kappa > 0.0f ? s.kappa : k_paper_closing_kappa; }
+
+float splat_reach_bound(const SplatStyle& s) {
+    float sigmas = 0.0f;
+    if (s.footprint == Footprint::paper) {
+        sigmas = paper_kappa(s);
+    } else {
+        sigmas = std::sqrt(2.0f * std::log(255.0f)) * std::max(s.sharpness.x(), s.sharpness.y());
+        if (s.kappa > 0.0f) sigmas = std::min(sigmas, s.kappa);
+    }
+    return sigmas * s.scale_multiplier;
+}
+
 gpu_types::FrameUniforms make_frame_uniforms(const FrameInputs& in, uint32_t width, uint32_t height, const std::array<Vec3f, 9>* sh) {
     const Camera& c = in.camera;
     gpu_types::FrameUniforms u{};
@@ -26,9 +39,10 @@ gpu_types::FrameUniforms make_frame_uniforms(const FrameInputs& in, uint32_t wid
     u.light_color = to_gpu(l.color, 0.0f);
     u.ambient = to_gpu(l.ambient, l.specular);
     const SplatStyle& s = in.style;
-    u.splat = {s.kappa, s.sharpness.x(), s.sharpness.y(), s.scale_multiplier};
+    const float kappa = s.footprint == Footprint::paper ? paper_kappa(s) : s.kappa;
+    u.splat = {kappa, s.sharpness.x(), s.sharpness.y(), s.scale_multiplier};
     u.material = {l.shininess, 0.0f, 0.0f, 0.0f};
-    u.visibility = {s.depth_push, s.core_r2, s.depth_min_alpha, 0.0f};
+    u.visibility = {s.depth_push, s.cull_facing, s.depth_min_alpha, 0.0f};
     const Environment& e = l.environment;
     u.environment = {float(int(e.sampling)), e.diffuse, e.specular, e.intensity};
     const size_t lights = std::min<size_t>(l.lights.size(), PBDSPLAT_MAX_LIGHTS);

@@ -19,6 +19,10 @@ const char* splat_path_name(SplatPath p) {
 }
 
 SplatPath best_splat_path(const gpu::DeviceCaps& caps) {
+    // Measured on Lavapipe (Mesa 25, 20k splats, 1280x720, docs/BENCHMARKS.md): the mesh
+    // shader's per-workgroup outputs cost about twice the geometry shader's whole pass, so a CPU
+    // device keeps the geometry shader; hardware takes the mesh shader.
+    if (caps.type == "cpu" && caps.geometry_shader) return SplatPath::geometry;
     if (caps.mesh_shader) return SplatPath::mesh;
     if (caps.geometry_shader) return SplatPath::geometry;
     return SplatPath::vertex;
@@ -33,12 +37,14 @@ std::string splat_path_unsupported(const gpu::DeviceCaps& caps, SplatPath path) 
 }
 
 core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path,
-                                          SplatShading shading) {
+                                          SplatShading shading, SplatCarrier carrier) {
     if (const std::string why = splat_path_unsupported(ctx.caps(), path); !why.empty()) return core::make_error(why);
     SplatPass p;
     p.path_ = path;
     p.shading_ = shading;
+    p.carrier_ = path == SplatPath::vertex ? SplatCarrier::quad : carrier;
     const uint32_t per_corner = shading == SplatShading::corner ? 1u : 0u;
+    const uint32_t octagon = p.carrier_ == SplatCarrier::octagon ? 1u : 0u;
     const VkShaderStageFlags front = path == SplatPath::geometry ? VK_SHADER_STAGE_GEOMETRY_BIT
                                      : path == SplatPath::mesh  ? VK_SHADER_STAGE_MESH_BIT_EXT
                                                                 : VK_SHADER_STAGE_VERTEX_BIT;
@@ -88,14 +94,15 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     desc.depth_format = depth;
     desc.layout = layout;
     desc.color_write = false;
-    desc.specialization = {1u, per_corner};  // k_visibility_pass, k_shade_per_corner
+    // k_visibility_pass, k_shade_per_corner, k_footprint, k_octagon
+    desc.specialization = {1u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon};
     auto visibility = gpu::create_graphics_pipeline(ctx, desc);
     if (!visibility.ok()) return visibility.error();
     p.visibility_ = std::move(visibility).value();
 
     desc.stages.back().second = "splat.frag";
     desc.color_write = true;
-    desc.specialization = {0u, per_corner};
+    desc.specialization = {0u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon};
     desc.depth_write = false;
     desc.blend = gpu::BlendMode::over_premultiplied;
     auto over = gpu::create_graphics_pipeline(ctx, desc);
@@ -106,6 +113,20 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     auto additive = gpu::create_graphics_pipeline(ctx, desc);
     if (!additive.ok()) return additive.error();
     p.additive_ = std::move(additive).value();
+
+    // The paper's disc: additive blending needs no depth; "over" writes it, so the nearest disc
+    // wins each pixel whatever the draw order (its mask must run before the test).
+    desc.specialization = {0u, per_corner, SPLAT_FOOTPRINT_PAPER, octagon};
+    auto paper_additive = gpu::create_graphics_pipeline(ctx, desc);
+    if (!paper_additive.ok()) return paper_additive.error();
+    p.paper_additive_ = std::move(paper_additive).value();
+    desc.stages.back().second = "splat_paper.frag";
+    desc.blend = gpu::BlendMode::over_premultiplied;
+    desc.depth_write = true;
+    desc.specialization.push_back(1u);  // k_footprint_dither
+    auto paper_over = gpu::create_graphics_pipeline(ctx, desc);
+    if (!paper_over.ok()) return paper_over.error();
+    p.paper_over_ = std::move(paper_over).value();
     return p;
 }
 
@@ -136,7 +157,7 @@ void SplatPass::draw(VkCommandBuffer cmd, const SplatSource& s) const {
     }
 }
 
-void SplatPass::record(VkCommandBuffer cmd, Blend blend, SplatOrder order, VkDescriptorSet frame_set,
+void SplatPass::record(VkCommandBuffer cmd, const SplatStyle& style, VkDescriptorSet frame_set,
                        const SplatSource& source) const {
     if (source.count == 0) return;
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &frame_set, 0, nullptr);
@@ -144,11 +165,17 @@ void SplatPass::record(VkCommandBuffer cmd, Blend blend, SplatOrder order, VkDes
         const VkDeviceSize offset = 0;
         vkCmdBindVertexBuffers(cmd, 0, 1, &source.records, &offset);
     }
-    if (blend == Blend::over && order == SplatOrder::unsorted) {
+    const bool additive = style.blend == Blend::additive;
+    if (style.footprint == Footprint::paper) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, additive ? paper_additive_.get() : paper_over_.get());
+        draw(cmd, source);
+        return;
+    }
+    if (!additive && style.order == SplatOrder::unsorted) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, visibility_.get());
         draw(cmd, source);
     }
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, blend == Blend::additive ? additive_.get() : over_.get());
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, additive ? additive_.get() : over_.get());
     draw(cmd, source);
 }
 

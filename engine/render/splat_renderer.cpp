@@ -47,7 +47,7 @@ core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context&
     r->target_ = std::move(target).value();
 
     auto pass = SplatPass::create(ctx, k_color_format, k_depth_format, options.path.value_or(best_splat_path(ctx.caps())),
-                                  options.shading);
+                                  options.shading, options.carrier);
     if (!pass.ok()) return pass.error();
     r->splat_ = std::move(pass).value();
 
@@ -153,7 +153,7 @@ void SplatRenderer::sort(const FrameInputs& inputs, uint32_t count) {
     v.proj = math::perspective(math::radians(c.fov_y_degrees), float(target_.width()) / float(target_.height()), c.z_near, c.z_far);
     v.z_near = c.z_near;
     v.z_far = c.z_far;
-    v.cull_radius_per_scale = inputs.style.kappa * inputs.style.scale_multiplier;
+    v.cull_radius_per_scale = splat_reach_bound(inputs.style);
     sort_.record(cmd_, slot, count, v);
     timers_[slot].mark(cmd_, "sort", VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
 }
@@ -168,7 +168,7 @@ void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
     target_.begin(cmd_, inputs.background.data());
     SplatSource source{records_.buffer(slot), count};
     if (gpu_sorted) source = {sort_.sorted_records(slot), count, sort_.control(slot)};
-    splat_.record(cmd_, inputs.style.blend, inputs.style.order, sets.set(slot), source);
+    splat_.record(cmd_, inputs.style, sets.set(slot), source);
     target_.end(cmd_);
     timers_[slot].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }

@@ -35,6 +35,7 @@ struct RendererOptions {
     std::string environment_map;
     Vec3f sky_sun{0.4f, 0.7f, 0.6f};
     SplatShading shading = SplatShading::fragment;
+    SplatCarrier carrier = SplatCarrier::quad;
     // Create the GPU depth sort (frames drawn with SplatOrder::gpu need it).
     bool gpu_sort = false;
 };

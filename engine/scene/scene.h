@@ -98,6 +98,10 @@ struct RenderDesc {
     // Where that sort runs; empty: chosen per device (render::preferred_sort).
     std::optional<render::SplatOrder> sort_on;
     render::SplatShading shading = render::SplatShading::fragment;
+    render::SplatCarrier carrier = render::SplatCarrier::quad;
+    // Skip the splats facing away from the eye while the body is closed (no open boundary):
+    // nothing behind its near surface can show then.
+    bool cull_back = true;
     CameraOrbit orbit;
     std::vector<CameraKey> path;  // sorted by time; when given, it replaces eye and target
     std::optional<render::SplatPath> splat_path;  // empty: the best the device has

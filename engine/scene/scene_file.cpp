@@ -269,7 +269,16 @@ void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
     else if (sort_on == "gpu") d.sort_on = render::SplatOrder::gpu;
     d.shading = t.choice("shading", "fragment", {"fragment", "corner"}) == "corner" ? render::SplatShading::corner
                                                                                     : render::SplatShading::fragment;
-    style.kappa = t.real("kappa", style.kappa, 1.0, 6.0);
+    style.footprint = t.choice("footprint", render::footprint_name(style.footprint), {"gaussian", "paper"}) == "paper"
+                          ? render::Footprint::paper
+                          : render::Footprint::gaussian;
+    style.kappa = t.real("kappa", style.kappa, 0.0, 6.0);
+    if (style.kappa > 0.0f && style.kappa < 0.5f)
+        r.fail(t.source_of("kappa"), "'render.kappa' = " + std::to_string(style.kappa) +
+                                         " is too small to draw: 0 (the footprint's default) or at least 0.5");
+    style.sharpness = t.vec<2>("sharpness", style.sharpness, 0.1, 4.0);
+    d.carrier = t.choice("carrier", "quad", {"quad", "octagon"}) == "octagon" ? render::SplatCarrier::octagon : render::SplatCarrier::quad;
+    d.cull_back = t.flag("cull_back", d.cull_back);
     style.depth_min_alpha = t.real("depth_min_alpha", style.depth_min_alpha, 0.0, 0.99);
     style.depth_push = t.real("depth_push", style.depth_push, 0.0, 10.0);
     const Vec3f bg = t.vec<3>("background", Vec3f(d.frame.background.head<3>()), 0.0, 1.0);

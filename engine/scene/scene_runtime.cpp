@@ -109,6 +109,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         density_ = surface::DensityControl(body_.rest_positions, body_.triangles, o);
     }
     appearance_.scale = mat.splat_scale * h_;
+    update_closed();
     frame_input_.frame.lighting.intensity *= mat.diffuse;
     frame_input_.frame.lighting.specular = mat.specular;
     frame_input_.frame.lighting.shininess = mat.shininess;
@@ -130,6 +131,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     if (options.gpu) {
         render::RendererOptions ro;
         ro.shading = scene_.render.shading;
+        ro.carrier = scene_.render.carrier;
         // Interactive runs may switch the sort on later: have it ready.
         ro.gpu_sort = order == render::SplatOrder::gpu || (options.interactive && sorted_order_ == render::SplatOrder::gpu);
         ro.width = scene_.render.width;
@@ -226,6 +228,7 @@ core::Status SceneRuntime::build_graph() {
         samples = b.write(samples);
         return [this, dt](const graph::PassResources&, graph::ExecuteContext&) {
             const core::Stopwatch clock;
+            const size_t particles_before = body_.particle_count();
             for (const CutEvent& c : user_cuts_) {
                 if (!topology_status_.ok()) break;
                 const size_t particles = body_.particle_count();
@@ -249,6 +252,8 @@ core::Status SceneRuntime::build_graph() {
             }
             if (tearing_ && time_ >= tearing_until_) tearing_.reset();
             if (tearing_ && topology_status_.ok()) topology_status_ = apply_tears();
+            // Every cut and tear duplicates vertices: only then can the boundary have opened.
+            if (body_.particle_count() != particles_before) update_closed();
             topology_ms_ = clock.elapsed_ms();
         };
     });
@@ -348,6 +353,11 @@ core::Status SceneRuntime::build_graph() {
                             boundary && show_boundary_ ? &boundary_ : nullptr,
                             appearance_, stretch_.empty() ? nullptr : &stretch_, records_);
             fade_.apply(records_);
+            // The far side of a closed, opaque body cannot show: its splats are skipped. The
+            // threshold keeps those just past the silhouette, whose discs still reach beyond
+            // the rim.
+            const bool opaque = frame_input_.frame.style.blend == render::Blend::over && appearance_.opacity_logit > math::logit(0.9f);
+            frame_input_.frame.style.cull_facing = scene_.render.cull_back && body_closed_ && opaque ? -0.3f : -2.0f;
             // Position-based environment lookups look out from the body's centre; nothing else
             // reads it.
             render::Environment& env = frame_input_.frame.lighting.environment;
@@ -396,6 +406,10 @@ core::Status SceneRuntime::build_graph() {
     for (const graph::PassInfo& p : g.describe())
         if (!p.culled) group_of_kept_pass_.push_back(group_of(p.name));
     return core::Status::success();
+}
+
+void SceneRuntime::update_closed() {
+    body_closed_ = !body_.triangles.empty() && mesh::boundary_loops(body_.triangles, body_.particle_count()).empty();
 }
 
 void SceneRuntime::publish_records() {

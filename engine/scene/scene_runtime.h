@@ -198,6 +198,9 @@ private:
     splat::FadeIn fade_;
     bool check_topology_ = false;
     size_t cuts_ = 0, tears_ = 0;
+    // No open boundary: back-facing splats cannot show (kept from build and each topology change).
+    bool body_closed_ = false;
+    void update_closed();
     double topology_ms_ = 0.0;
     topology::TopologyChange last_change_;
     uint64_t frame_ = 0;

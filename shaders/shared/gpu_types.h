@@ -26,6 +26,10 @@ struct alignas(16) mat4 { float m[16]; };  // column-major, as GLSL reads it
 #define SPLAT_OFFSET_COLOR 16
 #define SPLAT_OFFSET_SCALE_OPACITY 20
 
+// ---- Splat footprints (specialization constant 2 of the splat pipelines) --------------------
+#define SPLAT_FOOTPRINT_GAUSSIAN 0u  // soft Gaussian, cut where its alpha falls below 1/255
+#define SPLAT_FOOTPRINT_PAPER 1u     // the paper's flat elliptical disc (eqs. 22-23), one pass
+
 // ---- Per-frame constants (set 0, binding 0) ---------------------------------------------------
 #define PBDSPLAT_MAX_LIGHTS 4
 struct FrameUniforms {
@@ -36,11 +40,13 @@ struct FrameUniforms {
     vec4 light_dir;    // xyz: unit direction from the surface towards the light; w: intensity
     vec4 light_color;  // rgb
     vec4 ambient;      // rgb ambient light; w: specular strength
-    vec4 splat;        // x: quad half-size in std devs (kappa); y, z: sharpness sigma_x, sigma_y;
+    vec4 splat;        // x: kappa: the Gaussian's cap on its reach in std devs (0: none), the
+                       // paper disc's half-size in s0; y, z: sharpness sigma_x, sigma_y;
                        // w: global scale multiplier
     vec4 material;     // x: shininess; yzw unused
     vec4 visibility;   // x: depth push of the visibility pass, in splat std devs;
-                       // y: r^2 of the opaque core that writes depth there;
+                       // y: splats whose normal faces the eye by less than this cosine are
+                       // culled (a closed, opaque body); below -1: none;
                        // z: the least alpha (opacity x fade x falloff) that writes depth
     // Environment lighting (paper eqs. 24-25, section 7.2).
     vec4 environment;  // x: sampling (0 off: ambient only, 1 position, 2 normal, 3 hybrid);

@@ -1,86 +1,128 @@
 // The screen-space footprint of one isotropic Gaussian (paper section 5.5), shared by the
-// geometry-shader, mesh-shader and vertex-pulling paths so the three draw the same quads.
+// geometry-shader, mesh-shader and vertex-pulling paths so the three draw the same carriers.
 // Needs `frame` (FrameUniforms) declared before inclusion.
 #ifndef PBDSPLAT_SPLAT_FOOTPRINT_GLSL
 #define PBDSPLAT_SPLAT_FOOTPRINT_GLSL
 
 #include "splat_codec.glsl"
 
+// What the fragment stage keeps (SPLAT_FOOTPRINT_* in gpu_types.h): the soft Gaussian, cut where
+// its alpha falls below 1/255, or the paper's flat disc (eqs. 22-23: the unit ellipse of the
+// quad's coordinates divided by the sharpness, constant opacity), drawn in one depth-tested pass.
+layout(constant_id = 2) const uint k_footprint = SPLAT_FOOTPRINT_GAUSSIAN;
+// The carrier: a quad (two triangles), or an octagon hugging the ellipse (six triangles,
+// 17 % less area); the geometry and mesh paths draw either.
+layout(constant_id = 3) const bool k_octagon = false;
+
+const float k_alpha_floor = 1.0 / 255.0;
+
 struct SplatQuad {
     vec3 centre;      // view space (eq. 15), pushed back in the visibility pass
-    vec3 axis_right;  // view space, kappa * l_r along r (eq. 19)
-    vec3 axis_up;     // view space, kappa * l_u along u_perp (eq. 20)
-    float extent;     // the quad covers uv in [-extent, extent]^2
+    vec3 axis_right;  // view space, half-size along r (eq. 19)
+    vec3 axis_up;     // view space, half-size along u_perp (eq. 20)
+    float extent;     // the carrier covers uv in [-extent, extent]^2; 0: nothing to draw
 };
 
-const vec2 k_quad_corners[4] = vec2[4](vec2(-1.0, -1.0), vec2(1.0, -1.0), vec2(-1.0, 1.0), vec2(1.0, 1.0));
+// Half-size of the carrier in units of the splat's standard deviation s0. The Gaussian's reach
+// is where alpha * exp(-r^2/2) falls below the least alpha that still shows (1/255 in the colour
+// pass, render.depth_min_alpha in the depth-only visibility pass): r = sqrt(2 ln(alpha/floor)),
+// so faint splats draw small carriers and fully faded ones none. A positive kappa caps it.
+// The paper's disc spans kappa s0 (the quad of eqs. 19-20 with l = kappa s0).
+float splat_reach(float alpha, bool visibility_pass) {
+    if (k_footprint == SPLAT_FOOTPRINT_PAPER) return frame.splat.x;
+    const float floor_alpha = visibility_pass ? frame.visibility.z : k_alpha_floor;
+    if (!(alpha > floor_alpha)) return 0.0;
+    float r = sqrt(2.0 * log(alpha / floor_alpha)) * max(frame.splat.y, frame.splat.z);
+    if (frame.splat.x > 0.0) r = min(r, frame.splat.x);
+    return r;
+}
 
-SplatQuad splat_quad(vec3 world, float s0, bool visibility_pass) {
-    // Eq. 14 with S_local = s0*I, R_local = R_model = I: the local axes seen in view space are
-    // the columns of the view rotation, scaled.
+// Carrier corners in [-1,1]^2 units. The octagon's apothem is 1, so it bounds the unit circle;
+// both lists are in triangle-strip order (a zig-zag across the convex outline).
+const vec2 k_quad_corners[4] = vec2[4](vec2(-1.0, -1.0), vec2(1.0, -1.0), vec2(-1.0, 1.0), vec2(1.0, 1.0));
+const float k_oct_a = 1.0, k_oct_b = 0.41421356;  // tan(22.5 deg)
+const vec2 k_octagon_corners[8] = vec2[8](vec2(-k_oct_b, -k_oct_a), vec2(k_oct_b, -k_oct_a), vec2(-k_oct_a, -k_oct_b),
+                                          vec2(k_oct_a, -k_oct_b), vec2(-k_oct_a, k_oct_b), vec2(k_oct_a, k_oct_b),
+                                          vec2(-k_oct_b, k_oct_a), vec2(k_oct_b, k_oct_a));
+const int k_carrier_corners = k_octagon ? 8 : 4;
+vec2 carrier_corner(int i) { return k_octagon ? k_octagon_corners[i] : k_quad_corners[i]; }
+
+// The view-plane frame of the paper's quad (eqs. 14-18): the local axes s0*R seen in view space,
+// the weakest dropped (eq. 16), the other two made orthonormal by a 2D Gram-Schmidt (eqs.
+// 17-18). Only the orientation is kept: for an isotropic Gaussian it matters only where the
+// sharpness differs between the quad's two axes.
+void paper_frame(vec3 c0, float s0, out vec2 r, out vec2 u) {
     const mat3 rv = mat3(frame.view);
     const vec3 a[3] = vec3[3](s0 * rv[0], s0 * rv[1], s0 * rv[2]);
-    const vec3 c0 = (frame.view * vec4(world, 1.0)).xyz;  // eq. 15
-    SplatQuad q;
-    q.centre = c0;
-    if (visibility_pass) q.centre.z -= frame.visibility.x * s0;  // the camera looks down -z
-
-    // Eq. 16: view-plane contribution of each axis; drop the weakest.
     const float ck[3] = float[3](dot(a[0].xy, a[0].xy), dot(a[1].xy, a[1].xy), dot(a[2].xy, a[2].xy));
     int weakest = 0;
     if (ck[1] < ck[weakest]) weakest = 1;
     if (ck[2] < ck[weakest]) weakest = 2;
     const int iu = ck[(weakest + 1) % 3] >= ck[(weakest + 2) % 3] ? (weakest + 1) % 3 : (weakest + 2) % 3;
     const int iv = 3 - weakest - iu;
-
-    // Eqs. 17-18: 2D Gram-Schmidt, with a perpendicular fallback when v collapses onto u.
     const float eps = 1e-6;
     const vec2 u2 = a[iu].xy;
-    const vec2 r2 = u2 / (length(u2) + eps);
+    r = u2 / (length(u2) + eps);
     const vec2 v2 = a[iv].xy;
-    const vec2 vperp = v2 - dot(v2, r2) * r2;
+    const vec2 vperp = v2 - dot(v2, r) * r;
     const float lperp = length(vperp);
-    const vec2 up2 = lperp > 1e-3 * length(u2) ? vperp / (lperp + eps) : vec2(-r2.y, r2.x);
+    u = lperp > 1e-3 * length(u2) ? vperp / (lperp + eps) : vec2(-r.y, r.x);
+}
 
-    // Eqs. 19-20 take the lengths of u and v_perp alone, which is exact only where the view ray
-    // through the centre is the optical axis. Off axis a sphere projects to an ellipse stretched
-    // away from the image centre, so we map each axis through the perspective Jacobian at the
-    // centre (in view-plane units at the centre's depth: a' = a.xy + p a.z, p = c.xy / -c.z),
-    // and turn the Gram-Schmidt frame onto the principal axes of the projected covariance
-    // M = sum a' a'^T: the quad then bounds the projected Gaussian at the cut-off and the
-    // fragment stage's axis-aligned ellipse is that projection. Where M is isotropic (on the
-    // axis) the paper's frame stays.
+// On a closed, opaque body a splat whose normal points away from the eye lies on the far side,
+// hidden by the near one: drawing it costs fill for nothing. The threshold is below zero so
+// the splats just past the silhouette, whose discs still reach beyond the rim, stay.
+bool splat_faces_away(vec3 world, vec3 normal) {
+    return dot(normal, normalize(frame.camera_pos.xyz - world)) < frame.visibility.y;
+}
+
+SplatQuad splat_quad(vec3 world, vec3 normal, float s0, float alpha, bool visibility_pass) {
+    SplatQuad q;
+    const bool drawn = s0 > 0.0 && !splat_faces_away(world, normal);
+    const float reach = drawn ? splat_reach(alpha, visibility_pass) : 0.0;
+    const vec3 c0 = (frame.view * vec4(world, 1.0)).xyz;  // eq. 15
+    q.centre = c0;
+    if (visibility_pass) q.centre.z -= frame.visibility.x * s0;  // the camera looks down -z
+
+    // Eqs. 19-20 take the lengths of the view-plane axes alone, which is exact only where the
+    // view ray through the centre is the optical axis. Off axis a sphere projects to an ellipse
+    // stretched away from the image centre: mapping each axis through the perspective Jacobian
+    // at the centre (in view-plane units at the centre's depth: a' = a.xy + p a.z, with
+    // p = c.xy / -c.z), the projected covariance is M = sum a' a'^T = s0^2 (I + p p^T) for an
+    // isotropic Gaussian (the axes are the rows of a rotation). Its principal axes are p, with
+    // length s0 sqrt(1 + |p|^2), and the perpendicular, with length s0: the carrier bounds the
+    // projected Gaussian at the cut-off and the fragment stage's axis-aligned ellipse is that
+    // projection. On the axis (p = 0) M is isotropic and the paper's frame (eqs. 16-18) stays;
+    // it is only computed where the sharpness makes the orientation visible.
     const vec2 p = c0.xy / max(-c0.z, 1e-6);
-    float m00 = 0.0, m01 = 0.0, m11 = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        const vec2 ap = a[k].xy + p * a[k].z;
-        m00 += ap.x * ap.x;
-        m01 += ap.x * ap.y;
-        m11 += ap.y * ap.y;
-    }
-    const float half_diff = 0.5 * (m00 - m11);
-    const float root = sqrt(half_diff * half_diff + m01 * m01);
-    const float l1 = 0.5 * (m00 + m11) + root, l2 = max(0.5 * (m00 + m11) - root, 0.0);
-    vec2 r = r2, u = up2;
-    if (root > 1e-4 * l1) {
-        r = normalize(half_diff >= 0.0 ? vec2(l1 - m11, m01) : vec2(m01, l1 - m00));
+    const float p2 = dot(p, p);
+    vec2 r, u;
+    if (p2 > 1e-8) {
+        r = p * inversesqrt(p2);
         u = vec2(-r.y, r.x);
+    } else if (frame.splat.y != frame.splat.z) {
+        paper_frame(c0, s0, r, u);
+    } else {
+        r = vec2(1.0, 0.0);
+        u = vec2(0.0, 1.0);
     }
-    const float lr = sqrt(l1), lu = sqrt(l2);
-    // The visibility pass only needs the core that writes depth: a smaller quad, less fill.
-    q.extent = visibility_pass ? sqrt(frame.visibility.y) : 1.0;
-    const float kappa = frame.splat.x * q.extent;
-    q.axis_right = kappa * lr * vec3(r, 0.0);
-    q.axis_up = kappa * lu * vec3(u, 0.0);
+    const float lr = s0 * sqrt(1.0 + p2), lu = s0;
+    // The Gaussian's uv is in standard deviations (the carrier spans its reach); the paper's is
+    // the quad's own [-1,1] (eq. 22 divides it by the sharpness).
+    q.extent = k_footprint == SPLAT_FOOTPRINT_PAPER ? (reach > 0.0 ? 1.0 : 0.0) : reach;
+    q.axis_right = reach * lr * vec3(r, 0.0);
+    q.axis_up = reach * lu * vec3(u, 0.0);
     return q;
 }
 
-// Corner i (0..3, triangle-strip order) of the quad: clip position and world position.
+// Corner i of the carrier (strip order): clip position, world position and uv. A carrier with
+// nothing to draw lands outside the clip volume.
 void splat_corner(SplatQuad q, vec3 world, int i, out vec4 clip, out vec3 corner_world, out vec2 uv) {
-    const vec3 offset = k_quad_corners[i].x * q.axis_right + k_quad_corners[i].y * q.axis_up;
-    clip = frame.proj * vec4(q.centre + offset, 1.0);
+    const vec2 c = carrier_corner(i);
+    const vec3 offset = c.x * q.axis_right + c.y * q.axis_up;
+    clip = q.extent > 0.0 ? frame.proj * vec4(q.centre + offset, 1.0) : vec4(2.0, 2.0, 2.0, 1.0);
     corner_world = world + transpose(mat3(frame.view)) * offset;
-    uv = k_quad_corners[i] * q.extent;
+    uv = c * q.extent;
 }
 
 #endif

@@ -61,10 +61,12 @@ void check_against_golden(const core::ImageRgba8& actual, const std::string& nam
 core::ImageRgba8 render_once(gpu::Context& ctx, const std::vector<splat::GaussianRecord>& records,
                              const render::FrameInputs& frame, uint32_t w, uint32_t h,
                              std::optional<render::SplatPath> path = render::SplatPath::geometry,
-                             render::SplatShading shading = render::SplatShading::fragment) {
+                             render::SplatShading shading = render::SplatShading::fragment,
+                             render::SplatCarrier carrier = render::SplatCarrier::quad) {
     render::RendererOptions o;
     o.path = path;
     o.shading = shading;
+    o.carrier = carrier;
     o.width = w;
     o.height = h;
     o.max_splats = std::max<uint32_t>(1, uint32_t(records.size()));
@@ -86,11 +88,40 @@ bool is_background(const uint8_t* px, const Vec4f& bg) {
 } // namespace
 
 TEST_SUITE("render/splat") {
-    TEST_CASE("the built-in icosphere matches its golden image") {
+    TEST_CASE("the built-in icosphere matches its golden image, in each footprint") {
         auto ctx = test::open_validated_context();
         const auto scene = scene::make_builtin_scene(4);
+        REQUIRE(scene.frame.style.footprint == render::Footprint::paper);  // the default
         const auto img = render_once(*ctx, scene.records, scene.frame, 320, 240);
         check_against_golden(img, "builtin_icosphere_320x240");
+        render::FrameInputs soft = scene.frame;
+        soft.style.footprint = render::Footprint::gaussian;
+        check_against_golden(render_once(*ctx, scene.records, soft, 320, 240), "builtin_icosphere_gaussian_320x240");
+        test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("the far side of a closed body is culled without changing its image") {
+        auto ctx = test::open_validated_context();
+        const auto scene = scene::make_builtin_scene(4);
+        for (render::Footprint footprint : {render::Footprint::paper, render::Footprint::gaussian}) {
+            render::FrameInputs all = scene.frame, culled = scene.frame;
+            all.style.footprint = culled.style.footprint = footprint;
+            culled.style.cull_facing = -0.3f;  // what the scene runtime sets for a closed, opaque body
+            const auto a = render_once(*ctx, scene.records, all, 320, 240);
+            const auto c = render_once(*ctx, scene.records, culled, 320, 240);
+            auto diff = core::compare_images(c, a, 2);
+            REQUIRE(diff.ok());
+            MESSAGE(std::string(render::footprint_name(footprint)) << ": culled against all, PSNR " << diff->psnr_db << " dB, "
+                                                      << diff->share_over * 100.0 << " % of pixels over 2/255");
+            CHECK(diff->psnr_db >= 50.0);
+            CHECK(diff->share_over <= 0.01);  // the Gaussian's faint tails past the rim
+            // Culling everything that does not face the eye head-on does change it: the check bites.
+            render::FrameInputs too_much = culled;
+            too_much.style.cull_facing = 0.5f;
+            auto bad = core::compare_images(render_once(*ctx, scene.records, too_much, 320, 240), a, 2);
+            REQUIRE(bad.ok());
+            CHECK(bad->share_over > 0.01);
+        }
         test::require_no_validation_messages(*ctx);
     }
 
@@ -125,7 +156,7 @@ TEST_SUITE("render/splat") {
         test::require_no_validation_messages(*ctx);
     }
 
-    TEST_CASE("the quad bounds the projected Gaussian at the cut-off, tightly, also near the screen edges") {
+    TEST_CASE("the quad bounds the projected footprint at its cut-off, tightly, also near the screen edges") {
         auto ctx = test::open_validated_context();
         render::FrameInputs frame;
         frame.camera.eye = Vec3f(0, 0, 3);
@@ -148,9 +179,13 @@ TEST_SUITE("render/splat") {
             const Vec4f c = proj * view * x.homogeneous();
             return Vec2f((c.x() / c.w() * 0.5f + 0.5f) * float(w), (c.y() / c.w() * 0.5f + 0.5f) * float(h));
         };
-        const float kappa = frame.style.kappa;
+        for (render::Footprint footprint : {render::Footprint::gaussian, render::Footprint::paper})
         // The centre of the view, an edge and a corner (seen at a grazing angle from the eye).
         for (const Vec3f& centre : {Vec3f(0.0f, 0.0f, 0.0f), Vec3f(4.6f, 0.2f, -0.5f), Vec3f(-4.2f, -3.2f, -0.4f)}) {
+            frame.style.footprint = footprint;
+            // The Gaussian reaches where an opaque splat's alpha falls below 1/255; the paper's
+            // disc spans kappa s0.
+            const float kappa = render::splat_reach_bound(frame.style);
             const auto img = render_once(*ctx, {splat::make_record(centre, Vec3f(0, 0, 1), look)}, frame, w, h);
             // Sigma_2D = J (s0^2 I) J^T, with J the pixel Jacobian at the centre (central differences).
             Eigen::Matrix<float, 2, 3> jac;
@@ -170,7 +205,7 @@ TEST_SUITE("render/splat") {
                     if (m <= 0.9f * kappa) inside += 1, inside_lit += lit ? 1 : 0;
                     if (lit && m > 1.15f * kappa) ++lit_far;
                 }
-            INFO("splat at " << centre.transpose() << ", pixel centre " << c.transpose());
+            INFO(std::string(render::footprint_name(footprint)) << " splat at " << centre.transpose() << ", pixel centre " << c.transpose());
             CHECK(inside > 30);
             CHECK(inside_lit == inside);  // the quad covers the ellipse up to the cut-off
             CHECK(lit_far == 0);          // and no square around it: nothing lit beyond it
@@ -220,31 +255,46 @@ TEST_SUITE("render/splat") {
 }
 
 TEST_SUITE("render/paths") {
-    TEST_CASE("the geometry, mesh and vertex-pulling paths draw the same image") {
+    TEST_CASE("the geometry, mesh and vertex-pulling paths, on quads or octagons, draw the same image") {
         auto ctx = test::open_validated_context();
         const auto scene = scene::make_builtin_scene(4);
-        const auto reference = render_once(*ctx, scene.records, scene.frame, 320, 240, render::SplatPath::geometry);
-        for (render::SplatPath path : {render::SplatPath::mesh, render::SplatPath::vertex}) {
-            const std::string why = render::splat_path_unsupported(ctx->caps(), path);
-            if (!why.empty()) {
-                MESSAGE("SKIPPED the " << render::splat_path_name(path) << " path: " << why);
-                continue;
+        for (render::Footprint footprint : {render::Footprint::paper, render::Footprint::gaussian}) {
+            render::FrameInputs frame = scene.frame;
+            frame.style.footprint = footprint;
+            const auto reference = render_once(*ctx, scene.records, frame, 320, 240, render::SplatPath::geometry);
+            struct Variant {
+                render::SplatPath path;
+                render::SplatCarrier carrier;
+            };
+            for (const Variant v : {Variant{render::SplatPath::geometry, render::SplatCarrier::octagon},
+                                    Variant{render::SplatPath::mesh, render::SplatCarrier::quad},
+                                    Variant{render::SplatPath::mesh, render::SplatCarrier::octagon},
+                                    Variant{render::SplatPath::vertex, render::SplatCarrier::quad}}) {
+                const std::string why = render::splat_path_unsupported(ctx->caps(), v.path);
+                if (!why.empty()) {
+                    MESSAGE("SKIPPED the " << render::splat_path_name(v.path) << " path: " << why);
+                    continue;
+                }
+                const auto img = render_once(*ctx, scene.records, frame, 320, 240, v.path, render::SplatShading::fragment, v.carrier);
+                auto diff = core::compare_images(img, reference, 2);
+                REQUIRE(diff.ok());
+                const char* carrier = v.carrier == render::SplatCarrier::octagon ? "octagon" : "quad";
+                MESSAGE(std::string(render::footprint_name(footprint)) << ", " << render::splat_path_name(v.path) << " on " << carrier
+                                                          << " against gs on quads: PSNR " << diff->psnr_db << " dB, "
+                                                          << diff->share_over * 100.0 << " % of pixels over 2/255");
+                CHECK(diff->share_over <= 0.001);
+                CHECK(diff->psnr_db >= 45.0);
             }
-            const auto img = render_once(*ctx, scene.records, scene.frame, 320, 240, path);
-            auto diff = core::compare_images(img, reference, 2);
-            REQUIRE(diff.ok());
-            MESSAGE(std::string(render::splat_path_name(path)) << " against gs: PSNR " << diff->psnr_db << " dB, "
-                                                  << diff->share_over * 100.0 << " % of pixels over 2/255");
-            CHECK(diff->share_over <= 0.001);
-            CHECK(diff->psnr_db >= 45.0);
         }
         test::require_no_validation_messages(*ctx);
     }
 }
 
 TEST_SUITE("render/lighting") {
-    // The built-in icosphere at 160x120 under one lighting setup, against its golden.
+    // The built-in icosphere at 160x120 under one lighting setup, against its golden. Lighting is
+    // checked on the soft Gaussian footprint, whose blending shows every splat's shading.
     void lit_golden(render::FrameInputs frame, const std::string& name) {
+        frame.style.footprint = render::Footprint::gaussian;
         auto ctx = test::open_validated_context();
         const auto scene = scene::make_builtin_scene(4);
         const auto img = render_once(*ctx, scene.records, frame, 160, 120);
@@ -384,11 +434,13 @@ TEST_SUITE("render/lighting") {
         std::vector<splat::GaussianRecord> sorted = scene.records;
         splat::SortScratch scratch;
         splat::sort_far_to_near(sorted, math::look_at(scene.frame.camera.eye, scene.frame.camera.target, scene.frame.camera.up), scratch);
-        render::FrameInputs sorted_frame = scene.frame;
+        render::FrameInputs unsorted_frame = scene.frame;
+        unsorted_frame.style.footprint = render::Footprint::gaussian;
+        render::FrameInputs sorted_frame = unsorted_frame;
         sorted_frame.style.order = render::SplatOrder::cpu;  // records arrive sorted: no visibility pass
         const auto img = render_once(*ctx, sorted, sorted_frame, 160, 120);
         check_against_golden(img, "sorted_160x120");
-        const auto unsorted = render_once(*ctx, scene.records, scene.frame, 160, 120);
+        const auto unsorted = render_once(*ctx, scene.records, unsorted_frame, 160, 120);
         auto diff = core::compare_images(img, unsorted, 2);
         REQUIRE(diff.ok());
         MESSAGE("sorted against unsorted: PSNR " << diff->psnr_db << " dB");

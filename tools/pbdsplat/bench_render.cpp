@@ -8,6 +8,7 @@
 #include "pbdsplat/commands.h"
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/splat_sphere.h"
+#include "render/frame_uniforms.h"
 #include "scene/offscreen_renderer.h"
 #include "splat/sort.h"
 
@@ -17,6 +18,7 @@ int bench_render(const std::vector<std::string>& argv) {
     static constexpr const char* help =
         "usage: pbdsplat bench render [--splats N] [--path gs|mesh|vertex|meshraster] [--sort off|cpu|gpu]\n"
         "                             [--shading fragment|corner] [--environment E] [--width W] [--height H]\n"
+        "                             [--footprint gaussian|paper] [--kappa K] [--carrier quad|octagon]\n"
         "                             [--repeat R] [--warmup K] [--json] [--validation] [--device NAME]\n"
         "\n"
         "Milliseconds per frame of the splat pass for N splats on a sphere filling about a third of\n"
@@ -30,6 +32,13 @@ int bench_render(const std::vector<std::string>& argv) {
         "  --path P            gs, mesh, vertex (default: the best the device has) or meshraster\n"
         "  --sort S            off (default: the visibility pass), cpu or gpu (compute cull + radix sort)\n"
         "  --shading S         fragment (default) or corner: where the lighting is evaluated\n"
+        "  --footprint F       paper (default) or gaussian: the paper's flat disc in one depth-writing\n"
+        "                      pass, or the soft Gaussian cut at alpha 1/255 (see docs/BENCHMARKS.md)\n"
+        "  --kappa K           Gaussian: cap on the reach in std devs (0, default: none; 3 is the old\n"
+        "                      fixed quad); paper: the disc's half-size in s0 (default: closing, 1.8)\n"
+        "  --carrier C         quad (default) or octagon (geometry and mesh paths)\n"
+        "  --cull-facing C     skip splats whose normal faces the eye by less than the cosine C (the\n"
+        "                      sphere is closed; default -2: draw all)\n"
         "  --environment E     position (default), normal, hybrid or off: the shading's lookups\n"
         "  --scale S           splat size multiplier (default 1: sized to close the surface); the\n"
         "                      JSON's coverage says how many screens of quads that draws\n"
@@ -39,7 +48,8 @@ int bench_render(const std::vector<std::string>& argv) {
     std::set<std::string> flags = k_gpu_flags;
     flags.insert({"json", "help"});
     std::set<std::string> valued = k_gpu_options;
-    valued.insert({"splats", "path", "sort", "width", "height", "repeat", "warmup", "environment", "shading", "scale"});
+    valued.insert({"splats", "path", "sort", "width", "height", "repeat", "warmup", "environment", "shading", "scale",
+                   "footprint", "kappa", "carrier", "cull-facing"});
     auto args = Args::parse(argv, flags, valued);
     if (!args.ok()) return usage_error("bench render", args.error().to_string());
     if (args->has("help")) return std::fputs(help, stdout), 0;
@@ -64,6 +74,17 @@ int bench_render(const std::vector<std::string>& argv) {
     if (shading_arg != "fragment" && shading_arg != "corner")
         return usage_error("bench render", "--shading must be fragment or corner, not '" + shading_arg + "'");
 
+    const std::string footprint_arg = args->get_or("footprint", "paper");
+    if (footprint_arg != "gaussian" && footprint_arg != "paper")
+        return usage_error("bench render", "--footprint must be gaussian or paper, not '" + footprint_arg + "'");
+    const std::string carrier_arg = args->get_or("carrier", "quad");
+    if (carrier_arg != "quad" && carrier_arg != "octagon")
+        return usage_error("bench render", "--carrier must be quad or octagon, not '" + carrier_arg + "'");
+    auto kappa = args->get_float("kappa", 0.0f, 0.0f, 6.0f);
+    if (!kappa.ok()) return usage_error("bench render", kappa.error().to_string());
+    auto cull_facing = args->get_float("cull-facing", -2.0f, -2.0f, 1.0f);
+    if (!cull_facing.ok()) return usage_error("bench render", cull_facing.error().to_string());
+
     const std::string env_arg = args->get_or("environment", "position");
     render::EnvSampling environment = render::EnvSampling::position;
     if (env_arg == "normal") environment = render::EnvSampling::normal;
@@ -86,10 +107,14 @@ int bench_render(const std::vector<std::string>& argv) {
     auto scale = args->get_float("scale", 1.0f, 0.01f, 100.0f);
     if (!scale.ok()) return usage_error("bench render", scale.error().to_string());
     frame.style.scale_multiplier = scale.value();
-    // Screens of quad area drawn: each quad spans 2 kappa sigma at its distance (about 3.5 here).
-    const float sigma = splat::half_to_float(records.front().scale_half) * scale.value();
+    frame.style.footprint = footprint_arg == "paper" ? render::Footprint::paper : render::Footprint::gaussian;
+    frame.style.kappa = kappa.value();
+    frame.style.cull_facing = cull_facing.value();
+    // Screens of carrier area drawn: each quad spans twice the splat's reach at its distance
+    // (about 3.5 here).
+    const float sigma = splat::half_to_float(records.front().scale_half);
     const float pixels_per_unit = float(height.value()) / (2.0f * 3.5f * std::tan(math::radians(frame.camera.fov_y_degrees) * 0.5f));
-    const float quad_side = 2.0f * frame.style.kappa * sigma * pixels_per_unit;
+    const float quad_side = 2.0f * render::splat_reach_bound(frame.style) * sigma * pixels_per_unit;
     const double screens = double(quad_side) * quad_side * count.value() / (double(width.value()) * height.value());
     if (mesh_raster) {
         auto r = bench_mesh_raster(*ctx.value(), count.value(), frame, width.value(), height.value(), warmup.value(), repeat.value());
@@ -115,6 +140,7 @@ int bench_render(const std::vector<std::string>& argv) {
     render::RendererOptions options;
     options.gpu_sort = sort == "gpu";
     options.shading = shading_arg == "corner" ? render::SplatShading::corner : render::SplatShading::fragment;
+    options.carrier = carrier_arg == "octagon" ? render::SplatCarrier::octagon : render::SplatCarrier::quad;
     options.width = width.value();
     options.height = height.value();
     options.max_splats = count.value();
@@ -149,6 +175,8 @@ int bench_render(const std::vector<std::string>& argv) {
     if (args->has("json")) {
         const nlohmann::json j = {{"suite", "render"}, {"device", caps.name}, {"driver", caps.driver},
                                   {"splats", count.value()}, {"path", render::splat_path_name(used)}, {"sort", sort}, {"environment", render::env_sampling_name(environment)}, {"shading", shading_arg},
+                                  {"footprint", footprint_arg}, {"kappa", kappa.value()}, {"carrier", carrier_arg},
+                                  {"cull_facing", cull_facing.value()},
                                   {"scale", scale.value()}, {"quad_screens", screens},
                                   {"width", width.value()}, {"height", height.value()}, {"repeat", repeat.value()},
                                   {"median_ms", median_ms}, {"draw_ms", core::median(draw)},
@@ -160,7 +188,9 @@ int bench_render(const std::vector<std::string>& argv) {
     std::printf("device %s (%s)\n", caps.name.c_str(), caps.driver.c_str());
     std::printf("%u splats at %ux%u, path %s, sort %s, shading per %s, median of %u frames:\n", count.value(), width.value(),
                 height.value(), render::splat_path_name(used), sort.c_str(), shading_arg.c_str(), repeat.value());
-    std::printf("  draw   %8.3f ms GPU (%s)\n", core::median(draw), sort == "off" ? "visibility + colour passes" : "colour pass");
+    std::printf("footprint %s, carrier %s, %.1f screens of carrier area\n", footprint_arg.c_str(), carrier_arg.c_str(), screens);
+    const bool two_passes = sort == "off" && footprint_arg == "gaussian";
+    std::printf("  draw   %8.3f ms GPU (%s)\n", core::median(draw), two_passes ? "visibility + colour passes" : "one pass");
     if (sort == "cpu") std::printf("  sort   %8.3f ms CPU\n", core::median(sort_ms));
     if (sort == "gpu") std::printf("  sort   %8.3f ms GPU (cull, radix sort, gather)\n", core::median(gpu_sort_ms));
     std::printf("  frame  %8.3f ms wall (upload, draw, readback)\n", core::median(wall));

@@ -1,0 +1,58 @@
+// Splat pass, fragment stage: the footprint's mask (paper section 5.6.1) and shading
+// (section 5.6.2), with premultiplied alpha for the "over" blend. Included by splat.frag (the
+// pipelines that test depth without writing it) and splat_paper.frag (the paper's one pass,
+// which writes depth and so cannot test early).
+#ifndef PBDSPLAT_SPLAT_FRAGMENT_GLSL
+#define PBDSPLAT_SPLAT_FRAGMENT_GLSL
+
+#include "gpu_types.h"
+
+layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
+layout(set = 0, binding = 1) uniform sampler2D env_map;
+#include "shading.glsl"
+
+layout(constant_id = 1) const bool k_shade_per_corner = false;
+layout(constant_id = 2) const uint k_footprint = SPLAT_FOOTPRINT_GAUSSIAN;
+const float k_alpha_floor = 1.0 / 255.0;
+// The paper footprint's opacity as dithered coverage (its depth-writing pass) or as blending
+// (its additive pass, where order does not matter).
+layout(constant_id = 4) const bool k_footprint_dither = false;
+
+layout(location = 0) in vec2 g_uv;
+layout(location = 1) in vec3 g_world;
+layout(location = 2) in vec3 g_normal;
+layout(location = 3) in vec4 g_color;  // rgb: albedo, or the colour shaded at the corners; a: opacity
+
+layout(location = 0) out vec4 out_color;
+
+// A 4x4 ordered-dither threshold in (0, 1) for this pixel.
+float dither_threshold() {
+    const uint bayer[16] = uint[16](0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
+    const uvec2 p = uvec2(gl_FragCoord.xy) & 3u;
+    return (float(bayer[p.y * 4u + p.x]) + 0.5) / 16.0;
+}
+
+void main() {
+    // Eqs. 22-23: normalise by the sharpness.
+    const vec2 u = g_uv / frame.splat.yz;
+    const float r2 = dot(u, u);
+    float alpha;
+    if (k_footprint == SPLAT_FOOTPRINT_PAPER) {
+        if (r2 > 1.0) discard;  // outside the unit ellipse
+        // Eq. 21's flat alpha, drawn as coverage: the paper blends it over whatever is already
+        // drawn, which with depth writes and no sort is the draw order's accident (a disc fading
+        // in after a cut would show the background through, not its neighbours: dark specks).
+        // Kept on an ordered-dither share of the pixels, it has the same mean opacity whatever
+        // the order, and the kept pixels write an opaque colour.
+        if (k_footprint_dither && g_color.a < dither_threshold()) discard;
+        alpha = k_footprint_dither ? 1.0 : g_color.a;
+    } else {
+        // uv is in standard deviations: the Gaussian falloff, cut where it stops showing.
+        alpha = min(g_color.a * exp(-0.5 * r2), 1.0);
+        if (alpha < k_alpha_floor) discard;
+    }
+    const vec3 color = k_shade_per_corner ? g_color.rgb : shade(g_color.rgb, normalize(g_normal), g_world);
+    out_color = vec4(color * alpha, alpha);
+}
+
+#endif
