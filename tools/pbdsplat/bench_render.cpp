@@ -37,8 +37,8 @@ int bench_render(const std::vector<std::string>& argv) {
         "  --kappa K           Gaussian: cap on the reach in std devs (0, default: none; 3 is the old\n"
         "                      fixed quad); paper: the disc's half-size in s0 (default: closing, 1.8)\n"
         "  --carrier C         quad (default) or octagon (geometry and mesh paths)\n"
-        "  --cull-facing C     skip splats whose normal faces the eye by less than the cosine C (the\n"
-        "                      sphere is closed; default -2: draw all)\n"
+        "  --cull-facing C     skip splats whose normal faces the eye by less than the cosine C; the\n"
+        "                      sphere is closed and opaque, so by default -0.3, as a scene would (-2: all)\n"
         "  --environment E     position (default), normal, hybrid or off: the shading's lookups\n"
         "  --scale S           splat size multiplier (default 1: sized to close the surface); the\n"
         "                      JSON's coverage says how many screens of quads that draws\n"
@@ -82,7 +82,7 @@ int bench_render(const std::vector<std::string>& argv) {
         return usage_error("bench render", "--carrier must be quad or octagon, not '" + carrier_arg + "'");
     auto kappa = args->get_float("kappa", 0.0f, 0.0f, 6.0f);
     if (!kappa.ok()) return usage_error("bench render", kappa.error().to_string());
-    auto cull_facing = args->get_float("cull-facing", -2.0f, -2.0f, 1.0f);
+    auto cull_facing = args->get_float("cull-facing", -0.3f, -2.0f, 1.0f);
     if (!cull_facing.ok()) return usage_error("bench render", cull_facing.error().to_string());
 
     const std::string env_arg = args->get_or("environment", "position");
