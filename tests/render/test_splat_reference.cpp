@@ -1,0 +1,163 @@
+// The GPU splat paths against the plain CPU reference of tests/support/splat_reference.h: a few
+// splats, flat lighting, every path and carrier.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <string>
+
+#include "render/frame_uniforms.h"
+#include "scene/offscreen_renderer.h"
+#include "splat/sort.h"
+#include "support/gpu_fixture.h"
+#include "support/splat_reference.h"
+
+using namespace pbdsplat;
+
+namespace {
+
+render::FrameInputs flat_frame() {
+    render::FrameInputs f;
+    f.camera.eye = Vec3f(0.0f, 0.0f, 3.0f);
+    f.camera.fov_y_degrees = 90.0f;  // strong perspective: off-axis splats project stretched
+    f.background = Vec4f(0.0f, 0.0f, 0.0f, 1.0f);
+    f.lighting.environment.sampling = render::EnvSampling::off;
+    f.lighting.ambient = Vec3f(1.0f, 1.0f, 1.0f);
+    f.lighting.intensity = 0.0f;
+    f.lighting.specular = 0.0f;
+    return f;
+}
+
+// Overlapping splats at distinct depths, on the axis, off it and near a corner of the view.
+std::vector<splat::GaussianRecord> test_splats(float opacity_logit) {
+    struct S {
+        Vec3f p;
+        Vec3f albedo;
+        float scale;
+    };
+    const S list[] = {{{0.0f, 0.0f, 0.0f}, {0.9f, 0.2f, 0.1f}, 0.35f},  {{0.3f, 0.15f, 0.4f}, {0.1f, 0.8f, 0.3f}, 0.25f},
+                      {{-0.25f, -0.2f, -0.5f}, {0.2f, 0.3f, 0.9f}, 0.4f}, {{2.2f, 1.1f, -0.3f}, {0.8f, 0.8f, 0.2f}, 0.3f},
+                      {{-2.4f, -1.6f, 0.2f}, {0.7f, 0.2f, 0.8f}, 0.2f},   {{2.0f, -1.3f, 0.6f}, {0.3f, 0.9f, 0.9f}, 0.15f}};
+    std::vector<splat::GaussianRecord> out;
+    for (const S& s : list) {
+        splat::Appearance a;
+        a.albedo = s.albedo;
+        a.scale = s.scale;
+        a.opacity_logit = opacity_logit;
+        out.push_back(splat::make_record(s.p, Vec3f(0.0f, 0.0f, 1.0f), a));
+    }
+    return out;
+}
+
+core::ImageRgba8 render_gpu(gpu::Context& ctx, const std::vector<splat::GaussianRecord>& records, const render::FrameInputs& frame,
+                            uint32_t w, uint32_t h, render::SplatPath path, render::SplatCarrier carrier) {
+    render::RendererOptions o;
+    o.path = path;
+    o.carrier = carrier;
+    o.width = w;
+    o.height = h;
+    o.max_splats = uint32_t(records.size());
+    o.frames_in_flight = 1;
+    auto r = scene::OffscreenRenderer::create(ctx, o);
+    REQUIRE_MESSAGE(r.ok(), r.error().to_string());
+    REQUIRE(r.value()->render(records, frame).ok());
+    auto img = r.value()->finish();
+    REQUIRE_MESSAGE(img.ok(), img.error().to_string());
+    return std::move(img).value();
+}
+
+struct Agreement {
+    size_t compared = 0, covered = 0, off = 0;  // off: pixels over the tolerance
+    int worst = 0;
+};
+
+Agreement compare(const core::ImageRgba8& img, const std::vector<test::ReferencePixel>& ref, int tolerance, float rim_margin) {
+    Agreement a;
+    for (uint32_t y = 0; y < img.height; ++y)
+        for (uint32_t x = 0; x < img.width; ++x) {
+            const test::ReferencePixel& r = ref[size_t(y) * img.width + x];
+            if (r.rim_margin < rim_margin) continue;  // the pixel centre sits on a rim: either side is right
+            ++a.compared;
+            if (r.color.maxCoeff() > 0.0f) ++a.covered;
+            int d = 0;
+            for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(img.at(x, y)[c]) - int(std::lround(r.color[c] * 255.0f))));
+            a.worst = std::max(a.worst, d);
+            if (d > tolerance) ++a.off;
+        }
+    return a;
+}
+
+struct Variant {
+    render::SplatPath path;
+    render::SplatCarrier carrier;
+};
+const Variant k_variants[] = {{render::SplatPath::geometry, render::SplatCarrier::quad},
+                              {render::SplatPath::geometry, render::SplatCarrier::octagon},
+                              {render::SplatPath::mesh, render::SplatCarrier::quad},
+                              {render::SplatPath::mesh, render::SplatCarrier::octagon},
+                              {render::SplatPath::vertex, render::SplatCarrier::quad}};
+std::string variant_name(const Variant& v) {
+    return std::string(render::splat_path_name(v.path)) + (v.carrier == render::SplatCarrier::octagon ? " on octagons" : " on quads");
+}
+
+} // namespace
+
+TEST_SUITE("render/reference") {
+    TEST_CASE("the paper's disc matches a CPU reference of eqs. 14-23 within 1 LSB, on every path") {
+        auto ctx = test::open_validated_context();
+        const uint32_t w = 240, h = 160;
+        for (const Vec2f& sharpness : {Vec2f(1.0f, 1.0f), Vec2f(0.7f, 0.7f)}) {
+            render::FrameInputs frame = flat_frame();
+            frame.style.footprint = render::Footprint::paper;
+            frame.style.sharpness = sharpness;
+            const auto records = test_splats(8.0f);  // opaque: every disc pixel kept by the dither
+            const auto ref = test::render_reference(records, frame, w, h);
+            for (const Variant& v : k_variants) {
+                if (const std::string why = render::splat_path_unsupported(ctx->caps(), v.path); !why.empty()) {
+                    MESSAGE("SKIPPED the " << render::splat_path_name(v.path) << " path: " << why);
+                    continue;
+                }
+                const auto img = render_gpu(*ctx, records, frame, w, h, v.path, v.carrier);
+                const Agreement a = compare(img, ref, 1, 0.02f);
+                INFO(variant_name(v) << ", sharpness " << sharpness.x() << ": " << a.off << " of " << a.compared
+                                     << " pixels over 1/255, worst " << a.worst);
+                MESSAGE(variant_name(v) << ", sharpness " << sharpness.x() << ": worst " << a.worst << "/255 over "
+                                        << a.compared << " pixels off the rims");
+                CHECK(a.covered > 1000);
+                CHECK(a.off == 0);
+            }
+        }
+        test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("the Gaussian, sorted over and additive, matches the CPU reference within 2 LSB, on every path") {
+        auto ctx = test::open_validated_context();
+        const uint32_t w = 240, h = 160;
+        for (const render::Blend blend : {render::Blend::over, render::Blend::additive}) {
+            render::FrameInputs frame = flat_frame();
+            frame.style.footprint = render::Footprint::gaussian;
+            frame.style.blend = blend;
+            frame.style.order = render::SplatOrder::cpu;  // the records arrive far to near
+            auto records = test_splats(1.0f);              // translucent: every layer shows
+            splat::SortScratch scratch;
+            splat::sort_far_to_near(records, math::look_at(frame.camera.eye, frame.camera.target, frame.camera.up), scratch);
+            const auto ref = test::render_reference(records, frame, w, h);
+            for (const Variant& v : k_variants) {
+                if (const std::string why = render::splat_path_unsupported(ctx->caps(), v.path); !why.empty()) {
+                    MESSAGE("SKIPPED the " << render::splat_path_name(v.path) << " path: " << why);
+                    continue;
+                }
+                const auto img = render_gpu(*ctx, records, frame, w, h, v.path, v.carrier);
+                // Each blend rounds to 8 bits on the GPU; a few layers drift by up to 2/255.
+                const Agreement a = compare(img, ref, 2, 0.0f);
+                INFO(variant_name(v) << std::string(blend == render::Blend::additive ? ", additive" : ", over") << ": " << a.off << " of "
+                                     << a.compared << " pixels over 2/255, worst " << a.worst);
+                MESSAGE(variant_name(v) << std::string(blend == render::Blend::additive ? ", additive" : ", over") << ": worst "
+                                        << a.worst << "/255");
+                CHECK(a.covered > 2000);
+                CHECK(a.off == 0);
+            }
+        }
+        test::require_no_validation_messages(*ctx);
+    }
+}

@@ -1,0 +1,105 @@
+#include "support/splat_reference.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <Eigen/Eigenvalues>
+
+#include "render/frame_uniforms.h"
+
+namespace pbdsplat::test {
+
+namespace {
+struct Footprint2D {
+    Vec3f centre;         // view space
+    Eigen::Matrix2f inv;  // inverse projected covariance, view-plane units at the centre's depth
+    Vec3f albedo;
+    float alpha = 1.0f;
+    Eigen::Matrix2f axes;  // columns: unit principal directions
+    Vec2f lengths;         // standard deviations along them
+};
+
+Footprint2D project(const splat::GaussianRecord& r, const Mat4f& view, float scale_multiplier) {
+    Footprint2D f;
+    const Vec3f world(r.position[0], r.position[1], r.position[2]);
+    f.centre = (view * world.homogeneous()).head<3>();
+    const float s0 = splat::half_to_float(r.scale_half) * scale_multiplier;
+    // Eq. 14: the isotropic Gaussian's local axes s0 * e_k seen in view space, each pushed
+    // through the perspective Jacobian at the centre (a' = a.xy + p a.z).
+    const Vec2f p = f.centre.head<2>() / -f.centre.z();
+    Eigen::Matrix2f cov = Eigen::Matrix2f::Zero();
+    const Eigen::Matrix3f rot = view.topLeftCorner<3, 3>();
+    for (int k = 0; k < 3; ++k) {
+        const Vec3f a = s0 * rot.col(k);
+        const Vec2f ap = a.head<2>() + p * a.z();
+        cov += ap * ap.transpose();
+    }
+    // Principal axes, the longer first (the quad's r of eq. 19, along which sigma_x applies).
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2f> eig(cov);
+    f.axes << eig.eigenvectors().col(1), eig.eigenvectors().col(0);
+    f.lengths = Vec2f(eig.eigenvalues()(1), eig.eigenvalues()(0)).cwiseSqrt();
+    f.inv = cov.inverse();
+    f.albedo = Vec3f(r.color[0], r.color[1], r.color[2]) / 255.0f;
+    const float fade = float(r.color[3]) / 255.0f;
+    f.alpha = fade / (1.0f + std::exp(-splat::half_to_float(r.opacity_half)));
+    return f;
+}
+} // namespace
+
+std::vector<ReferencePixel> render_reference(const std::vector<splat::GaussianRecord>& records,
+                                             const render::FrameInputs& frame, uint32_t width, uint32_t height) {
+    const auto u = render::make_frame_uniforms(frame, width, height);
+    Mat4f view, proj;
+    std::memcpy(view.data(), u.view.m, sizeof(u.view.m));
+    std::memcpy(proj.data(), u.proj.m, sizeof(u.proj.m));
+    const Mat4f unproject = proj.inverse();
+    const render::SplatStyle& style = frame.style;
+    std::vector<Footprint2D> splats;
+    for (const auto& r : records) splats.push_back(project(r, view, style.scale_multiplier));
+    const float kappa = render::paper_kappa(style);
+    const Vec2f sharp = style.sharpness;
+
+    std::vector<ReferencePixel> out(size_t(width) * height);
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) {
+            const Vec2f ndc((float(x) + 0.5f) / float(width) * 2.0f - 1.0f, (float(y) + 0.5f) / float(height) * 2.0f - 1.0f);
+            const Vec4f v = unproject * Vec4f(ndc.x(), ndc.y(), 0.5f, 1.0f);
+            const Vec3f ray = v.head<3>() / v.w();  // from the eye at the origin
+            ReferencePixel& px = out[size_t(y) * width + x];
+            Vec3f c = frame.background.head<3>();
+            float nearest = -1e30f;
+            if (style.footprint == render::Footprint::paper) {
+                // Eqs. 19-23: quad coordinates over the half-sizes kappa * l, divided by sigma;
+                // the nearest covering disc wins (depth test and write).
+                std::vector<float> radius(splats.size());
+                for (size_t i = 0; i < splats.size(); ++i) {
+                    const Footprint2D& f = splats[i];
+                    // Where the ray meets the quad's plane (constant view depth), from the centre.
+                    const Vec3f hit = ray * (f.centre.z() / ray.z());
+                    const Vec2f q = f.axes.transpose() * (hit - f.centre).head<2>();
+                    radius[i] = Vec2f(q.x() / (kappa * f.lengths.x()) / sharp.x(), q.y() / (kappa * f.lengths.y()) / sharp.y()).norm();
+                    if (radius[i] <= 1.0f && f.centre.z() > nearest) {
+                        nearest = f.centre.z();
+                        c = f.albedo;
+                    }
+                }
+                for (size_t i = 0; i < splats.size(); ++i)
+                    if (splats[i].centre.z() >= nearest) px.rim_margin = std::min(px.rim_margin, std::abs(radius[i] - 1.0f));
+            } else {
+                for (const Footprint2D& f : splats) {
+                    const Vec3f hit = ray * (f.centre.z() / ray.z());
+                    const Vec2f d = (hit - f.centre).head<2>();
+                    const float m2 = d.dot(f.inv * d);  // squared Mahalanobis distance, in sigmas
+                    const float a = std::min(f.alpha * std::exp(-0.5f * m2), 1.0f);
+                    if (a < 1.0f / 255.0f) continue;  // the cut-off
+                    if (style.blend == render::Blend::additive) c += a * f.albedo;
+                    else c = a * f.albedo + (1.0f - a) * c;
+                }
+            }
+            px.color = c.cwiseMin(1.0f).cwiseMax(0.0f);
+        }
+    return out;
+}
+
+} // namespace pbdsplat::test
