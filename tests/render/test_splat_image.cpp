@@ -19,6 +19,7 @@
 #include "scene/scene_runtime.h"
 #include "splat/sort.h"
 #include "support/gpu_fixture.h"
+#include "support/render_once.h"
 
 using namespace pbdsplat;
 
@@ -58,26 +59,7 @@ void check_against_golden(const core::ImageRgba8& actual, const std::string& nam
     MESSAGE(name << ": PSNR " << diff->psnr_db << " dB, " << diff->share_over * 100.0 << " % of pixels over 2/255");
 }
 
-core::ImageRgba8 render_once(gpu::Context& ctx, const std::vector<splat::GaussianRecord>& records,
-                             const render::FrameInputs& frame, uint32_t w, uint32_t h,
-                             std::optional<render::SplatPath> path = render::SplatPath::geometry,
-                             render::SplatShading shading = render::SplatShading::fragment,
-                             render::SplatCarrier carrier = render::SplatCarrier::quad) {
-    render::RendererOptions o;
-    o.path = path;
-    o.shading = shading;
-    o.carrier = carrier;
-    o.width = w;
-    o.height = h;
-    o.max_splats = std::max<uint32_t>(1, uint32_t(records.size()));
-    o.frames_in_flight = 1;
-    auto r = scene::OffscreenRenderer::create(ctx, o);
-    REQUIRE_MESSAGE(r.ok(), r.error().to_string());
-    REQUIRE(r.value()->render(records, frame).ok());
-    auto img = r.value()->finish();
-    REQUIRE_MESSAGE(img.ok(), img.error().to_string());
-    return std::move(img).value();
-}
+using test::render_once;
 
 bool is_background(const uint8_t* px, const Vec4f& bg) {
     for (int c = 0; c < 3; ++c)

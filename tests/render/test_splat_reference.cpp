@@ -10,6 +10,7 @@
 #include "scene/offscreen_renderer.h"
 #include "splat/sort.h"
 #include "support/gpu_fixture.h"
+#include "support/render_once.h"
 #include "support/splat_reference.h"
 
 using namespace pbdsplat;
@@ -49,23 +50,6 @@ std::vector<splat::GaussianRecord> test_splats(float opacity_logit) {
     return out;
 }
 
-core::ImageRgba8 render_gpu(gpu::Context& ctx, const std::vector<splat::GaussianRecord>& records, const render::FrameInputs& frame,
-                            uint32_t w, uint32_t h, render::SplatPath path, render::SplatCarrier carrier) {
-    render::RendererOptions o;
-    o.path = path;
-    o.carrier = carrier;
-    o.width = w;
-    o.height = h;
-    o.max_splats = uint32_t(records.size());
-    o.frames_in_flight = 1;
-    auto r = scene::OffscreenRenderer::create(ctx, o);
-    REQUIRE_MESSAGE(r.ok(), r.error().to_string());
-    REQUIRE(r.value()->render(records, frame).ok());
-    auto img = r.value()->finish();
-    REQUIRE_MESSAGE(img.ok(), img.error().to_string());
-    return std::move(img).value();
-}
-
 struct Agreement {
     size_t compared = 0, covered = 0, off = 0;  // off: pixels over the tolerance
     int worst = 0;
@@ -96,6 +80,18 @@ const Variant k_variants[] = {{render::SplatPath::geometry, render::SplatCarrier
                               {render::SplatPath::mesh, render::SplatCarrier::quad},
                               {render::SplatPath::mesh, render::SplatCarrier::octagon},
                               {render::SplatPath::vertex, render::SplatCarrier::quad}};
+// Calls fn(variant) for each path and carrier the device has; says which it skips.
+template <class Fn>
+void for_each_variant(const gpu::Context& ctx, Fn&& fn) {
+    for (const Variant& v : k_variants) {
+        if (const std::string why = render::splat_path_unsupported(ctx.caps(), v.path); !why.empty()) {
+            MESSAGE("SKIPPED the " << render::splat_path_name(v.path) << " path: " << why);
+            continue;
+        }
+        fn(v);
+    }
+}
+
 std::string variant_name(const Variant& v) {
     return std::string(render::splat_path_name(v.path)) + (v.carrier == render::SplatCarrier::octagon ? " on octagons" : " on quads");
 }
@@ -112,12 +108,8 @@ TEST_SUITE("render/reference") {
             frame.style.sharpness = sharpness;
             const auto records = test_splats(8.0f);  // opaque: every disc pixel kept by the dither
             const auto ref = test::render_reference(records, frame, w, h);
-            for (const Variant& v : k_variants) {
-                if (const std::string why = render::splat_path_unsupported(ctx->caps(), v.path); !why.empty()) {
-                    MESSAGE("SKIPPED the " << render::splat_path_name(v.path) << " path: " << why);
-                    continue;
-                }
-                const auto img = render_gpu(*ctx, records, frame, w, h, v.path, v.carrier);
+            for_each_variant(*ctx, [&](const Variant& v) {
+                const auto img = test::render_once(*ctx, records, frame, w, h, v.path, render::SplatShading::fragment, v.carrier);
                 const Agreement a = compare(img, ref, 1, 0.02f);
                 INFO(variant_name(v) << ", sharpness " << sharpness.x() << ": " << a.off << " of " << a.compared
                                      << " pixels over 1/255, worst " << a.worst);
@@ -125,7 +117,7 @@ TEST_SUITE("render/reference") {
                                         << a.compared << " pixels off the rims");
                 CHECK(a.covered > 1000);
                 CHECK(a.off == 0);
-            }
+            });
         }
         test::require_no_validation_messages(*ctx);
     }
@@ -142,12 +134,8 @@ TEST_SUITE("render/reference") {
             splat::SortScratch scratch;
             splat::sort_far_to_near(records, math::look_at(frame.camera.eye, frame.camera.target, frame.camera.up), scratch);
             const auto ref = test::render_reference(records, frame, w, h);
-            for (const Variant& v : k_variants) {
-                if (const std::string why = render::splat_path_unsupported(ctx->caps(), v.path); !why.empty()) {
-                    MESSAGE("SKIPPED the " << render::splat_path_name(v.path) << " path: " << why);
-                    continue;
-                }
-                const auto img = render_gpu(*ctx, records, frame, w, h, v.path, v.carrier);
+            for_each_variant(*ctx, [&](const Variant& v) {
+                const auto img = test::render_once(*ctx, records, frame, w, h, v.path, render::SplatShading::fragment, v.carrier);
                 // Each blend rounds to 8 bits on the GPU; a few layers drift by up to 2/255.
                 const Agreement a = compare(img, ref, 2, 0.0f);
                 INFO(variant_name(v) << std::string(blend == render::Blend::additive ? ", additive" : ", over") << ": " << a.off << " of "
@@ -156,7 +144,7 @@ TEST_SUITE("render/reference") {
                                         << a.worst << "/255");
                 CHECK(a.covered > 2000);
                 CHECK(a.off == 0);
-            }
+            });
         }
         test::require_no_validation_messages(*ctx);
     }

@@ -1,0 +1,35 @@
+#pragma once
+// One offscreen frame of the given records through a fresh renderer: what the image tests draw.
+#include <algorithm>
+#include <optional>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "core/image.h"
+#include "scene/offscreen_renderer.h"
+
+namespace pbdsplat::test {
+
+inline core::ImageRgba8 render_once(gpu::Context& ctx, const std::vector<splat::GaussianRecord>& records,
+                                    const render::FrameInputs& frame, uint32_t w, uint32_t h,
+                                    std::optional<render::SplatPath> path = render::SplatPath::geometry,
+                                    render::SplatShading shading = render::SplatShading::fragment,
+                                    render::SplatCarrier carrier = render::SplatCarrier::quad) {
+    render::RendererOptions o;
+    o.path = path;
+    o.shading = shading;
+    o.carrier = carrier;
+    o.width = w;
+    o.height = h;
+    o.max_splats = std::max<uint32_t>(1, uint32_t(records.size()));
+    o.frames_in_flight = 1;
+    auto r = scene::OffscreenRenderer::create(ctx, o);
+    REQUIRE_MESSAGE(r.ok(), r.error().to_string());
+    REQUIRE(r.value()->render(records, frame).ok());
+    auto img = r.value()->finish();
+    REQUIRE_MESSAGE(img.ok(), img.error().to_string());
+    return std::move(img).value();
+}
+
+} // namespace pbdsplat::test
