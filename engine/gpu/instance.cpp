@@ -101,7 +101,7 @@ core::Result<std::unique_ptr<Instance>> Instance::create(const InstanceOptions& 
     messenger_info.pfnUserCallback = on_message;
 
     auto inst = std::unique_ptr<Instance>(new Instance());
-    messenger_info.pUserData = &inst->log_;
+    messenger_info.pUserData = inst->log_.get();
 
     const VkValidationFeatureEnableEXT enables[] = {VK_VALIDATION_FEATURE_ENABLE_BEST_PRACTICES_EXT,
                                                     VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};

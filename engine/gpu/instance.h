@@ -41,14 +41,17 @@ public:
 
     VkInstance handle() const { return instance_; }
     bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
-    const ValidationLog& validation_log() const { return log_; }
-    ValidationLog& validation_log() { return log_; }
+    const ValidationLog& validation_log() const { return *log_; }
+    ValidationLog& validation_log() { return *log_; }
+    // The log outlives the instance for whoever holds this: messages sent while the device and
+    // the instance are destroyed (leaked objects) can be read after the teardown.
+    std::shared_ptr<const ValidationLog> shared_validation_log() const { return log_; }
 
 private:
     Instance() = default;
     VkInstance instance_ = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
-    ValidationLog log_;
+    std::shared_ptr<ValidationLog> log_ = std::make_shared<ValidationLog>();
 };
 
 } // namespace pbdsplat::gpu

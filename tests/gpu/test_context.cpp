@@ -13,8 +13,25 @@ TEST_SUITE("gpu/context") {
         CHECK(c.api_version >= VK_API_VERSION_1_3);
         CHECK(c.geometry_shader);
         CHECK(c.subgroup_size >= 1);
-        MESSAGE("device: " << c.name << ", driver: " << c.driver << ", mesh shader: " << (c.mesh_shader ? "yes" : "no"));
+        MESSAGE("device: " << c.name << ", driver: " << c.driver << ", mesh shader: " << std::string(c.mesh_shader ? "yes" : "no"));
         test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("an object leaked past the device's end is reported at teardown, after the last in-test check") {
+        gpu::ContextOptions o;
+        o.instance.validation = true;
+        auto ctx = gpu::Context::create(o);
+        REQUIRE_MESSAGE(ctx.ok(), ctx.error().to_string());
+        const auto log = ctx.value()->instance().shared_validation_log();
+        VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+        info.size = 256;
+        info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+        VkBuffer leaked = VK_NULL_HANDLE;
+        REQUIRE(vkCreateBuffer(ctx.value()->vk(), &info, nullptr, &leaked) == VK_SUCCESS);
+        CHECK(log->count() == 0);  // what a check at the end of the test body would see
+        ctx.value().reset();       // vkDestroyDevice with the buffer still alive
+        MESSAGE("teardown reported " << log->count() << " message(s)" << (log->count() ? ": " + log->messages().front() : ""));
+        CHECK(log->count() > 0);  // what ValidatedContext's destructor fails the test on
     }
 
     TEST_CASE("a device name that matches nothing is a clear error") {

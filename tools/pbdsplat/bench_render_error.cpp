@@ -22,10 +22,11 @@ struct Variant {
     render::SplatPath path = render::SplatPath::geometry;
     render::SplatOrder order = render::SplatOrder::unsorted;
     render::SplatShading shading = render::SplatShading::fragment;
-    float kappa = 3.0f, scale = 1.0f;
+    float kappa = 0.0f, scale = 1.0f;  // kappa 0: the footprint's default
     // Splats per area against the reference's: the sampling density that eta sets (spacing h =
     // eta * edge length, so density ~ 1 / eta^2); each splat's size follows its spacing.
     float density = 1.0f;
+    render::Footprint footprint = render::Footprint::gaussian;
 };
 
 struct Measured {
@@ -47,6 +48,7 @@ core::Result<std::pair<core::ImageRgba8, double>> render(gpu::Context& ctx, std:
     o.frames_in_flight = 1;
     o.gpu_sort = v.order == render::SplatOrder::gpu;
     frame.style.order = v.order;
+    frame.style.footprint = v.footprint;
     frame.style.kappa = v.kappa;
     frame.style.scale_multiplier = v.scale;
     auto r = scene::OffscreenRenderer::create(ctx, o);
@@ -88,10 +90,11 @@ int bench_render_error(const std::vector<std::string>& argv) {
         "usage: pbdsplat bench render-error [--splats N] [--width W] [--height H] [--repeat R] [--out-dir DIR]\n"
         "                                   [--json] [--validation] [--device NAME]\n"
         "\n"
-        "Rendering, time against error: N splats on a sphere rendered by every path the device has,\n"
-        "unsorted and sorted (CPU, GPU), shaded per fragment and per corner, and with other cut-offs\n"
-        "(kappa), sampling densities (eta) and splat scales; each image against a reference (geometry shader, sorted on the\n"
-        "CPU, per-fragment shading, rendered at 4x the resolution and averaged down). Prints the\n"
+        "Rendering, time against error: N splats on a sphere rendered in each footprint (the paper's\n"
+        "disc, the Gaussian) by every path the device has, unsorted and sorted (CPU, GPU), shaded per\n"
+        "fragment and per corner, and with other cut-offs (kappa), sampling densities (eta) and splat\n"
+        "scales; each image against a reference of its footprint (geometry shader, sorted on the CPU,\n"
+        "per-fragment shading, rendered at 4x the resolution and averaged down). Prints the\n"
         "median GPU ms (sort + draw) of R frames, the PSNR and the share of pixels off by more than\n"
         "2/255, and writes DIR/render_error.csv and DIR/render_error.svg.\n"
         "\n"
@@ -119,10 +122,18 @@ int bench_render_error(const std::vector<std::string>& argv) {
 
     auto [records, frame] = make_splat_sphere(count.value());
     const uint32_t w = width.value(), h = height.value();
-    Variant reference_variant{"reference", render::SplatPath::geometry, render::SplatOrder::cpu};
-    auto reference = render(*ctx.value(), records, frame, reference_variant, 4 * w, 4 * h, 1);
-    if (!reference.ok()) return fail("bench render-error", reference.error().to_string());
-    const core::ImageRgba8 truth = downsample(reference->first, 4);
+    // One reference per footprint: the disc's hard rims and the Gaussian's soft ones are
+    // different images by design; each is judged against its own supersampled truth.
+    core::ImageRgba8 truth[2];
+    double reference_ms = 0.0;
+    for (const render::Footprint f : {render::Footprint::gaussian, render::Footprint::paper}) {
+        Variant reference_variant{"reference", render::SplatPath::geometry, render::SplatOrder::cpu};
+        reference_variant.footprint = f;
+        auto reference = render(*ctx.value(), records, frame, reference_variant, 4 * w, 4 * h, 1);
+        if (!reference.ok()) return fail("bench render-error", reference.error().to_string());
+        truth[int(f)] = downsample(reference->first, 4);
+        reference_ms += reference->second;
+    }
 
     std::vector<Variant> variants;
     for (const render::SplatPath p : {render::SplatPath::geometry, render::SplatPath::mesh, render::SplatPath::vertex}) {
@@ -131,23 +142,29 @@ int bench_render_error(const std::vector<std::string>& argv) {
                          render::splat_path_unsupported(caps, p).c_str());
             continue;
         }
+        for (const render::SplatShading s : {render::SplatShading::fragment, render::SplatShading::corner}) {
+            Variant disc{std::string(render::splat_path_name(p)) + ", paper disc, " + (s == render::SplatShading::corner ? "corner" : "fragment"),
+                         p, render::SplatOrder::unsorted, s};
+            disc.footprint = render::Footprint::paper;
+            variants.push_back(disc);
+        }
         for (const render::SplatOrder o : {render::SplatOrder::unsorted, render::SplatOrder::cpu, render::SplatOrder::gpu})
             for (const render::SplatShading s : {render::SplatShading::fragment, render::SplatShading::corner})
                 variants.push_back({std::string(render::splat_path_name(p)) + ", sort " + render::splat_order_name(o) + ", " +
                                         (s == render::SplatShading::corner ? "corner" : "fragment"),
                                     p, o, s});
     }
-    for (const float kappa : {2.0f, 2.5f, 3.5f})
+    for (const float kappa : {2.0f, 2.5f, 3.0f})
         variants.push_back({"gs, sort cpu, kappa " + std::to_string(kappa).substr(0, 3), render::SplatPath::geometry,
                             render::SplatOrder::cpu, render::SplatShading::fragment, kappa});
     for (const float density : {0.5f, 2.0f})
         variants.push_back({std::string("gs, sort cpu, eta x") + (density < 1.0f ? "1.41" : "0.71") + " (density x" +
                                 std::to_string(density).substr(0, 3) + ")",
-                            render::SplatPath::geometry, render::SplatOrder::cpu, render::SplatShading::fragment, 3.0f, 1.0f,
+                            render::SplatPath::geometry, render::SplatOrder::cpu, render::SplatShading::fragment, 0.0f, 1.0f,
                             density});
     for (const float scale : {0.7f, 1.4f})
         variants.push_back({"gs, sort cpu, scale " + std::to_string(scale).substr(0, 3), render::SplatPath::geometry,
-                            render::SplatOrder::cpu, render::SplatShading::fragment, 3.0f, scale});
+                            render::SplatOrder::cpu, render::SplatShading::fragment, 0.0f, scale});
 
     std::vector<Measured> results;
     for (const Variant& v : variants) {
@@ -155,7 +172,7 @@ int bench_render_error(const std::vector<std::string>& argv) {
                                               : make_splat_sphere(std::max<uint32_t>(1, uint32_t(float(count.value()) * v.density)));
         auto r = render(*ctx.value(), denser.records, frame, v, w, h, repeat.value());
         if (!r.ok()) return fail("bench render-error", v.name + ": " + r.error().to_string());
-        auto diff = core::compare_images(r->first, truth, 2);
+        auto diff = core::compare_images(r->first, truth[int(v.footprint)], 2);
         if (!diff.ok()) return fail("bench render-error", diff.error().to_string());
         results.push_back({v, r->second, diff->psnr_db, diff->share_over});
     }
@@ -167,9 +184,9 @@ int bench_render_error(const std::vector<std::string>& argv) {
     {
         std::ofstream csv(out_dir / "render_error.csv");
         if (!csv) return fail("bench render-error", (out_dir / "render_error.csv").string() + ": cannot write");
-        csv << "variant,path,sort,shading,kappa,scale,density,ms,psnr_db,share_over_2\n";
+        csv << "variant,footprint,path,sort,shading,kappa,scale,density,ms,psnr_db,share_over_2\n";
         for (const Measured& m : results)
-            csv << '"' << m.v.name << "\"," << render::splat_path_name(m.v.path) << ',' << render::splat_order_name(m.v.order) << ','
+            csv << '"' << m.v.name << "\"," << render::footprint_name(m.v.footprint) << ',' << render::splat_path_name(m.v.path) << ',' << render::splat_order_name(m.v.order) << ','
                 << (m.v.shading == render::SplatShading::corner ? "corner" : "fragment") << ',' << m.v.kappa << ',' << m.v.scale
                 << ',' << m.v.density << ',' << m.ms << ',' << m.psnr << ',' << m.share_over << '\n';
     }
@@ -194,14 +211,14 @@ int bench_render_error(const std::vector<std::string>& argv) {
 
     if (args->has("json")) {
         nlohmann::json j = {{"suite", "render-error"}, {"device", caps.name}, {"splats", count.value()}, {"width", w},
-                            {"height", h}, {"reference_ms", reference->second}, {"variants", nlohmann::json::array()}};
+                            {"height", h}, {"reference_ms", reference_ms}, {"variants", nlohmann::json::array()}};
         for (const Measured& m : results)
-            j["variants"].push_back({{"name", m.v.name}, {"ms", m.ms}, {"psnr_db", std::isfinite(m.psnr) ? m.psnr : 999.0},
+            j["variants"].push_back({{"name", m.v.name}, {"footprint", render::footprint_name(m.v.footprint)}, {"ms", m.ms}, {"psnr_db", std::isfinite(m.psnr) ? m.psnr : 999.0},
                                      {"share_over_2", m.share_over}});
         std::printf("%s\n", j.dump().c_str());
         return 0;
     }
-    std::printf("%u splats at %ux%u on %s; reference: gs, CPU-sorted, per fragment, 4x supersampled\n", count.value(), w, h,
+    std::printf("%u splats at %ux%u on %s; reference per footprint: gs, CPU-sorted, per fragment, 4x supersampled\n", count.value(), w, h,
                 caps.name.c_str());
     std::printf("  %-40s %10s %10s %12s\n", "variant", "GPU ms", "PSNR dB", "> 2/255");
     for (const Measured& m : results)
