@@ -30,7 +30,7 @@ void main() {
     const float s0 = v_scale_opacity[0].x * frame.splat.w;
     if (!(s0 > 0.0)) return;  // a zero or NaN scale draws nothing rather than garbage
     const float alpha = splat_alpha(v_color[0].a, v_scale_opacity[0].y);
-    const SplatQuad q = splat_quad(world, v_normal[0], s0, alpha, k_visibility_pass);
+    const SplatQuad q = splat_quad(world, v_normal[0], s0, alpha, k_visibility_pass, uint(gl_PrimitiveIDIn));
     if (!(q.extent > 0.0)) return;  // too faint to show anywhere
     for (int i = 0; i < k_carrier_corners; ++i) {
         splat_corner(q, world, i, gl_Position, g_world, g_uv);

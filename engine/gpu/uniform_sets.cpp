@@ -13,12 +13,13 @@ core::Result<DescriptorSetLayout> create_uniform_layout(const Context& ctx, VkSh
 }
 
 core::Result<DescriptorSetLayout> create_frame_layout(const Context& ctx, const FrameSetStages& stages) {
-    const VkDescriptorSetLayoutBinding bindings[3] = {
+    const VkDescriptorSetLayoutBinding bindings[4] = {
         {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, stages.uniforms, nullptr},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, stages.texture, nullptr},
-        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages.storage, nullptr}};
+        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages.storage, nullptr},
+        {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages.shapes, nullptr}};
     VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    info.bindingCount = 3;
+    info.bindingCount = stages.shapes ? 4 : 3;
     info.pBindings = bindings;
     VkDescriptorSetLayout layout = VK_NULL_HANDLE;
     PBDSPLAT_VK_TRY(vkCreateDescriptorSetLayout(ctx.vk(), &info, nullptr, &layout));
@@ -30,7 +31,7 @@ core::Result<UniformSets> UniformSets::create(Context& ctx, VkDescriptorSetLayou
     UniformSets u;
     const VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, count},
                                            {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, count},
-                                           {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, count}};
+                                           {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * count}};
     VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool_info.maxSets = count;
     pool_info.poolSizeCount = extra ? 3 : 1;
@@ -58,8 +59,12 @@ core::Result<UniformSets> UniformSets::create(Context& ctx, VkDescriptorSetLayou
         if (extra) {
             VkDescriptorImageInfo image{extra->texture_sampler, extra->texture_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
             VkDescriptorBufferInfo storage{extra->storage.size() > 1 ? extra->storage[i] : extra->storage.front(), 0, VK_WHOLE_SIZE};
-            VkWriteDescriptorSet more[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
-            more[0].dstSet = more[1].dstSet = set;
+            const bool shapes = !extra->shapes.empty();
+            VkDescriptorBufferInfo shape_info{shapes ? (extra->shapes.size() > 1 ? extra->shapes[i] : extra->shapes.front()) : VK_NULL_HANDLE,
+                                              0, VK_WHOLE_SIZE};
+            VkWriteDescriptorSet more[3] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
+                                            {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+            more[0].dstSet = more[1].dstSet = more[2].dstSet = set;
             more[0].dstBinding = 1;
             more[0].descriptorCount = 1;
             more[0].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
@@ -68,7 +73,11 @@ core::Result<UniformSets> UniformSets::create(Context& ctx, VkDescriptorSetLayou
             more[1].descriptorCount = 1;
             more[1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
             more[1].pBufferInfo = &storage;
-            vkUpdateDescriptorSets(ctx.vk(), 2, more, 0, nullptr);
+            more[2].dstBinding = 3;
+            more[2].descriptorCount = 1;
+            more[2].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            more[2].pBufferInfo = &shape_info;
+            vkUpdateDescriptorSets(ctx.vk(), shapes ? 3 : 2, more, 0, nullptr);
         }
         u.sets_.push_back(set);
     }

@@ -12,17 +12,20 @@ namespace pbdsplat::gpu {
 core::Result<DescriptorSetLayout> create_uniform_layout(const Context& ctx, VkShaderStageFlags stages);
 
 // The frame set of the splat passes: the uniforms at 0, a sampled texture at 1 and a storage
-// buffer at 2 (the records, for the paths that pull them), each seen by its own stages.
+// buffer at 2 (the records, for the paths that pull them), each seen by its own stages; and,
+// where `shapes` names stages, a second storage buffer at 3 (anisotropic splats' axes).
 struct FrameSetStages {
-    VkShaderStageFlags uniforms = 0, texture = 0, storage = 0;
+    VkShaderStageFlags uniforms = 0, texture = 0, storage = 0, shapes = 0;
 };
 core::Result<DescriptorSetLayout> create_frame_layout(const Context& ctx, const FrameSetStages& stages);
 
-// What bindings 1 and 2 of each frame set point at; storage[i] is set i's (one entry: all sets).
+// What bindings 1, 2 (and 3) of each frame set point at; storage[i] is set i's (one entry: all
+// sets), the same for shapes (empty: the layout has no binding 3).
 struct FrameSetResources {
     VkImageView texture_view = VK_NULL_HANDLE;
     VkSampler texture_sampler = VK_NULL_HANDLE;
     std::vector<VkBuffer> storage;
+    std::vector<VkBuffer> shapes;
 };
 
 class UniformSets {

@@ -37,7 +37,7 @@ std::string splat_path_unsupported(const gpu::DeviceCaps& caps, SplatPath path) 
 }
 
 core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path,
-                                          SplatShading shading, SplatCarrier carrier) {
+                                          SplatShading shading, SplatCarrier carrier, bool anisotropic) {
     if (const std::string why = splat_path_unsupported(ctx.caps(), path); !why.empty()) return core::make_error(why);
     SplatPass p;
     p.path_ = path;
@@ -45,6 +45,8 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     p.carrier_ = path == SplatPath::vertex ? SplatCarrier::quad : carrier;
     const uint32_t per_corner = shading == SplatShading::corner ? 1u : 0u;
     const uint32_t octagon = p.carrier_ == SplatCarrier::octagon ? 1u : 0u;
+    const uint32_t aniso = anisotropic ? 1u : 0u;
+    p.anisotropic_ = anisotropic;
     const VkShaderStageFlags front = path == SplatPath::geometry ? VK_SHADER_STAGE_GEOMETRY_BIT
                                      : path == SplatPath::mesh  ? VK_SHADER_STAGE_MESH_BIT_EXT
                                                                 : VK_SHADER_STAGE_VERTEX_BIT;
@@ -54,6 +56,7 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     // The geometry path takes records as vertex attributes; its binding 2 is declared only so
     // that every path shares one set shape.
     stages.storage = path == SplatPath::geometry ? VkShaderStageFlags(VK_SHADER_STAGE_VERTEX_BIT) : front;
+    stages.shapes = front;  // every front stage declares the shape stream; anisotropic ones read it
     auto set_layout = gpu::create_frame_layout(ctx, stages);
     if (!set_layout.ok()) return set_layout.error();
     p.set_layout_ = std::move(set_layout).value();
@@ -94,15 +97,15 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     desc.depth_format = depth;
     desc.layout = layout;
     desc.color_write = false;
-    // k_visibility_pass, k_shade_per_corner, k_footprint, k_octagon
-    desc.specialization = {1u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon};
+    // k_visibility_pass, k_shade_per_corner, k_footprint, k_octagon, k_footprint_dither, k_anisotropic
+    desc.specialization = {1u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon, 0u, aniso};
     auto visibility = gpu::create_graphics_pipeline(ctx, desc);
     if (!visibility.ok()) return visibility.error();
     p.visibility_ = std::move(visibility).value();
 
     desc.stages.back().second = "splat.frag";
     desc.color_write = true;
-    desc.specialization = {0u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon};
+    desc.specialization = {0u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon, 0u, aniso};
     desc.depth_write = false;
     desc.blend = gpu::BlendMode::over_premultiplied;
     auto over = gpu::create_graphics_pipeline(ctx, desc);
@@ -116,14 +119,14 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
 
     // The paper's disc: additive blending needs no depth; "over" writes it, so the nearest disc
     // wins each pixel whatever the draw order (its mask must run before the test).
-    desc.specialization = {0u, per_corner, SPLAT_FOOTPRINT_PAPER, octagon};
+    desc.specialization = {0u, per_corner, SPLAT_FOOTPRINT_PAPER, octagon, 0u, aniso};
     auto paper_additive = gpu::create_graphics_pipeline(ctx, desc);
     if (!paper_additive.ok()) return paper_additive.error();
     p.paper_additive_ = std::move(paper_additive).value();
     desc.stages.back().second = "splat_paper.frag";
     desc.blend = gpu::BlendMode::over_premultiplied;
     desc.depth_write = true;
-    desc.specialization.push_back(1u);  // k_footprint_dither
+    desc.specialization[4] = 1u;  // k_footprint_dither
     auto paper_over = gpu::create_graphics_pipeline(ctx, desc);
     if (!paper_over.ok()) return paper_over.error();
     p.paper_over_ = std::move(paper_over).value();

@@ -37,12 +37,14 @@ public:
     // Fails with a clear reason when the device lacks what the path needs.
     static core::Result<SplatPass> create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path,
                                           SplatShading shading = SplatShading::fragment,
-                                          SplatCarrier carrier = SplatCarrier::quad);
+                                          SplatCarrier carrier = SplatCarrier::quad, bool anisotropic = false);
     SplatPass() = default;
 
     SplatPath path() const { return path_; }
     SplatShading shading() const { return shading_; }
     SplatCarrier carrier() const { return carrier_; }
+    // Reads each splat's axes from the shape stream (binding 3) instead of drawing it round.
+    bool anisotropic() const { return anisotropic_; }
     VkDescriptorSetLayout set_layout() const { return set_layout_.get(); }
     // The Gaussian footprint under unsorted "over" draws the visibility pass first; sorted
     // orders, additive blending and the paper's disc draw one pass. `frame_set`'s storage
@@ -53,6 +55,7 @@ private:
     SplatPath path_ = SplatPath::geometry;
     SplatShading shading_ = SplatShading::fragment;
     SplatCarrier carrier_ = SplatCarrier::quad;
+    bool anisotropic_ = false;
     gpu::DescriptorSetLayout set_layout_;
     gpu::PipelineLayout layout_;
     gpu::Pipeline visibility_;

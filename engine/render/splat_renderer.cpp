@@ -19,6 +19,8 @@ Use uses::records_read(SplatPath path) {
 
 core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context& ctx, const RendererOptions& options) {
     if (options.max_splats == 0) return core::make_error("max_splats must be at least 1");
+    if (options.anisotropic && options.gpu_sort)
+        return core::make_error("anisotropic splats cannot be sorted on the GPU yet (its sort reorders only the records): sort on the CPU");
     auto r = std::unique_ptr<SplatRenderer>(new SplatRenderer());
     r->ctx_ = &ctx;
     r->options_ = options;
@@ -47,7 +49,7 @@ core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context&
     r->target_ = std::move(target).value();
 
     auto pass = SplatPass::create(ctx, k_color_format, k_depth_format, options.path.value_or(best_splat_path(ctx.caps())),
-                                  options.shading, options.carrier);
+                                  options.shading, options.carrier, options.anisotropic);
     if (!pass.ok()) return pass.error();
     r->splat_ = std::move(pass).value();
 
@@ -60,6 +62,13 @@ core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context&
     extra.texture_view = r->environment_.view();
     extra.texture_sampler = r->environment_.sampler();
     for (uint32_t i = 0; i < n; ++i) extra.storage.push_back(r->records_.buffer(i));
+    const VkDeviceSize shape_bytes = VkDeviceSize(options.anisotropic ? options.max_splats : 1) * sizeof(splat::GaussianShape);
+    for (uint32_t i = 0; i < n; ++i) {
+        auto shapes = gpu::Buffer::create(ctx, shape_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::upload);
+        if (!shapes.ok()) return shapes.error();
+        r->shapes_.push_back(std::move(shapes).value());
+        extra.shapes.push_back(r->shapes_.back().handle());
+    }
     auto uniforms = gpu::UniformSets::create(ctx, r->splat_.set_layout(), n, sizeof(gpu_types::FrameUniforms), &extra);
     if (!uniforms.ok()) return uniforms.error();
     r->uniforms_ = std::move(uniforms).value();
@@ -141,6 +150,15 @@ core::Status SplatRenderer::upload(std::span<const splat::GaussianRecord> record
     slot_cpu_[slot].upload_cpu_ms = clock.elapsed_ms();
     slot_cpu_[slot].uploaded_bytes = written.value();
     timers_[slot].mark(cmd_, "upload", VK_PIPELINE_STAGE_2_COPY_BIT);
+    return core::Status::success();
+}
+
+core::Status SplatRenderer::upload_shapes(std::span<const splat::GaussianShape> shapes) {
+    if (!options_.anisotropic) return core::make_error("upload_shapes on a renderer created without options.anisotropic");
+    if (shapes.size() > options_.max_splats)
+        return core::make_error(std::to_string(shapes.size()) + " shapes exceed the renderer's capacity of " +
+                                std::to_string(options_.max_splats));
+    std::memcpy(shapes_[frames_.slot()].mapped(), shapes.data(), shapes.size_bytes());
     return core::Status::success();
 }
 

@@ -36,6 +36,9 @@ struct RendererOptions {
     Vec3f sky_sun{0.4f, 0.7f, 0.6f};
     SplatShading shading = SplatShading::fragment;
     SplatCarrier carrier = SplatCarrier::quad;
+    // Draw each splat with its own axes (upload_shapes every frame) instead of round. Not with
+    // the GPU sort, which reorders only the records: sort on the CPU (both streams) instead.
+    bool anisotropic = false;
     // Create the GPU depth sort (frames drawn with SplatOrder::gpu need it).
     bool gpu_sort = false;
 };
@@ -92,6 +95,10 @@ public:
 
     // Operations on the frame being recorded.
     core::Status upload(std::span<const splat::GaussianRecord> records, std::span<const gpu::ByteRange> changed);
+    // The anisotropic splats' axes, one per record in the same order (options.anisotropic). They
+    // are written in place into host-visible memory that only this frame's slot reads, so the
+    // submit itself makes them visible: no copy, no barrier.
+    core::Status upload_shapes(std::span<const splat::GaussianShape> shapes);
     // Culls and sorts the uploaded records far to near (needs options.gpu_sort); a following
     // draw() with SplatOrder::gpu draws the result.
     void sort(const FrameInputs& inputs, uint32_t count);
@@ -113,6 +120,7 @@ public:
     uint32_t height() const { return target_.height(); }
     uint32_t max_splats() const { return options_.max_splats; }
     SplatPath path() const { return splat_.path(); }
+    bool anisotropic() const { return options_.anisotropic; }
     const std::array<Vec3f, 9>& environment_sh() const { return sh_; }
     const gpu::Context& context() const { return *ctx_; }
 
@@ -125,6 +133,7 @@ private:
     gpu::FrameRing frames_;
     gpu::UploadRing ring_;
     gpu::StreamBuffer records_;
+    std::vector<gpu::Buffer> shapes_;  // one per slot; a token one when not anisotropic
     OffscreenTarget target_;
     SplatPass splat_;
     gpu::Texture environment_;

@@ -34,6 +34,8 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             const std::span<const gpu::ByteRange> ranges =
                 in.changed.empty() ? std::span<const gpu::ByteRange>(&all, 1) : std::span<const gpu::ByteRange>(in.changed);
             in.upload_status = renderer.upload(in.records, ranges);
+            // Anisotropic bodies' axes go straight into host-visible memory (no GPU copy).
+            if (in.upload_status.ok() && !in.shapes.empty()) in.upload_status = renderer.upload_shapes(in.shapes);
         };
     });
     const render::Use records_read = render::uses::records_read(renderer.path());

@@ -14,6 +14,7 @@ namespace pbdsplat::scene {
 struct GpuFrameInput {
     std::span<const splat::GaussianRecord> records;
     std::vector<gpu::ByteRange> changed;  // since the previous frame; empty: everything
+    std::span<const splat::GaussianShape> shapes;  // anisotropic splats' axes, parallel to records; or none
     render::FrameInputs frame;
     core::Status upload_status;  // set by the upload pass; the frame's owner reports a failure
 };

@@ -13,9 +13,10 @@ public:
     static core::Result<std::unique_ptr<OffscreenRenderer>> create(gpu::Context& ctx, const render::RendererOptions& options);
 
     // Records and submits one frame. `changed` lists the byte ranges of `records` that differ
-    // from the previous frame; empty means all of them.
+    // from the previous frame; empty means all of them. `shapes`: one per record for a renderer
+    // created anisotropic.
     core::Status render(std::span<const splat::GaussianRecord> records, const render::FrameInputs& inputs,
-                        std::span<const gpu::ByteRange> changed = {});
+                        std::span<const gpu::ByteRange> changed = {}, std::span<const splat::GaussianShape> shapes = {});
     // Waits for the GPU and returns the last frame's image.
     core::Result<core::ImageRgba8> finish() { return renderer_->finish(); }
     render::GpuTimings timings() const { return renderer_->timings(); }

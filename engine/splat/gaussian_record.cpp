@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include <Eigen/Eigenvalues>
+
 #include "core/assert.h"
 
 namespace pbdsplat::splat {
@@ -57,6 +59,26 @@ GaussianRecord make_record(const Vec3f& position, const Vec3f& normal, const App
     r.scale_half = float_to_half(a.scale);
     r.opacity_half = float_to_half(a.opacity_logit);
     return r;
+}
+
+GaussianShape make_shape(const Eigen::Matrix3f& axes) {
+    GaussianShape s;
+    for (int k = 0; k < 3; ++k)
+        for (int c = 0; c < 3; ++c) s.axes_half[3 * k + c] = float_to_half(axes(c, k));
+    return s;
+}
+
+Eigen::Matrix3f shape_axes(const GaussianShape& s) {
+    Eigen::Matrix3f a;
+    for (int k = 0; k < 3; ++k)
+        for (int c = 0; c < 3; ++c) a(c, k) = half_to_float(s.axes_half[3 * k + c]);
+    return a;
+}
+
+float shape_reach(const Eigen::Matrix3f& axes) {
+    // The square root of the covariance's largest eigenvalue: the longest principal axis.
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> eig(axes * axes.transpose(), Eigen::EigenvaluesOnly);
+    return std::sqrt(std::max(eig.eigenvalues().maxCoeff(), 0.0f));
 }
 
 namespace {

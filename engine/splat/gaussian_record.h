@@ -25,6 +25,14 @@ static_assert(offsetof(GaussianRecord, normal_oct) == SPLAT_OFFSET_NORMAL);
 static_assert(offsetof(GaussianRecord, color) == SPLAT_OFFSET_COLOR);
 static_assert(offsetof(GaussianRecord, scale_half) == SPLAT_OFFSET_SCALE_OPACITY);
 
+// The axes of an anisotropic Gaussian (SPLAT_SHAPE_SIZE in gpu_types.h), in a stream beside the
+// records: only bodies whose splats are not round carry one.
+struct GaussianShape {
+    uint16_t axes_half[9];  // axis k's x, y, z at 3k..3k+2, IEEE half, world units
+    uint16_t pad = 0;
+};
+static_assert(sizeof(GaussianShape) == SPLAT_SHAPE_SIZE, "GaussianShape must match SPLAT_SHAPE_SIZE");
+
 using core::float_to_half;
 using core::half_to_float;
 
@@ -39,6 +47,12 @@ struct Appearance {
 };
 
 GaussianRecord make_record(const Vec3f& position, const Vec3f& normal, const Appearance& a, float fade = 1.0f);
+
+// The shape whose covariance is axes * axes^T (columns: the Gaussian's axes, world units).
+GaussianShape make_shape(const Eigen::Matrix3f& axes);
+Eigen::Matrix3f shape_axes(const GaussianShape& s);
+// The longest axis: what the record's scale must say for culling and the depth push.
+float shape_reach(const Eigen::Matrix3f& axes);
 
 // One record per point: the paper's one-to-one particle-to-Gaussian mapping (eqs. 11-13).
 // Only the centre and the normal vary per point; the rest of the record is packed once.

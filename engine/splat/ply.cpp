@@ -8,6 +8,9 @@
 #include <map>
 #include <sstream>
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
 namespace pbdsplat::splat {
 namespace {
 
@@ -29,14 +32,17 @@ std::string ply_header(size_t count) {
     return h + "end_header\n";
 }
 
-core::Status write_ply(const std::string& path, std::span<const GaussianRecord> records) {
+core::Status write_ply(const std::string& path, std::span<const GaussianRecord> records, std::span<const GaussianShape> shapes) {
     static_assert(std::endian::native == std::endian::little, "PLY writing assumes a little-endian host");
+    if (!shapes.empty() && shapes.size() != records.size())
+        return core::make_error(path, 0, "write_ply: " + std::to_string(shapes.size()) + " shapes for " + std::to_string(records.size()) + " records");
     std::ofstream out(path, std::ios::binary);
     if (!out) return core::make_error(path, 0, "cannot write (does the folder exist and is it writable?)");
     out << ply_header(records.size());
     const size_t stride = property_names().size();
     std::vector<float> row(stride, 0.0f);
-    for (const GaussianRecord& r : records) {
+    for (size_t i = 0; i < records.size(); ++i) {
+        const GaussianRecord& r = records[i];
         std::fill(row.begin(), row.end(), 0.0f);
         row[0] = r.position[0], row[1] = r.position[1], row[2] = r.position[2];
         const Vec3f n = decode_octahedral(r.normal_oct);
@@ -44,9 +50,20 @@ core::Status write_ply(const std::string& path, std::span<const GaussianRecord> 
         for (int c = 0; c < 3; ++c) row[size_t(6 + c)] = (float(r.color[c]) / 255.0f - 0.5f) / k_sh_c0;
         const size_t o = 9 + k_rest;
         row[o] = half_to_float(r.opacity_half);
-        const float log_scale = std::log(std::max(half_to_float(r.scale_half), 1e-30f));
-        row[o + 1] = row[o + 2] = row[o + 3] = log_scale;
-        row[o + 4] = 1.0f;  // identity rotation, w first
+        if (shapes.empty()) {
+            const float log_scale = std::log(std::max(half_to_float(r.scale_half), 1e-30f));
+            row[o + 1] = row[o + 2] = row[o + 3] = log_scale;
+            row[o + 4] = 1.0f;  // identity rotation, w first
+        } else {
+            // The covariance A A^T = V diag(lambda) V^T: V (made a proper rotation) and sqrt(lambda).
+            const Eigen::Matrix3f a = shape_axes(shapes[i]);
+            const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> eig(a * a.transpose());
+            Eigen::Matrix3f v = eig.eigenvectors();
+            if (v.determinant() < 0.0f) v.col(2) = -v.col(2);
+            const Eigen::Quaternionf q(v);
+            for (int k = 0; k < 3; ++k) row[o + 1 + size_t(k)] = std::log(std::max(std::sqrt(std::max(eig.eigenvalues()(k), 0.0f)), 1e-30f));
+            row[o + 4] = q.w(), row[o + 5] = q.x(), row[o + 6] = q.y(), row[o + 7] = q.z();
+        }
         out.write(reinterpret_cast<const char*>(row.data()), std::streamsize(row.size() * sizeof(float)));
     }
     if (!out) return core::make_error(path, 0, "write error (disk full?)");
@@ -54,6 +71,12 @@ core::Status write_ply(const std::string& path, std::span<const GaussianRecord> 
 }
 
 core::Result<std::vector<GaussianRecord>> read_ply(const std::string& path) {
+    auto g = read_ply_gaussians(path);
+    if (!g.ok()) return g.error();
+    return std::move(g->records);
+}
+
+core::Result<PlyGaussians> read_ply_gaussians(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) return core::make_error(path, 0, "cannot open the file (does it exist and is it readable?)");
     std::string line;
@@ -112,8 +135,13 @@ core::Result<std::vector<GaussianRecord>> read_ply(const std::string& path) {
         return core::make_error(path, 0, "truncated: the header announces " + std::to_string(count) + " Gaussians (" +
                                              std::to_string(data.size() * sizeof(float)) + " bytes) but only " +
                                              std::to_string(in.gcount()) + " bytes follow");
-    std::vector<GaussianRecord> out(count);
+    PlyGaussians result;
+    std::vector<GaussianRecord>& out = result.records;
+    out.resize(count);
     const bool normals = column.count("nx") && column.count("ny") && column.count("nz");
+    const bool rotations = column.count("rot_0") && column.count("rot_1") && column.count("rot_2") && column.count("rot_3");
+    std::vector<Eigen::Matrix3f> axes(count);
+    bool round = true;
     auto col = [&](size_t i, const char* name) { return data[i * stride + column.at(name)]; };
     for (size_t i = 0; i < count; ++i) {
         GaussianRecord& r = out[i];
@@ -126,11 +154,26 @@ core::Result<std::vector<GaussianRecord>> read_ply(const std::string& path) {
         for (int c = 0; c < 3; ++c)
             r.color[c] = uint8_t(std::lround(std::clamp(0.5f + k_sh_c0 * col(i, dc[c]), 0.0f, 1.0f) * 255.0f));
         r.color[3] = 255;
-        const float s = std::max({col(i, "scale_0"), col(i, "scale_1"), col(i, "scale_2")});
+        const Vec3f log_scale(col(i, "scale_0"), col(i, "scale_1"), col(i, "scale_2"));
+        const float s = log_scale.maxCoeff();
         r.scale_half = float_to_half(std::exp(s));
         r.opacity_half = float_to_half(col(i, "opacity"));
+        // Round within 2 %: the rotation cannot show.
+        if (s - log_scale.minCoeff() > std::log(1.02f)) round = false;
+        Eigen::Quaternionf q = Eigen::Quaternionf::Identity();
+        if (rotations) {
+            q = Eigen::Quaternionf(col(i, "rot_0"), col(i, "rot_1"), col(i, "rot_2"), col(i, "rot_3"));
+            if (!(q.norm() > 1e-12f) || !std::isfinite(q.norm()))
+                return core::make_error(path, 0, "Gaussian " + std::to_string(i) + " has a zero or non-finite rotation");
+            q.normalize();
+        }
+        axes[i] = q.toRotationMatrix() * log_scale.array().exp().matrix().asDiagonal();
     }
-    return out;
+    if (!round) {
+        result.shapes.resize(count);
+        for (size_t i = 0; i < count; ++i) result.shapes[i] = make_shape(axes[i]);
+    }
+    return result;
 }
 
 } // namespace pbdsplat::splat

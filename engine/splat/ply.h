@@ -15,11 +15,22 @@ namespace pbdsplat::splat {
 // The header for `count` Gaussians, exactly as written.
 std::string ply_header(size_t count);
 
-core::Status write_ply(const std::string& path, std::span<const GaussianRecord> records);
+// `shapes` (one per record, or empty for round splats): each Gaussian's covariance written as
+// the rotation and scales of its principal axes.
+core::Status write_ply(const std::string& path, std::span<const GaussianRecord> records,
+                       std::span<const GaussianShape> shapes = {});
 
-// Reads a 3DGS PLY (properties in any order; normals and f_rest optional). Splats are
-// isotropic here: an anisotropic Gaussian becomes one with its largest scale, and its rotation
-// is dropped.
+// What a 3DGS PLY holds, as the renderer takes it: the records, and the axes of every Gaussian
+// (rotation rot_0..3 = w x y z times the scales) when any of them is not round; empty when all
+// are (their scales agree within 2 %), so round files cost nothing extra.
+struct PlyGaussians {
+    std::vector<GaussianRecord> records;  // scale: the largest axis
+    std::vector<GaussianShape> shapes;
+};
+core::Result<PlyGaussians> read_ply_gaussians(const std::string& path);
+
+// The records alone (properties in any order; normals, f_rest and rot optional): an anisotropic
+// Gaussian becomes a round one with its largest scale.
 core::Result<std::vector<GaussianRecord>> read_ply(const std::string& path);
 
 } // namespace pbdsplat::splat

@@ -13,7 +13,11 @@ namespace pbdsplat::splat {
 struct SortScratch {
     std::vector<std::pair<float, uint32_t>> keys;
     std::vector<GaussianRecord> copy;
+    std::vector<GaussianShape> shape_copy;
 };
 void sort_far_to_near(std::vector<GaussianRecord>& records, const Mat4f& view, SortScratch& scratch);
+// The same, carrying each record's shape along (`shapes` parallel to `records`, or empty).
+void sort_far_to_near(std::vector<GaussianRecord>& records, std::vector<GaussianShape>& shapes, const Mat4f& view,
+                      SortScratch& scratch);
 
 } // namespace pbdsplat::splat

@@ -26,6 +26,13 @@ struct alignas(16) mat4 { float m[16]; };  // column-major, as GLSL reads it
 #define SPLAT_OFFSET_COLOR 16
 #define SPLAT_OFFSET_SCALE_OPACITY 20
 
+// ---- Anisotropic splats (optional storage stream, binding 3 of the splat pass) --------------
+// Per record, the three axes of its Gaussian in world units (columns of R S, so the covariance
+// is A A^T; any three vectors whose A A^T is the covariance will do): 9 IEEE halfs, x y z of
+// each axis in turn, and one half of padding. The record's own scale is then the longest axis
+// (it bounds culling and the visibility pass's push).
+#define SPLAT_SHAPE_SIZE 20
+
 // ---- Splat footprints (specialization constant 2 of the splat pipelines) --------------------
 #define SPLAT_FOOTPRINT_GAUSSIAN 0u  // soft Gaussian, cut where its alpha falls below 1/255
 #define SPLAT_FOOTPRINT_PAPER 1u     // the paper's flat elliptical disc (eqs. 22-23), one pass

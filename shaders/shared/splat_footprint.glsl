@@ -5,6 +5,7 @@
 #define PBDSPLAT_SPLAT_FOOTPRINT_GLSL
 
 #include "splat_codec.glsl"
+#include "splat_shape.glsl"
 
 // What the fragment stage keeps (SPLAT_FOOTPRINT_* in gpu_types.h): the soft Gaussian, cut where
 // its alpha falls below 1/255, or the paper's flat disc (eqs. 22-23: the unit ellipse of the
@@ -76,13 +77,51 @@ bool splat_faces_away(vec3 world, vec3 normal) {
     return dot(normal, normalize(frame.camera_pos.xyz - world)) < frame.visibility.y;
 }
 
-SplatQuad splat_quad(vec3 world, vec3 normal, float s0, float alpha, bool visibility_pass) {
+// The projected covariance of a full 3D Gaussian (EWA: J W Sigma W^T J^T), in view-plane units
+// at the centre's depth: each world axis turned into view space (W) and pushed through the
+// perspective Jacobian at the centre (a' = a.xy + p a.z), M = sum a' a'^T. Its principal axes
+// (r, u) and their standard deviations (lr, lu). Like 3D Gaussian splatting, a 0.3-pixel^2
+// low-pass keeps a Gaussian seen edge-on at least about a pixel wide.
+void projected_axes(vec3 c0, mat3 axes, out vec2 r, out vec2 u, out float lr, out float lu) {
+    const mat3 rv = mat3(frame.view);
+    const vec2 p = c0.xy / max(-c0.z, 1e-6);
+    float m00 = 0.0, m01 = 0.0, m11 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        const vec3 a = rv * axes[k];
+        const vec2 ap = a.xy + p * a.z;
+        m00 += ap.x * ap.x;
+        m01 += ap.x * ap.y;
+        m11 += ap.y * ap.y;
+    }
+    const float pixel = 2.0 * max(-c0.z, 1e-6) / (abs(frame.proj[1][1]) * frame.viewport.y);
+    m00 += 0.3 * pixel * pixel;
+    m11 += 0.3 * pixel * pixel;
+    const float half_diff = 0.5 * (m00 - m11);
+    const float root = sqrt(half_diff * half_diff + m01 * m01);
+    const float l1 = 0.5 * (m00 + m11) + root, l2 = max(0.5 * (m00 + m11) - root, 0.0);
+    r = root > 1e-6 * l1 ? normalize(half_diff >= 0.0 ? vec2(l1 - m11, m01) : vec2(m01, l1 - m00)) : vec2(1.0, 0.0);
+    u = vec2(-r.y, r.x);
+    lr = sqrt(l1);
+    lu = sqrt(l2);
+}
+
+// `index`: the splat's place in the draw, where its shape is read (anisotropic pipelines).
+SplatQuad splat_quad(vec3 world, vec3 normal, float s0, float alpha, bool visibility_pass, uint index) {
     SplatQuad q;
     const bool drawn = s0 > 0.0 && !splat_faces_away(world, normal);
     const float reach = drawn ? splat_reach(alpha, visibility_pass) : 0.0;
     const vec3 c0 = (frame.view * vec4(world, 1.0)).xyz;  // eq. 15
     q.centre = c0;
     if (visibility_pass) q.centre.z -= frame.visibility.x * s0;  // the camera looks down -z
+    q.extent = k_footprint == SPLAT_FOOTPRINT_PAPER ? (reach > 0.0 ? 1.0 : 0.0) : reach;
+    if (k_anisotropic) {
+        vec2 r, u;
+        float lr, lu;
+        projected_axes(c0, read_shape_axes(index), r, u, lr, lu);
+        q.axis_right = reach * lr * vec3(r, 0.0);
+        q.axis_up = reach * lu * vec3(u, 0.0);
+        return q;
+    }
 
     // Eqs. 19-20 take the lengths of the view-plane axes alone, which is exact only where the
     // view ray through the centre is the optical axis. Off axis a sphere projects to an ellipse
@@ -109,7 +148,6 @@ SplatQuad splat_quad(vec3 world, vec3 normal, float s0, float alpha, bool visibi
     const float lr = s0 * sqrt(1.0 + p2), lu = s0;
     // The Gaussian's uv is in standard deviations (the carrier spans its reach); the paper's is
     // the quad's own [-1,1] (eq. 22 divides it by the sharpness).
-    q.extent = k_footprint == SPLAT_FOOTPRINT_PAPER ? (reach > 0.0 ? 1.0 : 0.0) : reach;
     q.axis_right = reach * lr * vec3(r, 0.0);
     q.axis_up = reach * lu * vec3(u, 0.0);
     return q;

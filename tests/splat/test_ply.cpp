@@ -5,6 +5,8 @@
 #include <fstream>
 #include <random>
 
+#include <Eigen/Geometry>
+
 #include "splat/ply.h"
 
 using namespace pbdsplat;
@@ -15,7 +17,84 @@ std::string temp(const char* name) { return (std::filesystem::temp_directory_pat
 void write_text(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 } // namespace
 
+// Little-endian float32 bytes, as a PLY body holds them.
+std::string floats(std::initializer_list<float> values) {
+    std::string out;
+    for (float v : values) out.append(reinterpret_cast<const char*>(&v), sizeof(float));
+    return out;
+}
+
+Eigen::Matrix3f covariance(const Eigen::Matrix3f& axes) { return axes * axes.transpose(); }
+
 TEST_SUITE("splat/ply") {
+    TEST_CASE("a file written by hand, properties shuffled and no normals, reads as the 3DGS convention says") {
+        // Written here byte by byte, not by our writer: colour = 0.5 + Y_0^0 f_dc with
+        // Y_0^0 = 1 / (2 sqrt(pi)), scales are natural logs, rot_0..3 = w x y z, opacity a logit.
+        const char* order[] = {"opacity", "rot_1", "x", "scale_2", "f_dc_0", "y", "rot_0", "scale_0", "z",
+                               "f_dc_2",  "rot_3", "scale_1", "f_dc_1", "rot_2"};
+        std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 2\n";
+        for (const char* name : order) header += std::string("property float ") + name + "\n";
+        header += "end_header\n";
+        const float c = std::cos(math::radians(22.5f)), sn = std::sin(math::radians(22.5f));  // 45 degrees about z
+        const float l1 = std::log(0.1f), a = std::log(0.3f), b = std::log(0.05f), d = std::log(0.02f);
+        // Gaussian 0: round, at (1, 2, 3). Gaussian 1: a needle along (1, 1, 0) / sqrt(2).
+        const std::string body = floats({2.0f, 0.0f, 1.0f, l1, 0.0f, 2.0f, 1.0f, l1, 3.0f, 0.0f, 0.0f, l1, 0.0f, 0.0f}) +
+                                 floats({-1.0f, 0.0f, 0.0f, d, 1.0f, 0.0f, c, a, 0.0f, -1.0f, sn, b, 0.0f, 0.0f});
+        const std::string path = temp("pbdsplat_by_hand.ply");
+        write_text(path, header + body);
+        auto g = splat::read_ply_gaussians(path);
+        REQUIRE_MESSAGE(g.ok(), g.error().to_string());
+        REQUIRE(g->records.size() == 2);
+        REQUIRE(g->shapes.size() == 2);  // one needle makes the whole file anisotropic
+        const auto& r0 = g->records[0];
+        CHECK(r0.position[0] == 1.0f);
+        CHECK(r0.position[1] == 2.0f);
+        CHECK(r0.position[2] == 3.0f);
+        CHECK(splat::half_to_float(r0.opacity_half) == doctest::Approx(2.0f).epsilon(1e-3));
+        CHECK(splat::half_to_float(r0.scale_half) == doctest::Approx(0.1f).epsilon(1e-3));
+        CHECK(splat::decode_octahedral(r0.normal_oct).z() > 0.9999f);  // no normals: +z
+        const float y00 = 0.5f / std::sqrt(k_pi);
+        const auto& r1 = g->records[1];
+        CHECK(int(r1.color[0]) == int(std::lround((0.5f + y00) * 255.0f)));
+        CHECK(int(r1.color[1]) == 128);
+        CHECK(int(r1.color[2]) == int(std::lround((0.5f - y00) * 255.0f)));
+        CHECK(splat::half_to_float(r1.scale_half) == doctest::Approx(0.3f).epsilon(1e-3));  // the longest axis
+        const Eigen::Matrix3f rot = Eigen::AngleAxisf(math::radians(45.0f), Vec3f::UnitZ()).toRotationMatrix();
+        const Eigen::Matrix3f expected = covariance(rot * Vec3f(0.3f, 0.05f, 0.02f).asDiagonal());
+        CHECK((covariance(splat::shape_axes(g->shapes[1])) - expected).norm() < 2e-3f * expected.norm());
+        CHECK((covariance(splat::shape_axes(g->shapes[0])) - 0.01f * Eigen::Matrix3f::Identity()).norm() < 1e-4f);
+        std::filesystem::remove(path);
+    }
+
+    TEST_CASE("anisotropic shapes survive a round trip; round files carry none") {
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<float> u(-1.0f, 1.0f), s(0.005f, 0.3f);
+        std::vector<splat::GaussianRecord> records;
+        std::vector<splat::GaussianShape> shapes;
+        std::vector<Eigen::Matrix3f> truth;
+        for (int i = 0; i < 200; ++i) {
+            const Eigen::Quaternionf q = Eigen::Quaternionf(u(rng), u(rng), u(rng), u(rng)).normalized();
+            const Eigen::Matrix3f axes = q.toRotationMatrix() * Vec3f(s(rng), s(rng), s(rng)).asDiagonal();
+            splat::Appearance a;
+            a.scale = splat::shape_reach(axes);
+            records.push_back(splat::make_record(Vec3f(u(rng), u(rng), u(rng)), Vec3f::UnitY(), a));
+            shapes.push_back(splat::make_shape(axes));
+            truth.push_back(covariance(splat::shape_axes(shapes.back())));  // as stored, in halfs
+        }
+        const std::string path = temp("pbdsplat_aniso.ply");
+        REQUIRE(splat::write_ply(path, records, shapes).ok());
+        auto back = splat::read_ply_gaussians(path);
+        REQUIRE_MESSAGE(back.ok(), back.error().to_string());
+        REQUIRE(back->shapes.size() == shapes.size());
+        for (size_t i = 0; i < shapes.size(); ++i)
+            CHECK((covariance(splat::shape_axes(back->shapes[i])) - truth[i]).norm() < 3e-3f * truth[i].norm());
+        REQUIRE(splat::write_ply(path, records).ok());  // written round
+        auto round = splat::read_ply_gaussians(path);
+        REQUIRE(round.ok());
+        CHECK(round->shapes.empty());
+        std::filesystem::remove(path);
+    }
+
     TEST_CASE("the header is the standard 3DGS layout, byte for byte") {
         std::string expected =
             "ply\nformat binary_little_endian 1.0\nelement vertex 7\nproperty float x\nproperty float y\n"

@@ -2,6 +2,7 @@
 // One offscreen frame of the given records through a fresh renderer: what the image tests draw.
 #include <algorithm>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include <doctest/doctest.h>
@@ -15,18 +16,21 @@ inline core::ImageRgba8 render_once(gpu::Context& ctx, const std::vector<splat::
                                     const render::FrameInputs& frame, uint32_t w, uint32_t h,
                                     std::optional<render::SplatPath> path = render::SplatPath::geometry,
                                     render::SplatShading shading = render::SplatShading::fragment,
-                                    render::SplatCarrier carrier = render::SplatCarrier::quad) {
+                                    render::SplatCarrier carrier = render::SplatCarrier::quad,
+                                    std::span<const splat::GaussianShape> shapes = {}) {
     render::RendererOptions o;
     o.path = path;
     o.shading = shading;
     o.carrier = carrier;
+    o.anisotropic = !shapes.empty();  // one shape per record: drawn with their axes
     o.width = w;
     o.height = h;
     o.max_splats = std::max<uint32_t>(1, uint32_t(records.size()));
     o.frames_in_flight = 1;
     auto r = scene::OffscreenRenderer::create(ctx, o);
     REQUIRE_MESSAGE(r.ok(), r.error().to_string());
-    REQUIRE(r.value()->render(records, frame).ok());
+    const auto status = r.value()->render(records, frame, {}, shapes);
+    REQUIRE_MESSAGE(status.ok(), status.error().to_string());
     auto img = r.value()->finish();
     REQUIRE_MESSAGE(img.ok(), img.error().to_string());
     return std::move(img).value();

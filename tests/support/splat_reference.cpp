@@ -20,21 +20,25 @@ struct Footprint2D {
     Vec2f lengths;         // standard deviations along them
 };
 
-Footprint2D project(const splat::GaussianRecord& r, const Mat4f& view, float scale_multiplier) {
+// `axes`: null for a round splat; `pixel`: a pixel's size in view-plane units at unit depth.
+Footprint2D project(const splat::GaussianRecord& r, const Mat4f& view, float scale_multiplier, const splat::GaussianShape* shape,
+                    float pixel) {
     Footprint2D f;
     const Vec3f world(r.position[0], r.position[1], r.position[2]);
     f.centre = (view * world.homogeneous()).head<3>();
     const float s0 = splat::half_to_float(r.scale_half) * scale_multiplier;
-    // Eq. 14: the isotropic Gaussian's local axes s0 * e_k seen in view space, each pushed
+    // Eq. 14: the Gaussian's axes (s0 * e_k for a round one) seen in view space, each pushed
     // through the perspective Jacobian at the centre (a' = a.xy + p a.z).
+    const Eigen::Matrix3f world_axes = shape ? Eigen::Matrix3f(splat::shape_axes(*shape)) : Eigen::Matrix3f(s0 * Eigen::Matrix3f::Identity());
     const Vec2f p = f.centre.head<2>() / -f.centre.z();
     Eigen::Matrix2f cov = Eigen::Matrix2f::Zero();
     const Eigen::Matrix3f rot = view.topLeftCorner<3, 3>();
     for (int k = 0; k < 3; ++k) {
-        const Vec3f a = s0 * rot.col(k);
+        const Vec3f a = rot * world_axes.col(k);
         const Vec2f ap = a.head<2>() + p * a.z();
         cov += ap * ap.transpose();
     }
+    if (shape) cov += Eigen::Matrix2f::Identity() * 0.3f * (pixel * -f.centre.z()) * (pixel * -f.centre.z());
     // Principal axes, the longer first (the quad's r of eq. 19, along which sigma_x applies).
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix2f> eig(cov);
     f.axes << eig.eigenvectors().col(1), eig.eigenvectors().col(0);
@@ -48,7 +52,8 @@ Footprint2D project(const splat::GaussianRecord& r, const Mat4f& view, float sca
 } // namespace
 
 std::vector<ReferencePixel> render_reference(const std::vector<splat::GaussianRecord>& records,
-                                             const render::FrameInputs& frame, uint32_t width, uint32_t height) {
+                                             const render::FrameInputs& frame, uint32_t width, uint32_t height,
+                                             const std::vector<splat::GaussianShape>& shapes) {
     const auto u = render::make_frame_uniforms(frame, width, height);
     Mat4f view, proj;
     std::memcpy(view.data(), u.view.m, sizeof(u.view.m));
@@ -56,7 +61,9 @@ std::vector<ReferencePixel> render_reference(const std::vector<splat::GaussianRe
     const Mat4f unproject = proj.inverse();
     const render::SplatStyle& style = frame.style;
     std::vector<Footprint2D> splats;
-    for (const auto& r : records) splats.push_back(project(r, view, style.scale_multiplier));
+    const float pixel = 2.0f * std::tan(math::radians(frame.camera.fov_y_degrees) * 0.5f) / float(height);
+    for (size_t i = 0; i < records.size(); ++i)
+        splats.push_back(project(records[i], view, style.scale_multiplier, shapes.empty() ? nullptr : &shapes[i], pixel));
     const float kappa = render::paper_kappa(style);
     const Vec2f sharp = style.sharpness;
 

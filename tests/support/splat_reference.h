@@ -23,7 +23,10 @@ struct ReferencePixel {
 // `frame` must have flat lighting (environment off, no key light, no specular, ambient 1):
 // a splat's colour is then its albedo. Paper discs: the nearest covering disc wins. Gaussian:
 // composited in the records' order ("over", premultiplied) or summed (additive).
+// `shapes` (one per record, or empty): anisotropic axes, projected by EWA (J W Sigma W^T J^T)
+// plus a 0.3 pixel^2 low-pass, as 3D Gaussian splatting does.
 std::vector<ReferencePixel> render_reference(const std::vector<splat::GaussianRecord>& records,
-                                             const render::FrameInputs& frame, uint32_t width, uint32_t height);
+                                             const render::FrameInputs& frame, uint32_t width, uint32_t height,
+                                             const std::vector<splat::GaussianShape>& shapes = {});
 
 } // namespace pbdsplat::test
