@@ -55,7 +55,8 @@ double speck_ratio(const core::ImageRgba8& splats, const core::ImageRgba8& shade
 core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f> x,
                                         std::span<const std::array<uint32_t, 3>> triangles,
                                         std::span<const splat::GaussianRecord> records, render::FrameInputs frame,
-                                        uint32_t width, uint32_t height, std::optional<Vec3f> albedo) {
+                                        uint32_t width, uint32_t height, std::optional<Vec3f> albedo,
+                                        std::span<const splat::GaussianShape> shapes) {
     Coverage c;
     auto raster = mesh_raster(ctx, x, triangles, width, height);
     if (!raster.ok()) return raster.error();
@@ -75,10 +76,11 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
     ro.height = height;
     ro.max_splats = uint32_t(std::max<size_t>(1, records.size()));
     ro.frames_in_flight = 1;
+    ro.anisotropic = !shapes.empty();
     auto splats = OffscreenRenderer::create(ctx, ro);
     if (!splats.ok()) return splats.error();
     frame.background = Vec4f::Zero();  // the accumulated alpha is then the splats' coverage
-    PBDSPLAT_TRY(splats.value()->render(records, frame));
+    PBDSPLAT_TRY(splats.value()->render(records, frame, {}, shapes));
     auto image = splats.value()->finish();
     if (!image.ok()) return image.error();
     c.splats = std::move(image).value();

@@ -31,6 +31,7 @@ double speck_ratio(const core::ImageRgba8& splats, const core::ImageRgba8& shade
 core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f> x,
                                         std::span<const std::array<uint32_t, 3>> triangles,
                                         std::span<const splat::GaussianRecord> records, render::FrameInputs frame,
-                                        uint32_t width, uint32_t height, std::optional<Vec3f> albedo = std::nullopt);
+                                        uint32_t width, uint32_t height, std::optional<Vec3f> albedo = std::nullopt,
+                                        std::span<const splat::GaussianShape> shapes = {});
 
 } // namespace pbdsplat::scene

@@ -102,6 +102,10 @@ struct RenderDesc {
     // Skip the splats facing away from the eye while the body is closed (no open boundary):
     // nothing behind its near surface can show then.
     bool cull_back = true;
+    // "round": every splat isotropic, as the paper draws them. "deformed": each boundary
+    // particle's Gaussian is a flat disc carried by its triangle's deformation gradient
+    // (anisotropic; sorted on the CPU when sorted).
+    bool deformed_shapes = false;
     CameraOrbit orbit;
     std::vector<CameraKey> path;  // sorted by time; when given, it replaces eye and target
     std::optional<render::SplatPath> splat_path;  // empty: the best the device has

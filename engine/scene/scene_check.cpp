@@ -87,7 +87,7 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
             render::FrameInputs frame = scene.render.frame;
             frame.camera = rt.camera();
             frame.style.order = rt.order();  // without a device: the CPU sort, records already in order
-            auto c = measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height, scene.material.color);
+            auto c = measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height, scene.material.color, rt.shapes());
             if (!c.ok()) return core::make_error("frame " + std::to_string(s.frame) + ": " + c.error().to_string());
             s.hole_ratio = c->hole_ratio;
             s.iou = c->silhouette_iou;

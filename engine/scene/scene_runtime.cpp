@@ -103,6 +103,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     }
     if (boundary && sd_surface.edge_samples) surface::lay_edge_samples(body_.rest_positions, body_.triangles, h_, {}, boundary_);
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
+    if (scene_.render.deformed_shapes) deformed_ = splat::DeformedShapes(body_.rest_positions, body_.triangles);
     if (boundary && sd_surface.density.enabled) {
         surface::DensityOptions o = sd_surface.density;
         o.fade_frames = scene_.simulation.fade_frames;
@@ -121,17 +122,20 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         order = options.sort_on.value_or(scene_.render.sort_on.value_or(
             options.gpu ? render::preferred_sort(options.gpu->caps()) : render::SplatOrder::cpu));
         if (!options.gpu) order = render::SplatOrder::cpu;
+        // The GPU sort reorders records only; anisotropic shapes travel with the CPU's.
+        if (scene_.render.deformed_shapes) order = render::SplatOrder::cpu;
     }
     frame_input_.frame.style.order = order;
     sorted_order_ = options.sort_on.value_or(scene_.render.sort_on.value_or(
         options.gpu ? render::preferred_sort(options.gpu->caps()) : render::SplatOrder::cpu));
-    if (!options.gpu) sorted_order_ = render::SplatOrder::cpu;
+    if (!options.gpu || scene_.render.deformed_shapes) sorted_order_ = render::SplatOrder::cpu;
     base_scale_multiplier_ = frame_input_.frame.style.scale_multiplier;
 
     if (options.gpu) {
         render::RendererOptions ro;
         ro.shading = scene_.render.shading;
         ro.carrier = scene_.render.carrier;
+        ro.anisotropic = scene_.render.deformed_shapes;
         // Interactive runs may switch the sort on later: have it ready.
         ro.gpu_sort = order == render::SplatOrder::gpu || (options.interactive && sorted_order_ == render::SplatOrder::gpu);
         ro.width = scene_.render.width;
@@ -352,6 +356,10 @@ core::Status SceneRuntime::build_graph() {
                             particles ? std::span<const Vec3f>(body_.normals) : std::span<const Vec3f>(), body_.colors, body_.triangles,
                             boundary && show_boundary_ ? &boundary_ : nullptr,
                             appearance_, stretch_.empty() ? nullptr : &stretch_, records_);
+            if (!deformed_.empty()) {
+                deformed_.update(body_.particles.x, body_.triangles);
+                deformed_.map(particles ? body_.particle_count() : 0, boundary && show_boundary_ ? &boundary_ : nullptr, records_, shapes_);
+            }
             fade_.apply(records_);
             // The far side of a closed, opaque body cannot show: its splats are skipped. The
             // threshold keeps those just past the silhouette, whose discs still reach beyond
@@ -375,7 +383,7 @@ core::Status SceneRuntime::build_graph() {
         if (keep) b.side_effect();
         return [this](const graph::PassResources&, graph::ExecuteContext&) {
             const render::Camera& c = frame_input_.frame.camera;
-            splat::sort_far_to_near(records_, math::look_at(c.eye, c.target, c.up), sort_scratch_);
+            splat::sort_far_to_near(records_, shapes_, math::look_at(c.eye, c.target, c.up), sort_scratch_);
             publish_records();
         };
     });
@@ -414,6 +422,7 @@ void SceneRuntime::update_closed() {
 
 void SceneRuntime::publish_records() {
     frame_input_.records = records_;
+    frame_input_.shapes = shapes_;
     changed_ranges(previous_records_, records_, frame_input_.changed);
     previous_records_ = records_;
 }
@@ -490,6 +499,7 @@ core::Status SceneRuntime::after_topology_change(const topology::TopologyChange&
         if (!density_.empty()) density_.topology_changed(body_.rest_positions, body_.triangles, refill);
     }
     if (!stretch_.empty()) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
+    if (!deformed_.empty()) deformed_ = splat::DeformedShapes(body_.rest_positions, body_.triangles);
     return core::Status::success();
 }
 

@@ -15,6 +15,7 @@
 #include "scene/timeline.h"
 #include "sim/solver.h"
 #include "splat/fade_in.h"
+#include "splat/deformed_shape.h"
 #include "splat/mapping.h"
 #include "render/mesh_raster.h"
 #include "splat/sort.h"
@@ -94,6 +95,8 @@ public:
     // The splats of the last frame: the particles' first, then the boundary particles'; with an
     // embedded model surface, the boundary particles' only.
     const std::vector<splat::GaussianRecord>& records() const { return records_; }
+    // With render.splat_shape = "deformed": each record's axes; else empty.
+    const std::vector<splat::GaussianShape>& shapes() const { return shapes_; }
     float spacing() const { return h_; }
     const Scene& scene() const { return scene_; }
     // What the most recent cut or tear did (empty before any).
@@ -169,6 +172,8 @@ private:
     splat::Appearance appearance_;
     surface::BoundaryParticles boundary_;
     splat::StretchScale stretch_;
+    splat::DeformedShapes deformed_;          // render.splat_shape = "deformed"
+    std::vector<splat::GaussianShape> shapes_;  // parallel to records_ then
     surface::DensityControl density_;  // empty when the scene turns it off
     surface::DensityStats density_stats_;
     splat::SortScratch sort_scratch_;
