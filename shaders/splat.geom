@@ -32,10 +32,11 @@ void main() {
     const float alpha = splat_alpha(v_color[0].a, v_scale_opacity[0].y);
     const SplatQuad q = splat_quad(world, v_normal[0], s0, alpha, k_visibility_pass, uint(gl_PrimitiveIDIn));
     if (!(q.extent > 0.0)) return;  // too faint to show anywhere
+    const vec3 albedo = splat_albedo(v_color[0].rgb, uint(gl_PrimitiveIDIn), world);
     for (int i = 0; i < k_carrier_corners; ++i) {
         splat_corner(q, world, i, gl_Position, g_world, g_uv);
         g_normal = v_normal[0];
-        g_color = corner_color(v_color[0].rgb, alpha, v_normal[0], g_world);
+        g_color = corner_color(albedo, alpha, v_normal[0], g_world);
         EmitVertex();
     }
     EndPrimitive();

@@ -13,14 +13,15 @@ core::Result<DescriptorSetLayout> create_uniform_layout(const Context& ctx, VkSh
 }
 
 core::Result<DescriptorSetLayout> create_frame_layout(const Context& ctx, const FrameSetStages& stages) {
-    const VkDescriptorSetLayoutBinding bindings[4] = {
+    std::vector<VkDescriptorSetLayoutBinding> bindings = {
         {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, stages.uniforms, nullptr},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, stages.texture, nullptr},
-        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages.storage, nullptr},
-        {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages.shapes, nullptr}};
+        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages.storage, nullptr}};
+    if (stages.shapes) bindings.push_back({3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages.shapes, nullptr});
+    if (stages.sh) bindings.push_back({4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages.sh, nullptr});
     VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    info.bindingCount = stages.shapes ? 4 : 3;
-    info.pBindings = bindings;
+    info.bindingCount = uint32_t(bindings.size());
+    info.pBindings = bindings.data();
     VkDescriptorSetLayout layout = VK_NULL_HANDLE;
     PBDSPLAT_VK_TRY(vkCreateDescriptorSetLayout(ctx.vk(), &info, nullptr, &layout));
     return DescriptorSetLayout(ctx.vk(), layout);
@@ -31,7 +32,7 @@ core::Result<UniformSets> UniformSets::create(Context& ctx, VkDescriptorSetLayou
     UniformSets u;
     const VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, count},
                                            {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, count},
-                                           {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * count}};
+                                           {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * count}};
     VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool_info.maxSets = count;
     pool_info.poolSizeCount = extra ? 3 : 1;
@@ -58,26 +59,29 @@ core::Result<UniformSets> UniformSets::create(Context& ctx, VkDescriptorSetLayou
         vkUpdateDescriptorSets(ctx.vk(), 1, &write, 0, nullptr);
         if (extra) {
             VkDescriptorImageInfo image{extra->texture_sampler, extra->texture_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-            VkDescriptorBufferInfo storage{extra->storage.size() > 1 ? extra->storage[i] : extra->storage.front(), 0, VK_WHOLE_SIZE};
-            const bool shapes = !extra->shapes.empty();
-            VkDescriptorBufferInfo shape_info{shapes ? (extra->shapes.size() > 1 ? extra->shapes[i] : extra->shapes.front()) : VK_NULL_HANDLE,
-                                              0, VK_WHOLE_SIZE};
-            VkWriteDescriptorSet more[3] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
-                                            {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
-            more[0].dstSet = more[1].dstSet = more[2].dstSet = set;
-            more[0].dstBinding = 1;
-            more[0].descriptorCount = 1;
-            more[0].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-            more[0].pImageInfo = &image;
-            more[1].dstBinding = 2;
-            more[1].descriptorCount = 1;
-            more[1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            more[1].pBufferInfo = &storage;
-            more[2].dstBinding = 3;
-            more[2].descriptorCount = 1;
-            more[2].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            more[2].pBufferInfo = &shape_info;
-            vkUpdateDescriptorSets(ctx.vk(), shapes ? 3 : 2, more, 0, nullptr);
+            // Binding 1, then 2-4 (records, shapes, view-dependent colour) where the set has them.
+            auto pick = [i](const std::vector<VkBuffer>& v) { return v.size() > 1 ? v[i] : v.front(); };
+            std::vector<VkDescriptorBufferInfo> infos;
+            infos.reserve(3);
+            std::vector<VkWriteDescriptorSet> writes;
+            VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+            w.dstSet = set;
+            w.descriptorCount = 1;
+            w.dstBinding = 1;
+            w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+            w.pImageInfo = &image;
+            writes.push_back(w);
+            w.pImageInfo = nullptr;
+            w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            const std::pair<uint32_t, const std::vector<VkBuffer>*> buffers[3] = {{2, &extra->storage}, {3, &extra->shapes}, {4, &extra->sh}};
+            for (const auto& [binding, list] : buffers) {
+                if (list->empty()) continue;
+                infos.push_back({pick(*list), 0, VK_WHOLE_SIZE});
+                w.dstBinding = binding;
+                w.pBufferInfo = &infos.back();
+                writes.push_back(w);
+            }
+            vkUpdateDescriptorSets(ctx.vk(), uint32_t(writes.size()), writes.data(), 0, nullptr);
         }
         u.sets_.push_back(set);
     }

@@ -13,19 +13,21 @@ core::Result<DescriptorSetLayout> create_uniform_layout(const Context& ctx, VkSh
 
 // The frame set of the splat passes: the uniforms at 0, a sampled texture at 1 and a storage
 // buffer at 2 (the records, for the paths that pull them), each seen by its own stages; and,
-// where `shapes` names stages, a second storage buffer at 3 (anisotropic splats' axes).
+// where `shapes` and `sh` name stages, more storage buffers at 3 (anisotropic splats' axes) and
+// 4 (view-dependent colour).
 struct FrameSetStages {
-    VkShaderStageFlags uniforms = 0, texture = 0, storage = 0, shapes = 0;
+    VkShaderStageFlags uniforms = 0, texture = 0, storage = 0, shapes = 0, sh = 0;
 };
 core::Result<DescriptorSetLayout> create_frame_layout(const Context& ctx, const FrameSetStages& stages);
 
-// What bindings 1, 2 (and 3) of each frame set point at; storage[i] is set i's (one entry: all
-// sets), the same for shapes (empty: the layout has no binding 3).
+// What bindings 1, 2 (and 3, 4) of each frame set point at; storage[i] is set i's (one entry: all
+// sets), the same for shapes and sh (empty: the layout has no such binding).
 struct FrameSetResources {
     VkImageView texture_view = VK_NULL_HANDLE;
     VkSampler texture_sampler = VK_NULL_HANDLE;
     std::vector<VkBuffer> storage;
     std::vector<VkBuffer> shapes;
+    std::vector<VkBuffer> sh;
 };
 
 class UniformSets {

@@ -37,7 +37,8 @@ std::string splat_path_unsupported(const gpu::DeviceCaps& caps, SplatPath path) 
 }
 
 core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path,
-                                          SplatShading shading, SplatCarrier carrier, bool anisotropic) {
+                                          SplatShading shading, SplatCarrier carrier, bool anisotropic, uint32_t sh_degree) {
+    if (sh_degree > 3) return core::make_error("spherical-harmonic degree " + std::to_string(sh_degree) + " is not 0 to 3");
     if (const std::string why = splat_path_unsupported(ctx.caps(), path); !why.empty()) return core::make_error(why);
     SplatPass p;
     p.path_ = path;
@@ -57,6 +58,7 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     // that every path shares one set shape.
     stages.storage = path == SplatPath::geometry ? VkShaderStageFlags(VK_SHADER_STAGE_VERTEX_BIT) : front;
     stages.shapes = front;  // every front stage declares the shape stream; anisotropic ones read it
+    stages.sh = front;      // the same for view-dependent colour
     auto set_layout = gpu::create_frame_layout(ctx, stages);
     if (!set_layout.ok()) return set_layout.error();
     p.set_layout_ = std::move(set_layout).value();
@@ -97,15 +99,16 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     desc.depth_format = depth;
     desc.layout = layout;
     desc.color_write = false;
-    // k_visibility_pass, k_shade_per_corner, k_footprint, k_octagon, k_footprint_dither, k_anisotropic
-    desc.specialization = {1u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon, 0u, aniso};
+    // k_visibility_pass, k_shade_per_corner, k_footprint, k_octagon, k_footprint_dither, k_anisotropic,
+    // k_sh_degree
+    desc.specialization = {1u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon, 0u, aniso, sh_degree};
     auto visibility = gpu::create_graphics_pipeline(ctx, desc);
     if (!visibility.ok()) return visibility.error();
     p.visibility_ = std::move(visibility).value();
 
     desc.stages.back().second = "splat.frag";
     desc.color_write = true;
-    desc.specialization = {0u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon, 0u, aniso};
+    desc.specialization = {0u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon, 0u, aniso, sh_degree};
     desc.depth_write = false;
     desc.blend = gpu::BlendMode::over_premultiplied;
     auto over = gpu::create_graphics_pipeline(ctx, desc);
@@ -119,7 +122,7 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
 
     // The paper's disc: additive blending needs no depth; "over" writes it, so the nearest disc
     // wins each pixel whatever the draw order (its mask must run before the test).
-    desc.specialization = {0u, per_corner, SPLAT_FOOTPRINT_PAPER, octagon, 0u, aniso};
+    desc.specialization = {0u, per_corner, SPLAT_FOOTPRINT_PAPER, octagon, 0u, aniso, sh_degree};
     auto paper_additive = gpu::create_graphics_pipeline(ctx, desc);
     if (!paper_additive.ok()) return paper_additive.error();
     p.paper_additive_ = std::move(paper_additive).value();

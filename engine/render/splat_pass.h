@@ -37,7 +37,8 @@ public:
     // Fails with a clear reason when the device lacks what the path needs.
     static core::Result<SplatPass> create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path,
                                           SplatShading shading = SplatShading::fragment,
-                                          SplatCarrier carrier = SplatCarrier::quad, bool anisotropic = false);
+                                          SplatCarrier carrier = SplatCarrier::quad, bool anisotropic = false,
+                                          uint32_t sh_degree = 0);
     SplatPass() = default;
 
     SplatPath path() const { return path_; }

@@ -19,8 +19,9 @@ Use uses::records_read(SplatPath path) {
 
 core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context& ctx, const RendererOptions& options) {
     if (options.max_splats == 0) return core::make_error("max_splats must be at least 1");
-    if (options.anisotropic && options.gpu_sort)
-        return core::make_error("anisotropic splats cannot be sorted on the GPU yet (its sort reorders only the records): sort on the CPU");
+    if ((options.anisotropic || options.sh_degree > 0) && options.gpu_sort)
+        return core::make_error("anisotropic splats and view-dependent colour cannot be sorted on the GPU yet (its sort reorders only "
+                                "the records): sort on the CPU");
     auto r = std::unique_ptr<SplatRenderer>(new SplatRenderer());
     r->ctx_ = &ctx;
     r->options_ = options;
@@ -49,7 +50,7 @@ core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context&
     r->target_ = std::move(target).value();
 
     auto pass = SplatPass::create(ctx, k_color_format, k_depth_format, options.path.value_or(best_splat_path(ctx.caps())),
-                                  options.shading, options.carrier, options.anisotropic);
+                                  options.shading, options.carrier, options.anisotropic, options.sh_degree);
     if (!pass.ok()) return pass.error();
     r->splat_ = std::move(pass).value();
 
@@ -68,6 +69,13 @@ core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context&
         if (!shapes.ok()) return shapes.error();
         r->shapes_.push_back(std::move(shapes).value());
         extra.shapes.push_back(r->shapes_.back().handle());
+    }
+    const VkDeviceSize sh_bytes = VkDeviceSize(options.sh_degree > 0 ? options.max_splats : 1) * sizeof(splat::GaussianSH);
+    for (uint32_t i = 0; i < n; ++i) {
+        auto sh = gpu::Buffer::create(ctx, sh_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::upload);
+        if (!sh.ok()) return sh.error();
+        r->sh_rest_.push_back(std::move(sh).value());
+        extra.sh.push_back(r->sh_rest_.back().handle());
     }
     auto uniforms = gpu::UniformSets::create(ctx, r->splat_.set_layout(), n, sizeof(gpu_types::FrameUniforms), &extra);
     if (!uniforms.ok()) return uniforms.error();
@@ -159,6 +167,15 @@ core::Status SplatRenderer::upload_shapes(std::span<const splat::GaussianShape> 
         return core::make_error(std::to_string(shapes.size()) + " shapes exceed the renderer's capacity of " +
                                 std::to_string(options_.max_splats));
     std::memcpy(shapes_[frames_.slot()].mapped(), shapes.data(), shapes.size_bytes());
+    return core::Status::success();
+}
+
+core::Status SplatRenderer::upload_sh(std::span<const splat::GaussianSH> sh) {
+    if (options_.sh_degree == 0) return core::make_error("upload_sh on a renderer created without options.sh_degree");
+    if (sh.size() > options_.max_splats)
+        return core::make_error(std::to_string(sh.size()) + " colour records exceed the renderer's capacity of " +
+                                std::to_string(options_.max_splats));
+    std::memcpy(sh_rest_[frames_.slot()].mapped(), sh.data(), sh.size_bytes());
     return core::Status::success();
 }
 

@@ -39,6 +39,9 @@ struct RendererOptions {
     // Draw each splat with its own axes (upload_shapes every frame) instead of round. Not with
     // the GPU sort, which reorders only the records: sort on the CPU (both streams) instead.
     bool anisotropic = false;
+    // Degrees of view-dependent colour to evaluate (upload_sh every frame); 0: none. The same
+    // limit on sorting as anisotropic.
+    uint32_t sh_degree = 0;
     // Create the GPU depth sort (frames drawn with SplatOrder::gpu need it).
     bool gpu_sort = false;
 };
@@ -99,6 +102,8 @@ public:
     // are written in place into host-visible memory that only this frame's slot reads, so the
     // submit itself makes them visible: no copy, no barrier.
     core::Status upload_shapes(std::span<const splat::GaussianShape> shapes);
+    // Degrees 1-3 of each record's colour (options.sh_degree > 0), written like the shapes.
+    core::Status upload_sh(std::span<const splat::GaussianSH> sh);
     // Culls and sorts the uploaded records far to near (needs options.gpu_sort); a following
     // draw() with SplatOrder::gpu draws the result.
     void sort(const FrameInputs& inputs, uint32_t count);
@@ -121,6 +126,7 @@ public:
     uint32_t max_splats() const { return options_.max_splats; }
     SplatPath path() const { return splat_.path(); }
     bool anisotropic() const { return options_.anisotropic; }
+    uint32_t sh_degree() const { return options_.sh_degree; }
     const std::array<Vec3f, 9>& environment_sh() const { return sh_; }
     const gpu::Context& context() const { return *ctx_; }
 
@@ -134,6 +140,7 @@ private:
     gpu::UploadRing ring_;
     gpu::StreamBuffer records_;
     std::vector<gpu::Buffer> shapes_;  // one per slot; a token one when not anisotropic
+    std::vector<gpu::Buffer> sh_rest_;  // one per slot; a token one without view-dependent colour
     OffscreenTarget target_;
     SplatPass splat_;
     gpu::Texture environment_;

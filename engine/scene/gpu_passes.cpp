@@ -36,6 +36,7 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             in.upload_status = renderer.upload(in.records, ranges);
             // Anisotropic bodies' axes go straight into host-visible memory (no GPU copy).
             if (in.upload_status.ok() && !in.shapes.empty()) in.upload_status = renderer.upload_shapes(in.shapes);
+            if (in.upload_status.ok() && !in.sh.empty()) in.upload_status = renderer.upload_sh(in.sh);
         };
     });
     const render::Use records_read = render::uses::records_read(renderer.path());

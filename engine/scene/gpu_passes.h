@@ -15,6 +15,7 @@ struct GpuFrameInput {
     std::span<const splat::GaussianRecord> records;
     std::vector<gpu::ByteRange> changed;  // since the previous frame; empty: everything
     std::span<const splat::GaussianShape> shapes;  // anisotropic splats' axes, parallel to records; or none
+    std::span<const splat::GaussianSH> sh;         // view-dependent colour, parallel to records; or none
     render::FrameInputs frame;
     core::Status upload_status;  // set by the upload pass; the frame's owner reports a failure
 };

@@ -16,15 +16,20 @@ core::Result<std::unique_ptr<OffscreenRenderer>> OffscreenRenderer::create(gpu::
 }
 
 core::Status OffscreenRenderer::render(std::span<const splat::GaussianRecord> records, const render::FrameInputs& inputs,
-                                       std::span<const gpu::ByteRange> changed, std::span<const splat::GaussianShape> shapes) {
+                                       std::span<const gpu::ByteRange> changed, std::span<const splat::GaussianShape> shapes,
+                                       std::span<const splat::GaussianSH> sh) {
     if (renderer_->anisotropic() && shapes.size() != records.size())
         return core::make_error("an anisotropic renderer needs one shape per record (" + std::to_string(shapes.size()) + " for " +
                                 std::to_string(records.size()) + ")");
+    if (renderer_->sh_degree() > 0 && sh.size() != records.size())
+        return core::make_error("a renderer with view-dependent colour needs one colour record per Gaussian (" + std::to_string(sh.size()) +
+                                " for " + std::to_string(records.size()) + ")");
     auto cmd = renderer_->begin_frame();
     if (!cmd.ok()) return cmd.error();
     input_.records = records;
     input_.changed.assign(changed.begin(), changed.end());
     input_.shapes = shapes;
+    input_.sh = sh;
     input_.frame = inputs;
     resources_.refresh(*renderer_);
     graph::ExecuteContext ctx{cmd.value(), 0};

@@ -14,9 +14,10 @@ public:
 
     // Records and submits one frame. `changed` lists the byte ranges of `records` that differ
     // from the previous frame; empty means all of them. `shapes`: one per record for a renderer
-    // created anisotropic.
+    // created anisotropic; `sh`: one per record for a renderer created with an sh_degree.
     core::Status render(std::span<const splat::GaussianRecord> records, const render::FrameInputs& inputs,
-                        std::span<const gpu::ByteRange> changed = {}, std::span<const splat::GaussianShape> shapes = {});
+                        std::span<const gpu::ByteRange> changed = {}, std::span<const splat::GaussianShape> shapes = {},
+                        std::span<const splat::GaussianSH> sh = {});
     // Waits for the GPU and returns the last frame's image.
     core::Result<core::ImageRgba8> finish() { return renderer_->finish(); }
     render::GpuTimings timings() const { return renderer_->timings(); }

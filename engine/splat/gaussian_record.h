@@ -33,6 +33,14 @@ struct GaussianShape {
 };
 static_assert(sizeof(GaussianShape) == SPLAT_SHAPE_SIZE, "GaussianShape must match SPLAT_SHAPE_SIZE");
 
+// Degrees 1-3 of a Gaussian's view-dependent colour (SPLAT_SH_SIZE in gpu_types.h), in a stream
+// beside the records: only files trained with them carry one.
+struct GaussianSH {
+    uint16_t rest_half[SPLAT_SH_COEFFS];  // f_rest_0..44: channel c's coefficient k (1..15) at 15c + k - 1
+    uint16_t pad[3] = {0, 0, 0};
+};
+static_assert(sizeof(GaussianSH) == SPLAT_SH_SIZE, "GaussianSH must match SPLAT_SH_SIZE");
+
 using core::float_to_half;
 using core::half_to_float;
 

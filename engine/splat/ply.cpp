@@ -142,6 +142,18 @@ core::Result<PlyGaussians> read_ply_gaussians(const std::string& path) {
     const bool rotations = column.count("rot_0") && column.count("rot_1") && column.count("rot_2") && column.count("rot_3");
     std::vector<Eigen::Matrix3f> axes(count);
     bool round = true;
+    // f_rest_0.. as 3DGS writes them: per channel (d+1)^2 - 1 coefficients for degree d, red's
+    // first, then green's, then blue's.
+    uint32_t rest = 0;
+    while (column.count("f_rest_" + std::to_string(rest))) ++rest;
+    uint32_t degree = 0;
+    for (uint32_t d = 1; d <= 3; ++d)
+        if (rest >= 3 * ((d + 1) * (d + 1) - 1)) degree = d;
+    const uint32_t per_channel = (degree + 1) * (degree + 1) - 1;
+    std::vector<size_t> rest_column(3 * per_channel);
+    for (uint32_t j = 0; j < rest_column.size(); ++j) rest_column[j] = column.at("f_rest_" + std::to_string(j));
+    bool any_rest = false;
+    if (degree > 0) result.sh.resize(count);
     auto col = [&](size_t i, const char* name) { return data[i * stride + column.at(name)]; };
     for (size_t i = 0; i < count; ++i) {
         GaussianRecord& r = out[i];
@@ -168,7 +180,21 @@ core::Result<PlyGaussians> read_ply_gaussians(const std::string& path) {
             q.normalize();
         }
         axes[i] = q.toRotationMatrix() * log_scale.array().exp().matrix().asDiagonal();
+        if (degree > 0) {
+            GaussianSH& sh = result.sh[i];
+            std::fill(std::begin(sh.rest_half), std::end(sh.rest_half), uint16_t(0));
+            for (uint32_t c = 0; c < 3; ++c)
+                for (uint32_t k = 0; k < per_channel; ++k) {
+                    const float v = data[i * stride + rest_column[c * per_channel + k]];
+                    if (!std::isfinite(v))
+                        return core::make_error(path, 0, "Gaussian " + std::to_string(i) + " has a non-finite f_rest coefficient");
+                    if (v != 0.0f) any_rest = true;
+                    sh.rest_half[15 * c + k] = float_to_half(v);
+                }
+        }
     }
+    if (any_rest) result.sh_degree = degree;
+    else result.sh.clear();  // all zero (our own exports): nothing view-dependent
     if (!round) {
         result.shapes.resize(count);
         for (size_t i = 0; i < count; ++i) result.shapes[i] = make_shape(axes[i]);

@@ -23,9 +23,12 @@ core::Status write_ply(const std::string& path, std::span<const GaussianRecord> 
 // What a 3DGS PLY holds, as the renderer takes it: the records, and the axes of every Gaussian
 // (rotation rot_0..3 = w x y z times the scales) when any of them is not round; empty when all
 // are (their scales agree within 2 %), so round files cost nothing extra.
+// Degrees 1-3 of the colour (f_rest_*) likewise, when the file has any that are not zero.
 struct PlyGaussians {
     std::vector<GaussianRecord> records;  // scale: the largest axis
     std::vector<GaussianShape> shapes;
+    std::vector<GaussianSH> sh;
+    uint32_t sh_degree = 0;  // 1-3 when `sh` is not empty
 };
 core::Result<PlyGaussians> read_ply_gaussians(const std::string& path);
 

@@ -20,4 +20,12 @@ void sort_far_to_near(std::vector<GaussianRecord>& records, const Mat4f& view, S
 void sort_far_to_near(std::vector<GaussianRecord>& records, std::vector<GaussianShape>& shapes, const Mat4f& view,
                       SortScratch& scratch);
 
+// Puts a stream parallel to the records in the order the last sort with `scratch` gave them.
+template <class T>
+void reorder_like_last_sort(const SortScratch& scratch, std::vector<T>& stream) {
+    if (stream.empty()) return;
+    const std::vector<T> copy = stream;
+    for (size_t k = 0; k < stream.size(); ++k) stream[k] = copy[scratch.keys[k].second];
+}
+
 } // namespace pbdsplat::splat

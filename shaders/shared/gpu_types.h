@@ -33,6 +33,13 @@ struct alignas(16) mat4 { float m[16]; };  // column-major, as GLSL reads it
 // (it bounds culling and the visibility pass's push).
 #define SPLAT_SHAPE_SIZE 20
 
+// ---- View-dependent colour (optional storage stream, binding 4 of the splat pass) -----------
+// Per record, the spherical-harmonic coefficients of degrees 1-3 of a trained 3DGS file, as its
+// f_rest_* columns hold them: 15 per channel, red first, then green, then blue (45 IEEE halfs,
+// three of padding). The record's colour is degree 0's.
+#define SPLAT_SH_COEFFS 45
+#define SPLAT_SH_SIZE 96
+
 // ---- Splat footprints (specialization constant 2 of the splat pipelines) --------------------
 #define SPLAT_FOOTPRINT_GAUSSIAN 0u  // soft Gaussian, cut where its alpha falls below 1/255
 #define SPLAT_FOOTPRINT_PAPER 1u     // the paper's flat elliptical disc (eqs. 22-23), one pass

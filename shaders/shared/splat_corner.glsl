@@ -9,6 +9,15 @@
 
 layout(constant_id = 1) const bool k_shade_per_corner = false;
 
+#include "splat_sh.glsl"
+
+// The splat's colour before lighting: the record's (degree 0), plus the view-dependent degrees of
+// a trained file, seen from the eye towards the splat's centre.
+vec3 splat_albedo(vec3 rgb, uint index, vec3 world) {
+    if (k_sh_degree == 0u) return rgb;
+    return max(rgb + sh_rest_color(index, normalize(world - frame.camera_pos.xyz)), vec3(0.0));
+}
+
 // The splat's opacity: sigmoid(o) (eq. 21) times the fade-in.
 float splat_alpha(float fade, float opacity_logit) { return sigmoid(opacity_logit) * fade; }
 

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 #include <string>
 
@@ -17,6 +18,7 @@
 #include "scene/builtin_scene.h"
 #include "scene/default_scene.h"
 #include "scene/scene_runtime.h"
+#include "scene/ply_view.h"
 #include "splat/ply.h"
 #include "splat/sort.h"
 #include "support/gpu_fixture.h"
@@ -434,12 +436,10 @@ TEST_SUITE("render/lighting") {
         REQUIRE(file->shapes.size() == records.size());
 
         auto ctx = test::open_validated_context();
-        render::FrameInputs frame;
+        render::FrameInputs frame = scene::ply_view(file->records);
         frame.camera.eye = Vec3f(0.0f, 0.6f, 5.5f);
-        frame.style.footprint = render::Footprint::gaussian;
-        frame.style.order = render::SplatOrder::cpu;
-        splat::SortScratch scratch;
-        splat::sort_far_to_near(file->records, file->shapes, math::look_at(frame.camera.eye, frame.camera.target, frame.camera.up), scratch);
+        frame.camera.target = Vec3f::Zero();
+        scene::sort_ply(file.value(), frame);
         const auto image = render_once(*ctx, file->records, frame, 240, 160, render::SplatPath::geometry,
                                        render::SplatShading::fragment, render::SplatCarrier::quad, file->shapes);
         const auto* img = &image;
@@ -469,6 +469,58 @@ TEST_SUITE("render/lighting") {
         MESSAGE("needle along x: " << red_row << " x " << red_column << " pixels; along y: " << green_row << " x " << green_column);
         CHECK(red_row > 4 * red_column);
         CHECK(green_column > 4 * green_row);
+        test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("a degree-3 .ply shows view-dependent colour as 3D Gaussian splatting defines it") {
+        // One opaque round splat, written by hand: f_dc = 0 (grey 0.5), and one coefficient per
+        // channel of degree 1 (red: k = 3, -c1 x), 2 (green: k = 8, c (x^2 - y^2)) and 3 (blue:
+        // k = 15, -c x (x^2 - 3 y^2)), as f_rest holds them (15 per channel, red first).
+        std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 1\n";
+        const char* base[] = {"x", "y", "z", "f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0", "scale_1", "scale_2"};
+        for (const char* name : base) header += std::string("property float ") + name + "\n";
+        for (int j = 0; j < 45; ++j) header += "property float f_rest_" + std::to_string(j) + "\n";
+        header += "end_header\n";
+        std::vector<float> row = {0, 0, 0, 0, 0, 0, 8.0f, std::log(0.5f), std::log(0.5f), std::log(0.5f)};
+        std::vector<float> rest(45, 0.0f);
+        rest[0 * 15 + 2] = 0.5f;   // red, degree 1, coefficient 3
+        rest[1 * 15 + 7] = 0.3f;   // green, degree 2, coefficient 8
+        rest[2 * 15 + 14] = 0.3f;  // blue, degree 3, coefficient 15
+        row.insert(row.end(), rest.begin(), rest.end());
+        const std::string path = (std::filesystem::path(PBDSPLAT_TEST_OUTPUT_DIR) / "sh3.ply").string();
+        std::filesystem::create_directories(PBDSPLAT_TEST_OUTPUT_DIR);
+        {
+            std::ofstream out(path, std::ios::binary);
+            out << header;
+            out.write(reinterpret_cast<const char*>(row.data()), std::streamsize(row.size() * sizeof(float)));
+        }
+        auto file = splat::read_ply_gaussians(path);
+        REQUIRE_MESSAGE(file.ok(), file.error().to_string());
+        REQUIRE(file->sh_degree == 3);
+        auto ctx = test::open_validated_context();
+        for (const float side : {1.0f, -1.0f}) {
+            render::FrameInputs frame = scene::ply_view(file->records);
+            frame.camera.eye = Vec3f(4.0f * side, 0.0f, 0.0f);
+            frame.camera.target = Vec3f::Zero();
+            const render::RendererOptions ro = scene::ply_renderer_options(file.value(), 64, 48);
+            CHECK(ro.sh_degree == 3);
+            auto r = scene::OffscreenRenderer::create(*ctx, ro);
+            REQUIRE_MESSAGE(r.ok(), r.error().to_string());
+            REQUIRE(r.value()->render(file->records, frame, {}, file->shapes, file->sh).ok());
+            auto img = r.value()->finish();
+            REQUIRE(img.ok());
+            // Seen along d = (-side, 0, 0): the degree-l terms, from their definitions.
+            const float x = -side;
+            const float red = 0.5f + 0.5f * (-0.4886025f * x);
+            const float green = 0.5f + 0.3f * (0.5462742f * x * x);
+            const float blue = 0.5f + 0.3f * (-0.5900436f * x * x * x);
+            const uint8_t* centre = img->at(32, 24);
+            INFO("seen from x = " << 4.0f * side << ": " << int(centre[0]) << " " << int(centre[1]) << " " << int(centre[2]));
+            CHECK(std::abs(int(centre[0]) - int(std::lround(red * 255.0f))) <= 2);
+            CHECK(std::abs(int(centre[1]) - int(std::lround(green * 255.0f))) <= 2);
+            CHECK(std::abs(int(centre[2]) - int(std::lround(blue * 255.0f))) <= 2);
+            if (side > 0.0f) check_against_golden(img.value(), "ply_sh3_64x48");
+        }
         test::require_no_validation_messages(*ctx);
     }
 

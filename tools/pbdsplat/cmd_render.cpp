@@ -13,7 +13,7 @@
 #include "scene/offscreen_renderer.h"
 #include "scene/scene_runtime.h"
 #include "splat/ply.h"
-#include "splat/sort.h"
+#include "scene/ply_view.h"
 
 namespace pbdsplat::cli {
 namespace {
@@ -28,49 +28,28 @@ void progress(uint32_t done, uint32_t total) {
 
 bool ffmpeg_available() { return std::system("command -v ffmpeg >/dev/null 2>&1") == 0; }
 
-// A .ply of Gaussians as a static scene: the camera looks at their bounds from the front. Files
-// trained elsewhere are soft, sorted Gaussians with their own axes: drawn so (the Gaussian
-// footprint, far to near on the CPU, anisotropic where any splat is not round).
+// A .ply of Gaussians as a static scene, drawn as it was trained (scene/ply_view.h).
 int render_ply(const std::string& file, const Args& args, uint32_t width, uint32_t height, const std::filesystem::path& out) {
     auto gaussians = splat::read_ply_gaussians(file);
     if (!gaussians.ok()) return fail("render", gaussians.error().to_string());
-    std::vector<splat::GaussianRecord>* records = &gaussians->records;
-    std::vector<splat::GaussianShape>& shapes = gaussians->shapes;
-    if (records->empty()) return fail("render", file + ": holds no Gaussians");
-    Vec3f lo = Vec3f::Constant(1e30f), hi = Vec3f::Constant(-1e30f);
-    for (const auto& r : *records) {
-        const Vec3f p(r.position[0], r.position[1], r.position[2]);
-        lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    }
-    render::FrameInputs frame;
-    const Vec3f centre = 0.5f * (lo + hi);
-    const float diag = std::max((hi - lo).norm(), 1e-6f);
-    frame.camera.target = centre;
-    frame.camera.eye = centre + Vec3f(0.0f, 0.25f, 1.2f) * diag;
-    frame.camera.z_near = 0.01f * diag;
-    frame.camera.z_far = 10.0f * diag;
-    frame.style.footprint = render::Footprint::gaussian;
-    frame.style.order = render::SplatOrder::cpu;
-    splat::SortScratch scratch;
-    splat::sort_far_to_near(*records, shapes, math::look_at(frame.camera.eye, frame.camera.target, frame.camera.up), scratch);
+    if (gaussians->records.empty()) return fail("render", file + ": holds no Gaussians");
+    const render::FrameInputs frame = scene::ply_view(gaussians->records);
+    scene::sort_ply(gaussians.value(), frame);
     auto ctx = open_context(args);
     if (!ctx.ok()) return fail("render", ctx.error().to_string());
-    render::RendererOptions ro;
-    ro.width = width ? width : 1280;
-    ro.height = height ? height : 720;
-    ro.max_splats = uint32_t(records->size());
-    ro.frames_in_flight = 1;
-    ro.anisotropic = !shapes.empty();
+    const render::RendererOptions ro = scene::ply_renderer_options(gaussians.value(), width ? width : 1280, height ? height : 720);
     auto renderer = scene::OffscreenRenderer::create(*ctx.value(), ro);
     if (!renderer.ok()) return fail("render", renderer.error().to_string());
-    if (auto s = renderer.value()->render(*records, frame, {}, shapes); !s.ok()) return fail("render", s.error().to_string());
+    if (auto s = renderer.value()->render(gaussians->records, frame, {}, gaussians->shapes, gaussians->sh); !s.ok())
+        return fail("render", s.error().to_string());
     auto image = renderer.value()->finish();
     if (!image.ok()) return fail("render", image.error().to_string());
     const std::filesystem::path target = out.extension() == ".png" ? out : out / "frame_0000.png";
     if (auto s = core::write_png(target.string(), image.value()); !s.ok()) return fail("render", s.error().to_string());
     if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("render", v.error().to_string());
-    std::printf("wrote %s (%zu %s Gaussians from %s)\n", target.string().c_str(), records->size(),
-                shapes.empty() ? "round" : "anisotropic", file.c_str());
+    std::printf("wrote %s (%zu %s Gaussians%s from %s)\n", target.string().c_str(), gaussians->records.size(),
+                gaussians->shapes.empty() ? "round" : "anisotropic",
+                gaussians->sh.empty() ? "" : (", colour of degree " + std::to_string(gaussians->sh_degree)).c_str(), file.c_str());
     return 0;
 }
 

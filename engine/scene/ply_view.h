@@ -1,0 +1,20 @@
+#pragma once
+// A .ply of Gaussians as a static scene: how `pbdsplat render file.ply` (and its tests) draw
+// one. Files trained elsewhere hold soft, sorted Gaussians whose colour is radiance, so they
+// are drawn so: the Gaussian footprint, far to near, unlit, anisotropic and view-dependent
+// where the file says.
+#include "render/splat_renderer.h"
+#include "splat/ply.h"
+
+namespace pbdsplat::scene {
+
+// The camera looks at the Gaussians' bounds from the front; lighting leaves colours as stored.
+render::FrameInputs ply_view(std::span<const splat::GaussianRecord> records);
+
+// Renderer options that draw `file` as it was trained (at most `file.records.size()` splats).
+render::RendererOptions ply_renderer_options(const splat::PlyGaussians& file, uint32_t width, uint32_t height);
+
+// Sorts the file's streams far to near for the frame's camera.
+void sort_ply(splat::PlyGaussians& file, const render::FrameInputs& frame);
+
+} // namespace pbdsplat::scene
