@@ -29,6 +29,7 @@ void main() {
     const vec3 world = gl_in[0].gl_Position.xyz;
     const float s0 = v_scale_opacity[0].x * frame.splat.w;
     if (!(s0 > 0.0)) return;  // a zero or NaN scale draws nothing rather than garbage
+    if (splat_faces_away(world, v_normal[0])) return;  // the far side of a closed body
     const float alpha = splat_alpha(v_color[0].a, v_scale_opacity[0].y);
     const SplatQuad q = splat_quad(world, v_normal[0], s0, alpha, k_visibility_pass, uint(gl_PrimitiveIDIn));
     if (!(q.extent > 0.0)) return;  // too faint to show anywhere

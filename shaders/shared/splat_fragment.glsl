@@ -44,7 +44,8 @@ void main() {
         // in after a cut would show the background through, not its neighbours: dark specks).
         // Kept on an ordered-dither share of the pixels, it has the same mean opacity whatever
         // the order, and the kept pixels write an opaque colour.
-        if (k_footprint_dither && g_color.a < dither_threshold()) discard;
+        // (Opaque discs, nearly all of them, skip the threshold: the largest is 15.5/16.)
+        if (k_footprint_dither && g_color.a < 0.97 && g_color.a < dither_threshold()) discard;
         alpha = k_footprint_dither ? 1.0 : g_color.a;
     } else {
         // uv is in standard deviations: the Gaussian falloff, cut where it stops showing.
