@@ -129,7 +129,11 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     desc.stages.back().second = "splat_paper.frag";
     desc.blend = gpu::BlendMode::over_premultiplied;
     desc.depth_write = true;
-    desc.specialization[4] = 1u;  // k_footprint_dither
+    // Sorted far to near, the flat alpha blends over what lies behind, as the paper composites.
+    auto paper_sorted = gpu::create_graphics_pipeline(ctx, desc);
+    if (!paper_sorted.ok()) return paper_sorted.error();
+    p.paper_sorted_ = std::move(paper_sorted).value();
+    desc.specialization[4] = 1u;  // k_footprint_dither: unsorted, opacity becomes coverage
     auto paper_over = gpu::create_graphics_pipeline(ctx, desc);
     if (!paper_over.ok()) return paper_over.error();
     p.paper_over_ = std::move(paper_over).value();
@@ -173,7 +177,10 @@ void SplatPass::record(VkCommandBuffer cmd, const SplatStyle& style, VkDescripto
     }
     const bool additive = style.blend == Blend::additive;
     if (style.footprint == Footprint::paper) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, additive ? paper_additive_.get() : paper_over_.get());
+        const VkPipeline pipeline = additive ? paper_additive_.get()
+                                    : style.order == SplatOrder::unsorted ? paper_over_.get()
+                                                                          : paper_sorted_.get();
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
         draw(cmd, source);
         return;
     }

@@ -62,7 +62,8 @@ private:
     gpu::Pipeline visibility_;
     gpu::Pipeline over_;
     gpu::Pipeline additive_;
-    gpu::Pipeline paper_over_;      // writes depth, tests after the mask
+    gpu::Pipeline paper_over_;      // unsorted: writes depth, tests after the mask, opacity dithered
+    gpu::Pipeline paper_sorted_;    // far to near: the same, opacity blended
     gpu::Pipeline paper_additive_;
     PFN_vkCmdDrawMeshTasksEXT draw_mesh_tasks_ = nullptr;
     PFN_vkCmdDrawMeshTasksIndirectEXT draw_mesh_tasks_indirect_ = nullptr;

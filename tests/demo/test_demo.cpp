@@ -9,6 +9,7 @@
 #include "demo/script.h"
 #include "scene/scene_file.h"
 
+#include "support/skip.h"
 using namespace pbdsplat;
 
 namespace {
@@ -80,7 +81,7 @@ TEST_SUITE("demo/script") {
 TEST_SUITE("demo/window") {
     TEST_CASE("the demo runs a scripted cut and drag in a window and shows the body in two pieces") {
         if (!have_display()) {
-            MESSAGE("SKIPPED: no display (ctest runs this suite under xvfb-run)");
+            test::skip("no display (ctest runs this suite under xvfb-run)");
             return;
         }
         auto scene = scene::load_scene(std::string(PBDSPLAT_TEST_SCENES_DIR) + "/demo_cut.toml");

@@ -9,6 +9,7 @@
 #include "mesh/repair.h"
 #include "mesh/topology.h"
 
+#include "support/skip.h"
 using namespace pbdsplat;
 
 namespace {
@@ -161,7 +162,7 @@ TEST_SUITE("mesh/repair") {
         for (const Expect& e : models) {
             const auto path = mesh::find_model(e.file);
             if (!path) {
-                MESSAGE("SKIPPED: " << e.file << " not found on the model search path (../shared/models)");
+                test::skip(std::string(e.file) + " not found on the model search path (../shared/models)");
                 continue;
             }
             auto raw = mesh::load_obj(*path);

@@ -7,6 +7,7 @@
 #include "splat/mapping.h"
 #include "support/gpu_fixture.h"
 
+#include "support/skip.h"
 using namespace pbdsplat;
 
 namespace {
@@ -67,7 +68,7 @@ TEST_SUITE("render/coverage") {
 
     TEST_CASE("boundary particles close the surface where vertices alone leave holes: teapot") {
         if (!mesh::find_model("teapot.obj")) {
-            MESSAGE("SKIPPED: teapot.obj not found on the model search path (../shared/models)");
+            test::skip("teapot.obj not found on the model search path (../shared/models)");
             return;
         }
         auto ctx = test::open_validated_context();

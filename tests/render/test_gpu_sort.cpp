@@ -15,6 +15,7 @@
 #include "splat/sort.h"
 #include "support/gpu_fixture.h"
 
+#include "support/skip.h"
 using namespace pbdsplat;
 
 namespace {
@@ -173,7 +174,7 @@ TEST_SUITE("render/sort") {
         const auto scene = scene::make_builtin_scene(4);
         for (const render::SplatPath path : {render::SplatPath::geometry, render::SplatPath::mesh, render::SplatPath::vertex}) {
             if (const std::string why = render::splat_path_unsupported(ctx->caps(), path); !why.empty()) {
-                MESSAGE("SKIPPED path " << std::string(render::splat_path_name(path)) << ": " << why);
+                test::skip("path " + std::string(render::splat_path_name(path)) + ": " + why);
                 continue;
             }
             auto draw = [&](render::SplatOrder order) {

@@ -23,6 +23,7 @@
 #include "splat/sort.h"
 #include "support/gpu_fixture.h"
 #include "support/render_once.h"
+#include "support/skip.h"
 
 using namespace pbdsplat;
 
@@ -257,7 +258,7 @@ TEST_SUITE("render/paths") {
                                     Variant{render::SplatPath::vertex, render::SplatCarrier::quad}}) {
                 const std::string why = render::splat_path_unsupported(ctx->caps(), v.path);
                 if (!why.empty()) {
-                    MESSAGE("SKIPPED the " << render::splat_path_name(v.path) << " path: " << why);
+                    test::skip("the " + std::string(render::splat_path_name(v.path)) + " path: " + why);
                     continue;
                 }
                 const auto img = render_once(*ctx, scene.records, frame, 320, 240, v.path, render::SplatShading::fragment, v.carrier);
@@ -311,7 +312,7 @@ TEST_SUITE("render/lighting") {
         frame.lighting.lights.push_back(render::Light{});  // a point light: the least linear term
         for (render::SplatPath path : {render::SplatPath::geometry, render::SplatPath::mesh, render::SplatPath::vertex}) {
             if (const std::string why = render::splat_path_unsupported(ctx->caps(), path); !why.empty()) {
-                MESSAGE("SKIPPED the " << render::splat_path_name(path) << " path: " << why);
+                test::skip("the " + std::string(render::splat_path_name(path)) + " path: " + why);
                 continue;
             }
             const auto fragment = render_once(*ctx, scene.records, frame, 160, 120, path, render::SplatShading::fragment);
@@ -591,6 +592,37 @@ TEST_SUITE("render/scene") {
         auto img = rt.value()->finish();
         REQUIRE_MESSAGE(img.ok(), img.error().to_string());
         check_against_golden(img.value(), "default_scene_f90_320x180");
+        test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("a scene sorted on the GPU runs its gpu sort pass and draws what the CPU sort draws") {
+        auto ctx = test::open_validated_context();
+        auto loaded = scene::load_scene(std::string(PBDSPLAT_TEST_SCENES_DIR) + "/sorted.toml");
+        REQUIRE_MESSAGE(loaded.ok(), loaded.error().to_string());
+        loaded->render.width = 160;
+        loaded->render.height = 120;
+        loaded->render.frame.style.footprint = render::Footprint::gaussian;  // sorting matters to the soft blend
+        core::ImageRgba8 images[2];
+        for (int k = 0; k < 2; ++k) {
+            scene::RuntimeOptions o;
+            o.gpu = ctx.get();
+            o.frames_in_flight = 1;
+            o.sort_on = k == 0 ? render::SplatOrder::gpu : render::SplatOrder::cpu;
+            auto rt = scene::SceneRuntime::create(loaded.value(), o);
+            REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+            bool gpu_sort_runs = false;
+            for (const auto& p : rt.value()->graph().describe())
+                if (p.name == "gpu sort") gpu_sort_runs = !p.culled;
+            CHECK(gpu_sort_runs == (k == 0));
+            for (int f = 0; f < 5; ++f) REQUIRE(rt.value()->step().ok());
+            auto img = rt.value()->finish();
+            REQUIRE_MESSAGE(img.ok(), img.error().to_string());
+            images[k] = std::move(img).value();
+        }
+        auto diff = core::compare_images(images[0], images[1], 2);
+        REQUIRE(diff.ok());
+        MESSAGE("scene sorted on the GPU against the CPU: PSNR " << diff->psnr_db << " dB, " << diff->share_over * 100.0 << " % over 2/255");
+        CHECK(diff->share_over <= 0.001);
         test::require_no_validation_messages(*ctx);
     }
 

@@ -13,6 +13,7 @@
 #include "support/render_once.h"
 #include "support/splat_reference.h"
 
+#include "support/skip.h"
 using namespace pbdsplat;
 
 namespace {
@@ -85,7 +86,7 @@ template <class Fn>
 void for_each_variant(const gpu::Context& ctx, Fn&& fn) {
     for (const Variant& v : k_variants) {
         if (const std::string why = render::splat_path_unsupported(ctx.caps(), v.path); !why.empty()) {
-            MESSAGE("SKIPPED the " << render::splat_path_name(v.path) << " path: " << why);
+            test::skip("the " + std::string(render::splat_path_name(v.path)) + " path: " + why);
             continue;
         }
         fn(v);

@@ -10,6 +10,7 @@
 #include "sim/state_hash.h"
 #include "sim_fixtures.h"
 
+#include "support/skip.h"
 using namespace pbdsplat;
 
 TEST_SUITE("sim/solver") {
@@ -187,7 +188,7 @@ TEST_SUITE("sim/solver") {
         for (const char* file : {"suzanne.obj", "teapot.obj", "stanford-bunny.obj", "fandisk.obj"}) {
             const auto path = mesh::find_model(file);
             if (!path) {
-                MESSAGE("SKIPPED: " << file << " not found on the model search path (../shared/models)");
+                test::skip(std::string(file) + " not found on the model search path (../shared/models)");
                 continue;
             }
             auto raw = mesh::load_obj(*path);

@@ -13,6 +13,7 @@
 #include "topology/cut.h"
 #include "topology/invariants.h"
 
+#include "support/skip.h"
 using namespace pbdsplat;
 
 namespace {
@@ -197,7 +198,7 @@ TEST_SUITE("topology/cut") {
     TEST_CASE("200 random cuts in sequence keep every invariant, with no NaN") {
         std::string spec = "stanford-bunny.obj";
         if (!mesh::find_model(spec)) {
-            MESSAGE("SKIPPED the bunny: stanford-bunny.obj not on the model search path; using icosphere:4");
+            test::skip("the bunny: stanford-bunny.obj not on the model search path; using icosphere:4");
             spec = "icosphere:4";
         }
         auto m = mesh::load_mesh_spec(spec);
