@@ -84,6 +84,8 @@ DeviceCaps query_caps(VkPhysicalDevice pd, uint32_t family) {
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, fam.data());
     c.timestamps = props.properties.limits.timestampPeriod > 0.0f && fam[family].timestampValidBits > 0;
     c.timestamp_period_ns = props.properties.limits.timestampPeriod;
+    c.max_image_dimension = std::min(props.properties.limits.maxImageDimension2D,
+                                     std::min(props.properties.limits.maxFramebufferWidth, props.properties.limits.maxFramebufferHeight));
 
     VkPhysicalDeviceMemoryProperties mem;
     vkGetPhysicalDeviceMemoryProperties(pd, &mem);

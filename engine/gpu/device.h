@@ -17,6 +17,7 @@ struct DeviceCaps {
     bool timestamps = false;    // timestamp queries on the graphics queue
     float timestamp_period_ns = 0.0f;
     uint32_t subgroup_size = 0;
+    uint32_t max_image_dimension = 0;  // the largest image and framebuffer side
     // Device-local memory that the CPU can write directly (CPU or integrated devices): uploads
     // write in place instead of going through a staging copy.
     bool unified_memory = false;

@@ -1,6 +1,7 @@
 #include "mesh/mesh_spec.h"
 
 #include <charconv>
+#include <filesystem>
 #include <vector>
 
 #include "mesh/model_path.h"
@@ -81,6 +82,9 @@ core::Result<RepairedMesh> load_mesh_spec(const std::string& spec, const MeshSpe
         m = grid_sheet(a.value()[0], 2.0f);
     } else {
         const auto path = find_model(spec);
+        std::error_code ec;
+        if (!path && std::filesystem::is_directory(spec, ec))
+            return core::make_error(spec + ": is a folder, not a mesh file (name an .obj inside it, or a procedural mesh)");
         if (!path) {
             std::string where;
             for (const auto& d : model_search_path()) where += (where.empty() ? "" : ", ") + d;

@@ -1,6 +1,7 @@
 #include "mesh/obj_loader.h"
 
 #include <charconv>
+#include <filesystem>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -185,6 +186,8 @@ core::Result<TriangleMesh> parse_obj(const std::string& text, const std::string&
 }
 
 core::Result<TriangleMesh> load_obj(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) return core::make_error(path, 0, "is a folder, not an .obj file");
     std::ifstream file(path, std::ios::binary);
     if (!file) return core::make_error(path, 0, "cannot open the file (does it exist and is it readable?)");
     std::ostringstream text;

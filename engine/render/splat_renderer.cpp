@@ -19,6 +19,17 @@ Use uses::records_read(SplatPath path) {
 
 core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context& ctx, const RendererOptions& options) {
     if (options.max_splats == 0) return core::make_error("max_splats must be at least 1");
+    // Refused up front, with the limit, rather than allocated and ground through for minutes.
+    const uint32_t side = ctx.caps().max_image_dimension;
+    if (side && (options.width > side || options.height > side))
+        return core::make_error(std::to_string(options.width) + "x" + std::to_string(options.height) + " is larger than device '" +
+                                ctx.caps().name + "' draws (" + std::to_string(side) + " pixels a side at most)");
+    constexpr uint64_t k_max_pixels = 8192ull * 8192ull;
+    const uint64_t pixels = uint64_t(options.width) * options.height;
+    if (pixels > k_max_pixels)
+        return core::make_error(std::to_string(options.width) + "x" + std::to_string(options.height) + " is " + std::to_string(pixels / 1000000) +
+                                " million pixels, above the renderer's limit of 67 million (8192x8192): its colour, depth and "
+                                "readback images alone would take " + std::to_string(pixels * 12 * options.frames_in_flight >> 20) + " MiB");
     if ((options.anisotropic || options.sh_degree > 0) && options.gpu_sort)
         return core::make_error("anisotropic splats and view-dependent colour cannot be sorted on the GPU yet (its sort reorders only "
                                 "the records): sort on the CPU");

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <bit>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -15,48 +16,67 @@ namespace pbdsplat::splat {
 namespace {
 
 constexpr float k_sh_c0 = 0.28209479177387814f;  // Y_0^0: colour = 0.5 + C0 * f_dc
-constexpr int k_rest = 45;
 
-std::vector<std::string> property_names() {
+uint32_t rest_count(uint32_t sh_degree) { return 3 * ((sh_degree + 1) * (sh_degree + 1) - 1); }
+
+std::vector<std::string> property_names(uint32_t sh_degree) {
     std::vector<std::string> n = {"x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2"};
-    for (int i = 0; i < k_rest; ++i) n.push_back("f_rest_" + std::to_string(i));
+    for (uint32_t i = 0; i < rest_count(sh_degree); ++i) n.push_back("f_rest_" + std::to_string(i));
     for (const char* s : {"opacity", "scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3"}) n.push_back(s);
     return n;
 }
 
+// The half turn about x that takes y-up to y-down and back: (x, y, z) -> (x, -y, -z).
+const Eigen::Matrix3f k_half_turn_x = Vec3f(1.0f, -1.0f, -1.0f).asDiagonal();
+// Under it, the spherical-harmonic basis functions of degree 1-3 (3DGS's order) that hold an
+// odd number of y and z factors change sign.
+constexpr bool k_sh_flips[15] = {true, true, false, true, false, false, true, false,
+                                 true, false, true, true, false, true, false};
+
+float logit(float p) { return std::log(p / (1.0f - p)); }
+
 } // namespace
 
-std::string ply_header(size_t count) {
+std::string ply_header(size_t count, uint32_t sh_degree) {
     std::string h = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(count) + "\n";
-    for (const auto& name : property_names()) h += "property float " + name + "\n";
+    for (const auto& name : property_names(sh_degree)) h += "property float " + name + "\n";
     return h + "end_header\n";
 }
 
-core::Status write_ply(const std::string& path, std::span<const GaussianRecord> records, std::span<const GaussianShape> shapes) {
+core::Status write_ply(const std::string& path, std::span<const GaussianRecord> records, std::span<const GaussianShape> shapes,
+                       const PlyWriteOptions& options) {
     static_assert(std::endian::native == std::endian::little, "PLY writing assumes a little-endian host");
     if (!shapes.empty() && shapes.size() != records.size())
         return core::make_error(path, 0, "write_ply: " + std::to_string(shapes.size()) + " shapes for " + std::to_string(records.size()) + " records");
+    if (options.sh_degree > 3) return core::make_error(path, 0, "write_ply: spherical-harmonic degree must be 0 to 3");
     std::ofstream out(path, std::ios::binary);
     if (!out) return core::make_error(path, 0, "cannot write (does the folder exist and is it writable?)");
-    out << ply_header(records.size());
-    const size_t stride = property_names().size();
+    out << ply_header(records.size(), options.sh_degree);
+    const size_t stride = property_names(options.sh_degree).size();
+    const bool turn = options.up == PlyUp::minus_y;
+    const Eigen::Matrix3f to_file = turn ? k_half_turn_x : Eigen::Matrix3f::Identity();
     std::vector<float> row(stride, 0.0f);
     for (size_t i = 0; i < records.size(); ++i) {
         const GaussianRecord& r = records[i];
         std::fill(row.begin(), row.end(), 0.0f);
-        row[0] = r.position[0], row[1] = r.position[1], row[2] = r.position[2];
-        const Vec3f n = decode_octahedral(r.normal_oct);
+        const Vec3f p = to_file * Vec3f(r.position[0], r.position[1], r.position[2]);
+        row[0] = p.x(), row[1] = p.y(), row[2] = p.z();
+        const Vec3f n = to_file * decode_octahedral(r.normal_oct);
         row[3] = n.x(), row[4] = n.y(), row[5] = n.z();
         for (int c = 0; c < 3; ++c) row[size_t(6 + c)] = (float(r.color[c]) / 255.0f - 0.5f) / k_sh_c0;
-        const size_t o = 9 + k_rest;
-        row[o] = half_to_float(r.opacity_half);
+        const size_t o = 9 + rest_count(options.sh_degree);
+        // The opacity a viewer sees: sigmoid(o) times the fade-in (a splat appearing after a
+        // cut is as faint in the file as on screen).
+        const float fade = float(r.color[3]) / 255.0f;
+        const float alpha = fade / (1.0f + std::exp(-half_to_float(r.opacity_half)));
+        row[o] = logit(std::clamp(alpha, 1e-6f, 1.0f - 1e-6f));
         if (shapes.empty()) {
             const float log_scale = std::log(std::max(half_to_float(r.scale_half), 1e-30f));
             row[o + 1] = row[o + 2] = row[o + 3] = log_scale;
             row[o + 4] = 1.0f;  // identity rotation, w first
         } else {
             // The covariance A A^T = V diag(lambda) V^T: V (made a proper rotation) and sqrt(lambda).
-            const Eigen::Matrix3f a = shape_axes(shapes[i]);
+            const Eigen::Matrix3f a = to_file * shape_axes(shapes[i]);
             const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> eig(a * a.transpose());
             Eigen::Matrix3f v = eig.eigenvectors();
             if (v.determinant() < 0.0f) v.col(2) = -v.col(2);
@@ -70,15 +90,18 @@ core::Status write_ply(const std::string& path, std::span<const GaussianRecord> 
     return core::Status::success();
 }
 
-core::Result<std::vector<GaussianRecord>> read_ply(const std::string& path) {
-    auto g = read_ply_gaussians(path);
+core::Result<std::vector<GaussianRecord>> read_ply(const std::string& path, PlyUp up) {
+    auto g = read_ply_gaussians(path, up);
     if (!g.ok()) return g.error();
     return std::move(g->records);
 }
 
-core::Result<PlyGaussians> read_ply_gaussians(const std::string& path) {
+core::Result<PlyGaussians> read_ply_gaussians(const std::string& path, PlyUp up) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) return core::make_error(path, 0, "is a folder, not a .ply file");
     std::ifstream in(path, std::ios::binary);
     if (!in) return core::make_error(path, 0, "cannot open the file (does it exist and is it readable?)");
+    const Eigen::Matrix3f to_world = up == PlyUp::minus_y ? k_half_turn_x : Eigen::Matrix3f::Identity();
     std::string line;
     int line_no = 0;
     auto next = [&]() -> bool {
@@ -118,6 +141,8 @@ core::Result<PlyGaussians> read_ply_gaussians(const std::string& path) {
         } else if (word == "property") {
             std::string type, name;
             ls >> type >> name;
+            if (type.empty() || name.empty())
+                return core::make_error(path, line_no, "'property' needs a type and a name (is the header cut off?)");
             if (!in_vertex) return core::make_error(path, line_no, "property outside the vertex element");
             if (type != "float" && type != "float32")
                 return core::make_error(path, line_no, "property '" + name + "' is " + type + "; 3DGS properties are float");
@@ -129,6 +154,16 @@ core::Result<PlyGaussians> read_ply_gaussians(const std::string& path) {
     if (!have_vertex) return core::make_error(path, line_no, "no 'element vertex' in the header");
     for (const char* need : {"x", "y", "z", "f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0", "scale_1", "scale_2"})
         if (!column.count(need)) return core::make_error(path, line_no, std::string("the header lacks property '") + need + "'");
+    // The announced count against the bytes present, before anything that size is allocated.
+    const std::streamoff body_start = in.tellg();
+    in.seekg(0, std::ios::end);
+    const std::streamoff body_bytes = in.tellg() - body_start;
+    in.seekg(body_start);
+    const long double needed = (long double)count * (long double)stride * sizeof(float);
+    if (needed > (long double)body_bytes)
+        return core::make_error(path, 0, "truncated: the header announces " + std::to_string(count) + " Gaussians (" +
+                                             std::to_string((unsigned long long)needed) + " bytes) but only " +
+                                             std::to_string(body_bytes) + " bytes follow");
     std::vector<float> data(count * stride);
     in.read(reinterpret_cast<char*>(data.data()), std::streamsize(data.size() * sizeof(float)));
     if (size_t(in.gcount()) != data.size() * sizeof(float))
@@ -155,13 +190,25 @@ core::Result<PlyGaussians> read_ply_gaussians(const std::string& path) {
     bool any_rest = false;
     if (degree > 0) result.sh.resize(count);
     auto col = [&](size_t i, const char* name) { return data[i * stride + column.at(name)]; };
+    size_t kept = 0;
     for (size_t i = 0; i < count; ++i) {
-        GaussianRecord& r = out[i];
-        r.position[0] = col(i, "x"), r.position[1] = col(i, "y"), r.position[2] = col(i, "z");
-        for (int k = 0; k < 3; ++k)
-            if (!std::isfinite(r.position[k]))
-                return core::make_error(path, 0, "Gaussian " + std::to_string(i) + " has a non-finite position");
-        encode_octahedral(normals ? Vec3f(col(i, "nx"), col(i, "ny"), col(i, "nz")) : Vec3f::UnitZ(), r.normal_oct);
+        // Trained files hold the odd NaN or infinite value: such a Gaussian is dropped, counted.
+        bool finite = true;
+        for (const auto& [name, c] : column) finite = finite && std::isfinite(data[i * stride + c]);
+        if (!finite) {
+            ++result.dropped_nonfinite;
+            continue;
+        }
+        const size_t o = kept++;
+        GaussianRecord& r = out[o];
+        const Vec3f p = to_world * Vec3f(col(i, "x"), col(i, "y"), col(i, "z"));
+        r.position[0] = p.x(), r.position[1] = p.y(), r.position[2] = p.z();
+        Vec3f n = normals ? Vec3f(col(i, "nx"), col(i, "ny"), col(i, "nz")) : Vec3f::Zero();
+        if (!(n.squaredNorm() > 1e-12f)) {
+            ++result.missing_normals;  // counted, so the caller can say so
+            n = Vec3f::UnitZ();
+        }
+        encode_octahedral(to_world * n.normalized(), r.normal_oct);
         const char* dc[3] = {"f_dc_0", "f_dc_1", "f_dc_2"};
         for (int c = 0; c < 3; ++c)
             r.color[c] = uint8_t(std::lround(std::clamp(0.5f + k_sh_c0 * col(i, dc[c]), 0.0f, 1.0f) * 255.0f));
@@ -175,24 +222,28 @@ core::Result<PlyGaussians> read_ply_gaussians(const std::string& path) {
         Eigen::Quaternionf q = Eigen::Quaternionf::Identity();
         if (rotations) {
             q = Eigen::Quaternionf(col(i, "rot_0"), col(i, "rot_1"), col(i, "rot_2"), col(i, "rot_3"));
-            if (!(q.norm() > 1e-12f) || !std::isfinite(q.norm()))
-                return core::make_error(path, 0, "Gaussian " + std::to_string(i) + " has a zero or non-finite rotation");
+            if (!(q.norm() > 1e-12f))
+                return core::make_error(path, 0, "Gaussian " + std::to_string(i) + " has a zero rotation quaternion");
             q.normalize();
         }
-        axes[i] = q.toRotationMatrix() * log_scale.array().exp().matrix().asDiagonal();
+        axes[o] = to_world * q.toRotationMatrix() * log_scale.array().exp().matrix().asDiagonal();
         if (degree > 0) {
-            GaussianSH& sh = result.sh[i];
+            GaussianSH& sh = result.sh[o];
             std::fill(std::begin(sh.rest_half), std::end(sh.rest_half), uint16_t(0));
             for (uint32_t c = 0; c < 3; ++c)
                 for (uint32_t k = 0; k < per_channel; ++k) {
-                    const float v = data[i * stride + rest_column[c * per_channel + k]];
-                    if (!std::isfinite(v))
-                        return core::make_error(path, 0, "Gaussian " + std::to_string(i) + " has a non-finite f_rest coefficient");
+                    float v = data[i * stride + rest_column[c * per_channel + k]];
                     if (v != 0.0f) any_rest = true;
+                    // Seen from the turned world, a basis function odd in y and z flips sign.
+                    if (up == PlyUp::minus_y && k_sh_flips[k]) v = -v;
                     sh.rest_half[15 * c + k] = float_to_half(v);
                 }
         }
     }
+    out.resize(kept);
+    axes.resize(kept);
+    if (degree > 0) result.sh.resize(kept);
+    count = kept;
     if (any_rest) result.sh_degree = degree;
     else result.sh.clear();  // all zero (our own exports): nothing view-dependent
     if (!round) {

@@ -1,7 +1,10 @@
 #include <doctest/doctest.h>
 
+#include <filesystem>
+
 #include <string>
 
+#include "mesh/mesh_spec.h"
 #include "mesh/obj_loader.h"
 
 using namespace pbdsplat;
@@ -59,5 +62,15 @@ TEST_SUITE("mesh/obj_loader") {
         auto r = mesh::load_obj("/nonexistent/model.obj");
         REQUIRE_FALSE(r.ok());
         CHECK(r.error().to_string().find("/nonexistent/model.obj") == 0);
+    }
+
+    TEST_CASE("a folder given as a mesh is named as a folder, not as a missing file") {
+        const std::string dir = std::filesystem::temp_directory_path().string();
+        auto r = mesh::load_obj(dir);
+        REQUIRE_FALSE(r.ok());
+        CHECK(r.error().message == "is a folder, not an .obj file");
+        auto spec = mesh::load_mesh_spec(dir);
+        REQUIRE_FALSE(spec.ok());
+        CHECK(spec.error().message.find("is a folder, not a mesh file") != std::string::npos);
     }
 }

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 
 #include <Eigen/Geometry>
@@ -42,9 +43,10 @@ TEST_SUITE("splat/ply") {
                                  floats({-1.0f, 0.0f, 0.0f, d, 1.0f, 0.0f, c, a, 0.0f, -1.0f, sn, b, 0.0f, 0.0f});
         const std::string path = temp("pbdsplat_by_hand.ply");
         write_text(path, header + body);
-        auto g = splat::read_ply_gaussians(path);
+        auto g = splat::read_ply_gaussians(path, splat::PlyUp::y);  // the file's own frame
         REQUIRE_MESSAGE(g.ok(), g.error().to_string());
         REQUIRE(g->records.size() == 2);
+        CHECK(g->missing_normals == 2);
         REQUIRE(g->shapes.size() == 2);  // one needle makes the whole file anisotropic
         const auto& r0 = g->records[0];
         CHECK(r0.position[0] == 1.0f);
@@ -63,6 +65,77 @@ TEST_SUITE("splat/ply") {
         const Eigen::Matrix3f expected = covariance(rot * Vec3f(0.3f, 0.05f, 0.02f).asDiagonal());
         CHECK((covariance(splat::shape_axes(g->shapes[1])) - expected).norm() < 2e-3f * expected.norm());
         CHECK((covariance(splat::shape_axes(g->shapes[0])) - 0.01f * Eigen::Matrix3f::Identity()).norm() < 1e-4f);
+        // Read as 3DGS's y-down file (the default): a half turn about x into our y-up world.
+        auto turned = splat::read_ply_gaussians(path);
+        REQUIRE(turned.ok());
+        CHECK(turned->records[0].position[0] == 1.0f);
+        CHECK(turned->records[0].position[1] == -2.0f);
+        CHECK(turned->records[0].position[2] == -3.0f);
+        const Eigen::Matrix3f half_turn = Vec3f(1.0f, -1.0f, -1.0f).asDiagonal();
+        const Eigen::Matrix3f turned_expected = half_turn * expected * half_turn;
+        CHECK((covariance(splat::shape_axes(turned->shapes[1])) - turned_expected).norm() < 2e-3f * expected.norm());
+        CHECK(splat::decode_octahedral(turned->records[0].normal_oct).z() < -0.9999f);  // file +z is our -z
+        std::filesystem::remove(path);
+    }
+
+    TEST_CASE("a file's NaN or infinite Gaussians are dropped and counted; a huge count is refused before allocating") {
+        std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 3\n";
+        for (const char* name : {"x", "y", "z", "f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0", "scale_1", "scale_2"})
+            header += std::string("property float ") + name + "\n";
+        header += "end_header\n";
+        const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+        const std::string body = floats({0, 0, 0, 0, 0, 0, 2, -2, -2, -2}) + floats({1, 0, 0, 0, 0, 0, inf, -2, -2, -2}) +
+                                 floats({2, 0, 0, 0, 0, 0, 2, nan, -2, -2});
+        const std::string path = temp("pbdsplat_nonfinite.ply");
+        write_text(path, header + body);
+        auto g = splat::read_ply_gaussians(path);
+        REQUIRE_MESSAGE(g.ok(), g.error().to_string());
+        CHECK(g->records.size() == 1);
+        CHECK(g->dropped_nonfinite == 2);
+        // Four billion Gaussians announced, forty bytes present: an error naming both, no allocation.
+        std::string huge = header;
+        huge.replace(huge.find("vertex 3"), 8, "vertex 4000000000");
+        write_text(path, huge + floats({0, 0, 0, 0, 0, 0, 2, -2, -2, -2}));
+        auto refused = splat::read_ply(path);
+        REQUIRE_FALSE(refused.ok());
+        CHECK(refused.error().message.find("announces 4000000000 Gaussians") != std::string::npos);
+        // A header cut off inside a property line says so.
+        write_text(path, "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty");
+        auto cut = splat::read_ply(path);
+        REQUIRE_FALSE(cut.ok());
+        CHECK(cut.error().to_string() == path + ":4: 'property' needs a type and a name (is the header cut off?)");
+        // A folder is not a file.
+        CHECK(splat::read_ply(std::filesystem::temp_directory_path().string()).error().message == "is a folder, not a .ply file");
+        std::filesystem::remove(path);
+    }
+
+    TEST_CASE("written for other viewers: y down, the fade in the opacity, no zero colour columns unless asked") {
+        splat::Appearance a;
+        a.opacity_logit = 3.0f;
+        a.scale = 0.05f;
+        const std::vector<splat::GaussianRecord> records = {splat::make_record(Vec3f(0.5f, 1.0f, 2.0f), Vec3f::UnitY(), a, 0.5f)};
+        const std::string path = temp("pbdsplat_convention.ply");
+        REQUIRE(splat::write_ply(path, records).ok());
+        CHECK(std::filesystem::file_size(path) == splat::ply_header(1).size() + 17 * sizeof(float));
+        std::ifstream in(path, std::ios::binary);
+        in.seekg(std::streamoff(splat::ply_header(1).size()));
+        float row[17];
+        in.read(reinterpret_cast<char*>(row), sizeof(row));
+        CHECK(row[0] == 0.5f);
+        CHECK(row[1] == -1.0f);  // y down
+        CHECK(row[2] == -2.0f);
+        CHECK(row[4] == doctest::Approx(-1.0f));  // the normal turns too
+        const float seen = 0.5f / (1.0f + std::exp(-3.0f));  // sigmoid(o) times the fade (0.5, as 8 bits)
+        CHECK(1.0f / (1.0f + std::exp(-row[9])) == doctest::Approx(seen).epsilon(0.01));
+        in.close();
+        splat::PlyWriteOptions keep;
+        keep.up = splat::PlyUp::y;
+        keep.sh_degree = 3;
+        REQUIRE(splat::write_ply(path, records, {}, keep).ok());
+        CHECK(std::filesystem::file_size(path) == splat::ply_header(1, 3).size() + 62 * sizeof(float));
+        auto back = splat::read_ply(path, splat::PlyUp::y);
+        REQUIRE(back.ok());
+        CHECK(back.value()[0].position[1] == 1.0f);
         std::filesystem::remove(path);
     }
 
@@ -100,10 +173,11 @@ TEST_SUITE("splat/ply") {
             "ply\nformat binary_little_endian 1.0\nelement vertex 7\nproperty float x\nproperty float y\n"
             "property float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float f_dc_0\n"
             "property float f_dc_1\nproperty float f_dc_2\n";
+        const std::string tail = "property float opacity\nproperty float scale_0\nproperty float scale_1\nproperty float scale_2\n"
+                                 "property float rot_0\nproperty float rot_1\nproperty float rot_2\nproperty float rot_3\nend_header\n";
+        CHECK(splat::ply_header(7) == expected + tail);  // degree 0: no f_rest columns
         for (int i = 0; i < 45; ++i) expected += "property float f_rest_" + std::to_string(i) + "\n";
-        expected += "property float opacity\nproperty float scale_0\nproperty float scale_1\nproperty float scale_2\n"
-                    "property float rot_0\nproperty float rot_1\nproperty float rot_2\nproperty float rot_3\nend_header\n";
-        CHECK(splat::ply_header(7) == expected);
+        CHECK(splat::ply_header(7, 3) == expected + tail);
     }
 
     TEST_CASE("records survive a round trip within float precision") {
@@ -119,7 +193,7 @@ TEST_SUITE("splat/ply") {
         }
         const std::string path = temp("pbdsplat_roundtrip.ply");
         REQUIRE(splat::write_ply(path, records).ok());
-        CHECK(std::filesystem::file_size(path) == splat::ply_header(500).size() + 500 * 62 * sizeof(float));
+        CHECK(std::filesystem::file_size(path) == splat::ply_header(500).size() + 500 * 17 * sizeof(float));
         auto back = splat::read_ply(path);
         REQUIRE_MESSAGE(back.ok(), back.error().to_string());
         REQUIRE(back->size() == records.size());

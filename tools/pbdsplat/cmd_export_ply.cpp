@@ -10,19 +10,35 @@ namespace pbdsplat::cli {
 
 int cmd_export_ply(const std::vector<std::string>& argv) {
     static constexpr const char* help =
-        "usage: pbdsplat export-ply [SCENE.toml] [--frame N] OUT.ply\n"
+        "usage: pbdsplat export-ply [SCENE.toml] [--frame N] [--up -y|y] [--sh-degree 0|3] OUT.ply\n"
         "\n"
         "Simulates a scene (default: the built-in one) for N frames and writes its Gaussians (the\n"
         "particles and the boundary particles) as the binary PLY that Gaussian-splat viewers read:\n"
-        "x y z, nx ny nz, f_dc_0..2, f_rest_0..44, opacity (logit), scale_0..2 (log), rot_0..3.\n"
+        "x y z, nx ny nz, f_dc_0..2, [f_rest_*,] opacity (logit), scale_0..2 (log), rot_0..3.\n"
+        "The colour is the base colour (no lighting baked in); the opacity includes a splat's fade-in\n"
+        "after a cut. A deformed-shape scene writes its splats' rotations and scales.\n"
         "`pbdsplat render OUT.ply` renders such a file as a static scene.\n"
         "\n"
-        "  --frame N           frames to simulate first (default 1)\n";
-    auto args = Args::parse(argv, {"help"}, {"frame"});
+        "  --frame N           frames to simulate first (default 1)\n"
+        "  --up -y|y           which way is up in the file: -y (default) is 3D Gaussian splatting's\n"
+        "                      convention (captures are y-down), so other viewers and converters show\n"
+        "                      the body upright; y keeps pbdsplat's y-up world as it is. The two differ\n"
+        "                      by a half turn about x, not a mirror\n"
+        "  --sh-degree D       0 (default): no f_rest columns (pbdsplat has no view-dependent colour,\n"
+        "                      so they would be zeros, 4.4x the file); 3: the 45 zero columns, for\n"
+        "                      tools that insist on them\n";
+    auto args = Args::parse(argv, {"help"}, {"frame", "up", "sh-degree"});
     if (!args.ok()) return usage_error("export-ply", args.error().to_string());
     if (args->has("help")) return std::fputs(help, stdout), 0;
     auto frame = args->get_uint("frame", 1, 1, 10000000);
     if (!frame.ok()) return usage_error("export-ply", frame.error().to_string());
+    splat::PlyWriteOptions write;
+    const std::string up = args->get_or("up", "-y");
+    if (up != "y" && up != "-y") return usage_error("export-ply", "--up must be -y or y, not '" + up + "'");
+    write.up = up == "y" ? splat::PlyUp::y : splat::PlyUp::minus_y;
+    const std::string degree = args->get_or("sh-degree", "0");
+    if (degree != "0" && degree != "3") return usage_error("export-ply", "--sh-degree must be 0 or 3, not '" + degree + "'");
+    write.sh_degree = degree == "3" ? 3 : 0;
     std::vector<std::string> positionals = args->positionals();
     if (positionals.empty() || positionals.back().size() < 4 ||
         positionals.back().compare(positionals.back().size() - 4, 4, ".ply") != 0)
@@ -37,10 +53,11 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
     if (!runtime.ok()) return fail("export-ply", runtime.error().to_string());
     for (uint32_t f = 0; f < frame.value(); ++f)
         if (auto s = runtime.value()->step(); !s.ok()) return fail("export-ply", s.error().to_string());
-    if (auto s = splat::write_ply(out, runtime.value()->records()); !s.ok()) return fail("export-ply", s.error().to_string());
-    std::printf("wrote %s (%zu Gaussians: %zu particles + %zu boundary particles, frame %u)\n", out.c_str(),
+    if (auto s = splat::write_ply(out, runtime.value()->records(), runtime.value()->shapes(), write); !s.ok())
+        return fail("export-ply", s.error().to_string());
+    std::printf("wrote %s (%zu Gaussians: %zu particles + %zu boundary particles, frame %u, %s up)\n", out.c_str(),
                 runtime.value()->records().size(), runtime.value()->stats().particles,
-                runtime.value()->stats().boundary_particles, frame.value());
+                runtime.value()->stats().boundary_particles, frame.value(), up == "y" ? "+y" : "-y");
     return 0;
 }
 

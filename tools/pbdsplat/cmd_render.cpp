@@ -4,8 +4,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "core/image.h"
+#include "core/timer.h"
 #include "pbdsplat/commands.h"
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/scene_arg.h"
@@ -18,22 +20,74 @@
 namespace pbdsplat::cli {
 namespace {
 
-void progress(uint32_t done, uint32_t total) {
-    constexpr int width = 30;
-    const int filled = int(double(done) / double(total) * width);
-    std::fprintf(stderr, "\r[%.*s%*s] %u/%u", filled, "##############################", width - filled, "", done, total);
-    if (done == total) std::fputc('\n', stderr);
-    std::fflush(stderr);
-}
+// Frames done, rate and time left: a bar on a terminal, a line every few seconds otherwise (a
+// log or a pipe still shows the run is alive).
+class Progress {
+public:
+    explicit Progress(uint32_t total) : total_(total), tty_(isatty(STDERR_FILENO) != 0) {}
+    void frame_done(uint32_t done) {
+        const double elapsed = clock_.elapsed_ms() / 1000.0;
+        const double rate = done / std::max(elapsed, 1e-6);
+        const double left = (total_ - done) / std::max(rate, 1e-9);
+        if (tty_) {
+            constexpr int width = 30;
+            const int filled = int(double(done) / double(total_) * width);
+            std::fprintf(stderr, "\r[%.*s%*s] %u/%u  %.1f frames/s, %.0f s left ", filled, "##############################",
+                         width - filled, "", done, total_, rate, left);
+            if (done == total_) std::fputc('\n', stderr);
+        } else if (elapsed - last_line_ >= 2.0 || done == total_) {
+            std::fprintf(stderr, "render: %u/%u frames, %.1f frames/s, %.0f s left\n", done, total_, rate, left);
+            last_line_ = elapsed;
+        }
+        std::fflush(stderr);
+    }
+
+private:
+    uint32_t total_;
+    bool tty_;
+    core::Stopwatch clock_;
+    double last_line_ = 0.0;
+};
 
 bool ffmpeg_available() { return std::system("command -v ffmpeg >/dev/null 2>&1") == 0; }
 
+// "x,y,z" as given on the command line.
+core::Result<Vec3f> parse_vec3(const std::string& text) {
+    Vec3f v;
+    char sep1 = 0, sep2 = 0;
+    std::istringstream in(text);
+    if (!(in >> v.x() >> sep1 >> v.y() >> sep2 >> v.z()) || sep1 != ',' || sep2 != ',' || !v.allFinite())
+        return core::make_error("expected three finite numbers like 0,1,3, not '" + text + "'");
+    std::string rest;
+    if (in >> rest) return core::make_error("expected three finite numbers like 0,1,3, not '" + text + "'");
+    return v;
+}
+
 // A .ply of Gaussians as a static scene, drawn as it was trained (scene/ply_view.h).
 int render_ply(const std::string& file, const Args& args, uint32_t width, uint32_t height, const std::filesystem::path& out) {
-    auto gaussians = splat::read_ply_gaussians(file);
+    const std::string up = args.get_or("up", "-y");
+    if (up != "y" && up != "-y") return usage_error("render", "--up must be y or -y, not '" + up + "'");
+    auto gaussians = splat::read_ply_gaussians(file, up == "y" ? splat::PlyUp::y : splat::PlyUp::minus_y);
     if (!gaussians.ok()) return fail("render", gaussians.error().to_string());
+    if (gaussians->dropped_nonfinite)
+        std::fprintf(stderr, "pbdsplat render: warning: %s: %zu Gaussians with NaN or infinite values left out\n", file.c_str(),
+                     gaussians->dropped_nonfinite);
+    if (gaussians->missing_normals)
+        std::fprintf(stderr, "pbdsplat render: note: %s: %zu Gaussians without a normal (drawn facing +z in the file)\n",
+                     file.c_str(), gaussians->missing_normals);
     if (gaussians->records.empty()) return fail("render", file + ": holds no Gaussians");
-    const render::FrameInputs frame = scene::ply_view(gaussians->records);
+    render::FrameInputs frame = scene::ply_view(gaussians->records);
+    // The automatic camera, unless told otherwise.
+    for (const char* key : {"eye", "target"}) {
+        if (!args.has(key)) continue;
+        auto v = parse_vec3(args.get_or(key, ""));
+        if (!v.ok()) return usage_error("render", std::string("--") + key + ": " + v.error().message);
+        (std::string(key) == "eye" ? frame.camera.eye : frame.camera.target) = v.value();
+    }
+    if ((frame.camera.eye - frame.camera.target).norm() < 1e-6f) return usage_error("render", "--eye and --target coincide");
+    auto fov = args.get_float("fov", frame.camera.fov_y_degrees, 1.0f, 170.0f);
+    if (!fov.ok()) return usage_error("render", fov.error().to_string());
+    frame.camera.fov_y_degrees = fov.value();
     scene::sort_ply(gaussians.value(), frame);
     auto ctx = open_context(args);
     if (!ctx.ok()) return fail("render", ctx.error().to_string());
@@ -65,17 +119,22 @@ int cmd_render(const std::vector<std::string>& argv) {
         "folder that receives frame_0000.png, frame_0001.png, ..., frames.csv (particle counts,\n"
         "boundary particles inserted, retired and fading by the density control, and\n"
         "per-stage milliseconds and uploaded bytes of every frame) and, when ffmpeg is on the PATH, video.mp4.\n"
-        "A .ply of Gaussians (3DGS layout, e.g. from export-ply) renders as one static image.\n"
+        "A .ply of Gaussians (3DGS layout, e.g. from export-ply or a trained capture) renders as one\n"
+        "static image, as it was trained: soft Gaussians far to near, unlit, with its rotations, scales\n"
+        "and view-dependent colour; the camera frames it unless --eye/--target/--fov say otherwise.\n"
+        "Progress goes to stderr: a bar on a terminal, a line every 2 s otherwise.\n"
         "\n"
         "  --frames N          frames to simulate and render (default 1)\n"
         "  --out PATH          output file (.png) or folder (default out/render.png)\n"
         "  --width W, --height H   override the scene's resolution\n"
         "  --threads T         simulation threads (default 1)\n"
-        "  --upload PATH       how records reach the GPU: auto (default), staged, direct\n";
+        "  --upload PATH       how records reach the GPU: auto (default), staged, direct\n"
+        "  --up y|-y           .ply only: which way is up in the file (default -y, 3DGS's convention)\n"
+        "  --eye X,Y,Z, --target X,Y,Z, --fov DEGREES   .ply only: the camera\n";
     std::set<std::string> flags = k_gpu_flags;
     flags.insert("help");
     std::set<std::string> valued = k_gpu_options;
-    valued.insert({"out", "width", "height", "frames", "threads", "upload"});
+    valued.insert({"out", "width", "height", "frames", "threads", "upload", "up", "eye", "target", "fov"});
     auto args = Args::parse(argv, flags, valued);
     if (!args.ok()) return usage_error("render", args.error().to_string());
     if (args->has("help")) return std::fputs(help, stdout), 0;
@@ -86,7 +145,11 @@ int cmd_render(const std::vector<std::string>& argv) {
     auto upload = parse_upload_path(args->get_or("upload", "auto"));
     if (const core::Error* e = first_error(frames, width, height, threads, upload)) return usage_error("render", e->to_string());
     const std::filesystem::path out = args->get_or("out", "out/render.png");
-    const bool single = out.extension() == ".png";
+    const std::string out_ext = out.extension().string();
+    for (const char* image : {".jpg", ".jpeg", ".bmp", ".tga", ".gif", ".webp", ".exr", ".tif", ".tiff", ".hdr", ".ppm"})
+        if (out_ext == image)
+            return usage_error("render", "--out " + out.string() + ": only PNG images are written; end it in .png, or name a folder");
+    const bool single = out_ext == ".png";
     const std::filesystem::path dir = single ? out.parent_path() : out;
     if (!dir.empty()) {
         std::error_code ec;
@@ -94,8 +157,16 @@ int cmd_render(const std::vector<std::string>& argv) {
         if (ec) return fail("render", dir.string() + ": cannot create the folder: " + ec.message());
     }
     const auto& pos = args->positionals();
-    if (pos.size() == 1 && std::filesystem::path(pos[0]).extension() == ".ply")
-        return render_ply(pos[0], args.value(), width.value(), height.value(), out);
+    if (pos.size() == 1) {
+        // Dispatched by extension, with what is accepted when it is neither.
+        const std::string ext = std::filesystem::path(pos[0]).extension().string();
+        if (ext == ".ply") return render_ply(pos[0], args.value(), width.value(), height.value(), out);
+        if (ext != ".toml")
+            return usage_error("render", pos[0] + ": render takes a scene (.toml) or Gaussians (.ply), not a '" +
+                                             (ext.empty() ? std::string("file without extension") : ext) + "'");
+    }
+    for (const char* key : {"up", "eye", "target", "fov"})
+        if (args->has(key)) return usage_error("render", std::string("--") + key + " applies to a .ply; a scene sets its own camera");
 
     auto scene = load_scene_arg(args->positionals());
     if (!scene.ok()) return fail("render", scene.error().to_string());
@@ -119,7 +190,7 @@ int cmd_render(const std::vector<std::string>& argv) {
         csv << "frame,time,particles,gaussians,events_ms,apply_forces_ms,constraints_ms,integrate_normals_ms,"
                "update_particles_ms,gpu_record_ms,frame_ms,uploaded_bytes,samples_inserted,samples_retired,samples_fading\n";
     }
-    const bool tty = isatty(STDERR_FILENO) != 0;
+    Progress progress(frames.value());
     for (uint32_t f = 0; f < frames.value(); ++f) {
         if (auto s = runtime.value()->step(); !s.ok()) return fail("render", s.error().to_string());
         if (!single || f + 1 == frames.value()) {
@@ -137,7 +208,7 @@ int cmd_render(const std::vector<std::string>& argv) {
                 << s.update_particles_ms << ',' << s.gpu_record_ms << ',' << s.graph_ms << ',' << s.uploaded_bytes << ','
                 << s.density.inserted << ',' << s.density.retired << ',' << s.density.fading << '\n';
         }
-        if (tty && frames.value() > 1) progress(f + 1, frames.value());
+        if (frames.value() > 1) progress.frame_done(f + 1);
     }
     if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("render", v.error().to_string());
     if (single) {
@@ -152,6 +223,8 @@ int cmd_render(const std::vector<std::string>& argv) {
                                 (dir / "frame_%04d.png").string() + "' -pix_fmt yuv420p '" + (dir / "video.mp4").string() + "'";
         if (std::system(cmd.c_str()) == 0) std::printf("wrote %s\n", (dir / "video.mp4").string().c_str());
         else std::fprintf(stderr, "pbdsplat render: ffmpeg failed; the PNG sequence is complete\n");
+    } else {
+        std::fprintf(stderr, "pbdsplat render: no video.mp4: ffmpeg is not on the PATH (apt-get install ffmpeg)\n");
     }
     return 0;
 }
