@@ -386,6 +386,7 @@ Event read_event(const Reader& r, const toml::node& n) {
         e.data = o;
     } else if (type == "pressure") {
         PressureEvent p;
+        if (!t.has("value")) r.fail(n.source(), "a pressure event needs 'value' (the pressure factor k to reach, 0.01 to 100)");
         p.value = t.real("value", p.value, 0.01, 100.0);
         p.duration = t.real("duration", p.duration, 0.0, 1e6);
         e.data = p;
@@ -399,6 +400,8 @@ Event read_event(const Reader& r, const toml::node& n) {
         e.data = d;
     } else if (type == "spin") {
         SpinEvent s;
+        if (!t.has("axis") || !t.has("degrees_per_second"))
+            r.fail(n.source(), "a spin event needs 'axis' ([x, y, z]) and 'degrees_per_second'");
         s.axis = normalized_or_fail(r, n.as_table()->get("axis"), t.vec<3>("axis", s.axis), "axis");
         s.degrees_per_second = t.real("degrees_per_second", s.degrees_per_second, -36000, 36000);
         s.duration = t.real("duration", s.duration, 0.0, 1e6);
@@ -408,6 +411,8 @@ Event read_event(const Reader& r, const toml::node& n) {
         const bool seg = t.has("from") || t.has("to");
         const bool plane = t.has("point") || t.has("normal");
         if (seg == plane) r.fail(n.source(), "a cut event needs either a screen segment ('from', 'to' in pixels) or a plane ('point', 'normal')");
+        if (seg && !(t.has("from") && t.has("to"))) r.fail(n.source(), "a cut along a screen segment needs both 'from' and 'to' (pixels)");
+        if (plane && !(t.has("point") && t.has("normal"))) r.fail(n.source(), "a cut by a plane needs both 'point' and 'normal'");
         if (seg) c.segment = std::array<Vec2f, 2>{t.vec<2>("from", Vec2f::Zero(), -1e5, 1e5), t.vec<2>("to", Vec2f::Zero(), -1e5, 1e5)};
         else c.plane = std::pair<Vec3f, Vec3f>{t.vec<3>("point", Vec3f::Zero()),
                                                normalized_or_fail(r, n.as_table()->get("normal"), t.vec<3>("normal", Vec3f::UnitY()), "normal")};

@@ -129,6 +129,15 @@ TEST_SUITE("scene/scene_file") {
         CHECK(refusal("[render]\nblend = \"multiply\"\n") == "bad.toml:2:9: 'render.blend' must be one of over, additive, not 'multiply'");
         CHECK(refusal("[material]\ncolor = [1, 0]\n") == "bad.toml:2:9: 'material.color' must be an array of 3 numbers");
         CHECK(refusal("[[events]]\ntime = 1\ntype = \"cut\"\n").find("bad.toml:1:1: a cut event needs either") == 0);
+        // A half-specified event is an error, not a silent no-op.
+        CHECK(refusal("[[events]]\ntime = 1\ntype = \"pressure\"\n") ==
+              "bad.toml:1:1: a pressure event needs 'value' (the pressure factor k to reach, 0.01 to 100)");
+        CHECK(refusal("[[events]]\ntime = 1\ntype = \"spin\"\naxis = [0, 1, 0]\n") ==
+              "bad.toml:1:1: a spin event needs 'axis' ([x, y, z]) and 'degrees_per_second'");
+        CHECK(refusal("[[events]]\ntime = 1\ntype = \"cut\"\nfrom = [10, 10]\n") ==
+              "bad.toml:1:1: a cut along a screen segment needs both 'from' and 'to' (pixels)");
+        CHECK(refusal("[[events]]\ntime = 1\ntype = \"cut\"\npoint = [0, 0, 0]\n") ==
+              "bad.toml:1:1: a cut by a plane needs both 'point' and 'normal'");
         CHECK(refusal("[[events]]\ntime = 1\ntype = \"explode\"\n") ==
               "bad.toml:3:8: 'events.type' must be one of pressure, drag, spin, cut, tear, opacity, not 'explode'");
         CHECK(refusal("[model\nmesh = 1\n").find("bad.toml:1:") == 0);  // truncated table header

@@ -30,7 +30,7 @@ int bench_coverage(const std::vector<std::string>& argv) {
         "  --frames N          frames to run (default 360)\n"
         "  --every K           measure every K frames (default 20)\n"
         "  --width W, --height H   default 320x180\n"
-        "  --out-dir DIR       default docs/bench\n"
+        "  --out-dir DIR       default out/bench (docs/bench holds the figures the docs show)\n"
         "  --json              one JSON object: per mode, the mean and worst hole ratio and IoU\n";
     std::set<std::string> flags = k_gpu_flags;
     flags.insert({"json", "help"});
@@ -46,7 +46,7 @@ int bench_coverage(const std::vector<std::string>& argv) {
     if (const core::Error* e = first_error(frames, every, width, height)) return usage_error("bench coverage", e->to_string());
     auto base = load_scene_arg(args->positionals());
     if (!base.ok()) return fail("bench coverage", base.error().to_string());
-    const std::filesystem::path out_dir = args->get_or("out-dir", "docs/bench");
+    const std::filesystem::path out_dir = args->get_or("out-dir", "out/bench");
     auto ctx = open_context(args.value());
     if (!ctx.ok()) return fail("bench coverage", ctx.error().to_string());
 

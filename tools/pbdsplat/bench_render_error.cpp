@@ -101,7 +101,7 @@ int bench_render_error(const std::vector<std::string>& argv) {
         "  --splats N          default 10000\n"
         "  --width W, --height H   default 480x270\n"
         "  --repeat R          measured frames per variant (default 3)\n"
-        "  --out-dir DIR       default docs/bench\n"
+        "  --out-dir DIR       default out/bench (docs/bench holds the figures the docs show)\n"
         "  --json              one JSON object: the reference and every variant\n";
     std::set<std::string> flags = k_gpu_flags;
     flags.insert({"json", "help"});
@@ -115,7 +115,7 @@ int bench_render_error(const std::vector<std::string>& argv) {
     auto height = args->get_uint("height", 270, 16, 4096);
     auto repeat = args->get_uint("repeat", 3, 1, 1000);
     if (const core::Error* e = first_error(count, width, height, repeat)) return usage_error("bench render-error", e->to_string());
-    const std::filesystem::path out_dir = args->get_or("out-dir", "docs/bench");
+    const std::filesystem::path out_dir = args->get_or("out-dir", "out/bench");
     auto ctx = open_context(args.value());
     if (!ctx.ok()) return fail("bench render-error", ctx.error().to_string());
     const gpu::DeviceCaps& caps = ctx.value()->caps();

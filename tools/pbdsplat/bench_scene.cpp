@@ -1,3 +1,4 @@
+#include <cmath>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
@@ -5,6 +6,7 @@
 #include "core/timer.h"
 #include "pbdsplat/commands.h"
 #include "pbdsplat/gpu_options.h"
+#include "pbdsplat/progress.h"
 #include "pbdsplat/scene_arg.h"
 #include "scene/scene_runtime.h"
 
@@ -22,7 +24,9 @@ int bench_scene(const std::vector<std::string>& argv) {
         "  --frames N          frames (default 240)\n"
         "  --threads T         simulation threads (default 1)\n"
         "  --passes            also the median CPU ms of every pass that runs (what culling a pass saves)\n"
-        "  --before-after      also the medians before and after the first cut or tear, and the change\n"
+        "  --before-after      also the medians before and after the first cut or tear, and the change;\n"
+        "                      without --frames it runs until 3 s (simulated) after the first one,\n"
+        "                      and fails if none comes within 10,000 frames\n"
         "                      (the paper's Tables 2-4)\n"
         "  --json              print one JSON object on stdout\n";
     std::set<std::string> flags = k_gpu_flags;
@@ -33,6 +37,8 @@ int bench_scene(const std::vector<std::string>& argv) {
     if (!args.ok()) return usage_error("bench scene", args.error().to_string());
     if (args->has("help")) return std::fputs(help, stdout), 0;
     auto frames = args->get_uint("frames", 240, 1, 1000000);
+    const bool before_after = args->has("before-after");
+    const bool until_after = before_after && !args->has("frames");  // run until enough frames follow the change
     auto threads = args->get_uint("threads", 1, 1, 64);
     if (!frames.ok()) return usage_error("bench scene", frames.error().to_string());
     if (!threads.ok()) return usage_error("bench scene", threads.error().to_string());
@@ -55,7 +61,12 @@ int bench_scene(const std::vector<std::string>& argv) {
         size_t particles = 0, gaussians = 0, frames = 0;
     } before, after;
     std::vector<std::vector<double>> per_pass;  // per kept pass, per frame
-    for (uint32_t f = 0; f < frames.value(); ++f) {
+    const uint32_t frames_after = uint32_t(std::ceil(3.0f / std::max(scene->simulation.dt, 1e-6f)));
+    constexpr uint32_t k_max_frames = 10000;
+    Progress progress("bench scene", until_after ? 0 : frames.value());
+    uint32_t run = 0;
+    for (uint32_t f = 0; until_after ? (after.frames < frames_after && f < k_max_frames) : f < frames.value(); ++f) {
+        ++run;
         if (auto s = runtime.value()->step(); !s.ok()) return fail("bench scene", s.error().to_string());
         const auto& s = runtime.value()->stats();
         events.push_back(s.events_ms), forces.push_back(s.apply_forces_ms), constraints.push_back(s.constraints_ms);
@@ -72,7 +83,12 @@ int bench_scene(const std::vector<std::string>& argv) {
         part.apply.push_back(s.apply_forces_ms), part.constraints.push_back(s.constraints_ms);
         part.integrate.push_back(s.integrate_normals_ms), part.update.push_back(s.update_particles_ms);
         part.particles = s.particles, part.gaussians = s.gaussians, ++part.frames;
+        progress.frame_done(run);
     }
+    if (before_after && (before.frames == 0 || after.frames == 0))
+        return fail("bench scene", scene->name + ": no frames " + std::string(before.frames == 0 ? "before" : "after") +
+                                       " the first cut or tear in " + std::to_string(run) + " frames" +
+                                       (until_after ? " (the scene has none)" : "; run longer (--frames) or leave --frames out"));
     if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("bench scene", v.error().to_string());
     size_t kept = 0, total = 0;
     for (const auto& p : runtime.value()->graph().describe()) ++total, kept += p.culled ? 0 : 1;
@@ -80,7 +96,7 @@ int bench_scene(const std::vector<std::string>& argv) {
     if (args->has("json")) {
         const nlohmann::json j = {{"suite", "scene"},
                                   {"scene", scene->name},
-                                  {"frames", frames.value()},
+                                  {"frames", run},
                                   {"particles", s.particles},
                                   {"passes", total},
                                   {"passes_run", kept},
@@ -111,7 +127,7 @@ int bench_scene(const std::vector<std::string>& argv) {
         std::printf("%s\n", out.dump().c_str());
     } else {
         std::printf("scene %s: %zu particles, %zu of %zu passes run, median of %u frames:\n", scene->name.c_str(),
-                    s.particles, kept, total, frames.value());
+                    s.particles, kept, total, run);
         std::printf("  events                 %8.3f ms\n  apply forces           %8.3f ms\n  constraint projection  %8.3f ms\n"
                     "  integrate + normals    %8.3f ms\n  update particles       %8.3f ms\n  GPU recording          %8.3f ms\n"
                     "  frame (wall)           %8.3f ms (waits for the GPU when it is the bottleneck)\n",

@@ -62,7 +62,7 @@ int bench_sim_error(const std::vector<std::string>& argv) {
         "  --seconds T         simulated time (default 2)\n"
         "  --after-cut         first open a slit in each body (a plane cut limited to a ball on its +x\n"
         "                      side), so the figures are those after a topology change\n"
-        "  --out-dir DIR       where the CSV and plots go (default docs/bench)\n"
+        "  --out-dir DIR       where the CSV and plots go (default out/bench)\n"
         "  --json              print one JSON object on stdout\n";
     auto args = Args::parse(argv, {"json", "help", "after-cut"}, {"meshes", "seconds", "out-dir"});
     if (!args.ok()) return usage_error("bench sim-error", args.error().to_string());
@@ -70,7 +70,7 @@ int bench_sim_error(const std::vector<std::string>& argv) {
     auto seconds = args->get_float("seconds", 2.0f, 0.1f, 60.0f);
     if (!seconds.ok()) return usage_error("bench sim-error", seconds.error().to_string());
     const std::string list = args->get_or("meshes", "icosphere:4,teapot.obj,stanford-bunny.obj");
-    const std::filesystem::path out_dir = args->get_or("out-dir", "docs/bench");
+    const std::filesystem::path out_dir = args->get_or("out-dir", "out/bench");
     const std::string stem = args->has("after-cut") ? "sim_error_after_cut" : "sim_error";
     const int frames = int(std::lround(seconds.value() * 60.0f));
     const float dt = 1.0f / 60.0f;

@@ -52,7 +52,7 @@ int bench_temporal(const std::vector<std::string>& argv) {
         "  --from F            first measured frame (default 240: the default scene's cut is at 300)\n"
         "  --frames N          measured frames (default 120)\n"
         "  --width W, --height H   default 320x180\n"
-        "  --out-dir DIR       default docs/bench\n"
+        "  --out-dir DIR       default out/bench (docs/bench holds the figures the docs show)\n"
         "  --json              one JSON object\n";
     std::set<std::string> flags = k_gpu_flags;
     flags.insert({"json", "help"});
@@ -70,7 +70,7 @@ int bench_temporal(const std::vector<std::string>& argv) {
     if (!scene.ok()) return fail("bench temporal", scene.error().to_string());
     scene->render.width = width.value();
     scene->render.height = height.value();
-    const std::filesystem::path out_dir = args->get_or("out-dir", "docs/bench");
+    const std::filesystem::path out_dir = args->get_or("out-dir", "out/bench");
     auto ctx = open_context(args.value());
     if (!ctx.ok()) return fail("bench temporal", ctx.error().to_string());
 

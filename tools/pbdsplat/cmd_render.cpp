@@ -10,6 +10,7 @@
 #include "core/timer.h"
 #include "pbdsplat/commands.h"
 #include "pbdsplat/gpu_options.h"
+#include "pbdsplat/progress.h"
 #include "pbdsplat/scene_arg.h"
 #include "pbdsplat/upload_path_arg.h"
 #include "scene/offscreen_renderer.h"
@@ -19,35 +20,6 @@
 
 namespace pbdsplat::cli {
 namespace {
-
-// Frames done, rate and time left: a bar on a terminal, a line every few seconds otherwise (a
-// log or a pipe still shows the run is alive).
-class Progress {
-public:
-    explicit Progress(uint32_t total) : total_(total), tty_(isatty(STDERR_FILENO) != 0) {}
-    void frame_done(uint32_t done) {
-        const double elapsed = clock_.elapsed_ms() / 1000.0;
-        const double rate = done / std::max(elapsed, 1e-6);
-        const double left = (total_ - done) / std::max(rate, 1e-9);
-        if (tty_) {
-            constexpr int width = 30;
-            const int filled = int(double(done) / double(total_) * width);
-            std::fprintf(stderr, "\r[%.*s%*s] %u/%u  %.1f frames/s, %.0f s left ", filled, "##############################",
-                         width - filled, "", done, total_, rate, left);
-            if (done == total_) std::fputc('\n', stderr);
-        } else if (elapsed - last_line_ >= 2.0 || done == total_) {
-            std::fprintf(stderr, "render: %u/%u frames, %.1f frames/s, %.0f s left\n", done, total_, rate, left);
-            last_line_ = elapsed;
-        }
-        std::fflush(stderr);
-    }
-
-private:
-    uint32_t total_;
-    bool tty_;
-    core::Stopwatch clock_;
-    double last_line_ = 0.0;
-};
 
 bool ffmpeg_available() { return std::system("command -v ffmpeg >/dev/null 2>&1") == 0; }
 
@@ -190,7 +162,7 @@ int cmd_render(const std::vector<std::string>& argv) {
         csv << "frame,time,particles,gaussians,events_ms,apply_forces_ms,constraints_ms,integrate_normals_ms,"
                "update_particles_ms,gpu_record_ms,frame_ms,uploaded_bytes,samples_inserted,samples_retired,samples_fading\n";
     }
-    Progress progress(frames.value());
+    Progress progress("render", frames.value());
     for (uint32_t f = 0; f < frames.value(); ++f) {
         if (auto s = runtime.value()->step(); !s.ok()) return fail("render", s.error().to_string());
         if (!single || f + 1 == frames.value()) {
