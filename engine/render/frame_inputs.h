@@ -125,8 +125,23 @@ struct SplatStyle {
     float depth_min_alpha = 0.4f;
 };
 
+// The scene's ground plane as drawn (render/ground.h): a disc on the plane, with a contact shadow
+// under the body. The scene fills it every frame from its plane collider and the body's bounds.
+struct Ground {
+    bool visible = false;
+    Vec3f normal{0.0f, 1.0f, 0.0f};  // into free space
+    float offset = 0.0f;             // dot(normal, x) = offset on the plane
+    Vec3f centre = Vec3f::Zero();    // of the drawn disc, on the plane
+    float radius = 10.0f;
+    Vec3f shadow_centre = Vec3f::Zero();
+    float shadow_radius = 0.0f;
+    float shadow_strength = 0.0f;  // 0 to 1: how dark right under the body
+    Vec3f albedo{0.30f, 0.30f, 0.33f};
+};
+
 struct FrameInputs {
     Camera camera;
+    Ground ground;
     Lighting lighting;
     SplatStyle style;
     Vec4f background{0.06f, 0.06f, 0.08f, 1.0f};

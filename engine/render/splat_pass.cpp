@@ -52,7 +52,7 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
                                      : path == SplatPath::mesh  ? VK_SHADER_STAGE_MESH_BIT_EXT
                                                                 : VK_SHADER_STAGE_VERTEX_BIT;
     gpu::FrameSetStages stages;
-    stages.uniforms = front | VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages.uniforms = front | VK_SHADER_STAGE_FRAGMENT_BIT | VK_SHADER_STAGE_VERTEX_BIT;  // vertex: the ground pass
     stages.texture = VK_SHADER_STAGE_FRAGMENT_BIT | front;  // the front stage shades per corner
     // The geometry path takes records as vertex attributes; its binding 2 is declared only so
     // that every path shares one set shape.

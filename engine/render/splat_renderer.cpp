@@ -64,6 +64,9 @@ core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context&
                                   options.shading, options.carrier, options.anisotropic, options.sh_degree);
     if (!pass.ok()) return pass.error();
     r->splat_ = std::move(pass).value();
+    auto ground = GroundPass::create(ctx, k_color_format, k_depth_format, r->splat_.set_layout());
+    if (!ground.ok()) return ground.error();
+    r->ground_ = std::move(ground).value();
 
     auto environment = make_environment_texture(ctx, options.environment_map, options.sky_sun);
     if (!environment.ok()) return environment.error();
@@ -212,6 +215,7 @@ void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
     const gpu::UniformSets& sets = gpu_sorted ? sorted_uniforms_ : uniforms_;
     std::memcpy(sets.mapped(slot), &uniforms, sizeof(uniforms));
     target_.begin(cmd_, inputs.background.data());
+    if (inputs.ground.visible) ground_.record(cmd_, sets.set(slot), inputs.ground);
     SplatSource source{records_.buffer(slot), count};
     if (gpu_sorted) source = {sort_.sorted_records(slot), count, sort_.control(slot)};
     splat_.record(cmd_, inputs.style, sets.set(slot), source);

@@ -17,6 +17,7 @@
 #include "render/environment_texture.h"
 #include "render/frame_inputs.h"
 #include "render/gpu_sort.h"
+#include "render/ground.h"
 #include "render/offscreen_target.h"
 #include "render/splat_pass.h"
 #include "splat/gaussian_record.h"
@@ -143,6 +144,7 @@ private:
     std::vector<gpu::Buffer> sh_rest_;  // one per slot; a token one without view-dependent colour
     OffscreenTarget target_;
     SplatPass splat_;
+    GroundPass ground_;
     gpu::Texture environment_;
     std::array<Vec3f, 9> sh_{};
     gpu::UniformSets uniforms_;  // one per frame in flight

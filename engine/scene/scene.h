@@ -106,6 +106,8 @@ struct RenderDesc {
     // particle's Gaussian is a flat disc carried by its triangle's deformation gradient
     // (anisotropic; sorted on the CPU when sorted).
     bool deformed_shapes = false;
+    // Draw the plane collider as a ground under the body, with a contact shadow.
+    bool ground = true;
     CameraOrbit orbit;
     std::vector<CameraKey> path;  // sorted by time; when given, it replaces eye and target
     std::optional<render::SplatPath> splat_path;  // empty: the best the device has

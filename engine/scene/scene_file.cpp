@@ -280,6 +280,7 @@ void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
     d.carrier = t.choice("carrier", "quad", {"quad", "octagon"}) == "octagon" ? render::SplatCarrier::octagon : render::SplatCarrier::quad;
     d.cull_back = t.flag("cull_back", d.cull_back);
     d.deformed_shapes = t.choice("splat_shape", "round", {"round", "deformed"}) == "deformed";
+    d.ground = t.flag("ground", d.ground);
     style.depth_min_alpha = t.real("depth_min_alpha", style.depth_min_alpha, 0.0, 0.99);
     style.depth_push = t.real("depth_push", style.depth_push, 0.0, 10.0);
     const Vec3f bg = t.vec<3>("background", Vec3f(d.frame.background.head<3>()), 0.0, 1.0);

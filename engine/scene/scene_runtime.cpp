@@ -366,6 +366,7 @@ core::Status SceneRuntime::build_graph() {
             // the rim.
             const bool opaque = frame_input_.frame.style.blend == render::Blend::over && appearance_.opacity_logit > math::logit(0.9f);
             frame_input_.frame.style.cull_facing = scene_.render.cull_back && body_closed_ && opaque ? -0.3f : -2.0f;
+            update_ground();
             // Position-based environment lookups look out from the body's centre; nothing else
             // reads it.
             render::Environment& env = frame_input_.frame.lighting.environment;
@@ -414,6 +415,32 @@ core::Status SceneRuntime::build_graph() {
     for (const graph::PassInfo& p : g.describe())
         if (!p.culled) group_of_kept_pass_.push_back(group_of(p.name));
     return core::Status::success();
+}
+
+void SceneRuntime::update_ground() {
+    render::Ground& g = frame_input_.frame.ground;
+    const auto& plane = scene_.simulation.colliders.ground;
+    g.visible = scene_.render.ground && plane.has_value() && body_.particle_count() > 0;
+    if (!g.visible) return;
+    g.normal = plane->normal;
+    g.offset = plane->offset;
+    // The body's centre and reach along the plane, and how high it floats: the contact shadow
+    // is darkest for a body lying on the ground and fades as it lifts off.
+    Vec3f centre = Vec3f::Zero();
+    for (const Vec4f& x : body_.particles.x) centre += x.head<3>();
+    centre /= float(body_.particle_count());
+    const Vec3f n = plane->normal;
+    float reach = 0.0f, clearance = 1e30f;
+    for (const Vec4f& x : body_.particles.x) {
+        const Vec3f d = x.head<3>() - centre;
+        reach = std::max(reach, (d - d.dot(n) * n).norm());
+        clearance = std::min(clearance, n.dot(x.head<3>()) - plane->offset);
+    }
+    g.shadow_centre = centre - (n.dot(centre) - plane->offset) * n;
+    g.shadow_radius = std::max(reach, 1e-3f);
+    g.shadow_strength = 0.55f * std::clamp(1.0f - clearance / std::max(reach, 1e-3f), 0.0f, 1.0f);
+    g.centre = g.shadow_centre;
+    g.radius = 12.0f * std::max(reach, 0.1f);
 }
 
 void SceneRuntime::update_closed() {

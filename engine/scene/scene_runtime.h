@@ -108,6 +108,8 @@ public:
     // From now on the camera is the caller's: the scene's orbit and camera path stop moving it.
     void set_camera(const render::Camera& camera);
     const render::Camera& camera() const { return frame_input_.frame.camera; }
+    // What the renderer is given this frame (camera, lights, style, ground).
+    const render::FrameInputs& frame_inputs() const { return frame_input_.frame; }
     // Grabs the particle nearest the view ray through `pixel`; false when the ray misses the body.
     bool begin_drag(const Vec2f& pixel, const Vec2f& view_size);
     // Moves the grabbed particle's target under `pixel`, at the depth it was grabbed at.
@@ -206,6 +208,7 @@ private:
     // No open boundary: back-facing splats cannot show (kept from build and each topology change).
     bool body_closed_ = false;
     void update_closed();
+    void update_ground();  // the drawn ground under the body, from the plane collider
     double topology_ms_ = 0.0;
     topology::TopologyChange last_change_;
     uint64_t frame_ = 0;

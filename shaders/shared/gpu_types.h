@@ -75,6 +75,15 @@ struct FrameUniforms {
 };
 PBDSPLAT_GPU_SIZE(FrameUniforms, 2 * 64 + 8 * 16 + 11 * 16 + 4 * PBDSPLAT_MAX_LIGHTS * 16);
 
+// ---- The ground pass (render/ground.h): push constants ----------------------------------------
+struct GroundPush {
+    vec4 plane;   // xyz: unit normal into free space; w: offset (dot(n, x) = offset on the plane)
+    vec4 disc;    // xyz: centre of the drawn disc on the plane; w: its radius
+    vec4 shadow;  // xyz: the body's centre dropped onto the plane; w: the shadow's radius
+    vec4 albedo;  // rgb: the ground's colour; w: the contact shadow's strength (0 to 1)
+};
+PBDSPLAT_GPU_SIZE(GroundPush, 64);
+
 // ---- GPU depth sort (render/gpu_sort.h): push constants of every sort kernel ----------------
 // The control block (storage, 32-bit words) the sort leaves for the draw: the visible count,
 // then the indirect arguments of each splat path.

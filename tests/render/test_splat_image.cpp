@@ -626,6 +626,53 @@ TEST_SUITE("render/scene") {
         test::require_no_validation_messages(*ctx);
     }
 
+    TEST_CASE("a scene's plane collider is drawn as a ground with a contact shadow; ground = false leaves the background") {
+        auto ctx = test::open_validated_context();
+        core::ImageRgba8 images[2];
+        render::Ground ground;
+        for (int k = 0; k < 2; ++k) {
+            scene::Scene s = scene::default_scene();
+            s.render.width = 160;
+            s.render.height = 90;
+            s.render.ground = k == 0;
+            scene::RuntimeOptions o;
+            o.gpu = ctx.get();
+            auto rt = scene::SceneRuntime::create(s, o);
+            REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+            for (int f = 0; f < 30; ++f) REQUIRE(rt.value()->step().ok());  // resting on the ground
+            auto img = rt.value()->finish();
+            REQUIRE(img.ok());
+            images[k] = std::move(img).value();
+            if (k == 0) ground = rt.value()->frame_inputs().ground;
+        }
+        REQUIRE(ground.visible);
+        const Vec4f background = scene::default_scene().render.frame.background;
+        // A corner of the floor: the ground with it, the background without.
+        CHECK_FALSE(is_background(images[0].at(4, 86), background));
+        CHECK(is_background(images[1].at(4, 86), background));
+        // Under the body the ground is darker than far from it (the contact shadow): the drawn
+        // shadow's centre, projected, against the same row near the image's edge.
+        scene::Scene s = scene::default_scene();
+        s.render.width = 160;
+        s.render.height = 90;
+        const auto u = render::make_frame_uniforms(s.render.frame, 160, 90);
+        Mat4f view, proj;
+        std::memcpy(view.data(), u.view.m, sizeof(u.view.m));
+        std::memcpy(proj.data(), u.proj.m, sizeof(u.proj.m));
+        // Just past the body's outline along x, where the floor shows.
+        const Vec3f edge = ground.shadow_centre + Vec3f(1.0f, 0.0f, 0.0f) * ground.shadow_radius * 1.1f;
+        const Vec4f c = proj * view * edge.homogeneous();
+        const int px = int((c.x() / c.w() * 0.5f + 0.5f) * 160.0f), py = int((c.y() / c.w() * 0.5f + 0.5f) * 90.0f);
+        REQUIRE(px > 0);
+        REQUIRE(px < 150);
+        REQUIRE(py > 0);
+        REQUIRE(py < 90);
+        const int near_body = images[0].at(uint32_t(px + 4), uint32_t(py))[1], far_away = images[0].at(156, uint32_t(py))[1];
+        MESSAGE("ground beside the body: " << near_body << ", far from it: " << far_away);
+        CHECK(near_body < far_away);
+        test::require_no_validation_messages(*ctx);
+    }
+
     TEST_CASE("presenting instead of reading back culls the readback pass") {
         auto ctx = test::open_validated_context();
         scene::RuntimeOptions o;

@@ -1,0 +1,36 @@
+#include "render/ground.h"
+
+namespace pbdsplat::render {
+
+core::Result<GroundPass> GroundPass::create(const gpu::Context& ctx, VkFormat color, VkFormat depth, VkDescriptorSetLayout frame_layout) {
+    GroundPass g;
+    const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(gpu_types::GroundPush)};
+    auto layout = gpu::create_pipeline_layout(ctx, frame_layout, push);
+    if (!layout.ok()) return layout.error();
+    g.layout_ = std::move(layout).value();
+    gpu::GraphicsPipelineDesc desc;
+    desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "ground.vert"}, {VK_SHADER_STAGE_FRAGMENT_BIT, "ground.frag"}};
+    desc.color_format = color;
+    desc.depth_format = depth;
+    desc.layout = g.layout_.get();
+    desc.blend = gpu::BlendMode::over_premultiplied;  // the rim fades into the background
+    auto pipeline = gpu::create_graphics_pipeline(ctx, desc);
+    if (!pipeline.ok()) return pipeline.error();
+    g.pipeline_ = std::move(pipeline).value();
+    return g;
+}
+
+void GroundPass::record(VkCommandBuffer cmd, VkDescriptorSet frame_set, const Ground& ground) const {
+    gpu_types::GroundPush p{};
+    const Vec3f n = ground.normal.normalized();
+    p.plane = {n.x(), n.y(), n.z(), ground.offset};
+    p.disc = {ground.centre.x(), ground.centre.y(), ground.centre.z(), ground.radius};
+    p.shadow = {ground.shadow_centre.x(), ground.shadow_centre.y(), ground.shadow_centre.z(), ground.shadow_radius};
+    p.albedo = {ground.albedo.x(), ground.albedo.y(), ground.albedo.z(), ground.shadow_strength};
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &frame_set, 0, nullptr);
+    vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(p), &p);
+    vkCmdDraw(cmd, 6, 1, 0, 0);
+}
+
+} // namespace pbdsplat::render
