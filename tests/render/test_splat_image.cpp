@@ -83,6 +83,13 @@ TEST_SUITE("render/splat") {
         render::FrameInputs soft = scene.frame;
         soft.style.footprint = render::Footprint::gaussian;
         check_against_golden(render_once(*ctx, scene.records, soft, 320, 240), "builtin_icosphere_gaussian_320x240");
+        // The disc sorted far to near: its flat alpha blended, not dithered.
+        render::FrameInputs sorted = scene.frame;
+        sorted.style.order = render::SplatOrder::cpu;
+        std::vector<splat::GaussianRecord> far_to_near = scene.records;
+        splat::SortScratch scratch;
+        splat::sort_far_to_near(far_to_near, math::look_at(sorted.camera.eye, sorted.camera.target, sorted.camera.up), scratch);
+        check_against_golden(render_once(*ctx, far_to_near, sorted, 320, 240), "builtin_icosphere_paper_sorted_320x240");
         test::require_no_validation_messages(*ctx);
     }
 
@@ -670,6 +677,33 @@ TEST_SUITE("render/scene") {
         const int near_body = images[0].at(uint32_t(px + 4), uint32_t(py))[1], far_away = images[0].at(156, uint32_t(py))[1];
         MESSAGE("ground beside the body: " << near_body << ", far from it: " << far_away);
         CHECK(near_body < far_away);
+        test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("deformed splats on the inflated balloon match their golden, and differ from round ones") {
+        auto ctx = test::open_validated_context();
+        auto loaded = scene::load_scene(std::string(PBDSPLAT_TEST_SCENES_DIR) + "/balloon_deformed.toml");
+        REQUIRE_MESSAGE(loaded.ok(), loaded.error().to_string());
+        core::ImageRgba8 images[2];
+        for (int k = 0; k < 2; ++k) {
+            scene::Scene s = loaded.value();
+            s.render.width = 200;
+            s.render.height = 112;
+            s.render.deformed_shapes = k == 0;
+            scene::RuntimeOptions o;
+            o.gpu = ctx.get();
+            auto rt = scene::SceneRuntime::create(s, o);
+            REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+            for (int f = 0; f < 150; ++f) REQUIRE(rt.value()->step().ok());  // near twice the area
+            CHECK(rt.value()->shapes().empty() == (k == 1));
+            auto img = rt.value()->finish();
+            REQUIRE(img.ok());
+            images[k] = std::move(img).value();
+        }
+        check_against_golden(images[0], "balloon_deformed_f150_200x112");
+        auto diff = core::compare_images(images[0], images[1], 2);
+        REQUIRE(diff.ok());
+        CHECK(diff->share_over > 0.01);  // the splats' shapes show
         test::require_no_validation_messages(*ctx);
     }
 
