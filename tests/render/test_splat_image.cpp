@@ -65,6 +65,21 @@ void check_against_golden(const core::ImageRgba8& actual, const std::string& nam
 
 using test::render_once;
 
+// A scene run through its frame graph for `frames` frames; `inspect` sees the runtime after the
+// last step; the last frame's image comes back.
+template <class Inspect>
+core::ImageRgba8 run_scene(gpu::Context& ctx, const scene::Scene& s, int frames, Inspect&& inspect) {
+    scene::RuntimeOptions o;
+    o.gpu = &ctx;
+    auto rt = scene::SceneRuntime::create(s, o);
+    REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+    for (int f = 0; f < frames; ++f) REQUIRE(rt.value()->step().ok());
+    inspect(*rt.value());
+    auto img = rt.value()->finish();
+    REQUIRE_MESSAGE(img.ok(), img.error().to_string());
+    return std::move(img).value();
+}
+
 bool is_background(const uint8_t* px, const Vec4f& bg) {
     for (int c = 0; c < 3; ++c)
         if (std::abs(int(px[c]) - int(std::lround(bg[c] * 255.0f))) > 1) return false;
@@ -642,15 +657,10 @@ TEST_SUITE("render/scene") {
             s.render.width = 160;
             s.render.height = 90;
             s.render.ground = k == 0;
-            scene::RuntimeOptions o;
-            o.gpu = ctx.get();
-            auto rt = scene::SceneRuntime::create(s, o);
-            REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
-            for (int f = 0; f < 30; ++f) REQUIRE(rt.value()->step().ok());  // resting on the ground
-            auto img = rt.value()->finish();
-            REQUIRE(img.ok());
-            images[k] = std::move(img).value();
-            if (k == 0) ground = rt.value()->frame_inputs().ground;
+            // 30 frames: resting on the ground.
+            images[k] = run_scene(*ctx, s, 30, [&](const scene::SceneRuntime& rt) {
+                if (k == 0) ground = rt.frame_inputs().ground;
+            });
         }
         REQUIRE(ground.visible);
         const Vec4f background = scene::default_scene().render.frame.background;
@@ -690,15 +700,8 @@ TEST_SUITE("render/scene") {
             s.render.width = 200;
             s.render.height = 112;
             s.render.deformed_shapes = k == 0;
-            scene::RuntimeOptions o;
-            o.gpu = ctx.get();
-            auto rt = scene::SceneRuntime::create(s, o);
-            REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
-            for (int f = 0; f < 150; ++f) REQUIRE(rt.value()->step().ok());  // near twice the area
-            CHECK(rt.value()->shapes().empty() == (k == 1));
-            auto img = rt.value()->finish();
-            REQUIRE(img.ok());
-            images[k] = std::move(img).value();
+            // 150 frames: near twice the area.
+            images[k] = run_scene(*ctx, s, 150, [&](const scene::SceneRuntime& rt) { CHECK(rt.shapes().empty() == (k == 1)); });
         }
         check_against_golden(images[0], "balloon_deformed_f150_200x112");
         auto diff = core::compare_images(images[0], images[1], 2);
