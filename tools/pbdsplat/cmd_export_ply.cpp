@@ -2,6 +2,7 @@
 
 #include "pbdsplat/args.h"
 #include "pbdsplat/commands.h"
+#include "pbdsplat/progress.h"
 #include "pbdsplat/scene_arg.h"
 #include "scene/scene_runtime.h"
 #include "splat/ply.h"
@@ -10,7 +11,7 @@ namespace pbdsplat::cli {
 
 int cmd_export_ply(const std::vector<std::string>& argv) {
     static constexpr const char* help =
-        "usage: pbdsplat export-ply [SCENE.toml] [--frame N] [--up -y|y] [--sh-degree 0|3] OUT.ply\n"
+        "usage: pbdsplat export-ply [SCENE.toml] [--frame N | --frames A:B] [--up -y|y] [--sh-degree 0|3] OUT.ply\n"
         "\n"
         "Simulates a scene (default: the built-in one) for N frames and writes its Gaussians (the\n"
         "particles and the boundary particles) as the binary PLY that Gaussian-splat viewers read:\n"
@@ -20,6 +21,8 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
         "`pbdsplat render OUT.ply` renders such a file as a static scene.\n"
         "\n"
         "  --frame N           frames to simulate first (default 1)\n"
+        "  --frames A:B        a sequence: frames A to B (1-based, both included), one file each,\n"
+        "                      OUT_0000A.ply ... (OUT.ply's stem, the frame number in five digits)\n"
         "  --up -y|y           which way is up in the file: -y (default) is 3D Gaussian splatting's\n"
         "                      convention (captures are y-down), so other viewers and converters show\n"
         "                      the body upright; y keeps pbdsplat's y-up world as it is. The two differ\n"
@@ -27,11 +30,21 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
         "  --sh-degree D       0 (default): no f_rest columns (pbdsplat has no view-dependent colour,\n"
         "                      so they would be zeros, 4.4x the file); 3: the 45 zero columns, for\n"
         "                      tools that insist on them\n";
-    auto args = Args::parse(argv, {"help"}, {"frame", "up", "sh-degree"});
+    auto args = Args::parse(argv, {"help"}, {"frame", "frames", "up", "sh-degree"});
     if (!args.ok()) return usage_error("export-ply", args.error().to_string());
     if (args->has("help")) return std::fputs(help, stdout), 0;
     auto frame = args->get_uint("frame", 1, 1, 10000000);
     if (!frame.ok()) return usage_error("export-ply", frame.error().to_string());
+    uint32_t first = frame.value(), last = frame.value();
+    if (args->has("frames")) {
+        if (args->has("frame")) return usage_error("export-ply", "give --frame N or --frames A:B, not both");
+        const std::string range = args->get_or("frames", "");
+        unsigned a = 0, b = 0;
+        char colon = 0, extra = 0;
+        if (std::sscanf(range.c_str(), "%u%c%u%c", &a, &colon, &b, &extra) != 3 || colon != ':' || a < 1 || b < a || b > 10000000)
+            return usage_error("export-ply", "--frames takes A:B with 1 <= A <= B, not '" + range + "'");
+        first = a, last = b;
+    }
     splat::PlyWriteOptions write;
     const std::string up = args->get_or("up", "-y");
     if (up != "y" && up != "-y") return usage_error("export-ply", "--up must be -y or y, not '" + up + "'");
@@ -51,13 +64,28 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
     options.keep_records = true;
     auto runtime = scene::SceneRuntime::create(scene.value(), options);
     if (!runtime.ok()) return fail("export-ply", runtime.error().to_string());
-    for (uint32_t f = 0; f < frame.value(); ++f)
+    const bool sequence = args->has("frames");
+    Progress progress("export-ply", last);
+    for (uint32_t f = 1; f <= last; ++f) {
         if (auto s = runtime.value()->step(); !s.ok()) return fail("export-ply", s.error().to_string());
-    if (auto s = splat::write_ply(out, runtime.value()->records(), runtime.value()->shapes(), write); !s.ok())
-        return fail("export-ply", s.error().to_string());
-    std::printf("wrote %s (%zu Gaussians: %zu particles + %zu boundary particles, frame %u, %s up)\n", out.c_str(),
-                runtime.value()->records().size(), runtime.value()->stats().particles,
-                runtime.value()->stats().boundary_particles, frame.value(), up == "y" ? "+y" : "-y");
+        if (last > 1) progress.frame_done(f);
+        if (f < first) continue;
+        std::string file = out;
+        if (sequence) {
+            char number[16];
+            std::snprintf(number, sizeof(number), "_%05u", f);
+            file = out.substr(0, out.size() - 4) + number + ".ply";
+        }
+        if (auto s = splat::write_ply(file, runtime.value()->records(), runtime.value()->shapes(), write); !s.ok())
+            return fail("export-ply", s.error().to_string());
+        if (!sequence)
+            std::printf("wrote %s (%zu Gaussians: %zu particles + %zu boundary particles, frame %u, %s up)\n", file.c_str(),
+                        runtime.value()->records().size(), runtime.value()->stats().particles,
+                        runtime.value()->stats().boundary_particles, f, up == "y" ? "+y" : "-y");
+    }
+    if (sequence)
+        std::printf("wrote %u files, frames %u to %u, %s_%05u.ply ... (%s up)\n", last - first + 1, first, last,
+                    out.substr(0, out.size() - 4).c_str(), first, up == "y" ? "+y" : "-y");
     return 0;
 }
 
