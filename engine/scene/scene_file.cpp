@@ -573,6 +573,11 @@ std::string to_toml(const Scene& sc) {
       << (d.frame.style.blend == render::Blend::additive ? "\"additive\"" : "\"over\"") << "\nsort = " << (d.sort ? "true" : "false")
       << "\nsort_on = \"" << (d.sort_on ? render::splat_order_name(*d.sort_on) : "auto") << "\"\nshading = \""
       << (d.shading == render::SplatShading::corner ? "corner" : "fragment") << "\""
+      << "\nfootprint = \"" << render::footprint_name(d.frame.style.footprint) << "\""
+      << "\nsharpness = " << vec<2>(d.frame.style.sharpness)
+      << "\ncarrier = \"" << (d.carrier == render::SplatCarrier::octagon ? "octagon" : "quad") << "\""
+      << "\nsplat_shape = \"" << (d.deformed_shapes ? "deformed" : "round") << "\""
+      << "\nground = " << (d.ground ? "true" : "false") << "\ncull_back = " << (d.cull_back ? "true" : "false")
       << "\nkappa = " << num(d.frame.style.kappa) << "\ndepth_min_alpha = " << num(d.frame.style.depth_min_alpha) << "\ndepth_push = " << num(d.frame.style.depth_push) << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()));
     o << "\npath = \"" << (d.splat_path ? render::splat_path_name(*d.splat_path) : "auto") << "\"\nenvironment = \""
       << render::env_sampling_name(l.environment.sampling) << "\"\nenvironment_intensity = " << num(l.environment.intensity)

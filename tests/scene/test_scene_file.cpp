@@ -1,6 +1,10 @@
 #include <doctest/doctest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
 
 #include "scene/scene_file.h"
 
@@ -44,6 +48,12 @@ width = 640
 height = 360
 blend = "additive"
 sort = true
+footprint = "gaussian"
+sharpness = [0.8, 0.9]
+carrier = "octagon"
+splat_shape = "deformed"
+ground = false
+cull_back = false
 
 [render.camera]
 eye = [0, 1, 4]
@@ -119,7 +129,55 @@ TEST_SUITE("scene/scene_file") {
         REQUIRE_MESSAGE(second.ok(), second.error().to_string() << "\n" << printed);
         CHECK(scene::to_toml(second.value()) == printed);
         CHECK(second->simulation.colliders.spheres[0].radius == first->simulation.colliders.spheres[0].radius);
+        // The values that are not the defaults come back as they were set.
+        CHECK(second->render.frame.style.footprint == render::Footprint::gaussian);
+        CHECK(second->render.frame.style.sharpness == Vec2f(0.8f, 0.9f));
+        CHECK(second->render.carrier == render::SplatCarrier::octagon);
+        CHECK(second->render.deformed_shapes);
+        CHECK_FALSE(second->render.ground);
+        CHECK_FALSE(second->render.cull_back);
         CHECK(second->events.size() == first->events.size());
+    }
+
+    TEST_CASE("every key docs/scene-format.md documents is printed, so a printed scene keeps it") {
+        // Not the printer against itself: the documented keys, read from the format's own page.
+        std::ifstream doc(std::string(PBDSPLAT_PROJECT_SCENES_DIR) + "/../docs/scene-format.md");
+        REQUIRE(doc);
+        auto parsed = scene::parse_scene(k_full, "full.toml");
+        REQUIRE(parsed.ok());
+        const std::string printed = scene::to_toml(parsed.value());
+        // The printed text's keys, per table.
+        std::map<std::string, std::set<std::string>> printed_keys;
+        {
+            std::istringstream in(printed);
+            std::string line, table;
+            while (std::getline(in, line)) {
+                if (line.size() > 2 && line.front() == '[' && line[1] != '[') table = line.substr(1, line.find(']') - 1);
+                const size_t eq = line.find(" = ");
+                if (eq != std::string::npos && !table.empty() && line.front() != ' ') printed_keys[table].insert(line.substr(0, eq));
+            }
+        }
+        // Keys printed only when set: no environment map means the procedural sky, no particle
+        // count means the model's own resolution; both are the defaults.
+        const std::set<std::string> only_when_set = {"environment_map", "particles"};
+        std::string line, section;
+        size_t checked = 0;
+        while (std::getline(doc, line)) {
+            if (line.rfind("## `[", 0) == 0 && line.find("[[") == std::string::npos) section = line.substr(5, line.find(']') - 5);
+            else if (line.rfind("## ", 0) == 0) section.clear();
+            if (section.empty() || line.rfind("| `", 0) != 0) continue;
+            // The first cell: one or more `key`s.
+            const std::string cell = line.substr(1, line.find('|', 1) - 1);
+            for (size_t a = cell.find('`'); a != std::string::npos; a = cell.find('`', cell.find('`', a + 1) + 1)) {
+                const size_t b = cell.find('`', a + 1);
+                if (b == std::string::npos) break;
+                const std::string key = cell.substr(a + 1, b - a - 1);
+                if (only_when_set.count(key)) continue;
+                ++checked;
+                CHECK_MESSAGE(printed_keys[section].count(key), "[" << section << "] " << key << " is documented but to_toml does not print it");
+            }
+        }
+        CHECK(checked > 40);
     }
 
     TEST_CASE("malformed scenes are refused with file, line and column") {
