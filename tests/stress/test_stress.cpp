@@ -79,6 +79,8 @@ constexpr int k_frames = 150;
 } // namespace
 
 TEST_SUITE("stress/solver") {
+    // Thresholds about three times the figures measured (MESSAGE lines print them): loose enough
+    // for another compiler's rounding, tight enough that a solver twice as wrong fails.
     TEST_CASE("time steps up to 1/15 s: a balloon on the ground stays finite, bounded and near its volume") {
         for (const float dt : {1.0f / 240.0f, 1.0f / 60.0f, 1.0f / 30.0f, 1.0f / 15.0f}) {
             CAPTURE(dt);
@@ -87,8 +89,10 @@ TEST_SUITE("stress/solver") {
             c.ground = sim::GroundPlane{Vec3f(0, 1, 0), -1.05f};
             sim::SolverSettings s;
             run_checked(b, k_frames, dt, s, c);
-            // Coarser steps give the volume projection less to work with: 3 % up to 1/30 s, 10 % at 1/15.
-            const double tolerance = dt > 1.0f / 30.0f + 1e-6f ? 0.10 : 0.03;
+            // Coarser steps give the volume projection less to work with. Measured (150 frames,
+            // docs/BENCHMARKS.md): 0.002 % at 1/240 s, 0.08 % at 1/60, 0.36 % at 1/30, 1.0 % at
+            // 1/15; allowed about three times that.
+            const double tolerance = dt > 1.0f / 30.0f + 1e-6f ? 0.03 : dt > 1.0f / 60.0f + 1e-6f ? 0.01 : 0.003;
             MESSAGE("dt " << dt << ": volume " << volume_ratio(b) << " V0");
             CHECK(std::abs(volume_ratio(b) - 1.0) < tolerance);
         }
@@ -115,7 +119,7 @@ TEST_SUITE("stress/solver") {
             for (const auto& e : b.distance)
                 worst = std::max(worst, std::abs((b.particles.x[e.i] - b.particles.x[e.j]).head<3>().norm() / e.rest - 1.0f));
             MESSAGE(int(mode) << ": worst edge strain " << worst);
-            CHECK(worst < 0.05f);
+            CHECK(worst < 0.003f);  // measured 0.095 % in both modes
         }
     }
 
@@ -133,7 +137,8 @@ TEST_SUITE("stress/solver") {
             CHECK(v >= previous - 0.01);
             // The paper's volume constraint is global and hard: it reaches k V0 at every factor,
             // stretching the edges as far as that takes (PBD distance stiffness < 1 per iteration).
-            CHECK(std::abs(v - double(k)) < 0.02 * double(k) + 0.01);
+            // Measured: exact to 0.3 % (20.06 V0 at k = 20).
+            CHECK(std::abs(v - double(k)) < 0.006 * double(k) + 0.001);
             previous = v;
         }
     }
@@ -150,7 +155,8 @@ TEST_SUITE("stress/solver") {
             const double error = std::abs(volume_ratio(b) - 0.6);
             MESSAGE(iterations << " iterations: volume error " << error);
             if (iterations == 1) error_at_1 = error;
-            else CHECK(error <= error_at_1 + 0.01);
+            else CHECK(error <= error_at_1 + 1e-4);
+            CHECK(error < 1e-3);  // measured below 1e-7 at every count
         }
     }
 
