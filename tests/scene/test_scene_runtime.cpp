@@ -5,10 +5,12 @@
 #include <map>
 #include <set>
 
+#include "mesh/model_path.h"
 #include "scene/default_scene.h"
 #include "scene/scene_file.h"
 #include "scene/scene_runtime.h"
 #include "scene/timeline.h"
+#include "support/skip.h"
 
 using namespace pbdsplat;
 
@@ -125,6 +127,25 @@ TEST_SUITE("scene/runtime") {
         CHECK(rt.value()->stats().cuts == 1);
         CHECK(rt.value()->body().particle_count() > before);
         CHECK(rt.value()->body().volumes.size() == 2);
+    }
+
+    TEST_CASE("the shipped bunny_cut scene's screen strokes cut with every mesh invariant checked") {
+        auto s = scene::load_scene(std::string(PBDSPLAT_PROJECT_SCENES_DIR) + "/bunny_cut.toml");
+        REQUIRE_MESSAGE(s.ok(), s.error().to_string());
+        if (!mesh::find_model("stanford-bunny.obj")) {
+            test::skip("stanford-bunny.obj is not on the model search path (../shared/models)");
+            return;
+        }
+        scene::RuntimeOptions o;
+        o.check_topology = true;  // a broken invariant fails the step that broke it
+        auto rt = scene::SceneRuntime::create(s.value(), o);
+        REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+        for (int f = 0; f < 170; ++f) {  // both strokes: at 1.0 s and 2.5 s
+            const core::Status st = rt.value()->step();
+            REQUIRE_MESSAGE(st.ok(), "frame " << f << ": " << st.error().to_string());
+        }
+        CHECK(rt.value()->stats().cuts == 2);
+        CHECK(rt.value()->body().volumes.size() >= 3);  // the strokes made pieces, each capped
     }
 
     TEST_CASE("a missing model and an impossible pin are clear errors") {
