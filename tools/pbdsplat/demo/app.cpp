@@ -297,7 +297,10 @@ core::Result<DemoReport> run_demo(const DemoOptions& options) {
         if (!loaded.ok()) return loaded.error();
         script = std::move(loaded).value();
     }
-    Session s;
+    // Held by pointer so it can be torn down before the validation count is read: messages sent
+    // while the device and instance are destroyed (leaked objects) count too.
+    auto session = std::make_unique<Session>();
+    Session& s = *session;
     auto window = Window::create("pbdsplat - " + options.scene.name, options.scene.render.width, options.scene.render.height);
     if (!window.ok()) return window.error();
     s.window = std::move(window).value();
@@ -333,8 +336,14 @@ core::Result<DemoReport> run_demo(const DemoOptions& options) {
     auto rt = scene::SceneRuntime::create(options.scene, ro);
     if (!rt.ok()) return rt.error();
     s.runtime = std::move(rt).value();
-    Demo demo(options, s);
-    return demo.run(script ? &*script : nullptr);
+    const auto log = s.ctx->instance().shared_validation_log();
+    core::Result<DemoReport> report = [&] {
+        Demo demo(options, s);
+        return demo.run(script ? &*script : nullptr);
+    }();
+    session.reset();
+    if (report.ok()) report->validation_messages = log->count();
+    return report;
 }
 
 } // namespace pbdsplat::demo
