@@ -4,13 +4,18 @@
 file(MAKE_DIRECTORY "${WORK_DIR}")
 set(failures 0)
 
+# Inside the check functions below: report a failure and count it in the caller's scope.
+macro(record_failure text)
+  message(SEND_ERROR "${text}")
+  math(EXPR failures "${failures} + 1")
+  set(failures ${failures} PARENT_SCOPE)
+endmacro()
+
 function(expect name want_rc)
   execute_process(COMMAND ${PBDSPLAT} ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
                   WORKING_DIRECTORY "${WORK_DIR}" TIMEOUT 300)
   if(NOT rc STREQUAL want_rc)
-    message(SEND_ERROR "${name}: exit ${rc}, wanted ${want_rc}\nstdout: ${out}\nstderr: ${err}")
-    math(EXPR f "${failures} + 1")
-    set(failures ${f} PARENT_SCOPE)
+    record_failure("${name}: exit ${rc}, wanted ${want_rc}\nstdout: ${out}\nstderr: ${err}")
   endif()
   set(last_out "${out}" PARENT_SCOPE)
   set(last_err "${err}" PARENT_SCOPE)
@@ -19,9 +24,7 @@ endfunction()
 function(expect_contains name haystack needle)
   string(FIND "${haystack}" "${needle}" at)
   if(at EQUAL -1)
-    message(SEND_ERROR "${name}: expected to find '${needle}' in:\n${haystack}")
-    math(EXPR f "${failures} + 1")
-    set(failures ${f} PARENT_SCOPE)
+    record_failure("${name}: expected to find '${needle}' in:\n${haystack}")
   endif()
 endfunction()
 
@@ -30,28 +33,19 @@ function(expect_json_keys name)
   foreach(key IN LISTS ARGN)
     string(JSON value ERROR_VARIABLE json_error GET "${last_out}" ${key})
     if(json_error)
-      message(SEND_ERROR "${name}: key '${key}' missing: ${json_error}\n${last_out}")
-      math(EXPR failures "${failures} + 1")
-      set(failures ${failures} PARENT_SCOPE)
+      record_failure("${name}: key '${key}' missing: ${json_error}\n${last_out}")
     endif()
   endforeach()
 endfunction()
 
-# The last command's JSON figure at `key` (a path of members) is a number within [lo, hi]:
-# present is not enough, it must be sane.
+# The last command's JSON figure at the member path ARGN is a number within [lo, hi]: present
+# is not enough, it must be sane.
 function(expect_json_range name lo hi)
   string(JSON value ERROR_VARIABLE json_error GET "${last_out}" ${ARGN})
   if(json_error)
-    message(SEND_ERROR "${name}: ${ARGN} missing: ${json_error}")
-    math(EXPR failures "${failures} + 1")
-    set(failures ${failures} PARENT_SCOPE)
-    return()
-  endif()
-  # CMake compares numbers as integers or floats with LESS/GREATER on strings of digits.
-  if(value LESS lo OR value GREATER hi OR NOT value MATCHES "^-?[0-9.eE+-]+$")
-    message(SEND_ERROR "${name}: ${ARGN} = ${value}, expected within [${lo}, ${hi}]")
-    math(EXPR failures "${failures} + 1")
-    set(failures ${failures} PARENT_SCOPE)
+    record_failure("${name}: ${ARGN} missing: ${json_error}")
+  elseif(NOT value MATCHES "^-?[0-9.eE+-]+$" OR value LESS lo OR value GREATER hi)
+    record_failure("${name}: ${ARGN} = ${value}, expected within [${lo}, ${hi}]")
   endif()
 endfunction()
 
