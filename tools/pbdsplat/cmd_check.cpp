@@ -26,6 +26,8 @@ int cmd_check(const std::vector<std::string>& argv) {
         "  specks        share of the raster's pixels where the splats are less than half as bright as\n"
         "                the lit mesh (the background or a hidden surface showing through)\n"
         "  spacing       share of boundary particles whose nearest neighbour lies in [0.7 h, 1.4 h]\n"
+        "The coverage images hold the splats alone, in the scene's footprint and shapes: no ground,\n"
+        "and every splat drawn (the far side of a closed body is not culled as in a rendered frame).\n"
         "\n"
         "  --frames N          frames to run (default 120)\n"
         "  --every K           measure every K frames and at the last (default 10)\n"
