@@ -5,6 +5,7 @@
 
 #include "core/timer.h"
 #include "pbdsplat/commands.h"
+#include "pbdsplat/progress.h"
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/splat_sphere.h"
 #include "pbdsplat/upload_path_arg.h"
@@ -63,7 +64,9 @@ int bench_splat(const std::vector<std::string>& argv) {
     if (!renderer.ok()) return fail("bench splat", renderer.error().to_string());
 
     std::vector<double> up_cpu, up, draw, back, wall;
+    Progress progress("bench splat", warmup.value() + repeat.value());
     for (uint32_t i = 0; i < warmup.value() + repeat.value(); ++i) {
+        if (i > 0) progress.frame_done(i);
         core::Stopwatch sw;
         if (auto s = renderer.value()->render(records, frame); !s.ok()) return fail("bench splat", s.error().to_string());
         auto img = renderer.value()->finish();

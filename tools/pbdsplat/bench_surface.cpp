@@ -5,6 +5,7 @@
 #include "core/timer.h"
 #include "mesh/mesh_spec.h"
 #include "pbdsplat/commands.h"
+#include "pbdsplat/progress.h"
 #include "pbdsplat/gpu_options.h"
 #include "scene/coverage.h"
 #include "sim/soft_body.h"
@@ -89,6 +90,8 @@ int bench_surface(const std::vector<std::string>& argv) {
     if (!args->has("json"))
         std::printf("%s: %zu particles, %zu triangles; splats %.2f h\n", spec.c_str(), body.particle_count(),
                     body.triangles.size(), scale.value());
+    Progress progress("bench surface", uint32_t(etas.size()), "spacings");
+    uint32_t done = 0;
     for (float eta : etas) {
         const float h = surface::spacing(rest, eta);
         std::vector<double> sample_ms;
@@ -121,6 +124,7 @@ int bench_surface(const std::vector<std::string>& argv) {
             std::printf("\n");
         }
         rows.push_back(row);
+        progress.frame_done(++done);
     }
     nlohmann::json vertices;
     if (ctx) {

@@ -15,13 +15,15 @@ namespace pbdsplat::cli {
 // `total` 0: not known in advance (frames done and rate only).
 class Progress {
 public:
-    Progress(std::string what, uint32_t total) : what_(std::move(what)), total_(total), tty_(isatty(STDERR_FILENO) != 0) {}
+    // `unit`: what is counted ("frames", "spacings", ...).
+    Progress(std::string what, uint32_t total, std::string unit = "frames")
+        : what_(std::move(what)), unit_(std::move(unit)), total_(total), tty_(isatty(STDERR_FILENO) != 0) {}
     void frame_done(uint32_t done) {
         const double elapsed = clock_.elapsed_ms() / 1000.0;
         const double rate = done / std::max(elapsed, 1e-6);
         if (total_ == 0) {
             if (elapsed - last_line_ >= 2.0) {
-                std::fprintf(stderr, "%s: %u frames, %.1f frames/s%s", what_.c_str(), done, rate, tty_ ? "\r" : "\n");
+                std::fprintf(stderr, "%s: %u %s, %.1f per s%s", what_.c_str(), done, unit_.c_str(), rate, tty_ ? "\r" : "\n");
                 std::fflush(stderr);
                 last_line_ = elapsed;
             }
@@ -31,18 +33,18 @@ public:
         if (tty_) {
             constexpr int width = 30;
             const int filled = int(double(done) / double(total_) * width);
-            std::fprintf(stderr, "\r[%.*s%*s] %u/%u  %.1f frames/s, %.0f s left ", filled, "##############################",
-                         width - filled, "", done, total_, rate, left);
+            std::fprintf(stderr, "\r[%.*s%*s] %u/%u %s, %.1f per s, %.0f s left ", filled, "##############################",
+                         width - filled, "", done, total_, unit_.c_str(), rate, left);
             if (done == total_) std::fputc('\n', stderr);
         } else if (elapsed - last_line_ >= 2.0 || done == total_) {
-            std::fprintf(stderr, "%s: %u/%u frames, %.1f frames/s, %.0f s left\n", what_.c_str(), done, total_, rate, left);
+            std::fprintf(stderr, "%s: %u/%u %s, %.1f per s, %.0f s left\n", what_.c_str(), done, total_, unit_.c_str(), rate, left);
             last_line_ = elapsed;
         }
         std::fflush(stderr);
     }
 
 private:
-    std::string what_;
+    std::string what_, unit_;
     uint32_t total_;
     bool tty_;
     core::Stopwatch clock_;
