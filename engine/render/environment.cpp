@@ -120,6 +120,12 @@ core::Result<EnvironmentMap> load_environment_map(const std::string& path) {
     return m;
 }
 
+core::Result<EnvironmentMap> make_environment_map(const std::string& map_path, const Vec3f& sun) {
+    if (map_path.empty() || map_path == std::string(k_procedural_prefix) + "sky") return procedural_sky(sun);
+    if (map_path == std::string(k_procedural_prefix) + "studio") return procedural_studio(sun);
+    return load_environment_map(map_path);
+}
+
 std::array<Vec3f, 9> irradiance_sh(const EnvironmentMap& m) {
     std::array<Vec3f, 9> L;
     L.fill(Vec3f::Zero());

@@ -38,6 +38,10 @@ bool is_procedural_map_name(const std::string& name);
 // PNG (8-bit, sRGB) or .hdr (Radiance RGBE) files; errors name the file and the reason.
 core::Result<EnvironmentMap> load_environment_map(const std::string& path);
 
+// `map_path` empty or "procedural:sky": the procedural sky lit from `sun`; "procedural:studio":
+// the studio; anything else: a PNG or .hdr file.
+core::Result<EnvironmentMap> make_environment_map(const std::string& map_path, const Vec3f& sun);
+
 // Irradiance E(n) = sum_lm A_l L_lm Y_lm(n) (Ramamoorthi and Hanrahan 2001): coefficients with
 // the cosine lobe A_l already applied, in the order Y00, Y1-1, Y10, Y11, Y2-2, Y2-1, Y20, Y21, Y22.
 std::array<Vec3f, 9> irradiance_sh(const EnvironmentMap& map);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/cpu_shading.h"
 #include "splat/sort.h"
 
 namespace pbdsplat::scene {
@@ -51,6 +52,20 @@ void sort_ply(splat::PlyGaussians& file, const render::FrameInputs& frame) {
     const render::Camera& c = frame.camera;
     splat::sort_far_to_near(file.records, file.shapes, math::look_at(c.eye, c.target, c.up), scratch);
     splat::reorder_like_last_sort(scratch, file.sh);
+}
+
+void bake_shading(const render::FrameInputs& frame, const render::EnvironmentMap& map, std::span<splat::GaussianRecord> records) {
+    render::CpuShading shading;
+    shading.lighting = &frame.lighting;
+    shading.map = &map;
+    shading.sh = render::irradiance_sh(map);
+    shading.eye = frame.camera.eye;
+    for (splat::GaussianRecord& r : records) {
+        const Vec3f albedo = Vec3f(r.color[0], r.color[1], r.color[2]) / 255.0f;
+        const Vec3f lit = render::shade_cpu(shading, albedo, splat::decode_octahedral(r.normal_oct),
+                                            Vec3f(r.position[0], r.position[1], r.position[2]));
+        for (int c = 0; c < 3; ++c) r.color[c] = uint8_t(std::lround(std::clamp(lit[c], 0.0f, 1.0f) * 255.0f));
+    }
 }
 
 } // namespace pbdsplat::scene

@@ -3,6 +3,7 @@
 // one. Files trained elsewhere hold soft, sorted Gaussians whose colour is radiance, so they
 // are drawn so: the Gaussian footprint, far to near, unlit, anisotropic and view-dependent
 // where the file says.
+#include "render/environment.h"
 #include "render/splat_renderer.h"
 #include "splat/ply.h"
 
@@ -16,5 +17,10 @@ render::RendererOptions ply_renderer_options(const splat::PlyGaussians& file, ui
 
 // Sorts the file's streams far to near for the frame's camera.
 void sort_ply(splat::PlyGaussians& file, const render::FrameInputs& frame);
+
+// Replaces each record's base colour by its lit colour as `frame` shades it (render/cpu_shading.h,
+// seen from the frame's eye, `map` the scene's environment): for export to viewers without the
+// paper's lighting.
+void bake_shading(const render::FrameInputs& frame, const render::EnvironmentMap& map, std::span<splat::GaussianRecord> records);
 
 } // namespace pbdsplat::scene

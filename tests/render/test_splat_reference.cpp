@@ -6,7 +6,9 @@
 #include <cstdlib>
 #include <string>
 
+#include "render/cpu_shading.h"
 #include "render/frame_uniforms.h"
+#include "render/splat_renderer.h"
 #include "scene/offscreen_renderer.h"
 #include "splat/sort.h"
 #include "support/gpu_fixture.h"
@@ -129,6 +131,47 @@ std::pair<std::vector<splat::GaussianRecord>, std::vector<splat::GaussianShape>>
 }
 
 TEST_SUITE("render/reference") {
+    TEST_CASE("the CPU's shading (baked into exports) matches the splat pass's lighting") {
+        auto ctx = test::open_validated_context();
+        for (const render::EnvSampling sampling : {render::EnvSampling::position, render::EnvSampling::normal, render::EnvSampling::off}) {
+            render::FrameInputs frame;
+            frame.camera.eye = Vec3f(0.0f, 0.0f, 3.0f);
+            frame.style.footprint = render::Footprint::paper;  // one flat disc, shaded per fragment
+            frame.lighting.environment.sampling = sampling;
+            frame.lighting.environment.center = Vec3f(0.0f, -0.5f, 0.0f);
+            frame.lighting.environment.intensity = 0.4f;
+            frame.lighting.intensity = 0.35f;  // mid-range colours: nothing clamps at 255
+            frame.lighting.specular = 0.2f;
+            render::Light point;
+            point.position = Vec3f(1.0f, 1.0f, 1.5f);
+            point.color = Vec3f(0.15f, 0.25f, 0.4f);
+            frame.lighting.lights.push_back(point);
+            splat::Appearance a;
+            a.albedo = Vec3f(0.5f, 0.35f, 0.2f);
+            a.scale = 0.3f;
+            a.opacity_logit = 8.0f;
+            const Vec3f normal = Vec3f(0.3f, 0.4f, 1.0f).normalized();
+            const std::vector<splat::GaussianRecord> one = {splat::make_record(Vec3f::Zero(), normal, a)};
+            const auto img = test::render_once(*ctx, one, frame, 64, 64);
+            // The renderer's sky for the default sun, as the CPU makes it.
+            const render::EnvironmentMap map = render::procedural_sky(render::RendererOptions{}.sky_sun);
+            render::CpuShading shading;
+            shading.lighting = &frame.lighting;
+            shading.map = &map;
+            shading.sh = render::irradiance_sh(map);
+            shading.eye = frame.camera.eye;
+            const Vec3f albedo = Vec3f(one[0].color[0], one[0].color[1], one[0].color[2]) / 255.0f;
+            const Vec3f cpu = render::shade_cpu(shading, albedo, splat::decode_octahedral(one[0].normal_oct), Vec3f::Zero());
+            const uint8_t* gpu = img.at(32, 32);  // the pixel at the disc's centre
+            MESSAGE("sampling " << std::string(render::env_sampling_name(sampling)) << ": GPU " << int(gpu[0]) << " " << int(gpu[1]) << " "
+                             << int(gpu[2]) << ", CPU " << cpu.transpose() * 255.0f);
+            CHECK(cpu.maxCoeff() < 0.95f);  // unclamped: the comparison means something
+            CHECK(cpu.minCoeff() > 0.05f);
+            for (int c = 0; c < 3; ++c) CHECK(std::abs(int(gpu[c]) - int(std::lround(std::clamp(cpu[c], 0.0f, 1.0f) * 255.0f))) <= 3);
+        }
+        test::require_no_validation_messages(*ctx);
+    }
+
     TEST_CASE("anisotropic splats match a CPU EWA reference, in both footprints, on every path") {
         auto ctx = test::open_validated_context();
         const uint32_t w = 240, h = 160;

@@ -1,10 +1,13 @@
 #include <cstdio>
+#include <optional>
 
 #include "pbdsplat/args.h"
 #include "pbdsplat/commands.h"
 #include "pbdsplat/progress.h"
 #include "pbdsplat/scene_arg.h"
 #include "scene/scene_runtime.h"
+#include "render/environment.h"
+#include "scene/ply_view.h"
 #include "splat/ply.h"
 
 namespace pbdsplat::cli {
@@ -27,10 +30,13 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
         "                      convention (captures are y-down), so other viewers and converters show\n"
         "                      the body upright; y keeps pbdsplat's y-up world as it is. The two differ\n"
         "                      by a half turn about x, not a mirror\n"
+        "  --bake-shading      write each splat's lit colour as this scene shades it from its camera\n"
+        "                      (key light, environment, lights) instead of the base colour: viewers\n"
+        "                      without the paper's lighting then show what pbdsplat shows\n"
         "  --sh-degree D       0 (default): no f_rest columns (pbdsplat has no view-dependent colour,\n"
         "                      so they would be zeros, 4.4x the file); 3: the 45 zero columns, for\n"
         "                      tools that insist on them\n";
-    auto args = Args::parse(argv, {"help"}, {"frame", "frames", "up", "sh-degree"});
+    auto args = Args::parse(argv, {"help", "bake-shading"}, {"frame", "frames", "up", "sh-degree"});
     if (!args.ok()) return usage_error("export-ply", args.error().to_string());
     if (args->has("help")) return std::fputs(help, stdout), 0;
     auto frame = args->get_uint("frame", 1, 1, 10000000);
@@ -65,6 +71,13 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
     auto runtime = scene::SceneRuntime::create(scene.value(), options);
     if (!runtime.ok()) return fail("export-ply", runtime.error().to_string());
     const bool sequence = args->has("frames");
+    std::optional<render::EnvironmentMap> map;
+    if (args->has("bake-shading")) {
+        auto m = render::make_environment_map(scene->render.environment_map, scene->render.frame.lighting.direction);
+        if (!m.ok()) return fail("export-ply", m.error().to_string());
+        map = std::move(m).value();
+    }
+    std::vector<splat::GaussianRecord> baked;
     Progress progress("export-ply", last);
     for (uint32_t f = 1; f <= last; ++f) {
         if (auto s = runtime.value()->step(); !s.ok()) return fail("export-ply", s.error().to_string());
@@ -76,7 +89,13 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
             std::snprintf(number, sizeof(number), "_%05u", f);
             file = out.substr(0, out.size() - 4) + number + ".ply";
         }
-        if (auto s = splat::write_ply(file, runtime.value()->records(), runtime.value()->shapes(), write); !s.ok())
+        std::span<const splat::GaussianRecord> records = runtime.value()->records();
+        if (map) {
+            baked.assign(records.begin(), records.end());
+            scene::bake_shading(runtime.value()->frame_inputs(), *map, baked);
+            records = baked;
+        }
+        if (auto s = splat::write_ply(file, records, runtime.value()->shapes(), write); !s.ok())
             return fail("export-ply", s.error().to_string());
         if (!sequence)
             std::printf("wrote %s (%zu Gaussians: %zu particles + %zu boundary particles, frame %u, %s up)\n", file.c_str(),
