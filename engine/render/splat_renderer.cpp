@@ -17,6 +17,33 @@ Use uses::records_read(SplatPath path) {
     return {};
 }
 
+namespace {
+// One host-visible storage buffer per frame slot for an optional stream beside the records (a
+// token element when the stream is off, so the frame set's binding always has a buffer).
+core::Status make_host_stream(gpu::Context& ctx, uint32_t slots, VkDeviceSize bytes, std::vector<gpu::Buffer>& buffers,
+                              std::vector<VkBuffer>& handles) {
+    for (uint32_t i = 0; i < slots; ++i) {
+        auto b = gpu::Buffer::create(ctx, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::upload);
+        if (!b.ok()) return b.error();
+        buffers.push_back(std::move(b).value());
+        handles.push_back(buffers.back().handle());
+    }
+    return core::Status::success();
+}
+
+// Written in place into the slot's buffer, which only this frame reads: the submit makes it
+// visible, no copy or barrier needed.
+template <class T>
+core::Status write_host_stream(const gpu::Buffer& buffer, std::span<const T> data, uint32_t capacity, bool enabled, const char* what) {
+    if (!enabled) return core::make_error(std::string("the renderer was created without ") + what);
+    if (data.size() > capacity)
+        return core::make_error(std::to_string(data.size()) + " entries of " + what + " exceed the renderer's capacity of " +
+                                std::to_string(capacity));
+    std::memcpy(buffer.mapped(), data.data(), data.size_bytes());
+    return core::Status::success();
+}
+} // namespace
+
 core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context& ctx, const RendererOptions& options) {
     if (options.max_splats == 0) return core::make_error("max_splats must be at least 1");
     // Refused up front, with the limit, rather than allocated and ground through for minutes.
@@ -77,20 +104,10 @@ core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context&
     extra.texture_view = r->environment_.view();
     extra.texture_sampler = r->environment_.sampler();
     for (uint32_t i = 0; i < n; ++i) extra.storage.push_back(r->records_.buffer(i));
-    const VkDeviceSize shape_bytes = VkDeviceSize(options.anisotropic ? options.max_splats : 1) * sizeof(splat::GaussianShape);
-    for (uint32_t i = 0; i < n; ++i) {
-        auto shapes = gpu::Buffer::create(ctx, shape_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::upload);
-        if (!shapes.ok()) return shapes.error();
-        r->shapes_.push_back(std::move(shapes).value());
-        extra.shapes.push_back(r->shapes_.back().handle());
-    }
-    const VkDeviceSize sh_bytes = VkDeviceSize(options.sh_degree > 0 ? options.max_splats : 1) * sizeof(splat::GaussianSH);
-    for (uint32_t i = 0; i < n; ++i) {
-        auto sh = gpu::Buffer::create(ctx, sh_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::upload);
-        if (!sh.ok()) return sh.error();
-        r->sh_rest_.push_back(std::move(sh).value());
-        extra.sh.push_back(r->sh_rest_.back().handle());
-    }
+    PBDSPLAT_TRY(make_host_stream(ctx, n, VkDeviceSize(options.anisotropic ? options.max_splats : 1) * sizeof(splat::GaussianShape),
+                                  r->shapes_, extra.shapes));
+    PBDSPLAT_TRY(make_host_stream(ctx, n, VkDeviceSize(options.sh_degree > 0 ? options.max_splats : 1) * sizeof(splat::GaussianSH),
+                                  r->sh_rest_, extra.sh));
     auto uniforms = gpu::UniformSets::create(ctx, r->splat_.set_layout(), n, sizeof(gpu_types::FrameUniforms), &extra);
     if (!uniforms.ok()) return uniforms.error();
     r->uniforms_ = std::move(uniforms).value();
@@ -176,21 +193,11 @@ core::Status SplatRenderer::upload(std::span<const splat::GaussianRecord> record
 }
 
 core::Status SplatRenderer::upload_shapes(std::span<const splat::GaussianShape> shapes) {
-    if (!options_.anisotropic) return core::make_error("upload_shapes on a renderer created without options.anisotropic");
-    if (shapes.size() > options_.max_splats)
-        return core::make_error(std::to_string(shapes.size()) + " shapes exceed the renderer's capacity of " +
-                                std::to_string(options_.max_splats));
-    std::memcpy(shapes_[frames_.slot()].mapped(), shapes.data(), shapes.size_bytes());
-    return core::Status::success();
+    return write_host_stream(shapes_[frames_.slot()], shapes, options_.max_splats, options_.anisotropic, "anisotropic shapes");
 }
 
 core::Status SplatRenderer::upload_sh(std::span<const splat::GaussianSH> sh) {
-    if (options_.sh_degree == 0) return core::make_error("upload_sh on a renderer created without options.sh_degree");
-    if (sh.size() > options_.max_splats)
-        return core::make_error(std::to_string(sh.size()) + " colour records exceed the renderer's capacity of " +
-                                std::to_string(options_.max_splats));
-    std::memcpy(sh_rest_[frames_.slot()].mapped(), sh.data(), sh.size_bytes());
-    return core::Status::success();
+    return write_host_stream(sh_rest_[frames_.slot()], sh, options_.max_splats, options_.sh_degree > 0, "view-dependent colour");
 }
 
 void SplatRenderer::sort(const FrameInputs& inputs, uint32_t count) {

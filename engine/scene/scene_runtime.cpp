@@ -232,7 +232,6 @@ core::Status SceneRuntime::build_graph() {
         samples = b.write(samples);
         return [this, dt](const graph::PassResources&, graph::ExecuteContext&) {
             const core::Stopwatch clock;
-            const size_t particles_before = body_.particle_count();
             for (const CutEvent& c : user_cuts_) {
                 if (!topology_status_.ok()) break;
                 const size_t particles = body_.particle_count();
@@ -256,8 +255,6 @@ core::Status SceneRuntime::build_graph() {
             }
             if (tearing_ && time_ >= tearing_until_) tearing_.reset();
             if (tearing_ && topology_status_.ok()) topology_status_ = apply_tears();
-            // Every cut and tear duplicates vertices: only then can the boundary have opened.
-            if (body_.particle_count() != particles_before) update_closed();
             topology_ms_ = clock.elapsed_ms();
         };
     });
@@ -366,15 +363,19 @@ core::Status SceneRuntime::build_graph() {
             // the rim.
             const bool opaque = frame_input_.frame.style.blend == render::Blend::over && appearance_.opacity_logit > math::logit(0.9f);
             frame_input_.frame.style.cull_facing = scene_.render.cull_back && body_closed_ && opaque ? -0.3f : -2.0f;
-            update_ground();
-            // Position-based environment lookups look out from the body's centre; nothing else
-            // reads it.
+            // The body's centre, for what reads it: position-based environment lookups look out
+            // from it, and the ground's contact shadow lies under it.
             render::Environment& env = frame_input_.frame.lighting.environment;
-            if (env.sampling == render::EnvSampling::position || env.sampling == render::EnvSampling::hybrid) {
-                Vec4f centre = Vec4f::Zero();
-                for (const Vec4f& x : body_.particles.x) centre += x;
-                env.center = centre.head<3>() / float(std::max<size_t>(1, body_.particle_count()));
+            const bool env_centre = env.sampling == render::EnvSampling::position || env.sampling == render::EnvSampling::hybrid;
+            const bool ground = scene_.render.ground && scene_.simulation.colliders.ground && body_.particle_count() > 0;
+            Vec3f centre = Vec3f::Zero();
+            if (env_centre || ground) {
+                for (const Vec4f& x : body_.particles.x) centre += x.head<3>();
+                centre /= float(std::max<size_t>(1, body_.particle_count()));
             }
+            if (env_centre) env.center = centre;
+            frame_input_.frame.ground.visible = ground;
+            if (ground) update_ground(centre);
             if (!sorted) publish_records();  // else the sort stage reorders them first
         };
     });
@@ -417,18 +418,13 @@ core::Status SceneRuntime::build_graph() {
     return core::Status::success();
 }
 
-void SceneRuntime::update_ground() {
+void SceneRuntime::update_ground(const Vec3f& centre) {
     render::Ground& g = frame_input_.frame.ground;
     const auto& plane = scene_.simulation.colliders.ground;
-    g.visible = scene_.render.ground && plane.has_value() && body_.particle_count() > 0;
-    if (!g.visible) return;
     g.normal = plane->normal;
     g.offset = plane->offset;
-    // The body's centre and reach along the plane, and how high it floats: the contact shadow
-    // is darkest for a body lying on the ground and fades as it lifts off.
-    Vec3f centre = Vec3f::Zero();
-    for (const Vec4f& x : body_.particles.x) centre += x.head<3>();
-    centre /= float(body_.particle_count());
+    // The body's reach along the plane and how high it floats: the contact shadow is darkest
+    // for a body lying on the ground and fades as it lifts off.
     const Vec3f n = plane->normal;
     float reach = 0.0f, clearance = 1e30f;
     for (const Vec4f& x : body_.particles.x) {
@@ -489,6 +485,7 @@ core::Status SceneRuntime::after_topology_change(const topology::TopologyChange&
     last_change_ = change;
     if (!change.changed()) return core::Status::success();
     if (check_topology_) PBDSPLAT_TRY(topology::check_invariants(body_));
+    update_closed();  // only a cut or tear can open the boundary
     if (splat_particles_) fade_.add_particles(change.particles_before, change.new_particles());
     if (scene_.surface.mode == SurfaceMode::boundary) {
         surface::remap_samples(change.splits, boundary_);

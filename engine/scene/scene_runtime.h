@@ -208,7 +208,8 @@ private:
     // No open boundary: back-facing splats cannot show (kept from build and each topology change).
     bool body_closed_ = false;
     void update_closed();
-    void update_ground();  // the drawn ground under the body, from the plane collider
+    // The drawn ground under the body (`centre`: the particles' mean), from the plane collider.
+    void update_ground(const Vec3f& centre);
     double topology_ms_ = 0.0;
     topology::TopologyChange last_change_;
     uint64_t frame_ = 0;

@@ -189,39 +189,46 @@ core::Result<PlyGaussians> read_ply_gaussians(const std::string& path, PlyUp up)
     for (uint32_t j = 0; j < rest_column.size(); ++j) rest_column[j] = column.at("f_rest_" + std::to_string(j));
     bool any_rest = false;
     if (degree > 0) result.sh.resize(count);
-    auto col = [&](size_t i, const char* name) { return data[i * stride + column.at(name)]; };
+    // Column offsets looked up once, not per Gaussian: trained files hold millions. (Optional
+    // columns that are absent are never read.)
+    auto at = [&](const char* name) { return column.count(name) ? column.at(name) : size_t(0); };
+    struct Columns {
+        size_t x, y, z, nx, ny, nz, dc[3], opacity, scale[3], rot[4];
+    };
+    const Columns cols = {at("x"), at("y"), at("z"), at("nx"), at("ny"), at("nz"), {at("f_dc_0"), at("f_dc_1"), at("f_dc_2")}, at("opacity"),
+         {at("scale_0"), at("scale_1"), at("scale_2")}, {at("rot_0"), at("rot_1"), at("rot_2"), at("rot_3")}};
+    auto col = [&](size_t i, size_t offset) { return data[i * stride + offset]; };
     size_t kept = 0;
     for (size_t i = 0; i < count; ++i) {
         // Trained files hold the odd NaN or infinite value: such a Gaussian is dropped, counted.
         bool finite = true;
-        for (const auto& [name, c] : column) finite = finite && std::isfinite(data[i * stride + c]);
+        for (size_t j = 0; j < stride; ++j) finite = finite && std::isfinite(data[i * stride + j]);
         if (!finite) {
             ++result.dropped_nonfinite;
             continue;
         }
         const size_t o = kept++;
         GaussianRecord& r = out[o];
-        const Vec3f p = to_world * Vec3f(col(i, "x"), col(i, "y"), col(i, "z"));
+        const Vec3f p = to_world * Vec3f(col(i, cols.x), col(i, cols.y), col(i, cols.z));
         r.position[0] = p.x(), r.position[1] = p.y(), r.position[2] = p.z();
-        Vec3f n = normals ? Vec3f(col(i, "nx"), col(i, "ny"), col(i, "nz")) : Vec3f::Zero();
+        Vec3f n = normals ? Vec3f(col(i, cols.nx), col(i, cols.ny), col(i, cols.nz)) : Vec3f::Zero();
         if (!(n.squaredNorm() > 1e-12f)) {
             ++result.missing_normals;  // counted, so the caller can say so
             n = Vec3f::UnitZ();
         }
         encode_octahedral(to_world * n.normalized(), r.normal_oct);
-        const char* dc[3] = {"f_dc_0", "f_dc_1", "f_dc_2"};
         for (int c = 0; c < 3; ++c)
-            r.color[c] = uint8_t(std::lround(std::clamp(0.5f + k_sh_c0 * col(i, dc[c]), 0.0f, 1.0f) * 255.0f));
+            r.color[c] = uint8_t(std::lround(std::clamp(0.5f + k_sh_c0 * col(i, cols.dc[c]), 0.0f, 1.0f) * 255.0f));
         r.color[3] = 255;
-        const Vec3f log_scale(col(i, "scale_0"), col(i, "scale_1"), col(i, "scale_2"));
+        const Vec3f log_scale(col(i, cols.scale[0]), col(i, cols.scale[1]), col(i, cols.scale[2]));
         const float s = log_scale.maxCoeff();
         r.scale_half = float_to_half(std::exp(s));
-        r.opacity_half = float_to_half(col(i, "opacity"));
+        r.opacity_half = float_to_half(col(i, cols.opacity));
         // Round within 2 %: the rotation cannot show.
         if (s - log_scale.minCoeff() > std::log(1.02f)) round = false;
         Eigen::Quaternionf q = Eigen::Quaternionf::Identity();
         if (rotations) {
-            q = Eigen::Quaternionf(col(i, "rot_0"), col(i, "rot_1"), col(i, "rot_2"), col(i, "rot_3"));
+            q = Eigen::Quaternionf(col(i, cols.rot[0]), col(i, cols.rot[1]), col(i, cols.rot[2]), col(i, cols.rot[3]));
             if (!(q.norm() > 1e-12f))
                 return core::make_error(path, 0, "Gaussian " + std::to_string(i) + " has a zero rotation quaternion");
             q.normalize();

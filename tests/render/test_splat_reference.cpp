@@ -99,7 +99,27 @@ std::string variant_name(const Variant& v) {
     return std::string(render::splat_path_name(v.path)) + (v.carrier == render::SplatCarrier::octagon ? " on octagons" : " on quads");
 }
 
-} // namespace
+// Every path and carrier against `ref`: no pixel over `tolerance` (ignoring pixel centres within
+// `rim` of a disc's edge), and more than `min_covered` pixels of the splats compared.
+struct Expect {
+    int tolerance = 1;
+    float rim = 0.0f;
+    size_t min_covered = 1000;
+};
+void check_every_variant(gpu::Context& ctx, const std::vector<splat::GaussianRecord>& records, const render::FrameInputs& frame,
+                         const std::vector<test::ReferencePixel>& ref, uint32_t w, uint32_t h, const Expect& expect,
+                         const std::string& label, std::span<const splat::GaussianShape> shapes = {}) {
+    for_each_variant(ctx, [&](const Variant& v) {
+        const auto img = test::render_once(ctx, records, frame, w, h, v.path, render::SplatShading::fragment, v.carrier, shapes);
+        const Agreement a = compare(img, ref, expect.tolerance, expect.rim);
+        INFO(variant_name(v) << ", " << label << ": " << a.off << " of " << a.compared << " pixels over " << expect.tolerance
+                             << "/255, worst " << a.worst);
+        MESSAGE(variant_name(v) << ", " << label << ": worst " << a.worst << "/255 over " << a.compared << " pixels");
+        CHECK(a.covered > expect.min_covered);
+        CHECK(a.off == 0);
+    });
+}
+
 
 // Needles along x, y and 45 degrees in the view plane, one tilted in depth, one flat disc seen
 // edge-on (the low-pass keeps it a line): the shapes a trained file holds.
@@ -129,6 +149,8 @@ std::pair<std::vector<splat::GaussianRecord>, std::vector<splat::GaussianShape>>
     }
     return {records, shapes};
 }
+
+} // namespace
 
 TEST_SUITE("render/reference") {
     TEST_CASE("the CPU's shading (baked into exports) matches the splat pass's lighting") {
@@ -183,22 +205,15 @@ TEST_SUITE("render/reference") {
             splat::SortScratch scratch;
             splat::sort_far_to_near(records, shapes, math::look_at(frame.camera.eye, frame.camera.target, frame.camera.up), scratch);
             const auto ref = test::render_reference(records, frame, w, h, shapes);
-            for_each_variant(*ctx, [&](const Variant& v) {
-                const auto img = test::render_once(*ctx, records, frame, w, h, v.path, render::SplatShading::fragment, v.carrier, shapes);
-                const bool paper = footprint == render::Footprint::paper;
-                const Agreement a = compare(img, ref, paper ? 1 : 2, paper ? 0.02f : 0.0f);
-                MESSAGE(variant_name(v) << ", " << std::string(render::footprint_name(footprint)) << ": worst " << a.worst
-                                        << "/255 over " << a.compared << " pixels");
-                CHECK(a.covered > 300);
-                CHECK(a.off == 0);
-            });
+            const bool paper = footprint == render::Footprint::paper;
+            check_every_variant(*ctx, records, frame, ref, w, h, {paper ? 1 : 2, paper ? 0.02f : 0.0f, 300},
+                                render::footprint_name(footprint), shapes);
             // Drawn round, the same records miss the reference badly: the test sees shapes.
             const auto round = test::render_once(*ctx, records, frame, w, h);
             CHECK(compare(round, ref, 2, 0.02f).off > 200);
         }
         test::require_no_validation_messages(*ctx);
     }
-
 
     TEST_CASE("the paper's disc matches a CPU reference of eqs. 14-23 within 1 LSB, on every path") {
         auto ctx = test::open_validated_context();
@@ -209,16 +224,7 @@ TEST_SUITE("render/reference") {
             frame.style.sharpness = sharpness;
             const auto records = test_splats(8.0f);  // opaque: every disc pixel kept by the dither
             const auto ref = test::render_reference(records, frame, w, h);
-            for_each_variant(*ctx, [&](const Variant& v) {
-                const auto img = test::render_once(*ctx, records, frame, w, h, v.path, render::SplatShading::fragment, v.carrier);
-                const Agreement a = compare(img, ref, 1, 0.02f);
-                INFO(variant_name(v) << ", sharpness " << sharpness.x() << ": " << a.off << " of " << a.compared
-                                     << " pixels over 1/255, worst " << a.worst);
-                MESSAGE(variant_name(v) << ", sharpness " << sharpness.x() << ": worst " << a.worst << "/255 over "
-                                        << a.compared << " pixels off the rims");
-                CHECK(a.covered > 1000);
-                CHECK(a.off == 0);
-            });
+            check_every_variant(*ctx, records, frame, ref, w, h, {1, 0.02f, 1000}, "sharpness " + std::to_string(sharpness.x()));
         }
         test::require_no_validation_messages(*ctx);
     }
@@ -235,17 +241,8 @@ TEST_SUITE("render/reference") {
             splat::SortScratch scratch;
             splat::sort_far_to_near(records, math::look_at(frame.camera.eye, frame.camera.target, frame.camera.up), scratch);
             const auto ref = test::render_reference(records, frame, w, h);
-            for_each_variant(*ctx, [&](const Variant& v) {
-                const auto img = test::render_once(*ctx, records, frame, w, h, v.path, render::SplatShading::fragment, v.carrier);
-                // Each blend rounds to 8 bits on the GPU; a few layers drift by up to 2/255.
-                const Agreement a = compare(img, ref, 2, 0.0f);
-                INFO(variant_name(v) << std::string(blend == render::Blend::additive ? ", additive" : ", over") << ": " << a.off << " of "
-                                     << a.compared << " pixels over 2/255, worst " << a.worst);
-                MESSAGE(variant_name(v) << std::string(blend == render::Blend::additive ? ", additive" : ", over") << ": worst "
-                                        << a.worst << "/255");
-                CHECK(a.covered > 2000);
-                CHECK(a.off == 0);
-            });
+            // Each blend rounds to 8 bits on the GPU; a few layers drift by up to 2/255.
+            check_every_variant(*ctx, records, frame, ref, w, h, {2, 0.0f, 2000}, blend == render::Blend::additive ? "additive" : "over");
         }
         test::require_no_validation_messages(*ctx);
     }
