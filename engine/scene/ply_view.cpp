@@ -8,7 +8,7 @@
 
 namespace pbdsplat::scene {
 
-render::FrameInputs ply_view(std::span<const splat::GaussianRecord> records) {
+render::FrameInputs ply_view(std::span<const splat::GaussianRecord> records, bool lit) {
     Vec3f lo = Vec3f::Constant(1e30f), hi = Vec3f::Constant(-1e30f);
     for (const auto& r : records) {
         // Each Gaussian's own reach counts: a file of one splat still has a size to frame.
@@ -28,6 +28,8 @@ render::FrameInputs ply_view(std::span<const splat::GaussianRecord> records) {
     frame.style.footprint = render::Footprint::gaussian;
     frame.style.order = render::SplatOrder::cpu;
     render::Lighting& l = frame.lighting;
+    l.environment.center = centre;
+    if (lit) return frame;
     l.intensity = 0.0f;
     l.specular = 0.0f;
     l.ambient = Vec3f::Ones();

@@ -9,8 +9,10 @@
 
 namespace pbdsplat::scene {
 
-// The camera looks at the Gaussians' bounds from the front; lighting leaves colours as stored.
-render::FrameInputs ply_view(std::span<const splat::GaussianRecord> records);
+// The camera looks at the Gaussians' bounds from the front; lighting leaves colours as stored,
+// or, `lit`, shades them as a scene's defaults do (key light, environment map about the
+// Gaussians' centre) with their normals: a relit look at a capture, or a check of its normals.
+render::FrameInputs ply_view(std::span<const splat::GaussianRecord> records, bool lit = false);
 
 // Renderer options that draw `file` as it was trained (at most `file.records.size()` splats).
 render::RendererOptions ply_renderer_options(const splat::PlyGaussians& file, uint32_t width, uint32_t height);

@@ -176,6 +176,7 @@ core::Result<PlyGaussians> read_ply_gaussians(const std::string& path, PlyUp up)
     const bool normals = column.count("nx") && column.count("ny") && column.count("nz");
     const bool rotations = column.count("rot_0") && column.count("rot_1") && column.count("rot_2") && column.count("rot_3");
     std::vector<Eigen::Matrix3f> axes(count);
+    std::vector<uint8_t> missing(count, 0);
     bool round = true;
     // f_rest_0.. as 3DGS writes them: per channel (d+1)^2 - 1 coefficients for degree d, red's
     // first, then green's, then blue's.
@@ -213,7 +214,8 @@ core::Result<PlyGaussians> read_ply_gaussians(const std::string& path, PlyUp up)
         r.position[0] = p.x(), r.position[1] = p.y(), r.position[2] = p.z();
         Vec3f n = normals ? Vec3f(col(i, cols.nx), col(i, cols.ny), col(i, cols.nz)) : Vec3f::Zero();
         if (!(n.squaredNorm() > 1e-12f)) {
-            ++result.missing_normals;  // counted, so the caller can say so
+            ++result.missing_normals;  // estimated below, and counted, so the caller can say so
+            missing[o] = 1;
             n = Vec3f::UnitZ();
         }
         encode_octahedral(to_world * n.normalized(), r.normal_oct);
@@ -249,6 +251,7 @@ core::Result<PlyGaussians> read_ply_gaussians(const std::string& path, PlyUp up)
     }
     out.resize(kept);
     axes.resize(kept);
+    missing.resize(kept);
     if (degree > 0) result.sh.resize(kept);
     count = kept;
     if (any_rest) result.sh_degree = degree;
@@ -257,6 +260,7 @@ core::Result<PlyGaussians> read_ply_gaussians(const std::string& path, PlyUp up)
         result.shapes.resize(count);
         for (size_t i = 0; i < count; ++i) result.shapes[i] = make_shape(axes[i]);
     }
+    if (result.missing_normals) result.estimated = estimate_normals(out, result.shapes, missing);
     return result;
 }
 

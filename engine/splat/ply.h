@@ -8,6 +8,7 @@
 
 #include "core/result.h"
 #include "splat/gaussian_record.h"
+#include "splat/normal_estimate.h"
 
 namespace pbdsplat::splat {
 
@@ -40,7 +41,8 @@ struct PlyGaussians {
     std::vector<GaussianSH> sh;
     uint32_t sh_degree = 0;  // 1-3 when `sh` is not empty
     size_t dropped_nonfinite = 0;  // Gaussians with a NaN or infinite value, left out
-    size_t missing_normals = 0;    // no normals in the file, or zero ones: +z in the file's frame
+    size_t missing_normals = 0;    // no normals in the file, or zero ones: estimated (splat/normal_estimate.h)
+    NormalEstimate estimated;      // how they were; the unresolved face +z in the file's frame
 };
 core::Result<PlyGaussians> read_ply_gaussians(const std::string& path, PlyUp up = PlyUp::minus_y);
 

@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 
 #include "pbdsplat/args.h"
@@ -64,6 +65,13 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
         return usage_error("export-ply", "name the output file, ending in .ply");
     const std::string out = positionals.back();
     positionals.pop_back();
+    // Made up front, as render does: the README's `out/f60.ply` works in a fresh checkout, and
+    // a folder that cannot be made fails before the simulation runs.
+    if (const std::filesystem::path dir = std::filesystem::path(out).parent_path(); !dir.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(dir, ec);
+        if (ec) return fail("export-ply", dir.string() + ": cannot create the folder: " + ec.message());
+    }
     auto scene = load_scene_arg(positionals);
     if (!scene.ok()) return fail("export-ply", scene.error().to_string());
     scene::RuntimeOptions options;
@@ -97,10 +105,15 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
         }
         if (auto s = splat::write_ply(file, records, runtime.value()->shapes(), write); !s.ok())
             return fail("export-ply", s.error().to_string());
-        if (!sequence)
-            std::printf("wrote %s (%zu Gaussians: %zu particles + %zu boundary particles, frame %u, %s up)\n", file.c_str(),
-                        runtime.value()->records().size(), runtime.value()->stats().particles,
-                        runtime.value()->stats().boundary_particles, f, up == "y" ? "+y" : "-y");
+        if (!sequence) {
+            // A scene may draw its boundary particles alone (a coarse simulation under a fine
+            // surface): the particles drawn are what the records hold beyond those.
+            const scene::FrameStats& st = runtime.value()->stats();
+            const size_t drawn_particles = st.gaussians > st.boundary_particles ? st.gaussians - st.boundary_particles : 0;
+            std::printf("wrote %s (%zu Gaussians: %zu boundary particles + %zu of the %zu simulation particles, frame %u, %s up)\n",
+                        file.c_str(), st.gaussians, st.boundary_particles, drawn_particles, st.particles, f,
+                        up == "y" ? "+y" : "-y");
+        }
     }
     if (sequence)
         std::printf("wrote %u files, frames %u to %u, %s_%05u.ply ... (%s up)\n", last - first + 1, first, last,

@@ -44,11 +44,14 @@ int render_ply(const std::string& file, const Args& args, uint32_t width, uint32
     if (gaussians->dropped_nonfinite)
         std::fprintf(stderr, "pbdsplat render: warning: %s: %zu Gaussians with NaN or infinite values left out\n", file.c_str(),
                      gaussians->dropped_nonfinite);
-    if (gaussians->missing_normals)
-        std::fprintf(stderr, "pbdsplat render: note: %s: %zu Gaussians without a normal (drawn facing +z in the file)\n",
-                     file.c_str(), gaussians->missing_normals);
+    if (const splat::NormalEstimate& e = gaussians->estimated; gaussians->missing_normals)
+        std::fprintf(stderr,
+                     "pbdsplat render: note: %s: %zu Gaussians without a normal: %zu took their flattest axis, %zu the plane of "
+                     "their neighbours, %zu face +z in the file (too few neighbours, or none in a plane)%s\n",
+                     file.c_str(), gaussians->missing_normals, e.from_shape, e.from_neighbours, e.unresolved,
+                     args.has("lit") ? "" : "; they matter only with --lit");
     if (gaussians->records.empty()) return fail("render", file + ": holds no Gaussians");
-    render::FrameInputs frame = scene::ply_view(gaussians->records);
+    render::FrameInputs frame = scene::ply_view(gaussians->records, args.has("lit"));
     // The automatic camera, unless told otherwise.
     for (const char* key : {"eye", "target"}) {
         if (!args.has(key)) continue;
@@ -102,9 +105,11 @@ int cmd_render(const std::vector<std::string>& argv) {
         "  --threads T         simulation threads (default 1)\n"
         "  --upload PATH       how records reach the GPU: auto (default), staged, direct\n"
         "  --up y|-y           .ply only: which way is up in the file (default -y, 3DGS's convention)\n"
-        "  --eye X,Y,Z, --target X,Y,Z, --fov DEGREES   .ply only: the camera\n";
+        "  --eye X,Y,Z, --target X,Y,Z, --fov DEGREES   .ply only: the camera\n"
+        "  --lit               .ply only: shade with a scene's default lights and environment, by the\n"
+        "                      file's normals (estimated where it has none), instead of as stored\n";
     std::set<std::string> flags = k_gpu_flags;
-    flags.insert("help");
+    flags.insert({"help", "lit"});
     std::set<std::string> valued = k_gpu_options;
     valued.insert({"out", "width", "height", "frames", "threads", "upload", "up", "eye", "target", "fov"});
     auto args = Args::parse(argv, flags, valued);
@@ -137,8 +142,8 @@ int cmd_render(const std::vector<std::string>& argv) {
             return usage_error("render", pos[0] + ": render takes a scene (.toml) or Gaussians (.ply), not a '" +
                                              (ext.empty() ? std::string("file without extension") : ext) + "'");
     }
-    for (const char* key : {"up", "eye", "target", "fov"})
-        if (args->has(key)) return usage_error("render", std::string("--") + key + " applies to a .ply; a scene sets its own camera");
+    for (const char* key : {"up", "eye", "target", "fov", "lit"})
+        if (args->has(key)) return usage_error("render", std::string("--") + key + " applies to a .ply; a scene sets its own camera and lighting");
 
     auto scene = load_scene_arg(args->positionals());
     if (!scene.ok()) return fail("render", scene.error().to_string());
