@@ -20,9 +20,13 @@ float smoothstep(float e0, float e1, float v) {
 }
 } // namespace
 
-Vec3f shade_cpu(const CpuShading& s, const Vec3f& albedo, const Vec3f& n, const Vec3f& world) {
+Vec3f shade_cpu(const CpuShading& s, const Vec3f& albedo, const Vec3f& normal, const Vec3f& world) {
     const Lighting& l = *s.lighting;
     const Vec3f t = (s.eye - world).normalized();  // towards the eye
+    // A normal facing away is lit as the splat pass lights it (shading.glsl, splat_lit_normal):
+    // turned round for opaque discs, laid onto the view plane for soft Gaussians.
+    Vec3f n = normal;
+    if (const float d = normal.dot(t); d < 0.0f) n = s.opaque_discs ? Vec3f(-normal) : Vec3f((normal - d * t + 1e-4f * t).normalized());
     Vec3f color = direct_light(albedo, n, t, l.direction.normalized(), l.color * l.intensity, l.specular, l.shininess);
     const Environment& e = l.environment;
     if (e.sampling == EnvSampling::off) {

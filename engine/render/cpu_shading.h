@@ -15,9 +15,11 @@ struct CpuShading {
     const EnvironmentMap* map = nullptr;  // null: the environment terms are black
     std::array<Vec3f, 9> sh{};            // the map's irradiance (irradiance_sh)
     Vec3f eye = Vec3f::Zero();
+    bool opaque_discs = true;  // the paper's footprint; false: soft Gaussians (see splat_lit_normal)
 };
 
-// The lit colour of a surface point of `albedo` with unit normal `n` at `world`, seen from eye.
+// The lit colour of a surface point of `albedo` with unit normal `n` at `world`, seen from eye
+// (a normal facing away from the eye is lit as the splat pass lights it: `opaque_discs`).
 Vec3f shade_cpu(const CpuShading& s, const Vec3f& albedo, const Vec3f& n, const Vec3f& world);
 
 } // namespace pbdsplat::render

@@ -107,6 +107,10 @@ struct SplatStyle {
     float kappa = 0.0f;
     Vec2f sharpness{1.0f, 1.0f};
     float scale_multiplier = 1.0f;
+    // 0: every splat round, the paper's isotropic Gaussian. Above 0: a surfel, the Gaussian
+    // flattened onto the plane of its normal, this thick along it over its width (0.1 draws
+    // a disc that is a line seen edge-on): silhouettes and folds end where the surface does.
+    float surfel_thickness = 0.0f;
     Blend blend = Blend::over;
     SplatOrder order = SplatOrder::unsorted;  // only read with Blend::over
     // Gaussian "over" blending without a sort: a depth-only pass first lays down each splat's

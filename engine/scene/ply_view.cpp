@@ -62,6 +62,7 @@ void bake_shading(const render::FrameInputs& frame, const render::EnvironmentMap
     shading.map = &map;
     shading.sh = render::irradiance_sh(map);
     shading.eye = frame.camera.eye;
+    shading.opaque_discs = frame.style.footprint == render::Footprint::paper;
     for (splat::GaussianRecord& r : records) {
         const Vec3f albedo = Vec3f(r.color[0], r.color[1], r.color[2]) / 255.0f;
         const Vec3f lit = render::shade_cpu(shading, albedo, splat::decode_octahedral(r.normal_oct),

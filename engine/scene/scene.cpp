@@ -8,6 +8,15 @@ bool Scene::has_topology_events() const {
     return false;
 }
 
+const char* splat_shape_name(SplatShape s) {
+    switch (s) {
+    case SplatShape::round: return "round";
+    case SplatShape::surfel: return "surfel";
+    case SplatShape::deformed: return "deformed";
+    }
+    return "?";
+}
+
 const char* event_type_name(const EventData& e) {
     struct Visitor {
         const char* operator()(const PressureEvent&) const { return "pressure"; }

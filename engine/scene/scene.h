@@ -91,6 +91,10 @@ struct CameraKey {
     Vec3f eye, target;
 };
 
+// How each splat's covariance is shaped (render.splat_shape).
+enum class SplatShape { round, surfel, deformed };
+const char* splat_shape_name(SplatShape s);
+
 struct RenderDesc {
     uint32_t width = 1280, height = 720;
     render::FrameInputs frame;  // camera, lighting, splat style, background
@@ -102,10 +106,14 @@ struct RenderDesc {
     // Skip the splats facing away from the eye while the body is closed (no open boundary):
     // nothing behind its near surface can show then.
     bool cull_back = true;
-    // "round": every splat isotropic, as the paper draws them. "deformed": each boundary
+    // "round": every splat isotropic, as the paper draws them. "surfel": flattened onto the
+    // plane of its normal (frame.style.surfel_thickness, from `surfel_thickness`), so a splat
+    // seen edge-on at a fold or silhouette does not reach past it. "deformed": each boundary
     // particle's Gaussian is a flat disc carried by its triangle's deformation gradient
     // (anisotropic; sorted on the CPU when sorted).
-    bool deformed_shapes = false;
+    SplatShape splat_shape = SplatShape::round;
+    float surfel_thickness = 0.1f;  // kept for the printer whatever the shape
+    bool deformed_shapes() const { return splat_shape == SplatShape::deformed; }
     // Draw the plane collider as a ground under the body, with a contact shadow.
     bool ground = true;
     CameraOrbit orbit;

@@ -84,8 +84,12 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
         if (o.gpu) {
             rt.deformed_surface(x, triangles);
             s.area_ratio = rest_area > 0.0 ? area_of() / rest_area : -1.0;
-            render::FrameInputs frame = scene.render.frame;
+            // The frame as the runtime draws it (its camera, the environment about the body, the
+            // far side of a closed body culled): specks and holes are what a user would see.
+            // Without the ground, whose pixels are not the body's.
+            render::FrameInputs frame = rt.frame_inputs();
             frame.camera = rt.camera();
+            frame.ground.visible = false;
             frame.style.order = rt.order();  // without a device: the CPU sort, records already in order
             auto c = measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height, scene.material.color, rt.shapes());
             if (!c.ok()) return core::make_error("frame " + std::to_string(s.frame) + ": " + c.error().to_string());

@@ -279,7 +279,10 @@ void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
     style.sharpness = t.vec<2>("sharpness", style.sharpness, 0.1, 4.0);
     d.carrier = t.choice("carrier", "quad", {"quad", "octagon"}) == "octagon" ? render::SplatCarrier::octagon : render::SplatCarrier::quad;
     d.cull_back = t.flag("cull_back", d.cull_back);
-    d.deformed_shapes = t.choice("splat_shape", "round", {"round", "deformed"}) == "deformed";
+    const std::string shape = t.choice("splat_shape", "round", {"round", "surfel", "deformed"});
+    d.splat_shape = shape == "surfel" ? SplatShape::surfel : shape == "deformed" ? SplatShape::deformed : SplatShape::round;
+    d.surfel_thickness = t.real("surfel_thickness", d.surfel_thickness, 0.01, 1.0);
+    style.surfel_thickness = d.splat_shape == SplatShape::surfel ? d.surfel_thickness : 0.0f;
     d.ground = t.flag("ground", d.ground);
     style.depth_min_alpha = t.real("depth_min_alpha", style.depth_min_alpha, 0.0, 0.99);
     style.depth_push = t.real("depth_push", style.depth_push, 0.0, 10.0);
@@ -576,7 +579,7 @@ std::string to_toml(const Scene& sc) {
       << "\nfootprint = \"" << render::footprint_name(d.frame.style.footprint) << "\""
       << "\nsharpness = " << vec<2>(d.frame.style.sharpness)
       << "\ncarrier = \"" << (d.carrier == render::SplatCarrier::octagon ? "octagon" : "quad") << "\""
-      << "\nsplat_shape = \"" << (d.deformed_shapes ? "deformed" : "round") << "\""
+      << "\nsplat_shape = \"" << splat_shape_name(d.splat_shape) << "\"\nsurfel_thickness = " << num(d.surfel_thickness)
       << "\nground = " << (d.ground ? "true" : "false") << "\ncull_back = " << (d.cull_back ? "true" : "false")
       << "\nkappa = " << num(d.frame.style.kappa) << "\ndepth_min_alpha = " << num(d.frame.style.depth_min_alpha) << "\ndepth_push = " << num(d.frame.style.depth_push) << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()));
     o << "\npath = \"" << (d.splat_path ? render::splat_path_name(*d.splat_path) : "auto") << "\"\nenvironment = \""

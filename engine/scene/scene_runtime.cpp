@@ -103,7 +103,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     }
     if (boundary && sd_surface.edge_samples) surface::lay_edge_samples(body_.rest_positions, body_.triangles, h_, {}, boundary_);
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
-    if (scene_.render.deformed_shapes) deformed_ = splat::DeformedShapes(body_.rest_positions, body_.triangles);
+    if (scene_.render.deformed_shapes()) deformed_ = splat::DeformedShapes(body_.rest_positions, body_.triangles);
     if (boundary && sd_surface.density.enabled) {
         surface::DensityOptions o = sd_surface.density;
         o.fade_frames = scene_.simulation.fade_frames;
@@ -123,19 +123,19 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
             options.gpu ? render::preferred_sort(options.gpu->caps()) : render::SplatOrder::cpu));
         if (!options.gpu) order = render::SplatOrder::cpu;
         // The GPU sort reorders records only; anisotropic shapes travel with the CPU's.
-        if (scene_.render.deformed_shapes) order = render::SplatOrder::cpu;
+        if (scene_.render.deformed_shapes()) order = render::SplatOrder::cpu;
     }
     frame_input_.frame.style.order = order;
     sorted_order_ = options.sort_on.value_or(scene_.render.sort_on.value_or(
         options.gpu ? render::preferred_sort(options.gpu->caps()) : render::SplatOrder::cpu));
-    if (!options.gpu || scene_.render.deformed_shapes) sorted_order_ = render::SplatOrder::cpu;
+    if (!options.gpu || scene_.render.deformed_shapes()) sorted_order_ = render::SplatOrder::cpu;
     base_scale_multiplier_ = frame_input_.frame.style.scale_multiplier;
 
     if (options.gpu) {
         render::RendererOptions ro;
         ro.shading = scene_.render.shading;
         ro.carrier = scene_.render.carrier;
-        ro.anisotropic = scene_.render.deformed_shapes;
+        ro.anisotropic = scene_.render.deformed_shapes();
         // Interactive runs may switch the sort on later: have it ready.
         ro.gpu_sort = order == render::SplatOrder::gpu || (options.interactive && sorted_order_ == render::SplatOrder::gpu);
         ro.width = scene_.render.width;

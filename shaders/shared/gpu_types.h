@@ -57,7 +57,8 @@ struct FrameUniforms {
     vec4 splat;        // x: kappa: the Gaussian's cap on its reach in std devs (0: none), the
                        // paper disc's half-size in s0; y, z: sharpness sigma_x, sigma_y;
                        // w: global scale multiplier
-    vec4 material;     // x: shininess; yzw unused
+    vec4 material;     // x: shininess; y: surfel thickness along the normal over the width
+                       // (0: the paper's round splats); zw unused
     vec4 visibility;   // x: depth push of the visibility pass, in splat std devs;
                        // y: splats whose normal faces the eye by less than this cosine are
                        // culled (a closed, opaque body); below -1: none;

@@ -30,9 +30,22 @@ vec3 direct_light(vec3 albedo, vec3 n, vec3 t, vec3 l, vec3 radiance) {
 }
 
 // The normal turned towards the eye: the mesh raster lights a surface from the side that is
-// seen (the inside of a cut body faces the camera through the opening). Splats keep their own
-// normal: lit from behind, a body's far side would show as a bright fringe around its silhouette.
+// seen (the inside of a cut body faces the camera through the opening).
 vec3 seen_side(vec3 n, vec3 world) { return dot(n, frame.camera_pos.xyz - world) < 0.0 ? -n : n; }
+
+// The normal a splat is lit with, when it faces away from the eye. An opaque, depth-tested disc
+// that still shows is a surface the eye sees: the inside of an opened body, or a disc that a
+// fold or crease puts in front of its own surface; lit from the seen side, as the mesh raster
+// does, instead of as a dark speck. A soft Gaussian's fringe shows whatever lies behind it, the
+// far side of a closed body around its silhouette included: turned fully round, that far side
+// would ring the silhouette with light; laid onto the view plane instead, it is lit as the
+// grazing surface at the silhouette that it stands for.
+vec3 splat_lit_normal(vec3 n, vec3 world, bool opaque_disc) {
+    const vec3 t = normalize(frame.camera_pos.xyz - world);
+    const float d = dot(n, t);
+    if (d >= 0.0) return n;
+    return opaque_disc ? -n : normalize(n - d * t + 1e-4 * t);
+}
 
 vec3 shade(vec3 albedo, vec3 n, vec3 world) {
     const vec3 t = normalize(frame.camera_pos.xyz - world);  // towards the eye

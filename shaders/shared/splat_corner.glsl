@@ -23,7 +23,9 @@ float splat_alpha(float fade, float opacity_logit) { return sigmoid(opacity_logi
 
 // rgb: the albedo, or the shaded colour; a: the splat's opacity (splat_alpha).
 vec4 corner_color(vec3 albedo, float alpha, vec3 normal, vec3 corner_world) {
-    const vec3 rgb = k_shade_per_corner ? shade(albedo, normal, corner_world) : albedo;
+    const vec3 rgb = k_shade_per_corner
+                         ? shade(albedo, splat_lit_normal(normal, corner_world, k_footprint == SPLAT_FOOTPRINT_PAPER), corner_world)
+                         : albedo;
     return vec4(rgb, alpha);
 }
 

@@ -81,7 +81,7 @@ bool splat_faces_away(vec3 world, vec3 normal) {
 // at the centre's depth: each world axis turned into view space (W) and pushed through the
 // perspective Jacobian at the centre (a' = a.xy + p a.z), M = sum a' a'^T. Its principal axes
 // (r, u) and their standard deviations (lr, lu). Like 3D Gaussian splatting, a 0.3-pixel^2
-// low-pass keeps a Gaussian seen edge-on at least about a pixel wide.
+// low-pass keeps a Gaussian seen edge-on at least about a pixel wide (the paper's disc: below).
 void projected_axes(vec3 c0, mat3 axes, out vec2 r, out vec2 u, out float lr, out float lu) {
     const mat3 rv = mat3(frame.view);
     const vec2 p = c0.xy / max(-c0.z, 1e-6);
@@ -94,8 +94,11 @@ void projected_axes(vec3 c0, mat3 axes, out vec2 r, out vec2 u, out float lr, ou
         m11 += ap.y * ap.y;
     }
     const float pixel = 2.0 * max(-c0.z, 1e-6) / (abs(frame.proj[1][1]) * frame.viewport.y);
-    m00 += 0.3 * pixel * pixel;
-    m11 += 0.3 * pixel * pixel;
+    const bool paper = k_footprint == SPLAT_FOOTPRINT_PAPER;
+    if (!paper) {
+        m00 += 0.3 * pixel * pixel;
+        m11 += 0.3 * pixel * pixel;
+    }
     const float half_diff = 0.5 * (m00 - m11);
     const float root = sqrt(half_diff * half_diff + m01 * m01);
     const float l1 = 0.5 * (m00 + m11) + root, l2 = max(0.5 * (m00 + m11) - root, 0.0);
@@ -103,6 +106,10 @@ void projected_axes(vec3 c0, mat3 axes, out vec2 r, out vec2 u, out float lr, ou
     u = vec2(-r.y, r.x);
     lr = sqrt(l1);
     lu = sqrt(l2);
+    // The paper's disc is hard-edged: a smoothing filter would only fatten it (a disc under a
+    // pixel would grow to one and spill past the silhouette). Seen edge-on it keeps a line a
+    // pixel wide (half-size kappa * lu of half a pixel), never wider than the disc is long.
+    if (paper) lu = max(lu, min(lr, 0.5 * pixel / max(frame.splat.x, 1e-6)));
 }
 
 // `index`: the splat's place in the draw, where its shape is read (anisotropic pipelines).
@@ -118,6 +125,21 @@ SplatQuad splat_quad(vec3 world, vec3 normal, float s0, float alpha, bool visibi
         vec2 r, u;
         float lr, lu;
         projected_axes(c0, read_shape_axes(index), r, u, lr, lu);
+        q.axis_right = reach * lr * vec3(r, 0.0);
+        q.axis_up = reach * lu * vec3(u, 0.0);
+        return q;
+    }
+    if (frame.material.y > 0.0) {
+        // A surfel: the Gaussian flattened onto its tangent plane, frame.material.y as thick
+        // along the normal as it is wide, projected as any anisotropic Gaussian is. Seen edge-on
+        // at a silhouette or a fold it is a sliver, not a round disc reaching past the rim over
+        // the surface behind, shaded for the side the eye does not see (the dark specks).
+        const vec3 n = normalize(normal);
+        const vec3 t1 = normalize(cross(n, abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0)));
+        const vec3 t2 = cross(n, t1);
+        vec2 r, u;
+        float lr, lu;
+        projected_axes(c0, mat3(s0 * t1, s0 * t2, frame.material.y * s0 * n), r, u, lr, lu);
         q.axis_right = reach * lr * vec3(r, 0.0);
         q.axis_up = reach * lu * vec3(u, 0.0);
         return q;

@@ -52,7 +52,8 @@ void main() {
         alpha = min(g_color.a * exp(-0.5 * r2), 1.0);
         if (alpha < k_alpha_floor) discard;
     }
-    const vec3 color = k_shade_per_corner ? g_color.rgb : shade(g_color.rgb, normalize(g_normal), g_world);
+    const vec3 n = splat_lit_normal(normalize(g_normal), g_world, k_footprint == SPLAT_FOOTPRINT_PAPER);
+    const vec3 color = k_shade_per_corner ? g_color.rgb : shade(g_color.rgb, n, g_world);
     out_color = vec4(color * alpha, alpha);
 }
 

@@ -699,7 +699,7 @@ TEST_SUITE("render/scene") {
             scene::Scene s = loaded.value();
             s.render.width = 200;
             s.render.height = 112;
-            s.render.deformed_shapes = k == 0;
+            s.render.splat_shape = k == 0 ? scene::SplatShape::deformed : scene::SplatShape::round;
             // 150 frames: near twice the area.
             images[k] = run_scene(*ctx, s, 150, [&](const scene::SceneRuntime& rt) { CHECK(rt.shapes().empty() == (k == 1)); });
         }

@@ -215,6 +215,50 @@ TEST_SUITE("render/reference") {
         test::require_no_validation_messages(*ctx);
     }
 
+    TEST_CASE("surfels are the Gaussian flattened onto its normal's plane: the CPU EWA reference of those axes, on every path") {
+        // Each splat's normal tilted differently: facing the eye, 60 degrees off, edge-on (a
+        // line, kept a pixel wide by the low-pass), and off axis. The reference gets the
+        // flattened covariance as explicit axes (any tangent basis: the disc is round in its
+        // plane); the renderer builds it from the record's normal alone.
+        auto ctx = test::open_validated_context();
+        const uint32_t w = 240, h = 160;
+        const float thickness = 0.1f;
+        const Vec3f normals[] = {Vec3f(0.0f, 0.0f, 1.0f), Vec3f(std::sin(math::radians(60.0f)), 0.0f, std::cos(math::radians(60.0f))),
+                                 Vec3f(0.0f, 1.0f, 0.0f), Vec3f(0.3f, -0.5f, 0.8f).normalized(), Vec3f(-0.7f, 0.7f, 0.1f).normalized(),
+                                 Vec3f(0.0f, 0.6f, 0.8f)};
+        for (const render::Footprint footprint : {render::Footprint::paper, render::Footprint::gaussian}) {
+            const bool paper = footprint == render::Footprint::paper;
+            render::FrameInputs frame = flat_frame();
+            frame.style.footprint = footprint;
+            frame.style.order = render::SplatOrder::cpu;
+            frame.style.surfel_thickness = thickness;
+            std::vector<splat::GaussianRecord> records = test_splats(paper ? 8.0f : 1.0f);
+            std::vector<splat::GaussianShape> shapes;
+            for (size_t i = 0; i < records.size(); ++i) {
+                const Vec3f n = normals[i].normalized();
+                splat::encode_octahedral(n, records[i].normal_oct);
+                // The normal as the GPU will read it back, so both flatten along the same axis.
+                const Vec3f m = splat::decode_octahedral(records[i].normal_oct);
+                const Vec3f t1 = m.unitOrthogonal(), t2 = m.cross(t1);
+                const float s0 = splat::half_to_float(records[i].scale_half);
+                Eigen::Matrix3f axes;
+                axes << s0 * t1, s0 * t2, thickness * s0 * m;
+                shapes.push_back(splat::make_shape(axes));
+            }
+            splat::SortScratch scratch;
+            splat::sort_far_to_near(records, shapes, math::look_at(frame.camera.eye, frame.camera.target, frame.camera.up), scratch);
+            render::FrameInputs reference_frame = frame;
+            reference_frame.style.surfel_thickness = 0.0f;  // the reference reads the axes
+            const auto ref = test::render_reference(records, reference_frame, w, h, shapes);
+            check_every_variant(*ctx, records, frame, ref, w, h, {paper ? 1 : 2, paper ? 0.02f : 0.0f, 300},
+                                std::string("surfels, ") + render::footprint_name(footprint));
+            // Drawn round, the same records miss the reference badly: the test sees the flattening.
+            const auto round = test::render_once(*ctx, records, reference_frame, w, h);
+            CHECK(compare(round, ref, 2, 0.02f).off > 200);
+        }
+        test::require_no_validation_messages(*ctx);
+    }
+
     TEST_CASE("the paper's disc matches a CPU reference of eqs. 14-23 within 1 LSB, on every path") {
         auto ctx = test::open_validated_context();
         const uint32_t w = 240, h = 160;

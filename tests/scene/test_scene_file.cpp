@@ -52,6 +52,7 @@ footprint = "gaussian"
 sharpness = [0.8, 0.9]
 carrier = "octagon"
 splat_shape = "deformed"
+surfel_thickness = 0.2
 ground = false
 cull_back = false
 
@@ -121,6 +122,22 @@ TEST_SUITE("scene/scene_file") {
         CHECK(s.has_topology_events());
     }
 
+    TEST_CASE("surfels: the shape sets the style's thickness, round and deformed leave it 0") {
+        auto surfel = scene::parse_scene("[render]\nsplat_shape = \"surfel\"\nsurfel_thickness = 0.05\n", "s.toml");
+        REQUIRE_MESSAGE(surfel.ok(), surfel.error().to_string());
+        CHECK(surfel->render.splat_shape == scene::SplatShape::surfel);
+        CHECK(surfel->render.frame.style.surfel_thickness == 0.05f);
+        auto round = scene::parse_scene("[render]\nsurfel_thickness = 0.05\n", "r.toml");
+        REQUIRE(round.ok());
+        CHECK(round->render.frame.style.surfel_thickness == 0.0f);
+        auto bad = scene::parse_scene("[render]\nsplat_shape = \"surfel\"\nsurfel_thickness = 0\n", "b.toml");
+        REQUIRE_FALSE(bad.ok());
+        CHECK(bad.error().to_string().find("surfel_thickness") != std::string::npos);
+        auto unknown = scene::parse_scene("[render]\nsplat_shape = \"flat\"\n", "u.toml");
+        REQUIRE_FALSE(unknown.ok());
+        CHECK(unknown.error().to_string().find("surfel") != std::string::npos);  // the accepted names are listed
+    }
+
     TEST_CASE("a scene survives printing and parsing again") {
         auto first = scene::parse_scene(k_full, "full.toml");
         REQUIRE(first.ok());
@@ -133,7 +150,9 @@ TEST_SUITE("scene/scene_file") {
         CHECK(second->render.frame.style.footprint == render::Footprint::gaussian);
         CHECK(second->render.frame.style.sharpness == Vec2f(0.8f, 0.9f));
         CHECK(second->render.carrier == render::SplatCarrier::octagon);
-        CHECK(second->render.deformed_shapes);
+        CHECK(second->render.splat_shape == scene::SplatShape::deformed);
+        CHECK(second->render.surfel_thickness == 0.2f);
+        CHECK(second->render.frame.style.surfel_thickness == 0.0f);  // deformed: not surfels
         CHECK_FALSE(second->render.ground);
         CHECK_FALSE(second->render.cull_back);
         CHECK(second->events.size() == first->events.size());

@@ -20,9 +20,10 @@ struct Footprint2D {
     Vec2f lengths;         // standard deviations along them
 };
 
-// `axes`: null for a round splat; `pixel`: a pixel's size in view-plane units at unit depth.
+// `axes`: null for a round splat; `pixel`: a pixel's size in view-plane units at unit depth;
+// `paper_kappa`: the disc's half-size in standard deviations, 0 for the Gaussian footprint.
 Footprint2D project(const splat::GaussianRecord& r, const Mat4f& view, float scale_multiplier, const splat::GaussianShape* shape,
-                    float pixel) {
+                    float pixel, float paper_kappa) {
     Footprint2D f;
     const Vec3f world(r.position[0], r.position[1], r.position[2]);
     f.centre = (view * world.homogeneous()).head<3>();
@@ -38,11 +39,15 @@ Footprint2D project(const splat::GaussianRecord& r, const Mat4f& view, float sca
         const Vec2f ap = a.head<2>() + p * a.z();
         cov += ap * ap.transpose();
     }
-    if (shape) cov += Eigen::Matrix2f::Identity() * 0.3f * (pixel * -f.centre.z()) * (pixel * -f.centre.z());
+    const float px = pixel * -f.centre.z();  // a pixel, in view-plane units at the centre's depth
+    // Gaussians: 3D Gaussian splatting's 0.3 pixel^2 low-pass. Discs: none, but a disc seen
+    // edge-on is kept a line at least a pixel wide (half-size 0.5 px), never wider than long.
+    if (shape && paper_kappa == 0.0f) cov += Eigen::Matrix2f::Identity() * 0.3f * px * px;
     // Principal axes, the longer first (the quad's r of eq. 19, along which sigma_x applies).
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix2f> eig(cov);
     f.axes << eig.eigenvectors().col(1), eig.eigenvectors().col(0);
     f.lengths = Vec2f(eig.eigenvalues()(1), eig.eigenvalues()(0)).cwiseSqrt();
+    if (shape && paper_kappa > 0.0f) f.lengths.y() = std::max(f.lengths.y(), std::min(f.lengths.x(), 0.5f * px / paper_kappa));
     f.inv = cov.inverse();
     f.albedo = Vec3f(r.color[0], r.color[1], r.color[2]) / 255.0f;
     const float fade = float(r.color[3]) / 255.0f;
@@ -62,9 +67,10 @@ std::vector<ReferencePixel> render_reference(const std::vector<splat::GaussianRe
     const render::SplatStyle& style = frame.style;
     std::vector<Footprint2D> splats;
     const float pixel = 2.0f * std::tan(math::radians(frame.camera.fov_y_degrees) * 0.5f) / float(height);
-    for (size_t i = 0; i < records.size(); ++i)
-        splats.push_back(project(records[i], view, style.scale_multiplier, shapes.empty() ? nullptr : &shapes[i], pixel));
     const float kappa = render::paper_kappa(style);
+    const bool paper = style.footprint == render::Footprint::paper;
+    for (size_t i = 0; i < records.size(); ++i)
+        splats.push_back(project(records[i], view, style.scale_multiplier, shapes.empty() ? nullptr : &shapes[i], pixel, paper ? kappa : 0.0f));
     const Vec2f sharp = style.sharpness;
 
     std::vector<ReferencePixel> out(size_t(width) * height);

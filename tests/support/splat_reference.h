@@ -24,7 +24,8 @@ struct ReferencePixel {
 // a splat's colour is then its albedo. Paper discs: the nearest covering disc wins. Gaussian:
 // composited in the records' order ("over", premultiplied) or summed (additive).
 // `shapes` (one per record, or empty): anisotropic axes, projected by EWA (J W Sigma W^T J^T)
-// plus a 0.3 pixel^2 low-pass, as 3D Gaussian splatting does.
+// plus a 0.3 pixel^2 low-pass for the Gaussian, as 3D Gaussian splatting does; the paper's disc
+// has none but stays at least a pixel wide seen edge-on, as the shaders draw it.
 std::vector<ReferencePixel> render_reference(const std::vector<splat::GaussianRecord>& records,
                                              const render::FrameInputs& frame, uint32_t width, uint32_t height,
                                              const std::vector<splat::GaussianShape>& shapes = {});
