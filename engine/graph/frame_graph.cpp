@@ -47,6 +47,7 @@ struct FrameGraph::Impl {
     struct Pass {
         std::string name;
         PassKind kind;
+        uint32_t tag = 0;
         std::vector<Access> accesses;
         bool side_effect = false;
         Execute run;
@@ -141,8 +142,8 @@ void* PassResources::lookup(uint32_t version, const std::type_info& type) const 
     return r.data;
 }
 
-void FrameGraph::add_pass(std::string name, PassKind kind, const std::function<Execute(PassBuilder&)>& setup) {
-    impl_->passes.push_back({std::move(name), kind, {}, false, {}, false, {}, {}});
+void FrameGraph::add_pass(std::string name, PassKind kind, const std::function<Execute(PassBuilder&)>& setup, uint32_t tag) {
+    impl_->passes.push_back({std::move(name), kind, tag, {}, false, {}, false, {}, {}});
     PassBuilder builder(*this, uint32_t(impl_->passes.size() - 1));
     Execute run = setup(builder);
     impl_->passes.back().run = std::move(run);
@@ -309,7 +310,7 @@ std::vector<PassInfo> FrameGraph::describe() const {
     std::vector<PassInfo> out;
     for (uint32_t p : impl_->order) {
         const auto& pass = impl_->passes[p];
-        out.push_back({pass.name, pass.kind, pass.culled, pass.reason, pass.barriers.size()});
+        out.push_back({pass.name, pass.kind, pass.culled, pass.reason, pass.barriers.size(), pass.tag});
     }
     return out;
 }

@@ -99,6 +99,7 @@ struct PassInfo {
     bool culled = false;
     std::string reason;  // why it was culled
     size_t barriers = 0;  // barriers recorded before it
+    uint32_t tag = 0;     // the caller's, from add_pass (what a pass's time counts towards)
 };
 
 class FrameGraph {
@@ -124,8 +125,9 @@ public:
     }
 
     using Execute = std::function<void(const PassResources&, ExecuteContext&)>;
-    // `setup` declares the accesses and returns the function to run each frame.
-    void add_pass(std::string name, PassKind kind, const std::function<Execute(PassBuilder&)>& setup);
+    // `setup` declares the accesses and returns the function to run each frame. `tag`: the
+    // caller's own label, handed back by describe() (timings grouped by stage, not by name).
+    void add_pass(std::string name, PassKind kind, const std::function<Execute(PassBuilder&)>& setup, uint32_t tag = 0);
 
     // Orders, culls and derives barriers; fails on a cycle or a version written twice.
     core::Status compile();

@@ -1,6 +1,12 @@
 #include "scene/gpu_passes.h"
 
+#include "scene/stages/pass_group.h"
+
 namespace pbdsplat::scene {
+
+namespace {
+const uint32_t k_gpu_record = tag(PassGroup::gpu_record);  // recording counts as the CPU's share of the GPU row
+}
 
 void GpuPassResources::refresh(const render::SplatRenderer& r) {
     records.buffer = r.records_buffer();
@@ -38,7 +44,7 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             if (in.upload_status.ok() && !in.shapes.empty()) in.upload_status = renderer.upload_shapes(in.shapes);
             if (in.upload_status.ok() && !in.sh.empty()) in.upload_status = renderer.upload_sh(in.sh);
         };
-    });
+    }, k_gpu_record);
     const render::Use records_read = render::uses::records_read(renderer.path());
     graph::Handle<graph::GpuBufferRef> sorted, control;
     if (gpu_sort) {
@@ -53,7 +59,7 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
                 GpuFrameInput& in = r.get(input);
                 renderer.sort(in.frame, uint32_t(in.records.size()));
             };
-        });
+        }, k_gpu_record);
     }
     graph::Handle<graph::GpuImageRef> drawn;
     g.add_pass("splat", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
@@ -71,14 +77,14 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             GpuFrameInput& in = r.get(input);
             renderer.draw(in.frame, uint32_t(in.records.size()));
         };
-    });
+    }, k_gpu_record);
     g.add_pass("readback", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
         b.read(drawn, to_graph(render::uses::color_copy_source));
         b.write(readback, to_graph(render::uses::readback_write));
         b.write(sink);
         b.side_effect();
         return [&renderer](const graph::PassResources&, graph::ExecuteContext&) { renderer.readback(); };
-    });
+    }, k_gpu_record);
     return drawn;
 }
 

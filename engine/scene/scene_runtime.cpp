@@ -13,23 +13,11 @@
 #include "topology/cut.h"
 #include "topology/invariants.h"
 #include "topology/tear.h"
+#include "scene/stages/pass_group.h"
+#include "scene/stages/simulation_stage.h"
 
 namespace pbdsplat::scene {
 
-namespace {
-// The paper's Table 3 group of a pass, from its name.
-enum Group { events, forces, constraints, integrate, update, gpu_record, other };
-Group group_of(const std::string& name) {
-    auto starts = [&](const char* p) { return name.rfind(p, 0) == 0; };
-    if (starts("events") || starts("topology")) return events;
-    if (starts("forces")) return forces;
-    if (starts("distance") || starts("volume") || starts("shape") || starts("drag") || starts("collide")) return constraints;
-    if (starts("velocities") || starts("normals")) return integrate;
-    if (starts("map") || starts("boundary") || starts("density") || starts("stretch") || starts("sort")) return update;
-    if (starts("upload") || starts("gpu sort") || starts("splat") || starts("readback")) return gpu_record;
-    return other;
-}
-} // namespace
 
 void changed_ranges(std::span<const splat::GaussianRecord> before, std::span<const splat::GaussianRecord> after,
                     std::vector<gpu::ByteRange>& out) {
@@ -200,7 +188,7 @@ core::Status SceneRuntime::build_graph() {
     const float h = dt / float(sd.solver.substeps);
     const sim::SolverSettings& settings = scene_.simulation.solver;
     sim::Solver& solver = *solver_;
-    auto cpu_pass = [&](const std::string& name, auto setup) { g.add_pass(name, graph::PassKind::cpu, setup); };
+    auto cpu_pass = [&](const std::string& name, PassGroup group, auto setup) { g.add_pass(name, graph::PassKind::cpu, setup, tag(group)); };
 
     auto samples = g.import("boundary particles", boundary ? &boundary_ : static_cast<surface::BoundaryParticles*>(nullptr));
     // Sorting only matters when splats are composited with "over" and the scene asks for it.
@@ -212,7 +200,7 @@ core::Status SceneRuntime::build_graph() {
     auto cuts = g.import("topology events", topology_events ? &pending_topology_ : static_cast<std::vector<Event>*>(nullptr));
     // Paused: nothing moves, so no simulation stage runs; the frame is drawn again as it was.
     if (!paused_) {
-    cpu_pass("events", [&](graph::PassBuilder& b) {
+    cpu_pass("events", PassGroup::events, [&](graph::PassBuilder& b) {
         if (!options.interactive) b.read(timeline);
         body = b.write(body);
         if (drags) drag = b.write(drag);
@@ -226,7 +214,7 @@ core::Status SceneRuntime::build_graph() {
             if (user_drag_.active) drag_ = user_drag_;  // the hand wins over the script
         };
     });
-    cpu_pass("topology", [&](graph::PassBuilder& b) {
+    cpu_pass("topology", PassGroup::events, [&](graph::PassBuilder& b) {
         b.read(cuts);
         body = b.write(body);
         samples = b.write(samples);
@@ -258,60 +246,11 @@ core::Status SceneRuntime::build_graph() {
             topology_ms_ = clock.elapsed_ms();
         };
     });
-    for (uint32_t sub = 0; sub < sd.solver.substeps; ++sub) {
-        const std::string s = sd.solver.substeps > 1 ? "[" + std::to_string(sub) + "]" : "";
-        cpu_pass("forces" + s, [&](graph::PassBuilder& b) {
-            body = b.write(body);
-            return [this, &solver, &settings, h](const graph::PassResources&, graph::ExecuteContext&) {
-                solver.begin_substep(body_, settings, h);
-            };
-        });
-        for (uint32_t it = 0; it < sd.solver.iterations; ++it) {
-            const std::string suffix = s + "." + std::to_string(it);
-            cpu_pass("distance" + suffix, [&](graph::PassBuilder& b) {
-                body = b.write(body);
-                return [this, &solver, &settings, h](const graph::PassResources&, graph::ExecuteContext&) {
-                    solver.project_distance(body_, settings, h);
-                };
-            });
-            cpu_pass("volume" + suffix, [&](graph::PassBuilder& b) {
-                b.read(volumes);
-                body = b.write(body);
-                return [this, &solver, &settings, h](const graph::PassResources&, graph::ExecuteContext&) {
-                    solver.project_volume(body_, settings, h);
-                };
-            });
-            cpu_pass("shape" + suffix, [&](graph::PassBuilder& b) {
-                b.read(shapes);
-                body = b.write(body);
-                return [this, &solver, &settings, h](const graph::PassResources&, graph::ExecuteContext&) {
-                    solver.project_shape(body_, settings, h);
-                };
-            });
-            cpu_pass("drag" + suffix, [&](graph::PassBuilder& b) {
-                b.read(drag);
-                body = b.write(body);
-                return [this, &solver](const graph::PassResources&, graph::ExecuteContext&) { solver.apply_drag(body_, drag_); };
-            });
-            cpu_pass("collide" + suffix, [&](graph::PassBuilder& b) {
-                b.read(colliders);
-                body = b.write(body);
-                return [this, &solver](const graph::PassResources&, graph::ExecuteContext&) {
-                    solver.collide(body_, scene_.simulation.colliders);
-                };
-            });
-        }
-        cpu_pass("velocities" + s, [&](graph::PassBuilder& b) {
-            body = b.write(body);
-            return [this, &solver, h](const graph::PassResources&, graph::ExecuteContext&) { solver.end_substep(body_, h); };
-        });
-    }
-    cpu_pass("normals", [&](graph::PassBuilder& b) {
-        body = b.write(body);
-        return [this, &solver](const graph::PassResources&, graph::ExecuteContext&) { solver.update_normals(body_); };
-    });
+    SimulationHandles sim_handles{body, volumes, shapes, drag, colliders};
+    add_simulation_passes(g, sim_handles, solver, settings, dt);
+    body = sim_handles.body;
     }  // !paused_
-    cpu_pass("boundary particles", [&](graph::PassBuilder& b) {
+    cpu_pass("boundary particles", PassGroup::update, [&](graph::PassBuilder& b) {
         b.read(body);
         samples = b.write(samples);
         return [this](const graph::PassResources&, graph::ExecuteContext&) {
@@ -321,7 +260,7 @@ core::Status SceneRuntime::build_graph() {
     // Keeps the samples at their density as the surface stretches and shrinks, and advances
     // their fades (also those of samples a cut or tear added).
     auto density = g.import("density control", boundary ? &density_ : static_cast<surface::DensityControl*>(nullptr));
-    cpu_pass("density", [&](graph::PassBuilder& b) {
+    cpu_pass("density", PassGroup::update, [&](graph::PassBuilder& b) {
         b.read(body);
         b.read(density);
         samples = b.write(samples);
@@ -335,13 +274,13 @@ core::Status SceneRuntime::build_graph() {
                                              scene_.surface.seed, boundary_);
         };
     });
-    cpu_pass("stretch", [&](graph::PassBuilder& b) {
+    cpu_pass("stretch", PassGroup::update, [&](graph::PassBuilder& b) {
         b.read(body);
         stretch = b.write(stretch);
         return [this](const graph::PassResources&, graph::ExecuteContext&) { stretch_.update(body_.particles.x, body_.triangles); };
     });
     const bool keep = options.keep_records;
-    cpu_pass("map", [&](graph::PassBuilder& b) {
+    cpu_pass("map", PassGroup::update, [&](graph::PassBuilder& b) {
         b.read(body);
         if (boundary) b.read(samples);
         if (sd_surface.stretch_scale) b.read(stretch);
@@ -379,7 +318,7 @@ core::Status SceneRuntime::build_graph() {
             if (!sorted) publish_records();  // else the sort stage reorders them first
         };
     });
-    cpu_pass("sort", [&](graph::PassBuilder& b) {
+    cpu_pass("sort", PassGroup::update, [&](graph::PassBuilder& b) {
         b.read(sort);
         input = b.write(input);
         if (keep) b.side_effect();
@@ -414,7 +353,7 @@ core::Status SceneRuntime::build_graph() {
     PBDSPLAT_TRY(g.compile());
     group_of_kept_pass_.clear();
     for (const graph::PassInfo& p : g.describe())
-        if (!p.culled) group_of_kept_pass_.push_back(group_of(p.name));
+        if (!p.culled) group_of_kept_pass_.push_back(PassGroup(p.tag));
     return core::Status::success();
 }
 
@@ -599,13 +538,13 @@ core::Status SceneRuntime::step() {
     for (size_t k = 0; k < ms.size(); ++k) {
         const double t = ms[k];
         switch (group_of_kept_pass_[k]) {
-            case events: s.events_ms += t; break;
-            case forces: s.apply_forces_ms += t; break;
-            case constraints: s.constraints_ms += t; break;
-            case integrate: s.integrate_normals_ms += t; break;
-            case update: s.update_particles_ms += t; break;
-            case gpu_record: s.gpu_record_ms += t; break;
-            case other: break;
+            case PassGroup::events: s.events_ms += t; break;
+            case PassGroup::forces: s.apply_forces_ms += t; break;
+            case PassGroup::constraints: s.constraints_ms += t; break;
+            case PassGroup::integrate: s.integrate_normals_ms += t; break;
+            case PassGroup::update: s.update_particles_ms += t; break;
+            case PassGroup::gpu_record: s.gpu_record_ms += t; break;
+            case PassGroup::other: break;
         }
     }
     if (renderer_) {

@@ -11,6 +11,7 @@
 #include "graph/frame_graph.h"
 #include "scene/gpu_passes.h"
 #include "scene/scene.h"
+#include "scene/stages/pass_group.h"
 #include "scene/scene_model.h"
 #include "scene/timeline.h"
 #include "sim/solver.h"
@@ -186,7 +187,7 @@ private:
     GpuFrameInput frame_input_;
     ImageSink sink_;
     graph::FrameGraph graph_;
-    std::vector<int> group_of_kept_pass_;  // the Table 3 group of each kept pass, in execution order
+    std::vector<PassGroup> group_of_kept_pass_;  // the Table 3 group of each kept pass, in execution order
     void publish_records();                // hands records_ to the GPU passes with what changed
     FrameStats stats_;
     std::vector<double> last_pass_ms_;

@@ -148,31 +148,36 @@ void SolverT<Real>::update_normals(SoftBodyT<Real>& body) {
 }
 
 template <class Real>
+void SolverT<Real>::run(Stage stage, SoftBodyT<Real>& body, const SolverSettings& s, Real h, const Colliders& colliders,
+                        const DragConstraint& drag) {
+    switch (stage) {
+    case Stage::forces: begin_substep(body, s, h); break;
+    case Stage::distance: project_distance(body, s, h); break;
+    case Stage::volume:
+        if (s.volume) project_volume(body, s, h);
+        break;
+    case Stage::shape: project_shape(body, s, h); break;
+    case Stage::drag: apply_drag(body, drag); break;
+    case Stage::collide: collide(body, colliders); break;
+    case Stage::velocities: end_substep(body, h); break;
+    case Stage::normals: update_normals(body); break;
+    }
+}
+
+template <class Real>
 StageTimings SolverT<Real>::step(SoftBodyT<Real>& body, float dt, const SolverSettings& s, const Colliders& colliders,
                                  const DragConstraint& drag) {
+    if (schedule_.empty() || schedule_iterations_ != s.iterations || schedule_substeps_ != s.substeps) {
+        schedule_ = frame_schedule(s);
+        schedule_iterations_ = s.iterations, schedule_substeps_ = s.substeps;
+    }
     StageTimings t;
     const Real h = Real(dt) / Real(s.substeps);
-    const bool volume = s.volume && !body.volumes.empty();
-    for (uint32_t sub = 0; sub < s.substeps; ++sub) {
-        core::Stopwatch clock;
-        begin_substep(body, s, h);
-        t.apply_forces += clock.elapsed_ms();
-        clock.restart();
-        for (uint32_t it = 0; it < s.iterations; ++it) {
-            project_distance(body, s, h);
-            if (volume) project_volume(body, s, h);
-            project_shape(body, s, h);
-            apply_drag(body, drag);
-            collide(body, colliders);
-        }
-        t.constraints += clock.elapsed_ms();
-        clock.restart();
-        end_substep(body, h);
-        t.integrate_normals += clock.elapsed_ms();
+    for (const ScheduledStage& stage : schedule_) {
+        const core::Stopwatch clock;
+        run(stage.stage, body, s, h, colliders, drag);
+        t.add(stage_group(stage.stage), clock.elapsed_ms());
     }
-    const core::Stopwatch clock;
-    update_normals(body);
-    t.integrate_normals += clock.elapsed_ms();
     return t;
 }
 

@@ -7,6 +7,7 @@
 #include "core/thread_pool.h"
 #include "sim/colliders.h"
 #include "sim/constraints.h"
+#include "sim/schedule.h"
 #include "sim/soft_body.h"
 #include "sim/volume.h"
 
@@ -38,6 +39,9 @@ struct StageTimings {
     double constraints = 0.0;        // distance, volume, shape, collisions, drag
     double integrate_normals = 0.0;  // velocities and normals
     double total() const { return apply_forces + constraints + integrate_normals; }
+    void add(StageGroup g, double ms) {
+        (g == StageGroup::apply_forces ? apply_forces : g == StageGroup::constraints ? constraints : integrate_normals) += ms;
+    }
 };
 
 // Validates the settings: a clear reason for an impossible value (I = 0, NaN gravity, ...).
@@ -51,14 +55,18 @@ public:
     // depend on the thread count.
     explicit SolverT(core::ThreadPool* pool = nullptr) : pool_(pool) {}
 
-    // Advances `body` by `dt` seconds (one frame): the stages below in the paper's order. `drag`
-    // may be inactive. Normals are updated for float bodies (the ones that are rendered).
+    // Advances `body` by `dt` seconds (one frame): frame_schedule(settings) (sim/schedule.h),
+    // stage by stage. `drag` may be inactive. Normals are updated for float bodies (the ones
+    // that are rendered).
     StageTimings step(SoftBodyT<Real>& body, float dt, const SolverSettings& settings, const Colliders& colliders,
                       const DragConstraint& drag);
 
-    // The stages, for callers that schedule them themselves (the frame graph). `h` is the
-    // substep length; a substep is begin_substep, I x [distance, volume, shape, drag, collide],
-    // end_substep; a frame is S substeps, then update_normals.
+    // One stage of the schedule, `h` the substep length: what step() runs for each entry, and
+    // what each frame-graph pass runs for its own.
+    void run(Stage stage, SoftBodyT<Real>& body, const SolverSettings& s, Real h, const Colliders& colliders,
+             const DragConstraint& drag);
+
+    // The stages themselves. forces = begin_substep, velocities = end_substep.
     void begin_substep(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
     void project_distance(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
     void project_volume(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
@@ -74,6 +82,8 @@ private:
     void for_range(size_t n, size_t grain, const Fn& fn);
 
     core::ThreadPool* pool_ = nullptr;
+    std::vector<ScheduledStage> schedule_;  // for the iterations and substeps below
+    uint32_t schedule_iterations_ = 0, schedule_substeps_ = 0;
     Vec4ArrayT<Real> scratch_;  // volume gradients
     std::vector<VolumeSums> sums_;
 };

@@ -1,5 +1,7 @@
 #include <doctest/doctest.h>
 
+#include <string>
+
 #include <cmath>
 #include <random>
 
@@ -14,6 +16,22 @@
 using namespace pbdsplat;
 
 TEST_SUITE("sim/solver") {
+    TEST_CASE("the frame schedule is the paper's order: per substep forces, I x the constraints, velocities; then normals") {
+        sim::SolverSettings s;
+        s.iterations = 2;
+        s.substeps = 2;
+        const auto schedule = sim::frame_schedule(s);
+        std::string order;
+        for (const auto& e : schedule) order += std::string(sim::stage_name(e.stage)) + " ";
+        CHECK(order == "forces distance volume shape drag collide distance volume shape drag collide velocities "
+                       "forces distance volume shape drag collide distance volume shape drag collide velocities normals ");
+        CHECK(schedule[7].substep == 0);
+        CHECK(schedule[7].iteration == 1);
+        CHECK(schedule[13].substep == 1);
+        CHECK(sim::stage_group(sim::Stage::collide) == sim::StageGroup::constraints);
+        CHECK(sim::stage_group(sim::Stage::normals) == sim::StageGroup::integrate_normals);
+    }
+
     TEST_CASE("linear momentum is conserved without external forces or pins") {
         for (sim::SolverMode mode : {sim::SolverMode::paper, sim::SolverMode::xpbd}) {
             auto b = test::make_body(mesh::icosphere(3));

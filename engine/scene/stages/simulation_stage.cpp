@@ -1,0 +1,40 @@
+#include "scene/stages/simulation_stage.h"
+
+#include <string>
+
+#include "scene/stages/pass_group.h"
+
+namespace pbdsplat::scene {
+
+void add_simulation_passes(graph::FrameGraph& g, SimulationHandles& h, sim::Solver& solver, const sim::SolverSettings& settings,
+                           float dt) {
+    const float substep = dt / float(settings.substeps);
+    for (const sim::ScheduledStage& entry : sim::frame_schedule(settings)) {
+        const sim::Stage stage = entry.stage;
+        // Names as the graph has always printed them: distance[1].3 is substep 1's fourth
+        // iteration (the substep index only when there are several).
+        std::string name = sim::stage_name(stage);
+        if (settings.substeps > 1 && stage != sim::Stage::normals) name += "[" + std::to_string(entry.substep) + "]";
+        if (sim::stage_group(stage) == sim::StageGroup::constraints) name += "." + std::to_string(entry.iteration);
+        g.add_pass(
+            name, graph::PassKind::cpu,
+            [&](graph::PassBuilder& b) {
+                // Only what the stage reads is declared: an absent one culls the pass.
+                if (stage == sim::Stage::volume) b.read(h.volumes);
+                if (stage == sim::Stage::shape) b.read(h.shapes);
+                if (stage == sim::Stage::drag) b.read(h.drag);
+                if (stage == sim::Stage::collide) b.read(h.colliders);
+                h.body = b.write(h.body);
+                return [&solver, &settings, stage, substep, handles = h](const graph::PassResources& r, graph::ExecuteContext&) {
+                    static const sim::Colliders k_no_colliders;
+                    static const sim::DragConstraint k_no_drag;
+                    const sim::Colliders& colliders = stage == sim::Stage::collide ? r.get(handles.colliders) : k_no_colliders;
+                    const sim::DragConstraint& drag = stage == sim::Stage::drag ? r.get(handles.drag) : k_no_drag;
+                    solver.run(stage, r.get(handles.body), settings, substep, colliders, drag);
+                };
+            },
+            tag(pass_group(sim::stage_group(stage))));
+    }
+}
+
+} // namespace pbdsplat::scene

@@ -1,0 +1,44 @@
+#include "sim/schedule.h"
+
+#include "sim/solver.h"
+
+namespace pbdsplat::sim {
+
+const char* stage_name(Stage s) {
+    switch (s) {
+    case Stage::forces: return "forces";
+    case Stage::distance: return "distance";
+    case Stage::volume: return "volume";
+    case Stage::shape: return "shape";
+    case Stage::drag: return "drag";
+    case Stage::collide: return "collide";
+    case Stage::velocities: return "velocities";
+    case Stage::normals: return "normals";
+    }
+    return "?";
+}
+
+StageGroup stage_group(Stage s) {
+    switch (s) {
+    case Stage::forces: return StageGroup::apply_forces;
+    case Stage::velocities:
+    case Stage::normals: return StageGroup::integrate_normals;
+    default: return StageGroup::constraints;
+    }
+}
+
+std::vector<ScheduledStage> frame_schedule(const SolverSettings& s) {
+    constexpr Stage k_constraints[] = {Stage::distance, Stage::volume, Stage::shape, Stage::drag, Stage::collide};
+    std::vector<ScheduledStage> out;
+    out.reserve(size_t(s.substeps) * (2 + s.iterations * std::size(k_constraints)) + 1);
+    for (uint32_t sub = 0; sub < s.substeps; ++sub) {
+        out.push_back({Stage::forces, sub, 0});
+        for (uint32_t it = 0; it < s.iterations; ++it)
+            for (Stage c : k_constraints) out.push_back({c, sub, it});
+        out.push_back({Stage::velocities, sub, 0});
+    }
+    out.push_back({Stage::normals, 0, 0});
+    return out;
+}
+
+} // namespace pbdsplat::sim
