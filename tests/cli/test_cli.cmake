@@ -230,6 +230,15 @@ expect("validate-scene broken" 1 validate-scene "${WORK_DIR}/broken.toml")
 expect_contains("validate-scene broken" "${last_err}" "broken.toml:2:14: 'simulation.iterations' = -3 is out of range")
 expect("render a cut and tear scene" 0 render "${SCENES_DIR}/tear.toml" --frames 40 --width 96 --height 64 --out out/tear.png --validation)
 
+# Progress on stderr (a line per 2 s off a terminal, and the last one), silenced by --quiet.
+expect("render a few frames" 0 render --frames 3 --width 64 --height 48 --out out/progress)
+expect_contains("render a few frames: progress" "${last_err}" "render: 3/3 frames")
+expect("render --quiet" 0 render --frames 3 --width 64 --height 48 --quiet --out out/progress)
+string(FIND "${last_err}" "frames," progress_at)
+if(NOT progress_at EQUAL -1)
+  record_failure("render --quiet printed progress: ${last_err}")
+endif()
+
 # export-ply, then the file rendered as a static scene.
 expect("export-ply" 0 export-ply --frame 2 out/scene.ply)
 expect_contains("export-ply" "${last_out}" "boundary particles")

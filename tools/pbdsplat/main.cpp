@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "pbdsplat/commands.h"
+#include "pbdsplat/progress.h"
 
 namespace {
 
@@ -22,7 +23,9 @@ constexpr const char* k_help =
     "  export-ply  a scene's Gaussians at a frame, as a 3DGS .ply\n"
     "  bench     benchmarks that print figures (bench --help lists them)\n"
     "\n"
-    "Every command takes --help. Errors go to stderr with a non-zero exit.\n";
+    "Every command takes --help. Errors go to stderr with a non-zero exit. Long commands\n"
+    "(render, export-ply, bench scene, surface, splat) print progress to stderr; --quiet, given\n"
+    "to any command, silences it.\n";
 
 struct Command {
     const char* name;
@@ -58,7 +61,12 @@ int main(int argc, char** argv) {
         std::fputs(k_help, argc < 2 ? stderr : stdout);
         return argc < 2 ? 2 : 0;
     }
-    const std::vector<std::string> args(argv + 2, argv + argc);
+    // --quiet belongs to every command (the progress lines are shared), so it is taken here.
+    std::vector<std::string> args;
+    for (int i = 2; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--quiet") == 0) pbdsplat::cli::Progress::set_quiet(true);
+        else args.emplace_back(argv[i]);
+    }
     for (const Command& c : k_commands)
         if (std::strcmp(argv[1], c.name) == 0) return c.run(args);
     std::fprintf(stderr, "pbdsplat: unknown command '%s' (see pbdsplat --help)\n", argv[1]);

@@ -18,7 +18,11 @@ public:
     // `unit`: what is counted ("frames", "spacings", ...).
     Progress(std::string what, uint32_t total, std::string unit = "frames")
         : what_(std::move(what)), unit_(std::move(unit)), total_(total), tty_(isatty(STDERR_FILENO) != 0) {}
+    // --quiet: no progress at all (main takes the flag for every command).
+    static void set_quiet(bool q) { quiet() = q; }
+
     void frame_done(uint32_t done) {
+        if (quiet()) return;
         const double elapsed = clock_.elapsed_ms() / 1000.0;
         const double rate = done / std::max(elapsed, 1e-6);
         if (total_ == 0) {
@@ -44,6 +48,10 @@ public:
     }
 
 private:
+    static bool& quiet() {
+        static bool q = false;
+        return q;
+    }
     std::string what_, unit_;
     uint32_t total_;
     bool tty_;
