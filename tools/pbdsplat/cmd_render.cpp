@@ -97,7 +97,7 @@ int cmd_render(const std::vector<std::string>& argv) {
         "A .ply of Gaussians (3DGS layout, e.g. from export-ply or a trained capture) renders as one\n"
         "static image, as it was trained: soft Gaussians far to near, unlit, with its rotations, scales\n"
         "and view-dependent colour; the camera frames it unless --eye/--target/--fov say otherwise.\n"
-        "Progress goes to stderr: a bar on a terminal, a line every 2 s otherwise.\n"
+        "Progress goes to stderr: a bar on a terminal, a line every 2 s otherwise (--quiet: none).\n"
         "\n"
         "  --frames N          frames to simulate and render (default 1)\n"
         "  --out PATH          output file (.png) or folder (default out/render.png)\n"
