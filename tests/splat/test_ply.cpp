@@ -109,6 +109,44 @@ TEST_SUITE("splat/ply") {
         std::filesystem::remove(path);
     }
 
+    TEST_CASE("a file written by splat-transform (another tool's layout, no normals, .spz's quantisation) reads as made") {
+        // tests/splat/fixtures/README.md: these three Gaussians, written by hand in the 3DGS
+        // convention, then through splat-transform to .spz and back to .ply.
+        struct Made {
+            Vec3f p;
+            Vec3f dc;
+            float opacity;
+            Vec3f scales;
+            Eigen::Quaternionf q;
+        };
+        const Made made[] = {
+            {{0.5f, -1.0f, 2.0f}, {1.0f, 0.0f, -1.0f}, 2.0f, {0.1f, 0.1f, 0.1f}, Eigen::Quaternionf::Identity()},
+            {{-1.0f, 0.25f, 0.0f}, {0.5f, 0.5f, 0.5f}, -1.0f, {0.3f, 0.05f, 0.02f},
+             Eigen::Quaternionf(Eigen::AngleAxisf(k_pi / 4.0f, Vec3f::UnitZ()))},
+            {{2.0f, 2.0f, -2.0f}, {-0.5f, 1.5f, 0.0f}, 0.0f, {0.2f, 0.2f, 0.2f}, Eigen::Quaternionf::Identity()}};
+        auto g = splat::read_ply_gaussians(std::string(PBDSPLAT_PLY_FIXTURES_DIR) + "/splat_transform_from_spz.ply", splat::PlyUp::y);
+        REQUIRE_MESSAGE(g.ok(), g.error().to_string());
+        REQUIRE(g->records.size() == 3);
+        CHECK(g->missing_normals == 3);
+        REQUIRE(g->shapes.size() == 3);  // the needle makes the file anisotropic
+        for (int i = 0; i < 3; ++i) {
+            CAPTURE(i);
+            const auto& r = g->records[size_t(i)];
+            for (int c = 0; c < 3; ++c) {
+                CHECK(r.position[c] == doctest::Approx(made[i].p[c]).epsilon(1e-3));  // fixed point, 1/4096 steps
+                // 0.5 + Y_0^0 f_dc, then .spz's 8 bits: within 2 of 255.
+                const int expected = int(std::lround(std::clamp(0.5f + 0.5f / std::sqrt(k_pi) * made[i].dc[c], 0.0f, 1.0f) * 255.0f));
+                CHECK(std::abs(int(r.color[c]) - expected) <= 2);
+            }
+            CHECK(std::abs(splat::half_to_float(r.opacity_half) - made[i].opacity) < 0.03f);
+            // Scales in 1/16 of a log unit: within 4 %; the axes as made, rotation included.
+            const Eigen::Matrix3f expected_axes = made[i].q.toRotationMatrix() * made[i].scales.asDiagonal();
+            const Eigen::Matrix3f cov = splat::shape_axes(g->shapes[size_t(i)]) * splat::shape_axes(g->shapes[size_t(i)]).transpose();
+            const Eigen::Matrix3f want = expected_axes * expected_axes.transpose();
+            CHECK((cov - want).norm() < 0.1f * want.norm());
+        }
+    }
+
     TEST_CASE("normals a file lacks are estimated: flat Gaussians by their shortest axis, round ones by their neighbours, facing out") {
         // A sphere of 400 Gaussians without normals, written by hand: the even ones round (only
         // the plane through their neighbours can say), the odd ones flat discs tangent to the
