@@ -195,7 +195,12 @@ TEST_SUITE("topology/cut") {
         CHECK_FALSE(topology::cut(b, plane(Vec3f::Zero(), Vec3f::UnitX())).ok());
     }
 
-    TEST_CASE("200 random cuts in sequence keep every invariant, with no NaN") {
+    TEST_CASE("random cuts in sequence (200, 60 under ASan) keep every invariant, with no NaN") {
+#if defined(__SANITIZE_ADDRESS__)
+        constexpr int k_cuts = 60;  // ASan runs the bunny's cuts about 3x slower; the release suite runs all 200
+#else
+        constexpr int k_cuts = 200;
+#endif
         std::string spec = "stanford-bunny.obj";
         if (!mesh::find_model(spec)) {
             test::skip("the bunny: stanford-bunny.obj not on the model search path; using icosphere:4");
@@ -211,7 +216,7 @@ TEST_SUITE("topology/cut") {
         sim::SolverSettings settings;
         settings.gravity = Vec3f::Zero();
         size_t opened = 0;
-        for (int k = 0; k < 200; ++k) {
+        for (int k = 0; k < k_cuts; ++k) {
             // Through a random particle, so every cut meets the surface.
             const uint32_t at = uint32_t(std::abs(u(rng)) * float(b.particle_count() - 1));
             const Vec3f p = sim::xyz(b.particles.x[at]);
@@ -231,7 +236,7 @@ TEST_SUITE("topology/cut") {
             if (k % 20 == 19) solver.step(b, 1.0f / 60.0f, settings, {}, {});
             REQUIRE(std::all_of(b.particles.x.begin(), b.particles.x.end(), [](const Vec4f& x) { return x.allFinite(); }));
         }
-        CHECK(opened > 150);
+        CHECK(opened > size_t(k_cuts) * 3 / 4);
         CHECK(total_mass(b) == doctest::Approx(mass).epsilon(1e-4));
     }
 
