@@ -73,7 +73,7 @@ void SceneRuntime::queue_cut(const Vec2f& a, const Vec2f& b, const Vec2f& view_s
     CutEvent c;
     c.segment = std::array<Vec2f, 2>{a, b};
     c.screen = view_size;
-    user_cuts_.push_back(c);
+    topology_->queue_user_cut(c);
 }
 
 void SceneRuntime::scale_pressure(float factor) {

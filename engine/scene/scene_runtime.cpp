@@ -15,6 +15,7 @@
 #include "topology/tear.h"
 #include "scene/stages/pass_group.h"
 #include "scene/stages/simulation_stage.h"
+#include "scene/stages/surface_follow.h"
 
 namespace pbdsplat::scene {
 
@@ -151,12 +152,11 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         renderer_ = std::move(r).value();
     }
 
-    for (const Event& e : scene_.events)
-        if (std::holds_alternative<CutEvent>(e.data) || std::holds_alternative<TearEvent>(e.data)) pending_topology_.push_back(e);
-    check_topology_ = options.check_topology;
+    bool check_topology = options.check_topology;
 #ifndef NDEBUG
-    check_topology_ = true;
+    check_topology = true;
 #endif
+    topology_ = std::make_unique<TopologyStage>(scene_, check_topology);
     fade_ = splat::FadeIn(scene_.simulation.fade_frames);
     order_ = order;
     return build_graph();
@@ -185,7 +185,6 @@ core::Status SceneRuntime::build_graph() {
     auto input = g.import("frame input", &frame_input_);
 
     const float dt = sd.dt;
-    const float h = dt / float(sd.solver.substeps);
     const sim::SolverSettings& settings = scene_.simulation.solver;
     sim::Solver& solver = *solver_;
     auto cpu_pass = [&](const std::string& name, PassGroup group, auto setup) { g.add_pass(name, graph::PassKind::cpu, setup, tag(group)); };
@@ -196,8 +195,8 @@ core::Status SceneRuntime::build_graph() {
     auto sort = g.import("sort", sorted ? &sort_scratch_ : static_cast<splat::SortScratch*>(nullptr));
     auto stretch = g.import("stretch", sd_surface.stretch_scale ? &stretch_ : static_cast<splat::StretchScale*>(nullptr));
     auto sink = g.import("image", readback_ ? &sink_ : static_cast<ImageSink*>(nullptr));
-    const bool topology_events = !pending_topology_.empty() || options.interactive;
-    auto cuts = g.import("topology events", topology_events ? &pending_topology_ : static_cast<std::vector<Event>*>(nullptr));
+    const bool topology_events = topology_->has_scripted_events() || options.interactive;
+    auto cuts = g.import("topology events", topology_events ? &topology_->pending() : static_cast<std::vector<Event>*>(nullptr));
     // Paused: nothing moves, so no simulation stage runs; the frame is drawn again as it was.
     if (!paused_) {
     cpu_pass("events", PassGroup::events, [&](graph::PassBuilder& b) {
@@ -219,31 +218,11 @@ core::Status SceneRuntime::build_graph() {
         body = b.write(body);
         samples = b.write(samples);
         return [this, dt](const graph::PassResources&, graph::ExecuteContext&) {
-            const core::Stopwatch clock;
-            for (const CutEvent& c : user_cuts_) {
-                if (!topology_status_.ok()) break;
-                const size_t particles = body_.particle_count();
-                const core::Status s = apply_cut(c);
-                if (!s.ok()) note_ = "cut failed: " + s.error().to_string();
-                else if (body_.particle_count() == particles) note_ = "the stroke cut nothing";
-                else note_ = "cut: " + std::to_string(body_.particle_count() - particles) + " particles split off";
-                if (s.ok()) ++cuts_;
-            }
-            user_cuts_.clear();
-            while (topology_status_.ok() && !pending_topology_.empty() && pending_topology_.front().time < time_ + dt) {
-                const Event e = pending_topology_.front();
-                pending_topology_.erase(pending_topology_.begin());
-                if (const auto* c = std::get_if<CutEvent>(&e.data)) {
-                    topology_status_ = apply_cut(*c);
-                    ++cuts_;
-                } else {
-                    tearing_ = std::get<TearEvent>(e.data);
-                    tearing_until_ = tearing_->duration > 0.0f ? e.time + tearing_->duration : 1e30f;
-                }
-            }
-            if (tearing_ && time_ >= tearing_until_) tearing_.reset();
-            if (tearing_ && topology_status_.ok()) topology_status_ = apply_tears();
-            topology_ms_ = clock.elapsed_ms();
+            topology_->run(body_, time_, dt, frame_input_.frame.camera, scene_.simulation.cut,
+                           [this](const topology::TopologyChange& c, const topology::CutSurface* cut, size_t seed_offset) {
+                               return after_topology_change(c, cut, seed_offset);
+                           },
+                           note_);
         };
     });
     SimulationHandles sim_handles{body, volumes, shapes, drag, colliders};
@@ -390,76 +369,21 @@ void SceneRuntime::publish_records() {
 }
 
 
-core::Status SceneRuntime::apply_cut(const CutEvent& cut) {
-    core::Result<topology::CutSurface> surface = core::make_error("cut: no surface");
-    if (cut.plane) {
-        surface = topology::plane_cut(cut.plane->first, cut.plane->second);
-    } else {
-        const render::Camera& cam = frame_input_.frame.camera;
-        const Mat4f view_proj = math::perspective(math::radians(cam.fov_y_degrees), cut.screen.x() / cut.screen.y(), cam.z_near, cam.z_far) *
-                                math::look_at(cam.eye, cam.target, cam.up);
-        surface = topology::screen_cut(view_proj, cam.eye, cut.screen, (*cut.segment)[0], (*cut.segment)[1]);
-    }
-    if (!surface.ok()) return surface.error();
-    auto change = topology::cut(body_, surface.value(), scene_.simulation.cut);
-    if (!change.ok()) return change.error();
-    return after_topology_change(change.value(), &surface.value());
-}
-
-core::Status SceneRuntime::apply_tears() {
-    topology::TearOptions options;
-    options.threshold = tearing_->threshold;
-    options.max_per_frame = tearing_->max_per_frame;
-    for (uint32_t k = 0; k < options.max_per_frame; ++k) {
-        auto change = topology::tear_once(body_, options, scene_.simulation.cut);
-        if (!change.ok()) return change.error();
-        if (!change.value()) break;  // nothing strained enough
-        ++tears_;
-        PBDSPLAT_TRY(after_topology_change(*change.value()));
-    }
-    return core::Status::success();
-}
-
-core::Status SceneRuntime::after_topology_change(const topology::TopologyChange& change, const topology::CutSurface* cut) {
-    last_change_ = change;
-    if (!change.changed()) return core::Status::success();
-    if (check_topology_) PBDSPLAT_TRY(topology::check_invariants(body_));
+core::Status SceneRuntime::after_topology_change(const topology::TopologyChange& change, const topology::CutSurface* cut,
+                                                 size_t seed_offset) {
     update_closed();  // only a cut or tear can open the boundary
     if (splat_particles_) fade_.add_particles(change.particles_before, change.new_particles());
     if (scene_.surface.mode == SurfaceMode::boundary) {
-        surface::remap_samples(change.splits, boundary_);
-        if (fine_vertices_) surface::remap_samples(change.splits, *fine_vertices_);
-        std::vector<uint32_t> refill(change.touched_triangles.begin(), change.touched_triangles.end());
-        if (cut && boundary_.embedded()) {
-            const auto side = [cut](const Vec3f& p) {
-                const float d = cut->distance(p);
-                return cut->reaches(p - d * cut->normal) ? d : 0.0f;
-            };
-            std::vector<uint32_t> emptied;
-            surface::drop_across_cut(side, body_.triangles, body_.particles.x, boundary_, &emptied);
-            // Where samples were dropped beyond the re-triangulated ones, refill too.
-            refill.insert(refill.end(), emptied.begin(), emptied.end());
-            std::sort(refill.begin(), refill.end());
-            refill.erase(std::unique(refill.begin(), refill.end()), refill.end());
-        }
-        // Edge samples are laid afresh along the new boundary, after the refill.
-        if (scene_.surface.edge_samples) boundary_.keep_if([this](size_t i) { return !boundary_.on_edge(i); });
-        const size_t before = boundary_.size();
-        std::vector<uint32_t> piece;
-        mesh::vertex_components(body_.triangles, body_.particle_count(), piece);
-        surface::fill_triangles(body_.rest_positions, body_.triangles, refill,
-                                splat_particles_ ? std::span<const Vec3f>(body_.rest_positions) : std::span<const Vec3f>(), piece,
-                                {h_, scene_.surface.seed + uint32_t(cuts_ + tears_) + 1}, boundary_);
-        const size_t edges_first = boundary_.size();
-        if (scene_.surface.edge_samples) surface::lay_edge_samples(body_.rest_positions, body_.triangles, h_, {}, boundary_);
-        surface::update_boundary_particles(body_.triangles, body_.particles.x, body_.normals, boundary_);
-        surface::fade_in(boundary_, before, scene_.simulation.fade_frames);
-        // Edge samples that were there before the change (on untouched triangles) stay shown.
-        std::vector<bool> touched(body_.triangles.size(), false);
-        for (uint32_t t : refill) touched[t] = true;
-        for (size_t i = edges_first; i < boundary_.size(); ++i)
-            if (!touched[boundary_.triangle[i]]) boundary_.fade[i] = 1.0f, boundary_.fade_step[i] = 0.0f;
-        if (!density_.empty()) density_.topology_changed(body_.rest_positions, body_.triangles, refill);
+        SurfaceFollow f;
+        f.samples = &boundary_;
+        f.fine_vertices = fine_vertices_ ? &*fine_vertices_ : nullptr;
+        f.density = &density_;
+        f.h = h_;
+        f.seed = scene_.surface.seed;
+        f.fade_frames = scene_.simulation.fade_frames;
+        f.edge_samples = scene_.surface.edge_samples;
+        f.particles_are_splats = splat_particles_;
+        follow_topology_change(f, body_, change, cut, seed_offset);
     }
     if (!stretch_.empty()) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
     if (!deformed_.empty()) deformed_ = splat::DeformedShapes(body_.rest_positions, body_.triangles);
@@ -520,15 +444,15 @@ core::Status SceneRuntime::step() {
         Presenter* p = options_.presenter;
         PBDSPLAT_TRY(renderer_->end_frame(p ? p->wait_semaphore() : nullptr, p ? p->signal_semaphore() : nullptr));
     }
-    if (!topology_status_.ok()) return topology_status_;
+    if (!topology_->status().ok()) return topology_->status();
     if (renderer_) PBDSPLAT_TRY(frame_input_.upload_status);
     if (!paused_) time_ += scene_.simulation.dt;
     ++frame_;
 
     FrameStats s;
-    s.cuts = cuts_;
-    s.tears = tears_;
-    s.topology_ms = topology_ms_;
+    s.cuts = topology_->cuts();
+    s.tears = topology_->tears();
+    s.topology_ms = topology_->ms();
     s.frame = frame_;
     s.time = time_;
     s.particles = body_.particle_count();

@@ -12,6 +12,7 @@
 #include "scene/gpu_passes.h"
 #include "scene/scene.h"
 #include "scene/stages/pass_group.h"
+#include "scene/stages/topology_stage.h"
 #include "scene/scene_model.h"
 #include "scene/timeline.h"
 #include "sim/solver.h"
@@ -101,7 +102,7 @@ public:
     float spacing() const { return h_; }
     const Scene& scene() const { return scene_; }
     // What the most recent cut or tear did (empty before any).
-    const topology::TopologyChange& last_topology_change() const { return last_change_; }
+    const topology::TopologyChange& last_topology_change() const { return topology_->last_change(); }
     float time() const { return time_; }
 
     // ---- Interaction (the windowed demo, scripted input); call between steps. -------------
@@ -150,7 +151,6 @@ private:
     render::SplatOrder sorted_order_ = render::SplatOrder::cpu;  // what set_sorted(true) picks
     sim::DragConstraint user_drag_;
     float drag_depth_ = 0.0f;
-    std::vector<CutEvent> user_cuts_;
     std::string note_;
     bool camera_override_ = false;
     bool paused_ = false;
@@ -194,25 +194,15 @@ private:
     float time_ = 0.0f;
     float h_ = 0.0f;  // sampling spacing
     bool splat_particles_ = true;  // the particles are splats too (not with an embedded surface)
-    // Cut and tear events not yet started, in time order; the tearing now on, if any.
-    std::vector<Event> pending_topology_;
-    std::optional<TearEvent> tearing_;
-    float tearing_until_ = 0.0f;
-    core::Status apply_cut(const CutEvent& cut);
-    core::Status apply_tears();
-    // Everything downstream of the mesh follows a change: samples, fades, stretch, invariants.
-    core::Status after_topology_change(const topology::TopologyChange& change, const topology::CutSurface* cut = nullptr);
-    core::Status topology_status_;
+    std::unique_ptr<TopologyStage> topology_;  // scripted cuts and tears, the user's strokes
+    // Everything downstream of the mesh follows each change: samples, fades, stretch.
+    core::Status after_topology_change(const topology::TopologyChange& change, const topology::CutSurface* cut, size_t seed_offset);
     splat::FadeIn fade_;
-    bool check_topology_ = false;
-    size_t cuts_ = 0, tears_ = 0;
     // No open boundary: back-facing splats cannot show (kept from build and each topology change).
     bool body_closed_ = false;
     void update_closed();
     // The drawn ground under the body (`centre`: the particles' mean), from the plane collider.
     void update_ground(const Vec3f& centre);
-    double topology_ms_ = 0.0;
-    topology::TopologyChange last_change_;
     uint64_t frame_ = 0;
 };
 

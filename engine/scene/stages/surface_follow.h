@@ -1,0 +1,32 @@
+#pragma once
+// What the boundary particles do after a cut or tear: samples on split triangles move to the
+// children, the cut's far side is emptied, the re-triangulated and emptied triangles are
+// refilled at spacing h (per piece), edge samples are laid afresh along the new boundary, and
+// the new samples fade in. Only the triangles the change touched are resampled.
+#include <cstdint>
+#include <span>
+
+#include "sim/soft_body.h"
+#include "surface/boundary_particles.h"
+#include "surface/density.h"
+#include "topology/cut.h"
+#include "topology/topology_change.h"
+
+namespace pbdsplat::scene {
+
+struct SurfaceFollow {
+    surface::BoundaryParticles* samples = nullptr;
+    surface::BoundaryParticles* fine_vertices = nullptr;  // the model's vertices, when embedded (or null)
+    surface::DensityControl* density = nullptr;           // null or empty: no density control
+    float h = 0.0f;
+    uint32_t seed = 0;
+    uint32_t fade_frames = 0;
+    bool edge_samples = false;
+    bool particles_are_splats = true;  // new samples keep their distance from the particles too
+};
+
+// `cut`: the cut's surface (null for a tear); `seed_offset` added to the seed.
+void follow_topology_change(const SurfaceFollow& f, const sim::SoftBody& body, const topology::TopologyChange& change,
+                            const topology::CutSurface* cut, size_t seed_offset);
+
+} // namespace pbdsplat::scene

@@ -1,0 +1,84 @@
+#include "scene/stages/topology_stage.h"
+
+#include "core/timer.h"
+#include "topology/invariants.h"
+#include "topology/tear.h"
+
+namespace pbdsplat::scene {
+
+TopologyStage::TopologyStage(const Scene& scene, bool check_invariants) : check_invariants_(check_invariants) {
+    for (const Event& e : scene.events)
+        if (std::holds_alternative<CutEvent>(e.data) || std::holds_alternative<TearEvent>(e.data)) pending_.push_back(e);
+}
+
+void TopologyStage::run(sim::SoftBody& body, float t, float dt, const render::Camera& camera, const topology::CutOptions& options,
+                        const Follow& follow, std::string& note) {
+    const core::Stopwatch clock;
+    for (const CutEvent& c : user_cuts_) {
+        if (!status_.ok()) break;
+        const size_t particles = body.particle_count();
+        const core::Status s = apply_cut(body, c, camera, options, follow);
+        if (!s.ok()) note = "cut failed: " + s.error().to_string();
+        else if (body.particle_count() == particles) note = "the stroke cut nothing";
+        else note = "cut: " + std::to_string(body.particle_count() - particles) + " particles split off";
+        if (s.ok()) ++cuts_;
+    }
+    user_cuts_.clear();
+    while (status_.ok() && !pending_.empty() && pending_.front().time < t + dt) {
+        const Event e = pending_.front();
+        pending_.erase(pending_.begin());
+        if (const auto* c = std::get_if<CutEvent>(&e.data)) {
+            status_ = apply_cut(body, *c, camera, options, follow);
+            ++cuts_;
+        } else {
+            tearing_ = std::get<TearEvent>(e.data);
+            tearing_until_ = tearing_->duration > 0.0f ? e.time + tearing_->duration : 1e30f;
+        }
+    }
+    if (tearing_ && t >= tearing_until_) tearing_.reset();
+    if (tearing_ && status_.ok()) status_ = apply_tears(body, options, follow);
+    ms_ = clock.elapsed_ms();
+}
+
+core::Status TopologyStage::apply_cut(sim::SoftBody& body, const CutEvent& cut, const render::Camera& camera,
+                                      const topology::CutOptions& options, const Follow& follow) {
+    core::Result<topology::CutSurface> surface = core::make_error("cut: no surface");
+    if (cut.plane) {
+        surface = topology::plane_cut(cut.plane->first, cut.plane->second);
+    } else {
+        const Mat4f view_proj = math::perspective(math::radians(camera.fov_y_degrees), cut.screen.x() / cut.screen.y(), camera.z_near,
+                                                  camera.z_far) *
+                                math::look_at(camera.eye, camera.target, camera.up);
+        surface = topology::screen_cut(view_proj, camera.eye, cut.screen, (*cut.segment)[0], (*cut.segment)[1]);
+    }
+    if (!surface.ok()) return surface.error();
+    auto change = topology::cut(body, surface.value(), options);
+    if (!change.ok()) return change.error();
+    return after(body, change.value(), &surface.value(), follow);
+}
+
+core::Status TopologyStage::apply_tears(sim::SoftBody& body, const topology::CutOptions& cut_options, const Follow& follow) {
+    topology::TearOptions options;
+    options.threshold = tearing_->threshold;
+    options.max_per_frame = tearing_->max_per_frame;
+    for (uint32_t k = 0; k < options.max_per_frame; ++k) {
+        auto change = topology::tear_once(body, options, cut_options);
+        if (!change.ok()) return change.error();
+        if (!change.value()) break;  // nothing strained enough
+        ++tears_;
+        PBDSPLAT_TRY(after(body, *change.value(), nullptr, follow));
+    }
+    return core::Status::success();
+}
+
+core::Status TopologyStage::after(sim::SoftBody& body, const topology::TopologyChange& change, const topology::CutSurface* cut,
+                                  const Follow& follow) {
+    last_change_ = change;
+    if (!change.changed()) return core::Status::success();
+    if (check_invariants_) PBDSPLAT_TRY(topology::check_invariants(body));
+    // A cut is counted after its follow-up, a tear before it: the seeds of the samples laid
+    // since the first scenes were recorded.
+    return follow(change, cut, cuts_ + tears_ + 1);
+}
+
+} // namespace pbdsplat::scene
