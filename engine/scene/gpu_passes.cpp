@@ -8,6 +8,27 @@ namespace {
 const uint32_t k_gpu_record = tag(PassGroup::gpu_record);  // recording counts as the CPU's share of the GPU row
 }
 
+void changed_ranges(std::span<const splat::GaussianRecord> before, std::span<const splat::GaussianRecord> after,
+                    std::vector<gpu::ByteRange>& out) {
+    // Blocks of 256 records (6 KiB): small enough to skip what a local drag leaves alone, large
+    // enough that the copy list stays short. Touching blocks merge into one range.
+    constexpr size_t k_block = 256;
+    constexpr size_t k_size = sizeof(splat::GaussianRecord);
+    out.clear();
+    if (before.size() != after.size()) {
+        out.push_back({0, after.size_bytes()});
+        return;
+    }
+    for (size_t start = 0; start < after.size(); start += k_block) {
+        const size_t n = std::min(k_block, after.size() - start);
+        if (std::memcmp(before.data() + start, after.data() + start, n * k_size) == 0) continue;
+        const VkDeviceSize offset = start * k_size, bytes = n * k_size;
+        if (!out.empty() && out.back().offset + out.back().size == offset) out.back().size += bytes;
+        else out.push_back({offset, bytes});
+    }
+    if (out.empty()) out.push_back({0, 0});  // nothing changed: an empty range, not "everything"
+}
+
 void GpuPassResources::refresh(const render::SplatRenderer& r) {
     records.buffer = r.records_buffer();
     readback.buffer = r.readback_buffer();

@@ -7,6 +7,7 @@
 
 #include "graph/frame_graph.h"
 #include "render/splat_renderer.h"
+#include "splat/gaussian_record.h"
 
 namespace pbdsplat::scene {
 
@@ -60,5 +61,10 @@ public:
 graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer,
                                                  GpuPassResources& resources, graph::Handle<GpuFrameInput> input,
                                                  graph::Handle<ImageSink> sink, bool gpu_sort = false);
+
+// The byte ranges of `after` that differ from `before` (all of it when the counts differ), so
+// only what changed is uploaded; a single empty range when nothing did.
+void changed_ranges(std::span<const splat::GaussianRecord> before, std::span<const splat::GaussianRecord> after,
+                    std::vector<gpu::ByteRange>& out);
 
 } // namespace pbdsplat::scene

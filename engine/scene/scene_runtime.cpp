@@ -13,6 +13,8 @@
 #include "topology/cut.h"
 #include "topology/invariants.h"
 #include "topology/tear.h"
+#include "scene/stages/body_view.h"
+#include "scene/stages/fine_surface.h"
 #include "scene/stages/pass_group.h"
 #include "scene/stages/simulation_stage.h"
 #include "scene/stages/surface_follow.h"
@@ -20,26 +22,6 @@
 namespace pbdsplat::scene {
 
 
-void changed_ranges(std::span<const splat::GaussianRecord> before, std::span<const splat::GaussianRecord> after,
-                    std::vector<gpu::ByteRange>& out) {
-    // Blocks of 256 records (6 KiB): small enough to skip what a local drag leaves alone, large
-    // enough that the copy list stays short. Touching blocks merge into one range.
-    constexpr size_t k_block = 256;
-    constexpr size_t k_size = sizeof(splat::GaussianRecord);
-    out.clear();
-    if (before.size() != after.size()) {
-        out.push_back({0, after.size_bytes()});
-        return;
-    }
-    for (size_t start = 0; start < after.size(); start += k_block) {
-        const size_t n = std::min(k_block, after.size() - start);
-        if (std::memcmp(before.data() + start, after.data() + start, n * k_size) == 0) continue;
-        const VkDeviceSize offset = start * k_size, bytes = n * k_size;
-        if (!out.empty() && out.back().offset + out.back().size == offset) out.back().size += bytes;
-        else out.push_back({offset, bytes});
-    }
-    if (out.empty()) out.push_back({0, 0});  // nothing changed: an empty range, not "everything"
-}
 
 core::Result<std::unique_ptr<SceneRuntime>> SceneRuntime::create(const Scene& scene, const RuntimeOptions& options) {
     if (auto v = sim::validate(scene.simulation.solver); !v.ok()) return v.error();
@@ -276,24 +258,12 @@ core::Status SceneRuntime::build_graph() {
                 deformed_.map(particles ? body_.particle_count() : 0, boundary && show_boundary_ ? &boundary_ : nullptr, records_, shapes_);
             }
             fade_.apply(records_);
-            // The far side of a closed, opaque body cannot show: its splats are skipped. The
-            // threshold keeps those just past the silhouette, whose discs still reach beyond
-            // the rim.
-            const bool opaque = frame_input_.frame.style.blend == render::Blend::over && appearance_.opacity_logit > math::logit(0.9f);
-            frame_input_.frame.style.cull_facing = scene_.render.cull_back && body_closed_ && opaque ? -0.3f : -2.0f;
-            // The body's centre, for what reads it: position-based environment lookups look out
-            // from it, and the ground's contact shadow lies under it.
-            render::Environment& env = frame_input_.frame.lighting.environment;
-            const bool env_centre = env.sampling == render::EnvSampling::position || env.sampling == render::EnvSampling::hybrid;
-            const bool ground = scene_.render.ground && scene_.simulation.colliders.ground && body_.particle_count() > 0;
-            Vec3f centre = Vec3f::Zero();
-            if (env_centre || ground) {
-                for (const Vec4f& x : body_.particles.x) centre += x.head<3>();
-                centre /= float(std::max<size_t>(1, body_.particle_count()));
-            }
-            if (env_centre) env.center = centre;
-            frame_input_.frame.ground.visible = ground;
-            if (ground) update_ground(centre);
+            BodyViewOptions view;
+            view.cull_back = scene_.render.cull_back;
+            view.closed = body_closed_;
+            view.opaque = frame_input_.frame.style.blend == render::Blend::over && appearance_.opacity_logit > math::logit(0.9f);
+            view.draw_ground = scene_.render.ground;
+            follow_body(body_.particles.x, scene_.simulation.colliders.ground, view, frame_input_.frame);
             if (!sorted) publish_records();  // else the sort stage reorders them first
         };
     });
@@ -336,27 +306,6 @@ core::Status SceneRuntime::build_graph() {
     return core::Status::success();
 }
 
-void SceneRuntime::update_ground(const Vec3f& centre) {
-    render::Ground& g = frame_input_.frame.ground;
-    const auto& plane = scene_.simulation.colliders.ground;
-    g.normal = plane->normal;
-    g.offset = plane->offset;
-    // The body's reach along the plane and how high it floats: the contact shadow is darkest
-    // for a body lying on the ground and fades as it lifts off.
-    const Vec3f n = plane->normal;
-    float reach = 0.0f, clearance = 1e30f;
-    for (const Vec4f& x : body_.particles.x) {
-        const Vec3f d = x.head<3>() - centre;
-        reach = std::max(reach, (d - d.dot(n) * n).norm());
-        clearance = std::min(clearance, n.dot(x.head<3>()) - plane->offset);
-    }
-    g.shadow_centre = centre - (n.dot(centre) - plane->offset) * n;
-    g.shadow_radius = std::max(reach, 1e-3f);
-    g.shadow_strength = 0.55f * std::clamp(1.0f - clearance / std::max(reach, 1e-3f), 0.0f, 1.0f);
-    g.centre = g.shadow_centre;
-    g.radius = 12.0f * std::max(reach, 0.1f);
-}
-
 void SceneRuntime::update_closed() {
     body_closed_ = !body_.triangles.empty() && mesh::boundary_loops(body_.triangles, body_.particle_count()).empty();
 }
@@ -396,37 +345,7 @@ void SceneRuntime::deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Tri
         triangles = body_.triangles;
         return;
     }
-    if (!fine_vertices_) {
-        // Embedded on demand: only coverage checks ask. Before any cut the rest mesh is the
-        // one the samples were embedded in; after one, its children hold the same surface.
-        const std::vector<Vec3f> normals = mesh::vertex_normals(*fine_);
-        std::vector<surface::SurfacePoint> points(fine_->positions.size());
-        for (size_t i = 0; i < points.size(); ++i) points[i] = {fine_->positions[i], normals[i]};
-        fine_vertices_.emplace();
-        sim::Vec4Array rest(body_.particle_count());
-        for (size_t i = 0; i < rest.size(); ++i) rest[i] = sim::to4(body_.rest_positions[i]);
-        std::vector<Vec3f> rest_normals(rest.size());
-        sim::update_normals(body_.rings, rest, rest_normals, 0, rest.size());
-        surface::embed_points(points, body_.rest_positions, body_.triangles, rest_normals, *fine_vertices_);
-    }
-    surface::update_boundary_particles(body_.triangles, body_.particles.x, body_.normals, *fine_vertices_);
-    const surface::BoundaryParticles& fv = *fine_vertices_;
-    x.resize(fv.size());
-    for (size_t i = 0; i < fv.size(); ++i) x[i] = sim::to4(fv.position[i]);
-    std::vector<uint32_t> comp_of_triangle;
-    mesh::vertex_components(body_.triangles, body_.particle_count(), comp_of_triangle);
-    triangles.clear();
-    for (const mesh::Triangle& t : fine_->triangles) {
-        const uint32_t c = comp_of_triangle[fv.triangle[t[0]]];
-        if (comp_of_triangle[fv.triangle[t[1]]] != c || comp_of_triangle[fv.triangle[t[2]]] != c) continue;
-        bool torn = false;
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t a = t[k], b = t[(k + 1) % 3];
-            const float rest = (fine_->positions[a] - fine_->positions[b]).norm();
-            torn = torn || (x[a] - x[b]).norm() > 3.0f * rest + 1e-6f;
-        }
-        if (!torn) triangles.push_back(t);
-    }
+    deformed_fine_surface(body_, *fine_, fine_vertices_, x, triangles);
 }
 
 core::Status SceneRuntime::step() {

@@ -201,15 +201,9 @@ private:
     // No open boundary: back-facing splats cannot show (kept from build and each topology change).
     bool body_closed_ = false;
     void update_closed();
-    // The drawn ground under the body (`centre`: the particles' mean), from the plane collider.
-    void update_ground(const Vec3f& centre);
     uint64_t frame_ = 0;
 };
 
-// The byte ranges of `after` that differ from `before` (all of it when the counts differ), so
-// only what changed is uploaded; a single empty range when nothing did.
-void changed_ranges(std::span<const splat::GaussianRecord> before, std::span<const splat::GaussianRecord> after,
-                    std::vector<gpu::ByteRange>& out);
 
 
 } // namespace pbdsplat::scene
