@@ -5,23 +5,15 @@
 
 #include "core/timer.h"
 #include "mesh/topology.h"
-#include "mesh/triangle_mesh.h"
-#include "sim/integrate.h"
-#include "surface/edges.h"
-#include "surface/embedding.h"
-#include "surface/remap.h"
-#include "topology/cut.h"
-#include "topology/invariants.h"
-#include "topology/tear.h"
 #include "scene/stages/body_view.h"
 #include "scene/stages/fine_surface.h"
 #include "scene/stages/pass_group.h"
+#include "scene/stages/render_setup.h"
 #include "scene/stages/simulation_stage.h"
-#include "scene/stages/surface_follow.h"
+#include "scene/stages/surface_stage.h"
+#include "topology/cut.h"
 
 namespace pbdsplat::scene {
-
-
 
 core::Result<std::unique_ptr<SceneRuntime>> SceneRuntime::create(const Scene& scene, const RuntimeOptions& options) {
     if (auto v = sim::validate(scene.simulation.solver); !v.ok()) return v.error();
@@ -53,82 +45,34 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     const MaterialDesc& mat = scene_.material;
     appearance_.albedo = mat.color;
     appearance_.opacity_logit = math::logit(mat.opacity);
-    const mesh::TriangleMesh rest{body_.rest_positions, body_.triangles, {}, {}, {}};
     const SurfaceDesc& sd_surface = scene_.surface;
-    const bool boundary = sd_surface.mode == SurfaceMode::boundary;
-    // Boundary particles sample the model's own surface (h from its edges) and ride on the
-    // simulation mesh; without a separate model surface they sample the simulation mesh. The
-    // vertices-only mode keeps the same h, so its splats are as large as with boundary
-    // particles and show the holes those close (the paper's Figure 14a against 14b).
-    h_ = boundary && fine_ ? surface::spacing(*fine_, sd_surface.eta) : surface::spacing(rest, sd_surface.eta);
-    if (!(h_ > 0.0f)) return core::make_error("the mesh has no edges to derive the sampling spacing from");
-    // With an embedded surface the samples are the splats: the simulation particles sit on the
-    // coarse mesh, off the model's surface wherever it curves, and after a cut the new ones
-    // lie on the coarse cut line, away from the fine samples: drawn, they float as strays.
-    splat_particles_ = !(boundary && fine_);
-    if (boundary && fine_) {
-        const auto points = surface::sample_points(*fine_, {}, {h_, sd_surface.seed});
-        surface::embed_points(points, body_.rest_positions, body_.triangles, body_.normals, boundary_, &embedding_);
-    } else if (boundary) {
-        boundary_ = surface::sample_surface(rest, {h_, sd_surface.seed});
-    }
-    if (boundary && sd_surface.edge_samples) surface::lay_edge_samples(body_.rest_positions, body_.triangles, h_, {}, boundary_);
+    auto surface = setup_surface(sd_surface, scene_.simulation.fade_frames, body_, fine_, boundary_, embedding_, density_);
+    if (!surface.ok()) return surface.error();
+    h_ = surface->h;
+    splat_particles_ = surface->particles_are_splats;
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
     if (scene_.render.deformed_shapes()) deformed_ = splat::DeformedShapes(body_.rest_positions, body_.triangles);
-    if (boundary && sd_surface.density.enabled) {
-        surface::DensityOptions o = sd_surface.density;
-        o.fade_frames = scene_.simulation.fade_frames;
-        density_ = surface::DensityControl(body_.rest_positions, body_.triangles, o);
-    }
     appearance_.scale = mat.splat_scale * h_;
     update_closed();
     frame_input_.frame.lighting.intensity *= mat.diffuse;
     frame_input_.frame.lighting.specular = mat.specular;
     frame_input_.frame.lighting.shininess = mat.shininess;
 
-    // Where the far-to-near sort runs, when the scene asks for one: the override, the scene's
-    // choice, or what suits the device; without a device there is only the CPU.
-    render::SplatOrder order = render::SplatOrder::unsorted;
-    if (scene_.render.sort && scene_.render.frame.style.blend == render::Blend::over) {
-        order = options.sort_on.value_or(scene_.render.sort_on.value_or(
-            options.gpu ? render::preferred_sort(options.gpu->caps()) : render::SplatOrder::cpu));
-        if (!options.gpu) order = render::SplatOrder::cpu;
-        // The GPU sort reorders records only; anisotropic shapes travel with the CPU's.
-        if (scene_.render.deformed_shapes()) order = render::SplatOrder::cpu;
-    }
+    const SortChoice sort = choose_sort(scene_, options.sort_on, options.gpu ? &options.gpu->caps() : nullptr);
+    const render::SplatOrder order = sort.order;
     frame_input_.frame.style.order = order;
-    sorted_order_ = options.sort_on.value_or(scene_.render.sort_on.value_or(
-        options.gpu ? render::preferred_sort(options.gpu->caps()) : render::SplatOrder::cpu));
-    if (!options.gpu || scene_.render.deformed_shapes()) sorted_order_ = render::SplatOrder::cpu;
+    sorted_order_ = sort.when_sorted;
     base_scale_multiplier_ = frame_input_.frame.style.scale_multiplier;
 
     if (options.gpu) {
-        render::RendererOptions ro;
-        ro.shading = scene_.render.shading;
-        ro.carrier = scene_.render.carrier;
-        ro.anisotropic = scene_.render.deformed_shapes();
-        // Interactive runs may switch the sort on later: have it ready.
-        ro.gpu_sort = order == render::SplatOrder::gpu || (options.interactive && sorted_order_ == render::SplatOrder::gpu);
-        ro.width = scene_.render.width;
-        ro.height = scene_.render.height;
-        // A cut duplicates vertices along its path: leave room for them.
-        const size_t splats = body_.particle_count() + boundary_.size();
-        // Tearing keeps opening new boundary: more room than for scripted cuts.
-        bool tears = false;
-        for (const Event& e : scene_.events) tears = tears || std::holds_alternative<TearEvent>(e.data);
-        // Interactive runs may be cut and cut again: the most room.
-        const size_t room = options.interactive || tears ? 4 : scene_.has_topology_events() ? 2 : 1;
-        // Density control adds samples where the surface grows: room for three times the area.
-        const size_t grow = density_.empty() ? 1 : 3;
-        ro.max_splats = uint32_t(std::max<size_t>(1, room * grow * splats));
+        RendererNeeds needs{body_.particle_count() + boundary_.size(), options.interactive, !density_.empty()};
+        size_t max_samples = 0;
+        render::RendererOptions ro = renderer_options(scene_, sort, needs, &max_samples);
         // What the density control may fill: the renderer's capacity less the cuts' room.
-        if (!density_.empty())
-            density_.set_max_samples(grow * splats - (splat_particles_ ? body_.particle_count() : 0));
+        if (!density_.empty()) density_.set_max_samples(max_samples - (splat_particles_ ? body_.particle_count() : 0));
         ro.frames_in_flight = options.frames_in_flight;
         ro.upload_path = options.upload_path;
-        ro.path = options.splat_path ? options.splat_path : scene_.render.splat_path;
-        ro.environment_map = scene_.render.environment_map;
-        ro.sky_sun = scene_.render.frame.lighting.direction;
+        if (options.splat_path) ro.path = options.splat_path;
         auto r = render::SplatRenderer::create(*options.gpu, ro);
         if (!r.ok()) return r.error();
         renderer_ = std::move(r).value();

@@ -1,4 +1,4 @@
-#include "scene/stages/surface_follow.h"
+#include "scene/stages/surface_stage.h"
 
 #include <algorithm>
 #include <vector>
@@ -8,6 +8,37 @@
 #include "surface/remap.h"
 
 namespace pbdsplat::scene {
+
+core::Result<SurfaceSetup> setup_surface(const SurfaceDesc& desc, uint32_t fade_frames, const sim::SoftBody& body,
+                                         const std::optional<mesh::TriangleMesh>& fine, surface::BoundaryParticles& samples,
+                                         surface::EmbeddingStats& embedding, surface::DensityControl& density) {
+    SurfaceSetup out;
+    const mesh::TriangleMesh rest{body.rest_positions, body.triangles, {}, {}, {}};
+    const bool boundary = desc.mode == SurfaceMode::boundary;
+    // Boundary particles sample the model's own surface (h from its edges) and ride on the
+    // simulation mesh; without a separate model surface they sample the simulation mesh. The
+    // vertices-only mode keeps the same h, so its splats are as large as with boundary
+    // particles and show the holes those close (the paper's Figure 14a against 14b).
+    out.h = boundary && fine ? surface::spacing(*fine, desc.eta) : surface::spacing(rest, desc.eta);
+    if (!(out.h > 0.0f)) return core::make_error("the mesh has no edges to derive the sampling spacing from");
+    // With an embedded surface the samples are the splats: the simulation particles sit on the
+    // coarse mesh, off the model's surface wherever it curves, and after a cut the new ones
+    // lie on the coarse cut line, away from the fine samples: drawn, they float as strays.
+    out.particles_are_splats = !(boundary && fine);
+    if (boundary && fine) {
+        const auto points = surface::sample_points(*fine, {}, {out.h, desc.seed});
+        surface::embed_points(points, body.rest_positions, body.triangles, body.normals, samples, &embedding);
+    } else if (boundary) {
+        samples = surface::sample_surface(rest, {out.h, desc.seed});
+    }
+    if (boundary && desc.edge_samples) surface::lay_edge_samples(body.rest_positions, body.triangles, out.h, {}, samples);
+    if (boundary && desc.density.enabled) {
+        surface::DensityOptions o = desc.density;
+        o.fade_frames = fade_frames;
+        density = surface::DensityControl(body.rest_positions, body.triangles, o);
+    }
+    return out;
+}
 
 void follow_topology_change(const SurfaceFollow& f, const sim::SoftBody& body, const topology::TopologyChange& change,
                             const topology::CutSurface* cut, size_t seed_offset) {

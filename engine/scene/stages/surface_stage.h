@@ -1,18 +1,41 @@
 #pragma once
-// What the boundary particles do after a cut or tear: samples on split triangles move to the
+// The boundary particles' setup and their follow-up to topology changes.
+//
+// Setup: spacing h from the model's edges (eta), a maximal sample set on the model's own
+// surface embedded in the simulation mesh (or on the simulation mesh itself), edge samples
+// along open boundaries, the density control.
+//
+// After a cut or tear: samples on split triangles move to the
 // children, the cut's far side is emptied, the re-triangulated and emptied triangles are
 // refilled at spacing h (per piece), edge samples are laid afresh along the new boundary, and
 // the new samples fade in. Only the triangles the change touched are resampled.
 #include <cstdint>
 #include <span>
 
+#include <optional>
+
+#include "core/result.h"
+#include "mesh/triangle_mesh.h"
+#include "scene/scene.h"
 #include "sim/soft_body.h"
 #include "surface/boundary_particles.h"
+#include "surface/embedding.h"
 #include "surface/density.h"
 #include "topology/cut.h"
 #include "topology/topology_change.h"
 
 namespace pbdsplat::scene {
+
+struct SurfaceSetup {
+    float h = 0.0f;                    // sampling spacing
+    bool particles_are_splats = true;  // not with an embedded model surface
+};
+
+// `fine`: the model's full-resolution surface when the body simulates a decimated copy.
+// Fills `samples` (boundary mode), `embedding` (with `fine`) and `density` (when the scene has it).
+core::Result<SurfaceSetup> setup_surface(const SurfaceDesc& desc, uint32_t fade_frames, const sim::SoftBody& body,
+                                         const std::optional<mesh::TriangleMesh>& fine, surface::BoundaryParticles& samples,
+                                         surface::EmbeddingStats& embedding, surface::DensityControl& density);
 
 struct SurfaceFollow {
     surface::BoundaryParticles* samples = nullptr;
