@@ -116,6 +116,7 @@ core::Status SceneRuntime::build_graph() {
     auto cpu_pass = [&](const std::string& name, PassGroup group, auto setup) { g.add_pass(name, graph::PassKind::cpu, setup, tag(group)); };
 
     auto samples = g.import("boundary particles", boundary ? &boundary_ : static_cast<surface::BoundaryParticles*>(nullptr));
+    auto density = g.import("density control", boundary ? &density_ : static_cast<surface::DensityControl*>(nullptr));
     // Sorting only matters when splats are composited with "over" and the scene asks for it.
     const bool sorted = order == render::SplatOrder::cpu;  // the GPU sort is a GPU pass
     auto sort = g.import("sort", sorted ? &sort_scratch_ : static_cast<splat::SortScratch*>(nullptr));
@@ -142,7 +143,10 @@ core::Status SceneRuntime::build_graph() {
     cpu_pass("topology", PassGroup::events, [&](graph::PassBuilder& b) {
         b.read(cuts);
         body = b.write(body);
-        samples = b.write(samples);
+        // What a change re-samples, only where the scene has it: an absent resource culls a
+        // pass that declares it (vertices-only scenes lost their cuts so).
+        if (boundary) samples = b.write(samples), density = b.write(density);
+        if (sd_surface.stretch_scale) stretch = b.write(stretch);
         return [this, dt](const graph::PassResources&, graph::ExecuteContext&) {
             topology_->run(body_, time_, dt, frame_input_.frame.camera, scene_.simulation.cut,
                            [this](const topology::TopologyChange& c, const topology::CutSurface* cut, size_t seed_offset) {
@@ -164,7 +168,6 @@ core::Status SceneRuntime::build_graph() {
     });
     // Keeps the samples at their density as the surface stretches and shrinks, and advances
     // their fades (also those of samples a cut or tear added).
-    auto density = g.import("density control", boundary ? &density_ : static_cast<surface::DensityControl*>(nullptr));
     cpu_pass("density", PassGroup::update, [&](graph::PassBuilder& b) {
         b.read(body);
         b.read(density);

@@ -82,6 +82,28 @@ TEST_SUITE("scene/runtime") {
         }
     }
 
+    TEST_CASE("a vertices-only scene keeps its topology stage: its cuts happen") {
+        // The topology pass declared a write to the boundary particles, which a vertices-only
+        // scene does not have: the graph culled it and the scripted cut never came.
+        scene::Scene s = scene::default_scene();
+        s.surface.mode = scene::SurfaceMode::vertices;
+        s.events.clear();
+        scene::Event cut;
+        cut.time = 0.05f;
+        scene::CutEvent c;
+        c.plane = std::make_pair(Vec3f::Zero(), Vec3f::UnitX());
+        cut.data = c;
+        s.events.push_back(cut);
+        const auto passes = culling(s);
+        CHECK(passes.at("topology").empty());
+        auto rt = scene::SceneRuntime::create(s, {});
+        REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+        const size_t before = rt.value()->body().particle_count();
+        for (int f = 0; f < 6; ++f) REQUIRE(rt.value()->step().ok());
+        CHECK(rt.value()->stats().cuts == 1);
+        CHECK(rt.value()->body().particle_count() > before);
+    }
+
     TEST_CASE("a scene without pressure, colliders or events runs only the stages it needs") {
         const auto c = culling(load("no_pressure.toml"));
         for (int it = 0; it < 5; ++it) {
