@@ -7,6 +7,7 @@
 #include "mesh/topology.h"
 #include "scene/stages/body_view.h"
 #include "scene/stages/fine_surface.h"
+#include "scene/stages/mapping_stage.h"
 #include "scene/stages/pass_group.h"
 #include "scene/stages/render_setup.h"
 #include "scene/stages/simulation_stage.h"
@@ -51,7 +52,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     h_ = surface->h;
     splat_particles_ = surface->particles_are_splats;
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
-    if (scene_.render.deformed_shapes()) deformed_ = splat::DeformedShapes(body_.rest_positions, body_.triangles);
+    mapping_ = std::make_unique<MappingStage>(body_, scene_.simulation.fade_frames, scene_.render.deformed_shapes());
     appearance_.scale = mat.splat_scale * h_;
     update_closed();
     frame_input_.frame.lighting.intensity *= mat.diffuse;
@@ -83,7 +84,6 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     check_topology = true;
 #endif
     topology_ = std::make_unique<TopologyStage>(scene_, check_topology);
-    fade_ = splat::FadeIn(scene_.simulation.fade_frames);
     order_ = order;
     return build_graph();
 }
@@ -119,7 +119,7 @@ core::Status SceneRuntime::build_graph() {
     auto density = g.import("density control", boundary ? &density_ : static_cast<surface::DensityControl*>(nullptr));
     // Sorting only matters when splats are composited with "over" and the scene asks for it.
     const bool sorted = order == render::SplatOrder::cpu;  // the GPU sort is a GPU pass
-    auto sort = g.import("sort", sorted ? &sort_scratch_ : static_cast<splat::SortScratch*>(nullptr));
+    auto sort = g.import("sort", sorted ? &mapping_->sort_scratch() : static_cast<splat::SortScratch*>(nullptr));
     auto stretch = g.import("stretch", sd_surface.stretch_scale ? &stretch_ : static_cast<splat::StretchScale*>(nullptr));
     auto sink = g.import("image", readback_ ? &sink_ : static_cast<ImageSink*>(nullptr));
     const bool topology_events = topology_->has_scripted_events() || options.interactive;
@@ -195,23 +195,19 @@ core::Status SceneRuntime::build_graph() {
         input = b.write(input);
         if (keep) b.side_effect();
         return [this, boundary, sorted](const graph::PassResources&, graph::ExecuteContext&) {
-            const bool particles = splat_particles_;
-            splat::map_body(particles ? std::span<const Vec4f>(body_.particles.x) : std::span<const Vec4f>(),
-                            particles ? std::span<const Vec3f>(body_.normals) : std::span<const Vec3f>(), body_.colors, body_.triangles,
-                            boundary && show_boundary_ ? &boundary_ : nullptr,
-                            appearance_, stretch_.empty() ? nullptr : &stretch_, records_);
-            if (!deformed_.empty()) {
-                deformed_.update(body_.particles.x, body_.triangles);
-                deformed_.map(particles ? body_.particle_count() : 0, boundary && show_boundary_ ? &boundary_ : nullptr, records_, shapes_);
-            }
-            fade_.apply(records_);
+            MappingStage::Sources sources;
+            sources.body = &body_;
+            sources.particles = splat_particles_;
+            sources.samples = boundary && show_boundary_ ? &boundary_ : nullptr;
+            sources.stretch = stretch_.empty() ? nullptr : &stretch_;
+            mapping_->map(sources, appearance_);
             BodyViewOptions view;
             view.cull_back = scene_.render.cull_back;
             view.closed = body_closed_;
             view.opaque = frame_input_.frame.style.blend == render::Blend::over && appearance_.opacity_logit > math::logit(0.9f);
             view.draw_ground = scene_.render.ground;
             follow_body(body_.particles.x, scene_.simulation.colliders.ground, view, frame_input_.frame);
-            if (!sorted) publish_records();  // else the sort stage reorders them first
+            if (!sorted) mapping_->publish(frame_input_);  // else the sort stage reorders them first
         };
     });
     cpu_pass("sort", PassGroup::update, [&](graph::PassBuilder& b) {
@@ -219,9 +215,8 @@ core::Status SceneRuntime::build_graph() {
         input = b.write(input);
         if (keep) b.side_effect();
         return [this](const graph::PassResources&, graph::ExecuteContext&) {
-            const render::Camera& c = frame_input_.frame.camera;
-            splat::sort_far_to_near(records_, shapes_, math::look_at(c.eye, c.target, c.up), sort_scratch_);
-            publish_records();
+            mapping_->sort(frame_input_.frame.camera);
+            mapping_->publish(frame_input_);
         };
     });
     if (renderer_) {
@@ -257,18 +252,12 @@ void SceneRuntime::update_closed() {
     body_closed_ = !body_.triangles.empty() && mesh::boundary_loops(body_.triangles, body_.particle_count()).empty();
 }
 
-void SceneRuntime::publish_records() {
-    frame_input_.records = records_;
-    frame_input_.shapes = shapes_;
-    changed_ranges(previous_records_, records_, frame_input_.changed);
-    previous_records_ = records_;
-}
 
 
 core::Status SceneRuntime::after_topology_change(const topology::TopologyChange& change, const topology::CutSurface* cut,
                                                  size_t seed_offset) {
     update_closed();  // only a cut or tear can open the boundary
-    if (splat_particles_) fade_.add_particles(change.particles_before, change.new_particles());
+    mapping_->topology_changed(body_, change, splat_particles_);
     if (scene_.surface.mode == SurfaceMode::boundary) {
         SurfaceFollow f;
         f.samples = &boundary_;
@@ -282,7 +271,6 @@ core::Status SceneRuntime::after_topology_change(const topology::TopologyChange&
         follow_topology_change(f, body_, change, cut, seed_offset);
     }
     if (!stretch_.empty()) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
-    if (!deformed_.empty()) deformed_ = splat::DeformedShapes(body_.rest_positions, body_.triangles);
     return core::Status::success();
 }
 
@@ -324,7 +312,7 @@ core::Status SceneRuntime::step() {
     s.particles = body_.particle_count();
     s.boundary_particles = boundary_.size();
     s.density = density_stats_;
-    s.gaussians = records_.size();
+    s.gaussians = mapping_->records().size();
     for (size_t k = 0; k < ms.size(); ++k) {
         const double t = ms[k];
         switch (group_of_kept_pass_[k]) {

@@ -12,6 +12,7 @@
 #include "scene/gpu_passes.h"
 #include "scene/scene.h"
 #include "scene/stages/pass_group.h"
+#include "scene/stages/mapping_stage.h"
 #include "scene/stages/topology_stage.h"
 #include "scene/scene_model.h"
 #include "scene/timeline.h"
@@ -96,9 +97,9 @@ public:
     const surface::BoundaryParticles& boundary_particles() const { return boundary_; }
     // The splats of the last frame: the particles' first, then the boundary particles'; with an
     // embedded model surface, the boundary particles' only.
-    const std::vector<splat::GaussianRecord>& records() const { return records_; }
+    const std::vector<splat::GaussianRecord>& records() const { return mapping_->records(); }
     // With render.splat_shape = "deformed": each record's axes; else empty.
-    const std::vector<splat::GaussianShape>& shapes() const { return shapes_; }
+    const std::vector<splat::GaussianShape>& shapes() const { return mapping_->shapes(); }
     float spacing() const { return h_; }
     const Scene& scene() const { return scene_; }
     // What the most recent cut or tear did (empty before any).
@@ -175,29 +176,23 @@ private:
     splat::Appearance appearance_;
     surface::BoundaryParticles boundary_;
     splat::StretchScale stretch_;
-    splat::DeformedShapes deformed_;          // render.splat_shape = "deformed"
-    std::vector<splat::GaussianShape> shapes_;  // parallel to records_ then
     surface::DensityControl density_;  // empty when the scene turns it off
     surface::DensityStats density_stats_;
-    splat::SortScratch sort_scratch_;
-    std::vector<splat::GaussianRecord> records_;
-    std::vector<splat::GaussianRecord> previous_records_;  // what the GPU holds: for changed ranges
     std::unique_ptr<render::SplatRenderer> renderer_;
     GpuPassResources gpu_resources_;
     GpuFrameInput frame_input_;
     ImageSink sink_;
     graph::FrameGraph graph_;
     std::vector<PassGroup> group_of_kept_pass_;  // the Table 3 group of each kept pass, in execution order
-    void publish_records();                // hands records_ to the GPU passes with what changed
     FrameStats stats_;
     std::vector<double> last_pass_ms_;
     float time_ = 0.0f;
     float h_ = 0.0f;  // sampling spacing
     bool splat_particles_ = true;  // the particles are splats too (not with an embedded surface)
     std::unique_ptr<TopologyStage> topology_;  // scripted cuts and tears, the user's strokes
+    std::unique_ptr<MappingStage> mapping_;    // body -> Gaussians -> the GPU passes
     // Everything downstream of the mesh follows each change: samples, fades, stretch.
     core::Status after_topology_change(const topology::TopologyChange& change, const topology::CutSurface* cut, size_t seed_offset);
-    splat::FadeIn fade_;
     // No open boundary: back-facing splats cannot show (kept from build and each topology change).
     bool body_closed_ = false;
     void update_closed();
