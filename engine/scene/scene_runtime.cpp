@@ -159,34 +159,11 @@ core::Status SceneRuntime::build_graph() {
     add_simulation_passes(g, sim_handles, solver, settings, dt);
     body = sim_handles.body;
     }  // !paused_
-    cpu_pass("boundary particles", PassGroup::update, [&](graph::PassBuilder& b) {
-        b.read(body);
-        samples = b.write(samples);
-        return [this](const graph::PassResources&, graph::ExecuteContext&) {
-            surface::update_boundary_particles(body_.triangles, body_.particles.x, body_.normals, boundary_);
-        };
-    });
-    // Keeps the samples at their density as the surface stretches and shrinks, and advances
-    // their fades (also those of samples a cut or tear added).
-    cpu_pass("density", PassGroup::update, [&](graph::PassBuilder& b) {
-        b.read(body);
-        b.read(density);
-        samples = b.write(samples);
-        return [this](const graph::PassResources&, graph::ExecuteContext&) {
-            if (density_.empty()) {
-                density_stats_ = {};
-                density_stats_.removed = uint32_t(surface::advance_fades(boundary_, &density_stats_.fading));
-                return;
-            }
-            density_stats_ = density_.update(body_.particles.x, body_.normals, body_.triangles, splat_particles_, h_,
-                                             scene_.surface.seed, boundary_);
-        };
-    });
-    cpu_pass("stretch", PassGroup::update, [&](graph::PassBuilder& b) {
-        b.read(body);
-        stretch = b.write(stretch);
-        return [this](const graph::PassResources&, graph::ExecuteContext&) { stretch_.update(body_.particles.x, body_.triangles); };
-    });
+    auto density_stats = g.import("density stats", &density_stats_);
+    SurfaceHandles surface{body, samples, density, density_stats, stretch};
+    add_surface_passes(g, surface, {splat_particles_, h_, scene_.surface.seed, tag(PassGroup::update)});
+    samples = surface.samples;
+    stretch = surface.stretch;
     const bool keep = options.keep_records;
     cpu_pass("map", PassGroup::update, [&](graph::PassBuilder& b) {
         b.read(body);

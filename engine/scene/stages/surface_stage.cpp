@@ -40,6 +40,54 @@ core::Result<SurfaceSetup> setup_surface(const SurfaceDesc& desc, uint32_t fade_
     return out;
 }
 
+void add_surface_passes(graph::FrameGraph& g, SurfaceHandles& h, const SurfacePassConfig& config) {
+    g.add_pass(
+        "boundary particles", graph::PassKind::cpu,
+        [&](graph::PassBuilder& b) {
+            b.read(h.body);
+            h.samples = b.write(h.samples);
+            return [body = h.body, samples = h.samples](const graph::PassResources& r, graph::ExecuteContext&) {
+                const sim::SoftBody& bd = r.get(body);
+                surface::update_boundary_particles(bd.triangles, bd.particles.x, bd.normals, r.get(samples));
+            };
+        },
+        config.tag);
+    // Also advances the fades of samples a cut or tear added.
+    g.add_pass(
+        "density", graph::PassKind::cpu,
+        [&](graph::PassBuilder& b) {
+            b.read(h.body);
+            b.read(h.density);
+            h.samples = b.write(h.samples);
+            h.density_stats = b.write(h.density_stats);
+            return [config, body = h.body, samples = h.samples, density = h.density, stats = h.density_stats](
+                       const graph::PassResources& r, graph::ExecuteContext&) {
+                const sim::SoftBody& bd = r.get(body);
+                surface::DensityStats& out = r.get(stats);
+                surface::DensityControl& control = r.get(density);
+                if (control.empty()) {
+                    out = {};
+                    out.removed = uint32_t(surface::advance_fades(r.get(samples), &out.fading));
+                    return;
+                }
+                out = control.update(bd.particles.x, bd.normals, bd.triangles, config.particles_are_splats, config.h, config.seed,
+                                     r.get(samples));
+            };
+        },
+        config.tag);
+    g.add_pass(
+        "stretch", graph::PassKind::cpu,
+        [&](graph::PassBuilder& b) {
+            b.read(h.body);
+            h.stretch = b.write(h.stretch);
+            return [body = h.body, stretch = h.stretch](const graph::PassResources& r, graph::ExecuteContext&) {
+                const sim::SoftBody& bd = r.get(body);
+                r.get(stretch).update(bd.particles.x, bd.triangles);
+            };
+        },
+        config.tag);
+}
+
 void follow_topology_change(const SurfaceFollow& f, const sim::SoftBody& body, const topology::TopologyChange& change,
                             const topology::CutSurface* cut, size_t seed_offset) {
     surface::BoundaryParticles& samples = *f.samples;

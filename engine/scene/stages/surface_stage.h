@@ -15,6 +15,8 @@
 #include <optional>
 
 #include "core/result.h"
+#include "graph/frame_graph.h"
+#include "splat/mapping.h"
 #include "mesh/triangle_mesh.h"
 #include "scene/scene.h"
 #include "sim/soft_body.h"
@@ -47,6 +49,25 @@ struct SurfaceFollow {
     bool edge_samples = false;
     bool particles_are_splats = true;  // new samples keep their distance from the particles too
 };
+
+// The per-frame passes: the samples follow the deformed mesh ("boundary particles"), keep
+// their density as it stretches and shrinks and advance their fades ("density"), and the
+// stretch-scaled splats' factors follow ("stretch"). Each reaches its data through the handles;
+// an absent one (vertices only, no stretch scaling) culls the passes that need it.
+struct SurfaceHandles {
+    graph::Handle<sim::SoftBody> body;                 // read
+    graph::Handle<surface::BoundaryParticles> samples;  // written: the newest version on return
+    graph::Handle<surface::DensityControl> density;
+    graph::Handle<surface::DensityStats> density_stats;
+    graph::Handle<splat::StretchScale> stretch;         // written
+};
+struct SurfacePassConfig {
+    bool particles_are_splats = true;
+    float h = 0.0f;
+    uint32_t seed = 0;
+    uint32_t tag = 0;  // the passes' group (scene/stages/pass_group.h)
+};
+void add_surface_passes(graph::FrameGraph& g, SurfaceHandles& h, const SurfacePassConfig& config);
 
 // `cut`: the cut's surface (null for a tear); `seed_offset` added to the seed.
 void follow_topology_change(const SurfaceFollow& f, const sim::SoftBody& body, const topology::TopologyChange& change,
