@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "scene/coverage.h"
+#include "passes/coverage.h"
 #include "scene/scene_runtime.h"
 #include "sim/shape_error.h"
 #include "splat/strays.h"
@@ -91,7 +91,7 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
             frame.camera = rt.camera();
             frame.ground.visible = false;
             frame.style.order = rt.order();  // without a device: the CPU sort, records already in order
-            auto c = measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height, scene.material.color, rt.shapes());
+            auto c = passes::measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height, scene.material.color, rt.shapes());
             if (!c.ok()) return core::make_error("frame " + std::to_string(s.frame) + ": " + c.error().to_string());
             s.hole_ratio = c->hole_ratio;
             s.iou = c->silhouette_iou;
@@ -102,7 +102,7 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
                 PBDSPLAT_TRY(core::write_png(o.images_dir + stem + "splats.png", c->splats));
                 PBDSPLAT_TRY(core::write_png(o.images_dir + stem + "mesh.png", c->shaded));
                 core::ImageRgba8 marked;
-                speck_ratio(c->splats, c->shaded, c->mesh, &marked);
+                passes::speck_ratio(c->splats, c->shaded, c->mesh, &marked);
                 PBDSPLAT_TRY(core::write_png(o.images_dir + stem + "specks.png", marked));
             }
         }

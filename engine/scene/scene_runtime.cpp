@@ -121,7 +121,7 @@ core::Status SceneRuntime::build_graph() {
     const bool sorted = order == render::SplatOrder::cpu;  // the GPU sort is a GPU pass
     auto sort = g.import("sort", sorted ? &mapping_->sort_scratch() : static_cast<splat::SortScratch*>(nullptr));
     auto stretch = g.import("stretch", sd_surface.stretch_scale ? &stretch_ : static_cast<splat::StretchScale*>(nullptr));
-    auto sink = g.import("image", readback_ ? &sink_ : static_cast<ImageSink*>(nullptr));
+    auto sink = g.import("image", readback_ ? &sink_ : static_cast<passes::ImageSink*>(nullptr));
     const bool topology_events = topology_->has_scripted_events() || options.interactive;
     auto cuts = g.import("topology events", topology_events ? &topology_->pending() : static_cast<std::vector<Event>*>(nullptr));
     // Paused: nothing moves, so no simulation stage runs; the frame is drawn again as it was.
@@ -197,16 +197,17 @@ core::Status SceneRuntime::build_graph() {
         };
     });
     if (renderer_) {
-        const auto drawn = add_gpu_passes(g, *renderer_, gpu_resources_, input, sink, order == render::SplatOrder::gpu);
-        PresentSources sources{drawn, {}, renderer_->width(), renderer_->height(), [this] { return renderer_->slot(); }};
+        const auto drawn = passes::add_gpu_passes(g, *renderer_, gpu_resources_, input, sink, order == render::SplatOrder::gpu,
+                                                  tag(PassGroup::gpu_record));
+        passes::PresentSources sources{drawn, {}, renderer_->width(), renderer_->height(), [this] { return renderer_->slot(); }};
         if (mesh_raster_ && (view_ == DisplayView::mesh || view_ == DisplayView::side_by_side)) {
             auto mesh_color = g.import("mesh colour", &mesh_color_);
             auto mesh_depth = g.import("mesh depth", &mesh_depth_);
             g.add_pass("mesh", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
                 b.read(body);
                 b.read(input);
-                mesh_color = b.write(mesh_color, to_graph(render::uses::color_attachment));
-                b.write(mesh_depth, to_graph(render::uses::depth_attachment));
+                mesh_color = b.write(mesh_color, passes::to_graph(render::uses::color_attachment));
+                b.write(mesh_depth, passes::to_graph(render::uses::depth_attachment));
                 return [this](const graph::PassResources&, graph::ExecuteContext& c) {
                     const uint32_t slot = renderer_->slot();
                     if (const core::Status s = mesh_raster_->set_mesh(body_.particles.x, body_.triangles, body_.normals, slot); !s.ok())
@@ -272,7 +273,7 @@ core::Status SceneRuntime::step() {
     const auto& ms = graph_.execute(ctx);
     last_pass_ms_ = ms;
     if (renderer_) {
-        Presenter* p = options_.presenter;
+        passes::Presenter* p = options_.presenter;
         PBDSPLAT_TRY(renderer_->end_frame(p ? p->wait_semaphore() : nullptr, p ? p->signal_semaphore() : nullptr));
     }
     if (!topology_->status().ok()) return topology_->status();

@@ -9,7 +9,7 @@
 
 #include "core/thread_pool.h"
 #include "graph/frame_graph.h"
-#include "scene/gpu_passes.h"
+#include "passes/gpu_passes.h"
 #include "scene/scene.h"
 #include "scene/stages/pass_group.h"
 #include "scene/stages/mapping_stage.h"
@@ -44,7 +44,7 @@ struct RuntimeOptions {
     // even when the scene scripts none.
     bool interactive = false;
     // Windowed frames: the passes that take the image to the screen (not owned).
-    Presenter* presenter = nullptr;
+    passes::Presenter* presenter = nullptr;
 };
 
 // What a windowed frame shows.
@@ -179,9 +179,9 @@ private:
     surface::DensityControl density_;  // empty when the scene turns it off
     surface::DensityStats density_stats_;
     std::unique_ptr<render::SplatRenderer> renderer_;
-    GpuPassResources gpu_resources_;
-    GpuFrameInput frame_input_;
-    ImageSink sink_;
+    passes::GpuPassResources gpu_resources_;
+    passes::GpuFrameInput frame_input_;
+    passes::ImageSink sink_;
     graph::FrameGraph graph_;
     std::vector<PassGroup> group_of_kept_pass_;  // the Table 3 group of each kept pass, in execution order
     FrameStats stats_;

@@ -10,8 +10,10 @@ set(allowed_splat "core;mesh;sim;surface;splat")
 set(allowed_gpu "core;gpu")
 set(allowed_render "core;gpu;splat;render")
 set(allowed_graph "core;gpu;graph")
-set(allowed_scene "core;mesh;sim;topology;surface;splat;gpu;render;graph;scene")
-set(rooms core mesh sim topology surface splat gpu render graph scene)
+# The GPU passes as graph modules: the render half only, never sim (DESIGN.md).
+set(allowed_passes "core;gpu;graph;render;splat;passes")
+set(allowed_scene "core;mesh;sim;topology;surface;splat;gpu;render;graph;passes;scene")
+set(rooms core mesh sim topology surface splat gpu render graph passes scene)
 
 set(violations 0)
 file(GLOB_RECURSE sources "${ENGINE_DIR}/*.h" "${ENGINE_DIR}/*.cpp")

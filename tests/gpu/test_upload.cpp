@@ -1,7 +1,7 @@
 #include <doctest/doctest.h>
 
 #include "gpu/upload_ring.h"
-#include "scene/offscreen_renderer.h"
+#include "passes/offscreen_renderer.h"
 #include "scene/builtin_scene.h"
 #include "support/gpu_fixture.h"
 
@@ -44,7 +44,7 @@ TEST_SUITE("gpu/upload") {
         std::vector<core::ImageRgba8> images;
         for (gpu::UploadPath path : paths) {
             o.upload_path = path;
-            auto r = scene::OffscreenRenderer::create(*ctx, o);
+            auto r = passes::OffscreenRenderer::create(*ctx, o);
             REQUIRE(r.ok());
             CHECK(r.value()->upload_path() == path);
             // Changed ranges are relative to the previous frame. Frame 2 moves the first 100
@@ -66,7 +66,7 @@ TEST_SUITE("gpu/upload") {
         }
         // Reference: one full upload.
         o.upload_path.reset();
-        auto ref = scene::OffscreenRenderer::create(*ctx, o);
+        auto ref = passes::OffscreenRenderer::create(*ctx, o);
         REQUIRE(ref.ok());
         REQUIRE(ref.value()->render(scene.records, scene.frame).ok());
         auto expected = ref.value()->finish();
@@ -82,7 +82,7 @@ TEST_SUITE("gpu/upload") {
         o.width = 64;
         o.height = 48;
         o.max_splats = 100;
-        auto r = scene::OffscreenRenderer::create(*ctx, o);
+        auto r = passes::OffscreenRenderer::create(*ctx, o);
         REQUIRE(r.ok());
         const auto s = r.value()->render(scene.records, scene.frame);  // 162 records
         REQUIRE_FALSE(s.ok());

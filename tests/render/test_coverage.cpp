@@ -2,7 +2,7 @@
 
 #include "mesh/mesh_spec.h"
 #include "mesh/model_path.h"
-#include "scene/coverage.h"
+#include "passes/coverage.h"
 #include "sim/soft_body.h"
 #include "splat/mapping.h"
 #include "support/gpu_fixture.h"
@@ -12,7 +12,7 @@ using namespace pbdsplat;
 
 namespace {
 struct Result2 {
-    scene::Coverage boundary, vertices;
+    passes::Coverage boundary, vertices;
 };
 
 // The rest state of a mesh rendered twice at the same splat size: with boundary particles
@@ -39,8 +39,8 @@ Result2 coverage_of(gpu::Context& ctx, const std::string& spec, render::Footprin
     frame.camera.target = b.center();
     frame.camera.eye = b.center() + Vec3f(0.3f, 0.35f, 1.1f) * b.diagonal();
     std::vector<std::array<uint32_t, 3>> tris(body->triangles.begin(), body->triangles.end());
-    auto a = scene::measure_coverage(ctx, body->particles.x, tris, with, frame, 256, 256);
-    auto v = scene::measure_coverage(ctx, body->particles.x, tris, without, frame, 256, 256);
+    auto a = passes::measure_coverage(ctx, body->particles.x, tris, with, frame, 256, 256);
+    auto v = passes::measure_coverage(ctx, body->particles.x, tris, without, frame, 256, 256);
     REQUIRE_MESSAGE(a.ok(), a.error().to_string());
     REQUIRE_MESSAGE(v.ok(), v.error().to_string());
     MESSAGE(spec << ", " << std::string(render::footprint_name(footprint)) << ": " << with.size() << " splats with boundary particles: hole ratio " << a->hole_ratio * 100.0

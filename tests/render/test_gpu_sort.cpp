@@ -11,7 +11,7 @@
 #include "render/gpu_sort.h"
 #include "render/splat_renderer.h"
 #include "scene/builtin_scene.h"
-#include "scene/offscreen_renderer.h"
+#include "passes/offscreen_renderer.h"
 #include "splat/sort.h"
 #include "support/gpu_fixture.h"
 
@@ -154,7 +154,7 @@ TEST_SUITE("render/sort") {
         o.max_splats = uint32_t(records.size());
         o.frames_in_flight = 1;
         o.gpu_sort = true;
-        auto renderer = scene::OffscreenRenderer::create(*ctx, o);
+        auto renderer = passes::OffscreenRenderer::create(*ctx, o);
         REQUIRE_MESSAGE(renderer.ok(), renderer.error().to_string());
         REQUIRE(renderer.value()->render(records, frame).ok());
         REQUIRE(renderer.value()->finish().ok());
@@ -191,7 +191,7 @@ TEST_SUITE("render/sort") {
                 splat::SortScratch scratch;
                 if (order == render::SplatOrder::cpu)
                     splat::sort_far_to_near(records, math::look_at(frame.camera.eye, frame.camera.target, frame.camera.up), scratch);
-                auto r = scene::OffscreenRenderer::create(*ctx, o);
+                auto r = passes::OffscreenRenderer::create(*ctx, o);
                 REQUIRE_MESSAGE(r.ok(), r.error().to_string());
                 REQUIRE(r.value()->render(records, frame).ok());
                 auto img = r.value()->finish();

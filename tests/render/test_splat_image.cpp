@@ -12,8 +12,8 @@
 #include "core/image.h"
 #include "render/frame_uniforms.h"
 #include "mesh/topology.h"
-#include "scene/mesh_image.h"
-#include "scene/offscreen_renderer.h"
+#include "passes/mesh_image.h"
+#include "passes/offscreen_renderer.h"
 #include "scene/scene_file.h"
 #include "scene/builtin_scene.h"
 #include "scene/default_scene.h"
@@ -363,10 +363,10 @@ TEST_SUITE("render/lighting") {
         auto raster = render::MeshRaster::create(*ctx, o);
         REQUIRE_MESSAGE(raster.ok(), raster.error().to_string());
         REQUIRE(raster.value()->set_mesh(x, scene.mesh.triangles, normals).ok());
-        auto lit = scene::render_mesh_image(*ctx, *raster.value(), scene.frame, render::MeshView::shaded, scene.appearance.albedo);
+        auto lit = passes::render_mesh_image(*ctx, *raster.value(), scene.frame, render::MeshView::shaded, scene.appearance.albedo);
         REQUIRE_MESSAGE(lit.ok(), lit.error().to_string());
         check_against_golden(lit->image, "mesh_lit_160x120");
-        auto mask = scene::render_mesh_image(*ctx, *raster.value(), scene.frame, render::MeshView::mask);
+        auto mask = passes::render_mesh_image(*ctx, *raster.value(), scene.frame, render::MeshView::mask);
         REQUIRE(mask.ok());
         // The same lighting on the same surface: the splats differ at the silhouette (a splat
         // reaches past the mesh), not in tone. Compared away from the mask's edge.
@@ -527,7 +527,7 @@ TEST_SUITE("render/lighting") {
             frame.camera.target = Vec3f::Zero();
             const render::RendererOptions ro = scene::ply_renderer_options(file.value(), 64, 48);
             CHECK(ro.sh_degree == 3);
-            auto r = scene::OffscreenRenderer::create(*ctx, ro);
+            auto r = passes::OffscreenRenderer::create(*ctx, ro);
             REQUIRE_MESSAGE(r.ok(), r.error().to_string());
             REQUIRE(r.value()->render(file->records, frame, {}, file->shapes, file->sh).ok());
             auto img = r.value()->finish();

@@ -9,7 +9,7 @@
 #include "render/cpu_shading.h"
 #include "render/frame_uniforms.h"
 #include "render/splat_renderer.h"
-#include "scene/offscreen_renderer.h"
+#include "passes/offscreen_renderer.h"
 #include "splat/sort.h"
 #include "support/gpu_fixture.h"
 #include "support/render_once.h"

@@ -230,19 +230,19 @@ TEST_SUITE("scene/runtime") {
         for (size_t i = 0; i < a.size(); ++i) a[i] = splat::make_record(Vec3f(float(i), 0, 0), Vec3f::UnitZ(), {});
         std::vector<gpu::ByteRange> ranges;
         b = a;
-        scene::changed_ranges(a, b, ranges);
+        passes::changed_ranges(a, b, ranges);
         REQUIRE(ranges.size() == 1);
         CHECK(ranges[0].size == 0);  // nothing to upload
         b[300].position[1] = 1.0f;   // block 1 (records 256..511)
         b[999].position[1] = 1.0f;   // block 3 (768..999)
-        scene::changed_ranges(a, b, ranges);
+        passes::changed_ranges(a, b, ranges);
         REQUIRE(ranges.size() == 2);
         CHECK(ranges[0].offset == 256 * sizeof(splat::GaussianRecord));
         CHECK(ranges[0].size == 256 * sizeof(splat::GaussianRecord));
         CHECK(ranges[1].offset == 768 * sizeof(splat::GaussianRecord));
         CHECK(ranges[1].size == 232 * sizeof(splat::GaussianRecord));
         b.pop_back();
-        scene::changed_ranges(a, b, ranges);
+        passes::changed_ranges(a, b, ranges);
         REQUIRE(ranges.size() == 1);
         CHECK(ranges[0].size == b.size() * sizeof(splat::GaussianRecord));
     }

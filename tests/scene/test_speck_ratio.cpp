@@ -1,6 +1,6 @@
 #include <doctest/doctest.h>
 
-#include "scene/coverage.h"
+#include "passes/coverage.h"
 
 using namespace pbdsplat;
 
@@ -19,26 +19,26 @@ TEST_SUITE("scene/speck_ratio") {
     TEST_CASE("the speck ratio is 0 on the lit mesh itself and counts one dark pixel") {
         const core::ImageRgba8 lit = filled(40, 30, 200, 90, 80, 255);
         const core::ImageRgba8 mask = filled(40, 30, 255, 255, 255, 255);
-        CHECK(scene::speck_ratio(lit, lit, mask) == 0.0);
+        CHECK(passes::speck_ratio(lit, lit, mask) == 0.0);
         core::ImageRgba8 splats = lit;
         uint8_t* p = &splats.pixels[(size_t(12) * 40 + 7) * 4];
         p[0] = 60, p[1] = 20, p[2] = 20;  // darker than half the mesh's luminance
         core::ImageRgba8 marked;
-        CHECK(scene::speck_ratio(splats, lit, mask, &marked) == doctest::Approx(1.0 / 1200.0));
+        CHECK(passes::speck_ratio(splats, lit, mask, &marked) == doctest::Approx(1.0 / 1200.0));
         CHECK(marked.pixels[(size_t(12) * 40 + 7) * 4 + 1] == 0);  // painted magenta
         // Only slightly darker (shading differences): not a speck.
         p[0] = 150, p[1] = 70, p[2] = 60;
-        CHECK(scene::speck_ratio(splats, lit, mask) == 0.0);
+        CHECK(passes::speck_ratio(splats, lit, mask) == 0.0);
     }
 
     TEST_CASE("pixels outside the mesh, or where its inside is seen, are not counted") {
         const core::ImageRgba8 lit = filled(10, 10, 200, 200, 200, 255);
         const core::ImageRgba8 dark = filled(10, 10, 0, 0, 0, 255);
         core::ImageRgba8 mask = filled(10, 10, 255, 255, 255, 0);  // nothing of the mesh
-        CHECK(scene::speck_ratio(dark, lit, mask) == 0.0);
+        CHECK(passes::speck_ratio(dark, lit, mask) == 0.0);
         mask = filled(10, 10, 0, 255, 255, 255);  // all of it the inside, through an opening
-        CHECK(scene::speck_ratio(dark, lit, mask) == 0.0);
+        CHECK(passes::speck_ratio(dark, lit, mask) == 0.0);
         mask = filled(10, 10, 255, 255, 255, 255);
-        CHECK(scene::speck_ratio(dark, lit, mask) == 1.0);
+        CHECK(passes::speck_ratio(dark, lit, mask) == 1.0);
     }
 }

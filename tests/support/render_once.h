@@ -8,7 +8,7 @@
 #include <doctest/doctest.h>
 
 #include "core/image.h"
-#include "scene/offscreen_renderer.h"
+#include "passes/offscreen_renderer.h"
 
 namespace pbdsplat::test {
 
@@ -27,7 +27,7 @@ inline core::ImageRgba8 render_once(gpu::Context& ctx, const std::vector<splat::
     o.height = h;
     o.max_splats = std::max<uint32_t>(1, uint32_t(records.size()));
     o.frames_in_flight = 1;
-    auto r = scene::OffscreenRenderer::create(ctx, o);
+    auto r = passes::OffscreenRenderer::create(ctx, o);
     REQUIRE_MESSAGE(r.ok(), r.error().to_string());
     const auto status = r.value()->render(records, frame, {}, shapes);
     REQUIRE_MESSAGE(status.ok(), status.error().to_string());

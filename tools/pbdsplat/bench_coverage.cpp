@@ -10,7 +10,7 @@
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/scene_arg.h"
 #include "pbdsplat/svg_plot.h"
-#include "scene/coverage.h"
+#include "passes/coverage.h"
 #include "scene/scene_runtime.h"
 
 namespace pbdsplat::cli {
@@ -75,7 +75,7 @@ int bench_coverage(const std::vector<std::string>& argv) {
             const sim::SoftBody& body = rt.value()->body();
             render::FrameInputs frame = sc.render.frame;
             frame.camera = rt.value()->camera();
-            auto c = scene::measure_coverage(*ctx.value(), body.particles.x, body.triangles, rt.value()->records(), frame,
+            auto c = passes::measure_coverage(*ctx.value(), body.particles.x, body.triangles, rt.value()->records(), frame,
                                              width.value(), height.value());
             if (!c.ok()) return fail("bench coverage", std::string(name) + ", frame " + std::to_string(f) + ": " + c.error().to_string());
             samples.push_back({name, f + 1, c->hole_ratio, c->silhouette_iou, rt.value()->stats().cuts});

@@ -9,7 +9,7 @@
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/splat_sphere.h"
 #include "render/frame_uniforms.h"
-#include "scene/offscreen_renderer.h"
+#include "passes/offscreen_renderer.h"
 #include "splat/sort.h"
 
 namespace pbdsplat::cli {
@@ -146,7 +146,7 @@ int bench_render(const std::vector<std::string>& argv) {
     options.max_splats = count.value();
     options.frames_in_flight = 1;
     options.path = path;
-    auto renderer = scene::OffscreenRenderer::create(*ctx.value(), options);
+    auto renderer = passes::OffscreenRenderer::create(*ctx.value(), options);
     if (!renderer.ok()) return fail("bench render", renderer.error().to_string());
     const render::SplatPath used = path.value_or(render::best_splat_path(caps));
 

@@ -11,7 +11,7 @@
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/splat_sphere.h"
 #include "pbdsplat/svg_plot.h"
-#include "scene/offscreen_renderer.h"
+#include "passes/offscreen_renderer.h"
 #include "splat/sort.h"
 
 namespace pbdsplat::cli {
@@ -51,7 +51,7 @@ core::Result<std::pair<core::ImageRgba8, double>> render(gpu::Context& ctx, std:
     frame.style.footprint = v.footprint;
     frame.style.kappa = v.kappa;
     frame.style.scale_multiplier = v.scale;
-    auto r = scene::OffscreenRenderer::create(ctx, o);
+    auto r = passes::OffscreenRenderer::create(ctx, o);
     if (!r.ok()) return r.error();
     std::vector<double> ms;
     core::ImageRgba8 image;

@@ -9,7 +9,7 @@
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/splat_sphere.h"
 #include "pbdsplat/upload_path_arg.h"
-#include "scene/offscreen_renderer.h"
+#include "passes/offscreen_renderer.h"
 
 namespace pbdsplat::cli {
 
@@ -60,7 +60,7 @@ int bench_splat(const std::vector<std::string>& argv) {
     options.max_splats = count.value();
     options.frames_in_flight = 1;  // one frame at a time, so each frame's stages are timed alone
     options.upload_path = upload.value();
-    auto renderer = scene::OffscreenRenderer::create(*ctx.value(), options);
+    auto renderer = passes::OffscreenRenderer::create(*ctx.value(), options);
     if (!renderer.ok()) return fail("bench splat", renderer.error().to_string());
 
     std::vector<double> up_cpu, up, draw, back, wall;

@@ -7,7 +7,7 @@
 #include "pbdsplat/commands.h"
 #include "pbdsplat/progress.h"
 #include "pbdsplat/gpu_options.h"
-#include "scene/coverage.h"
+#include "passes/coverage.h"
 #include "sim/soft_body.h"
 #include "splat/mapping.h"
 
@@ -82,7 +82,7 @@ int bench_surface(const std::vector<std::string>& argv) {
         look.scale = scale.value() * h;
         std::vector<splat::GaussianRecord> records;
         splat::map_body(body.particles.x, body.normals, {}, body.triangles, samples, look, nullptr, records);
-        auto c = scene::measure_coverage(*ctx, body.particles.x, tris, records, frame, 256, 256);
+        auto c = passes::measure_coverage(*ctx, body.particles.x, tris, records, frame, 256, 256);
         if (!c.ok()) return c.error();
         holes = c->hole_ratio, iou = c->silhouette_iou;
         return core::Status::success();

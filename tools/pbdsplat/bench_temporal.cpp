@@ -10,7 +10,7 @@
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/scene_arg.h"
 #include "pbdsplat/svg_plot.h"
-#include "scene/mesh_image.h"
+#include "passes/mesh_image.h"
 #include "scene/scene_runtime.h"
 
 namespace pbdsplat::cli {
@@ -108,7 +108,7 @@ int bench_temporal(const std::vector<std::string>& argv) {
             return fail("bench temporal", s.error().to_string());
         render::FrameInputs frame = scene->render.frame;
         frame.camera = runtime.camera();
-        auto mesh = scene::render_mesh_image(*ctx.value(), *raster.value(), frame, render::MeshView::shaded, scene->material.color);
+        auto mesh = passes::render_mesh_image(*ctx.value(), *raster.value(), frame, render::MeshView::shaded, scene->material.color);
         if (!mesh.ok()) return fail("bench temporal", mesh.error().to_string());
         if (!last_splats.pixels.empty())
             rows.push_back({f, mean_luminance_change(splats.value(), last_splats), mean_luminance_change(mesh->image, last_mesh),

@@ -13,7 +13,7 @@
 #include "pbdsplat/progress.h"
 #include "pbdsplat/scene_arg.h"
 #include "pbdsplat/upload_path_arg.h"
-#include "scene/offscreen_renderer.h"
+#include "passes/offscreen_renderer.h"
 #include "scene/scene_runtime.h"
 #include "splat/ply.h"
 #include "scene/ply_view.h"
@@ -67,7 +67,7 @@ int render_ply(const std::string& file, const Args& args, uint32_t width, uint32
     auto ctx = open_context(args);
     if (!ctx.ok()) return fail("render", ctx.error().to_string());
     const render::RendererOptions ro = scene::ply_renderer_options(gaussians.value(), width ? width : 1280, height ? height : 720);
-    auto renderer = scene::OffscreenRenderer::create(*ctx.value(), ro);
+    auto renderer = passes::OffscreenRenderer::create(*ctx.value(), ro);
     if (!renderer.ok()) return fail("render", renderer.error().to_string());
     if (auto s = renderer.value()->render(gaussians->records, frame, {}, gaussians->shapes, gaussians->sh); !s.ok())
         return fail("render", s.error().to_string());

@@ -5,7 +5,7 @@
 #include "core/timer.h"
 #include "mesh/procedural.h"
 #include "mesh/topology.h"
-#include "scene/mesh_image.h"
+#include "passes/mesh_image.h"
 
 namespace pbdsplat::cli {
 
@@ -42,7 +42,7 @@ core::Result<MeshRasterFigures> bench_mesh_raster(gpu::Context& ctx, uint32_t co
     PBDSPLAT_TRY(raster.value()->set_mesh(x, sphere.triangles, normals));
     std::vector<double> ms;
     for (uint32_t i = 0; i < warmup + repeat; ++i) {
-        auto img = scene::render_mesh_image(ctx, *raster.value(), frame, render::MeshView::shaded);
+        auto img = passes::render_mesh_image(ctx, *raster.value(), frame, render::MeshView::shaded);
         if (!img.ok()) return img.error();
         if (i >= warmup) ms.push_back(img->gpu_ms);
     }

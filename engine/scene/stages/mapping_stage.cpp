@@ -22,10 +22,10 @@ void MappingStage::sort(const render::Camera& c) {
     splat::sort_far_to_near(records_, shapes_, math::look_at(c.eye, c.target, c.up), sort_scratch_);
 }
 
-void MappingStage::publish(GpuFrameInput& input) {
+void MappingStage::publish(passes::GpuFrameInput& input) {
     input.records = records_;
     input.shapes = shapes_;
-    changed_ranges(previous_, records_, input.changed);
+    passes::changed_ranges(previous_, records_, input.changed);
     previous_ = records_;
 }
 

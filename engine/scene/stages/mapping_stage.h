@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "render/frame_inputs.h"
-#include "scene/gpu_passes.h"
+#include "passes/gpu_passes.h"
 #include "sim/soft_body.h"
 #include "splat/deformed_shape.h"
 #include "splat/fade_in.h"
@@ -31,7 +31,7 @@ public:
     void map(const Sources& s, const splat::Appearance& look);
     void sort(const render::Camera& camera);
     // Hands the records (and shapes) to the GPU passes with what changed.
-    void publish(GpuFrameInput& input);
+    void publish(passes::GpuFrameInput& input);
     // New particles fade in; the deformed shapes follow the new triangles.
     void topology_changed(const sim::SoftBody& body, const topology::TopologyChange& change, bool particles);
 

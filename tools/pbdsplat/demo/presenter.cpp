@@ -48,7 +48,7 @@ SwapchainPresenter::SwapchainPresenter(gpu::Swapchain& swapchain, render::Overla
     overlay_image_.image = overlay.image();
 }
 
-void SwapchainPresenter::add_passes(graph::FrameGraph& g, const scene::PresentSources& s) {
+void SwapchainPresenter::add_passes(graph::FrameGraph& g, const passes::PresentSources& s) {
     auto target = g.import("swapchain image", &target_);
     auto overlay = g.import("overlay image", &overlay_image_);
     const auto slot = s.slot;
@@ -65,7 +65,7 @@ void SwapchainPresenter::add_passes(graph::FrameGraph& g, const scene::PresentSo
     // The whole image first (the letterbox bars), then the frame into its rectangle: two
     // passes, so the graph orders the two writes.
     g.add_pass("present clear", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-        target = b.write(target, scene::to_graph(k_copy_destination));
+        target = b.write(target, passes::to_graph(k_copy_destination));
         return [this](const graph::PassResources&, graph::ExecuteContext& c) {
             if (!target_.image) return;
             const VkClearColorValue bars{{0.02f, 0.02f, 0.025f, 1.0f}};
@@ -76,9 +76,9 @@ void SwapchainPresenter::add_passes(graph::FrameGraph& g, const scene::PresentSo
     const bool with_mesh = s.mesh.version != UINT32_MAX && (view_ == scene::DisplayView::mesh || view_ == scene::DisplayView::side_by_side);
     const scene::DisplayView view = view_;
     g.add_pass("present copy", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-        b.read(s.splats, scene::to_graph(k_blit_source));
-        if (with_mesh) b.read(s.mesh, scene::to_graph(k_blit_source));
-        target = b.write(target, scene::to_graph(k_copy_destination));
+        b.read(s.splats, passes::to_graph(k_blit_source));
+        if (with_mesh) b.read(s.mesh, passes::to_graph(k_blit_source));
+        target = b.write(target, passes::to_graph(k_copy_destination));
         return [this, s, view, with_mesh](const graph::PassResources& r, graph::ExecuteContext& c) {
             if (!target_.image) return;
             const Letterbox box = fit(s.width, s.height, swapchain_.extent());
@@ -97,18 +97,18 @@ void SwapchainPresenter::add_passes(graph::FrameGraph& g, const scene::PresentSo
         };
     });
     g.add_pass("overlay upload", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-        overlay = b.write(overlay, scene::to_graph(render::uses::copy_destination));
+        overlay = b.write(overlay, passes::to_graph(render::uses::copy_destination));
         return [this, slot](const graph::PassResources&, graph::ExecuteContext& c) { overlay_.record_upload(c.cmd, slot()); };
     });
     g.add_pass("overlay", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-        b.read(overlay, scene::to_graph(render::uses::overlay_sampled));
-        target = b.write(target, scene::to_graph(k_overlay_target));
+        b.read(overlay, passes::to_graph(render::uses::overlay_sampled));
+        target = b.write(target, passes::to_graph(k_overlay_target));
         return [this](const graph::PassResources&, graph::ExecuteContext& c) {
             if (target_.image) overlay_.record_draw(c.cmd, swapchain_.view(), swapchain_.extent());
         };
     });
     g.add_pass("present", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-        b.read(target, scene::to_graph(k_present));
+        b.read(target, passes::to_graph(k_present));
         b.side_effect();
         return [](const graph::PassResources&, graph::ExecuteContext&) {};  // the layout change is the pass
     });

@@ -6,7 +6,7 @@
 
 #include "gpu/swapchain.h"
 #include "render/overlay.h"
-#include "scene/gpu_passes.h"
+#include "passes/gpu_passes.h"
 #include "scene/scene_runtime.h"
 
 namespace pbdsplat::demo {
@@ -18,11 +18,11 @@ struct Letterbox {
 };
 Letterbox fit(uint32_t image_width, uint32_t image_height, VkExtent2D window);
 
-class SwapchainPresenter final : public scene::Presenter {
+class SwapchainPresenter final : public passes::Presenter {
 public:
     SwapchainPresenter(gpu::Swapchain& swapchain, render::OverlayPass& overlay);
 
-    void add_passes(graph::FrameGraph& g, const scene::PresentSources& sources) override;
+    void add_passes(graph::FrameGraph& g, const passes::PresentSources& sources) override;
     const VkSemaphoreSubmitInfo* wait_semaphore() const override { return swapchain_.acquire_wait(); }
     const VkSemaphoreSubmitInfo* signal_semaphore() const override { return swapchain_.present_signal(); }
 

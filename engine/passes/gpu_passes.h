@@ -9,7 +9,7 @@
 #include "render/splat_renderer.h"
 #include "splat/gaussian_record.h"
 
-namespace pbdsplat::scene {
+namespace pbdsplat::passes {
 
 // What the GPU passes read each frame; the owner fills it before FrameGraph::execute.
 struct GpuFrameInput {
@@ -60,11 +60,12 @@ public:
 // Returns the colour target as the splat pass leaves it.
 graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer,
                                                  GpuPassResources& resources, graph::Handle<GpuFrameInput> input,
-                                                 graph::Handle<ImageSink> sink, bool gpu_sort = false);
+                                                 graph::Handle<ImageSink> sink, bool gpu_sort = false,
+                                                 uint32_t tag = 0);
 
 // The byte ranges of `after` that differ from `before` (all of it when the counts differ), so
 // only what changed is uploaded; a single empty range when nothing did.
 void changed_ranges(std::span<const splat::GaussianRecord> before, std::span<const splat::GaussianRecord> after,
                     std::vector<gpu::ByteRange>& out);
 
-} // namespace pbdsplat::scene
+} // namespace pbdsplat::passes

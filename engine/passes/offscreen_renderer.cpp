@@ -1,6 +1,6 @@
-#include "scene/offscreen_renderer.h"
+#include "passes/offscreen_renderer.h"
 
-namespace pbdsplat::scene {
+namespace pbdsplat::passes {
 
 core::Result<std::unique_ptr<OffscreenRenderer>> OffscreenRenderer::create(gpu::Context& ctx,
                                                                            const render::RendererOptions& options) {
@@ -38,4 +38,4 @@ core::Status OffscreenRenderer::render(std::span<const splat::GaussianRecord> re
     return input_.upload_status;
 }
 
-} // namespace pbdsplat::scene
+} // namespace pbdsplat::passes

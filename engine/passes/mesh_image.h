@@ -5,7 +5,7 @@
 #include "core/image.h"
 #include "render/mesh_raster.h"
 
-namespace pbdsplat::scene {
+namespace pbdsplat::passes {
 
 struct MeshImage {
     core::ImageRgba8 image;
@@ -15,4 +15,4 @@ struct MeshImage {
 core::Result<MeshImage> render_mesh_image(gpu::Context& ctx, render::MeshRaster& raster, const render::FrameInputs& frame,
                                           render::MeshView view, const Vec3f& albedo = Vec3f(0.8f, 0.2f, 0.2f));
 
-} // namespace pbdsplat::scene
+} // namespace pbdsplat::passes

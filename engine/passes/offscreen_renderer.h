@@ -4,9 +4,9 @@
 #include <memory>
 #include <span>
 
-#include "scene/gpu_passes.h"
+#include "passes/gpu_passes.h"
 
-namespace pbdsplat::scene {
+namespace pbdsplat::passes {
 
 class OffscreenRenderer {
 public:
@@ -34,4 +34,4 @@ private:
     graph::FrameGraph graph_;
 };
 
-} // namespace pbdsplat::scene
+} // namespace pbdsplat::passes

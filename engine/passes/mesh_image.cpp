@@ -1,11 +1,11 @@
-#include "scene/mesh_image.h"
+#include "passes/mesh_image.h"
 
 #include "gpu/frame_ring.h"
 #include "gpu/gpu_timer.h"
 #include "graph/frame_graph.h"
-#include "scene/gpu_passes.h"
+#include "passes/gpu_passes.h"
 
-namespace pbdsplat::scene {
+namespace pbdsplat::passes {
 
 core::Result<MeshImage> render_mesh_image(gpu::Context& ctx, render::MeshRaster& m, const render::FrameInputs& frame,
                                           render::MeshView view, const Vec3f& albedo) {
@@ -55,4 +55,4 @@ core::Result<MeshImage> render_mesh_image(gpu::Context& ctx, render::MeshRaster&
     return out;
 }
 
-} // namespace pbdsplat::scene
+} // namespace pbdsplat::passes

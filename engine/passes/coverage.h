@@ -10,7 +10,7 @@
 #include "render/frame_inputs.h"
 #include "splat/gaussian_record.h"
 
-namespace pbdsplat::scene {
+namespace pbdsplat::passes {
 
 struct Coverage {
     double hole_ratio = 0.0;
@@ -34,4 +34,4 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
                                         uint32_t width, uint32_t height, std::optional<Vec3f> albedo = std::nullopt,
                                         std::span<const splat::GaussianShape> shapes = {});
 
-} // namespace pbdsplat::scene
+} // namespace pbdsplat::passes

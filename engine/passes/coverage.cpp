@@ -1,12 +1,12 @@
-#include "scene/coverage.h"
+#include "passes/coverage.h"
 
 #include <memory>
 #include <vector>
 
-#include "scene/mesh_image.h"
-#include "scene/offscreen_renderer.h"
+#include "passes/mesh_image.h"
+#include "passes/offscreen_renderer.h"
 
-namespace pbdsplat::scene {
+namespace pbdsplat::passes {
 namespace {
 
 core::Result<std::unique_ptr<render::MeshRaster>> mesh_raster(gpu::Context& ctx, std::span<const Vec4f> x,
@@ -101,4 +101,4 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
     return c;
 }
 
-} // namespace pbdsplat::scene
+} // namespace pbdsplat::passes

@@ -1,12 +1,7 @@
-#include "scene/gpu_passes.h"
+#include "passes/gpu_passes.h"
 
-#include "scene/stages/pass_group.h"
+namespace pbdsplat::passes {
 
-namespace pbdsplat::scene {
-
-namespace {
-const uint32_t k_gpu_record = tag(PassGroup::gpu_record);  // recording counts as the CPU's share of the GPU row
-}
 
 void changed_ranges(std::span<const splat::GaussianRecord> before, std::span<const splat::GaussianRecord> after,
                     std::vector<gpu::ByteRange>& out) {
@@ -42,7 +37,7 @@ graph::GpuUse to_graph(const render::Use& u) { return {u.access.stage, u.access.
 
 graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer,
                                                  GpuPassResources& res, graph::Handle<GpuFrameInput> input,
-                                                 graph::Handle<ImageSink> sink, bool gpu_sort) {
+                                                 graph::Handle<ImageSink> sink, bool gpu_sort, uint32_t tag) {
     const auto records = g.import("gpu records", &res.records);
     const auto color = g.import("colour target", &res.color);
     const auto depth = g.import("depth target", &res.depth);
@@ -65,7 +60,7 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             if (in.upload_status.ok() && !in.shapes.empty()) in.upload_status = renderer.upload_shapes(in.shapes);
             if (in.upload_status.ok() && !in.sh.empty()) in.upload_status = renderer.upload_sh(in.sh);
         };
-    }, k_gpu_record);
+    }, tag);
     const render::Use records_read = render::uses::records_read(renderer.path());
     graph::Handle<graph::GpuBufferRef> sorted, control;
     if (gpu_sort) {
@@ -80,7 +75,7 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
                 GpuFrameInput& in = r.get(input);
                 renderer.sort(in.frame, uint32_t(in.records.size()));
             };
-        }, k_gpu_record);
+        }, tag);
     }
     graph::Handle<graph::GpuImageRef> drawn;
     g.add_pass("splat", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
@@ -98,15 +93,15 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             GpuFrameInput& in = r.get(input);
             renderer.draw(in.frame, uint32_t(in.records.size()));
         };
-    }, k_gpu_record);
+    }, tag);
     g.add_pass("readback", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
         b.read(drawn, to_graph(render::uses::color_copy_source));
         b.write(readback, to_graph(render::uses::readback_write));
         b.write(sink);
         b.side_effect();
         return [&renderer](const graph::PassResources&, graph::ExecuteContext&) { renderer.readback(); };
-    }, k_gpu_record);
+    }, tag);
     return drawn;
 }
 
-} // namespace pbdsplat::scene
+} // namespace pbdsplat::passes
