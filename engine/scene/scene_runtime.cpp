@@ -13,6 +13,7 @@
 #include "scene/stages/simulation_stage.h"
 #include "scene/stages/surface_stage.h"
 #include "topology/cut.h"
+#include "topology/invariants.h"
 
 namespace pbdsplat::scene {
 
@@ -225,6 +226,8 @@ core::Status SceneRuntime::build_graph() {
         if (!p.culled) group_of_kept_pass_.push_back(PassGroup(p.tag));
     return core::Status::success();
 }
+
+size_t SceneRuntime::pieces() const { return topology::count_components_and_loops(body_).components; }
 
 void SceneRuntime::update_closed() {
     body_closed_ = !body_.triangles.empty() && mesh::boundary_loops(body_.triangles, body_.particle_count()).empty();

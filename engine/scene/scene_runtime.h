@@ -105,6 +105,8 @@ public:
     // What the most recent cut or tear did (empty before any).
     const topology::TopologyChange& last_topology_change() const { return topology_->last_change(); }
     float time() const { return time_; }
+    // Connected pieces of the body now (a cut or tear may have split it).
+    size_t pieces() const;
 
     // ---- Interaction (the windowed demo, scripted input); call between steps. -------------
     // Pixels are window coordinates (y down) of a view `view_size` large.

@@ -10,7 +10,6 @@
 #include "demo/script.h"
 #include "demo/window.h"
 #include "splat/ply.h"
-#include "topology/invariants.h"
 
 namespace pbdsplat::demo {
 
@@ -283,7 +282,7 @@ core::Result<DemoReport> Demo::run(const InputScript* script) {
     report.tears = st.tears;
     report.particles = st.particles;
     report.gaussians = st.gaussians;
-    report.pieces = topology::count_components_and_loops(s_.runtime->body()).components;
+    report.pieces = s_.runtime->pieces();
     report.validation_messages = s_.ctx->validation_messages();
     return report;
 }
