@@ -1,7 +1,9 @@
 #include "passes/gpu_passes.h"
 
-namespace pbdsplat::passes {
+#include <algorithm>
+#include <cstring>
 
+namespace pbdsplat::passes {
 
 void changed_ranges(std::span<const splat::GaussianRecord> before, std::span<const splat::GaussianRecord> after,
                     std::vector<gpu::ByteRange>& out) {

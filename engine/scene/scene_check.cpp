@@ -88,7 +88,6 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
             // far side of a closed body culled): specks and holes are what a user would see.
             // Without the ground, whose pixels are not the body's.
             render::FrameInputs frame = rt.frame_inputs();
-            frame.camera = rt.camera();
             frame.ground.visible = false;
             frame.style.order = rt.order();  // without a device: the CPU sort, records already in order
             auto c = passes::measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height, scene.material.color, rt.shapes());

@@ -1,7 +1,6 @@
 #include "scene/scene_runtime.h"
 
 #include <algorithm>
-#include <cstring>
 
 #include "core/timer.h"
 #include "mesh/topology.h"

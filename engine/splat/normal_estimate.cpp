@@ -10,7 +10,7 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "splat/point_grid.h"
+#include "surface/point_grid.h"
 
 namespace pbdsplat::splat {
 namespace {
@@ -49,9 +49,9 @@ Graph symmetric(const std::vector<std::vector<uint32_t>>& near) {
 // Step 1: an unsigned normal for Gaussian i, from its shape when it is flat, else from the
 // plane of its neighbours (`near`, filled). 0: none found; 1: found, sign still open.
 enum class Source { none, shape, neighbours };
-Source unsigned_normal(size_t i, std::span<const Vec3f> centres, std::span<const GaussianShape> shapes, const PointGrid& grid,
+Source unsigned_normal(size_t i, std::span<const Vec3f> centres, std::span<const GaussianShape> shapes, const surface::PointGrid& grid,
                        std::vector<uint32_t>& near, Vec3f& normal) {
-    grid.k_nearest(uint32_t(i), k_neighbours, 8, near);
+    grid.k_nearest(centres[i], uint32_t(i), k_neighbours, 8, near);
     if (!shapes.empty()) {
         const Eigen::Matrix3f axes = shape_axes(shapes[i]);
         std::array<std::pair<float, int>, 3> len = {{{axes.col(0).norm(), 0}, {axes.col(1).norm(), 1}, {axes.col(2).norm(), 2}}};
@@ -133,7 +133,8 @@ NormalEstimate estimate_normals(std::span<GaussianRecord> records, std::span<con
     for (const Vec3f& p : centres) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
     const Vec3f e = (hi - lo).cwiseMax(Vec3f::Constant(1e-6f));
     const float area = 2.0f * (e.x() * e.y() + e.y() * e.z() + e.z() * e.x());
-    const PointGrid grid(centres, std::max(std::sqrt(area / float(n)), 1e-6f));
+    surface::PointGrid grid(std::max(std::sqrt(area / float(n)), 1e-6f), n);
+    for (const Vec3f& p : centres) grid.add(p);
 
     std::vector<uint8_t> state(n, 2);  // 0: none found, 1: unsigned, 2: the file's own
     std::vector<std::vector<uint32_t>> near(n);
@@ -145,7 +146,7 @@ NormalEstimate estimate_normals(std::span<GaussianRecord> records, std::span<con
             out.from_neighbours += source == Source::neighbours ? 1 : 0;
             out.unresolved += source == Source::none ? 1 : 0;
         } else {
-            grid.k_nearest(uint32_t(i), k_neighbours, 8, near[i]);  // they pass signs on
+            grid.k_nearest(centres[i], uint32_t(i), k_neighbours, 8, near[i]);  // they pass signs on
         }
     }
     orient(symmetric(near), centres, centroid, state, normal);

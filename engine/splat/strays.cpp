@@ -5,7 +5,7 @@
 #include <limits>
 #include <vector>
 
-#include "splat/point_grid.h"
+#include "surface/point_grid.h"
 
 namespace pbdsplat::splat {
 
@@ -13,9 +13,10 @@ StrayReport count_strays(std::span<const Vec3f> centres, float hint) {
     StrayReport out;
     if (centres.size() < 2 || !(hint > 0.0f)) return out;
     // First pass: nearest-neighbour spacing, for the median.
-    const PointGrid fine(centres, hint);
+    surface::PointGrid fine(hint, centres.size());
+    for (const Vec3f& p : centres) fine.add(p);
     std::vector<float> nn(centres.size());
-    for (uint32_t i = 0; i < centres.size(); ++i) nn[i] = fine.nearest(i);
+    for (uint32_t i = 0; i < centres.size(); ++i) nn[i] = std::sqrt(fine.nearest_squared(centres[i], i));
     std::vector<float> finite;
     for (float d : nn)
         if (std::isfinite(d)) finite.push_back(d);
@@ -24,10 +25,11 @@ StrayReport count_strays(std::span<const Vec3f> centres, float hint) {
     out.median_spacing = finite[finite.size() / 2];
     // Second pass: anyone within 3x the median? Cells that large see that far.
     const float reach = 3.0f * out.median_spacing;
-    const PointGrid coarse(centres, reach);
+    surface::PointGrid coarse(reach, centres.size());
+    for (const Vec3f& p : centres) coarse.add(p);
     for (uint32_t i = 0; i < centres.size(); ++i) {
         if (nn[i] <= reach) continue;
-        if (coarse.nearest(i) > reach) ++out.strays;
+        if (std::sqrt(coarse.nearest_squared(centres[i], i)) > reach) ++out.strays;
     }
     return out;
 }

@@ -1,7 +1,10 @@
 #pragma once
-// Internal to the surface room: the spatial hash the samplers block candidates with.
+// The spatial hash the samplers block candidates with, and that splat-side neighbour queries
+// (strays, normals of a trained file) use over a fixed point set.
 #include <algorithm>
 #include <bit>
+#include <cstdlib>
+#include <utility>
 #include <limits>
 #include <cstdint>
 #include <vector>
@@ -52,6 +55,37 @@ public:
             return true;
         });
         return best;
+    }
+    // Up to k nearest points other than `self`, nearest first, searched shell of cells by shell
+    // out to `max_rings` cells: a point further than that is no neighbour for any purpose here.
+    void k_nearest(const Vec3f& p, uint32_t self, uint32_t k, int max_rings, std::vector<uint32_t>& out) const {
+        out.clear();
+        if (k == 0) return;
+        const Eigen::Vector3i c = cell(p);
+        std::vector<std::pair<float, uint32_t>> best;  // a max-heap of the k best so far
+        best.reserve(k + 1);
+        for (int r = 0; r <= max_rings; ++r) {
+            for (int dz = -r; dz <= r; ++dz)
+                for (int dy = -r; dy <= r; ++dy)
+                    for (int dx = -r; dx <= r; ++dx) {
+                        if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != r) continue;  // the shell only
+                        const size_t slot = find(key(c + Eigen::Vector3i(dx, dy, dz)));
+                        if (slot == k_end) continue;
+                        for (uint32_t i = heads_[slot]; i != k_end; i = next_[i]) {
+                            if (i == self) continue;
+                            const float d2 = (points_[i] - p).squaredNorm();
+                            if (best.size() == k && d2 >= best.front().first) continue;
+                            best.emplace_back(d2, i);
+                            std::push_heap(best.begin(), best.end());
+                            if (best.size() > k) std::pop_heap(best.begin(), best.end()), best.pop_back();
+                        }
+                    }
+            // Anything in a further shell is at least r cells away.
+            const float reach = float(r) / inv_h_;
+            if (best.size() == k && best.front().first <= reach * reach) break;
+        }
+        std::sort_heap(best.begin(), best.end());
+        for (const auto& b : best) out.push_back(b.second);
     }
     static constexpr uint32_t k_any = ~0u;
     void add(const Vec3f& p, uint32_t tag = k_any) {

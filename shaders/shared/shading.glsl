@@ -41,10 +41,10 @@ vec3 seen_side(vec3 n, vec3 world) { return dot(n, frame.camera_pos.xyz - world)
 // would ring the silhouette with light; laid onto the view plane instead, it is lit as the
 // grazing surface at the silhouette that it stands for.
 vec3 splat_lit_normal(vec3 n, vec3 world, bool opaque_disc) {
+    if (opaque_disc) return seen_side(n, world);
     const vec3 t = normalize(frame.camera_pos.xyz - world);
     const float d = dot(n, t);
-    if (d >= 0.0) return n;
-    return opaque_disc ? -n : normalize(n - d * t + 1e-4 * t);
+    return d >= 0.0 ? n : normalize(n - d * t + 1e-4 * t);
 }
 
 vec3 shade(vec3 albedo, vec3 n, vec3 world) {

@@ -112,6 +112,16 @@ void projected_axes(vec3 c0, mat3 axes, out vec2 r, out vec2 u, out float lr, ou
     if (paper) lu = max(lu, min(lr, 0.5 * pixel / max(frame.splat.x, 1e-6)));
 }
 
+// A surfel's axes: the Gaussian flattened onto its tangent plane, `thickness` as thick along
+// the normal as it is wide. Seen edge-on at a silhouette or a fold it projects to a sliver, not
+// a round disc reaching past the rim over the surface behind, shaded for the side the eye does
+// not see (the dark specks).
+mat3 surfel_axes(vec3 normal, float s0, float thickness) {
+    const vec3 n = normalize(normal);
+    const vec3 t1 = normalize(cross(n, abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0)));
+    return mat3(s0 * t1, s0 * cross(n, t1), thickness * s0 * n);
+}
+
 // `index`: the splat's place in the draw, where its shape is read (anisotropic pipelines).
 SplatQuad splat_quad(vec3 world, vec3 normal, float s0, float alpha, bool visibility_pass, uint index) {
     SplatQuad q;
@@ -121,25 +131,10 @@ SplatQuad splat_quad(vec3 world, vec3 normal, float s0, float alpha, bool visibi
     q.centre = c0;
     if (visibility_pass) q.centre.z -= frame.visibility.x * s0;  // the camera looks down -z
     q.extent = k_footprint == SPLAT_FOOTPRINT_PAPER ? (reach > 0.0 ? 1.0 : 0.0) : reach;
-    if (k_anisotropic) {
+    if (k_anisotropic || frame.material.y > 0.0) {
         vec2 r, u;
         float lr, lu;
-        projected_axes(c0, read_shape_axes(index), r, u, lr, lu);
-        q.axis_right = reach * lr * vec3(r, 0.0);
-        q.axis_up = reach * lu * vec3(u, 0.0);
-        return q;
-    }
-    if (frame.material.y > 0.0) {
-        // A surfel: the Gaussian flattened onto its tangent plane, frame.material.y as thick
-        // along the normal as it is wide, projected as any anisotropic Gaussian is. Seen edge-on
-        // at a silhouette or a fold it is a sliver, not a round disc reaching past the rim over
-        // the surface behind, shaded for the side the eye does not see (the dark specks).
-        const vec3 n = normalize(normal);
-        const vec3 t1 = normalize(cross(n, abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0)));
-        const vec3 t2 = cross(n, t1);
-        vec2 r, u;
-        float lr, lu;
-        projected_axes(c0, mat3(s0 * t1, s0 * t2, frame.material.y * s0 * n), r, u, lr, lu);
+        projected_axes(c0, k_anisotropic ? read_shape_axes(index) : surfel_axes(normal, s0, frame.material.y), r, u, lr, lu);
         q.axis_right = reach * lr * vec3(r, 0.0);
         q.axis_up = reach * lu * vec3(u, 0.0);
         return q;
