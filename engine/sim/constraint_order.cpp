@@ -7,7 +7,7 @@
 
 namespace pbdsplat::sim {
 
-std::vector<uint32_t> group_by_colour(std::vector<DistanceConstraint>& constraints) {
+ColourGrouping colour_groups(std::span<const DistanceConstraint> constraints) {
     uint32_t max_particle = 0;
     for (const auto& c : constraints) max_particle = std::max({max_particle, c.i, c.j});
     std::vector<uint64_t> used(size_t(max_particle) + 1, 0);  // colours taken at each particle
@@ -23,14 +23,188 @@ std::vector<uint32_t> group_by_colour(std::vector<DistanceConstraint>& constrain
         colour[k] = uint8_t(col);
         colours = std::max(colours, col + 1);
     }
-    std::vector<uint32_t> start(colours + 1, 0);
-    for (uint8_t c : colour) ++start[c + 1u];
-    for (uint32_t c = 0; c < colours; ++c) start[c + 1] += start[c];
+    ColourGrouping g;
+    g.start.assign(colours + 1, 0);
+    for (uint8_t c : colour) ++g.start[c + 1u];
+    for (uint32_t c = 0; c < colours; ++c) g.start[c + 1] += g.start[c];
+    g.order.resize(constraints.size());
+    std::vector<uint32_t> fill(g.start.begin(), g.start.end() - 1);
+    for (uint32_t k = 0; k < constraints.size(); ++k) g.order[fill[colour[k]]++] = k;
+    return g;
+}
+
+std::vector<uint32_t> group_by_colour(std::vector<DistanceConstraint>& constraints) {
+    ColourGrouping g = colour_groups(constraints);
     std::vector<DistanceConstraint> sorted(constraints.size());
-    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-    for (size_t k = 0; k < constraints.size(); ++k) sorted[fill[colour[k]]++] = constraints[k];
+    for (size_t s = 0; s < sorted.size(); ++s) sorted[s] = constraints[g.order[s]];
     constraints = std::move(sorted);
-    return start;
+    return std::move(g.start);
+}
+
+namespace {
+SlackLists<uint32_t> index_by_particle(const std::vector<DistanceConstraint>& constraints, size_t particles) {
+    std::vector<uint32_t> start(particles + 1, 0);
+    for (const DistanceConstraint& c : constraints)
+        if (c.alive()) ++start[c.i + 1], ++start[c.j + 1];
+    for (size_t v = 0; v < particles; ++v) start[v + 1] += start[v];
+    std::vector<uint32_t> slots(start.back());
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (uint32_t k = 0; k < constraints.size(); ++k) {
+        const DistanceConstraint& c = constraints[k];
+        if (!c.alive()) continue;
+        slots[fill[c.i]++] = k;
+        slots[fill[c.j]++] = k;
+    }
+    SlackLists<uint32_t> lists;
+    lists.build(start, slots);
+    return lists;
+}
+
+uint32_t colour_of_slot(const std::vector<uint32_t>& start, uint32_t slot) {
+    return uint32_t(std::upper_bound(start.begin(), start.end(), slot) - start.begin()) - 1u;
+}
+
+uint64_t colours_at(const std::vector<DistanceConstraint>& constraints, const DistanceGroups& g, uint32_t v) {
+    uint64_t used = 0;
+    for (uint32_t slot : g.of_particle.of(v)) {
+        const uint32_t c = colour_of_slot(g.start, slot);
+        if (c < 64) used |= 1ull << c;
+    }
+    (void)constraints;
+    return used;
+}
+
+void remove_slot_of(SlackLists<uint32_t>& lists, uint32_t v, uint32_t slot, std::vector<uint32_t>& scratch) {
+    scratch.assign(lists.of(v).begin(), lists.of(v).end());
+    std::erase(scratch, slot);
+    lists.assign(v, scratch);
+}
+void add_slot_of(SlackLists<uint32_t>& lists, uint32_t v, uint32_t slot, std::vector<uint32_t>& scratch) {
+    scratch.assign(lists.of(v).begin(), lists.of(v).end());
+    scratch.push_back(slot);
+    lists.assign(v, scratch);
+}
+} // namespace
+
+DistanceGroups make_distance_groups(std::vector<DistanceConstraint>& constraints, size_t particles) {
+    std::erase_if(constraints, [](const DistanceConstraint& c) { return !c.alive(); });
+    DistanceGroups g;
+    g.start = group_by_colour(constraints);
+    g.of_particle = index_by_particle(constraints, particles);
+    g.colours_when_grouped = g.start.size() - 1;
+    return g;
+}
+
+std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstraint>& constraints, DistanceGroups& g,
+                                                   std::vector<float>& lambda, size_t particles,
+                                                   std::span<const uint32_t> remove, std::span<const DistanceConstraint> add) {
+    g.of_particle.grow(particles);
+    std::vector<uint32_t> scratch;
+    // Dead slots per colour, the new ones first (they sit where the added constraints' old
+    // neighbours were: reusing them keeps memory order local).
+    std::vector<std::vector<uint32_t>> free_in(g.start.size() - 1);
+    for (uint32_t slot : remove) {
+        DistanceConstraint& c = constraints[slot];
+        PBDSPLAT_ASSERT(c.alive(), "replace_distance_constraints: a slot removed twice");
+        remove_slot_of(g.of_particle, c.i, slot, scratch);
+        remove_slot_of(g.of_particle, c.j, slot, scratch);
+        c = {c.i, c.i, 0.0f, c.compliance};
+        lambda[slot] = 0.0f;
+        free_in[colour_of_slot(g.start, slot)].push_back(slot);
+        ++g.dead;
+    }
+    std::vector<uint32_t> placed(add.size(), UINT32_MAX);
+    std::vector<uint32_t> spill;
+    for (uint32_t k = 0; k < add.size(); ++k) {
+        const DistanceConstraint& c = add[k];
+        const uint64_t taken = colours_at(constraints, g, c.i) | colours_at(constraints, g, c.j);
+        uint32_t slot = UINT32_MAX;
+        for (uint32_t col = 0; col < free_in.size() && col < 64; ++col)
+            if (!(taken >> col & 1u) && !free_in[col].empty()) {
+                slot = free_in[col].back();
+                free_in[col].pop_back();
+                break;
+            }
+        if (slot == UINT32_MAX) {
+            spill.push_back(k);
+            continue;
+        }
+        constraints[slot] = c;
+        --g.dead;
+        ++g.slots_reused;
+        add_slot_of(g.of_particle, c.i, slot, scratch);
+        add_slot_of(g.of_particle, c.j, slot, scratch);
+        placed[k] = slot;
+    }
+    if (!spill.empty()) {
+        // The rest form groups of their own at the end, coloured among themselves only: groups
+        // run one after another, so a new group need not avoid the colours of the old ones.
+        std::vector<DistanceConstraint> extra;
+        for (uint32_t k : spill) extra.push_back(add[k]);
+        const ColourGrouping grouping = colour_groups(extra);
+        const uint32_t base = uint32_t(constraints.size());
+        for (size_t e = 0; e < extra.size(); ++e) {
+            const uint32_t k = spill[grouping.order[e]];
+            const uint32_t slot = base + uint32_t(e);
+            constraints.push_back(add[k]);
+            add_slot_of(g.of_particle, add[k].i, slot, scratch);
+            add_slot_of(g.of_particle, add[k].j, slot, scratch);
+            placed[k] = slot;
+        }
+        g.start.pop_back();
+        for (uint32_t s : grouping.start) g.start.push_back(base + s);
+        g.slots_appended += spill.size();
+        lambda.resize(constraints.size(), 0.0f);
+    }
+    const size_t groups = g.start.size() - 1;
+    if (g.dead * 8 > constraints.size() || groups > 2 * g.colours_when_grouped + 8) {
+        // Regroup the live constraints from scratch, following where the added ones go.
+        std::vector<uint32_t> new_slot(constraints.size(), UINT32_MAX);
+        std::vector<DistanceConstraint> live;
+        std::vector<uint32_t> old_slot;
+        for (uint32_t s = 0; s < constraints.size(); ++s)
+            if (constraints[s].alive()) live.push_back(constraints[s]), old_slot.push_back(s);
+        const ColourGrouping grouping = colour_groups(live);
+        constraints.resize(live.size());
+        for (uint32_t s = 0; s < live.size(); ++s) {
+            constraints[s] = live[grouping.order[s]];
+            new_slot[old_slot[grouping.order[s]]] = s;
+        }
+        for (uint32_t& p : placed) p = new_slot[p];
+        const size_t reused = g.slots_reused, appended = g.slots_appended, regroupings = g.regroupings + 1;
+        g = DistanceGroups{};
+        g.start = grouping.start;
+        g.of_particle = index_by_particle(constraints, particles);
+        g.colours_when_grouped = g.start.size() - 1;
+        g.slots_reused = reused, g.slots_appended = appended, g.regroupings = regroupings;
+        lambda.assign(constraints.size(), 0.0f);
+    }
+    return placed;
+}
+
+bool distance_groups_valid(const std::vector<DistanceConstraint>& constraints, const DistanceGroups& g, size_t particles) {
+    if (g.start.empty() || g.start.front() != 0 || g.start.back() != constraints.size()) return false;
+    if (g.of_particle.keys() != particles) return false;
+    std::vector<uint32_t> last_group(particles, UINT32_MAX);
+    size_t dead = 0;
+    for (uint32_t c = 0; c + 1 < g.start.size(); ++c)
+        for (uint32_t s = g.start[c]; s < g.start[c + 1]; ++s) {
+            const DistanceConstraint& k = constraints[s];
+            if (!k.alive()) {
+                ++dead;
+                continue;
+            }
+            if (k.i >= particles || k.j >= particles) return false;
+            if (last_group[k.i] == c || last_group[k.j] == c) return false;
+            last_group[k.i] = last_group[k.j] = c;
+        }
+    if (dead != g.dead) return false;
+    for (uint32_t v = 0; v < particles; ++v)
+        for (uint32_t s : g.of_particle.of(v))
+            if (s >= constraints.size() || !constraints[s].alive() || (constraints[s].i != v && constraints[s].j != v)) return false;
+    size_t listed = 0;
+    for (uint32_t v = 0; v < particles; ++v) listed += g.of_particle.of(v).size();
+    return listed == 2 * (constraints.size() - dead);
 }
 
 } // namespace pbdsplat::sim

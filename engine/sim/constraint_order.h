@@ -8,12 +8,46 @@
 #include <vector>
 
 #include "sim/constraints.h"
+#include "sim/slack_lists.h"
 
 namespace pbdsplat::sim {
+
+// Greedy colouring in array order: the groups' offsets, and for each slot of the grouped order
+// the index of the constraint it holds.
+struct ColourGrouping {
+    std::vector<uint32_t> start, order;
+};
+ColourGrouping colour_groups(std::span<const DistanceConstraint> constraints);
 
 // Greedy colouring in array order; reorders the constraints colour by colour (keeping their
 // relative order, and so the memory locality, inside a colour) and returns the offsets:
 // colour c holds [start[c], start[c + 1]).
 std::vector<uint32_t> group_by_colour(std::vector<DistanceConstraint>& constraints);
+
+// The colour groups kept up to date through topology edits at the cost of what an edit touches:
+// removed constraints leave dead slots, added ones take a dead slot of a colour free at both
+// their particles or form new groups at the end. Regrouped from scratch (dead slots dropped)
+// only when dead slots pass an eighth of the array or the groups double.
+struct DistanceGroups {
+    std::vector<uint32_t> start;          // colour c holds [start[c], start[c + 1])
+    SlackLists<uint32_t> of_particle;     // each particle's constraint slots
+    size_t dead = 0;                      // dead slots in the array
+    size_t colours_when_grouped = 0;      // groups after the last full grouping
+    size_t regroupings = 0;               // full groupings after the first (counted, they cost)
+    size_t slots_reused = 0, slots_appended = 0;
+};
+
+// Groups `constraints` (reordering them) and indexes them per particle.
+DistanceGroups make_distance_groups(std::vector<DistanceConstraint>& constraints, size_t particles);
+
+// Kills the constraints at `remove` and places `add`; `lambda` (XPBD) follows the array (new
+// slots 0). Particles may have grown since the last call. Returns the slots of `add`, in order.
+std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstraint>& constraints, DistanceGroups& groups,
+                                                   std::vector<float>& lambda, size_t particles,
+                                                   std::span<const uint32_t> remove, std::span<const DistanceConstraint> add);
+
+// Whether the grouping holds: no two live constraints of a group share a particle, the index
+// lists exactly the live constraints, the dead count is right. For tests.
+bool distance_groups_valid(const std::vector<DistanceConstraint>& constraints, const DistanceGroups& groups, size_t particles);
 
 } // namespace pbdsplat::sim

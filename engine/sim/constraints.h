@@ -15,6 +15,9 @@ struct DistanceConstraint {
     uint32_t i, j;
     float rest;
     float compliance;  // XPBD compliance (inverse stiffness, m/N); PBD mode uses the global stiffness
+    // A slot emptied by a topology edit (i == j, rest 0) costs the solver a skipped iteration
+    // until the slot is reused or the constraints are regrouped; readers skip it.
+    bool alive() const { return i != j; }
 };
 static_assert(sizeof(DistanceConstraint) == 16, "four distance constraints per cache line");
 

@@ -1,5 +1,6 @@
 #include "sim/integrate.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "sim/vec4_ops.h"
@@ -25,26 +26,67 @@ void update_velocities(ParticlesT<Real>& p, Real dt, size_t begin, size_t end) {
 }
 
 VertexRings build_vertex_rings(std::span<const mesh::Triangle> triangles, size_t vertex_count) {
-    VertexRings r;
-    r.start.assign(vertex_count + 1, 0);
+    std::vector<uint32_t> start(vertex_count + 1, 0);
     for (const auto& t : triangles)
-        for (uint32_t v : t) ++r.start[v + 1];
-    for (size_t i = 0; i < vertex_count; ++i) r.start[i + 1] += r.start[i];
-    r.ring.resize(r.start.back());
-    std::vector<uint32_t> fill(r.start.begin(), r.start.end() - 1);
-    for (const auto& t : triangles) {
-        r.ring[fill[t[0]]++] = {t[1], t[2]};
-        r.ring[fill[t[1]]++] = {t[2], t[0]};
-        r.ring[fill[t[2]]++] = {t[0], t[1]};
+        for (uint32_t v : t) ++start[v + 1];
+    for (size_t i = 0; i < vertex_count; ++i) start[i + 1] += start[i];
+    std::vector<std::array<uint32_t, 2>> ring(start.back());
+    std::vector<uint32_t> index(start.back());
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (uint32_t f = 0; f < triangles.size(); ++f) {
+        const mesh::Triangle& t = triangles[f];
+        for (int c = 0; c < 3; ++c) {
+            const uint32_t slot = fill[t[size_t(c)]]++;
+            ring[slot] = {t[size_t((c + 1) % 3)], t[size_t((c + 2) % 3)]};
+            index[slot] = f;
+        }
     }
+    VertexRings r;
+    r.ring.build(start, ring);
+    r.triangles.build(start, index);
     return r;
+}
+
+void update_vertex_rings(VertexRings& rings, std::span<const mesh::Triangle> triangles, size_t vertex_count,
+                         std::span<const uint32_t> vertices, std::span<const uint32_t> extra) {
+    rings.ring.grow(vertex_count);
+    rings.triangles.grow(vertex_count);
+    // Per vertex, the extra triangles having it as a corner: sorted (vertex, triangle) pairs.
+    std::vector<std::pair<uint32_t, uint32_t>> by_vertex;
+    by_vertex.reserve(3 * extra.size());
+    for (uint32_t f : extra)
+        for (uint32_t v : triangles[f]) by_vertex.push_back({v, f});
+    std::sort(by_vertex.begin(), by_vertex.end());
+    std::vector<uint32_t> mine;
+    std::vector<std::array<uint32_t, 2>> ring;
+    for (uint32_t v : vertices) {
+        mine.clear();
+        for (uint32_t f : rings.triangles.of(v))
+            if (f < triangles.size()) mine.push_back(f);
+        auto it = std::lower_bound(by_vertex.begin(), by_vertex.end(), std::pair<uint32_t, uint32_t>{v, 0});
+        for (; it != by_vertex.end() && it->first == v; ++it) mine.push_back(it->second);
+        std::sort(mine.begin(), mine.end());
+        mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
+        ring.clear();
+        size_t kept = 0;
+        for (uint32_t f : mine) {
+            const mesh::Triangle& t = triangles[f];
+            const int c = t[0] == v ? 0 : t[1] == v ? 1 : t[2] == v ? 2 : -1;
+            if (c < 0) continue;  // it lost this corner to a copy
+            mine[kept++] = f;
+            ring.push_back({t[size_t((c + 1) % 3)], t[size_t((c + 2) % 3)]});
+        }
+        mine.resize(kept);
+        rings.ring.assign(v, ring);
+        rings.triangles.assign(v, mine);
+    }
 }
 
 void update_normals(const VertexRings& rings, const Vec4Array& x, std::vector<Vec3f>& normals, size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
         Vec4f acc = Vec4f::Zero();
-        for (uint32_t r = rings.start[i]; r < rings.start[i + 1]; ++r)
-            acc += cross3<float>(x[rings.ring[r][0]] - x[i], x[rings.ring[r][1]] - x[i]);  // twice the area, outward
+        for (const auto& r : rings.ring.of(uint32_t(i)))
+            acc += cross3<float>(x[r[0]] - x[i], x[r[1]] - x[i]);  // twice the area, outward
         const float len = acc.norm();
         normals[i] = len > 0.0f ? Vec3f(acc.head<3>() / len) : Vec3f(0.0f, 1.0f, 0.0f);
     }

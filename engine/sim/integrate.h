@@ -4,6 +4,7 @@
 
 #include "mesh/triangle_mesh.h"
 #include "sim/particles.h"
+#include "sim/slack_lists.h"
 
 namespace pbdsplat::sim {
 
@@ -17,12 +18,20 @@ void apply_forces_and_predict(ParticlesT<Real>& p, const Vec3f& gravity, float d
 template <class Real>
 void update_velocities(ParticlesT<Real>& p, Real dt, size_t begin, size_t end);
 
-// Per-vertex triangle rings (CSR): for vertex i, the (j, k) of each triangle (i, j, k).
+// Per-vertex triangle rings: for vertex i, the (j, k) of each triangle (i, j, k), and beside
+// it the triangle's index, both in increasing triangle order (the order a pass over the whole
+// triangle list meets them, so sums over a ring do not depend on how the ring was made).
 struct VertexRings {
-    std::vector<uint32_t> start;  // vertex count + 1
-    std::vector<std::array<uint32_t, 2>> ring;
+    SlackLists<std::array<uint32_t, 2>> ring;
+    SlackLists<uint32_t> triangles;
+    size_t size() const { return ring.keys(); }
 };
 VertexRings build_vertex_rings(std::span<const mesh::Triangle> triangles, size_t vertex_count);
+// After an edit: the rings of `vertices` made again from their current triangles, found among
+// each one's old ring triangles and `extra` (triangles that are new or whose corners changed).
+// Rings grow to `triangles`' vertex count. Equal to build_vertex_rings afterwards.
+void update_vertex_rings(VertexRings& rings, std::span<const mesh::Triangle> triangles, size_t vertex_count,
+                         std::span<const uint32_t> vertices, std::span<const uint32_t> extra);
 
 // Area-weighted vertex normals of the deformed surface, gathered per vertex over [begin, end).
 void update_normals(const VertexRings& rings, const Vec4Array& x, std::vector<Vec3f>& normals, size_t begin, size_t end);

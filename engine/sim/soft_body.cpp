@@ -13,7 +13,7 @@ namespace pbdsplat::sim {
 
 template <class Real>
 void rebuild_derived(SoftBodyT<Real>& b) {
-    b.distance_colours = group_by_colour(b.distance);
+    b.distance_groups = make_distance_groups(b.distance, b.particle_count());
     b.distance_lambda.assign(b.distance.size(), Real(0));
     b.rings = build_vertex_rings(b.triangles, b.particle_count());
     b.normals.resize(b.particle_count(), Vec3f(0.0f, 1.0f, 0.0f));
@@ -34,6 +34,32 @@ template void rebuild_shape_clusters<double>(SoftBodyT<double>&);
 template void rebuild_derived<float>(SoftBodyT<float>&);
 template void rebuild_derived<double>(SoftBodyT<double>&);
 
+bool reserve_headroom(SoftBody& b, float fraction) {
+    const size_t n = b.particle_count(), t = b.triangles.size(), e = b.distance.size();
+    const auto room = [fraction](size_t size) { return size + size_t(float(size) * fraction) + 64; };
+    // Grown only when less than half the asked-for room is left: no churn on every edit.
+    const auto low = [fraction](size_t size, size_t capacity) { return capacity < size + size_t(float(size) * fraction * 0.5f) + 32; };
+    bool grew = false;
+    auto reserve = [&](auto& v, size_t size) {
+        if (low(size, v.capacity())) v.reserve(room(size)), grew = true;
+    };
+    reserve(b.particles.x, n), reserve(b.particles.x_prev, n), reserve(b.particles.v, n), reserve(b.particles.w, n);
+    reserve(b.rest_positions, n), reserve(b.normals, n);
+    if (!b.colors.empty()) reserve(b.colors, n);
+    reserve(b.triangles, t);
+    reserve(b.distance, e), reserve(b.distance_lambda, e);
+    for (auto* lists : {&b.distance_groups.of_particle}) {
+        if (low(n, lists->key_capacity()) || low(lists->pool_size(), lists->pool_capacity()))
+            lists->reserve(room(n), room(lists->pool_size())), grew = true;
+    }
+    if (low(n, b.rings.ring.key_capacity()) || low(b.rings.ring.pool_size(), b.rings.ring.pool_capacity())) {
+        b.rings.ring.reserve(room(n), room(b.rings.ring.pool_size()));
+        b.rings.triangles.reserve(room(n), room(b.rings.triangles.pool_size()));
+        grew = true;
+    }
+    return grew;
+}
+
 SoftBodyT<double> to_double(const SoftBody& b) {
     SoftBodyT<double> d;
     const size_t n = b.particle_count();
@@ -48,7 +74,7 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     d.triangles = b.triangles;
     d.rings = b.rings;
     d.distance = b.distance;
-    d.distance_colours = b.distance_colours;
+    d.distance_groups = b.distance_groups;
     d.distance_lambda.assign(b.distance_lambda.size(), 0.0);
     d.volumes = b.volumes;
     d.shape_matching = b.shape_matching;

@@ -8,6 +8,7 @@
 
 #include "core/result.h"
 #include "mesh/triangle_mesh.h"
+#include "sim/constraint_order.h"
 #include "sim/constraints.h"
 #include "sim/integrate.h"
 #include "sim/particles.h"
@@ -35,8 +36,8 @@ struct SoftBodyT {
     std::vector<Vec3f> normals;  // per particle, updated each step
     std::vector<mesh::Triangle> triangles;
     VertexRings rings;  // per-vertex triangle rings of `triangles`, for normals
-    std::vector<DistanceConstraint> distance;  // grouped by colour (see constraint_order.h)
-    std::vector<uint32_t> distance_colours;    // colour c holds distance[start[c], start[c + 1])
+    std::vector<DistanceConstraint> distance;  // grouped by colour; may hold dead slots (see constraint_order.h)
+    DistanceGroups distance_groups;            // colour c holds distance[start[c], start[c + 1])
     std::vector<Real> distance_lambda;  // XPBD multipliers, one per distance constraint
     std::vector<VolumeConstraint> volumes;
     // Shape matching, one cluster per piece, rebuilt with the derived data (after every cut).
@@ -71,6 +72,11 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh mesh, const SoftBodyDes
 // multipliers. Call it after changing particles, triangles or constraints by hand.
 template <class Real>
 void rebuild_derived(SoftBodyT<Real>& body);
+
+// Capacity for `fraction` more particles, triangles and constraints in every array a topology
+// edit appends to, so an edit costs what it touches and not a copy of the body (a copied body
+// has none). Returns whether anything had to grow. Topology edits call it when room runs low.
+bool reserve_headroom(SoftBody& body, float fraction = 0.25f);
 
 // Rebuilds only the shape-matching clusters (part of rebuild_derived): after pinning, which
 // changes the masses the fit weighs particles by.

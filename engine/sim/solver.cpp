@@ -56,9 +56,9 @@ constexpr size_t k_particle_grain = 4096;  // below this a loop is cheaper than 
 template <class Real>
 void SolverT<Real>::begin_substep(SoftBodyT<Real>& body, const SolverSettings& s, Real h) {
     ParticlesT<Real>& p = body.particles;
-    PBDSPLAT_ASSERT(body.distance_colours.empty() ? body.distance.empty() : body.distance_colours.back() == body.distance.size(),
+    PBDSPLAT_ASSERT(body.distance_groups.start.empty() ? body.distance.empty() : body.distance_groups.start.back() == body.distance.size(),
                     "distance constraints changed without rebuild_derived(body)");
-    PBDSPLAT_ASSERT(body.rings.start.size() == p.size() + 1 && body.distance_lambda.size() == body.distance.size(),
+    PBDSPLAT_ASSERT(body.rings.size() == p.size() && body.distance_lambda.size() == body.distance.size(),
                     "particles or triangles changed without rebuild_derived(body)");
     for_range(p.size(), k_particle_grain, [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, s.damping, h, b, e); });
     for (VolumeConstraint& v : body.volumes)
@@ -78,8 +78,8 @@ void SolverT<Real>::project_distance(SoftBodyT<Real>& body, const SolverSettings
     const Real k = Real(per_iteration(s.stretch_stiffness, s.iterations * s.substeps));
     const Real inv_h2 = Real(1) / (h * h);
     // Colour by colour: inside a colour no two constraints share a particle.
-    for (size_t c = 0; c + 1 < body.distance_colours.size(); ++c) {
-        const size_t first = body.distance_colours[c], count = body.distance_colours[c + 1] - first;
+    for (size_t c = 0; c + 1 < body.distance_groups.start.size(); ++c) {
+        const size_t first = body.distance_groups.start[c], count = body.distance_groups.start[c + 1] - first;
         for_range(count, 2048, [&](size_t b, size_t e) {
             if (xpbd) project_distance_xpbd<Real>(distance.subspan(first + b, e - b), lambda.subspan(first + b, e - b), p, inv_h2);
             else project_distance_pbd<Real>(distance.subspan(first + b, e - b), p, k);

@@ -26,35 +26,58 @@ Vec3f crossing_point(const sim::SoftBody& b, uint32_t i, uint32_t j, float u) {
 }
 
 // Each vertex's signed distance to the cut plane, and its side: -1, +1, or 0 for "on the cut"
-// (within its reach, exactly on the plane or snapped there).
+// (within its reach, exactly on the plane or snapped there). The triangles the plane crosses
+// are found in one lean pass; everything after looks at those only.
 struct Sides {
     std::vector<float> distance;
     std::vector<int8_t> sign;
+    std::vector<uint32_t> crossed;  // triangles with corners strictly on both sides, ascending
+    std::vector<uint32_t> on_cut;   // vertices with sign 0, ascending
 };
+
+float mean_rest_length(const sim::SoftBody& b) {
+    double sum = 0.0;
+    size_t n = 0;
+    for (const sim::DistanceConstraint& c : b.distance)
+        if (c.alive()) sum += double(c.rest), ++n;
+    return n ? float(sum / double(n)) : 0.0f;
+}
 
 Sides classify(const sim::SoftBody& b, const CutSurface& s, float snap, float reference) {
     const size_t n = b.particle_count();
     Sides out;
     std::vector<float>& d = out.distance;
     d.resize(n);
-    for (size_t v = 0; v < n; ++v) d[v] = s.distance(sim::xyz(b.particles.x[v]));
     std::vector<int8_t>& sign = out.sign;
     sign.resize(n);
-    for (size_t v = 0; v < n; ++v) sign[v] = d[v] < 0.0f ? int8_t(-1) : int8_t(1);
-    for (size_t v = 0; v < n; ++v)
-        if (d[v] == 0.0f && s.may_touch(uint32_t(v)) && s.reaches(sim::xyz(b.particles.x[v]))) sign[v] = 0;
+    bool on_plane = false;
+    for (size_t v = 0; v < n; ++v) {
+        d[v] = s.distance(sim::xyz(b.particles.x[v]));
+        sign[v] = d[v] < 0.0f ? int8_t(-1) : int8_t(1);
+        on_plane = on_plane || d[v] == 0.0f;
+    }
+    if (on_plane)
+        for (size_t v = 0; v < n; ++v)
+            if (d[v] == 0.0f && s.may_touch(uint32_t(v)) && s.reaches(sim::xyz(b.particles.x[v]))) sign[v] = 0;
+    for (uint32_t t = 0; t < b.triangles.size(); ++t) {
+        const mesh::Triangle& f = b.triangles[t];
+        const float d0 = d[f[0]], d1 = d[f[1]], d2 = d[f[2]];
+        const bool below = d0 < 0.0f || d1 < 0.0f || d2 < 0.0f, above = d0 > 0.0f || d1 > 0.0f || d2 > 0.0f;
+        if (below && above) out.crossed.push_back(t);
+    }
     // Snap: a crossing near an end moves onto that vertex. Near means within `snap` of the edge,
     // or within `snap` mean edge lengths of rest distance, so repeated cuts through one region
     // cannot make ever smaller triangles. Decided from the unsnapped distances, so the result
     // does not depend on the order edges are visited.
-    if (!(reference > 0.0f)) {
-        double mean_rest = 0.0;
-        for (const sim::DistanceConstraint& c : b.distance) mean_rest += double(c.rest);
-        reference = float(b.distance.empty() ? 0.0 : mean_rest / double(b.distance.size()));
-    }
+    if (!(reference > 0.0f)) reference = mean_rest_length(b);
     const float reach = snap * reference;
-    std::vector<uint8_t> snapped(n, 0);
-    for (const mesh::Triangle& t : b.triangles)
+    std::vector<uint8_t> snapped(n, 0);  // a byte per particle: a memset, cheaper than a search
+    std::vector<uint32_t> on_cut;
+    auto snap_to = [&](uint32_t v) {
+        if (!snapped[v]) snapped[v] = 1, on_cut.push_back(v);
+    };
+    for (uint32_t f : out.crossed) {
+        const mesh::Triangle& t = b.triangles[f];
         for (int k = 0; k < 3; ++k) {
             const uint32_t i = std::min(t[size_t(k)], t[size_t((k + 1) % 3)]);
             const uint32_t j = std::max(t[size_t(k)], t[size_t((k + 1) % 3)]);
@@ -64,15 +87,17 @@ Sides classify(const sim::SoftBody& b, const CutSurface& s, float snap, float re
             const float rest = (b.rest_positions[j] - b.rest_positions[i]).norm();
             const bool near_i = u < snap || u * rest < reach, near_j = u > 1.0f - snap || (1.0f - u) * rest < reach;
             if (!near_i && !near_j) continue;
-            if (s.reaches(crossing_point(b, i, j, u))) snapped[near_i && (!near_j || u < 0.5f) ? i : j] = 1;
+            if (s.reaches(crossing_point(b, i, j, u))) snap_to(near_i && (!near_j || u < 0.5f) ? i : j);
         }
+    }
     // A crossed triangle's corner piece (the lone vertex and the two crossings) has u_ab * u_ac
     // of its area: where that is a sliver next to the reference triangle, the cut goes through
     // the lone vertex instead. Without this, cuts repeated through one region shrink corners
     // generation after generation (u <= 1 - snap keeps each child above a tenth of its parent,
     // not above any absolute size).
     const float min_corner_area = 0.05f * 0.433f * reference * reference;  // 5 % of an equilateral triangle
-    for (const mesh::Triangle& t : b.triangles)
+    for (uint32_t f : out.crossed) {
+        const mesh::Triangle& t = b.triangles[f];
         for (int k = 0; k < 3; ++k) {
             const uint32_t a = t[size_t(k)], p = t[size_t((k + 1) % 3)], q = t[size_t((k + 2) % 3)];
             const bool lone = (d[a] < 0.0f && d[p] > 0.0f && d[q] > 0.0f) || (d[a] > 0.0f && d[p] < 0.0f && d[q] < 0.0f);
@@ -81,10 +106,17 @@ Sides classify(const sim::SoftBody& b, const CutSurface& s, float snap, float re
             const float u_p = d[a] / (d[a] - d[p]), u_q = d[a] / (d[a] - d[q]);
             const Vec3f& ra = b.rest_positions[a];
             const float area = 0.5f * (b.rest_positions[p] - ra).cross(b.rest_positions[q] - ra).norm();
-            if (u_p * u_q * area < min_corner_area && s.reaches(sim::xyz(b.particles.x[a]))) snapped[a] = 1;
+            if (u_p * u_q * area < min_corner_area && s.reaches(sim::xyz(b.particles.x[a]))) snap_to(a);
         }
-    for (size_t v = 0; v < n; ++v)
-        if (snapped[v]) sign[v] = 0;
+    }
+    for (uint32_t v : on_cut) sign[v] = 0;
+    if (on_plane) {
+        on_cut.clear();
+        for (size_t v = 0; v < n; ++v)
+            if (sign[v] == 0) on_cut.push_back(uint32_t(v));
+    }
+    std::sort(on_cut.begin(), on_cut.end());
+    out.on_cut = std::move(on_cut);
     return out;
 }
 
@@ -105,14 +137,23 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
         if (!x.head<3>().allFinite()) return core::make_error("cut: a particle position is not finite; the body is broken");
 
     const core::Stopwatch clock;
+    core::Stopwatch step;
+    const bool grew = sim::reserve_headroom(b);
     Edit e(b);
+    e.change.headroom_grown = grew;
+    auto lap = [&](const char* name) {
+        e.change.phases.push_back({name, step.elapsed_ms()});
+        step.restart();
+    };
+    lap("prepare");
     Sides sides = classify(b, s, o.snap, o.reference_edge_length);
     e.sign = std::move(sides.sign);
+    e.on_cut_vertices = std::move(sides.on_cut);
+    lap("classify");
 
     // Eq. 26: one new particle per crossed edge, shared by both triangles of the edge.
-    const size_t t0 = b.triangles.size();
     std::vector<uint32_t> parents;
-    for (uint32_t t = 0; t < t0; ++t) {
+    for (uint32_t t : sides.crossed) {
         bool crossed = false;
         for (int k = 0; k < 3; ++k) {
             const uint32_t i = std::min(b.triangles[t][size_t(k)], b.triangles[t][size_t((k + 1) % 3)]);
@@ -131,14 +172,16 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
         }
         if (crossed) parents.push_back(t);
     }
+    lap("crossings");
     e.change.crossed_edges = e.edge_points();
     e.change.crossed_triangles = parents.size();
-    if (parents.empty() && std::none_of(e.sign.begin(), e.sign.end(), [](int8_t v) { return v == 0; })) {
+    if (parents.empty() && e.on_cut_vertices.empty()) {
         e.finish();
         e.change.ms = clock.elapsed_ms();
         return std::move(e.change);
     }
     e.change.components_before = e.count_components();
+    lap("components before");
 
     // Eq. 27: re-triangulate every crossed triangle around its new particles.
     for (uint32_t t : parents) e.retriangulate(t);
@@ -147,21 +190,31 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
         if (parent > 0.0f) e.change.min_child_area_ratio = std::min(e.change.min_child_area_ratio, rest_area(b, b.triangles[sp.triangle]) / parent);
     }
 
+    lap("retriangulate");
     // Eq. 28: duplicate the vertices on the cut per fan of triangles, then masses, distance
     // constraints and volumes follow the new lists.
     e.split_vertices_along_cut();
+    lap("split vertices");
     if (parents.empty() && e.change.duplicated_vertices == 0) {  // touched vertices only, opened nothing
         e.finish();
         e.change.ms = clock.elapsed_ms();
         return std::move(e.change);
     }
+    e.update_rings();
+    lap("rings");
     e.redistribute_mass();
+    lap("mass");
     e.update_distance_constraints();
+    lap("distance constraints");
     apply_volume_policy(b, o.volume, o.burst_leak, e.old_volume_of_triangles(), e.old_volumes);
+    lap("volumes");
     e.change.components_after = e.count_components();
+    lap("components after");
     const core::Stopwatch rebuild;
-    sim::rebuild_derived(b);
+    for (sim::VolumeConstraint& v : b.volumes) sim::build_rings(v);
+    sim::rebuild_shape_clusters(b);
     e.change.rebuild_ms = rebuild.elapsed_ms();
+    lap("derived solver data");
     e.finish();
     e.change.ms = clock.elapsed_ms();
     return std::move(e.change);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <numeric>
-#include <unordered_set>
 
 #include "core/assert.h"
 #include "mesh/topology.h"
@@ -24,8 +23,7 @@ Edit::Edit(sim::SoftBody& body) : b_(body), n0_(body.particle_count()), t0_(body
                                v.leak, v.triangles.size(), v.cap_loops.size()});
     old_volume_of_vertex_.assign(n0_, -1);
     for (size_t k = 0; k < b_.volumes.size(); ++k)
-        for (const auto& t : b_.volumes[k].triangles)
-            for (uint32_t v : t) old_volume_of_vertex_[v] = int32_t(k);
+        for (uint32_t v : b_.volumes[k].vertices) old_volume_of_vertex_[v] = int32_t(k);
 }
 
 uint32_t Edit::point_on(uint32_t i, uint32_t j) const {
@@ -129,19 +127,29 @@ void Edit::retriangulate(uint32_t t) {
 }
 
 void Edit::split_vertices_along_cut() {
-    // Triangles around every vertex on the cut, gathered in one pass.
-    std::unordered_map<uint32_t, std::vector<uint32_t>> around;
-    for (uint32_t t = 0; t < b_.triangles.size(); ++t)
-        for (uint32_t v : b_.triangles[t])
-            if (on_cut(v)) around[v].push_back(t);
-    std::vector<uint32_t> candidates;
-    candidates.reserve(around.size());
-    for (const auto& [v, tris] : around) candidates.push_back(v);
+    // Triangles around every vertex on the cut: an original vertex's from its ring (before the
+    // edit; a re-used parent index may have lost it), and the children of the split triangles.
+    std::vector<std::pair<uint32_t, uint32_t>> children;  // (corner on the cut, child)
+    for (const mesh::TriangleSplit& s : change.splits)
+        for (uint32_t v : b_.triangles[s.triangle])
+            if (on_cut(v)) children.push_back({v, s.triangle});
+    std::sort(children.begin(), children.end());
+    std::vector<uint32_t> candidates = on_cut_vertices;
+    for (const auto& [v, t] : children) candidates.push_back(v);
     std::sort(candidates.begin(), candidates.end());  // deterministic copy numbering
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
 
-    std::vector<uint32_t> root;
+    std::vector<uint32_t> root, fan;
     for (uint32_t v : candidates) {
-        const std::vector<uint32_t>& fan = around[v];
+        fan.clear();
+        if (v < n0_)
+            for (uint32_t t : b_.rings.triangles.of(v))
+                if (std::ranges::find(b_.triangles[t], v) != b_.triangles[t].end()) fan.push_back(t);
+        auto child = std::lower_bound(children.begin(), children.end(), std::pair<uint32_t, uint32_t>{v, 0});
+        for (; child != children.end() && child->first == v; ++child) fan.push_back(child->second);
+        std::sort(fan.begin(), fan.end());
+        fan.erase(std::unique(fan.begin(), fan.end()), fan.end());
+        if (fan.empty()) continue;
         const size_t m = fan.size();
         root.resize(m);
         std::iota(root.begin(), root.end(), 0u);
@@ -179,98 +187,129 @@ void Edit::split_vertices_along_cut() {
         }
         local_triangles_.insert(local_triangles_.end(), fan.begin(), fan.end());
     }
+    // The local triangles: the children and those around duplicated vertices.
+    for (const mesh::TriangleSplit& s : change.splits) local_triangles_.push_back(s.triangle);
+    std::sort(local_triangles_.begin(), local_triangles_.end());
+    local_triangles_.erase(std::unique(local_triangles_.begin(), local_triangles_.end()), local_triangles_.end());
 }
 
-void Edit::redistribute_mass() {
-    // The region: corners of the re-triangulated triangles and of the triangles re-pointed.
+void Edit::update_rings() {
+    // Every vertex whose triangles changed is a corner of a local triangle: a parent's corners
+    // are corners of its children, a duplicated vertex keeps one fan.
     std::vector<uint32_t> region;
-    for (const mesh::TriangleSplit& s : change.splits) region.insert(region.end(), b_.triangles[s.triangle].begin(), b_.triangles[s.triangle].end());
     for (uint32_t t : local_triangles_) region.insert(region.end(), b_.triangles[t].begin(), b_.triangles[t].end());
     std::sort(region.begin(), region.end());
     region.erase(std::unique(region.begin(), region.end()), region.end());
+    sim::update_vertex_rings(b_.rings, b_.triangles, b_.particle_count(), region, local_triangles_);
+    region_ = std::move(region);
+    b_.normals.resize(b_.particle_count(), Vec3f(0.0f, 1.0f, 0.0f));
+}
+
+void Edit::redistribute_mass() {
+    const std::vector<uint32_t>& region = region_;
     if (region.empty()) return;
-    // Per-particle scratch, so the pass over all triangles below costs no hashing.
-    std::vector<float> area(b_.particle_count(), -1.0f);
+    // A third of each triangle's rest area, summed in triangle order (as a pass over the whole
+    // list would), from the rings made again for the region.
+    std::vector<float> area(region.size(), 0.0f);
     double mass = 0.0;
-    for (uint32_t v : region) {
-        area[v] = 0.0f;
+    for (size_t k = 0; k < region.size(); ++k) {
+        const uint32_t v = region[k];
         if (v < n0_ && b_.particles.w[v] > 0.0f) mass += 1.0 / double(b_.particles.w[v]);
-    }
-    for (const mesh::Triangle& t : b_.triangles) {
-        if (area[t[0]] < 0.0f && area[t[1]] < 0.0f && area[t[2]] < 0.0f) continue;
-        const float third = area_of(b_.rest_positions, t) / 3.0f;
-        for (uint32_t v : t)
-            if (area[v] >= 0.0f) area[v] += third;
+        for (uint32_t t : b_.rings.triangles.of(v)) area[k] += area_of(b_.rest_positions, b_.triangles[t]) / 3.0f;
     }
     // Pinned particles (and their copies) stay pinned and take no share.
     double total = 0.0;
-    for (uint32_t v : region)
-        if (b_.particles.w[v] > 0.0f) total += area[v];
-    for (uint32_t v : region) {
+    for (size_t k = 0; k < region.size(); ++k)
+        if (b_.particles.w[region[k]] > 0.0f) total += area[k];
+    for (size_t k = 0; k < region.size(); ++k) {
+        const uint32_t v = region[k];
         if (b_.particles.w[v] == 0.0f) continue;
-        const double m = total > 0.0 ? mass * double(area[v]) / total : 0.0;
+        const double m = total > 0.0 ? mass * double(area[k]) / total : 0.0;
         b_.particles.w[v] = m > 0.0 ? float(1.0 / m) : 0.0f;
     }
 }
 
 void Edit::update_distance_constraints() {
-    // The local triangles: the children and those around duplicated vertices.
-    std::vector<uint32_t> local = local_triangles_;
-    for (const mesh::TriangleSplit& s : change.splits) local.push_back(s.triangle);
-    std::sort(local.begin(), local.end());
-    local.erase(std::unique(local.begin(), local.end()), local.end());
-    local_triangles_ = local;
-
+    const std::vector<uint32_t>& local = local_triangles_;
     // Old edges whose constraints are re-made: the parents' edges, and every edge of a local
-    // triangle in terms of the original vertices.
-    std::unordered_set<uint64_t> old_edges;
-    std::vector<uint8_t> touched(n0_, 0);
+    // triangle in terms of the original vertices. Sorted keys: a few thousand at most, where a
+    // hash set would allocate per entry.
+    std::vector<uint64_t> old_edges;
+    std::vector<uint32_t> touched;
     auto mark = [&](uint32_t a, uint32_t c) {
         if (a >= n0_ || c >= n0_) return;
-        old_edges.insert(edge_key(a, c));
-        touched[a] = touched[c] = 1;
+        old_edges.push_back(edge_key(a, c));
+        touched.push_back(a);
+        touched.push_back(c);
     };
     for (const auto& [t, tri] : parents_)
         for (int k = 0; k < 3; ++k) mark(tri[size_t(k)], tri[size_t((k + 1) % 3)]);
     for (uint32_t t : local)
         for (int k = 0; k < 3; ++k) mark(origin(b_.triangles[t][size_t(k)]), origin(b_.triangles[t][size_t((k + 1) % 3)]));
+    auto sort_unique = [](auto& v) {
+        std::sort(v.begin(), v.end());
+        v.erase(std::unique(v.begin(), v.end()), v.end());
+    };
+    sort_unique(old_edges);
+    sort_unique(touched);
 
+    // The old constraints on those edges: their slots and definitions, by edge key.
     struct Definition {
+        uint64_t key;
+        uint32_t slot;
         float rest, compliance;
     };
-    std::unordered_map<uint64_t, Definition> definition;
-    float default_compliance = b_.distance.empty() ? 0.0f : b_.distance.front().compliance;
-    std::erase_if(b_.distance, [&](const sim::DistanceConstraint& c) {
-        if (!touched[c.i] || !touched[c.j]) return false;
-        const uint64_t k = edge_key(c.i, c.j);
-        if (!old_edges.count(k)) return false;
-        definition[k] = {c.rest, c.compliance};
-        default_compliance = c.compliance;
-        return true;
-    });
-
-    std::unordered_set<uint64_t> emitted;
-    for (uint32_t t : local)
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t a = b_.triangles[t][size_t(k)], c = b_.triangles[t][size_t((k + 1) % 3)];
-            if (!emitted.insert(edge_key(a, c)).second) continue;
-            const uint32_t oa = origin(a), oc = origin(c);
-            if (auto it = definition.find(edge_key(oa, oc)); it != definition.end()) {
-                b_.distance.push_back({a, c, it->second.rest, it->second.compliance});
-                continue;
-            }
-            if (!is_edge_point(oa) && !is_edge_point(oc)) continue;  // an edge nobody constrained
-            // A half of a split edge keeps the fraction t of the parent's rest length; a new
-            // edge across a triangle takes its length in the rest state.
-            const uint32_t pv = is_edge_point(oa) ? oa : oc, other = pv == oa ? oc : oa;
-            const EdgePoint& ep = points_[pv - n0_];
-            const auto parent = definition.find(edge_key(ep.i, ep.j));
-            const float compliance = parent != definition.end() ? parent->second.compliance : default_compliance;
-            float rest = (b_.rest_positions[a] - b_.rest_positions[c]).norm();
-            if ((other == ep.i || other == ep.j) && parent != definition.end())
-                rest = parent->second.rest * (other == ep.i ? ep.t : 1.0f - ep.t);
-            b_.distance.push_back({a, c, rest, compliance});
+    std::vector<Definition> removed;
+    for (uint32_t a : touched)
+        for (uint32_t slot : b_.distance_groups.of_particle.of(a)) {
+            const sim::DistanceConstraint& c = b_.distance[slot];
+            if (a != std::min(c.i, c.j)) continue;  // met from its lower end only
+            const uint64_t k = edge_key(c.i, c.j);
+            if (std::binary_search(old_edges.begin(), old_edges.end(), k)) removed.push_back({k, slot, c.rest, c.compliance});
         }
+    std::sort(removed.begin(), removed.end(), [](const Definition& x, const Definition& y) { return x.slot < y.slot; });
+    float default_compliance = removed.empty() ? 0.0f : removed.back().compliance;  // the last in array order
+    if (removed.empty())
+        for (const sim::DistanceConstraint& c : b_.distance)
+            if (c.alive()) {
+                default_compliance = c.compliance;
+                break;
+            }
+    std::vector<uint32_t> removed_slots;
+    for (const Definition& d : removed) removed_slots.push_back(d.slot);
+    // By key for lookups; of two constraints on one edge the later slot defines it.
+    std::stable_sort(removed.begin(), removed.end(), [](const Definition& x, const Definition& y) { return x.key < y.key; });
+    auto definition = [&](uint64_t key) -> const Definition* {
+        auto it = std::upper_bound(removed.begin(), removed.end(), key, [](uint64_t k, const Definition& d) { return k < d.key; });
+        return it != removed.begin() && (it - 1)->key == key ? &*(it - 1) : nullptr;
+    };
+
+    std::vector<sim::DistanceConstraint> added;
+    std::vector<uint64_t> emitted;
+    for (uint32_t t : local)
+        for (int k = 0; k < 3; ++k) emitted.push_back(edge_key(b_.triangles[t][size_t(k)], b_.triangles[t][size_t((k + 1) % 3)]));
+    sort_unique(emitted);  // each new edge once, in key order (deterministic)
+    for (const uint64_t key : emitted) {
+        const uint32_t a = uint32_t(key >> 32), c = uint32_t(key);
+        const uint32_t oa = origin(a), oc = origin(c);
+        if (const Definition* d = definition(edge_key(oa, oc))) {
+            added.push_back({a, c, d->rest, d->compliance});
+            continue;
+        }
+        if (!is_edge_point(oa) && !is_edge_point(oc)) continue;  // an edge nobody constrained
+        // A half of a split edge keeps the fraction t of the parent's rest length; a new edge
+        // across a triangle takes its length in the rest state.
+        const uint32_t pv = is_edge_point(oa) ? oa : oc, other = pv == oa ? oc : oa;
+        const EdgePoint& ep = points_[pv - n0_];
+        const Definition* parent = definition(edge_key(ep.i, ep.j));
+        const float compliance = parent ? parent->compliance : default_compliance;
+        float rest = (b_.rest_positions[a] - b_.rest_positions[c]).norm();
+        if ((other == ep.i || other == ep.j) && parent) rest = parent->rest * (other == ep.i ? ep.t : 1.0f - ep.t);
+        added.push_back({a, c, rest, compliance});
+    }
+    sim::replace_distance_constraints(b_.distance, b_.distance_groups, b_.distance_lambda, b_.particle_count(), removed_slots, added);
+    change.constraints_removed = removed_slots.size();
+    change.constraints_added = added.size();
 }
 
 std::vector<int32_t> Edit::old_volume_of_triangles() const {

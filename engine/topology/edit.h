@@ -24,6 +24,8 @@ public:
 
     // Per original vertex: -1 / +1 for its side of the cut, 0 for "on the cut".
     std::vector<int8_t> sign;
+    // The original vertices with sign 0 (the new edge points are on the cut too).
+    std::vector<uint32_t> on_cut_vertices;
     TopologyChange change;
     std::vector<OldVolume> old_volumes;
 
@@ -38,6 +40,8 @@ public:
     // Eq. 28: every vertex on the cut gets one copy per extra fan of triangles, the fans being
     // separated by cut edges (both ends on the cut, the two triangles on opposite sides).
     void split_vertices_along_cut();
+    // The vertex rings (and triangle lists) of every vertex the edit touched made again.
+    void update_rings();
     // Masses of the touched region spread again by rest area, keeping their sum.
     void redistribute_mass();
     // Constraints of touched edges re-made with the old definitions and the new indices.
@@ -60,7 +64,8 @@ private:
     std::unordered_map<uint64_t, uint32_t> point_of_edge_;  // edge key -> index into points_
     std::unordered_map<uint32_t, mesh::Triangle> parents_;   // original corners of re-triangulated triangles
     std::vector<uint32_t> origin_;                           // for particle n0_ + k: what it came from
-    std::vector<uint32_t> local_triangles_;                  // triangles around duplicated vertices
+    std::vector<uint32_t> local_triangles_;                  // children and triangles around duplicated vertices
+    std::vector<uint32_t> region_;                           // their corners
     std::vector<int32_t> old_volume_of_vertex_;
 
     uint32_t new_particle(uint32_t copy_of);

@@ -37,8 +37,8 @@ bool splits_ring(const sim::SoftBody& b, uint32_t v, const Vec3f& normal, float&
     const Vec3f xv = sim::xyz(b.particles.x[v]);
     bool pos = false, neg = false;
     radius = 0.0f;
-    for (uint32_t r = b.rings.start[v]; r < b.rings.start[v + 1]; ++r)
-        for (uint32_t w : b.rings.ring[r]) {
+    for (const auto& r : b.rings.ring.of(v))
+        for (uint32_t w : r) {
             const Vec3f xw = sim::xyz(b.particles.x[w]);
             const float d = normal.dot(xw - xv), len = (xw - xv).norm();
             pos = pos || d > 0.25f * len;
@@ -55,8 +55,8 @@ std::vector<uint8_t> neighbourhood(const sim::SoftBody& b, uint32_t v, int rings
     for (int r = 0; r < rings; ++r) {
         next.clear();
         for (uint32_t u : front)
-            for (uint32_t k = b.rings.start[u]; k < b.rings.start[u + 1]; ++k)
-                for (uint32_t w : b.rings.ring[k])
+            for (const auto& pair : b.rings.ring.of(u))
+                for (uint32_t w : pair)
                     if (!in[w]) in[w] = 1, next.push_back(w);
         front.swap(next);
     }

@@ -16,6 +16,8 @@ struct TopologyChange {
     size_t crossed_edges = 0;       // edges split by a new particle (eq. 26)
     size_t crossed_triangles = 0;   // triangles re-triangulated (eq. 27)
     size_t duplicated_vertices = 0; // copies made so the sides separate (eq. 28)
+    size_t constraints_removed = 0, constraints_added = 0;  // distance constraints re-made
+    bool headroom_grown = false;    // the body's arrays were moved to make room (amortised)
     // Children of every re-triangulated triangle; triangles not listed kept their index.
     std::vector<mesh::TriangleSplit> splits;
     // Triangles whose corners or shape changed (children and re-pointed ones), new indices.
@@ -23,6 +25,13 @@ struct TopologyChange {
     float min_child_area_ratio = 1.0f;  // smallest child / parent rest area: no slivers
     double ms = 0.0;          // the whole change
     double rebuild_ms = 0.0;  // of which: solver data derived from the new lists
+    // Where the time went, step by step in the order run (names are static strings), so a
+    // benchmark can show which step grows with the body rather than with the cut.
+    struct Phase {
+        const char* name;
+        double ms;
+    };
+    std::vector<Phase> phases;
 
     bool changed() const { return particles_after != particles_before || triangles_after != triangles_before; }
     // Particles [particles_before, particles_after) are new.

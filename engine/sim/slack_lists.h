@@ -1,0 +1,98 @@
+#pragma once
+// One short list per key (a vertex's triangles, its ring, its constraints) in one pool, each with
+// a little spare room: a topology edit rewrites the lists of the vertices it touched in place,
+// or moves a grown list to the pool's end, instead of rebuilding every list of the body. The
+// pool is compacted (key order, fresh slack) once half of it is abandoned space.
+#include <algorithm>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/assert.h"
+
+namespace pbdsplat::sim {
+
+template <class T>
+class SlackLists {
+public:
+    static constexpr uint32_t k_slack = 2;
+
+    size_t keys() const { return first_.size(); }
+    std::span<const T> of(uint32_t key) const { return {pool_.data() + first_[key], size_[key]}; }
+    size_t pool_size() const { return pool_.size(); }
+    size_t abandoned() const { return abandoned_; }
+
+    // All lists at once, from counts per key and the items in key order (CSR-like).
+    void build(std::span<const uint32_t> start, std::span<const T> items) {
+        const size_t n = start.empty() ? 0 : start.size() - 1;
+        first_.resize(n);
+        size_.resize(n);
+        capacity_.resize(n);
+        pool_.clear();
+        pool_.reserve(items.size() + k_slack * n);
+        for (size_t k = 0; k < n; ++k) {
+            first_[k] = uint32_t(pool_.size());
+            size_[k] = start[k + 1] - start[k];
+            capacity_[k] = size_[k] + k_slack;
+            pool_.insert(pool_.end(), items.begin() + start[k], items.begin() + start[k + 1]);
+            pool_.resize(pool_.size() + k_slack);
+        }
+        abandoned_ = 0;
+    }
+
+    // Room for this many keys and pool items without moving (copies do not keep it).
+    void reserve(size_t keys, size_t items) {
+        first_.reserve(keys), size_.reserve(keys), capacity_.reserve(keys);
+        pool_.reserve(items);
+    }
+    size_t key_capacity() const { return first_.capacity(); }
+    size_t pool_capacity() const { return pool_.capacity(); }
+
+    // Keys [keys(), n) appear with empty lists.
+    void grow(size_t n) {
+        while (first_.size() < n) {
+            first_.push_back(uint32_t(pool_.size()));
+            size_.push_back(0);
+            capacity_.push_back(0);
+        }
+    }
+
+    void assign(uint32_t key, std::span<const T> items) {
+        PBDSPLAT_ASSERT(key < keys(), "SlackLists::assign: grow() the key range first");
+        if (items.size() > capacity_[key]) {
+            abandoned_ += capacity_[key];
+            first_[key] = uint32_t(pool_.size());
+            capacity_[key] = uint32_t(items.size()) + k_slack;
+            pool_.resize(pool_.size() + capacity_[key]);
+        }
+        std::copy(items.begin(), items.end(), pool_.begin() + first_[key]);
+        size_[key] = uint32_t(items.size());
+        if (abandoned_ > pool_.size() / 2) compact();
+    }
+
+    // Lays the lists out again in key order with fresh slack (what build() gives).
+    void compact() {
+        std::vector<uint32_t> start(keys() + 1, 0);
+        for (size_t k = 0; k < keys(); ++k) start[k + 1] = start[k] + size_[k];
+        std::vector<T> items(start.back());
+        for (size_t k = 0; k < keys(); ++k)
+            std::copy_n(pool_.begin() + first_[k], size_[k], items.begin() + start[k]);
+        build(start, items);
+        ++compactions_;
+    }
+    size_t compactions() const { return compactions_; }
+
+    bool operator==(const SlackLists& o) const {
+        if (keys() != o.keys()) return false;
+        for (uint32_t k = 0; k < keys(); ++k)
+            if (!std::ranges::equal(of(k), o.of(k))) return false;
+        return true;
+    }
+
+private:
+    std::vector<uint32_t> first_, size_, capacity_;
+    std::vector<T> pool_;
+    size_t abandoned_ = 0, compactions_ = 0;
+};
+
+} // namespace pbdsplat::sim
