@@ -16,6 +16,8 @@ void rebuild_derived(SoftBodyT<Real>& b) {
     b.distance_groups = make_distance_groups(b.distance, b.particle_count());
     b.distance_lambda.assign(b.distance.size(), Real(0));
     b.rings = build_vertex_rings(b.triangles, b.particle_count());
+    std::vector<uint32_t> component;
+    b.pieces = mesh::vertex_components(b.triangles, b.particle_count(), component);
     b.normals.resize(b.particle_count(), Vec3f(0.0f, 1.0f, 0.0f));
     for (VolumeConstraint& v : b.volumes) build_rings(v);
     rebuild_shape_clusters(b);
@@ -77,6 +79,7 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     d.distance_groups = b.distance_groups;
     d.distance_lambda.assign(b.distance_lambda.size(), 0.0);
     d.volumes = b.volumes;
+    d.pieces = b.pieces;
     d.shape_matching = b.shape_matching;
     d.shapes = b.shapes;
     d.rest_positions = b.rest_positions;

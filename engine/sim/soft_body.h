@@ -40,6 +40,7 @@ struct SoftBodyT {
     DistanceGroups distance_groups;            // colour c holds distance[start[c], start[c + 1])
     std::vector<Real> distance_lambda;  // XPBD multipliers, one per distance constraint
     std::vector<VolumeConstraint> volumes;
+    size_t pieces = 0;  // connected components of `triangles` (kept by topology edits)
     // Shape matching, one cluster per piece, rebuilt with the derived data (after every cut).
     bool shape_matching = false;
     std::vector<ShapeCluster> shapes;

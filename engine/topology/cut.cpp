@@ -180,8 +180,7 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
         e.change.ms = clock.elapsed_ms();
         return std::move(e.change);
     }
-    e.change.components_before = e.count_components();
-    lap("components before");
+    e.change.components_before = b.pieces;
 
     // Eq. 27: re-triangulate every crossed triangle around its new particles.
     for (uint32_t t : parents) e.retriangulate(t);
@@ -206,12 +205,12 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
     lap("mass");
     e.update_distance_constraints();
     lap("distance constraints");
-    apply_volume_policy(b, o.volume, o.burst_leak, e.old_volume_of_triangles(), e.old_volumes);
-    lap("volumes");
-    e.change.components_after = e.count_components();
-    lap("components after");
+    std::vector<uint32_t> rebuilt;
+    b.pieces = apply_volume_policy(b, o.volume, o.burst_leak, e.old_volume_of_triangles(), e.old_volumes, e.touched_volumes(), rebuilt);
+    e.change.components_after = b.pieces;
+    lap("pieces and volumes");
     const core::Stopwatch rebuild;
-    for (sim::VolumeConstraint& v : b.volumes) sim::build_rings(v);
+    for (uint32_t v : rebuilt) sim::build_rings(b.volumes[v]);
     sim::rebuild_shape_clusters(b);
     e.change.rebuild_ms = rebuild.elapsed_ms();
     lap("derived solver data");

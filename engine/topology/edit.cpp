@@ -19,8 +19,7 @@ Edit::Edit(sim::SoftBody& body) : b_(body), n0_(body.particle_count()), t0_(body
     change.particles_before = n0_;
     change.triangles_before = t0_;
     for (const sim::VolumeConstraint& v : b_.volumes)
-        old_volumes.push_back({v.rest_volume, sim::constraint_volume<float>(v, b_.particles.x), v.pressure, v.compliance,
-                               v.leak, v.triangles.size(), v.cap_loops.size()});
+        old_volumes.push_back({v.rest_volume, 0.0, v.pressure, v.compliance, v.leak, v.triangles.size(), v.cap_loops.size()});
     old_volume_of_vertex_.assign(n0_, -1);
     for (size_t k = 0; k < b_.volumes.size(); ++k)
         for (uint32_t v : b_.volumes[k].vertices) old_volume_of_vertex_[v] = int32_t(k);
@@ -322,9 +321,14 @@ std::vector<int32_t> Edit::old_volume_of_triangles() const {
     return out;
 }
 
-size_t Edit::count_components() const {
-    std::vector<uint32_t> comp;
-    return mesh::vertex_components(b_.triangles, b_.particle_count(), comp);
+std::vector<uint8_t> Edit::touched_volumes() const {
+    std::vector<uint8_t> touched(old_volumes.size(), 0);
+    for (uint32_t v : region_) {
+        uint32_t o = origin(v);
+        if (is_edge_point(o)) o = points_[o - n0_].i;
+        if (old_volume_of_vertex_[o] >= 0) touched[size_t(old_volume_of_vertex_[o])] = 1;
+    }
+    return touched;
 }
 
 void Edit::finish() {

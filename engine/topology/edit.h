@@ -13,7 +13,7 @@ namespace pbdsplat::topology {
 
 // What the volume policy needs of a volume constraint from before the change.
 struct OldVolume {
-    double rest_volume = 0.0, now = 0.0;  // now: its volume just before the change
+    double rest_volume = 0.0, now = 0.0;  // now: its volume just before the change (if touched)
     float pressure = 1.0f, compliance = 0.0f, leak = 0.0f;
     size_t triangles = 0, cap_loops = 0;
 };
@@ -48,7 +48,8 @@ public:
     void update_distance_constraints();
     // For each current triangle, the old volume constraint it belonged to (-1: none).
     std::vector<int32_t> old_volume_of_triangles() const;
-    size_t count_components() const;
+    // Per old volume constraint: whether the edit reached its piece.
+    std::vector<uint8_t> touched_volumes() const;
     // Fills the counts and the touched-triangle list of `change`.
     void finish();
 

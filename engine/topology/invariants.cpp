@@ -110,6 +110,37 @@ core::Status check_invariants(const sim::SoftBody& b, const InvariantOptions& o)
             }
         if (!(vol.rest_volume > 0.0) || !std::isfinite(vol.rest_volume)) return broken("a volume constraint has no positive rest volume");
     }
+    return check_derived(b);
+}
+
+core::Status check_derived(const sim::SoftBody& b) {
+    const size_t n = b.particle_count();
+    const sim::VertexRings fresh = sim::build_vertex_rings(b.triangles, n);
+    if (!(fresh.ring == b.rings.ring) || !(fresh.triangles == b.rings.triangles))
+        return broken("the vertex rings differ from a full build");
+    if (!sim::distance_groups_valid(b.distance, b.distance_groups, n)) return broken("the distance colour groups are not valid");
+    if (b.distance_lambda.size() != b.distance.size()) return broken("the XPBD multipliers do not match the constraints");
+    std::vector<uint32_t> comp;
+    if (mesh::vertex_components(b.triangles, n, comp) != b.pieces) return broken("the piece count differs from a component count");
+    std::vector<uint32_t> comp_of_vertex(n, UINT32_MAX);
+    for (size_t f = 0; f < b.triangles.size(); ++f)
+        for (uint32_t v : b.triangles[f]) comp_of_vertex[v] = comp[f];
+    std::vector<size_t> loops_of_piece(b.pieces, 0);
+    for (const auto& loop : mesh::boundary_loops(b.triangles, n)) ++loops_of_piece[comp_of_vertex[loop[0]]];
+    for (size_t k = 0; k < b.volumes.size(); ++k) {
+        sim::VolumeConstraint copy = b.volumes[k];
+        sim::build_rings(copy);
+        if (copy.vertices != b.volumes[k].vertices || copy.ring_start != b.volumes[k].ring_start || copy.ring != b.volumes[k].ring)
+            return broken("volume constraint " + std::to_string(k) + "'s rings differ from a fresh build");
+        if (b.volumes[k].triangles.empty()) return broken("volume constraint " + std::to_string(k) + " has no triangles");
+        const uint32_t piece = comp_of_vertex[b.volumes[k].triangles.front()[0]];
+        size_t piece_triangles = 0;
+        for (uint32_t c : comp) piece_triangles += c == piece;
+        if (piece_triangles != b.volumes[k].triangles.size())
+            return broken("volume constraint " + std::to_string(k) + " does not hold its whole piece");
+        if (loops_of_piece[piece] != b.volumes[k].cap_loops.size())
+            return broken("volume constraint " + std::to_string(k) + " caps a different number of loops than its piece has");
+    }
     return core::Status::success();
 }
 

@@ -16,7 +16,10 @@ namespace pbdsplat::topology {
 // Under `cap` a piece keeps its parent's ratio of volume to target, so no piece jumps: with a
 // planar cut through a closed body the pieces' targets sum to the parent's.
 // `leak`: the rate at which a component opened under `burst` loses its overpressure (1/s).
-void apply_volume_policy(sim::SoftBody& body, VolumePolicy policy, float leak, std::span<const int32_t> old_volume_of_triangle,
-                         std::span<const OldVolume> old_volumes);
+// Only the constraints in `touched` (by old index) are looked at: the others are kept as they
+// are (their pieces did not change). Returns the number of connected components after, and
+// lists in `rebuilt` the constraints (new indices) whose derived rings must be made again.
+size_t apply_volume_policy(sim::SoftBody& body, VolumePolicy policy, float leak, std::span<const int32_t> old_volume_of_triangle,
+                           std::span<OldVolume> old_volumes, std::span<const uint8_t> touched, std::vector<uint32_t>& rebuilt);
 
 } // namespace pbdsplat::topology

@@ -238,6 +238,12 @@ TEST_SUITE("topology/cut") {
         }
         CHECK(opened > size_t(k_cuts) * 3 / 4);
         CHECK(total_mass(b) == doctest::Approx(mass).epsilon(1e-4));
+        // The incremental paths ran (check_invariants compared them with full builds after
+        // every cut): emptied slots were taken again, new groups were made at the end.
+        CHECK(b.distance_groups.slots_reused > 0);
+        CHECK(b.distance_groups.slots_appended > 0);
+        MESSAGE("slots reused " << b.distance_groups.slots_reused << ", appended " << b.distance_groups.slots_appended
+                                << ", regroupings " << b.distance_groups.regroupings);
     }
 
     TEST_CASE("cuts repeated through one small region keep every corner above a sliver") {
