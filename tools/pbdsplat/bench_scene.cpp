@@ -65,6 +65,11 @@ int bench_scene(const std::vector<std::string>& argv) {
     constexpr uint32_t k_max_frames = 10000;
     Progress progress("bench scene", until_after ? 0 : frames.value());
     uint32_t run = 0;
+    // Frames after the first change, split by whether this frame changed the topology: what a
+    // tear or cut costs above the frames around it.
+    std::vector<double> changing_cpu, steady_cpu;
+    std::vector<std::vector<double>> changing_pass;  // per kept pass, on the frames that changed
+    size_t changes_so_far = 0;
     for (uint32_t f = 0; until_after ? (after.frames < frames_after && f < k_max_frames) : f < frames.value(); ++f) {
         ++run;
         if (auto s = runtime.value()->step(); !s.ok()) return fail("bench scene", s.error().to_string());
@@ -80,6 +85,12 @@ int bench_scene(const std::vector<std::string>& argv) {
         part.cpu_frame.push_back(s.events_ms + s.apply_forces_ms + s.constraints_ms + s.integrate_normals_ms +
                                  s.update_particles_ms + s.gpu_record_ms + s.topology_ms);
         part.gpu_scene.push_back(s.gpu_scene_ms());
+        if (&part == &after) (s.cuts + s.tears > changes_so_far ? changing_cpu : steady_cpu).push_back(part.cpu_frame.back());
+        if (s.cuts + s.tears > changes_so_far) {
+            if (changing_pass.size() < pm.size()) changing_pass.resize(pm.size());
+            for (size_t k = 0; k < pm.size(); ++k) changing_pass[k].push_back(pm[k]);
+        }
+        changes_so_far = s.cuts + s.tears;
         part.apply.push_back(s.apply_forces_ms), part.constraints.push_back(s.constraints_ms);
         part.integrate.push_back(s.integrate_normals_ms), part.update.push_back(s.update_particles_ms);
         part.particles = s.particles, part.gaussians = s.gaussians, ++part.frames;
@@ -124,6 +135,9 @@ int bench_scene(const std::vector<std::string>& argv) {
                              {"cpu_frame_ms", core::median(part->cpu_frame)}, {"gpu_scene_ms", core::median(part->gpu_scene)},
                              {"apply_forces_ms", core::median(part->apply)}, {"constraint_projection_ms", core::median(part->constraints)},
                              {"integrate_normals_ms", core::median(part->integrate)}, {"update_particles_ms", core::median(part->update)}};
+        if (args->has("before-after"))
+            out["change_frames"] = {{"frames", changing_cpu.size()}, {"cpu_frame_ms", core::median(changing_cpu)},
+                                    {"steady_frames", steady_cpu.size()}, {"steady_cpu_frame_ms", core::median(steady_cpu)}};
         std::printf("%s\n", out.dump().c_str());
     } else {
         std::printf("scene %s: %zu particles, %zu of %zu passes run, median of %u frames:\n", scene->name.c_str(),
@@ -140,11 +154,18 @@ int bench_scene(const std::vector<std::string>& argv) {
         else
             std::printf("GPU Scene: device '%s' has no timestamp queries\n", ctx.value()->caps().name.c_str());
         if (args->has("passes")) {
-            std::printf("per pass (median CPU ms; GPU passes: recording):\n");
+            std::printf("per pass (median CPU ms; GPU passes: recording%s):\n",
+                        changing_pass.empty() ? "" : "; then the median on the frames that cut or tore");
             size_t k = 0;
             for (const auto& p : runtime.value()->graph().describe()) {
-                if (p.culled) std::printf("  %-22s culled: %s\n", p.name.c_str(), p.reason.c_str());
-                else if (k < per_pass.size()) std::printf("  %-22s %9.4f\n", p.name.c_str(), core::median(per_pass[k++]));
+                if (p.culled) {
+                    std::printf("  %-22s culled: %s\n", p.name.c_str(), p.reason.c_str());
+                } else if (k < per_pass.size()) {
+                    std::printf("  %-22s %9.4f", p.name.c_str(), core::median(per_pass[k]));
+                    if (k < changing_pass.size()) std::printf(" %9.4f", core::median(changing_pass[k]));
+                    std::printf("\n");
+                    ++k;
+                }
             }
         }
         if (args->has("before-after")) {
@@ -164,6 +185,10 @@ int bench_scene(const std::vector<std::string>& argv) {
                 row("constraint projection", before.constraints, after.constraints);
                 row("integrate + normals", before.integrate, after.integrate);
                 row("update particles", before.update, after.update);
+                if (!changing_cpu.empty())
+                    std::printf("  frames that cut or tore: %zu, CPU frame %.3f ms against %.3f ms on the %zu after without (%+.3f)\n",
+                                changing_cpu.size(), core::median(changing_cpu), core::median(steady_cpu), steady_cpu.size(),
+                                core::median(changing_cpu) - core::median(steady_cpu));
             }
         }
     }
