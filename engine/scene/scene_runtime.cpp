@@ -148,11 +148,10 @@ core::Status SceneRuntime::build_graph() {
         if (boundary) samples = b.write(samples), density = b.write(density);
         if (sd_surface.stretch_scale) stretch = b.write(stretch);
         return [this, dt](const graph::PassResources&, graph::ExecuteContext&) {
-            topology_->run(body_, time_, dt, frame_input_.frame.camera, scene_.simulation.cut,
-                           [this](const topology::TopologyChange& c, const topology::CutSurface* cut, size_t seed_offset) {
-                               return after_topology_change(c, cut, seed_offset);
-                           },
-                           note_);
+            TopologyStage::Follow follow;
+            follow.each = [this](const topology::TopologyChange& c, const topology::CutSurface* cut) { return after_each_change(c, cut); };
+            follow.settle = [this](std::span<const uint32_t> touched, size_t seed_offset) { return settle_changes(touched, seed_offset); };
+            topology_->run(body_, time_, dt, frame_input_.frame.camera, scene_.simulation.cut, follow, note_);
         };
     });
     SimulationHandles sim_handles{body, volumes, shapes, drag, colliders};
@@ -234,22 +233,29 @@ void SceneRuntime::update_closed() {
 
 
 
-core::Status SceneRuntime::after_topology_change(const topology::TopologyChange& change, const topology::CutSurface* cut,
-                                                 size_t seed_offset) {
-    update_closed();  // only a cut or tear can open the boundary
+SurfaceFollow SceneRuntime::surface_follow() {
+    SurfaceFollow f;
+    f.samples = &boundary_;
+    f.fine_vertices = fine_vertices_ ? &*fine_vertices_ : nullptr;
+    f.density = &density_;
+    f.h = h_;
+    f.seed = scene_.surface.seed;
+    f.fade_frames = scene_.simulation.fade_frames;
+    f.edge_samples = scene_.surface.edge_samples;
+    f.particles_are_splats = splat_particles_;
+    return f;
+}
+
+core::Result<std::vector<uint32_t>> SceneRuntime::after_each_change(const topology::TopologyChange& change, const topology::CutSurface* cut) {
+    // Only a cut or tear can open the boundary, and only where it touched.
+    if (body_closed_) body_closed_ = !opens_boundary(body_, change.touched_triangles);
     mapping_->topology_changed(body_, change, splat_particles_);
-    if (scene_.surface.mode == SurfaceMode::boundary) {
-        SurfaceFollow f;
-        f.samples = &boundary_;
-        f.fine_vertices = fine_vertices_ ? &*fine_vertices_ : nullptr;
-        f.density = &density_;
-        f.h = h_;
-        f.seed = scene_.surface.seed;
-        f.fade_frames = scene_.simulation.fade_frames;
-        f.edge_samples = scene_.surface.edge_samples;
-        f.particles_are_splats = splat_particles_;
-        follow_topology_change(f, body_, change, cut, seed_offset);
-    }
+    if (scene_.surface.mode != SurfaceMode::boundary) return std::vector<uint32_t>{};
+    return carry_samples_across(surface_follow(), body_, change, cut);
+}
+
+core::Status SceneRuntime::settle_changes(std::span<const uint32_t> touched, size_t seed_offset) {
+    if (scene_.surface.mode == SurfaceMode::boundary) refill_touched(surface_follow(), body_, touched, seed_offset);
     if (!stretch_.empty()) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
     return core::Status::success();
 }

@@ -13,6 +13,7 @@
 #include "scene/scene.h"
 #include "scene/stages/pass_group.h"
 #include "scene/stages/mapping_stage.h"
+#include "scene/stages/surface_stage.h"
 #include "scene/stages/topology_stage.h"
 #include "scene/scene_model.h"
 #include "scene/timeline.h"
@@ -194,7 +195,10 @@ private:
     std::unique_ptr<TopologyStage> topology_;  // scripted cuts and tears, the user's strokes
     std::unique_ptr<MappingStage> mapping_;    // body -> Gaussians -> the GPU passes
     // Everything downstream of the mesh follows each change: samples, fades, stretch.
-    core::Status after_topology_change(const topology::TopologyChange& change, const topology::CutSurface* cut, size_t seed_offset);
+    // The topology stage's follow-up (TopologyStage::Follow): after each change, and once after the frame's.
+    core::Result<std::vector<uint32_t>> after_each_change(const topology::TopologyChange& change, const topology::CutSurface* cut);
+    core::Status settle_changes(std::span<const uint32_t> touched, size_t seed_offset);
+    SurfaceFollow surface_follow();
     // No open boundary: back-facing splats cannot show (kept from build and each topology change).
     bool body_closed_ = false;
     void update_closed();

@@ -135,10 +135,16 @@ void fill(const SurfaceView& m, std::span<const Vec3f> anchors, std::span<const 
 // New samples on an embedded surface take the embedding of their triangle's nearest samples
 // (the fine surface's height over the coarse triangle there).
 void embed_appended(size_t first, BoundaryParticles& s) {
-    if (!s.embedded()) return;
+    if (!s.embedded() || first >= s.size()) return;
+    // Only the old samples on the new ones' triangles matter: picked with one flag per
+    // triangle in a pass over the samples, not by sorting them all.
+    uint32_t top = 0;
+    for (size_t i = first; i < s.size(); ++i) top = std::max(top, s.triangle[i]);
+    std::vector<uint8_t> wanted(size_t(top) + 1, 0);
+    for (size_t i = first; i < s.size(); ++i) wanted[s.triangle[i]] = 1;
     std::vector<std::pair<uint32_t, uint32_t>> by_triangle;  // (triangle, sample) of the old ones
-    by_triangle.reserve(first);
-    for (size_t i = 0; i < first; ++i) by_triangle.emplace_back(s.triangle[i], uint32_t(i));
+    for (size_t i = 0; i < first; ++i)
+        if (s.triangle[i] <= top && wanted[s.triangle[i]]) by_triangle.emplace_back(s.triangle[i], uint32_t(i));
     std::sort(by_triangle.begin(), by_triangle.end());
     s.offset.resize(s.size(), 0.0f);
     s.local_normal.resize(s.size(), Vec3f::UnitZ());
@@ -193,32 +199,38 @@ Mat3f triangle_frame(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
 }
 
 void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::span<const Vec4f> x,
-                               std::span<const Vec3f> n, BoundaryParticles& s) {
+                               std::span<const Vec3f> n, BoundaryParticles& s, size_t first) {
     const size_t count = s.size();
     s.position.resize(count);
     s.normal.resize(count);
     const uint32_t* tri_index = s.triangle.data();
     const Vec2f* bary = s.bary.data();
     if (s.embedded()) {
-        // Frames once per triangle, not once per sample: a coarse triangle carries dozens.
-        thread_local std::vector<Mat3f> frames;
-        frames.resize(triangles.size());
-        for (size_t t = 0; t < triangles.size(); ++t) {
-            const auto& tri = triangles[t];
-            frames[t] = triangle_frame(x[tri[0]].head<3>(), x[tri[1]].head<3>(), x[tri[2]].head<3>());
-        }
         const float* d = s.offset.data();
         const Vec3f* ln = s.local_normal.data();
-        for (size_t i = 0; i < count; ++i) {
+        auto place = [&](size_t i, const Mat3f& frame) {
             const auto& t = triangles[tri_index[i]];
             const float b1 = bary[i].x(), b2 = bary[i].y(), b0 = 1.0f - b1 - b2;
             const Vec3f interpolated = b0 * n[t[0]] + b1 * n[t[1]] + b2 * n[t[2]];
             s.position[i] = (b0 * x[t[0]] + b1 * x[t[1]] + b2 * x[t[2]]).head<3>() + d[i] * interpolated;
-            s.normal[i] = frames[tri_index[i]] * ln[i];
+            s.normal[i] = frame * ln[i];
+        };
+        auto frame_of = [&](uint32_t t) {
+            const auto& tri = triangles[t];
+            return triangle_frame(x[tri[0]].head<3>(), x[tri[1]].head<3>(), x[tri[2]].head<3>());
+        };
+        if (first > 0) {  // a few new samples: their own frames
+            for (size_t i = first; i < count; ++i) place(i, frame_of(tri_index[i]));
+            return;
         }
+        // Frames once per triangle, not once per sample: a coarse triangle carries dozens.
+        thread_local std::vector<Mat3f> frames;
+        frames.resize(triangles.size());
+        for (uint32_t t = 0; t < triangles.size(); ++t) frames[t] = frame_of(t);
+        for (size_t i = 0; i < count; ++i) place(i, frames[tri_index[i]]);
         return;
     }
-    for (size_t i = 0; i < count; ++i) {
+    for (size_t i = first; i < count; ++i) {
         const auto& t = triangles[tri_index[i]];
         const float b1 = bary[i].x(), b2 = bary[i].y(), b0 = 1.0f - b1 - b2;
         const Vec4f p = b0 * x[t[0]] + b1 * x[t[1]] + b2 * x[t[2]];

@@ -105,17 +105,22 @@ void embed_appended(size_t first, BoundaryParticles& samples);
 // The orthonormal frame of triangle (a, b, c): columns edge a-b, in-plane perpendicular, normal.
 Mat3f triangle_frame(const Vec3f& a, const Vec3f& b, const Vec3f& c);
 
+// Samples [first, size()) only (the ones just added), when the others are current.
 void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::span<const Vec4f> x,
-                               std::span<const Vec3f> vertex_normals, BoundaryParticles& samples);
+                               std::span<const Vec3f> vertex_normals, BoundaryParticles& samples, size_t first = 0);
 
 template <class Keep>
 size_t BoundaryParticles::keep_if(const Keep& keep) {
-    size_t out = 0;
     if (!fade.empty()) pad_fades();
     if (!size_factor.empty()) size_factor.resize(size(), 1.0f);
+    // The kept prefix stays where it is: a local edit drops few samples, late in the arrays.
+    size_t first = 0;
+    while (first < size() && keep(first)) ++first;
+    if (first == size()) return 0;
+    size_t out = first;
     const bool off = !offset.empty(), nl = !local_normal.empty(), pos = position.size() == size(), fd = !fade.empty(),
                sz = !size_factor.empty();
-    for (size_t i = 0; i < size(); ++i) {
+    for (size_t i = first + 1; i < size(); ++i) {
         if (!keep(i)) continue;
         triangle[out] = triangle[i];
         bary[out] = bary[i];

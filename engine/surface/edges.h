@@ -21,4 +21,12 @@ struct EdgeOptions {
 size_t lay_edge_samples(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, float h,
                         const EdgeOptions& options, BoundaryParticles& samples);
 
+// After a topology change, the same for a region only: the edge samples on the `region`
+// triangles (sorted) are replaced by fresh ones along their boundary edges, bit k of
+// `boundary_edges[r]` saying whether edge k of triangle region[r] is used by it alone. Where the
+// region holds every triangle whose edges changed, the edge samples are, as a set, those
+// lay_edge_samples would lay over the whole surface; the others keep their place and fade.
+size_t relay_edge_samples(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, std::span<const uint32_t> region,
+                          std::span<const uint8_t> boundary_edges, float h, const EdgeOptions& options, BoundaryParticles& samples);
+
 } // namespace pbdsplat::surface

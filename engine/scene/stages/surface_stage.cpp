@@ -88,41 +88,64 @@ void add_surface_passes(graph::FrameGraph& g, SurfaceHandles& h, const SurfacePa
         config.tag);
 }
 
-void follow_topology_change(const SurfaceFollow& f, const sim::SoftBody& body, const topology::TopologyChange& change,
-                            const topology::CutSurface* cut, size_t seed_offset) {
+namespace {
+// Per triangle of `region`: bit k set when edge k is used by that triangle alone, found from the
+// rings of its first corner (the body's rings are current after a change).
+std::vector<uint8_t> boundary_edges(const sim::SoftBody& body, std::span<const uint32_t> region) {
+    std::vector<uint8_t> mask(region.size(), 0);
+    for (size_t r = 0; r < region.size(); ++r) {
+        const mesh::Triangle& t = body.triangles[region[r]];
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
+            bool shared = false;
+            for (uint32_t other : body.rings.triangles.of(a))
+                if (other != region[r] && std::ranges::find(body.triangles[other], b) != body.triangles[other].end()) shared = true;
+            if (!shared) mask[r] |= uint8_t(1u << k);
+        }
+    }
+    return mask;
+}
+} // namespace
+
+bool opens_boundary(const sim::SoftBody& body, std::span<const uint32_t> triangles) {
+    for (uint8_t mask : boundary_edges(body, triangles))
+        if (mask) return true;
+    return false;
+}
+
+std::vector<uint32_t> carry_samples_across(const SurfaceFollow& f, const sim::SoftBody& body, const topology::TopologyChange& change,
+                                           const topology::CutSurface* cut) {
     surface::BoundaryParticles& samples = *f.samples;
     surface::remap_samples(change.splits, samples);
     if (f.fine_vertices) surface::remap_samples(change.splits, *f.fine_vertices);
-    std::vector<uint32_t> refill(change.touched_triangles.begin(), change.touched_triangles.end());
+    std::vector<uint32_t> emptied;
     if (cut && samples.embedded()) {
         const auto side = [cut](const Vec3f& p) {
             const float d = cut->distance(p);
             return cut->reaches(p - d * cut->normal) ? d : 0.0f;
         };
-        std::vector<uint32_t> emptied;
         surface::drop_across_cut(side, body.triangles, body.particles.x, samples, &emptied);
-        // Where samples were dropped beyond the re-triangulated ones, refill too.
-        refill.insert(refill.end(), emptied.begin(), emptied.end());
-        std::sort(refill.begin(), refill.end());
-        refill.erase(std::unique(refill.begin(), refill.end()), refill.end());
     }
-    // Edge samples are laid afresh along the new boundary, after the refill.
-    if (f.edge_samples) samples.keep_if([&samples](size_t i) { return !samples.on_edge(i); });
+    return emptied;
+}
+
+void refill_touched(const SurfaceFollow& f, const sim::SoftBody& body, std::span<const uint32_t> refill, size_t seed_offset) {
+    surface::BoundaryParticles& samples = *f.samples;
+    // Edge samples are laid afresh along the boundary edges of the refilled triangles (where the
+    // boundary changed), after the refill; the others keep their place and fade.
+    if (f.edge_samples)
+        samples.keep_if([&](size_t i) { return !samples.on_edge(i) || !std::binary_search(refill.begin(), refill.end(), samples.triangle[i]); });
     const size_t before = samples.size();
     std::vector<uint32_t> piece;
     mesh::vertex_components(body.triangles, body.particle_count(), piece);
     surface::fill_triangles(body.rest_positions, body.triangles, refill,
                             f.particles_are_splats ? std::span<const Vec3f>(body.rest_positions) : std::span<const Vec3f>(), piece,
                             {f.h, f.seed + uint32_t(seed_offset)}, samples);
-    const size_t edges_first = samples.size();
-    if (f.edge_samples) surface::lay_edge_samples(body.rest_positions, body.triangles, f.h, {}, samples);
-    surface::update_boundary_particles(body.triangles, body.particles.x, body.normals, samples);
+    if (f.edge_samples) surface::relay_edge_samples(body.rest_positions, body.triangles, refill, boundary_edges(body, refill), f.h, {}, samples);
+    // The new samples onto the deformed surface now; the others are current and this frame's
+    // boundary pass moves them all.
+    surface::update_boundary_particles(body.triangles, body.particles.x, body.normals, samples, before);
     surface::fade_in(samples, before, f.fade_frames);
-    // Edge samples that were there before the change (on untouched triangles) stay shown.
-    std::vector<bool> touched(body.triangles.size(), false);
-    for (uint32_t t : refill) touched[t] = true;
-    for (size_t i = edges_first; i < samples.size(); ++i)
-        if (!touched[samples.triangle[i]]) samples.fade[i] = 1.0f, samples.fade_step[i] = 0.0f;
     if (f.density && !f.density->empty()) f.density->topology_changed(body.rest_positions, body.triangles, refill);
 }
 

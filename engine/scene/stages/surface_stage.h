@@ -69,8 +69,17 @@ struct SurfacePassConfig {
 };
 void add_surface_passes(graph::FrameGraph& g, SurfaceHandles& h, const SurfacePassConfig& config);
 
-// `cut`: the cut's surface (null for a tear); `seed_offset` added to the seed.
-void follow_topology_change(const SurfaceFollow& f, const sim::SoftBody& body, const topology::TopologyChange& change,
-                            const topology::CutSurface* cut, size_t seed_offset);
+// Whether any of `triangles` has an edge no other triangle uses (the body's rings current).
+bool opens_boundary(const sim::SoftBody& body, std::span<const uint32_t> triangles);
+
+// Right after each change: the samples carried onto the children of the split triangles and,
+// for a cut (`cut`, null for a tear) through an embedded surface, dropped where they fell on
+// the wrong side; returns the triangles so emptied (to refill with the rest).
+std::vector<uint32_t> carry_samples_across(const SurfaceFollow& f, const sim::SoftBody& body, const topology::TopologyChange& change,
+                                           const topology::CutSurface* cut);
+// Once after the frame's changes: new samples on `refill` (sorted; every triangle the changes
+// touched), edge samples along their new boundary, fades, density data. `seed_offset` is added
+// to the seed.
+void refill_touched(const SurfaceFollow& f, const sim::SoftBody& body, std::span<const uint32_t> refill, size_t seed_offset);
 
 } // namespace pbdsplat::scene

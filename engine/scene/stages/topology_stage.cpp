@@ -1,5 +1,7 @@
 #include "scene/stages/topology_stage.h"
 
+#include <algorithm>
+
 #include "core/timer.h"
 #include "topology/invariants.h"
 #include "topology/tear.h"
@@ -37,6 +39,7 @@ void TopologyStage::run(sim::SoftBody& body, float t, float dt, const render::Ca
     }
     if (tearing_ && t >= tearing_until_) tearing_.reset();
     if (tearing_ && status_.ok()) status_ = apply_tears(body, options, follow);
+    if (const core::Status s = settle(follow); !s.ok() && status_.ok()) status_ = s;
     ms_ = clock.elapsed_ms();
 }
 
@@ -78,7 +81,22 @@ core::Status TopologyStage::after(sim::SoftBody& body, const topology::TopologyC
     if (check_invariants_) PBDSPLAT_TRY(topology::check_invariants(body));
     // A cut is counted after its follow-up, a tear before it: the seeds of the samples laid
     // since the first scenes were recorded.
-    return follow(change, cut, cuts_ + tears_ + 1);
+    if (frame_seed_offset_ == 0) frame_seed_offset_ = cuts_ + tears_ + 1;
+    auto extra = follow.each(change, cut);
+    if (!extra.ok()) return extra.error();
+    frame_touched_.insert(frame_touched_.end(), change.touched_triangles.begin(), change.touched_triangles.end());
+    frame_touched_.insert(frame_touched_.end(), extra->begin(), extra->end());
+    return core::Status::success();
+}
+
+core::Status TopologyStage::settle(const Follow& follow) {
+    if (frame_seed_offset_ == 0) return core::Status::success();
+    std::sort(frame_touched_.begin(), frame_touched_.end());
+    frame_touched_.erase(std::unique(frame_touched_.begin(), frame_touched_.end()), frame_touched_.end());
+    const core::Status s = follow.settle(frame_touched_, frame_seed_offset_);
+    frame_touched_.clear();
+    frame_seed_offset_ = 0;
+    return s;
 }
 
 } // namespace pbdsplat::scene

@@ -1,10 +1,14 @@
 #pragma once
 // The topology stage of a frame: the scene's cuts at their times, tearing while it is on, and
 // the user's strokes, each applied to the body as it comes. What follows a change downstream
-// of the mesh (samples, fades, stretch data) runs through `Follow` right after that change, in
-// the order the changes happen: a later tear may split the triangles an earlier one refilled.
+// of the mesh runs through `Follow` in two parts: `each` right after every change, in the order
+// the changes happen (samples carried across the splits: a later tear may split the triangles
+// an earlier one touched), and `settle` once after the frame's last change, over every triangle
+// the frame's changes touched (the refill, fades, stretch data): three tears in a frame cost
+// one refill, not three.
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -18,8 +22,13 @@ namespace pbdsplat::scene {
 
 class TopologyStage {
 public:
-    // `seed_offset`: added to the surface's seed for the samples this change lays down.
-    using Follow = std::function<core::Status(const topology::TopologyChange&, const topology::CutSurface*, size_t seed_offset)>;
+    struct Follow {
+        // Returns triangles to refill beyond the change's touched ones (samples dropped there).
+        std::function<core::Result<std::vector<uint32_t>>(const topology::TopologyChange&, const topology::CutSurface*)> each;
+        // `touched`: sorted, valid for the mesh as it is now; `seed_offset`: added to the
+        // surface's seed for the samples laid down (the count of changes before the frame's first, + 1).
+        std::function<core::Status(std::span<const uint32_t> touched, size_t seed_offset)> settle;
+    };
 
     TopologyStage(const Scene& scene, bool check_invariants);
 
@@ -46,6 +55,7 @@ private:
     core::Status apply_tears(sim::SoftBody& body, const topology::CutOptions& options, const Follow& follow);
     core::Status after(sim::SoftBody& body, const topology::TopologyChange& change, const topology::CutSurface* cut,
                        const Follow& follow);
+    core::Status settle(const Follow& follow);
 
     std::vector<Event> pending_;  // cuts and tears not yet started, in time order
     std::vector<CutEvent> user_cuts_;
@@ -56,6 +66,8 @@ private:
     size_t cuts_ = 0, tears_ = 0;
     double ms_ = 0.0;
     topology::TopologyChange last_change_;
+    std::vector<uint32_t> frame_touched_;  // triangles this frame's changes touched
+    size_t frame_seed_offset_ = 0;         // 0: no change yet this frame
 };
 
 } // namespace pbdsplat::scene
