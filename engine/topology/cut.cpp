@@ -205,12 +205,14 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
     lap("mass");
     e.update_distance_constraints();
     lap("distance constraints");
-    std::vector<uint32_t> rebuilt;
-    b.pieces = apply_volume_policy(b, o.volume, o.burst_leak, e.old_volume_of_triangles(), e.old_volumes, e.touched_volumes(), rebuilt);
+    const VolumeOutcome volumes =
+        apply_volume_policy(b, o.volume, o.burst_leak, e.old_volume_of_triangles(), e.old_volumes, e.touched_volumes(), e.local_triangles());
+    b.pieces = volumes.pieces;
     e.change.components_after = b.pieces;
+    e.change.loops_fell_back = volumes.loops_fell_back;
     lap("pieces and volumes");
     const core::Stopwatch rebuild;
-    for (uint32_t v : rebuilt) sim::build_rings(b.volumes[v]);
+    for (uint32_t v : volumes.rebuilt) sim::build_rings(b.volumes[v]);
     sim::rebuild_shape_clusters(b);
     e.change.rebuild_ms = rebuild.elapsed_ms();
     lap("derived solver data");

@@ -50,6 +50,7 @@ public:
     std::vector<int32_t> old_volume_of_triangles() const;
     // Per old volume constraint: whether the edit reached its piece.
     std::vector<uint8_t> touched_volumes() const;
+    const std::vector<uint32_t>& local_triangles() const { return local_triangles_; }
     // Fills the counts and the touched-triangle list of `change`.
     void finish();
 

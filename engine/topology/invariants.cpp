@@ -125,8 +125,15 @@ core::Status check_derived(const sim::SoftBody& b) {
     std::vector<uint32_t> comp_of_vertex(n, UINT32_MAX);
     for (size_t f = 0; f < b.triangles.size(); ++f)
         for (uint32_t v : b.triangles[f]) comp_of_vertex[v] = comp[f];
-    std::vector<size_t> loops_of_piece(b.pieces, 0);
-    for (const auto& loop : mesh::boundary_loops(b.triangles, n)) ++loops_of_piece[comp_of_vertex[loop[0]]];
+    // Loops compared as cycles (each turned to start at its lowest vertex), direction included:
+    // a reversed cap adds the volume it should remove.
+    auto canonical = [](std::vector<uint32_t> loop) {
+        std::rotate(loop.begin(), std::min_element(loop.begin(), loop.end()), loop.end());
+        return loop;
+    };
+    std::vector<std::vector<std::vector<uint32_t>>> loops_of_piece(b.pieces);
+    for (const auto& loop : mesh::boundary_loops(b.triangles, n)) loops_of_piece[comp_of_vertex[loop[0]]].push_back(canonical(loop));
+    for (auto& loops : loops_of_piece) std::sort(loops.begin(), loops.end());
     for (size_t k = 0; k < b.volumes.size(); ++k) {
         sim::VolumeConstraint copy = b.volumes[k];
         sim::build_rings(copy);
@@ -138,8 +145,11 @@ core::Status check_derived(const sim::SoftBody& b) {
         for (uint32_t c : comp) piece_triangles += c == piece;
         if (piece_triangles != b.volumes[k].triangles.size())
             return broken("volume constraint " + std::to_string(k) + " does not hold its whole piece");
-        if (loops_of_piece[piece] != b.volumes[k].cap_loops.size())
-            return broken("volume constraint " + std::to_string(k) + " caps a different number of loops than its piece has");
+        std::vector<std::vector<uint32_t>> caps;
+        for (const auto& loop : b.volumes[k].cap_loops) caps.push_back(canonical(loop));
+        std::sort(caps.begin(), caps.end());
+        if (caps != loops_of_piece[piece])
+            return broken("volume constraint " + std::to_string(k) + "'s cap loops differ from its piece's boundary loops");
     }
     return core::Status::success();
 }

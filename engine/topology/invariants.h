@@ -21,7 +21,8 @@ core::Status check_invariants(const sim::SoftBody& body, const InvariantOptions&
 // the vertex rings and their triangle lists equal a full build; the distance colour groups are
 // valid (no two live constraints of a group share a particle, the per-particle index lists
 // exactly the live ones); the piece count equals a component count; every volume constraint's
-// vertices and rings equal a fresh build of them, and its cap loops are its piece's boundary loops.
+// vertices and rings equal a fresh build of them, and its cap loops are its piece's boundary
+// loops (as cycles, in the same direction).
 core::Status check_derived(const sim::SoftBody& body);
 
 struct MeshCounts {

@@ -18,6 +18,7 @@ struct TopologyChange {
     size_t duplicated_vertices = 0; // copies made so the sides separate (eq. 28)
     size_t constraints_removed = 0, constraints_added = 0;  // distance constraints re-made
     bool headroom_grown = false;    // the body's arrays were moved to make room (amortised)
+    bool loops_fell_back = false;   // the boundary loops were counted over whole pieces (a local trace failed)
     // Children of every re-triangulated triangle; triangles not listed kept their index.
     std::vector<mesh::TriangleSplit> splits;
     // Triangles whose corners or shape changed (children and re-pointed ones), new indices.

@@ -17,9 +17,15 @@ namespace pbdsplat::topology {
 // planar cut through a closed body the pieces' targets sum to the parent's.
 // `leak`: the rate at which a component opened under `burst` loses its overpressure (1/s).
 // Only the constraints in `touched` (by old index) are looked at: the others are kept as they
-// are (their pieces did not change). Returns the number of connected components after, and
-// lists in `rebuilt` the constraints (new indices) whose derived rings must be made again.
-size_t apply_volume_policy(sim::SoftBody& body, VolumePolicy policy, float leak, std::span<const int32_t> old_volume_of_triangle,
-                           std::span<OldVolume> old_volumes, std::span<const uint8_t> touched, std::vector<uint32_t>& rebuilt);
+// are (their pieces did not change). Their boundary loops are traced locally from
+// `touched_triangles` (the edit's) and from their old loops that the edit reached.
+struct VolumeOutcome {
+    size_t pieces = 0;              // connected components after
+    std::vector<uint32_t> rebuilt;  // constraints (new indices) whose derived rings must be made again
+    bool loops_fell_back = false;   // a local trace did not close: loops counted over the pieces
+};
+VolumeOutcome apply_volume_policy(sim::SoftBody& body, VolumePolicy policy, float leak, std::span<const int32_t> old_volume_of_triangle,
+                                  std::span<OldVolume> old_volumes, std::span<const uint8_t> touched,
+                                  std::span<const uint32_t> touched_triangles);
 
 } // namespace pbdsplat::topology

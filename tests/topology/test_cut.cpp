@@ -215,7 +215,7 @@ TEST_SUITE("topology/cut") {
         sim::Solver solver;
         sim::SolverSettings settings;
         settings.gravity = Vec3f::Zero();
-        size_t opened = 0;
+        size_t opened = 0, fell_back = 0;
         for (int k = 0; k < k_cuts; ++k) {
             // Through a random particle, so every cut meets the surface.
             const uint32_t at = uint32_t(std::abs(u(rng)) * float(b.particle_count() - 1));
@@ -231,6 +231,7 @@ TEST_SUITE("topology/cut") {
             auto change = topology::cut(b, s);
             REQUIRE_MESSAGE(change.ok(), change.error().to_string());
             opened += change->duplicated_vertices > 0 ? 1 : 0;
+            fell_back += change->loops_fell_back ? 1 : 0;
             const core::Status st = topology::check_invariants(b);
             REQUIRE_MESSAGE(st.ok(), "after cut " << k << ": " << st.error().to_string());
             if (k % 20 == 19) solver.step(b, 1.0f / 60.0f, settings, {}, {});
@@ -241,6 +242,7 @@ TEST_SUITE("topology/cut") {
         // The incremental paths ran (check_invariants compared them with full builds after
         // every cut): emptied slots were taken again, new groups were made at the end.
         CHECK(b.distance_groups.slots_reused > 0);
+        CHECK(fell_back == 0);  // every cap loop was traced locally
         CHECK(b.distance_groups.slots_appended > 0);
         MESSAGE("slots reused " << b.distance_groups.slots_reused << ", appended " << b.distance_groups.slots_appended
                                 << ", regroupings " << b.distance_groups.regroupings);
