@@ -84,6 +84,54 @@ void add_slot_of(SlackLists<uint32_t>& lists, uint32_t v, uint32_t slot, std::ve
     scratch.push_back(slot);
     lists.assign(v, scratch);
 }
+// The added constraints that found no dead slot form groups of their own at the end, coloured
+// among themselves only: groups run one after another, so a new group need not avoid the
+// colours of the old ones.
+void append_groups(std::vector<DistanceConstraint>& constraints, DistanceGroups& g, std::vector<float>& lambda,
+                   std::span<const DistanceConstraint> add, std::span<const uint32_t> spill, std::vector<uint32_t>& placed) {
+    std::vector<uint32_t> scratch;
+    std::vector<DistanceConstraint> extra;
+    for (uint32_t k : spill) extra.push_back(add[k]);
+    const ColourGrouping grouping = colour_groups(extra);
+    const uint32_t base = uint32_t(constraints.size());
+    for (size_t e = 0; e < extra.size(); ++e) {
+        const uint32_t k = spill[grouping.order[e]];
+        const uint32_t slot = base + uint32_t(e);
+        constraints.push_back(add[k]);
+        add_slot_of(g.of_particle, add[k].i, slot, scratch);
+        add_slot_of(g.of_particle, add[k].j, slot, scratch);
+        placed[k] = slot;
+    }
+    g.start.pop_back();
+    for (uint32_t s : grouping.start) g.start.push_back(base + s);
+    g.slots_appended += spill.size();
+    lambda.resize(constraints.size(), 0.0f);
+}
+
+// The live constraints grouped from scratch (dead slots dropped), following where the added
+// ones go.
+void regroup(std::vector<DistanceConstraint>& constraints, DistanceGroups& g, std::vector<float>& lambda, size_t particles,
+             std::vector<uint32_t>& placed) {
+    std::vector<uint32_t> new_slot(constraints.size(), UINT32_MAX);
+    std::vector<DistanceConstraint> live;
+    std::vector<uint32_t> old_slot;
+    for (uint32_t s = 0; s < constraints.size(); ++s)
+        if (constraints[s].alive()) live.push_back(constraints[s]), old_slot.push_back(s);
+    const ColourGrouping grouping = colour_groups(live);
+    constraints.resize(live.size());
+    for (uint32_t s = 0; s < live.size(); ++s) {
+        constraints[s] = live[grouping.order[s]];
+        new_slot[old_slot[grouping.order[s]]] = s;
+    }
+    for (uint32_t& p : placed) p = new_slot[p];
+    const size_t reused = g.slots_reused, appended = g.slots_appended, regroupings = g.regroupings + 1;
+    g = DistanceGroups{};
+    g.start = grouping.start;
+    g.of_particle = index_by_particle(constraints, particles);
+    g.colours_when_grouped = g.start.size() - 1;
+    g.slots_reused = reused, g.slots_appended = appended, g.regroupings = regroupings;
+    lambda.assign(constraints.size(), 0.0f);
+}
 } // namespace
 
 DistanceGroups make_distance_groups(std::vector<DistanceConstraint>& constraints, size_t particles) {
@@ -136,49 +184,9 @@ std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstrain
         add_slot_of(g.of_particle, c.j, slot, scratch);
         placed[k] = slot;
     }
-    if (!spill.empty()) {
-        // The rest form groups of their own at the end, coloured among themselves only: groups
-        // run one after another, so a new group need not avoid the colours of the old ones.
-        std::vector<DistanceConstraint> extra;
-        for (uint32_t k : spill) extra.push_back(add[k]);
-        const ColourGrouping grouping = colour_groups(extra);
-        const uint32_t base = uint32_t(constraints.size());
-        for (size_t e = 0; e < extra.size(); ++e) {
-            const uint32_t k = spill[grouping.order[e]];
-            const uint32_t slot = base + uint32_t(e);
-            constraints.push_back(add[k]);
-            add_slot_of(g.of_particle, add[k].i, slot, scratch);
-            add_slot_of(g.of_particle, add[k].j, slot, scratch);
-            placed[k] = slot;
-        }
-        g.start.pop_back();
-        for (uint32_t s : grouping.start) g.start.push_back(base + s);
-        g.slots_appended += spill.size();
-        lambda.resize(constraints.size(), 0.0f);
-    }
+    if (!spill.empty()) append_groups(constraints, g, lambda, add, spill, placed);
     const size_t groups = g.start.size() - 1;
-    if (g.dead * 8 > constraints.size() || groups > 2 * g.colours_when_grouped + 8) {
-        // Regroup the live constraints from scratch, following where the added ones go.
-        std::vector<uint32_t> new_slot(constraints.size(), UINT32_MAX);
-        std::vector<DistanceConstraint> live;
-        std::vector<uint32_t> old_slot;
-        for (uint32_t s = 0; s < constraints.size(); ++s)
-            if (constraints[s].alive()) live.push_back(constraints[s]), old_slot.push_back(s);
-        const ColourGrouping grouping = colour_groups(live);
-        constraints.resize(live.size());
-        for (uint32_t s = 0; s < live.size(); ++s) {
-            constraints[s] = live[grouping.order[s]];
-            new_slot[old_slot[grouping.order[s]]] = s;
-        }
-        for (uint32_t& p : placed) p = new_slot[p];
-        const size_t reused = g.slots_reused, appended = g.slots_appended, regroupings = g.regroupings + 1;
-        g = DistanceGroups{};
-        g.start = grouping.start;
-        g.of_particle = index_by_particle(constraints, particles);
-        g.colours_when_grouped = g.start.size() - 1;
-        g.slots_reused = reused, g.slots_appended = appended, g.regroupings = regroupings;
-        lambda.assign(constraints.size(), 0.0f);
-    }
+    if (g.dead * 8 > constraints.size() || groups > 2 * g.colours_when_grouped + 8) regroup(constraints, g, lambda, particles, placed);
     return placed;
 }
 

@@ -125,9 +125,7 @@ float rest_area(const sim::SoftBody& b, const mesh::Triangle& t) {
     return 0.5f * (b.rest_positions[t[1]] - p).cross(b.rest_positions[t[2]] - p).norm();
 }
 
-} // namespace
-
-core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const CutOptions& o) {
+core::Status validate(const sim::SoftBody& b, const CutSurface& s, const CutOptions& o) {
     if (!(o.snap >= 0.0f && o.snap < 0.5f)) return core::make_error("cut: snap must be in [0, 0.5)");
     if (!(o.reference_edge_length >= 0.0f) || !std::isfinite(o.reference_edge_length))
         return core::make_error("cut: reference_edge_length must be finite and >= 0");
@@ -135,23 +133,12 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
         return core::make_error("cut: the surface needs a finite point and a unit normal");
     for (const Vec4f& x : b.particles.x)
         if (!x.head<3>().allFinite()) return core::make_error("cut: a particle position is not finite; the body is broken");
+    return core::Status::success();
+}
 
-    const core::Stopwatch clock;
-    core::Stopwatch step;
-    const bool grew = sim::reserve_headroom(b);
-    Edit e(b);
-    e.change.headroom_grown = grew;
-    auto lap = [&](const char* name) {
-        e.change.phases.push_back({name, step.elapsed_ms()});
-        step.restart();
-    };
-    lap("prepare");
-    Sides sides = classify(b, s, o.snap, o.reference_edge_length);
-    e.sign = std::move(sides.sign);
-    e.on_cut_vertices = std::move(sides.on_cut);
-    lap("classify");
-
-    // Eq. 26: one new particle per crossed edge, shared by both triangles of the edge.
+// Eq. 26: one new particle per crossed edge, shared by both triangles of the edge. Returns the
+// triangles crossed (the parents of the re-triangulation).
+std::vector<uint32_t> add_crossings(sim::SoftBody& b, const CutSurface& s, const CutOptions& o, const Sides& sides, Edit& e) {
     std::vector<uint32_t> parents;
     for (uint32_t t : sides.crossed) {
         bool crossed = false;
@@ -172,6 +159,30 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
         }
         if (crossed) parents.push_back(t);
     }
+    return parents;
+}
+
+} // namespace
+
+core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const CutOptions& o) {
+    PBDSPLAT_TRY(validate(b, s, o));
+
+    const core::Stopwatch clock;
+    core::Stopwatch step;
+    const bool grew = sim::reserve_headroom(b);
+    Edit e(b);
+    e.change.headroom_grown = grew;
+    auto lap = [&](const char* name) {
+        e.change.phases.push_back({name, step.elapsed_ms()});
+        step.restart();
+    };
+    lap("prepare");
+    Sides sides = classify(b, s, o.snap, o.reference_edge_length);
+    e.sign = std::move(sides.sign);
+    e.on_cut_vertices = std::move(sides.on_cut);
+    lap("classify");
+
+    const std::vector<uint32_t> parents = add_crossings(b, s, o, sides, e);
     lap("crossings");
     e.change.crossed_edges = e.edge_points();
     e.change.crossed_triangles = parents.size();

@@ -10,6 +10,12 @@
 namespace pbdsplat::topology {
 
 namespace {
+template <class T>
+void sort_unique(std::vector<T>& v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
 float area_of(const std::vector<Vec3f>& p, const mesh::Triangle& t) {
     return 0.5f * (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]).norm();
 }
@@ -228,8 +234,7 @@ void Edit::redistribute_mass() {
     }
 }
 
-void Edit::update_distance_constraints() {
-    const std::vector<uint32_t>& local = local_triangles_;
+std::vector<Edit::Definition> Edit::constraints_to_remake() const {
     // Old edges whose constraints are re-made: the parents' edges, and every edge of a local
     // triangle in terms of the original vertices. Sorted keys: a few thousand at most, where a
     // hash set would allocate per entry.
@@ -243,21 +248,10 @@ void Edit::update_distance_constraints() {
     };
     for (const auto& [t, tri] : parents_)
         for (int k = 0; k < 3; ++k) mark(tri[size_t(k)], tri[size_t((k + 1) % 3)]);
-    for (uint32_t t : local)
+    for (uint32_t t : local_triangles_)
         for (int k = 0; k < 3; ++k) mark(origin(b_.triangles[t][size_t(k)]), origin(b_.triangles[t][size_t((k + 1) % 3)]));
-    auto sort_unique = [](auto& v) {
-        std::sort(v.begin(), v.end());
-        v.erase(std::unique(v.begin(), v.end()), v.end());
-    };
     sort_unique(old_edges);
     sort_unique(touched);
-
-    // The old constraints on those edges: their slots and definitions, by edge key.
-    struct Definition {
-        uint64_t key;
-        uint32_t slot;
-        float rest, compliance;
-    };
     std::vector<Definition> removed;
     for (uint32_t a : touched)
         for (uint32_t slot : b_.distance_groups.of_particle.of(a)) {
@@ -266,6 +260,12 @@ void Edit::update_distance_constraints() {
             const uint64_t k = edge_key(c.i, c.j);
             if (std::binary_search(old_edges.begin(), old_edges.end(), k)) removed.push_back({k, slot, c.rest, c.compliance});
         }
+    return removed;
+}
+
+void Edit::update_distance_constraints() {
+    const std::vector<uint32_t>& local = local_triangles_;
+    std::vector<Definition> removed = constraints_to_remake();
     std::sort(removed.begin(), removed.end(), [](const Definition& x, const Definition& y) { return x.slot < y.slot; });
     float default_compliance = removed.empty() ? 0.0f : removed.back().compliance;  // the last in array order
     if (removed.empty())

@@ -70,6 +70,13 @@ private:
     std::vector<uint32_t> region_;                           // their corners
     std::vector<int32_t> old_volume_of_vertex_;
 
+    // An old distance constraint about to be re-made: its slot and definition, by edge key.
+    struct Definition {
+        uint64_t key;
+        uint32_t slot;
+        float rest, compliance;
+    };
+    std::vector<Definition> constraints_to_remake() const;
     uint32_t new_particle(uint32_t copy_of);
     uint32_t origin(uint32_t v) const { return v < n0_ ? v : origin_[v - n0_]; }
     bool is_edge_point(uint32_t v) const { return v >= n0_ && v < n0_ + points_.size(); }

@@ -17,7 +17,8 @@ namespace {
 core::Status broken(const std::string& what) { return core::make_error("topology invariant broken: " + what); }
 } // namespace
 
-core::Status check_invariants(const sim::SoftBody& b, const InvariantOptions& o) {
+namespace {
+core::Status check_particles(const sim::SoftBody& b) {
     const size_t n = b.particle_count();
     if (b.particles.x_prev.size() != n || b.particles.v.size() != n || b.particles.w.size() != n ||
         b.rest_positions.size() != n || b.normals.size() != n || (!b.colors.empty() && b.colors.size() != n))
@@ -26,7 +27,34 @@ core::Status check_invariants(const sim::SoftBody& b, const InvariantOptions& o)
         if (!b.particles.x[i].allFinite() || !b.particles.v[i].allFinite() || !std::isfinite(b.particles.w[i]) ||
             b.particles.w[i] < 0.0f)
             return broken("particle " + std::to_string(i) + " has a non-finite state or a negative inverse mass");
+    return core::Status::success();
+}
+// Every volume constraint over live particles of a single component, with a positive target.
+core::Status check_volumes(const sim::SoftBody& b) {
+    const size_t n = b.particle_count();
+    std::vector<uint32_t> comp;
+    mesh::vertex_components(b.triangles, n, comp);
+    std::vector<uint32_t> comp_of_vertex(n, UINT32_MAX);
+    for (size_t f = 0; f < b.triangles.size(); ++f)
+        for (uint32_t v : b.triangles[f]) comp_of_vertex[v] = comp[f];
+    for (size_t k = 0; k < b.volumes.size(); ++k) {
+        const auto& vol = b.volumes[k];
+        uint32_t c0 = UINT32_MAX;
+        for (const auto& t : vol.triangles)
+            for (uint32_t i : t) {
+                if (i >= n || comp_of_vertex[i] == UINT32_MAX) return broken("a volume constraint refers to a missing particle");
+                if (c0 == UINT32_MAX) c0 = comp_of_vertex[i];
+                if (comp_of_vertex[i] != c0) return broken("volume constraint " + std::to_string(k) + " spans two components");
+            }
+        if (!(vol.rest_volume > 0.0) || !std::isfinite(vol.rest_volume)) return broken("a volume constraint has no positive rest volume");
+    }
+    return core::Status::success();
+}
+} // namespace
 
+core::Status check_invariants(const sim::SoftBody& b, const InvariantOptions& o) {
+    const size_t n = b.particle_count();
+    PBDSPLAT_TRY(check_particles(b));
     double mean_area = 0.0;
     for (const auto& t : b.triangles) {
         for (uint32_t v : t)
@@ -94,22 +122,7 @@ core::Status check_invariants(const sim::SoftBody& b, const InvariantOptions& o)
             return broken("distance constraint " + std::to_string(c.i) + "-" + std::to_string(c.j) + " is not on a surface edge");
         if (!(c.rest >= 0.0f) || !std::isfinite(c.rest)) return broken("a distance constraint has a bad rest length");
     }
-    std::vector<uint32_t> comp;
-    mesh::vertex_components(b.triangles, n, comp);
-    std::vector<uint32_t> comp_of_vertex(n, UINT32_MAX);
-    for (size_t f = 0; f < b.triangles.size(); ++f)
-        for (uint32_t v : b.triangles[f]) comp_of_vertex[v] = comp[f];
-    for (size_t k = 0; k < b.volumes.size(); ++k) {
-        const auto& vol = b.volumes[k];
-        uint32_t c0 = UINT32_MAX;
-        for (const auto& t : vol.triangles)
-            for (uint32_t i : t) {
-                if (i >= n || comp_of_vertex[i] == UINT32_MAX) return broken("a volume constraint refers to a missing particle");
-                if (c0 == UINT32_MAX) c0 = comp_of_vertex[i];
-                if (comp_of_vertex[i] != c0) return broken("volume constraint " + std::to_string(k) + " spans two components");
-            }
-        if (!(vol.rest_volume > 0.0) || !std::isfinite(vol.rest_volume)) return broken("a volume constraint has no positive rest volume");
-    }
+    PBDSPLAT_TRY(check_volumes(b));
     return check_derived(b);
 }
 

@@ -80,6 +80,51 @@ bool trace_loops(const sim::SoftBody& body, std::span<const uint32_t> touched_tr
     }
     return true;
 }
+// The cap loops of the remade pieces: loops of the touched constraints that kept clear of the
+// edit stay as they were, the rest are traced locally. Returns false where the trace fell
+// back to counting the loops over the remade pieces.
+bool cap_remade_pieces(const sim::SoftBody& b, std::span<const uint32_t> comp, std::span<const uint8_t> remake,
+                       std::span<const OldVolume> old, std::span<const uint8_t> touched, std::span<const uint32_t> touched_triangles,
+                       std::span<const mesh::Triangle> remade_triangles, std::vector<sim::VolumeConstraint>& pieces) {
+    std::vector<uint32_t> comp_of_vertex(b.particle_count(), UINT32_MAX);
+    for (size_t t = 0; t < b.triangles.size(); ++t)
+        if (remake[comp[t]])
+            for (uint32_t v : b.triangles[t]) comp_of_vertex[v] = comp[t];
+    std::vector<uint8_t> in_region(b.particle_count(), 0);
+    for (uint32_t f : touched_triangles)
+        for (uint32_t v : b.triangles[f]) in_region[v] = 1;
+    std::vector<std::vector<uint32_t>> loops;
+    std::vector<const std::vector<uint32_t>*> retrace;
+    for (size_t k = 0; k < old.size(); ++k) {
+        if (!touched[k]) continue;
+        for (const std::vector<uint32_t>& loop : b.volumes[k].cap_loops) {
+            const bool reached = std::any_of(loop.begin(), loop.end(), [&](uint32_t v) { return in_region[v] != 0; });
+            if (reached) retrace.push_back(&loop);
+            else loops.push_back(loop);
+        }
+    }
+    const bool traced = trace_loops(b, touched_triangles, retrace, loops);
+    if (!traced) loops = mesh::boundary_loops(remade_triangles, b.particle_count());
+    for (auto& loop : loops)
+        if (comp_of_vertex[loop[0]] != UINT32_MAX) pieces[comp_of_vertex[loop[0]]].cap_loops.push_back(std::move(loop));
+    return traced;
+}
+
+// A remade piece's target volume by the policy, from its parent's.
+void set_target(sim::VolumeConstraint& v, const OldVolume& parent, bool unchanged, double now, VolumePolicy policy, float leak) {
+    v.pressure = parent.pressure;
+    v.compliance = parent.compliance;
+    v.leak = parent.leak;
+    if (unchanged) {
+        v.rest_volume = parent.rest_volume;
+    } else if (policy == VolumePolicy::rebase) {
+        v.rest_volume = now / double(v.pressure);  // the target is the volume it has now
+    } else {
+        v.rest_volume = parent.now > 0.0 ? parent.rest_volume * now / parent.now : 0.0;
+        // Opened: the pressure escapes through the opening, over a few frames.
+        if (policy == VolumePolicy::burst && !v.cap_loops.empty()) v.leak = std::max(v.leak, leak);
+    }
+}
 } // namespace
 
 VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float leak, std::span<const int32_t> old_of_triangle,
@@ -103,33 +148,8 @@ VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float l
     for (uint32_t c = 0; c < nc; ++c) remake[c] = from[c] >= 0 && touched[size_t(from[c])];
     for (size_t t = 0; t < b.triangles.size(); ++t)
         if (remake[comp[t]]) pieces[comp[t]].triangles.push_back(b.triangles[t]), remade_triangles.push_back(b.triangles[t]);
-    if (!remade_triangles.empty()) {
-        std::vector<uint32_t> comp_of_vertex(b.particle_count(), UINT32_MAX);
-        for (size_t t = 0; t < b.triangles.size(); ++t)
-            if (remake[comp[t]])
-                for (uint32_t v : b.triangles[t]) comp_of_vertex[v] = comp[t];
-        // Loops of the touched constraints that kept clear of the edit stay as they were; the
-        // rest are traced locally.
-        std::vector<uint8_t> in_region(b.particle_count(), 0);
-        for (uint32_t f : touched_triangles)
-            for (uint32_t v : b.triangles[f]) in_region[v] = 1;
-        std::vector<std::vector<uint32_t>> loops;
-        std::vector<const std::vector<uint32_t>*> retrace;
-        for (size_t k = 0; k < old.size(); ++k) {
-            if (!touched[k]) continue;
-            for (const std::vector<uint32_t>& loop : b.volumes[k].cap_loops) {
-                const bool reached = std::any_of(loop.begin(), loop.end(), [&](uint32_t v) { return in_region[v] != 0; });
-                if (reached) retrace.push_back(&loop);
-                else loops.push_back(loop);
-            }
-        }
-        if (!trace_loops(b, touched_triangles, retrace, loops)) {
-            result.loops_fell_back = true;
-            loops = mesh::boundary_loops(remade_triangles, b.particle_count());
-        }
-        for (auto& loop : loops)
-            if (comp_of_vertex[loop[0]] != UINT32_MAX) pieces[comp_of_vertex[loop[0]]].cap_loops.push_back(std::move(loop));
-    }
+    if (!remade_triangles.empty())
+        result.loops_fell_back = !cap_remade_pieces(b, comp, remake, old, touched, touched_triangles, remade_triangles, pieces);
 
     std::vector<double> now(nc, 0.0);
     std::vector<uint32_t> pieces_of_old(old.size(), 0);
@@ -147,21 +167,9 @@ VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float l
         }
         const OldVolume& parent = old[size_t(from[c])];
         sim::VolumeConstraint& v = pieces[c];
-        v.pressure = parent.pressure;
-        v.compliance = parent.compliance;
-        v.leak = parent.leak;
         const bool unchanged = pieces_of_old[size_t(from[c])] == 1 && v.triangles.size() == parent.triangles &&
                                v.cap_loops.size() == parent.cap_loops;
-        if (unchanged) {
-            v.rest_volume = parent.rest_volume;
-        } else if (policy == VolumePolicy::rebase) {
-            v.rest_volume = now[c] / double(v.pressure);  // the target is the volume it has now
-        } else {
-            const double before = parent.now;
-            v.rest_volume = before > 0.0 ? parent.rest_volume * now[c] / before : 0.0;
-            // Opened: the pressure escapes through the opening, over a few frames.
-            if (policy == VolumePolicy::burst && !v.cap_loops.empty()) v.leak = std::max(v.leak, leak);
-        }
+        set_target(v, parent, unchanged, now[c], policy, leak);
         if (v.rest_volume > 0.0 && (unchanged || holds_air(v, now[c], b.particles.x))) {
             rebuilt.push_back(uint32_t(out.size()));
             out.push_back(std::move(v));
