@@ -149,7 +149,11 @@ private:
     SceneRuntime() = default;
     core::Status build(const RuntimeOptions& options);
     // The frame graph for the current settings; run again when one that changes it does.
-    core::Status build_graph();
+    core::Status build_graph();  // runtime_graph.cpp, with the stages' passes below
+    struct GraphHandles;
+    void add_event_passes(GraphHandles& h);
+    void add_map_passes(GraphHandles& h);
+    void add_view_passes(GraphHandles& h);
     RuntimeOptions options_;
     render::SplatOrder order_ = render::SplatOrder::unsorted;
     render::SplatOrder sorted_order_ = render::SplatOrder::cpu;  // what set_sorted(true) picks
