@@ -6,6 +6,7 @@
 #include "mesh/mesh_spec.h"
 #include "pbdsplat/args.h"
 #include "pbdsplat/commands.h"
+#include "pbdsplat/sim_baseline.h"
 #include "sim/solver.h"
 #include "splat/gaussian_record.h"
 
@@ -15,7 +16,7 @@ int bench_sim(const std::vector<std::string>& argv) {
     static constexpr const char* help =
         "usage: pbdsplat bench sim [--mesh SPEC] [--pin top|none] [--mode paper|xpbd] [--iterations I]\n"
         "                          [--substeps S] [--frames N] [--warmup K] [--volume on|off] [--threads T]\n"
-        "                          [--json]\n"
+        "                          [--baseline] [--json]\n"
         "\n"
         "Runs Stage A (the CPU PBD frame of the paper) on a body hanging under gravity\n"
         "and prints the median milliseconds per frame, in total and per stage as the paper's\n"
@@ -32,8 +33,12 @@ int bench_sim(const std::vector<std::string>& argv) {
         "  --warmup K          unmeasured frames first (default 30)\n"
         "  --volume on|off     project the volume constraint (default on)\n"
         "  --threads T         worker threads, the caller included (default 1)\n"
+        "  --baseline          also run a minimal hand-written loop of the same workload (PBD, one\n"
+        "                      thread, distance constraints in edge order, one volume constraint;\n"
+        "                      tools/pbdsplat/sim_baseline.h), frame for frame alternated with the\n"
+        "                      engine, and print the ratio of the engine's step to it (paper mode)\n"
         "  --json              print one JSON object on stdout\n";
-    auto args = Args::parse(argv, {"json", "help"},
+    auto args = Args::parse(argv, {"json", "help", "baseline"},
                             {"mesh", "pin", "mode", "iterations", "substeps", "frames", "warmup", "volume", "threads"});
     if (!args.ok()) return usage_error("bench sim", args.error().to_string());
     if (args->has("help")) return std::fputs(help, stdout), 0;
@@ -63,6 +68,20 @@ int bench_sim(const std::vector<std::string>& argv) {
     settings.substeps = substeps.value();
     settings.volume = desc.volume;
     if (auto v = sim::validate(settings); !v.ok()) return usage_error("bench sim", v.error().to_string());
+    const bool with_baseline = args->has("baseline");
+    if (with_baseline && settings.mode != sim::SolverMode::paper) return usage_error("bench sim", "--baseline runs PBD: use --mode paper");
+    // The yardstick runs on the body's own particle order and pin.
+    mesh::TriangleMesh as_body;
+    as_body.positions = body.rest_positions;
+    as_body.triangles = body.triangles;
+    SimBaseline::Settings bs;
+    bs.gravity = settings.gravity, bs.damping = settings.damping, bs.stretch_stiffness = settings.stretch_stiffness;
+    bs.volume_stiffness = settings.volume_stiffness, bs.iterations = settings.iterations * settings.substeps, bs.volume = desc.volume;
+    uint32_t pinned = UINT32_MAX;
+    for (uint32_t i = 0; i < body.particle_count(); ++i)
+        if (body.particles.w[i] == 0.0f) pinned = i;
+    SimBaseline baseline(as_body, pinned, bs);
+    std::vector<double> engine_step, baseline_step;
 
     core::ThreadPool pool(threads.value());
     sim::Solver solver(&pool);
@@ -75,6 +94,13 @@ int bench_sim(const std::vector<std::string>& argv) {
         splat::map_points(body.particles.x, body.normals, look, records);
         const double up = clock.elapsed_ms();
         if (f < warmup.value()) continue;
+        if (with_baseline) {
+            // Alternated frame for frame, so the machine's drift falls on both alike.
+            const core::Stopwatch base_clock;
+            for (uint32_t k = 0; k < settings.substeps; ++k) baseline.step(1.0f / 60.0f / float(settings.substeps));
+            baseline_step.push_back(base_clock.elapsed_ms());
+        }
+        engine_step.push_back(t.total());
         total.push_back(t.total() + up);
         forces.push_back(t.apply_forces);
         constraints.push_back(t.constraints);
@@ -101,7 +127,11 @@ int bench_sim(const std::vector<std::string>& argv) {
                                                         {"constraint_projection", core::median(constraints)},
                                                         {"integrate_normals", core::median(integrate)},
                                                         {"update_particles", core::median(update)}}}};
-        std::printf("%s\n", j.dump().c_str());
+        nlohmann::json out = j;
+        if (with_baseline)
+            out["baseline"] = {{"engine_step_median_ms", core::median(engine_step)}, {"baseline_median_ms", core::median(baseline_step)},
+                               {"ratio", core::median(engine_step) / std::max(1e-9, core::median(baseline_step))}};
+        std::printf("%s\n", out.dump().c_str());
     } else {
         std::printf("%s: %zu particles, %zu distance + %zu volume constraints; %s, I=%u, S=%u, %u thread(s)\n",
                     spec.c_str(), body.particle_count(), body.distance.size(), settings.volume ? body.volumes.size() : 0,
@@ -112,6 +142,10 @@ int bench_sim(const std::vector<std::string>& argv) {
         std::printf("  integrate + normals    %8.3f ms\n", core::median(integrate));
         std::printf("  update particles       %8.3f ms (particle-to-Gaussian mapping)\n", core::median(update));
         std::printf("  Stage A frame          %8.3f ms\n", core::median(total));
+        if (with_baseline)
+            std::printf("baseline (minimal loop, same workload, alternated): engine step %.3f ms, loop %.3f ms, ratio %.2f\n",
+                        core::median(engine_step), core::median(baseline_step),
+                        core::median(engine_step) / std::max(1e-9, core::median(baseline_step)));
     }
     return 0;
 }

@@ -1,0 +1,82 @@
+#include "pbdsplat/sim_baseline.h"
+
+#include <cmath>
+
+#include "mesh/topology.h"
+
+namespace pbdsplat::cli {
+
+namespace {
+Vec4f cross4(const Vec4f& a, const Vec4f& b) {
+    return Vec4f(a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(), a.x() * b.y() - a.y() * b.x(), 0.0f);
+}
+} // namespace
+
+SimBaseline::SimBaseline(const mesh::TriangleMesh& m, uint32_t pinned, const Settings& settings)
+    : s_(settings), triangles_(m.triangles) {
+    const size_t n = m.positions.size();
+    x_.resize(n), p_.resize(n), v_.assign(n, Vec4f::Zero()), grad_.resize(n), n_.resize(n), w_.assign(n, 0.0f);
+    for (size_t i = 0; i < n; ++i) x_[i] = Vec4f(m.positions[i].x(), m.positions[i].y(), m.positions[i].z(), 0.0f);
+    std::vector<double> mass(n, 0.0);
+    double total = 0.0;
+    for (const auto& t : m.triangles) {
+        const double a = 0.5 * double((m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]).norm());
+        for (uint32_t v : t) mass[v] += a / 3.0;
+        total += a;
+    }
+    for (size_t i = 0; i < n; ++i) w_[i] = mass[i] > 0.0 ? float(total / mass[i]) : 0.0f;  // total mass 1
+    if (pinned < n) w_[pinned] = 0.0f;
+    for (const mesh::Edge& e : mesh::unique_edges(m)) edges_.push_back({e.a, e.b, (m.positions[e.a] - m.positions[e.b]).norm()});
+    for (const auto& t : triangles_) rest_volume_ += double(x_[t[0]].dot(cross4(x_[t[1]], x_[t[2]]))) / 6.0;
+}
+
+void SimBaseline::step(float dt) {
+    const size_t n = x_.size();
+    const Vec4f dv(s_.gravity.x() * dt, s_.gravity.y() * dt, s_.gravity.z() * dt, 0.0f);
+    const float keep = std::exp(-s_.damping * dt);
+    for (size_t i = 0; i < n; ++i) {
+        if (w_[i] > 0.0f) v_[i] = (v_[i] + dv) * keep;
+        p_[i] = x_[i] + dt * v_[i];
+    }
+    const auto per_iteration = [&](float k) { return k >= 1.0f ? 1.0f : 1.0f - std::pow(1.0f - k, 1.0f / float(s_.iterations)); };
+    const float ks = per_iteration(s_.stretch_stiffness), kv = per_iteration(s_.volume_stiffness);
+    for (uint32_t it = 0; it < s_.iterations; ++it) {
+        for (const Edge& e : edges_) {
+            const float wsum = w_[e.i] + w_[e.j];
+            const Vec4f d = p_[e.i] - p_[e.j];
+            const float len = d.norm();
+            if (wsum == 0.0f || len < 1e-12f) continue;
+            const Vec4f corr = (ks * (len - e.rest) / (len * wsum)) * d;
+            p_[e.i] -= w_[e.i] * corr;
+            p_[e.j] += w_[e.j] * corr;
+        }
+        if (!s_.volume) continue;
+        std::fill(grad_.begin(), grad_.end(), Vec4f::Zero());
+        double six_v = 0.0;
+        for (const auto& t : triangles_) {
+            const Vec4f &a = p_[t[0]], &b = p_[t[1]], &c = p_[t[2]];
+            six_v += double(a.dot(cross4(b, c)));
+            grad_[t[0]] += cross4(b, c);
+            grad_[t[1]] += cross4(c, a);
+            grad_[t[2]] += cross4(a, b);
+        }
+        double denom = 0.0;
+        for (size_t i = 0; i < n; ++i) denom += double(w_[i]) * double(grad_[i].squaredNorm());
+        if (denom < 1e-30) continue;
+        const float step = float(-double(kv) * (six_v / 6.0 - rest_volume_) / (denom / 36.0) / 6.0);
+        for (size_t i = 0; i < n; ++i) p_[i] += (step * w_[i]) * grad_[i];
+    }
+    const float inv = 1.0f / dt;
+    for (size_t i = 0; i < n; ++i) {
+        v_[i] = w_[i] > 0.0f ? Vec4f((p_[i] - x_[i]) * inv) : Vec4f::Zero();
+        x_[i] = p_[i];
+    }
+    std::fill(n_.begin(), n_.end(), Vec3f::Zero());
+    for (const auto& t : triangles_) {
+        const Vec4f f = cross4(x_[t[1]] - x_[t[0]], x_[t[2]] - x_[t[0]]);
+        for (uint32_t v : t) n_[v] += f.head<3>();
+    }
+    for (Vec3f& nv : n_) nv.normalize();
+}
+
+} // namespace pbdsplat::cli
