@@ -50,15 +50,11 @@ bool reserve_headroom(SoftBody& b, float fraction) {
     if (!b.colors.empty()) reserve(b.colors, n);
     reserve(b.triangles, t);
     reserve(b.distance, e), reserve(b.distance_lambda, e);
-    for (auto* lists : {&b.distance_groups.of_particle}) {
-        if (low(n, lists->key_capacity()) || low(lists->pool_size(), lists->pool_capacity()))
-            lists->reserve(room(n), room(lists->pool_size())), grew = true;
-    }
-    if (low(n, b.rings.ring.key_capacity()) || low(b.rings.ring.pool_size(), b.rings.ring.pool_capacity())) {
-        b.rings.ring.reserve(room(n), room(b.rings.ring.pool_size()));
-        b.rings.triangles.reserve(room(n), room(b.rings.triangles.pool_size()));
-        grew = true;
-    }
+    auto reserve_lists = [&](auto& lists) {
+        if (low(n, lists.key_capacity()) || low(lists.pool_size(), lists.pool_capacity()))
+            lists.reserve(room(n), room(lists.pool_size())), grew = true;
+    };
+    reserve_lists(b.distance_groups.of_particle), reserve_lists(b.rings.ring), reserve_lists(b.rings.triangles);
     return grew;
 }
 

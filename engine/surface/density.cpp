@@ -29,12 +29,6 @@ Rows make_rows(size_t keys, size_t count, const KeyOf& key_of) {
     return r;
 }
 
-struct Work {
-    float priority;
-    uint32_t triangle;
-    bool grow;
-};
-
 } // namespace
 
 DensityControl::DensityControl(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, const DensityOptions& o)
@@ -65,14 +59,128 @@ void DensityControl::topology_changed(std::span<const Vec3f> rest, std::span<con
     }
 }
 
-DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Vec3f> normals,
-                                    std::span<const mesh::Triangle> triangles, bool anchors_drawn, float h, uint32_t seed,
-                                    BoundaryParticles& s) {
-    PBDSPLAT_ASSERT(triangles.size() == inverse_rest_.size(),
-                    "density control: the triangle list changed size; call topology_changed() after every topology change");
-    DensityStats stats;
-    ++frame_;
-    std::vector<Work> work;
+namespace {
+// One frame's resampling of the due triangles: new samples darted where a triangle stretched
+// (kept insert_spacing h from every sample around it), fade-outs where one shrank (samples
+// closer than retire_spacing h to a kept one).
+class Resampler {
+public:
+    struct Inputs {
+        std::span<const Vec4f> x;
+        std::span<const Vec3f> normals;
+        std::span<const mesh::Triangle> triangles;
+        bool anchors_drawn;
+        float h;
+        uint32_t seed;
+        uint64_t frame;
+        size_t max_samples;
+    };
+    Resampler(const Inputs& in, const DensityOptions& o, BoundaryParticles& s, DensityStats& stats)
+        : in_(in), o_(o), s_(s), stats_(stats),
+          by_triangle_(make_rows(in.triangles.size(), s.size(), [&](size_t i) { return s.triangle[i]; })),
+          ring_(make_rows(in.x.size(), in.triangles.size() * 3, [&](size_t i) { return in.triangles[i / 3][i % 3]; })),
+          mark_(in.triangles.size(), 0), step_(1.0f / float(std::max(1u, o.fade_frames))), embedded_(s.embedded()) {
+        s.pad_fades();
+    }
+
+    void insert(uint32_t t) {
+        const auto& tri = in_.triangles[t];
+        const Vec3f a = in_.x[tri[0]].head<3>(), b = in_.x[tri[1]].head<3>(), c = in_.x[tri[2]].head<3>();
+        same_.assign(by_triangle_[t].begin(), by_triangle_[t].end());
+        grid_.reset(o_.insert_spacing * in_.h);
+        around(t, [&](uint32_t n) {
+            for (uint32_t i : by_triangle_[n])
+                if (!s_.retiring(i)) grid_.add(s_.position[i]);
+            if (in_.anchors_drawn)
+                for (uint32_t v : in_.triangles[n]) grid_.add(in_.x[v].head<3>());
+        });
+        // Samples this frame already added to the neighbours (not in by_triangle yet).
+        for (size_t i = by_triangle_.items.size(); i < s_.size(); ++i) grid_.add(s_.position[i]);
+        const Mat3f frame = triangle_frame(a, b, c);
+        const float area = 0.5f * (b - a).cross(c - a).norm();
+        const float expected = area * o_.candidates / (in_.h * in_.h);
+        std::mt19937 rng(in_.seed ^ uint32_t(in_.frame * 0x9E3779B1u) ^ (t * 0x85EBCA6Bu));
+        std::uniform_real_distribution<float> u(0.0f, 1.0f);
+        uint32_t n = uint32_t(expected);
+        if (u(rng) < expected - float(n)) ++n;
+        for (uint32_t k = 0; k < n; ++k) {
+            float b1 = u(rng), b2 = u(rng);
+            if (b1 + b2 > 1.0f) b1 = 1.0f - b1, b2 = 1.0f - b2;
+            const float b0 = 1.0f - b1 - b2;
+            const Vec3f interpolated = b0 * in_.normals[tri[0]] + b1 * in_.normals[tri[1]] + b2 * in_.normals[tri[2]];
+            float d = 0.0f;
+            Vec3f local = Vec3f::UnitZ();
+            if (embedded_) interpolate_embedding(s_, same_, Vec2f(b1, b2), d, local);
+            const Vec3f p = b0 * a + b1 * b + b2 * c + d * interpolated;
+            if (grid_.near(p)) continue;
+            if (in_.max_samples && s_.size() >= in_.max_samples) {
+                stats_.capped = true;
+                break;
+            }
+            grid_.add(p);
+            s_.triangle.push_back(t);
+            s_.bary.emplace_back(b1, b2);
+            if (embedded_) s_.offset.push_back(d), s_.local_normal.push_back(local);
+            s_.position.push_back(p);
+            const float len = interpolated.norm();
+            s_.normal.push_back(embedded_ ? Vec3f(frame * local) : len > 0.0f ? Vec3f(interpolated / len) : frame.col(2));
+            s_.fade.push_back(0.0f);
+            s_.fade_step.push_back(step_);
+            ++stats_.inserted;
+        }
+    }
+
+    void retire(uint32_t t) {
+        grid_.reset(o_.retire_spacing * in_.h);
+        around(t, [&](uint32_t n) {
+            if (n != t)
+                for (uint32_t i : by_triangle_[n])
+                    if (!s_.retiring(i)) grid_.add(s_.position[i]);
+            if (in_.anchors_drawn)
+                for (uint32_t v : in_.triangles[n]) grid_.add(in_.x[v].head<3>());
+        });
+        for (uint32_t i : by_triangle_[t]) {
+            if (s_.retiring(i) || s_.on_edge(i)) continue;  // edge samples follow the boundary (surface/edges.h)
+            if (grid_.near(s_.position[i])) {
+                s_.fade_step[i] = -step_;
+                ++stats_.retired;
+            } else {
+                grid_.add(s_.position[i]);
+            }
+        }
+    }
+
+private:
+    // The triangles sharing a vertex with t (t included), each once per call.
+    template <class Visit>
+    void around(uint32_t t, Visit&& visit) {
+        ++stamp_;
+        for (uint32_t v : in_.triangles[t])
+            for (uint32_t c : ring_[v]) {
+                const uint32_t n = c / 3;
+                if (mark_[n] == stamp_) continue;
+                mark_[n] = stamp_;
+                visit(n);
+            }
+    }
+
+    Inputs in_;
+    const DensityOptions& o_;
+    BoundaryParticles& s_;
+    DensityStats& stats_;
+    Rows by_triangle_, ring_;
+    std::vector<uint32_t> mark_;
+    uint32_t stamp_ = 0;
+    float step_;
+    bool embedded_;
+    std::vector<uint32_t> same_;
+    PointGrid grid_{1.0f, 256};  // reset per triangle
+};
+
+} // namespace
+
+std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangles) {
+    std::vector<Due> work;
     for (uint32_t t = 0; t < triangles.size(); ++t) {
         const auto& tri = triangles[t];
         const Vec3f e1 = (x[tri[1]] - x[tri[0]]).head<3>(), e2 = (x[tri[2]] - x[tri[0]]).head<3>();
@@ -86,102 +194,30 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
         if (uint32_t(std::abs(run)) < std::max(1u, options_.settle_frames)) continue;
         work.push_back({std::abs(std::log(ratio)), t, side > 0});
     }
+    return work;
+}
+
+DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Vec3f> normals,
+                                    std::span<const mesh::Triangle> triangles, bool anchors_drawn, float h, uint32_t seed,
+                                    BoundaryParticles& s) {
+    PBDSPLAT_ASSERT(triangles.size() == inverse_rest_.size(),
+                    "density control: the triangle list changed size; call topology_changed() after every topology change");
+    DensityStats stats;
+    ++frame_;
+    std::vector<Due> work = due_triangles(x, triangles);
     if (!work.empty() && options_.enabled) {
         const size_t take = std::min<size_t>(work.size(), options_.budget);
-        std::partial_sort(work.begin(), work.begin() + take, work.end(),
-                          [](const Work& a, const Work& b) { return a.priority > b.priority; });
+        std::partial_sort(work.begin(), work.begin() + take, work.end(), [](const Due& a, const Due& b) { return a.priority > b.priority; });
         stats.pending = uint32_t(work.size() - take);
         work.resize(take);
         stats.resampled = uint32_t(take);
         PBDSPLAT_ASSERT(s.position.size() == s.size(), "density control: update the boundary particles' positions first");
-        const Rows by_triangle = make_rows(triangles.size(), s.size(), [&](size_t i) { return s.triangle[i]; });
-        const Rows ring = make_rows(x.size(), triangles.size() * 3, [&](size_t i) { return triangles[i / 3][i % 3]; });
-        // The triangles sharing a vertex with t (t included), each once per call.
-        std::vector<uint32_t> mark(triangles.size(), 0);
-        uint32_t stamp = 0;
-        auto around = [&](uint32_t t, auto&& visit) {
-            ++stamp;
-            for (uint32_t v : triangles[t])
-                for (uint32_t c : ring[v]) {
-                    const uint32_t n = c / 3;
-                    if (mark[n] == stamp) continue;
-                    mark[n] = stamp;
-                    visit(n);
-                }
-        };
-        s.pad_fades();
-        const float step = 1.0f / float(std::max(1u, options_.fade_frames));
-        const bool embedded = s.embedded();
-        thread_local std::vector<uint32_t> same;
-        thread_local PointGrid grid(h, 256);  // reset per triangle: no allocation once warm
-        for (const Work& w : work) {
-            const uint32_t t = w.triangle;
-            const auto& tri = triangles[t];
-            const Vec3f a = x[tri[0]].head<3>(), b = x[tri[1]].head<3>(), c = x[tri[2]].head<3>();
-            same.assign(by_triangle[t].begin(), by_triangle[t].end());
-            if (w.grow) {
-                grid.reset(options_.insert_spacing * h);
-                around(t, [&](uint32_t n) {
-                    for (uint32_t i : by_triangle[n])
-                        if (!s.retiring(i)) grid.add(s.position[i]);
-                    if (anchors_drawn)
-                        for (uint32_t v : triangles[n]) grid.add(x[v].head<3>());
-                });
-                // Samples this frame already added to the neighbours (not in by_triangle yet).
-                for (size_t i = by_triangle.items.size(); i < s.size(); ++i) grid.add(s.position[i]);
-                const Mat3f frame = triangle_frame(a, b, c);
-                const float area = 0.5f * (b - a).cross(c - a).norm();
-                const float expected = area * options_.candidates / (h * h);
-                std::mt19937 rng(seed ^ uint32_t(frame_ * 0x9E3779B1u) ^ (t * 0x85EBCA6Bu));
-                std::uniform_real_distribution<float> u(0.0f, 1.0f);
-                uint32_t n = uint32_t(expected);
-                if (u(rng) < expected - float(n)) ++n;
-                for (uint32_t k = 0; k < n; ++k) {
-                    float b1 = u(rng), b2 = u(rng);
-                    if (b1 + b2 > 1.0f) b1 = 1.0f - b1, b2 = 1.0f - b2;
-                    const float b0 = 1.0f - b1 - b2;
-                    const Vec3f interpolated = b0 * normals[tri[0]] + b1 * normals[tri[1]] + b2 * normals[tri[2]];
-                    float d = 0.0f;
-                    Vec3f local = Vec3f::UnitZ();
-                    if (embedded) interpolate_embedding(s, same, Vec2f(b1, b2), d, local);
-                    const Vec3f p = b0 * a + b1 * b + b2 * c + d * interpolated;
-                    if (grid.near(p)) continue;
-                    if (max_samples_ && s.size() >= max_samples_) {
-                        stats.capped = true;
-                        break;
-                    }
-                    grid.add(p);
-                    s.triangle.push_back(t);
-                    s.bary.emplace_back(b1, b2);
-                    if (embedded) s.offset.push_back(d), s.local_normal.push_back(local);
-                    s.position.push_back(p);
-                    const float len = interpolated.norm();
-                    s.normal.push_back(embedded ? Vec3f(frame * local) : len > 0.0f ? Vec3f(interpolated / len) : frame.col(2));
-                    s.fade.push_back(0.0f);
-                    s.fade_step.push_back(step);
-                    ++stats.inserted;
-                }
-            } else {
-                grid.reset(options_.retire_spacing * h);
-                around(t, [&](uint32_t n) {
-                    if (n != t)
-                        for (uint32_t i : by_triangle[n])
-                            if (!s.retiring(i)) grid.add(s.position[i]);
-                    if (anchors_drawn)
-                        for (uint32_t v : triangles[n]) grid.add(x[v].head<3>());
-                });
-                for (uint32_t i : same) {
-                    if (s.retiring(i) || s.on_edge(i)) continue;  // edge samples follow the boundary (surface/edges.h)
-                    if (grid.near(s.position[i])) {
-                        s.fade_step[i] = -step;
-                        ++stats.retired;
-                    } else {
-                        grid.add(s.position[i]);
-                    }
-                }
-            }
-            reference_[t] = stretch_[t];
-            beyond_[t] = 0;
+        Resampler r({x, normals, triangles, anchors_drawn, h, seed, frame_, max_samples_}, options_, s, stats);
+        for (const Due& w : work) {
+            if (w.grow) r.insert(w.triangle);
+            else r.retire(w.triangle);
+            reference_[w.triangle] = stretch_[w.triangle];
+            beyond_[w.triangle] = 0;
         }
     }
     stats.removed = uint32_t(advance_fades(s, &stats.fading));

@@ -65,6 +65,13 @@ public:
 
 private:
     void set_rest(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, uint32_t t);
+    // A triangle past a threshold long enough to be resampled this frame, most stretched first.
+    struct Due {
+        float priority;
+        uint32_t triangle;
+        bool grow;
+    };
+    std::vector<Due> due_triangles(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangles);
     DensityOptions options_;
     std::vector<Eigen::Matrix2f> inverse_rest_;  // per triangle, in its own rest frame; zero for slivers
     std::vector<float> stretch_;    // largest singular value of each triangle's deformation, this frame

@@ -24,11 +24,89 @@ double stage_a_ms(sim::SoftBody body, int frames) {
     }
     return core::median(ms);
 }
+
+// N cuts through the centre of fresh copies of the body made from `spec`: the figures as JSON.
+core::Result<nlohmann::json> measure_cuts(const std::string& spec, uint32_t cuts, uint32_t frames, const topology::CutOptions& options) {
+    auto repaired = mesh::load_mesh_spec(spec);
+    if (!repaired.ok()) return repaired.error();
+    auto made = sim::make_soft_body(repaired->mesh, {});
+    if (!made.ok()) return made.error();
+    const sim::SoftBody& body = made.value();
+    Vec3f centre = Vec3f::Zero();
+    for (const Vec4f& x : body.particles.x) centre += x.head<3>();
+    centre /= float(body.particle_count());
+
+    std::vector<double> ms, rebuild_ms;
+    std::vector<double> crossed, after;
+    std::vector<const char*> phase_names;
+    std::vector<std::vector<double>> phase_ms;
+    sim::SoftBody first_cut;
+    for (uint32_t k = 0; k < cuts; ++k) {
+        sim::SoftBody b = body;  // copied outside the timing
+        // A copy has no spare capacity; a live body keeps the room its edits grew (amortised).
+        sim::reserve_headroom(b);
+        const float a = float(k) * 3.14159265f / float(cuts);
+        auto plane = topology::plane_cut(centre, Vec3f(std::cos(a), 0.3f, std::sin(a)));
+        if (!plane.ok()) return plane.error();
+        auto change = topology::cut(b, plane.value(), options);
+        if (!change.ok()) return change.error();
+        ms.push_back(change->ms);
+        rebuild_ms.push_back(change->rebuild_ms);
+        crossed.push_back(double(change->crossed_triangles));
+        after.push_back(double(change->particles_after));
+        for (size_t p = 0; p < change->phases.size(); ++p) {
+            if (p == phase_names.size()) phase_names.push_back(change->phases[p].name), phase_ms.emplace_back();
+            phase_ms[p].push_back(change->phases[p].ms);
+        }
+        if (k == 0) first_cut = std::move(b);
+    }
+    nlohmann::json phases = nlohmann::json::array();
+    for (size_t p = 0; p < phase_names.size(); ++p) phases.push_back({{"name", phase_names[p]}, {"median_ms", core::median(phase_ms[p])}});
+    const double median_crossed = core::median(crossed);
+    return nlohmann::json{{"mesh", spec},
+                          {"particles_before", body.particle_count()},
+                          {"triangles_before", body.triangles.size()},
+                          {"particles_after", core::median(after)},
+                          {"crossed_triangles", median_crossed},
+                          {"median_cut_ms", core::median(ms)},
+                          {"median_rebuild_ms", core::median(rebuild_ms)},
+                          {"us_per_crossed_triangle", median_crossed > 0.0 ? 1000.0 * core::median(ms) / median_crossed : 0.0},
+                          {"phases", phases},
+                          {"stage_a_ms_before", stage_a_ms(body, int(frames))},
+                          {"stage_a_ms_after", stage_a_ms(first_cut, int(frames))}};
+}
+
+// --levels A-B: the per-crossed-triangle cost of each icosphere level, and its ratio to the first.
+int print_levels(const std::string& range, uint32_t cuts, uint32_t frames, const topology::CutOptions& options, bool json) {
+    unsigned lo = 0, hi = 0;
+    char dash = 0;
+    if (std::sscanf(range.c_str(), "%u%c%u", &lo, &dash, &hi) != 3 || dash != '-' || lo > hi || hi > 8)
+        return usage_error("bench cut", "--levels must be A-B with 0 <= A <= B <= 8 (icosphere levels), not '" + range + "'");
+    nlohmann::json levels = nlohmann::json::array();
+    for (unsigned level = lo; level <= hi; ++level) {
+        auto m = measure_cuts("icosphere:" + std::to_string(level), cuts, frames, options);
+        if (!m.ok()) return fail("bench cut", m.error().to_string());
+        levels.push_back(std::move(m).value());
+    }
+    const double first = levels.front()["us_per_crossed_triangle"].get<double>();
+    for (auto& l : levels) l["ratio_to_first"] = first > 0.0 ? l["us_per_crossed_triangle"].get<double>() / first : 0.0;
+    if (json) {
+        std::printf("%s\n", nlohmann::json{{"suite", "cut"}, {"cuts", cuts}, {"levels", levels}}.dump().c_str());
+        return 0;
+    }
+    std::printf("cost per crossed triangle by icosphere level (%u cuts each through the centre, medians):\n", cuts);
+    std::printf("  %-14s %10s %8s %9s %12s %8s\n", "mesh", "particles", "crossed", "cut ms", "us/crossed", "ratio");
+    for (const auto& l : levels)
+        std::printf("  %-14s %10zu %8.0f %9.3f %12.2f %8.2f\n", l["mesh"].get<std::string>().c_str(), l["particles_before"].get<size_t>(),
+                    l["crossed_triangles"].get<double>(), l["median_cut_ms"].get<double>(), l["us_per_crossed_triangle"].get<double>(),
+                    l["ratio_to_first"].get<double>());
+    return 0;
+}
 } // namespace
 
 int bench_cut(const std::vector<std::string>& argv) {
     static constexpr const char* help =
-        "usage: pbdsplat bench cut [--mesh SPEC] [--cuts N] [--policy cap|burst|rebase] [--frames F] [--json]\n"
+        "usage: pbdsplat bench cut [--mesh SPEC | --levels A-B] [--cuts N] [--policy cap|burst|rebase] [--frames F] [--json]\n"
         "\n"
         "The cost of one line cut through the middle of a body at rest (paper section 5.7): N cuts,\n"
         "each on a fresh copy of the body along a plane through its centre at a different angle,\n"
@@ -42,8 +120,10 @@ int bench_cut(const std::vector<std::string>& argv) {
         "  --cuts N        default 20\n"
         "  --policy P      volume policy of the cut (default cap)\n"
         "  --frames F      Stage A frames timed before and after (default 30)\n"
+        "  --levels A-B    instead of --mesh: icosphere levels A to B, a table of the cost per crossed\n"
+        "                  triangle at each and its ratio to level A's (how the cut scales)\n"
         "  --json          print one JSON object on stdout\n";
-    auto args = Args::parse(argv, {"help", "json"}, {"mesh", "cuts", "policy", "frames"});
+    auto args = Args::parse(argv, {"help", "json"}, {"mesh", "cuts", "policy", "frames", "levels"});
     if (!args.ok()) return usage_error("bench cut", args.error().to_string());
     if (args->has("help")) return std::fputs(help, stdout), 0;
     auto cuts = args->get_uint("cuts", 20, 1, 10000);
@@ -57,70 +137,27 @@ int bench_cut(const std::vector<std::string>& argv) {
     else if (policy == "rebase") options.volume = topology::VolumePolicy::rebase;
     else return usage_error("bench cut", "--policy must be cap, burst or rebase, not '" + policy + "'");
 
+    if (args->has("levels")) return print_levels(args->get_or("levels", ""), cuts.value(), frames.value(), options, args->has("json"));
     const std::string spec = args->get_or("mesh", "teapot.obj");
-    auto repaired = mesh::load_mesh_spec(spec);
-    if (!repaired.ok()) return fail("bench cut", repaired.error().to_string());
-    auto made = sim::make_soft_body(repaired->mesh, {});
-    if (!made.ok()) return fail("bench cut", made.error().to_string());
-    const sim::SoftBody& body = made.value();
-    Vec3f centre = Vec3f::Zero();
-    for (const Vec4f& x : body.particles.x) centre += x.head<3>();
-    centre /= float(body.particle_count());
-
-    std::vector<double> ms, rebuild_ms;
-    std::vector<double> crossed, after;
-    std::vector<const char*> phase_names;
-    std::vector<std::vector<double>> phase_ms;
-    sim::SoftBody first_cut;
-    for (uint32_t k = 0; k < cuts.value(); ++k) {
-        sim::SoftBody b = body;  // copied outside the timing
-        // A copy has no spare capacity; a live body keeps the room its edits grew (amortised).
-        sim::reserve_headroom(b);
-        const float a = float(k) * 3.14159265f / float(cuts.value());
-        auto plane = topology::plane_cut(centre, Vec3f(std::cos(a), 0.3f, std::sin(a)));
-        if (!plane.ok()) return fail("bench cut", plane.error().to_string());
-        auto change = topology::cut(b, plane.value(), options);
-        if (!change.ok()) return fail("bench cut", change.error().to_string());
-        ms.push_back(change->ms);
-        rebuild_ms.push_back(change->rebuild_ms);
-        crossed.push_back(double(change->crossed_triangles));
-        after.push_back(double(change->particles_after));
-        for (size_t p = 0; p < change->phases.size(); ++p) {
-            if (p == phase_names.size()) phase_names.push_back(change->phases[p].name), phase_ms.emplace_back();
-            phase_ms[p].push_back(change->phases[p].ms);
-        }
-        if (k == 0) first_cut = std::move(b);
-    }
-    const double before_ms = stage_a_ms(body, int(frames.value()));
-    const double after_ms = stage_a_ms(first_cut, int(frames.value()));
-    nlohmann::json phases = nlohmann::json::array();
-    for (size_t p = 0; p < phase_names.size(); ++p) phases.push_back({{"name", phase_names[p]}, {"median_ms", core::median(phase_ms[p])}});
-    const double median_crossed = core::median(crossed);
-    const nlohmann::json j = {{"suite", "cut"},
-                              {"mesh", spec},
-                              {"policy", policy},
-                              {"cuts", cuts.value()},
-                              {"particles_before", body.particle_count()},
-                              {"triangles_before", body.triangles.size()},
-                              {"particles_after", core::median(after)},
-                              {"crossed_triangles", core::median(crossed)},
-                              {"median_cut_ms", core::median(ms)},
-                              {"median_rebuild_ms", core::median(rebuild_ms)},
-                              {"us_per_crossed_triangle", median_crossed > 0.0 ? 1000.0 * core::median(ms) / median_crossed : 0.0},
-                              {"phases", phases},
-                              {"stage_a_ms_before", before_ms},
-                              {"stage_a_ms_after", after_ms}};
+    auto measured = measure_cuts(spec, cuts.value(), frames.value(), options);
+    if (!measured.ok()) return fail("bench cut", measured.error().to_string());
+    nlohmann::json j = std::move(measured).value();
+    j["suite"] = "cut";
+    j["policy"] = policy;
+    j["cuts"] = cuts.value();
     if (args->has("json")) {
         std::printf("%s\n", j.dump().c_str());
         return 0;
     }
-    std::printf("%s: %zu particles, %zu triangles; %u cuts through the centre (%s)\n", spec.c_str(), body.particle_count(),
-                body.triangles.size(), cuts.value(), policy.c_str());
-    std::printf("  crossed triangles %.0f, particles after %.0f\n", core::median(crossed), core::median(after));
-    std::printf("  cut %.3f ms (median), of which derived solver data %.3f ms\n", core::median(ms), core::median(rebuild_ms));
-    if (median_crossed > 0.0) std::printf("  %.2f us per crossed triangle\n", 1000.0 * core::median(ms) / median_crossed);
-    for (size_t p = 0; p < phase_names.size(); ++p) std::printf("    %-22s %8.3f ms\n", phase_names[p], core::median(phase_ms[p]));
-    std::printf("  Stage A %.3f ms/frame before, %.3f ms/frame after the cut\n", before_ms, after_ms);
+    std::printf("%s: %zu particles, %zu triangles; %u cuts through the centre (%s)\n", spec.c_str(), j["particles_before"].get<size_t>(),
+                j["triangles_before"].get<size_t>(), cuts.value(), policy.c_str());
+    std::printf("  crossed triangles %.0f, particles after %.0f\n", j["crossed_triangles"].get<double>(), j["particles_after"].get<double>());
+    std::printf("  cut %.3f ms (median), of which derived solver data %.3f ms\n", j["median_cut_ms"].get<double>(),
+                j["median_rebuild_ms"].get<double>());
+    std::printf("  %.2f us per crossed triangle\n", j["us_per_crossed_triangle"].get<double>());
+    for (const auto& p : j["phases"]) std::printf("    %-22s %8.3f ms\n", p["name"].get<std::string>().c_str(), p["median_ms"].get<double>());
+    std::printf("  Stage A %.3f ms/frame before, %.3f ms/frame after the cut\n", j["stage_a_ms_before"].get<double>(),
+                j["stage_a_ms_after"].get<double>());
     return 0;
 }
 
