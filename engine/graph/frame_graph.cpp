@@ -81,6 +81,11 @@ struct FrameGraph::Impl {
     }
     std::vector<bool> declared;  // per version: made by declare(), so it needs a producer
     bool declared_only(uint32_t v) const { return v < declared.size() && declared[v]; }
+    // The steps of compile(), in order.
+    core::Status order_passes();
+    void cull_absent();
+    void cull_unused();
+    void place_barriers();
 };
 
 FrameGraph::FrameGraph() : impl_(std::make_unique<Impl>()) {}
@@ -150,13 +155,10 @@ void FrameGraph::add_pass(std::string name, PassKind kind, const std::function<E
     impl_->compiled = false;
 }
 
-core::Status FrameGraph::compile() {
-    Impl& g = *impl_;
-    if (!g.build_error.empty()) return core::make_error("frame graph: " + g.build_error);
+// 1. Order: producers before readers, readers of a version before whoever modifies it.
+core::Status FrameGraph::Impl::order_passes() {
+    Impl& g = *this;
     const size_t n = g.passes.size();
-    for (auto& p : g.passes) p.culled = false, p.reason.clear(), p.barriers.clear();
-
-    // 1. Order: producers before readers, readers of a version before whoever modifies it.
     std::vector<std::vector<uint32_t>> next(n);
     std::vector<uint32_t> incoming(n, 0);
     auto edge = [&](uint32_t from, uint32_t to) {
@@ -188,7 +190,12 @@ core::Status FrameGraph::compile() {
         return core::make_error("frame graph: the passes " + cycle + " depend on each other in a cycle");
     }
 
-    // 2. Culling by absence, in order (availability flows forward).
+    return core::Status::success();
+}
+
+// 2. Culling by absence, in order (availability flows forward).
+void FrameGraph::Impl::cull_absent() {
+    Impl& g = *this;
     for (uint32_t p : g.order) {
         for (const auto& a : g.passes[p].accesses) {
             if (!a.reads) continue;
@@ -200,7 +207,12 @@ core::Status FrameGraph::compile() {
         }
     }
 
-    // 3. Culling by use: keep what a side effect (or persistent state) depends on.
+}
+
+// 3. Culling by use: keep what a side effect (or persistent state) depends on.
+void FrameGraph::Impl::cull_unused() {
+    Impl& g = *this;
+    const size_t n = g.passes.size();
     std::vector<bool> live(n, false);
     for (uint32_t p = 0; p < n; ++p) {
         if (g.passes[p].culled) continue;
@@ -220,8 +232,12 @@ core::Status FrameGraph::compile() {
     for (uint32_t p = 0; p < n; ++p)
         if (!g.passes[p].culled && !live[p]) g.passes[p].culled = true, g.passes[p].reason = "unused";
 
-    // 4. Barriers between the kept GPU passes. A frame starts from the state the previous one
-    //    left (the last use in this order); images start undefined when first written.
+}
+
+// 4. Barriers between the kept GPU passes. A frame starts from the state the previous one left
+//    (the last use in this order); images start undefined when first written.
+void FrameGraph::Impl::place_barriers() {
+    Impl& g = *this;
     g.kept.clear();
     for (uint32_t p : g.order)
         if (!g.passes[p].culled) g.kept.push_back(p);
@@ -274,6 +290,16 @@ core::Status FrameGraph::compile() {
             s.used = true;
         }
     }
+}
+
+core::Status FrameGraph::compile() {
+    Impl& g = *impl_;
+    if (!g.build_error.empty()) return core::make_error("frame graph: " + g.build_error);
+    for (auto& p : g.passes) p.culled = false, p.reason.clear(), p.barriers.clear();
+    PBDSPLAT_TRY(g.order_passes());
+    g.cull_absent();
+    g.cull_unused();
+    g.place_barriers();
     g.timings.assign(g.kept.size(), 0.0);
     g.compiled = true;
     return core::Status::success();

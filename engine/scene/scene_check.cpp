@@ -12,6 +12,91 @@
 
 namespace pbdsplat::scene {
 
+namespace {
+double area_of(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangles) {
+    double a = 0.0;
+    for (const auto& t : triangles) a += 0.5 * double((x[t[1]] - x[t[0]]).head<3>().cross((x[t[2]] - x[t[0]]).head<3>()).norm());
+    return a;
+}
+
+// Shape and volume error, strays and sample spacing of the frame the runtime just stepped.
+void sample_body_and_splats(const SceneRuntime& rt, CheckSample& s) {
+    const sim::ShapeReport shape = sim::shape_report(rt.body());
+    s.shape_error = shape.max_error;
+    s.pieces = shape.pieces.size();
+    for (const sim::PieceShape& p : shape.pieces) s.volume_error = std::max(s.volume_error, p.volume_error);
+    // Every splat drawn (the records), not the particles: strays are what a user sees.
+    std::vector<Vec3f> centres;
+    for (const splat::GaussianRecord& r : rt.records()) centres.emplace_back(r.position[0], r.position[1], r.position[2]);
+    s.strays = splat::count_strays(centres, rt.spacing()).strays;
+    // Every splat drawn (the particles count where they are splats too), but the edge samples:
+    // those lie h/2 apart along a boundary on purpose, with smaller splats.
+    if (rt.boundary_particles().size() > 1) {
+        float largest = 0.0f;
+        for (const splat::GaussianRecord& r : rt.records()) largest = std::max(largest, splat::half_to_float(r.scale_half));
+        centres.clear();
+        for (const splat::GaussianRecord& r : rt.records())
+            if (splat::half_to_float(r.scale_half) > 0.75f * largest) centres.emplace_back(r.position[0], r.position[1], r.position[2]);
+        const surface::SpacingReport sp = surface::spacing_report(centres, rt.spacing());
+        s.spacing_within = sp.within;
+        s.spacing_p05 = sp.p05;
+        s.spacing_p95 = sp.p95;
+    }
+}
+
+// Holes, silhouette and specks of the frame as the runtime draws it (its camera, the
+// environment about the body, the far side of a closed body culled): what a user would see.
+// Without the ground, whose pixels are not the body's.
+core::Status sample_coverage(SceneRuntime& rt, const Scene& scene, const CheckOptions& o, double rest_area, CheckSample& s) {
+    std::vector<Vec4f> x;
+    std::vector<mesh::Triangle> triangles;
+    rt.deformed_surface(x, triangles);
+    s.area_ratio = rest_area > 0.0 ? area_of(x, triangles) / rest_area : -1.0;
+    render::FrameInputs frame = rt.frame_inputs();
+    frame.ground.visible = false;
+    frame.style.order = rt.order();  // without a device: the CPU sort, records already in order
+    auto c = passes::measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height, scene.material.color, rt.shapes());
+    if (!c.ok()) return core::make_error("frame " + std::to_string(s.frame) + ": " + c.error().to_string());
+    s.hole_ratio = c->hole_ratio;
+    s.iou = c->silhouette_iou;
+    s.speck_ratio = c->speck_ratio;
+    if (o.images_dir.empty()) return core::Status::success();
+    char stem[64];
+    std::snprintf(stem, sizeof stem, "/%s_f%04llu_", scene.name.c_str(), (unsigned long long)s.frame);
+    PBDSPLAT_TRY(core::write_png(o.images_dir + stem + "splats.png", c->splats));
+    PBDSPLAT_TRY(core::write_png(o.images_dir + stem + "mesh.png", c->shaded));
+    core::ImageRgba8 marked;
+    passes::speck_ratio(c->splats, c->shaded, c->mesh, &marked);
+    return core::write_png(o.images_dir + stem + "specks.png", marked);
+}
+
+// The report's worst figures over its samples.
+void summarise(CheckReport& report, std::vector<double> stage_a) {
+    for (const CheckSample& s : report.samples) {
+        report.shape_error_max = std::max(report.shape_error_max, s.shape_error);
+        if (s.cuts == 0 && s.tears == 0) report.shape_error_before_topology = std::max(report.shape_error_before_topology, s.shape_error);
+        report.strays_max = std::max(report.strays_max, s.strays);
+        report.volume_error_max = std::max(report.volume_error_max, s.volume_error);
+        if (s.hole_ratio >= 0.0) {
+            report.hole_ratio_max = std::max(report.hole_ratio_max, s.hole_ratio);
+            report.iou_min = report.iou_min < 0.0 ? s.iou : std::min(report.iou_min, s.iou);
+            report.speck_ratio_max = std::max(report.speck_ratio_max, s.speck_ratio);
+        }
+        if (s.spacing_within >= 0.0)
+            report.spacing_within_min = report.spacing_within_min < 0.0 ? s.spacing_within : std::min(report.spacing_within_min, s.spacing_within);
+    }
+    if (!report.samples.empty()) {
+        report.pieces = report.samples.back().pieces;
+        report.particles = report.samples.back().particles;
+        report.gaussians = report.samples.back().gaussians;
+    }
+    if (!stage_a.empty()) {
+        std::nth_element(stage_a.begin(), stage_a.begin() + long(stage_a.size() / 2), stage_a.end());
+        report.stage_a_ms = stage_a[stage_a.size() / 2];
+    }
+}
+} // namespace
+
 core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o) {
     // Every cut and tear is checked against the mesh invariants, when the mesh as loaded meets
     // them (a model the repair could not make fully manifold is reported, and run unchecked).
@@ -34,19 +119,13 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
     if (rt.fine_surface())
         report.embedding_error = rt.embedding().max_rest_error / std::max(mesh::bounds(*rt.fine_surface()).diagonal(), 1e-12f);
     std::vector<double> stage_a;
-    std::vector<Vec3f> centres, surface_centres;
-    std::vector<Vec4f> x;
-    std::vector<mesh::Triangle> triangles;
-    auto area_of = [&] {
-        double a = 0.0;
-        for (const auto& t : triangles) a += 0.5 * double((x[t[1]] - x[t[0]]).head<3>().cross((x[t[2]] - x[t[0]]).head<3>()).norm());
-        return a;
-    };
     // The surface as the coverage images see it, before the first step: the area ratio's 1.
     double rest_area = 0.0;
     if (o.gpu) {
+        std::vector<Vec4f> x;
+        std::vector<mesh::Triangle> triangles;
         rt.deformed_surface(x, triangles);
-        rest_area = area_of();
+        rest_area = area_of(x, triangles);
     }
     for (uint32_t f = 0; f < o.frames; ++f) {
         PBDSPLAT_TRY(rt.step());
@@ -58,77 +137,13 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
         s.time = st.time;
         s.cuts = st.cuts;
         s.tears = st.tears;
-        const sim::ShapeReport shape = sim::shape_report(rt.body());
-        s.shape_error = shape.max_error;
-        s.pieces = shape.pieces.size();
-        for (const sim::PieceShape& p : shape.pieces) s.volume_error = std::max(s.volume_error, p.volume_error);
         s.particles = st.particles;
         s.gaussians = st.gaussians;
-        // Every splat drawn (the records), not the particles: strays are what a user sees.
-        centres.clear();
-        for (const splat::GaussianRecord& r : rt.records()) centres.emplace_back(r.position[0], r.position[1], r.position[2]);
-        s.strays = splat::count_strays(centres, rt.spacing()).strays;
-        // Every splat drawn (the particles count where they are splats too), but the edge
-        // samples: those lie h/2 apart along a boundary on purpose, with smaller splats.
-        if (rt.boundary_particles().size() > 1) {
-            float largest = 0.0f;
-            for (const splat::GaussianRecord& r : rt.records()) largest = std::max(largest, splat::half_to_float(r.scale_half));
-            surface_centres.clear();
-            for (const splat::GaussianRecord& r : rt.records())
-                if (splat::half_to_float(r.scale_half) > 0.75f * largest) surface_centres.emplace_back(r.position[0], r.position[1], r.position[2]);
-            const surface::SpacingReport sp = surface::spacing_report(surface_centres, rt.spacing());
-            s.spacing_within = sp.within;
-            s.spacing_p05 = sp.p05;
-            s.spacing_p95 = sp.p95;
-        }
-        if (o.gpu) {
-            rt.deformed_surface(x, triangles);
-            s.area_ratio = rest_area > 0.0 ? area_of() / rest_area : -1.0;
-            // The frame as the runtime draws it (its camera, the environment about the body, the
-            // far side of a closed body culled): specks and holes are what a user would see.
-            // Without the ground, whose pixels are not the body's.
-            render::FrameInputs frame = rt.frame_inputs();
-            frame.ground.visible = false;
-            frame.style.order = rt.order();  // without a device: the CPU sort, records already in order
-            auto c = passes::measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height, scene.material.color, rt.shapes());
-            if (!c.ok()) return core::make_error("frame " + std::to_string(s.frame) + ": " + c.error().to_string());
-            s.hole_ratio = c->hole_ratio;
-            s.iou = c->silhouette_iou;
-            s.speck_ratio = c->speck_ratio;
-            if (!o.images_dir.empty()) {
-                char stem[64];
-                std::snprintf(stem, sizeof stem, "/%s_f%04llu_", scene.name.c_str(), (unsigned long long)s.frame);
-                PBDSPLAT_TRY(core::write_png(o.images_dir + stem + "splats.png", c->splats));
-                PBDSPLAT_TRY(core::write_png(o.images_dir + stem + "mesh.png", c->shaded));
-                core::ImageRgba8 marked;
-                passes::speck_ratio(c->splats, c->shaded, c->mesh, &marked);
-                PBDSPLAT_TRY(core::write_png(o.images_dir + stem + "specks.png", marked));
-            }
-        }
+        sample_body_and_splats(rt, s);
+        if (o.gpu) PBDSPLAT_TRY(sample_coverage(rt, scene, o, rest_area, s));
         report.samples.push_back(s);
     }
-    for (const CheckSample& s : report.samples) {
-        report.shape_error_max = std::max(report.shape_error_max, s.shape_error);
-        if (s.cuts == 0 && s.tears == 0) report.shape_error_before_topology = std::max(report.shape_error_before_topology, s.shape_error);
-        report.strays_max = std::max(report.strays_max, s.strays);
-        report.volume_error_max = std::max(report.volume_error_max, s.volume_error);
-        if (s.hole_ratio >= 0.0) {
-            report.hole_ratio_max = std::max(report.hole_ratio_max, s.hole_ratio);
-            report.iou_min = report.iou_min < 0.0 ? s.iou : std::min(report.iou_min, s.iou);
-            report.speck_ratio_max = std::max(report.speck_ratio_max, s.speck_ratio);
-        }
-        if (s.spacing_within >= 0.0)
-            report.spacing_within_min = report.spacing_within_min < 0.0 ? s.spacing_within : std::min(report.spacing_within_min, s.spacing_within);
-    }
-    if (!report.samples.empty()) {
-        report.pieces = report.samples.back().pieces;
-        report.particles = report.samples.back().particles;
-        report.gaussians = report.samples.back().gaussians;
-    }
-    if (!stage_a.empty()) {
-        std::nth_element(stage_a.begin(), stage_a.begin() + stage_a.size() / 2, stage_a.end());
-        report.stage_a_ms = stage_a[stage_a.size() / 2];
-    }
+    summarise(report, std::move(stage_a));
     return report;
 }
 
