@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 
 #include "core/assert.h"
 
@@ -130,6 +131,7 @@ void regroup(std::vector<DistanceConstraint>& constraints, DistanceGroups& g, st
     g.of_particle = index_by_particle(constraints, particles);
     g.colours_when_grouped = g.start.size() - 1;
     g.slots_reused = reused, g.slots_appended = appended, g.regroupings = regroupings;
+    for (const DistanceConstraint& c : constraints) g.rest_sum += double(c.rest);
     lambda.assign(constraints.size(), 0.0f);
 }
 } // namespace
@@ -140,6 +142,7 @@ DistanceGroups make_distance_groups(std::vector<DistanceConstraint>& constraints
     g.start = group_by_colour(constraints);
     g.of_particle = index_by_particle(constraints, particles);
     g.colours_when_grouped = g.start.size() - 1;
+    for (const DistanceConstraint& c : constraints) g.rest_sum += double(c.rest);
     return g;
 }
 
@@ -156,11 +159,13 @@ std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstrain
         PBDSPLAT_ASSERT(c.alive(), "replace_distance_constraints: a slot removed twice");
         remove_slot_of(g.of_particle, c.i, slot, scratch);
         remove_slot_of(g.of_particle, c.j, slot, scratch);
+        g.rest_sum -= double(c.rest);
         c = {c.i, c.i, 0.0f, c.compliance};
         lambda[slot] = 0.0f;
         free_in[colour_of_slot(g.start, slot)].push_back(slot);
         ++g.dead;
     }
+    for (const DistanceConstraint& c : add) g.rest_sum += double(c.rest);
     std::vector<uint32_t> placed(add.size(), UINT32_MAX);
     std::vector<uint32_t> spill;
     for (uint32_t k = 0; k < add.size(); ++k) {
@@ -210,6 +215,9 @@ bool distance_groups_valid(const std::vector<DistanceConstraint>& constraints, c
     for (uint32_t v = 0; v < particles; ++v)
         for (uint32_t s : g.of_particle.of(v))
             if (s >= constraints.size() || !constraints[s].alive() || (constraints[s].i != v && constraints[s].j != v)) return false;
+    double rest_sum = 0.0;
+    for (const DistanceConstraint& k : constraints) rest_sum += double(k.rest);  // dead slots have rest 0
+    if (std::abs(rest_sum - g.rest_sum) > 1e-9 * std::max(1.0, rest_sum)) return false;
     size_t listed = 0;
     for (uint32_t v = 0; v < particles; ++v) listed += g.of_particle.of(v).size();
     return listed == 2 * (constraints.size() - dead);

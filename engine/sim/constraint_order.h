@@ -35,6 +35,11 @@ struct DistanceGroups {
     size_t colours_when_grouped = 0;      // groups after the last full grouping
     size_t regroupings = 0;               // full groupings after the first (counted, they cost)
     size_t slots_reused = 0, slots_appended = 0;
+    double rest_sum = 0.0;                // of the live constraints' rest lengths, kept through edits
+    double mean_rest() const {
+        const size_t live = start.empty() ? 0 : start.back() - dead;
+        return live ? rest_sum / double(live) : 0.0;
+    }
 };
 
 // Groups `constraints` (reordering them) and indexes them per particle.

@@ -21,17 +21,15 @@ struct DistanceConstraint {
 };
 static_assert(sizeof(DistanceConstraint) == 16, "four distance constraints per cache line");
 
-// V - k*V0 = 0 over one closed (or virtually capped) component (paper eqs. 7 and 9).
+// V - k*V0 = 0 over one closed (or virtually capped) piece of the body (paper eqs. 7 and 9).
+// It names its piece, not its triangles: the gradient is gathered from the body's own vertex
+// rings over the particles labelled with that piece (SoftBody::piece_of_particle), so a cut
+// that splits a piece relabels particles instead of copying per-piece triangle lists.
 struct VolumeConstraint {
-    std::vector<std::array<uint32_t, 3>> triangles;  // the component's triangles, outward
-    // Derived from `triangles` by build_rings(): the component's vertices and, for each, the
-    // (j, k) corner pairs of its triangles in CSR form, so the gradient is gathered per vertex
-    // (g_i = sum of x_j x x_k) instead of scattered per triangle.
-    std::vector<uint32_t> vertices;
-    std::vector<uint32_t> ring_start;              // vertices.size() + 1 offsets into ring
-    std::vector<std::array<uint32_t, 2>> ring;     // (j, k) with (i, j, k) a triangle, in order
+    uint32_t piece = 0;
+    size_t triangle_count = 0;  // of its piece when it was made (a change that kept it keeps its target)
     // Boundary loops closed by virtual fans to their centroid, in the volume sum only, so the
-    // volume of an open component does not depend on where the origin is.
+    // volume of an open piece does not depend on where the origin is.
     std::vector<std::vector<uint32_t>> cap_loops;
     double rest_volume = 0.0;  // V0, measured at creation
     float pressure = 1.0f;     // k: target volume k * V0 (deflate < 1 < inflate)

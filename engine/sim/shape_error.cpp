@@ -43,12 +43,15 @@ ShapeReport shape_report(const SoftBody& body, size_t min_particles) {
         const double diag = std::max(box.diagonal().norm(), 1e-12);
         out.pieces.push_back({m.size(), std::sqrt(sum / double(m.size())) / diag, 0.0});
     }
-    // The volume constraint of each piece, found by its first corner.
+    // The volume constraint of each piece, found through the piece's first particle.
+    std::vector<uint32_t> piece_particle(body.pieces, 0);
+    for (uint32_t v = uint32_t(n); v-- > 0;)
+        if (body.piece_of_particle[v] < body.pieces) piece_particle[body.piece_of_particle[v]] = v;
     for (size_t k = 0; k < body.volumes.size(); ++k) {
         const VolumeConstraint& vc = body.volumes[k];
-        if (vc.triangles.empty() || !(vc.rest_volume > 0.0) || vc.leak > 0.0f) continue;  // opened: no volume to keep
+        if (vc.triangle_count == 0 || !(vc.rest_volume > 0.0) || vc.leak > 0.0f) continue;  // opened: no volume to keep
         const double err = std::abs(body.volume(k) / (vc.rest_volume * double(vc.pressure)) - 1.0);
-        PieceShape& piece = out.pieces[comp[vc.triangles.front()[0]]];
+        PieceShape& piece = out.pieces[comp[piece_particle[vc.piece]]];
         piece.volume_error = std::max(piece.volume_error, err);
     }
     std::stable_sort(out.pieces.begin(), out.pieces.end(), [](const PieceShape& a, const PieceShape& b) { return a.particles > b.particles; });

@@ -11,15 +11,35 @@
 
 namespace pbdsplat::sim {
 
+uint32_t label_pieces(std::span<const mesh::Triangle> triangles, size_t particle_count, std::vector<uint32_t>& piece_of_particle) {
+    std::vector<uint32_t> comp;
+    const uint32_t count = mesh::vertex_components(triangles, particle_count, comp);
+    piece_of_particle.assign(particle_count, k_no_piece);
+    for (size_t f = 0; f < triangles.size(); ++f)
+        for (uint32_t v : triangles[f]) piece_of_particle[v] = comp[f];
+    return count;
+}
+
 template <class Real>
 void rebuild_derived(SoftBodyT<Real>& b) {
-    b.distance_groups = make_distance_groups(b.distance, b.particle_count());
+    const size_t n = b.particle_count();
+    b.distance_groups = make_distance_groups(b.distance, n);
     b.distance_lambda.assign(b.distance.size(), Real(0));
-    b.rings = build_vertex_rings(b.triangles, b.particle_count());
-    std::vector<uint32_t> component;
-    b.pieces = mesh::vertex_components(b.triangles, b.particle_count(), component);
-    b.normals.resize(b.particle_count(), Vec3f(0.0f, 1.0f, 0.0f));
-    for (VolumeConstraint& v : b.volumes) build_rings(v);
+    b.rings = build_vertex_rings(b.triangles, n);
+    // A volume constraint follows its piece to the piece's new label, found through one of its
+    // particles (labels that do not fit the body are taken as already fresh).
+    std::vector<uint32_t> particle_of_volume(b.volumes.size(), UINT32_MAX);
+    if (b.piece_of_particle.size() == n) {
+        std::vector<uint32_t> first(b.pieces, UINT32_MAX);
+        for (uint32_t i = 0; i < n; ++i)
+            if (const uint32_t p = b.piece_of_particle[i]; p < first.size() && first[p] == UINT32_MAX) first[p] = i;
+        for (size_t k = 0; k < b.volumes.size(); ++k)
+            if (b.volumes[k].piece < first.size()) particle_of_volume[k] = first[b.volumes[k].piece];
+    }
+    b.pieces = label_pieces(b.triangles, n, b.piece_of_particle);
+    for (size_t k = 0; k < b.volumes.size(); ++k)
+        if (particle_of_volume[k] != UINT32_MAX) b.volumes[k].piece = b.piece_of_particle[particle_of_volume[k]];
+    b.normals.resize(n, Vec3f(0.0f, 1.0f, 0.0f));
     rebuild_shape_clusters(b);
 }
 
@@ -46,7 +66,7 @@ bool reserve_headroom(SoftBody& b, float fraction) {
         if (low(size, v.capacity())) v.reserve(room(size)), grew = true;
     };
     reserve(b.particles.x, n), reserve(b.particles.x_prev, n), reserve(b.particles.v, n), reserve(b.particles.w, n);
-    reserve(b.rest_positions, n), reserve(b.normals, n);
+    reserve(b.rest_positions, n), reserve(b.normals, n), reserve(b.piece_of_particle, n);
     if (!b.colors.empty()) reserve(b.colors, n);
     reserve(b.triangles, t);
     reserve(b.distance, e), reserve(b.distance_lambda, e);
@@ -75,6 +95,7 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     d.distance_groups = b.distance_groups;
     d.distance_lambda.assign(b.distance_lambda.size(), 0.0);
     d.volumes = b.volumes;
+    d.piece_of_particle = b.piece_of_particle;
     d.pieces = b.pieces;
     d.shape_matching = b.shape_matching;
     d.shapes = b.shapes;
@@ -123,19 +144,18 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
     }
 
 
+    b.pieces = label_pieces(b.triangles, n, b.piece_of_particle);
     if (desc.volume) {
-        std::vector<uint32_t> comp;
-        const uint32_t nc = mesh::triangle_components(m, comp);
-        b.volumes.resize(nc);
-        for (size_t f = 0; f < m.triangles.size(); ++f) b.volumes[comp[f]].triangles.push_back(m.triangles[f]);
-        std::vector<uint32_t> comp_of_vertex(n, UINT32_MAX);
-        for (size_t f = 0; f < m.triangles.size(); ++f)
-            for (uint32_t v : m.triangles[f]) comp_of_vertex[v] = comp[f];
-        for (auto& loop : mesh::boundary_loops(m)) b.volumes[comp_of_vertex[loop[0]]].cap_loops.push_back(std::move(loop));
-        for (VolumeConstraint& v : b.volumes) {
+        std::vector<size_t> triangle_count(b.pieces, 0);
+        for (const mesh::Triangle& t : b.triangles) ++triangle_count[b.piece_of_particle[t[0]]];
+        b.volumes.resize(b.pieces);
+        for (uint32_t c = 0; c < b.pieces; ++c) b.volumes[c].piece = c, b.volumes[c].triangle_count = triangle_count[c];
+        for (auto& loop : mesh::boundary_loops(m)) b.volumes[b.piece_of_particle[loop[0]]].cap_loops.push_back(std::move(loop));
+        for (size_t k = 0; k < b.volumes.size(); ++k) {
+            VolumeConstraint& v = b.volumes[k];
             v.pressure = desc.pressure;
             v.compliance = desc.volume_compliance;
-            v.rest_volume = constraint_volume<float>(v, b.particles.x);
+            v.rest_volume = b.volume(k);
         }
         // A flat or inside-out component has no volume to keep: it gets no constraint.
         std::erase_if(b.volumes, [](const VolumeConstraint& v) { return !(v.rest_volume > 0.0); });

@@ -39,8 +39,12 @@ struct SoftBodyT {
     std::vector<DistanceConstraint> distance;  // grouped by colour; may hold dead slots (see constraint_order.h)
     DistanceGroups distance_groups;            // colour c holds distance[start[c], start[c + 1])
     std::vector<Real> distance_lambda;  // XPBD multipliers, one per distance constraint
-    std::vector<VolumeConstraint> volumes;
-    size_t pieces = 0;  // connected components of `triangles` (kept by topology edits)
+    std::vector<VolumeConstraint> volumes;  // one per piece that holds air, naming its piece
+    // The connected piece (of `triangles`, through shared vertices) of every particle, ids
+    // 0 .. pieces - 1, k_no_piece for a particle in no triangle. Topology edits keep both: a
+    // split relabels the particles of the new pieces, and ids never change otherwise.
+    std::vector<uint32_t> piece_of_particle;
+    size_t pieces = 0;
     // Shape matching, one cluster per piece, rebuilt with the derived data (after every cut).
     bool shape_matching = false;
     std::vector<ShapeCluster> shapes;
@@ -48,8 +52,11 @@ struct SoftBodyT {
     std::vector<Vec3f> colors;          // per-particle colours from the mesh file; empty if none
 
     size_t particle_count() const { return particles.size(); }
-    // Current volume of a volume constraint (caps included).
-    double volume(size_t constraint) const { return constraint_volume<Real>(volumes[constraint], particles.x); }
+    // Current volume of a volume constraint (caps included), over the whole body's triangles.
+    double volume(size_t constraint) const {
+        const VolumeConstraint& c = volumes[constraint];
+        return (triangles_six_volume<Real>(triangles, piece_of_particle, c.piece, particles.x) + caps_six_volume<Real>(c.cap_loops, particles.x)) / 6.0;
+    }
     // Pins the particle (inverse mass 0); it then moves only if the scene moves it.
     void pin(uint32_t particle) { particles.w[particle] = Real(0); }
     // The particle with the largest (or smallest) `axis` coordinate; ties: lowest index.
@@ -63,14 +70,45 @@ struct SoftBodyT {
     }
 };
 using SoftBody = SoftBodyT<float>;
+constexpr uint32_t k_no_piece = UINT32_MAX;
+
+// The slots of one volume pass: the constraints that project now (not those done leaking), in
+// their order, and the slot of each piece.
+struct VolumeSlots {
+    std::vector<uint32_t> slot_of_piece;
+    std::vector<VolumeConstraint*> constraints;
+};
+template <class Real>
+VolumeLayout volume_layout(SoftBodyT<Real>& b, VolumeSlots& slots) {
+    slots.slot_of_piece.assign(b.pieces, k_no_volume);
+    slots.constraints.clear();
+    for (VolumeConstraint& v : b.volumes) {
+        if (v.leaking_done() || v.piece >= b.pieces) continue;  // open and at ambient pressure: the shell alone holds it
+        slots.slot_of_piece[v.piece] = uint32_t(slots.constraints.size());
+        slots.constraints.push_back(&v);
+    }
+    return {&b.rings.ring, b.piece_of_particle, slots.slot_of_piece, slots.constraints.size()};
+}
+// Projects every volume constraint once, in one thread (the solver's stage runs the same phases
+// on its threads).
+template <class Real>
+void solve_volumes(SoftBodyT<Real>& b, Vec4ArrayT<Real>& scratch, bool xpbd, Real stiffness, Real inv_h2) {
+    VolumeSlots slots;
+    const VolumeLayout l = volume_layout(b, slots);
+    solve_volumes<Real>(slots.constraints, l, b.particles, scratch, xpbd, stiffness, inv_h2);
+}
+
+// The pieces of `triangles` (connected through shared vertices), one label per particle
+// (k_no_piece for a particle in no triangle); returns their count.
+uint32_t label_pieces(std::span<const mesh::Triangle> triangles, size_t particle_count, std::vector<uint32_t>& piece_of_particle);
 
 // Builds the body. `mesh` must be repaired (manifold with boundary, outward); the mesh's vertex
 // order may change (reorder), so the body's particles are the reference afterwards.
 core::Result<SoftBody> make_soft_body(mesh::TriangleMesh mesh, const SoftBodyDesc& desc);
 
 // Recomputes what the solver derives from the body's lists: the colour grouping of the distance
-// constraints, the vertex rings of the triangles and of each volume constraint, the XPBD
-// multipliers. Call it after changing particles, triangles or constraints by hand.
+// constraints, the vertex rings of the triangles, the pieces (volume constraints follow their
+// piece's new label), the XPBD multipliers. Call it after changing particles, triangles or constraints by hand.
 template <class Real>
 void rebuild_derived(SoftBodyT<Real>& body);
 

@@ -94,19 +94,25 @@ void SolverT<Real>::project_volume(SoftBodyT<Real>& body, const SolverSettings& 
     const bool xpbd = s.mode == SolverMode::xpbd;
     const Real k = Real(per_iteration(s.volume_stiffness, s.iterations * s.substeps));
     const Real inv_h2 = Real(1) / (h * h);
-    for (VolumeConstraint& v : body.volumes) {
-        if (v.leaking_done()) continue;  // open and at ambient pressure: the shell alone holds it
-        const size_t blocks = volume_blocks(v);
-        sums_.assign(blocks, VolumeSums{});
-        for_range(blocks, 2, [&](size_t b, size_t e) {
-            for (size_t q = b; q < e; ++q) sums_[q] = volume_gather<Real>(v, p, scratch_, q);
-        });
-        volume_caps<Real>(v, p, scratch_, sums_);
-        const Real step = volume_step<Real>(v, sums_, xpbd, k, Real(v.compliance) * inv_h2);
-        for_range(blocks, 2, [&](size_t b, size_t e) {
-            for (size_t q = b; q < e; ++q) volume_apply<Real>(v, p, scratch_, step, q);
-        });
+    const VolumeLayout l = volume_layout(body, slots_);
+    const size_t slots = l.slots, blocks = volume_blocks(p.size());
+    if (slots == 0) return;
+    sums_.resize(blocks * slots);
+    for_range(blocks, 2, [&](size_t b, size_t e) {
+        for (size_t q = b; q < e; ++q) volume_gather<Real>(l, p, scratch_, q, std::span(sums_).subspan(q * slots, slots));
+    });
+    steps_.resize(slots);
+    for (size_t slot = 0; slot < slots; ++slot) {
+        VolumeConstraint& v = *slots_.constraints[slot];
+        VolumeSums total, caps;
+        for (size_t q = 0; q < blocks; ++q) total.eighteen_v += sums_[q * slots + slot].eighteen_v, total.denom += sums_[q * slots + slot].denom;
+        volume_caps<Real>(v, p, scratch_, caps);
+        total.eighteen_v += caps.eighteen_v, total.denom += caps.denom;
+        steps_[slot] = volume_step<Real>(v, total, xpbd, k, Real(v.compliance) * inv_h2);
     }
+    for_range(blocks, 2, [&](size_t b, size_t e) {
+        for (size_t q = b; q < e; ++q) volume_apply<Real>(l, p, scratch_, steps_, q);
+    });
 }
 
 template <class Real>

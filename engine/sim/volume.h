@@ -1,52 +1,72 @@
 #pragma once
-// The global volume (overpressure) constraint, paper eqs. 7 and 9.
+// The global volume (overpressure) constraints, paper eqs. 7 and 9.
 //
-// One projection runs in phases so threads can share it: gather the gradient per vertex (in
-// fixed blocks of vertices, each with its partial sums), add the virtual caps, reduce the
-// sums block by block in order, then move every vertex. Fixed blocks make the result the same
-// for any thread count.
+// All of a body's volume constraints project in one pass, in phases threads can share: gather
+// the gradient per particle in fixed blocks of particles (each block with its partial sums per
+// constraint), add the virtual caps, reduce the sums block by block in order, then move every
+// particle. Pieces share no particle, so projecting them together is projecting them one after
+// another; fixed blocks make the result the same for any thread count.
+#include <array>
 #include <cstddef>
+#include <span>
 #include <vector>
 
+#include "mesh/triangle_mesh.h"
 #include "sim/constraints.h"
 #include "sim/particles.h"
+#include "sim/slack_lists.h"
 
 namespace pbdsplat::sim {
 
-constexpr size_t k_volume_block = 1024;  // vertices per partial sum
+constexpr size_t k_volume_block = 1024;  // particles per partial sum
+constexpr uint32_t k_no_volume = UINT32_MAX;
 
-// Rebuilds the per-vertex rings from the triangles; call after any change to them.
-void build_rings(VolumeConstraint& c);
-
-// Volume by the divergence theorem, caps included, in double precision.
-template <class Real>
-double constraint_volume(const VolumeConstraint& c, const Vec4ArrayT<Real>& x);
+// What the volume pass reads besides the particles: the body's vertex rings and which
+// constraint (slot) projects each piece.
+struct VolumeLayout {
+    const SlackLists<std::array<uint32_t, 2>>* ring = nullptr;  // (j, k) of each triangle (i, j, k) at i
+    std::span<const uint32_t> piece_of_particle;
+    std::span<const uint32_t> slot_of_piece;  // k_no_volume: the piece is not projected
+    size_t slots = 0;
+    uint32_t slot_of(uint32_t i) const {
+        const uint32_t p = piece_of_particle[i];
+        return p < slot_of_piece.size() ? slot_of_piece[p] : k_no_volume;
+    }
+};
 
 struct VolumeSums {
     double eighteen_v = 0.0;  // sum of x_i . g_i = 18 V (Euler, V homogeneous of degree 3)
     double denom = 0.0;       // sum of w_i |g_i|^2, g = gradient of 6V
 };
 
-size_t volume_blocks(const VolumeConstraint& c);
-// Gradient of 6V at the vertices of block `b` into grad; their sums unless the constraint has
-// caps (then the sums wait for volume_caps).
+// 6V of the triangles labelled `piece` (their first corner's label), in double precision.
 template <class Real>
-VolumeSums volume_gather(const VolumeConstraint& c, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, size_t b);
-// Adds the virtual caps' terms (serial: they are few) and returns the block sums to use.
+double triangles_six_volume(std::span<const mesh::Triangle> triangles, std::span<const uint32_t> piece_of_particle, uint32_t piece,
+                            const Vec4ArrayT<Real>& x);
+// 6V of the virtual fans closing `loops` at their centroids.
 template <class Real>
-void volume_caps(const VolumeConstraint& c, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad,
-                 std::vector<VolumeSums>& block_sums);
+double caps_six_volume(const std::vector<std::vector<uint32_t>>& loops, const Vec4ArrayT<Real>& x);
+
+size_t volume_blocks(size_t particles);
+// Gradient of 6V at the particles of block `b` that a slot projects, into grad; their partial
+// sums per slot into `sums` (one entry per slot, cleared first).
+template <class Real>
+void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, size_t b, std::span<VolumeSums> sums);
+// Adds the virtual caps' terms of one constraint (serial: they are few) to grad, and to `sums`
+// what they change in that constraint's sums.
+template <class Real>
+void volume_caps(const VolumeConstraint& c, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, VolumeSums& sums);
 // The step size along the gradient; updates c.lambda in XPBD mode. 0 when nothing can move.
 template <class Real>
-Real volume_step(VolumeConstraint& c, const std::vector<VolumeSums>& block_sums, bool xpbd, Real stiffness,
-                 Real alpha_tilde);
-// x_i += step * w_i * g_i for the vertices of block b.
+Real volume_step(VolumeConstraint& c, const VolumeSums& total, bool xpbd, Real stiffness, Real alpha_tilde);
+// x_i += steps[slot] * w_i * g_i for the projected particles of block b.
 template <class Real>
-void volume_apply(const VolumeConstraint& c, ParticlesT<Real>& p, const Vec4ArrayT<Real>& grad, Real step, size_t b);
+void volume_apply(const VolumeLayout& l, ParticlesT<Real>& p, const Vec4ArrayT<Real>& grad, std::span<const Real> steps, size_t b);
 
-// All phases in one thread. `scratch` holds one gradient per particle.
+// All phases in one thread for the constraints `slot_constraints` (slot order). `scratch`
+// holds one gradient per particle.
 template <class Real>
-void solve_volume(VolumeConstraint& c, ParticlesT<Real>& p, Vec4ArrayT<Real>& scratch, bool xpbd, Real stiffness,
-                  Real alpha_tilde);
+void solve_volumes(std::span<VolumeConstraint* const> slot_constraints, const VolumeLayout& l, ParticlesT<Real>& p,
+                   Vec4ArrayT<Real>& scratch, bool xpbd, Real stiffness, Real inv_h2);
 
 } // namespace pbdsplat::sim

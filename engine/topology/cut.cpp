@@ -35,36 +35,66 @@ struct Sides {
     std::vector<uint32_t> on_cut;   // vertices with sign 0, ascending
 };
 
-float mean_rest_length(const sim::SoftBody& b) {
-    double sum = 0.0;
-    size_t n = 0;
-    for (const sim::DistanceConstraint& c : b.distance)
-        if (c.alive()) sum += double(c.rest), ++n;
-    return n ? float(sum / double(n)) : 0.0f;
+// Kept by the colour groups through every edit: a sum over the constraints would cost the body.
+float mean_rest_length(const sim::SoftBody& b) { return float(b.distance_groups.mean_rest()); }
+
+// The signed distances and the crossed triangles. A cut limited to a list of particles (a
+// tear's slit) looks at those, their neighbours and their triangles only; otherwise at all.
+void measure_sides(const sim::SoftBody& b, const CutSurface& s, Sides& out, std::vector<uint32_t>& looked_at) {
+    const size_t n = b.particle_count();
+    std::vector<float>& d = out.distance;
+    std::vector<int8_t>& sign = out.sign;
+    auto measure = [&](uint32_t v) {
+        d[v] = s.distance(sim::xyz(b.particles.x[v]));
+        sign[v] = d[v] < 0.0f ? int8_t(-1) : int8_t(1);
+    };
+    auto mixed = [&](const mesh::Triangle& f) {
+        const float d0 = d[f[0]], d1 = d[f[1]], d2 = d[f[2]];
+        return (d0 < 0.0f || d1 < 0.0f || d2 < 0.0f) && (d0 > 0.0f || d1 > 0.0f || d2 > 0.0f);
+    };
+    if (s.particles.empty()) {
+        d.resize(n);
+        sign.resize(n);
+        for (uint32_t v = 0; v < n; ++v) measure(v);
+        for (uint32_t t = 0; t < b.triangles.size(); ++t)
+            if (mixed(b.triangles[t])) out.crossed.push_back(t);
+        return;
+    }
+    d.assign(n, 1.0f);  // particles out of reach: on the positive side, never crossed
+    sign.assign(n, int8_t(1));
+    for (uint32_t v : s.particles) {
+        looked_at.push_back(v);
+        for (const auto& pair : b.rings.ring.of(v)) looked_at.insert(looked_at.end(), pair.begin(), pair.end());
+    }
+    std::sort(looked_at.begin(), looked_at.end());
+    looked_at.erase(std::unique(looked_at.begin(), looked_at.end()), looked_at.end());
+    for (uint32_t v : looked_at) measure(v);
+    for (uint32_t v : s.particles)
+        for (uint32_t t : b.rings.triangles.of(v))
+            if (mixed(b.triangles[t])) out.crossed.push_back(t);
+    std::sort(out.crossed.begin(), out.crossed.end());
+    out.crossed.erase(std::unique(out.crossed.begin(), out.crossed.end()), out.crossed.end());
 }
 
 Sides classify(const sim::SoftBody& b, const CutSurface& s, float snap, float reference) {
     const size_t n = b.particle_count();
     Sides out;
-    std::vector<float>& d = out.distance;
-    d.resize(n);
+    std::vector<uint32_t> looked_at;  // empty: all
+    measure_sides(b, s, out, looked_at);
+    const std::vector<float>& d = out.distance;
     std::vector<int8_t>& sign = out.sign;
-    sign.resize(n);
+    auto each_looked_at = [&](auto&& f) {
+        if (s.particles.empty())
+            for (uint32_t v = 0; v < n; ++v) f(v);
+        else
+            for (uint32_t v : looked_at) f(v);
+    };
     bool on_plane = false;
-    for (size_t v = 0; v < n; ++v) {
-        d[v] = s.distance(sim::xyz(b.particles.x[v]));
-        sign[v] = d[v] < 0.0f ? int8_t(-1) : int8_t(1);
-        on_plane = on_plane || d[v] == 0.0f;
-    }
+    each_looked_at([&](uint32_t v) { on_plane = on_plane || d[v] == 0.0f; });
     if (on_plane)
-        for (size_t v = 0; v < n; ++v)
-            if (d[v] == 0.0f && s.may_touch(uint32_t(v)) && s.reaches(sim::xyz(b.particles.x[v]))) sign[v] = 0;
-    for (uint32_t t = 0; t < b.triangles.size(); ++t) {
-        const mesh::Triangle& f = b.triangles[t];
-        const float d0 = d[f[0]], d1 = d[f[1]], d2 = d[f[2]];
-        const bool below = d0 < 0.0f || d1 < 0.0f || d2 < 0.0f, above = d0 > 0.0f || d1 > 0.0f || d2 > 0.0f;
-        if (below && above) out.crossed.push_back(t);
-    }
+        each_looked_at([&](uint32_t v) {
+            if (d[v] == 0.0f && s.may_touch(v) && s.reaches(sim::xyz(b.particles.x[v]))) sign[v] = 0;
+        });
     // Snap: a crossing near an end moves onto that vertex. Near means within `snap` of the edge,
     // or within `snap` mean edge lengths of rest distance, so repeated cuts through one region
     // cannot make ever smaller triangles. Decided from the unsnapped distances, so the result
@@ -112,8 +142,9 @@ Sides classify(const sim::SoftBody& b, const CutSurface& s, float snap, float re
     for (uint32_t v : on_cut) sign[v] = 0;
     if (on_plane) {
         on_cut.clear();
-        for (size_t v = 0; v < n; ++v)
-            if (sign[v] == 0) on_cut.push_back(uint32_t(v));
+        each_looked_at([&](uint32_t v) {
+            if (sign[v] == 0) on_cut.push_back(v);
+        });
     }
     std::sort(on_cut.begin(), on_cut.end());
     out.on_cut = std::move(on_cut);
@@ -216,14 +247,13 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
     lap("mass");
     e.update_distance_constraints();
     lap("distance constraints");
-    const VolumeOutcome volumes =
-        apply_volume_policy(b, o.volume, o.burst_leak, e.old_volume_of_triangles(), e.old_volumes, e.touched_volumes(), e.local_triangles());
+    const VolumeOutcome volumes = apply_volume_policy(b, o.volume, o.burst_leak, e.local_triangles());
     b.pieces = volumes.pieces;
     e.change.components_after = b.pieces;
     e.change.loops_fell_back = volumes.loops_fell_back;
+    e.change.particles_searched = volumes.particles_searched;
     lap("pieces and volumes");
     const core::Stopwatch rebuild;
-    for (uint32_t v : volumes.rebuilt) sim::build_rings(b.volumes[v]);
     sim::rebuild_shape_clusters(b);
     e.change.rebuild_ms = rebuild.elapsed_ms();
     lap("derived solver data");

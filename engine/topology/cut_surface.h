@@ -3,6 +3,7 @@
 // A screen-space stroke defines the plane through the eye holding the view rays of its two
 // ends, restricted to what projects inside the stroke; scripts may use a whole world plane.
 #include <cstdint>
+#include <algorithm>
 #include <functional>
 #include <vector>
 
@@ -17,14 +18,15 @@ struct CutSurface {
     // Which points of the plane the cut reaches; empty means all of it. Called with points of
     // the plane only (edge crossings, vertices lying on the plane).
     std::function<bool(const Vec3f&)> inside;
-    // Which particles the cut may touch (one flag per particle); empty means all. A tear opens
-    // a slit in the torn vertex's own neighbourhood: on a crumpled shell, other layers pass
-    // through the same ball in space, and a purely geometric reach would cut them all.
-    std::vector<uint8_t> particles;
+    // Which particles the cut may touch, ascending; empty means all. A tear opens a slit in the
+    // torn vertex's own neighbourhood: on a crumpled shell, other layers pass through the same
+    // ball in space, and a purely geometric reach would cut them all. A listed cut also costs
+    // only its list: the cut looks at nothing else of the body.
+    std::vector<uint32_t> particles;
 
     float distance(const Vec3f& x) const { return normal.dot(x - point); }
     bool reaches(const Vec3f& x) const { return !inside || inside(x); }
-    bool may_touch(uint32_t particle) const { return particles.empty() || (particle < particles.size() && particles[particle]); }
+    bool may_touch(uint32_t particle) const { return particles.empty() || std::binary_search(particles.begin(), particles.end(), particle); }
 };
 
 // A whole world plane through `point` with normal `normal` (need not be unit length).

@@ -24,11 +24,6 @@ float area_of(const std::vector<Vec3f>& p, const mesh::Triangle& t) {
 Edit::Edit(sim::SoftBody& body) : b_(body), n0_(body.particle_count()), t0_(body.triangles.size()) {
     change.particles_before = n0_;
     change.triangles_before = t0_;
-    for (const sim::VolumeConstraint& v : b_.volumes)
-        old_volumes.push_back({v.rest_volume, 0.0, v.pressure, v.compliance, v.leak, v.triangles.size(), v.cap_loops.size()});
-    old_volume_of_vertex_.assign(n0_, -1);
-    for (size_t k = 0; k < b_.volumes.size(); ++k)
-        for (uint32_t v : b_.volumes[k].vertices) old_volume_of_vertex_[v] = int32_t(k);
 }
 
 uint32_t Edit::point_on(uint32_t i, uint32_t j) const {
@@ -46,6 +41,7 @@ uint32_t Edit::new_particle(uint32_t from) {
     b_.rest_positions.push_back(b_.rest_positions[from]);
     if (!b_.colors.empty()) b_.colors.push_back(b_.colors[from]);
     b_.normals.push_back(from < b_.normals.size() ? b_.normals[from] : Vec3f::UnitY());
+    b_.piece_of_particle.push_back(b_.piece_of_particle[from]);  // until the volume policy finds the pieces
     origin_.push_back(origin(from));
     return v;
 }
@@ -309,26 +305,6 @@ void Edit::update_distance_constraints() {
     sim::replace_distance_constraints(b_.distance, b_.distance_groups, b_.distance_lambda, b_.particle_count(), removed_slots, added);
     change.constraints_removed = removed_slots.size();
     change.constraints_added = added.size();
-}
-
-std::vector<int32_t> Edit::old_volume_of_triangles() const {
-    std::vector<int32_t> out(b_.triangles.size(), -1);
-    for (size_t t = 0; t < out.size(); ++t) {
-        uint32_t o = origin(b_.triangles[t][0]);
-        if (is_edge_point(o)) o = points_[o - n0_].i;
-        out[t] = old_volume_of_vertex_[o];
-    }
-    return out;
-}
-
-std::vector<uint8_t> Edit::touched_volumes() const {
-    std::vector<uint8_t> touched(old_volumes.size(), 0);
-    for (uint32_t v : region_) {
-        uint32_t o = origin(v);
-        if (is_edge_point(o)) o = points_[o - n0_].i;
-        if (old_volume_of_vertex_[o] >= 0) touched[size_t(old_volume_of_vertex_[o])] = 1;
-    }
-    return touched;
 }
 
 void Edit::finish() {

@@ -12,11 +12,6 @@
 namespace pbdsplat::topology {
 
 // What the volume policy needs of a volume constraint from before the change.
-struct OldVolume {
-    double rest_volume = 0.0, now = 0.0;  // now: its volume just before the change (if touched)
-    float pressure = 1.0f, compliance = 0.0f, leak = 0.0f;
-    size_t triangles = 0, cap_loops = 0;
-};
 
 class Edit {
 public:
@@ -27,7 +22,6 @@ public:
     // The original vertices with sign 0 (the new edge points are on the cut too).
     std::vector<uint32_t> on_cut_vertices;
     TopologyChange change;
-    std::vector<OldVolume> old_volumes;
 
     // The new particle splitting edge (i, j), or UINT32_MAX.
     uint32_t point_on(uint32_t i, uint32_t j) const;
@@ -46,10 +40,6 @@ public:
     void redistribute_mass();
     // Constraints of touched edges re-made with the old definitions and the new indices.
     void update_distance_constraints();
-    // For each current triangle, the old volume constraint it belonged to (-1: none).
-    std::vector<int32_t> old_volume_of_triangles() const;
-    // Per old volume constraint: whether the edit reached its piece.
-    std::vector<uint8_t> touched_volumes() const;
     const std::vector<uint32_t>& local_triangles() const { return local_triangles_; }
     // Fills the counts and the touched-triangle list of `change`.
     void finish();
@@ -68,7 +58,6 @@ private:
     std::vector<uint32_t> origin_;                           // for particle n0_ + k: what it came from
     std::vector<uint32_t> local_triangles_;                  // children and triangles around duplicated vertices
     std::vector<uint32_t> region_;                           // their corners
-    std::vector<int32_t> old_volume_of_vertex_;
 
     // An old distance constraint about to be re-made: its slot and definition, by edge key.
     struct Definition {

@@ -31,21 +31,15 @@ core::Status check_particles(const sim::SoftBody& b) {
 }
 // Every volume constraint over live particles of a single component, with a positive target.
 core::Status check_volumes(const sim::SoftBody& b) {
-    const size_t n = b.particle_count();
-    std::vector<uint32_t> comp;
-    mesh::vertex_components(b.triangles, n, comp);
-    std::vector<uint32_t> comp_of_vertex(n, UINT32_MAX);
-    for (size_t f = 0; f < b.triangles.size(); ++f)
-        for (uint32_t v : b.triangles[f]) comp_of_vertex[v] = comp[f];
     for (size_t k = 0; k < b.volumes.size(); ++k) {
         const auto& vol = b.volumes[k];
-        uint32_t c0 = UINT32_MAX;
-        for (const auto& t : vol.triangles)
-            for (uint32_t i : t) {
-                if (i >= n || comp_of_vertex[i] == UINT32_MAX) return broken("a volume constraint refers to a missing particle");
-                if (c0 == UINT32_MAX) c0 = comp_of_vertex[i];
-                if (comp_of_vertex[i] != c0) return broken("volume constraint " + std::to_string(k) + " spans two components");
-            }
+        if (vol.piece >= b.pieces) return broken("volume constraint " + std::to_string(k) + " names a piece the body does not have");
+        for (size_t j = 0; j < k; ++j)
+            if (b.volumes[j].piece == vol.piece) return broken("two volume constraints keep piece " + std::to_string(vol.piece));
+        for (const auto& loop : vol.cap_loops)
+            for (uint32_t i : loop)
+                if (i >= b.particle_count() || b.piece_of_particle[i] != vol.piece)
+                    return broken("volume constraint " + std::to_string(k) + "'s cap loop leaves its piece");
         if (!(vol.rest_volume > 0.0) || !std::isfinite(vol.rest_volume)) return broken("a volume constraint has no positive rest volume");
     }
     return core::Status::success();
@@ -133,11 +127,22 @@ core::Status check_derived(const sim::SoftBody& b) {
         return broken("the vertex rings differ from a full build");
     if (!sim::distance_groups_valid(b.distance, b.distance_groups, n)) return broken("the distance colour groups are not valid");
     if (b.distance_lambda.size() != b.distance.size()) return broken("the XPBD multipliers do not match the constraints");
-    std::vector<uint32_t> comp;
-    if (mesh::vertex_components(b.triangles, n, comp) != b.pieces) return broken("the piece count differs from a component count");
-    std::vector<uint32_t> comp_of_vertex(n, UINT32_MAX);
-    for (size_t f = 0; f < b.triangles.size(); ++f)
-        for (uint32_t v : b.triangles[f]) comp_of_vertex[v] = comp[f];
+    // The piece labels: one per component, whatever the numbering.
+    std::vector<uint32_t> fresh_label;
+    if (sim::label_pieces(b.triangles, n, fresh_label) != b.pieces) return broken("the piece count differs from a component count");
+    if (b.piece_of_particle.size() != n) return broken("the piece labels do not cover the particles");
+    std::vector<uint32_t> kept_of_fresh(b.pieces, UINT32_MAX), fresh_of_kept(b.pieces, UINT32_MAX);
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t f = fresh_label[i], k = b.piece_of_particle[i];
+        if (f == sim::k_no_piece || k >= b.pieces) {
+            if (f != k) return broken("particle " + std::to_string(i) + "'s piece label differs from a fresh labelling");
+            continue;
+        }
+        if (kept_of_fresh[f] == UINT32_MAX) kept_of_fresh[f] = k;
+        if (fresh_of_kept[k] == UINT32_MAX) fresh_of_kept[k] = f;
+        if (kept_of_fresh[f] != k || fresh_of_kept[k] != f)
+            return broken("particle " + std::to_string(i) + "'s piece label differs from a fresh labelling");
+    }
     // Loops compared as cycles (each turned to start at its lowest vertex), direction included:
     // a reversed cap adds the volume it should remove.
     auto canonical = [](std::vector<uint32_t> loop) {
@@ -145,23 +150,18 @@ core::Status check_derived(const sim::SoftBody& b) {
         return loop;
     };
     std::vector<std::vector<std::vector<uint32_t>>> loops_of_piece(b.pieces);
-    for (const auto& loop : mesh::boundary_loops(b.triangles, n)) loops_of_piece[comp_of_vertex[loop[0]]].push_back(canonical(loop));
+    for (const auto& loop : mesh::boundary_loops(b.triangles, n)) loops_of_piece[b.piece_of_particle[loop[0]]].push_back(canonical(loop));
     for (auto& loops : loops_of_piece) std::sort(loops.begin(), loops.end());
+    std::vector<size_t> triangles_of_piece(b.pieces, 0);
+    for (const auto& t : b.triangles) ++triangles_of_piece[b.piece_of_particle[t[0]]];
     for (size_t k = 0; k < b.volumes.size(); ++k) {
-        sim::VolumeConstraint copy = b.volumes[k];
-        sim::build_rings(copy);
-        if (copy.vertices != b.volumes[k].vertices || copy.ring_start != b.volumes[k].ring_start || copy.ring != b.volumes[k].ring)
-            return broken("volume constraint " + std::to_string(k) + "'s rings differ from a fresh build");
-        if (b.volumes[k].triangles.empty()) return broken("volume constraint " + std::to_string(k) + " has no triangles");
-        const uint32_t piece = comp_of_vertex[b.volumes[k].triangles.front()[0]];
-        size_t piece_triangles = 0;
-        for (uint32_t c : comp) piece_triangles += c == piece;
-        if (piece_triangles != b.volumes[k].triangles.size())
-            return broken("volume constraint " + std::to_string(k) + " does not hold its whole piece");
+        const sim::VolumeConstraint& v = b.volumes[k];
+        if (triangles_of_piece[v.piece] != v.triangle_count)
+            return broken("volume constraint " + std::to_string(k) + "'s triangle count differs from its piece's");
         std::vector<std::vector<uint32_t>> caps;
-        for (const auto& loop : b.volumes[k].cap_loops) caps.push_back(canonical(loop));
+        for (const auto& loop : v.cap_loops) caps.push_back(canonical(loop));
         std::sort(caps.begin(), caps.end());
-        if (caps != loops_of_piece[piece])
+        if (caps != loops_of_piece[v.piece])
             return broken("volume constraint " + std::to_string(k) + "'s cap loops differ from its piece's boundary loops");
     }
     return core::Status::success();

@@ -47,17 +47,18 @@ bool splits_ring(const sim::SoftBody& b, uint32_t v, const Vec3f& normal, float&
         }
     return pos && neg;
 }
-// Flags the particles within `rings` triangle rings of v.
-std::vector<uint8_t> neighbourhood(const sim::SoftBody& b, uint32_t v, int rings) {
-    std::vector<uint8_t> in(b.particle_count(), 0);
-    std::vector<uint32_t> front{v}, next;
-    in[v] = 1;
+// The particles within `rings` triangle rings of v, ascending.
+std::vector<uint32_t> neighbourhood(const sim::SoftBody& b, uint32_t v, int rings) {
+    std::vector<uint32_t> in{v}, front{v}, next;
     for (int r = 0; r < rings; ++r) {
         next.clear();
         for (uint32_t u : front)
-            for (const auto& pair : b.rings.ring.of(u))
-                for (uint32_t w : pair)
-                    if (!in[w]) in[w] = 1, next.push_back(w);
+            for (const auto& pair : b.rings.ring.of(u)) next.insert(next.end(), pair.begin(), pair.end());
+        std::sort(next.begin(), next.end());
+        next.erase(std::unique(next.begin(), next.end()), next.end());
+        std::erase_if(next, [&](uint32_t w) { return std::binary_search(in.begin(), in.end(), w); });
+        in.insert(in.end(), next.begin(), next.end());
+        std::sort(in.begin(), in.end());
         front.swap(next);
     }
     return in;

@@ -19,6 +19,7 @@ struct TopologyChange {
     size_t constraints_removed = 0, constraints_added = 0;  // distance constraints re-made
     bool headroom_grown = false;    // the body's arrays were moved to make room (amortised)
     bool loops_fell_back = false;   // the boundary loops were counted over whole pieces (a local trace failed)
+    size_t particles_searched = 0;  // by the search for the parts of the pieces the change reached
     // Children of every re-triangulated triangle; triangles not listed kept their index.
     std::vector<mesh::TriangleSplit> splits;
     // Triangles whose corners or shape changed (children and re-pointed ones), new indices.

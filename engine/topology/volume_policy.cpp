@@ -1,29 +1,32 @@
 #include "topology/volume_policy.h"
 
+#include <algorithm>
 #include <cmath>
-
 
 #include "mesh/topology.h"
 #include "sim/volume.h"
+#include "topology/piece_split.h"
 
 namespace pbdsplat::topology {
 
 namespace {
-// A piece too thin or too small to hold air: a flake torn off a shell, a sliver of a few
+Vec3d at(const sim::SoftBody& b, uint32_t i) { return b.particles.x[i].head<3>().cast<double>(); }
+
+// A part too thin or too small to hold air: a flake torn off a shell, a sliver of a few
 // triangles. Its capped volume is nearly zero against its area, so a volume constraint on it
 // has a tiny gradient and a projection step of C / |grad|^2 that flings its particles away: it
 // gets none and moves as cloth. A sphere scores V / A^1.5 = 0.094, a shallow dome of height
-// 0.05 r about 0.014.
-bool holds_air(const sim::VolumeConstraint& v, double volume, const sim::Vec4Array& x) {
-    if (v.triangles.size() < 12) return false;
+// 0.05 r about 0.014. The bound on the area settles most parts without a square root each.
+bool holds_air(const sim::SoftBody& b, const Part& part, double volume) {
+    if (part.triangles < 12) return false;
+    if (std::abs(volume) >= 0.01 * std::pow(part.area_bound, 1.5)) return true;
     double area = 0.0;
-    for (const auto& t : v.triangles)
-        area += 0.5 * double((x[t[1]] - x[t[0]]).head<3>().cross((x[t[2]] - x[t[0]]).head<3>()).norm());
+    for (uint32_t v : part.particles)
+        for (uint32_t f : b.rings.triangles.of(v))
+            if (const mesh::Triangle& t = b.triangles[f]; t[0] == v) area += 0.5 * (at(b, t[1]) - at(b, t[0])).cross(at(b, t[2]) - at(b, t[0])).norm();
     return area > 0.0 && std::abs(volume) / std::pow(area, 1.5) >= 0.01;
 }
-} // namespace
 
-namespace {
 // Edge (a, b) of triangle t is on the boundary when no other triangle has both ends.
 bool on_boundary(const sim::SoftBody& body, uint32_t t, uint32_t a, uint32_t b) {
     for (uint32_t f : body.rings.triangles.of(a))
@@ -80,38 +83,10 @@ bool trace_loops(const sim::SoftBody& body, std::span<const uint32_t> touched_tr
     }
     return true;
 }
-// The cap loops of the remade pieces: loops of the touched constraints that kept clear of the
-// edit stay as they were, the rest are traced locally. Returns false where the trace fell
-// back to counting the loops over the remade pieces.
-bool cap_remade_pieces(const sim::SoftBody& b, std::span<const uint32_t> comp, std::span<const uint8_t> remake,
-                       std::span<const OldVolume> old, std::span<const uint8_t> touched, std::span<const uint32_t> touched_triangles,
-                       std::span<const mesh::Triangle> remade_triangles, std::vector<sim::VolumeConstraint>& pieces) {
-    std::vector<uint32_t> comp_of_vertex(b.particle_count(), UINT32_MAX);
-    for (size_t t = 0; t < b.triangles.size(); ++t)
-        if (remake[comp[t]])
-            for (uint32_t v : b.triangles[t]) comp_of_vertex[v] = comp[t];
-    std::vector<uint8_t> in_region(b.particle_count(), 0);
-    for (uint32_t f : touched_triangles)
-        for (uint32_t v : b.triangles[f]) in_region[v] = 1;
-    std::vector<std::vector<uint32_t>> loops;
-    std::vector<const std::vector<uint32_t>*> retrace;
-    for (size_t k = 0; k < old.size(); ++k) {
-        if (!touched[k]) continue;
-        for (const std::vector<uint32_t>& loop : b.volumes[k].cap_loops) {
-            const bool reached = std::any_of(loop.begin(), loop.end(), [&](uint32_t v) { return in_region[v] != 0; });
-            if (reached) retrace.push_back(&loop);
-            else loops.push_back(loop);
-        }
-    }
-    const bool traced = trace_loops(b, touched_triangles, retrace, loops);
-    if (!traced) loops = mesh::boundary_loops(remade_triangles, b.particle_count());
-    for (auto& loop : loops)
-        if (comp_of_vertex[loop[0]] != UINT32_MAX) pieces[comp_of_vertex[loop[0]]].cap_loops.push_back(std::move(loop));
-    return traced;
-}
-
-// A remade piece's target volume by the policy, from its parent's.
-void set_target(sim::VolumeConstraint& v, const OldVolume& parent, bool unchanged, double now, VolumePolicy policy, float leak) {
+// A part's target volume by the policy, from its parent's (`parent_now`: the parent's volume
+// just before the change).
+void set_target(sim::VolumeConstraint& v, const sim::VolumeConstraint& parent, bool unchanged, double now, double parent_now,
+                VolumePolicy policy, float leak) {
     v.pressure = parent.pressure;
     v.compliance = parent.compliance;
     v.leak = parent.leak;
@@ -120,59 +95,87 @@ void set_target(sim::VolumeConstraint& v, const OldVolume& parent, bool unchange
     } else if (policy == VolumePolicy::rebase) {
         v.rest_volume = now / double(v.pressure);  // the target is the volume it has now
     } else {
-        v.rest_volume = parent.now > 0.0 ? parent.rest_volume * now / parent.now : 0.0;
+        v.rest_volume = parent_now > 0.0 ? parent.rest_volume * now / parent_now : 0.0;
         // Opened: the pressure escapes through the opening, over a few frames.
         if (policy == VolumePolicy::burst && !v.cap_loops.empty()) v.leak = std::max(v.leak, leak);
     }
 }
+
+// The cap loops of the parts of reached pieces that had a volume constraint: the parent's
+// loops that kept clear of the edit stay as they were, the rest are traced locally. Returns
+// false where the trace fell back to counting the loops over those parts' triangles.
+bool cap_parts(const sim::SoftBody& b, std::span<const uint32_t> seeds, std::span<const uint32_t> touched_triangles,
+               std::span<const sim::VolumeConstraint* const> parents, std::vector<std::vector<Part>>& parts_of) {
+    std::vector<std::vector<uint32_t>> loops;
+    std::vector<const std::vector<uint32_t>*> retrace;
+    for (const sim::VolumeConstraint* parent : parents) {
+        if (!parent) continue;
+        for (const std::vector<uint32_t>& loop : parent->cap_loops) {
+            const bool reached = std::any_of(loop.begin(), loop.end(), [&](uint32_t v) { return std::binary_search(seeds.begin(), seeds.end(), v); });
+            if (reached) retrace.push_back(&loop);
+            else loops.push_back(loop);
+        }
+    }
+    std::vector<Part*> part_of_label(b.pieces, nullptr);
+    for (size_t r = 0; r < parts_of.size(); ++r)
+        if (parents[r])
+            for (Part& part : parts_of[r]) part_of_label[part.label] = &part;
+    const bool traced = trace_loops(b, touched_triangles, retrace, loops);
+    if (!traced) {
+        std::vector<mesh::Triangle> triangles;
+        for (const mesh::Triangle& t : b.triangles)
+            if (part_of_label[b.piece_of_particle[t[0]]]) triangles.push_back(t);
+        loops = mesh::boundary_loops(triangles, b.particle_count());
+    }
+    for (auto& loop : loops)
+        if (Part* part = part_of_label[b.piece_of_particle[loop[0]]]) part->loops.push_back(std::move(loop));
+    return traced;
+}
 } // namespace
 
-VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float leak, std::span<const int32_t> old_of_triangle,
-                                  std::span<OldVolume> old, std::span<const uint8_t> touched, std::span<const uint32_t> touched_triangles) {
+VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float leak, std::span<const uint32_t> touched_triangles) {
     VolumeOutcome result;
-    std::vector<uint32_t>& rebuilt = result.rebuilt;
-    std::vector<uint32_t> comp;
-    const uint32_t nc = mesh::vertex_components(b.triangles, b.particle_count(), comp);
-    result.pieces = nc;
-    if (old.empty()) return result;
-    std::vector<int32_t> from(nc, -1);
-    for (size_t t = 0; t < b.triangles.size(); ++t)
-        if (from[comp[t]] < 0) from[comp[t]] = old_of_triangle[t];
-    // The volume of each touched constraint just before the change: its triangles still name
-    // the old corners, whose positions did not move.
-    for (size_t k = 0; k < old.size(); ++k)
-        if (touched[k]) old[k].now = sim::constraint_volume<float>(b.volumes[k], b.particles.x);
-    std::vector<sim::VolumeConstraint> pieces(nc);
-    std::vector<uint8_t> remake(nc, 0);
-    std::vector<mesh::Triangle> remade_triangles;  // of all remade pieces, for their boundary loops
-    for (uint32_t c = 0; c < nc; ++c) remake[c] = from[c] >= 0 && touched[size_t(from[c])];
-    for (size_t t = 0; t < b.triangles.size(); ++t)
-        if (remake[comp[t]]) pieces[comp[t]].triangles.push_back(b.triangles[t]), remade_triangles.push_back(b.triangles[t]);
-    if (!remade_triangles.empty())
-        result.loops_fell_back = !cap_remade_pieces(b, comp, remake, old, touched, touched_triangles, remade_triangles, pieces);
+    std::vector<uint32_t> seeds, reached;
+    for (uint32_t f : touched_triangles) seeds.insert(seeds.end(), b.triangles[f].begin(), b.triangles[f].end());
+    std::sort(seeds.begin(), seeds.end());
+    seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+    for (uint32_t v : seeds) reached.push_back(b.piece_of_particle[v]);
+    std::sort(reached.begin(), reached.end());
+    reached.erase(std::unique(reached.begin(), reached.end()), reached.end());
+    std::vector<const sim::VolumeConstraint*> parents(reached.size(), nullptr);
+    for (const sim::VolumeConstraint& v : b.volumes)
+        if (auto it = std::lower_bound(reached.begin(), reached.end(), v.piece); it != reached.end() && *it == v.piece)
+            parents[size_t(it - reached.begin())] = &v;
 
-    std::vector<double> now(nc, 0.0);
-    std::vector<uint32_t> pieces_of_old(old.size(), 0);
-    for (uint32_t c = 0; c < nc; ++c) {
-        if (from[c] < 0) continue;
-        if (remake[c]) now[c] = sim::constraint_volume<float>(pieces[c], b.particles.x);
-        ++pieces_of_old[size_t(from[c])];
-    }
+    SplitSearch search = split_pieces(b, reached, seeds);
+    std::vector<std::vector<Part>>& parts_of = search.parts_of;
+    result.particles_searched = search.searched;
+    result.pieces = b.pieces;
+    if (std::none_of(parents.begin(), parents.end(), [](const auto* p) { return p != nullptr; })) return result;
+    result.loops_fell_back = !cap_parts(b, seeds, touched_triangles, parents, parts_of);
+
     std::vector<sim::VolumeConstraint> out;
-    for (uint32_t c = 0; c < nc; ++c) {
-        if (from[c] < 0) continue;
-        if (!remake[c]) {  // a piece the change did not reach keeps its constraint as it was
-            out.push_back(std::move(b.volumes[size_t(from[c])]));
+    for (sim::VolumeConstraint& c : b.volumes) {
+        const auto it = std::lower_bound(reached.begin(), reached.end(), c.piece);
+        if (it == reached.end() || *it != c.piece) {  // a piece the change did not reach keeps its constraint as it was
+            out.push_back(std::move(c));
             continue;
         }
-        const OldVolume& parent = old[size_t(from[c])];
-        sim::VolumeConstraint& v = pieces[c];
-        const bool unchanged = pieces_of_old[size_t(from[c])] == 1 && v.triangles.size() == parent.triangles &&
-                               v.cap_loops.size() == parent.cap_loops;
-        set_target(v, parent, unchanged, now[c], policy, leak);
-        if (v.rest_volume > 0.0 && (unchanged || holds_air(v, now[c], b.particles.x))) {
-            rebuilt.push_back(uint32_t(out.size()));
-            out.push_back(std::move(v));
+        std::vector<Part>& parts = parts_of[size_t(it - reached.begin())];
+        // The parent's volume just before the change: the edit kept the surface where it was,
+        // so its parts' triangles sum to it; its old caps still close it.
+        double parent_now = sim::caps_six_volume<float>(c.cap_loops, b.particles.x);
+        for (const Part& part : parts) parent_now += part.six_v;
+        parent_now /= 6.0;
+        for (Part& part : parts) {
+            sim::VolumeConstraint v;
+            v.piece = part.label;
+            v.triangle_count = part.triangles;
+            v.cap_loops = std::move(part.loops);
+            const double now = (part.six_v + sim::caps_six_volume<float>(v.cap_loops, b.particles.x)) / 6.0;
+            const bool unchanged = parts.size() == 1 && part.triangles == c.triangle_count && v.cap_loops.size() == c.cap_loops.size();
+            set_target(v, c, unchanged, now, parent_now, policy, leak);
+            if (v.rest_volume > 0.0 && (unchanged || holds_air(b, part, now))) out.push_back(std::move(v));
         }
     }
     b.volumes = std::move(out);

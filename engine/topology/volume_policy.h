@@ -10,22 +10,22 @@
 
 namespace pbdsplat::topology {
 
-// `old_volume_of_triangle[t]`: the constraint (in `old_volumes`) triangle t's material belonged
-// to before the change, -1 for none.
-// Components whose triangles and boundary loops did not change keep their constraint as it was.
-// Under `cap` a piece keeps its parent's ratio of volume to target, so no piece jumps: with a
-// planar cut through a closed body the pieces' targets sum to the parent's.
-// `leak`: the rate at which a component opened under `burst` loses its overpressure (1/s).
-// Only the constraints in `touched` (by old index) are looked at: the others are kept as they
-// are (their pieces did not change). Their boundary loops are traced locally from
-// `touched_triangles` (the edit's) and from their old loops that the edit reached.
+// Every piece the edit reached (through `touched_triangles`) is searched along the body's rings
+// from the touched particles; where it fell apart, the largest part keeps its label and the
+// others get new ones (`SoftBody::piece_of_particle`). The search costs the reached pieces'
+// size, nothing else of the body; the pieces the edit did not reach keep their labels and
+// their volume constraints as they were.
+// A reached piece's volume constraint is remade for each part by the policy: under `cap` a part
+// keeps its parent's ratio of volume to target, so no piece jumps (with a planar cut through a
+// closed body the parts' targets sum to the parent's); a part that did not change keeps its
+// target. `leak`: the rate at which a part opened under `burst` loses its overpressure (1/s).
+// The parts' boundary loops are traced locally from `touched_triangles` and from the parent's
+// old loops that the edit reached.
 struct VolumeOutcome {
     size_t pieces = 0;              // connected components after
-    std::vector<uint32_t> rebuilt;  // constraints (new indices) whose derived rings must be made again
-    bool loops_fell_back = false;   // a local trace did not close: loops counted over the pieces
+    size_t particles_searched = 0;  // by the search for the parts of the reached pieces
+    bool loops_fell_back = false;   // a local trace did not close: loops counted over the parts
 };
-VolumeOutcome apply_volume_policy(sim::SoftBody& body, VolumePolicy policy, float leak, std::span<const int32_t> old_volume_of_triangle,
-                                  std::span<OldVolume> old_volumes, std::span<const uint8_t> touched,
-                                  std::span<const uint32_t> touched_triangles);
+VolumeOutcome apply_volume_policy(sim::SoftBody& body, VolumePolicy policy, float leak, std::span<const uint32_t> touched_triangles);
 
 } // namespace pbdsplat::topology

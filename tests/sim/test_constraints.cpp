@@ -65,13 +65,41 @@ TEST_SUITE("sim/constraints") {
         auto b = test::make_body(mesh::icosphere(3));
         for (auto& x : b.particles.x) x *= 0.9f;  // squeeze: 0.729 V0
         sim::Vec4Array scratch(b.particle_count(), Vec4f::Zero());
-        sim::solve_volume(b.volumes[0], b.particles, scratch, false, 1.0f, 0.0f);
+        sim::solve_volumes(b, scratch, false, 1.0f, 0.0f);
         CHECK(b.volume(0) / b.volumes[0].rest_volume == doctest::Approx(1.0).epsilon(0.02));
-        for (int k = 0; k < 3; ++k) sim::solve_volume(b.volumes[0], b.particles, scratch, false, 1.0f, 0.0f);
+        for (int k = 0; k < 3; ++k) sim::solve_volumes(b, scratch, false, 1.0f, 0.0f);
         CHECK(b.volume(0) / b.volumes[0].rest_volume == doctest::Approx(1.0).epsilon(1e-5));
         // The pressure factor sets the target.
         b.volumes[0].pressure = 0.5f;
-        for (int k = 0; k < 4; ++k) sim::solve_volume(b.volumes[0], b.particles, scratch, false, 1.0f, 0.0f);
+        for (int k = 0; k < 4; ++k) sim::solve_volumes(b, scratch, false, 1.0f, 0.0f);
         CHECK(b.volume(0) / b.volumes[0].rest_volume == doctest::Approx(0.5).epsilon(1e-4));
+    }
+
+    TEST_CASE("the volume pass projects every piece at once, as if one after another") {
+        // Two spheres apart in one body, each with its own target: one pass over the particles
+        // serves both, and each piece's constraint moves only its own particles.
+        mesh::TriangleMesh two = mesh::icosphere(3);
+        const mesh::TriangleMesh other = mesh::icosphere(2);
+        const uint32_t offset = uint32_t(two.positions.size());
+        for (const Vec3f& p : other.positions) two.positions.push_back(0.5f * p + Vec3f(4, 0, 0));
+        for (const auto& t : other.triangles) two.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+        auto b = test::make_body(two);
+        REQUIRE(b.pieces == 2);
+        REQUIRE(b.volumes.size() == 2);
+        CHECK(b.volumes[0].piece != b.volumes[1].piece);
+        b.volumes[0].pressure = 0.7f;
+        b.volumes[1].pressure = 1.3f;
+        const sim::Vec4Array before = b.particles.x;
+        sim::Vec4Array scratch(b.particle_count(), Vec4f::Zero());
+        for (int k = 0; k < 6; ++k) sim::solve_volumes(b, scratch, false, 1.0f, 0.0f);
+        CHECK(b.volume(0) / b.volumes[0].rest_volume == doctest::Approx(0.7).epsilon(1e-4));
+        CHECK(b.volume(1) / b.volumes[1].rest_volume == doctest::Approx(1.3).epsilon(1e-4));
+        // A piece that is done leaking is left out: its particles do not move.
+        b.particles.x = before;
+        b.volumes[1].pressure = 1.01f;
+        b.volumes[1].leak = 1.0f;
+        sim::solve_volumes(b, scratch, false, 1.0f, 0.0f);
+        for (size_t i = 0; i < b.particle_count(); ++i)
+            if (b.piece_of_particle[i] == b.volumes[1].piece) REQUIRE(b.particles.x[i] == before[i]);
     }
 }

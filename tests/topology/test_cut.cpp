@@ -141,6 +141,10 @@ TEST_SUITE("topology/cut") {
         CHECK(counts.boundary_loops == 1);
         REQUIRE(b.volumes.size() == 1);  // one capped volume over the slit
         CHECK(b.volumes[0].cap_loops.size() == 1);
+        // Nothing was split: the piece keeps its label, every particle (the copies too) in it.
+        CHECK(b.pieces == 1);
+        CHECK(b.volumes[0].piece == 0);
+        for (uint32_t p : b.piece_of_particle) REQUIRE(p == 0);
     }
 
     TEST_CASE("a cut that misses the body changes nothing") {

@@ -1,5 +1,7 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include <nlohmann/json.hpp>
 
@@ -76,6 +78,92 @@ core::Result<nlohmann::json> measure_cuts(const std::string& spec, uint32_t cuts
                           {"stage_a_ms_after", stage_a_ms(first_cut, int(frames))}};
 }
 
+// --sequence N: N random disc cuts one after another on one live body (the long stress suite's
+// run), a solver frame between cuts; the cost of the early cuts against the last ones.
+core::Result<nlohmann::json> measure_sequence(const std::string& spec, uint32_t count, const topology::CutOptions& options) {
+    auto repaired = mesh::load_mesh_spec(spec);
+    if (!repaired.ok()) return repaired.error();
+    auto made = sim::make_soft_body(repaired->mesh, {});
+    if (!made.ok()) return made.error();
+    sim::SoftBody b = std::move(made).value();
+    const size_t particles_before = b.particle_count();
+    sim::Solver solver;
+    sim::SolverSettings s;
+    s.gravity = Vec3f::Zero();
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    float size = 0.0f;
+    for (const Vec4f& x : b.particles.x) size = std::max(size, x.head<3>().norm());
+    std::vector<double> ms(count), crossed(count), searched(count);
+    std::vector<const char*> phase_names;
+    std::vector<std::vector<double>> phase_ms;
+    const core::Stopwatch total;
+    for (uint32_t k = 0; k < count; ++k) {
+        const Vec3f centre = sim::xyz(b.particles.x[uint32_t(std::abs(u(rng)) * float(b.particle_count() - 1))]);
+        Vec3f n(u(rng), u(rng), u(rng));
+        if (n.norm() < 0.1f) n = Vec3f::UnitY();
+        auto surface = topology::plane_cut(centre, n);
+        if (!surface.ok()) return surface.error();
+        const float r = size * (0.15f + 0.25f * std::abs(u(rng)));
+        surface->inside = [centre, r](const Vec3f& x) { return (x - centre).squaredNorm() < r * r; };
+        auto change = topology::cut(b, surface.value(), options);
+        if (!change.ok()) return change.error();
+        ms[k] = change->ms, crossed[k] = double(change->crossed_triangles), searched[k] = double(change->particles_searched);
+        for (const auto& phase : change->phases) {
+            auto it = std::find(phase_names.begin(), phase_names.end(), phase.name);
+            if (it == phase_names.end()) phase_names.push_back(phase.name), phase_ms.emplace_back(count, 0.0), it = phase_names.end() - 1;
+            phase_ms[size_t(it - phase_names.begin())][k] = phase.ms;
+        }
+        solver.step(b, 1.0f / 60.0f, s, {}, {});
+    }
+    // Windows of 20 cuts: around the 10th (cuts 1-20) and the last 20.
+    auto window = [&](const std::vector<double>& v, size_t first) {
+        std::vector<double> w(v.begin() + long(first), v.begin() + long(std::min(v.size(), first + 20)));
+        return core::median(w);
+    };
+    const size_t last = count > 20 ? count - 20 : 0;
+    nlohmann::json phases = nlohmann::json::array();
+    for (size_t p = 0; p < phase_names.size(); ++p)
+        phases.push_back({{"name", phase_names[p]}, {"first_median_ms", window(phase_ms[p], 0)}, {"last_median_ms", window(phase_ms[p], last)}});
+    return nlohmann::json{{"mesh", spec},
+                          {"phases", phases},
+                          {"cuts", count},
+                          {"particles_before", particles_before},
+                          {"particles_after", b.particle_count()},
+                          {"pieces_after", b.pieces},
+                          {"seconds", total.elapsed_ms() / 1000.0},
+                          {"first_median_ms", window(ms, 0)},
+                          {"last_median_ms", window(ms, last)},
+                          {"first_median_crossed", window(crossed, 0)},
+                          {"last_median_crossed", window(crossed, last)},
+                          {"first_median_searched", window(searched, 0)},
+                          {"last_median_searched", window(searched, last)},
+                          {"ring_compactions", b.rings.ring.compactions()},
+                          {"distance_regroupings", b.distance_groups.regroupings}};
+}
+
+int print_sequence(const std::string& spec, uint32_t count, const topology::CutOptions& options, bool json) {
+    auto m = measure_sequence(spec, count, options);
+    if (!m.ok()) return fail("bench cut", m.error().to_string());
+    const nlohmann::json& j = m.value();
+    if (json) {
+        std::printf("%s\n", nlohmann::json{{"suite", "cut"}, {"sequence", j}}.dump().c_str());
+        return 0;
+    }
+    std::printf("%s: %u random disc cuts on one body, a frame between cuts (%.1f s)\n", spec.c_str(), count, j["seconds"].get<double>());
+    std::printf("  particles %zu -> %zu, pieces %zu\n", j["particles_before"].get<size_t>(), j["particles_after"].get<size_t>(),
+                j["pieces_after"].get<size_t>());
+    std::printf("  %-14s %10s %10s %12s\n", "cuts", "median ms", "crossed", "searched");
+    std::printf("  %-14s %10.3f %10.0f %12.0f\n", "1-20", j["first_median_ms"].get<double>(), j["first_median_crossed"].get<double>(),
+                j["first_median_searched"].get<double>());
+    std::printf("  %-14s %10.3f %10.0f %12.0f\n", ("last 20"), j["last_median_ms"].get<double>(), j["last_median_crossed"].get<double>(),
+                j["last_median_searched"].get<double>());
+    for (const auto& p : j["phases"])
+        std::printf("    %-20s %10.3f %10.3f\n", p["name"].get<std::string>().c_str(), p["first_median_ms"].get<double>(), p["last_median_ms"].get<double>());
+    std::printf("  ring compactions %zu, colour regroupings %zu\n", j["ring_compactions"].get<size_t>(), j["distance_regroupings"].get<size_t>());
+    return 0;
+}
+
 // --levels A-B: the per-crossed-triangle cost of each icosphere level, and its ratio to the first.
 int print_levels(const std::string& range, uint32_t cuts, uint32_t frames, const topology::CutOptions& options, bool json) {
     unsigned lo = 0, hi = 0;
@@ -122,8 +210,11 @@ int bench_cut(const std::vector<std::string>& argv) {
         "  --frames F      Stage A frames timed before and after (default 30)\n"
         "  --levels A-B    instead of --mesh: icosphere levels A to B, a table of the cost per crossed\n"
         "                  triangle at each and its ratio to level A's (how the cut scales)\n"
+        "  --sequence N    instead: N random disc cuts one after another on one body (default mesh\n"
+        "                  icosphere:4), a frame between cuts; the median cost of cuts 1-20 and of\n"
+        "                  the last 20 (does a cut cost more once the body has been cut N times?)\n"
         "  --json          print one JSON object on stdout\n";
-    auto args = Args::parse(argv, {"help", "json"}, {"mesh", "cuts", "policy", "frames", "levels"});
+    auto args = Args::parse(argv, {"help", "json"}, {"mesh", "cuts", "policy", "frames", "levels", "sequence"});
     if (!args.ok()) return usage_error("bench cut", args.error().to_string());
     if (args->has("help")) return std::fputs(help, stdout), 0;
     auto cuts = args->get_uint("cuts", 20, 1, 10000);
@@ -137,6 +228,11 @@ int bench_cut(const std::vector<std::string>& argv) {
     else if (policy == "rebase") options.volume = topology::VolumePolicy::rebase;
     else return usage_error("bench cut", "--policy must be cap, burst or rebase, not '" + policy + "'");
 
+    if (args->has("sequence")) {
+        auto count = args->get_uint("sequence", 1000, 1, 100000);
+        if (!count.ok()) return usage_error("bench cut", count.error().to_string());
+        return print_sequence(args->get_or("mesh", "icosphere:4"), count.value(), options, args->has("json"));
+    }
     if (args->has("levels")) return print_levels(args->get_or("levels", ""), cuts.value(), frames.value(), options, args->has("json"));
     const std::string spec = args->get_or("mesh", "teapot.obj");
     auto measured = measure_cuts(spec, cuts.value(), frames.value(), options);
