@@ -108,7 +108,10 @@ std::string api_version_string(uint32_t v) {
            std::to_string(VK_API_VERSION_PATCH(v));
 }
 
-core::Result<std::unique_ptr<Device>> Device::create(const Instance& instance, const DeviceOptions& options) {
+namespace {
+// The most capable Vulkan 1.3 device with a graphics queue (a discrete GPU before an integrated
+// one before a CPU), among those whose name holds the filter (option, else PBDSPLAT_DEVICE).
+core::Result<VkPhysicalDevice> pick_device(const Instance& instance, const DeviceOptions& options) {
     uint32_t n = 0;
     vkEnumeratePhysicalDevices(instance.handle(), &n, nullptr);
     std::vector<VkPhysicalDevice> all(n);
@@ -140,7 +143,14 @@ core::Result<std::unique_ptr<Device>> Device::create(const Instance& instance, c
                                     "); fix PBDSPLAT_DEVICE or --device");
         return core::make_error("no Vulkan 1.3 device with a graphics queue (seen: " + seen + ")");
     }
+    return best;
+}
+} // namespace
 
+core::Result<std::unique_ptr<Device>> Device::create(const Instance& instance, const DeviceOptions& options) {
+    auto picked = pick_device(instance, options);
+    if (!picked.ok()) return picked.error();
+    const VkPhysicalDevice best = picked.value();
     auto dev = std::unique_ptr<Device>(new Device());
     dev->physical_ = best;
     dev->queue_family_ = uint32_t(graphics_family(best));

@@ -15,14 +15,10 @@ core::Result<ShaderModule> load_shader(const Context& ctx, const std::string& na
     return ShaderModule(ctx.vk(), m);
 }
 
-core::Result<Pipeline> create_graphics_pipeline(const Context& ctx, const GraphicsPipelineDesc& desc) {
-    std::vector<ShaderModule> modules;
-    std::vector<VkPipelineShaderStageCreateInfo> stages;
-    std::vector<VkSpecializationMapEntry> spec_entries;
-    for (uint32_t i = 0; i < desc.specialization.size(); ++i)
-        spec_entries.push_back({i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)});
-    const VkSpecializationInfo spec{uint32_t(spec_entries.size()), spec_entries.data(),
-                                    desc.specialization.size() * sizeof(uint32_t), desc.specialization.data()};
+namespace {
+// The shader stages of `desc`, specialised by `spec` (which must outlive the pipeline's creation).
+core::Status load_stages(const Context& ctx, const GraphicsPipelineDesc& desc, const VkSpecializationInfo& spec,
+                         std::vector<ShaderModule>& modules, std::vector<VkPipelineShaderStageCreateInfo>& stages) {
     for (const auto& [stage, name] : desc.stages) {
         auto m = load_shader(ctx, name);
         if (!m.ok()) return m.error();
@@ -34,71 +30,84 @@ core::Result<Pipeline> create_graphics_pipeline(const Context& ctx, const Graphi
         if (!desc.specialization.empty()) s.pSpecializationInfo = &spec;
         stages.push_back(s);
     }
+    return core::Status::success();
+}
 
+// The fixed-function state of a graphics pipeline in one object that neither copies nor moves,
+// so the pointers between its parts stay valid until the pipeline is made.
+struct FixedState {
     VkPipelineVertexInputStateCreateInfo vertex{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    vertex.vertexBindingDescriptionCount = uint32_t(desc.bindings.size());
-    vertex.pVertexBindingDescriptions = desc.bindings.data();
-    vertex.vertexAttributeDescriptionCount = uint32_t(desc.attributes.size());
-    vertex.pVertexAttributeDescriptions = desc.attributes.data();
-
     VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    assembly.topology = desc.topology;
-
     VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-    viewport.viewportCount = 1;
-    viewport.scissorCount = 1;
-
     VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    raster.polygonMode = VK_POLYGON_MODE_FILL;
-    raster.cullMode = desc.cull;
-    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    raster.lineWidth = 1.0f;
-
     VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-
     VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    depth.depthTestEnable = desc.depth_test ? VK_TRUE : VK_FALSE;
-    depth.depthWriteEnable = desc.depth_write ? VK_TRUE : VK_FALSE;
-    depth.depthCompareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
-
     VkPipelineColorBlendAttachmentState attachment{};
-    attachment.colorWriteMask = desc.color_write ? VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                                       VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT
-                                                 : 0;
-    if (desc.blend != BlendMode::none) {
-        attachment.blendEnable = VK_TRUE;
-        attachment.colorBlendOp = attachment.alphaBlendOp = VK_BLEND_OP_ADD;
-        attachment.srcColorBlendFactor = attachment.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
-        attachment.dstColorBlendFactor = attachment.dstAlphaBlendFactor =
-            desc.blend == BlendMode::additive ? VK_BLEND_FACTOR_ONE : VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
-    }
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    blend.attachmentCount = 1;
-    blend.pAttachments = &attachment;
-
-    const VkDynamicState dyn[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkDynamicState dyn[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
     VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-    dynamic.dynamicStateCount = 2;
-    dynamic.pDynamicStates = dyn;
-
     VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachmentFormats = &desc.color_format;
-    rendering.depthAttachmentFormat = desc.depth_format;
 
+    explicit FixedState(const GraphicsPipelineDesc& desc) {
+        vertex.vertexBindingDescriptionCount = uint32_t(desc.bindings.size());
+        vertex.pVertexBindingDescriptions = desc.bindings.data();
+        vertex.vertexAttributeDescriptionCount = uint32_t(desc.attributes.size());
+        vertex.pVertexAttributeDescriptions = desc.attributes.data();
+        assembly.topology = desc.topology;
+        viewport.viewportCount = 1;
+        viewport.scissorCount = 1;
+        raster.polygonMode = VK_POLYGON_MODE_FILL;
+        raster.cullMode = desc.cull;
+        raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+        raster.lineWidth = 1.0f;
+        multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+        depth.depthTestEnable = desc.depth_test ? VK_TRUE : VK_FALSE;
+        depth.depthWriteEnable = desc.depth_write ? VK_TRUE : VK_FALSE;
+        depth.depthCompareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
+        attachment.colorWriteMask = desc.color_write ? VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                                                           VK_COLOR_COMPONENT_A_BIT
+                                                     : 0;
+        if (desc.blend != BlendMode::none) {
+            attachment.blendEnable = VK_TRUE;
+            attachment.colorBlendOp = attachment.alphaBlendOp = VK_BLEND_OP_ADD;
+            attachment.srcColorBlendFactor = attachment.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+            attachment.dstColorBlendFactor = attachment.dstAlphaBlendFactor =
+                desc.blend == BlendMode::additive ? VK_BLEND_FACTOR_ONE : VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+        }
+        blend.attachmentCount = 1;
+        blend.pAttachments = &attachment;
+        dynamic.dynamicStateCount = 2;
+        dynamic.pDynamicStates = dyn;
+        rendering.colorAttachmentCount = 1;
+        rendering.pColorAttachmentFormats = &desc.color_format;
+        rendering.depthAttachmentFormat = desc.depth_format;
+    }
+    FixedState(const FixedState&) = delete;
+    FixedState& operator=(const FixedState&) = delete;
+};
+} // namespace
+
+core::Result<Pipeline> create_graphics_pipeline(const Context& ctx, const GraphicsPipelineDesc& desc) {
+    std::vector<VkSpecializationMapEntry> spec_entries;
+    for (uint32_t i = 0; i < desc.specialization.size(); ++i) spec_entries.push_back({i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)});
+    const VkSpecializationInfo spec{uint32_t(spec_entries.size()), spec_entries.data(), desc.specialization.size() * sizeof(uint32_t),
+                                    desc.specialization.data()};
+    std::vector<ShaderModule> modules;
+    std::vector<VkPipelineShaderStageCreateInfo> stages;
+    PBDSPLAT_TRY(load_stages(ctx, desc, spec, modules, stages));
+    const FixedState fixed(desc);
     VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-    info.pNext = &rendering;
+    info.pNext = &fixed.rendering;
     info.stageCount = uint32_t(stages.size());
     info.pStages = stages.data();
-    info.pVertexInputState = &vertex;
-    info.pInputAssemblyState = &assembly;
-    info.pViewportState = &viewport;
-    info.pRasterizationState = &raster;
-    info.pMultisampleState = &multisample;
-    info.pDepthStencilState = &depth;
-    info.pColorBlendState = &blend;
-    info.pDynamicState = &dynamic;
+    info.pVertexInputState = &fixed.vertex;
+    info.pInputAssemblyState = &fixed.assembly;
+    info.pViewportState = &fixed.viewport;
+    info.pRasterizationState = &fixed.raster;
+    info.pMultisampleState = &fixed.multisample;
+    info.pDepthStencilState = &fixed.depth;
+    info.pColorBlendState = &fixed.blend;
+    info.pDynamicState = &fixed.dynamic;
     info.layout = desc.layout;
     VkPipeline p = VK_NULL_HANDLE;
     PBDSPLAT_VK_TRY(vkCreateGraphicsPipelines(ctx.vk(), VK_NULL_HANDLE, 1, &info, nullptr, &p));

@@ -62,33 +62,44 @@ void Swapchain::reset() {
     acquire_semaphores_.clear();
 }
 
+namespace {
+// The splats are shaded in linear space and written to a UNORM target: a UNORM swapchain
+// shows them as the offscreen images do.
+core::Result<VkSurfaceFormatKHR> choose_format(VkPhysicalDevice pd, VkSurfaceKHR surface) {
+    uint32_t n = 0;
+    PBDSPLAT_VK_TRY(vkGetPhysicalDeviceSurfaceFormatsKHR(pd, surface, &n, nullptr));
+    std::vector<VkSurfaceFormatKHR> formats(n);
+    PBDSPLAT_VK_TRY(vkGetPhysicalDeviceSurfaceFormatsKHR(pd, surface, &n, formats.data()));
+    if (formats.empty()) return core::make_error("the window surface offers no image formats");
+    VkSurfaceFormatKHR chosen = formats.front();
+    for (const VkSurfaceFormatKHR& f : formats)
+        if ((f.format == VK_FORMAT_B8G8R8A8_UNORM || f.format == VK_FORMAT_R8G8B8A8_UNORM) && f.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR)
+            chosen = f;
+    return chosen;
+}
+
+core::Result<VkPresentModeKHR> choose_mode(VkPhysicalDevice pd, VkSurfaceKHR surface, bool vsync) {
+    uint32_t mode_count = 0;
+    PBDSPLAT_VK_TRY(vkGetPhysicalDeviceSurfacePresentModesKHR(pd, surface, &mode_count, nullptr));
+    std::vector<VkPresentModeKHR> modes(mode_count);
+    PBDSPLAT_VK_TRY(vkGetPhysicalDeviceSurfacePresentModesKHR(pd, surface, &mode_count, modes.data()));
+    if (!vsync)
+        for (VkPresentModeKHR m : {VK_PRESENT_MODE_MAILBOX_KHR, VK_PRESENT_MODE_IMMEDIATE_KHR})
+            if (std::find(modes.begin(), modes.end(), m) != modes.end()) return m;
+    return VK_PRESENT_MODE_FIFO_KHR;  // always there: vsync
+}
+} // namespace
+
 core::Status Swapchain::build(VkExtent2D wanted) {
     const VkPhysicalDevice pd = ctx_->device().physical();
     VkSurfaceCapabilitiesKHR caps{};
     PBDSPLAT_VK_TRY(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(pd, surface_, &caps));
-    uint32_t n = 0;
-    PBDSPLAT_VK_TRY(vkGetPhysicalDeviceSurfaceFormatsKHR(pd, surface_, &n, nullptr));
-    std::vector<VkSurfaceFormatKHR> formats(n);
-    PBDSPLAT_VK_TRY(vkGetPhysicalDeviceSurfaceFormatsKHR(pd, surface_, &n, formats.data()));
-    if (formats.empty()) return core::make_error("the window surface offers no image formats");
-    // The splats are shaded in linear space and written to a UNORM target: a UNORM swapchain
-    // shows them as the offscreen images do.
-    VkSurfaceFormatKHR chosen = formats.front();
-    for (const VkSurfaceFormatKHR& f : formats)
-        if ((f.format == VK_FORMAT_B8G8R8A8_UNORM || f.format == VK_FORMAT_R8G8B8A8_UNORM) &&
-            f.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR)
-            chosen = f;
-    uint32_t mode_count = 0;
-    PBDSPLAT_VK_TRY(vkGetPhysicalDeviceSurfacePresentModesKHR(pd, surface_, &mode_count, nullptr));
-    std::vector<VkPresentModeKHR> modes(mode_count);
-    PBDSPLAT_VK_TRY(vkGetPhysicalDeviceSurfacePresentModesKHR(pd, surface_, &mode_count, modes.data()));
-    VkPresentModeKHR mode = VK_PRESENT_MODE_FIFO_KHR;  // always there: vsync
-    if (!vsync_)
-        for (VkPresentModeKHR m : {VK_PRESENT_MODE_MAILBOX_KHR, VK_PRESENT_MODE_IMMEDIATE_KHR})
-            if (std::find(modes.begin(), modes.end(), m) != modes.end()) {
-                mode = m;
-                break;
-            }
+    auto format = choose_format(pd, surface_);
+    if (!format.ok()) return format.error();
+    const VkSurfaceFormatKHR chosen = format.value();
+    auto present_mode = choose_mode(pd, surface_, vsync_);
+    if (!present_mode.ok()) return present_mode.error();
+    const VkPresentModeKHR mode = present_mode.value();
     VkExtent2D extent = caps.currentExtent;
     if (extent.width == UINT32_MAX) {
         extent.width = std::clamp(wanted.width, caps.minImageExtent.width, caps.maxImageExtent.width);
@@ -125,6 +136,10 @@ core::Status Swapchain::build(VkExtent2D wanted) {
     format_ = chosen.format;
     extent_ = extent;
 
+    return create_views();
+}
+
+core::Status Swapchain::create_views() {
     uint32_t image_count = 0;
     PBDSPLAT_VK_TRY(vkGetSwapchainImagesKHR(ctx_->vk(), swapchain_, &image_count, nullptr));
     images_.resize(image_count);

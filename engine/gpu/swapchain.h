@@ -42,6 +42,7 @@ public:
 
 private:
     core::Status build(VkExtent2D wanted);
+    core::Status create_views();  // of the swapchain's images, with a present semaphore each
     void reset();
     Context* ctx_ = nullptr;
     VkSurfaceKHR surface_ = VK_NULL_HANDLE;

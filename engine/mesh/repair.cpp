@@ -109,46 +109,12 @@ double signed_volume_of(const TriangleMesh& m, const std::vector<uint32_t>& face
     return v / 6.0;
 }
 
-} // namespace
-
-std::string RepairReport::summary() const {
-    return std::to_string(input_vertices) + " vertices / " + std::to_string(input_triangles) + " triangles in, " +
-           std::to_string(output_vertices) + " / " + std::to_string(output_triangles) + " out; welded " +
-           std::to_string(welded_vertices) + ", unreferenced " + std::to_string(unreferenced_vertices) +
-           ", degenerate " + std::to_string(degenerate_triangles) + ", duplicate " + std::to_string(duplicate_triangles) +
-           ", non-manifold edges " + std::to_string(nonmanifold_edges) + ", split vertices " +
-           std::to_string(split_vertices) + ", flipped " + std::to_string(flipped_triangles) + "; " +
-           std::to_string(components) + " component(s), " + std::to_string(closed_components) + " closed, " +
-           std::to_string(boundary_loops) + " boundary loop(s), " + std::to_string(boundary_edges) + " boundary edges" +
-           (capped_holes ? "; " + std::to_string(capped_holes) + " hole(s) capped" : std::string());
-}
-
-core::Result<RepairedMesh> repair(TriangleMesh m, const RepairOptions& options, const std::string& name) {
-    RepairReport r;
-    r.input_vertices = m.positions.size();
-    r.input_triangles = m.triangles.size();
-    if (m.triangles.empty()) return core::make_error(name, 0, "the mesh has no triangles");
-    for (size_t i = 0; i < m.positions.size(); ++i)
-        if (!m.positions[i].allFinite())
-            return core::make_error(name, 0, "vertex " + std::to_string(i + 1) + " has a non-finite coordinate");
-    for (const Triangle& t : m.triangles)
-        for (uint32_t v : t)
-            if (v >= m.positions.size())
-                return core::make_error(name, 0, "a triangle refers to vertex " + std::to_string(v + 1) + " of " +
-                                                     std::to_string(m.positions.size()));
-
-    // Only vertices that triangles use define the scale (the bunny has stray ones).
-    r.unreferenced_vertices = drop_unreferenced(m);
-    const float diag = bounds(m).diagonal();
-    if (!(diag > 0.0f)) return core::make_error(name, 0, "all vertices coincide: the mesh has no extent");
-    r.welded_vertices = weld(m, options.weld_tolerance * diag);
-
-    // Degenerate and duplicate triangles.
+// Degenerate (repeated corners, zero area) and duplicate triangles out.
+void drop_bad_triangles(TriangleMesh& m, float diag, RepairReport& r) {
     const double min_area2 = double(diag) * diag * 1e-14;  // (twice the area)^2 below this is zero
-    std::unordered_set<uint64_t> seen;  // sorted corner triple, hashed exactly below
     std::vector<Triangle> kept;
     kept.reserve(m.triangles.size());
-    std::unordered_map<uint64_t, std::vector<std::array<uint32_t, 3>>> by_hash;
+    std::unordered_map<uint64_t, std::vector<std::array<uint32_t, 3>>> by_hash;  // sorted corners, compared exactly
     for (const Triangle& t : m.triangles) {
         if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) { ++r.degenerate_triangles; continue; }
         const Vec3d a = m.positions[t[0]].cast<double>();
@@ -163,31 +129,35 @@ core::Result<RepairedMesh> repair(TriangleMesh m, const RepairOptions& options, 
         kept.push_back(t);
     }
     m.triangles = std::move(kept);
-    if (m.triangles.empty())
-        return core::make_error(name, 0, "all " + std::to_string(r.input_triangles) +
-                                             " triangles are degenerate (repeated corners or zero area)");
+}
 
-    // Face adjacency: an edge joins at most two triangles; a third and beyond are cut loose.
-    const uint32_t nf = uint32_t(m.triangles.size());
+using Adjacency = std::unordered_map<uint64_t, std::array<uint32_t, 2>>;  // edge -> the two faces it joins
+
+// Face adjacency: an edge joins at most two triangles; a third and beyond are cut loose.
+Adjacency face_adjacency(const TriangleMesh& m, RepairReport& r) {
     std::unordered_map<uint64_t, std::vector<uint32_t>> faces_of_edge;
-    faces_of_edge.reserve(size_t(nf) * 2);
-    for (uint32_t f = 0; f < nf; ++f)
+    faces_of_edge.reserve(m.triangles.size() * 2);
+    for (uint32_t f = 0; f < m.triangles.size(); ++f)
         for (int k = 0; k < 3; ++k)
             faces_of_edge[edge_key(m.triangles[f][size_t(k)], m.triangles[f][size_t((k + 1) % 3)])].push_back(f);
-    std::unordered_map<uint64_t, std::array<uint32_t, 2>> adjacent;  // edge -> the two faces joined
+    Adjacency adjacent;
     for (auto& [key, faces] : faces_of_edge) {
         if (faces.size() > 2) ++r.nonmanifold_edges;
         if (faces.size() >= 2) adjacent[key] = {faces[0], faces[1]};
     }
+    return adjacent;
+}
+
+// Consistent orientation by breadth-first search over adjacent faces. Where a neighbour
+// cannot be made consistent (a non-orientable strip), the join is cut instead.
+void orient_consistently(TriangleMesh& m, Adjacency& adjacent, RepairReport& r) {
+    const uint32_t nf = uint32_t(m.triangles.size());
     auto has_directed = [&](uint32_t f, uint32_t a, uint32_t b) {
         const Triangle& t = m.triangles[f];
         for (int k = 0; k < 3; ++k)
             if (t[size_t(k)] == a && t[size_t((k + 1) % 3)] == b) return true;
         return false;
     };
-
-    // Consistent orientation by breadth-first search over adjacent faces. Where a neighbour
-    // cannot be made consistent (a non-orientable strip), the join is cut instead.
     std::vector<int8_t> flip(nf, -1);
     std::vector<std::vector<std::pair<uint32_t, uint64_t>>> neighbours(nf);
     for (const auto& [key, pair] : adjacent) {
@@ -219,61 +189,145 @@ core::Result<RepairedMesh> repair(TriangleMesh m, const RepairOptions& options, 
     }
     for (uint32_t f = 0; f < nf; ++f)
         if (flip[f] == 1) std::swap(m.triangles[f][1], m.triangles[f][2]), ++r.flipped_triangles;
+}
 
-    // Split vertices whose triangles form several fans (bow-ties, and the ends of cut edges).
-    // Decided on the unsplit triangles first, applied after, so every lookup sees original ids.
-    {
-        std::vector<std::vector<uint32_t>> faces_at(m.positions.size());
-        for (uint32_t f = 0; f < nf; ++f)
-            for (uint32_t v : m.triangles[f]) faces_at[v].push_back(f);
-        std::vector<uint32_t> source(m.positions.size());
-        std::iota(source.begin(), source.end(), 0u);
-        std::vector<Triangle> split = m.triangles;
-        std::unordered_map<uint32_t, uint32_t> parent, copy_of_root;
-        for (uint32_t v = 0; v < faces_at.size(); ++v) {
-            const auto& fan = faces_at[v];
-            if (fan.size() <= 1) continue;
-            // Union the faces around v that are joined through an edge incident to v.
-            parent.clear();
-            for (uint32_t f : fan) parent[f] = f;
-            auto find = [&](uint32_t x) {
-                while (parent[x] != x) x = parent[x] = parent[parent[x]];
-                return x;
-            };
-            for (uint32_t f : fan)
-                for (uint32_t w : m.triangles[f]) {
-                    if (w == v) continue;
-                    auto it = adjacent.find(edge_key(v, w));
-                    if (it == adjacent.end()) continue;
-                    const auto [g0, g1] = it->second;
-                    if (parent.count(g0) && parent.count(g1)) parent[find(g0)] = find(g1);
-                }
-            copy_of_root.clear();
-            for (uint32_t f : fan) {  // the fan of the first face keeps v
-                auto [it, inserted] = copy_of_root.try_emplace(find(f), v);
-                if (inserted && copy_of_root.size() > 1) {
-                    it->second = uint32_t(source.size());
-                    source.push_back(v);
-                    ++r.split_vertices;
-                }
-                for (int k = 0; k < 3; ++k)
-                    if (m.triangles[f][size_t(k)] == v) split[f][size_t(k)] = it->second;
+// Split vertices whose triangles form several fans (bow-ties, and the ends of cut edges).
+// Decided on the unsplit triangles first, applied after, so every lookup sees original ids.
+void split_fans(TriangleMesh& m, const Adjacency& adjacent, RepairReport& r) {
+    std::vector<std::vector<uint32_t>> faces_at(m.positions.size());
+    for (uint32_t f = 0; f < m.triangles.size(); ++f)
+        for (uint32_t v : m.triangles[f]) faces_at[v].push_back(f);
+    std::vector<uint32_t> source(m.positions.size());
+    std::iota(source.begin(), source.end(), 0u);
+    std::vector<Triangle> split = m.triangles;
+    std::unordered_map<uint32_t, uint32_t> parent, copy_of_root;
+    for (uint32_t v = 0; v < faces_at.size(); ++v) {
+        const auto& fan = faces_at[v];
+        if (fan.size() <= 1) continue;
+        // Union the faces around v that are joined through an edge incident to v.
+        parent.clear();
+        for (uint32_t f : fan) parent[f] = f;
+        auto find = [&](uint32_t x) {
+            while (parent[x] != x) x = parent[x] = parent[parent[x]];
+            return x;
+        };
+        for (uint32_t f : fan)
+            for (uint32_t w : m.triangles[f]) {
+                if (w == v) continue;
+                auto it = adjacent.find(edge_key(v, w));
+                if (it == adjacent.end()) continue;
+                const auto [g0, g1] = it->second;
+                if (parent.count(g0) && parent.count(g1)) parent[find(g0)] = find(g1);
             }
+        copy_of_root.clear();
+        for (uint32_t f : fan) {  // the fan of the first face keeps v
+            auto [it, inserted] = copy_of_root.try_emplace(find(f), v);
+            if (inserted && copy_of_root.size() > 1) {
+                it->second = uint32_t(source.size());
+                source.push_back(v);
+                ++r.split_vertices;
+            }
+            for (int k = 0; k < 3; ++k)
+                if (m.triangles[f][size_t(k)] == v) split[f][size_t(k)] = it->second;
         }
-        m.triangles = std::move(split);
-        remap_vertices(m, source);
     }
+    m.triangles = std::move(split);
+    remap_vertices(m, source);
+}
 
-    // Outward orientation per component: positive (capped) volume.
+// Outward orientation per component: positive (capped) volume. Returns the component count.
+uint32_t orient_outward(TriangleMesh& m, RepairReport& r) {
     std::vector<uint32_t> comp;
     const uint32_t nc = triangle_components(m, comp);
     std::vector<std::vector<uint32_t>> faces_of(nc);
-    for (uint32_t f = 0; f < nf; ++f) faces_of[comp[f]].push_back(f);
+    for (uint32_t f = 0; f < m.triangles.size(); ++f) faces_of[comp[f]].push_back(f);
     for (const auto& faces : faces_of)
         if (signed_volume_of(m, faces, true) < 0.0) {
             for (uint32_t f : faces) std::swap(m.triangles[f][1], m.triangles[f][2]);
             r.flipped_triangles += faces.size();
         }
+    return nc;
+}
+
+// A fan in the loop's own order has the mesh's orientation (the capped volume in
+// signed_volume_of is summed the same way).
+void cap_holes(TriangleMesh& m, RepairReport& r) {
+    for (const auto& loop : boundary_loops(m)) {
+        if (loop.size() < 3) continue;
+        Vec3f c = Vec3f::Zero();
+        for (uint32_t q : loop) c += m.positions[q];
+        c /= float(loop.size());
+        uint32_t centre = uint32_t(m.positions.size());
+        m.positions.push_back(c);
+        if (!m.normals.empty()) m.normals.push_back(Vec3f::UnitZ());
+        if (!m.colors.empty()) m.colors.push_back(m.colors[loop[0]]);
+        if (!m.uvs.empty()) m.uvs.push_back(m.uvs[loop[0]]);
+        for (size_t i = 0; i < loop.size(); ++i) m.triangles.push_back({loop[i], loop[(i + 1) % loop.size()], centre});
+        ++r.capped_holes;
+    }
+}
+
+// What is left: components, closedness, boundary.
+void count_what_is_left(const TriangleMesh& m, RepairReport& r) {
+    std::vector<uint32_t> comp;
+    r.components = triangle_components(m, comp);
+    std::vector<size_t> boundary_in(r.components, 0);
+    std::unordered_map<uint64_t, uint32_t> uses;
+    for (const Triangle& t : m.triangles)
+        for (int k = 0; k < 3; ++k) ++uses[edge_key(t[size_t(k)], t[size_t((k + 1) % 3)])];
+    for (uint32_t f = 0; f < m.triangles.size(); ++f)
+        for (int k = 0; k < 3; ++k)
+            if (uses[edge_key(m.triangles[f][size_t(k)], m.triangles[f][size_t((k + 1) % 3)])] == 1) ++boundary_in[comp[f]], ++r.boundary_edges;
+    r.closed_components = size_t(std::count(boundary_in.begin(), boundary_in.end(), size_t(0)));
+    r.boundary_loops = boundary_loops(m).size();
+    r.output_vertices = m.positions.size();
+    r.output_triangles = m.triangles.size();
+}
+
+core::Status check_input(const TriangleMesh& m, const std::string& name) {
+    if (m.triangles.empty()) return core::make_error(name, 0, "the mesh has no triangles");
+    for (size_t i = 0; i < m.positions.size(); ++i)
+        if (!m.positions[i].allFinite()) return core::make_error(name, 0, "vertex " + std::to_string(i + 1) + " has a non-finite coordinate");
+    for (const Triangle& t : m.triangles)
+        for (uint32_t v : t)
+            if (v >= m.positions.size())
+                return core::make_error(name, 0, "a triangle refers to vertex " + std::to_string(v + 1) + " of " + std::to_string(m.positions.size()));
+    return core::Status::success();
+}
+
+} // namespace
+
+std::string RepairReport::summary() const {
+    return std::to_string(input_vertices) + " vertices / " + std::to_string(input_triangles) + " triangles in, " +
+           std::to_string(output_vertices) + " / " + std::to_string(output_triangles) + " out; welded " +
+           std::to_string(welded_vertices) + ", unreferenced " + std::to_string(unreferenced_vertices) +
+           ", degenerate " + std::to_string(degenerate_triangles) + ", duplicate " + std::to_string(duplicate_triangles) +
+           ", non-manifold edges " + std::to_string(nonmanifold_edges) + ", split vertices " +
+           std::to_string(split_vertices) + ", flipped " + std::to_string(flipped_triangles) + "; " +
+           std::to_string(components) + " component(s), " + std::to_string(closed_components) + " closed, " +
+           std::to_string(boundary_loops) + " boundary loop(s), " + std::to_string(boundary_edges) + " boundary edges" +
+           (capped_holes ? "; " + std::to_string(capped_holes) + " hole(s) capped" : std::string());
+}
+
+core::Result<RepairedMesh> repair(TriangleMesh m, const RepairOptions& options, const std::string& name) {
+    RepairReport r;
+    r.input_vertices = m.positions.size();
+    r.input_triangles = m.triangles.size();
+    PBDSPLAT_TRY(check_input(m, name));
+
+    // Only vertices that triangles use define the scale (the bunny has stray ones).
+    r.unreferenced_vertices = drop_unreferenced(m);
+    const float diag = bounds(m).diagonal();
+    if (!(diag > 0.0f)) return core::make_error(name, 0, "all vertices coincide: the mesh has no extent");
+    r.welded_vertices = weld(m, options.weld_tolerance * diag);
+    drop_bad_triangles(m, diag, r);
+    if (m.triangles.empty())
+        return core::make_error(name, 0, "all " + std::to_string(r.input_triangles) + " triangles are degenerate (repeated corners or zero area)");
+
+    Adjacency adjacent = face_adjacency(m, r);
+    orient_consistently(m, adjacent, r);
+    split_fans(m, adjacent, r);
+    orient_outward(m, r);
 
     // Centre and scale.
     const Bounds b = bounds(m);
@@ -283,42 +337,8 @@ core::Result<RepairedMesh> repair(TriangleMesh m, const RepairOptions& options, 
     if (!(s > 0.0f) || !std::isfinite(s)) return core::make_error(name, 0, "the scale must be a positive number");
     for (Vec3f& p : m.positions) p = (p + shift) * s;
 
-    if (options.close_holes) {
-        // A fan in the loop's own order has the mesh's orientation (the capped volume in
-        // signed_volume_of is summed the same way).
-        for (const auto& loop : boundary_loops(m)) {
-            if (loop.size() < 3) continue;
-            Vec3f c = Vec3f::Zero();
-            for (uint32_t q : loop) c += m.positions[q];
-            c /= float(loop.size());
-            uint32_t centre = uint32_t(m.positions.size());
-            m.positions.push_back(c);
-            if (!m.normals.empty()) m.normals.push_back(Vec3f::UnitZ());
-            if (!m.colors.empty()) m.colors.push_back(m.colors[loop[0]]);
-            if (!m.uvs.empty()) m.uvs.push_back(m.uvs[loop[0]]);
-            for (size_t i = 0; i < loop.size(); ++i) m.triangles.push_back({loop[i], loop[(i + 1) % loop.size()], centre});
-            ++r.capped_holes;
-        }
-    }
-
-    // What is left: components, closedness, boundary.
-    const uint32_t nc_out = r.capped_holes ? triangle_components(m, comp) : nc;
-    const uint32_t nf_out = uint32_t(m.triangles.size());
-    r.components = nc_out;
-    std::vector<size_t> boundary_in(nc_out, 0);
-    {
-        std::unordered_map<uint64_t, uint32_t> uses;
-        for (const Triangle& t : m.triangles)
-            for (int k = 0; k < 3; ++k) ++uses[edge_key(t[size_t(k)], t[size_t((k + 1) % 3)])];
-        for (uint32_t f = 0; f < nf_out; ++f)
-            for (int k = 0; k < 3; ++k)
-                if (uses[edge_key(m.triangles[f][size_t(k)], m.triangles[f][size_t((k + 1) % 3)])] == 1)
-                    ++boundary_in[comp[f]], ++r.boundary_edges;
-    }
-    r.closed_components = size_t(std::count(boundary_in.begin(), boundary_in.end(), size_t(0)));
-    r.boundary_loops = boundary_loops(m).size();
-    r.output_vertices = m.positions.size();
-    r.output_triangles = m.triangles.size();
+    if (options.close_holes) cap_holes(m, r);
+    count_what_is_left(m, r);
     return RepairedMesh{std::move(m), r};
 }
 

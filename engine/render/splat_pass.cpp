@@ -44,34 +44,41 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     p.path_ = path;
     p.shading_ = shading;
     p.carrier_ = path == SplatPath::vertex ? SplatCarrier::quad : carrier;
-    const uint32_t per_corner = shading == SplatShading::corner ? 1u : 0u;
-    const uint32_t octagon = p.carrier_ == SplatCarrier::octagon ? 1u : 0u;
-    const uint32_t aniso = anisotropic ? 1u : 0u;
     p.anisotropic_ = anisotropic;
-    const VkShaderStageFlags front = path == SplatPath::geometry ? VK_SHADER_STAGE_GEOMETRY_BIT
-                                     : path == SplatPath::mesh  ? VK_SHADER_STAGE_MESH_BIT_EXT
-                                                                : VK_SHADER_STAGE_VERTEX_BIT;
+    PBDSPLAT_TRY(p.create_layouts(ctx));
+    gpu::GraphicsPipelineDesc desc;
+    PBDSPLAT_TRY(p.describe_front(ctx, desc));
+    desc.color_format = color;
+    desc.depth_format = depth;
+    desc.layout = p.layout_.get();
+    PBDSPLAT_TRY(p.create_pipelines(ctx, std::move(desc), sh_degree));
+    return p;
+}
+
+core::Status SplatPass::create_layouts(const gpu::Context& ctx) {
+    const VkShaderStageFlags front = path_ == SplatPath::geometry ? VK_SHADER_STAGE_GEOMETRY_BIT
+                                     : path_ == SplatPath::mesh  ? VK_SHADER_STAGE_MESH_BIT_EXT
+                                                                 : VK_SHADER_STAGE_VERTEX_BIT;
     gpu::FrameSetStages stages;
     stages.uniforms = front | VK_SHADER_STAGE_FRAGMENT_BIT | VK_SHADER_STAGE_VERTEX_BIT;  // vertex: the ground pass
     stages.texture = VK_SHADER_STAGE_FRAGMENT_BIT | front;  // the front stage shades per corner
     // The geometry path takes records as vertex attributes; its binding 2 is declared only so
     // that every path shares one set shape.
-    stages.storage = path == SplatPath::geometry ? VkShaderStageFlags(VK_SHADER_STAGE_VERTEX_BIT) : front;
+    stages.storage = path_ == SplatPath::geometry ? VkShaderStageFlags(VK_SHADER_STAGE_VERTEX_BIT) : front;
     stages.shapes = front;  // every front stage declares the shape stream; anisotropic ones read it
     stages.sh = front;      // the same for view-dependent colour
     auto set_layout = gpu::create_frame_layout(ctx, stages);
     if (!set_layout.ok()) return set_layout.error();
-    p.set_layout_ = std::move(set_layout).value();
-    const VkDescriptorSetLayout layout_handle = p.set_layout_.get();
-
+    set_layout_ = std::move(set_layout).value();
     const VkPushConstantRange count_range{VK_SHADER_STAGE_MESH_BIT_EXT, 0, sizeof(uint32_t)};
-    auto pipeline_layout = gpu::create_pipeline_layout(ctx, layout_handle, path == SplatPath::mesh ? count_range : VkPushConstantRange{});
+    auto pipeline_layout = gpu::create_pipeline_layout(ctx, set_layout_.get(), path_ == SplatPath::mesh ? count_range : VkPushConstantRange{});
     if (!pipeline_layout.ok()) return pipeline_layout.error();
-    p.layout_ = std::move(pipeline_layout).value();
-    const VkPipelineLayout layout = p.layout_.get();
+    layout_ = std::move(pipeline_layout).value();
+    return core::Status::success();
+}
 
-    gpu::GraphicsPipelineDesc desc;
-    switch (path) {
+core::Status SplatPass::describe_front(const gpu::Context& ctx, gpu::GraphicsPipelineDesc& desc) {
+    switch (path_) {
     case SplatPath::geometry:
         desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "splat.vert"}, {VK_SHADER_STAGE_GEOMETRY_BIT, "splat.geom"}};
         desc.bindings = {{0, sizeof(splat::GaussianRecord), VK_VERTEX_INPUT_RATE_VERTEX}};
@@ -83,10 +90,9 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
         break;
     case SplatPath::mesh:
         desc.stages = {{VK_SHADER_STAGE_MESH_BIT_EXT, "splat.mesh"}};
-        p.draw_mesh_tasks_ = reinterpret_cast<PFN_vkCmdDrawMeshTasksEXT>(vkGetDeviceProcAddr(ctx.vk(), "vkCmdDrawMeshTasksEXT"));
-        p.draw_mesh_tasks_indirect_ = reinterpret_cast<PFN_vkCmdDrawMeshTasksIndirectEXT>(
-            vkGetDeviceProcAddr(ctx.vk(), "vkCmdDrawMeshTasksIndirectEXT"));
-        if (!p.draw_mesh_tasks_ || !p.draw_mesh_tasks_indirect_)
+        draw_mesh_tasks_ = reinterpret_cast<PFN_vkCmdDrawMeshTasksEXT>(vkGetDeviceProcAddr(ctx.vk(), "vkCmdDrawMeshTasksEXT"));
+        draw_mesh_tasks_indirect_ = reinterpret_cast<PFN_vkCmdDrawMeshTasksIndirectEXT>(vkGetDeviceProcAddr(ctx.vk(), "vkCmdDrawMeshTasksIndirectEXT"));
+        if (!draw_mesh_tasks_ || !draw_mesh_tasks_indirect_)
             return core::make_error("vkCmdDrawMeshTasks(Indirect)EXT is missing although the device reports VK_EXT_mesh_shader");
         break;
     case SplatPath::vertex:
@@ -95,49 +101,46 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
         break;
     }
     desc.stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, "splat_visibility.frag"});
-    desc.color_format = color;
-    desc.depth_format = depth;
-    desc.layout = layout;
+    return core::Status::success();
+}
+
+core::Status SplatPass::create_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc desc, uint32_t sh_degree) {
+    const uint32_t per_corner = shading_ == SplatShading::corner ? 1u : 0u;
+    const uint32_t octagon = carrier_ == SplatCarrier::octagon ? 1u : 0u;
+    const uint32_t aniso = anisotropic_ ? 1u : 0u;
+    auto make = [&](gpu::Pipeline& into) -> core::Status {
+        auto made = gpu::create_graphics_pipeline(ctx, desc);
+        if (!made.ok()) return made.error();
+        into = std::move(made).value();
+        return core::Status::success();
+    };
     desc.color_write = false;
     // k_visibility_pass, k_shade_per_corner, k_footprint, k_octagon, k_footprint_dither, k_anisotropic,
     // k_sh_degree
     desc.specialization = {1u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon, 0u, aniso, sh_degree};
-    auto visibility = gpu::create_graphics_pipeline(ctx, desc);
-    if (!visibility.ok()) return visibility.error();
-    p.visibility_ = std::move(visibility).value();
+    PBDSPLAT_TRY(make(visibility_));
 
     desc.stages.back().second = "splat.frag";
     desc.color_write = true;
     desc.specialization = {0u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon, 0u, aniso, sh_degree};
     desc.depth_write = false;
     desc.blend = gpu::BlendMode::over_premultiplied;
-    auto over = gpu::create_graphics_pipeline(ctx, desc);
-    if (!over.ok()) return over.error();
-    p.over_ = std::move(over).value();
+    PBDSPLAT_TRY(make(over_));
     // Additive splats do not occlude one another: order does not matter, no visibility pass.
     desc.blend = gpu::BlendMode::additive;
-    auto additive = gpu::create_graphics_pipeline(ctx, desc);
-    if (!additive.ok()) return additive.error();
-    p.additive_ = std::move(additive).value();
+    PBDSPLAT_TRY(make(additive_));
 
     // The paper's disc: additive blending needs no depth; "over" writes it, so the nearest disc
     // wins each pixel whatever the draw order (its mask must run before the test).
     desc.specialization = {0u, per_corner, SPLAT_FOOTPRINT_PAPER, octagon, 0u, aniso, sh_degree};
-    auto paper_additive = gpu::create_graphics_pipeline(ctx, desc);
-    if (!paper_additive.ok()) return paper_additive.error();
-    p.paper_additive_ = std::move(paper_additive).value();
+    PBDSPLAT_TRY(make(paper_additive_));
     desc.stages.back().second = "splat_paper.frag";
     desc.blend = gpu::BlendMode::over_premultiplied;
     desc.depth_write = true;
     // Sorted far to near, the flat alpha blends over what lies behind, as the paper composites.
-    auto paper_sorted = gpu::create_graphics_pipeline(ctx, desc);
-    if (!paper_sorted.ok()) return paper_sorted.error();
-    p.paper_sorted_ = std::move(paper_sorted).value();
+    PBDSPLAT_TRY(make(paper_sorted_));
     desc.specialization[4] = 1u;  // k_footprint_dither: unsorted, opacity becomes coverage
-    auto paper_over = gpu::create_graphics_pipeline(ctx, desc);
-    if (!paper_over.ok()) return paper_over.error();
-    p.paper_over_ = std::move(paper_over).value();
-    return p;
+    return make(paper_over_);
 }
 
 void SplatPass::draw(VkCommandBuffer cmd, const SplatSource& s) const {

@@ -68,6 +68,11 @@ private:
     PFN_vkCmdDrawMeshTasksEXT draw_mesh_tasks_ = nullptr;
     PFN_vkCmdDrawMeshTasksIndirectEXT draw_mesh_tasks_indirect_ = nullptr;
     void draw(VkCommandBuffer cmd, const SplatSource& source) const;
+    // create() in steps: the layouts every path shares, the front stages of the path, then
+    // every pipeline variant from that description.
+    core::Status create_layouts(const gpu::Context& ctx);
+    core::Status describe_front(const gpu::Context& ctx, gpu::GraphicsPipelineDesc& desc);
+    core::Status create_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc desc, uint32_t sh_degree);
 };
 
 } // namespace pbdsplat::render

@@ -44,9 +44,10 @@ core::Status write_host_stream(const gpu::Buffer& buffer, std::span<const T> dat
 }
 } // namespace
 
-core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context& ctx, const RendererOptions& options) {
+namespace {
+// Refused up front, with the limit, rather than allocated and ground through for minutes.
+core::Status check_options(const gpu::Context& ctx, const RendererOptions& options) {
     if (options.max_splats == 0) return core::make_error("max_splats must be at least 1");
-    // Refused up front, with the limit, rather than allocated and ground through for minutes.
     const uint32_t side = ctx.caps().max_image_dimension;
     if (side && (options.width > side || options.height > side))
         return core::make_error(std::to_string(options.width) + "x" + std::to_string(options.height) + " is larger than device '" +
@@ -60,14 +61,28 @@ core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context&
     if ((options.anisotropic || options.sh_degree > 0) && options.gpu_sort)
         return core::make_error("anisotropic splats and view-dependent colour cannot be sorted on the GPU yet (its sort reorders only "
                                 "the records): sort on the CPU");
+    return core::Status::success();
+}
+} // namespace
+
+core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context& ctx, const RendererOptions& options) {
+    PBDSPLAT_TRY(check_options(ctx, options));
     auto r = std::unique_ptr<SplatRenderer>(new SplatRenderer());
     r->ctx_ = &ctx;
     r->options_ = options;
-    const uint32_t n = options.frames_in_flight;
+    PBDSPLAT_TRY(r->create_streams());
+    PBDSPLAT_TRY(r->create_passes());
+    PBDSPLAT_TRY(r->create_sets());
+    return r;
+}
 
+core::Status SplatRenderer::create_streams() {
+    gpu::Context& ctx = *ctx_;
+    const RendererOptions& options = options_;
+    const uint32_t n = options.frames_in_flight;
     auto frames = gpu::FrameRing::create(ctx, n);
     if (!frames.ok()) return frames.error();
-    r->frames_ = std::move(frames).value();
+    frames_ = std::move(frames).value();
 
     const VkDeviceSize record_bytes = VkDeviceSize(options.max_splats) * sizeof(splat::GaussianRecord);
     const gpu::UploadPath path = options.upload_path.value_or(ctx.caps().unified_memory ? gpu::UploadPath::direct
@@ -76,62 +91,73 @@ core::Result<std::unique_ptr<SplatRenderer>> SplatRenderer::create(gpu::Context&
         // Room for every frame in flight to rewrite all records, plus slack for alignment.
         auto ring = gpu::UploadRing::create(ctx, record_bytes * n + (1u << 16));
         if (!ring.ok()) return ring.error();
-        r->ring_ = std::move(ring).value();
+        ring_ = std::move(ring).value();
     }
     auto records = gpu::StreamBuffer::create(ctx, record_bytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                              path, n);
     if (!records.ok()) return records.error();
-    r->records_ = std::move(records).value();
+    records_ = std::move(records).value();
 
     auto target = OffscreenTarget::create(ctx, options.width, options.height, n);
     if (!target.ok()) return target.error();
-    r->target_ = std::move(target).value();
+    target_ = std::move(target).value();
+    return core::Status::success();
+}
 
+core::Status SplatRenderer::create_passes() {
+    gpu::Context& ctx = *ctx_;
+    const RendererOptions& options = options_;
     auto pass = SplatPass::create(ctx, k_color_format, k_depth_format, options.path.value_or(best_splat_path(ctx.caps())),
                                   options.shading, options.carrier, options.anisotropic, options.sh_degree);
     if (!pass.ok()) return pass.error();
-    r->splat_ = std::move(pass).value();
-    auto ground = GroundPass::create(ctx, k_color_format, k_depth_format, r->splat_.set_layout());
+    splat_ = std::move(pass).value();
+    auto ground = GroundPass::create(ctx, k_color_format, k_depth_format, splat_.set_layout());
     if (!ground.ok()) return ground.error();
-    r->ground_ = std::move(ground).value();
+    ground_ = std::move(ground).value();
 
     auto environment = make_environment_texture(ctx, options.environment_map, options.sky_sun);
     if (!environment.ok()) return environment.error();
-    r->sh_ = environment->sh;
-    r->environment_ = std::move(environment->texture);
+    sh_ = environment->sh;
+    environment_ = std::move(environment->texture);
+    return core::Status::success();
+}
 
+core::Status SplatRenderer::create_sets() {
+    gpu::Context& ctx = *ctx_;
+    const RendererOptions& options = options_;
+    const uint32_t n = options.frames_in_flight;
     gpu::FrameSetResources extra;
-    extra.texture_view = r->environment_.view();
-    extra.texture_sampler = r->environment_.sampler();
-    for (uint32_t i = 0; i < n; ++i) extra.storage.push_back(r->records_.buffer(i));
+    extra.texture_view = environment_.view();
+    extra.texture_sampler = environment_.sampler();
+    for (uint32_t i = 0; i < n; ++i) extra.storage.push_back(records_.buffer(i));
     PBDSPLAT_TRY(make_host_stream(ctx, n, VkDeviceSize(options.anisotropic ? options.max_splats : 1) * sizeof(splat::GaussianShape),
-                                  r->shapes_, extra.shapes));
+                                  shapes_, extra.shapes));
     PBDSPLAT_TRY(make_host_stream(ctx, n, VkDeviceSize(options.sh_degree > 0 ? options.max_splats : 1) * sizeof(splat::GaussianSH),
-                                  r->sh_rest_, extra.sh));
-    auto uniforms = gpu::UniformSets::create(ctx, r->splat_.set_layout(), n, sizeof(gpu_types::FrameUniforms), &extra);
+                                  sh_rest_, extra.sh));
+    auto uniforms = gpu::UniformSets::create(ctx, splat_.set_layout(), n, sizeof(gpu_types::FrameUniforms), &extra);
     if (!uniforms.ok()) return uniforms.error();
-    r->uniforms_ = std::move(uniforms).value();
+    uniforms_ = std::move(uniforms).value();
     if (options.gpu_sort) {
         std::vector<VkBuffer> records_per_slot;
-        for (uint32_t i = 0; i < n; ++i) records_per_slot.push_back(r->records_.buffer(i));
+        for (uint32_t i = 0; i < n; ++i) records_per_slot.push_back(records_.buffer(i));
         auto sort = GpuSort::create(ctx, options.max_splats, records_per_slot);
         if (!sort.ok()) return sort.error();
-        r->sort_ = std::move(sort).value();
+        sort_ = std::move(sort).value();
         extra.storage.clear();
-        for (uint32_t i = 0; i < n; ++i) extra.storage.push_back(r->sort_.sorted_records(i));
-        auto sorted = gpu::UniformSets::create(ctx, r->splat_.set_layout(), n, sizeof(gpu_types::FrameUniforms), &extra);
+        for (uint32_t i = 0; i < n; ++i) extra.storage.push_back(sort_.sorted_records(i));
+        auto sorted = gpu::UniformSets::create(ctx, splat_.set_layout(), n, sizeof(gpu_types::FrameUniforms), &extra);
         if (!sorted.ok()) return sorted.error();
-        r->sorted_uniforms_ = std::move(sorted).value();
+        sorted_uniforms_ = std::move(sorted).value();
     }
     for (uint32_t i = 0; i < n; ++i) {
         auto timer = gpu::GpuTimer::create(ctx, 8);
         if (!timer.ok()) return timer.error();
-        r->timers_.push_back(std::move(timer).value());
+        timers_.push_back(std::move(timer).value());
     }
-    r->slot_pending_.assign(n, false);
-    r->slot_read_back_.assign(n, false);
-    r->slot_cpu_.assign(n, GpuTimings{});
-    return r;
+    slot_pending_.assign(n, false);
+    slot_read_back_.assign(n, false);
+    slot_cpu_.assign(n, GpuTimings{});
+    return core::Status::success();
 }
 
 SplatRenderer::~SplatRenderer() {

@@ -133,6 +133,11 @@ public:
 
 private:
     SplatRenderer() = default;
+    // create() in steps: the frame ring and the record stream, the passes and the environment,
+    // then the descriptor sets (sorted ones too), timers and per-slot state.
+    core::Status create_streams();
+    core::Status create_passes();
+    core::Status create_sets();
     core::Status collect_timings(uint32_t slot);
 
     gpu::Context* ctx_ = nullptr;

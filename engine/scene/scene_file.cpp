@@ -258,7 +258,8 @@ void read_simulation(const Reader& r, Reader::Table& t, SimulationDesc& s) {
     t.finish();
 }
 
-void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
+// The splats' look and the frame: size, blending, sorting, footprint, shape, depth.
+void read_splat_look(const Reader& r, Reader::Table& t, RenderDesc& d) {
     d.width = t.count("width", d.width, 16, 16384);
     d.height = t.count("height", d.height, 16, 16384);
     render::SplatStyle& style = d.frame.style;
@@ -288,6 +289,9 @@ void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
     style.depth_push = t.real("depth_push", style.depth_push, 0.0, 10.0);
     const Vec3f bg = t.vec<3>("background", Vec3f(d.frame.background.head<3>()), 0.0, 1.0);
     d.frame.background = Vec4f(bg.x(), bg.y(), bg.z(), 1.0f);
+}
+
+void read_camera(const Reader& r, Reader::Table& t, RenderDesc& d) {
     if (const toml::table* cam = t.table("camera")) {
         Reader::Table c(r, *cam, "render.camera");
         render::Camera& k = d.frame.camera;
@@ -312,10 +316,9 @@ void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
         }
         c.finish();
     }
-    const std::string path = t.choice("path", "auto", {"auto", "gs", "mesh", "vertex"});
-    if (path == "gs") d.splat_path = render::SplatPath::geometry;
-    else if (path == "mesh") d.splat_path = render::SplatPath::mesh;
-    else if (path == "vertex") d.splat_path = render::SplatPath::vertex;
+}
+
+void read_environment(const Reader& r, Reader::Table& t, RenderDesc& d) {
     render::Environment& env = d.frame.lighting.environment;
     const std::string sampling = t.choice("environment", "position", {"position", "normal", "hybrid", "off"});
     env.sampling = sampling == "normal" ? render::EnvSampling::normal
@@ -340,6 +343,10 @@ void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
                 r.fail(t.source_of("environment_map"), "'render.environment_map': no such file '" + d.environment_map + "'");
         }
     }
+}
+
+// The direct lights: the list of point, spot and directional lights, and the key light.
+void read_lights(const Reader& r, Reader::Table& t, RenderDesc& d) {
     if (const toml::array* lights = t.array("lights")) {
         for (const toml::node& n : *lights) {
             if (!n.is_table()) r.fail(n.source(), "'render.lights' holds tables {type, position, direction, color, intensity, ...}");
@@ -372,6 +379,17 @@ void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
         g.ambient = l.vec<3>("ambient", g.ambient, 0.0, 100.0);
         l.finish();
     }
+}
+
+void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
+    read_splat_look(r, t, d);
+    read_camera(r, t, d);
+    const std::string path = t.choice("path", "auto", {"auto", "gs", "mesh", "vertex"});
+    if (path == "gs") d.splat_path = render::SplatPath::geometry;
+    else if (path == "mesh") d.splat_path = render::SplatPath::mesh;
+    else if (path == "vertex") d.splat_path = render::SplatPath::vertex;
+    read_environment(r, t, d);
+    read_lights(r, t, d);
     t.finish();
 }
 
@@ -514,10 +532,9 @@ std::string quoted(const std::string& t) {
     }
     return o + "\"";
 }
-} // namespace
 
-std::string to_toml(const Scene& sc) {
-    std::ostringstream o;
+// One writer per section, in the order a reader meets them.
+void write_model_material_surface(std::ostream& o, const Scene& sc) {
     const ModelDesc& m = sc.model;
     o << "[model]\nmesh = " << quoted(m.mesh) << "\nfit = " << num(m.fit) << "\ntranslate = " << vec<3>(m.translate)
       << "\nrotate_degrees = " << vec<3>(m.rotate_degrees) << "\nscale = " << num(m.scale)
@@ -535,6 +552,9 @@ std::string to_toml(const Scene& sc) {
       << "\ndensity_insert_spacing = " << num(sf.density.insert_spacing)
       << "\ndensity_settle_frames = " << sf.density.settle_frames
       << "\ndensity_budget = " << sf.density.budget << "\n\n";
+}
+
+void write_simulation(std::ostream& o, const Scene& sc) {
     const SimulationDesc& s = sc.simulation;
     o << "[simulation]\nmode = " << (s.solver.mode == sim::SolverMode::xpbd ? "\"xpbd\"" : "\"paper\"") << "\ndt = " << num(s.dt)
       << "\niterations = " << s.solver.iterations << "\nsubsteps = " << s.solver.substeps
@@ -569,6 +589,9 @@ std::string to_toml(const Scene& sc) {
           << ", rotate_degrees = " << vec<3>(deg) << " }";
     }
     o << (first ? "]\n\n" : "\n]\n\n");
+}
+
+void write_render(std::ostream& o, const Scene& sc) {
     const RenderDesc& d = sc.render;
     const render::Camera& c = d.frame.camera;
     const render::Lighting& l = d.frame.lighting;
@@ -603,6 +626,9 @@ std::string to_toml(const Scene& sc) {
     o << "]"
       << "\n\n[render.light]\ndirection = " << vec<3>(l.direction) << "\ncolor = " << vec<3>(l.color) << "\nintensity = "
       << num(l.intensity) << "\nambient = " << vec<3>(l.ambient) << "\n";
+}
+
+void write_events(std::ostream& o, const Scene& sc) {
     for (const Event& e : sc.events) {
         o << "\n[[events]]\ntime = " << num(e.time) << "\ntype = \"" << event_type_name(e.data) << "\"\n";
         if (auto* p = std::get_if<PressureEvent>(&e.data)) o << "value = " << num(p->value) << "\nduration = " << num(p->duration) << "\n";
@@ -620,6 +646,15 @@ std::string to_toml(const Scene& sc) {
         if (auto* te = std::get_if<TearEvent>(&e.data))
             o << "threshold = " << num(te->threshold) << "\nmax_per_frame = " << te->max_per_frame << "\nduration = " << num(te->duration) << "\n";
     }
+}
+} // namespace
+
+std::string to_toml(const Scene& sc) {
+    std::ostringstream o;
+    write_model_material_surface(o, sc);
+    write_simulation(o, sc);
+    write_render(o, sc);
+    write_events(o, sc);
     return o.str();
 }
 

@@ -1,5 +1,7 @@
 #include "topology/cut_surface.h"
 
+#include <algorithm>
+
 #include <cmath>
 
 namespace pbdsplat::topology {
@@ -47,6 +49,27 @@ CutSurface local_cut(const Vec3f& point, const Vec3f& unit_normal, float radius)
     s.normal = unit_normal;
     const float r2 = radius * radius;
     s.inside = [point, r2](const Vec3f& x) { return (x - point).squaredNorm() <= r2; };
+    return s;
+}
+
+CutSurface local_cut_on(const sim::SoftBody& b, uint32_t particle, const Vec3f& unit_normal, float radius) {
+    const Vec3f centre = sim::xyz(b.particles.x[particle]);
+    CutSurface s = local_cut(centre, unit_normal, radius);
+    const float r2 = radius * radius;
+    std::vector<uint32_t> inside{particle}, ring;
+    std::vector<uint8_t> seen(b.particle_count(), 0);  // a memset: cheaper than a search per step
+    seen[particle] = 1;
+    for (size_t q = 0; q < inside.size(); ++q)
+        for (const auto& pair : b.rings.ring.of(inside[q]))
+            for (uint32_t w : pair) {
+                if (seen[w]) continue;
+                seen[w] = 1;
+                if ((sim::xyz(b.particles.x[w]) - centre).squaredNorm() <= r2) inside.push_back(w);
+                else ring.push_back(w);
+            }
+    s.particles = std::move(inside);
+    s.particles.insert(s.particles.end(), ring.begin(), ring.end());
+    std::sort(s.particles.begin(), s.particles.end());
     return s;
 }
 

@@ -9,6 +9,7 @@
 
 #include "core/math.h"
 #include "core/result.h"
+#include "sim/soft_body.h"
 
 namespace pbdsplat::topology {
 
@@ -39,5 +40,10 @@ core::Result<CutSurface> screen_cut(const Mat4f& view_proj, const Vec3f& eye, co
 
 // A ball-limited plane: what tearing uses to open a short slit across one edge.
 CutSurface local_cut(const Vec3f& point, const Vec3f& unit_normal, float radius);
+
+// A scalpel: local_cut at `particle`, limited to the surface connected to it inside the ball
+// (and the ring just past it, so edges leaving the ball can be crossed). Other layers or pieces
+// that pass through the ball are not cut, and the cut costs the region, not the body.
+CutSurface local_cut_on(const sim::SoftBody& body, uint32_t particle, const Vec3f& unit_normal, float radius);
 
 } // namespace pbdsplat::topology

@@ -69,7 +69,7 @@ void require_invariants(const sim::SoftBody& b, const char* when) {
 }
 
 #ifdef PBDSPLAT_LONG_TESTS
-constexpr int k_random_cuts = 1000;
+constexpr int k_random_cuts = 10000;
 constexpr int k_frames = 600;
 #else
 constexpr int k_random_cuts = 120;
@@ -231,6 +231,10 @@ TEST_SUITE("stress/topology") {
             const Vec3f centre = sim::xyz(b.particles.x[at]);
             const float r = 0.15f + 0.25f * std::abs(u(rng));
             surface->inside = [centre, r](const Vec3f& x) { return (x - centre).squaredNorm() < r * r; };
+            // Every other cut a scalpel (only the surface around the particle); past the first
+            // thousand, scalpels only: a disc through space cuts every flake in its ball, and the
+            // heap of pieces (and of particles) would grow without bound.
+            if (k % 2 == 0 || k >= 1000) surface = topology::local_cut_on(b, at, n.normalized(), r);
             options.volume = k % 3 == 0 ? topology::VolumePolicy::burst : k % 3 == 1 ? topology::VolumePolicy::cap
                                                                                      : topology::VolumePolicy::rebase;
             auto change = topology::cut(b, surface.value(), options);
