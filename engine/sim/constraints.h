@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/math.h"
@@ -35,6 +36,10 @@ struct VolumeConstraint {
     float pressure = 1.0f;     // k: target volume k * V0 (deflate < 1 < inflate)
     float compliance = 0.0f;   // XPBD
     double lambda = 0.0;       // XPBD multiplier, reset every substep
+    // 6V of its piece's triangles (caps apart) at the solver's last volume pass (NaN: not yet):
+    // a cut that leaves the piece whole takes the piece's volume from here instead of summing
+    // the whole piece again.
+    double measured_six_v = std::numeric_limits<double>::quiet_NaN();
     // An opened component (burst) leaks: its overpressure k - 1 decays at this rate (1/s)
     // instead of vanishing at once, which snapped the stretched shell inward in one frame and
     // imploded it. Once k is within 2 % of 1 the constraint rests. 0: sealed.

@@ -106,6 +106,7 @@ void SolverT<Real>::project_volume(SoftBodyT<Real>& body, const SolverSettings& 
         VolumeConstraint& v = *slots_.constraints[slot];
         VolumeSums total, caps;
         for (size_t q = 0; q < blocks; ++q) total.eighteen_v += sums_[q * slots + slot].eighteen_v, total.denom += sums_[q * slots + slot].denom;
+        v.measured_six_v = total.eighteen_v / 3.0;  // before the caps: 3 x (6V of the triangles)
         volume_caps<Real>(v, p, scratch_, caps);
         total.eighteen_v += caps.eighteen_v, total.denom += caps.denom;
         steps_[slot] = volume_step<Real>(v, total, xpbd, k, Real(v.compliance) * inv_h2);

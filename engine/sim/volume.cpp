@@ -43,7 +43,7 @@ void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<
         const uint32_t s = l.slot_of(uint32_t(i));
         if (s == k_no_volume) continue;
         Vec4<Real> g = Vec4<Real>::Zero();
-        for (const auto& r : l.ring->of(i)) g += cross3<Real>(x[r[0]], x[r[1]]);
+        for (const auto& r : l.ring->of(uint32_t(i))) g += cross3<Real>(x[r[0]], x[r[1]]);
         grad[i] = g;
         sums[s].eighteen_v += double(x[i].dot(g));
         sums[s].denom += double(w[i]) * double(g.squaredNorm());

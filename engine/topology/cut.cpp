@@ -247,11 +247,13 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
     lap("mass");
     e.update_distance_constraints();
     lap("distance constraints");
-    const VolumeOutcome volumes = apply_volume_policy(b, o.volume, o.burst_leak, e.local_triangles());
+    const VolumeOutcome volumes = apply_volume_policy(b, o.volume, o.burst_leak, e.local_triangles(), e.change.triangles_before);
     b.pieces = volumes.pieces;
     e.change.components_after = b.pieces;
     e.change.loops_fell_back = volumes.loops_fell_back;
     e.change.particles_searched = volumes.particles_searched;
+    e.change.searched_whole = volumes.searched_whole;
+    e.change.summed_whole = volumes.summed_whole;
     lap("pieces and volumes");
     const core::Stopwatch rebuild;
     sim::rebuild_shape_clusters(b);

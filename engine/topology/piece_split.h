@@ -11,6 +11,9 @@ namespace pbdsplat::topology {
 // One part of a piece the edit reached.
 struct Part {
     uint32_t label = 0;
+    // All its particles and sums, except for the rest of a piece that a local search left
+    // unexplored (`complete` false: only the label is known; the caller sums what it needs).
+    bool complete = true;
     std::vector<uint32_t> particles;
     size_t triangles = 0;
     double six_v = 0.0;       // 6 V of its triangles, caps apart
@@ -21,13 +24,16 @@ struct Part {
 struct SplitSearch {
     std::vector<std::vector<Part>> parts_of;  // per reached piece, largest first: the first keeps the piece's label
     size_t searched = 0;                      // particles visited
+    size_t searched_whole = 0;                // reached pieces the local search could not settle (searched whole)
 };
 
-// For each piece in `reached` (sorted), grows its parts along the rings from its particles among
-// `seeds` (sorted), summing each part's triangles on the way; the parts after the first get new
-// labels (`piece_of_particle`, `pieces`). Costs the reached pieces' size: the volumes of the
-// parts need every triangle of them, so a search that stopped once its fronts met would still
-// leave a whole pass to do.
-SplitSearch split_pieces(sim::SoftBody& body, std::span<const uint32_t> reached, std::span<const uint32_t> seeds);
+// For each piece in `reached` (sorted), searches from its particles among `seeds` (sorted) all at
+// once, breadth first, merging searches that meet. When they have all met, the piece did not
+// fall apart; when all but one have closed, the closed ones are parts cut off (complete, summed)
+// and the open one is the rest, which keeps the label unexplored. Either way the search costs
+// the region around the edit, not the piece. Past `budget` particles (two large parts, as a cut
+// through the middle makes) it gives up, and the piece is searched whole, part by part, each
+// summed on the way. Parts cut off get new labels (`piece_of_particle`, `pieces`).
+SplitSearch split_pieces(sim::SoftBody& body, std::span<const uint32_t> reached, std::span<const uint32_t> seeds, size_t budget);
 
 } // namespace pbdsplat::topology

@@ -133,7 +133,32 @@ bool cap_parts(const sim::SoftBody& b, std::span<const uint32_t> seeds, std::spa
 }
 } // namespace
 
-VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float leak, std::span<const uint32_t> touched_triangles) {
+namespace {
+// The rest of a piece that the local search left unexplored: its triangle count from the
+// parent's, what the edit appended to it and what was cut off; its triangles' 6V from the
+// solver's last measure of the parent less what was cut off (the edit keeps the surface where
+// it was), or summed over the body's triangles where there is no measure (counted).
+void sum_rest(const sim::SoftBody& b, const sim::VolumeConstraint& parent, std::span<const Part> cut_off, size_t first_new_triangle,
+              Part& rest, size_t& summed_whole) {
+    // Appended triangles of the old piece: now labelled with the rest's label or a cut-off part's.
+    auto of_old_piece = [&](uint32_t label) {
+        return label == rest.label || std::any_of(cut_off.begin(), cut_off.end(), [&](const Part& p) { return p.label == label; });
+    };
+    rest.triangles = parent.triangle_count;
+    for (size_t t = first_new_triangle; t < b.triangles.size(); ++t) rest.triangles += of_old_piece(b.piece_of_particle[b.triangles[t][0]]);
+    double cut_six_v = 0.0;
+    for (const Part& part : cut_off) rest.triangles -= part.triangles, cut_six_v += part.six_v;
+    if (std::isfinite(parent.measured_six_v)) {
+        rest.six_v = parent.measured_six_v - cut_six_v;
+    } else {
+        rest.six_v = sim::triangles_six_volume<float>(b.triangles, b.piece_of_particle, rest.label, b.particles.x);
+        ++summed_whole;
+    }
+}
+} // namespace
+
+VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float leak, std::span<const uint32_t> touched_triangles,
+                                  size_t first_new_triangle) {
     VolumeOutcome result;
     std::vector<uint32_t> seeds, reached;
     for (uint32_t f : touched_triangles) seeds.insert(seeds.end(), b.triangles[f].begin(), b.triangles[f].end());
@@ -147,9 +172,14 @@ VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float l
         if (auto it = std::lower_bound(reached.begin(), reached.end(), v.piece); it != reached.end() && *it == v.piece)
             parents[size_t(it - reached.begin())] = &v;
 
-    SplitSearch search = split_pieces(b, reached, seeds);
+    // The local search may look at this many particles before it searches the pieces whole: a
+    // few rings around the edit, or a sixteenth of the body (a cut through the middle of a large
+    // body pays that much extra before the whole search).
+    const size_t budget = std::max({size_t(2048), 2 * seeds.size(), b.particle_count() / 16});
+    SplitSearch search = split_pieces(b, reached, seeds, budget);
     std::vector<std::vector<Part>>& parts_of = search.parts_of;
     result.particles_searched = search.searched;
+    result.searched_whole = search.searched_whole;
     result.pieces = b.pieces;
     if (std::none_of(parents.begin(), parents.end(), [](const auto* p) { return p != nullptr; })) return result;
     result.loops_fell_back = !cap_parts(b, seeds, touched_triangles, parents, parts_of);
@@ -162,6 +192,7 @@ VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float l
             continue;
         }
         std::vector<Part>& parts = parts_of[size_t(it - reached.begin())];
+        if (!parts.front().complete) sum_rest(b, c, std::span(parts).subspan(1), first_new_triangle, parts.front(), result.summed_whole);
         // The parent's volume just before the change: the edit kept the surface where it was,
         // so its parts' triangles sum to it; its old caps still close it.
         double parent_now = sim::caps_six_volume<float>(c.cap_loops, b.particles.x);
@@ -175,7 +206,10 @@ VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float l
             const double now = (part.six_v + sim::caps_six_volume<float>(v.cap_loops, b.particles.x)) / 6.0;
             const bool unchanged = parts.size() == 1 && part.triangles == c.triangle_count && v.cap_loops.size() == c.cap_loops.size();
             set_target(v, c, unchanged, now, parent_now, policy, leak);
-            if (v.rest_volume > 0.0 && (unchanged || holds_air(b, part, now))) out.push_back(std::move(v));
+            // The unexplored rest of a piece is far larger than what was cut off it: it holds
+            // the air it held. Its measure stays usable for a second cut in the same frame.
+            if (!part.complete) v.measured_six_v = part.six_v;
+            if (v.rest_volume > 0.0 && (unchanged || !part.complete || holds_air(b, part, now))) out.push_back(std::move(v));
         }
     }
     b.volumes = std::move(out);

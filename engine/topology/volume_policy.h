@@ -11,10 +11,9 @@
 namespace pbdsplat::topology {
 
 // Every piece the edit reached (through `touched_triangles`) is searched along the body's rings
-// from the touched particles; where it fell apart, the largest part keeps its label and the
-// others get new ones (`SoftBody::piece_of_particle`). The search costs the reached pieces'
-// size, nothing else of the body; the pieces the edit did not reach keep their labels and
-// their volume constraints as they were.
+// from the touched particles (topology/piece_split.h); where it fell apart, the largest part
+// keeps its label and the others get new ones (`SoftBody::piece_of_particle`). The pieces the
+// edit did not reach keep their labels and their volume constraints as they were.
 // A reached piece's volume constraint is remade for each part by the policy: under `cap` a part
 // keeps its parent's ratio of volume to target, so no piece jumps (with a planar cut through a
 // closed body the parts' targets sum to the parent's); a part that did not change keeps its
@@ -24,8 +23,12 @@ namespace pbdsplat::topology {
 struct VolumeOutcome {
     size_t pieces = 0;              // connected components after
     size_t particles_searched = 0;  // by the search for the parts of the reached pieces
+    size_t searched_whole = 0;      // reached pieces the local search could not settle
+    size_t summed_whole = 0;        // unexplored rests whose volume took a pass over the body's triangles (no measure)
     bool loops_fell_back = false;   // a local trace did not close: loops counted over the parts
 };
-VolumeOutcome apply_volume_policy(sim::SoftBody& body, VolumePolicy policy, float leak, std::span<const uint32_t> touched_triangles);
+// `first_new_triangle`: the triangle count before the edit (triangles from there on are new).
+VolumeOutcome apply_volume_policy(sim::SoftBody& body, VolumePolicy policy, float leak, std::span<const uint32_t> touched_triangles,
+                                  size_t first_new_triangle);
 
 } // namespace pbdsplat::topology

@@ -1,7 +1,9 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 
+#include <limits>
 #include <random>
 
 #include "mesh/mesh_spec.h"
@@ -145,6 +147,58 @@ TEST_SUITE("topology/cut") {
         CHECK(b.pieces == 1);
         CHECK(b.volumes[0].piece == 0);
         for (uint32_t p : b.piece_of_particle) REQUIRE(p == 0);
+    }
+
+    TEST_CASE("a slit in a large body is settled around it: no whole-piece search, the target as a full sum gives") {
+        sim::SoftBody b = body_of(mesh::icosphere(5));
+        sim::Solver solver;
+        sim::SolverSettings s;
+        s.gravity = Vec3f::Zero();
+        b.volumes[0].pressure = 1.2f;
+        for (int f = 0; f < 3; ++f) solver.step(b, 1.0f / 60.0f, s, {}, {});
+        REQUIRE(std::isfinite(b.volumes[0].measured_six_v));
+        const uint32_t pole = b.extreme_particle(1);
+        const float edge = float(b.distance_groups.mean_rest());
+        sim::SoftBody exact = b;  // the same slit with no solver measure: the piece summed whole
+        exact.volumes[0].measured_six_v = std::numeric_limits<double>::quiet_NaN();
+        for (sim::SoftBody* body : {&b, &exact}) {
+            for (const topology::VolumePolicy policy : {topology::VolumePolicy::cap}) {
+                topology::CutOptions o;
+                o.volume = policy;
+                auto change = topology::cut(*body, topology::local_cut_on(*body, pole, Vec3f::UnitX(), 3.0f * edge), o);
+                REQUIRE(change.ok());
+                require_invariants(*body);
+                CHECK(change->crossed_triangles > 0);
+                CHECK(change->components_after == 1);
+                CHECK(change->searched_whole == 0);
+                CHECK(change->particles_searched < body->particle_count() / 10);
+                CHECK(change->summed_whole == (body == &exact ? 1u : 0u));
+            }
+        }
+        REQUIRE(b.volumes.size() == 1);
+        REQUIRE(exact.volumes.size() == 1);
+        CHECK(b.volumes[0].cap_loops.size() == 1);
+        // The measure is a step old; the target moves by the small cap only, so it barely shows.
+        CHECK(b.volumes[0].rest_volume == doctest::Approx(exact.volumes[0].rest_volume).epsilon(1e-4));
+    }
+
+    TEST_CASE("a flake cut off a large body is found locally, labelled apart, and the rest keeps its air") {
+        sim::SoftBody b = body_of(mesh::icosphere(5));
+        const uint32_t pole = b.extreme_particle(1);
+        const Vec3f top = sim::xyz(b.particles.x[pole]);
+        // A plane just under the pole: a small cap comes off.
+        auto plane = topology::plane_cut(top - Vec3f(0.0f, 0.05f, 0.0f), Vec3f::UnitY());
+        REQUIRE(plane.ok());
+        auto change = topology::cut(b, plane.value());
+        REQUIRE(change.ok());
+        require_invariants(b);
+        CHECK(change->components_after == 2);
+        CHECK(change->searched_whole == 0);
+        CHECK(change->particles_searched < b.particle_count() / 4);
+        CHECK(b.piece_of_particle[pole] != b.piece_of_particle[b.extreme_particle(1, false)]);
+        // The sphere keeps a constraint; the flat cap holds no air.
+        REQUIRE(b.volumes.size() >= 1);
+        CHECK(b.volumes[0].piece == b.piece_of_particle[b.extreme_particle(1, false)]);
     }
 
     TEST_CASE("a cut that misses the body changes nothing") {
