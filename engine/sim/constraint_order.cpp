@@ -11,16 +11,28 @@ namespace pbdsplat::sim {
 ColourGrouping colour_groups(std::span<const DistanceConstraint> constraints) {
     uint32_t max_particle = 0;
     for (const auto& c : constraints) max_particle = std::max({max_particle, c.i, c.j});
-    std::vector<uint64_t> used(size_t(max_particle) + 1, 0);  // colours taken at each particle
+    // Colours taken at each particle: indexed by particle for a whole body, by rank among the
+    // few particles involved for a handful of constraints (a body-sized table would cost the
+    // body).
+    std::vector<uint32_t> ids;
+    const bool sparse = constraints.size() * 16 < size_t(max_particle);
+    if (sparse) {
+        for (const auto& c : constraints) ids.push_back(c.i), ids.push_back(c.j);
+        std::sort(ids.begin(), ids.end());
+        ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    }
+    auto index = [&](uint32_t v) { return sparse ? size_t(std::lower_bound(ids.begin(), ids.end(), v) - ids.begin()) : size_t(v); };
+    std::vector<uint64_t> used(sparse ? ids.size() : size_t(max_particle) + 1, 0);
     std::vector<uint8_t> colour(constraints.size());
     uint32_t colours = 0;
     for (size_t k = 0; k < constraints.size(); ++k) {
         const DistanceConstraint& c = constraints[k];
-        const uint64_t taken = used[c.i] | used[c.j];
+        const size_t a = index(c.i), b = index(c.j);
+        const uint64_t taken = used[a] | used[b];
         PBDSPLAT_ASSERT(~taken != 0, "more than 64 edge colours: a vertex has over 32 neighbours; repair the mesh");
         const uint32_t col = uint32_t(std::countr_one(taken));
-        used[c.i] |= 1ull << col;
-        used[c.j] |= 1ull << col;
+        used[a] |= 1ull << col;
+        used[b] |= 1ull << col;
         colour[k] = uint8_t(col);
         colours = std::max(colours, col + 1);
     }
@@ -109,6 +121,43 @@ void append_groups(std::vector<DistanceConstraint>& constraints, DistanceGroups&
     lambda.resize(constraints.size(), 0.0f);
 }
 
+// The groups appended since the last full grouping coloured again among themselves (their dead
+// slots dropped): spills of many edits, one or two small groups each, become as few groups as
+// their own colouring needs, at the cost of the tail, not of the body.
+void regroup_tail(std::vector<DistanceConstraint>& constraints, DistanceGroups& g, std::vector<float>& lambda,
+                  std::vector<uint32_t>& placed) {
+    const uint32_t first = g.start[g.colours_when_grouped];
+    std::vector<DistanceConstraint> live;
+    std::vector<uint32_t> old_slot;  // ascending
+    std::vector<uint32_t> scratch;
+    for (uint32_t s = first; s < constraints.size(); ++s) {
+        const DistanceConstraint& c = constraints[s];
+        if (!c.alive()) continue;
+        live.push_back(c), old_slot.push_back(s);
+        remove_slot_of(g.of_particle, c.i, s, scratch);
+        remove_slot_of(g.of_particle, c.j, s, scratch);
+    }
+    g.dead -= (constraints.size() - first) - live.size();
+    const ColourGrouping grouping = colour_groups(live);
+    std::vector<uint32_t> new_slot(live.size());
+    constraints.resize(first);
+    for (uint32_t s = 0; s < live.size(); ++s) {
+        const DistanceConstraint& c = live[grouping.order[s]];
+        const uint32_t slot = first + s;
+        constraints.push_back(c);
+        new_slot[grouping.order[s]] = slot;
+        add_slot_of(g.of_particle, c.i, slot, scratch);
+        add_slot_of(g.of_particle, c.j, slot, scratch);
+    }
+    for (uint32_t& p : placed)
+        if (p >= first) p = new_slot[size_t(std::lower_bound(old_slot.begin(), old_slot.end(), p) - old_slot.begin())];
+    g.start.resize(g.colours_when_grouped + 1);
+    for (size_t c = 1; c < grouping.start.size(); ++c) g.start.push_back(first + grouping.start[c]);
+    lambda.resize(constraints.size());
+    std::fill(lambda.begin() + first, lambda.end(), 0.0f);
+    ++g.tail_regroupings;
+}
+
 // The live constraints grouped from scratch (dead slots dropped), following where the added
 // ones go.
 void regroup(std::vector<DistanceConstraint>& constraints, DistanceGroups& g, std::vector<float>& lambda, size_t particles,
@@ -125,8 +174,9 @@ void regroup(std::vector<DistanceConstraint>& constraints, DistanceGroups& g, st
         new_slot[old_slot[grouping.order[s]]] = s;
     }
     for (uint32_t& p : placed) p = new_slot[p];
-    const size_t reused = g.slots_reused, appended = g.slots_appended, regroupings = g.regroupings + 1;
+    const size_t reused = g.slots_reused, appended = g.slots_appended, regroupings = g.regroupings + 1, tails = g.tail_regroupings;
     g = DistanceGroups{};
+    g.tail_regroupings = tails;
     g.start = grouping.start;
     g.of_particle = index_by_particle(constraints, particles);
     g.colours_when_grouped = g.start.size() - 1;
@@ -190,8 +240,16 @@ std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstrain
         placed[k] = slot;
     }
     if (!spill.empty()) append_groups(constraints, g, lambda, add, spill, placed);
-    const size_t groups = g.start.size() - 1;
-    if (g.dead * 8 > constraints.size() || groups > 2 * g.colours_when_grouped + 8) regroup(constraints, g, lambda, particles, placed);
+    // Many small spill groups cost the solver a pass each: past k_tail_groups they are coloured
+    // again among themselves; the whole array only when dead slots pass an eighth of it (rare:
+    // thousands of edits) or the tail will not fold.
+    constexpr size_t k_tail_groups = 16;
+    if (g.dead * 8 > constraints.size()) {
+        regroup(constraints, g, lambda, particles, placed);
+    } else if (g.start.size() - 1 > g.colours_when_grouped + k_tail_groups) {
+        regroup_tail(constraints, g, lambda, placed);
+        if (g.start.size() - 1 > g.colours_when_grouped + k_tail_groups) regroup(constraints, g, lambda, particles, placed);
+    }
     return placed;
 }
 

@@ -26,14 +26,16 @@ std::vector<uint32_t> group_by_colour(std::vector<DistanceConstraint>& constrain
 
 // The colour groups kept up to date through topology edits at the cost of what an edit touches:
 // removed constraints leave dead slots, added ones take a dead slot of a colour free at both
-// their particles or form new groups at the end. Regrouped from scratch (dead slots dropped)
-// only when dead slots pass an eighth of the array or the groups double.
+// their particles or form new groups at the end. The groups at the end are coloured again among
+// themselves when there are too many; everything is regrouped from scratch (dead slots
+// dropped) only when dead slots pass an eighth of the array.
 struct DistanceGroups {
     std::vector<uint32_t> start;          // colour c holds [start[c], start[c + 1])
     SlackLists<uint32_t> of_particle;     // each particle's constraint slots
     size_t dead = 0;                      // dead slots in the array
     size_t colours_when_grouped = 0;      // groups after the last full grouping
-    size_t regroupings = 0;               // full groupings after the first (counted, they cost)
+    size_t regroupings = 0;               // full groupings after the first (counted, they cost the body)
+    size_t tail_regroupings = 0;          // the appended groups coloured again (they cost the tail)
     size_t slots_reused = 0, slots_appended = 0;
     double rest_sum = 0.0;                // of the live constraints' rest lengths, kept through edits
     double mean_rest() const {

@@ -97,15 +97,17 @@ void SolverT<Real>::project_volume(SoftBodyT<Real>& body, const SolverSettings& 
     const VolumeLayout l = volume_layout(body, slots_);
     const size_t slots = l.slots, blocks = volume_blocks(p.size());
     if (slots == 0) return;
-    sums_.resize(blocks * slots);
+    sums_.resize(blocks);
     for_range(blocks, 2, [&](size_t b, size_t e) {
-        for (size_t q = b; q < e; ++q) volume_gather<Real>(l, p, scratch_, q, std::span(sums_).subspan(q * slots, slots));
+        for (size_t q = b; q < e; ++q) volume_gather<Real>(l, p, scratch_, q, sums_[q]);
     });
+    totals_.resize(slots);
+    reduce_block_sums(sums_, totals_);
     steps_.resize(slots);
     for (size_t slot = 0; slot < slots; ++slot) {
         VolumeConstraint& v = *slots_.constraints[slot];
-        VolumeSums total, caps;
-        for (size_t q = 0; q < blocks; ++q) total.eighteen_v += sums_[q * slots + slot].eighteen_v, total.denom += sums_[q * slots + slot].denom;
+        VolumeSums& total = totals_[slot];
+        VolumeSums caps;
         v.measured_six_v = total.eighteen_v / 3.0;  // before the caps: 3 x (6V of the triangles)
         volume_caps<Real>(v, p, scratch_, caps);
         total.eighteen_v += caps.eighteen_v, total.denom += caps.denom;

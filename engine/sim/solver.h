@@ -85,7 +85,8 @@ private:
     std::vector<ScheduledStage> schedule_;  // for the iterations and substeps below
     uint32_t schedule_iterations_ = 0, schedule_substeps_ = 0;
     Vec4ArrayT<Real> scratch_;  // volume gradients
-    std::vector<VolumeSums> sums_;  // per block, one per slot
+    std::vector<BlockSums> sums_;     // per block
+    std::vector<VolumeSums> totals_;  // per slot
     std::vector<Real> steps_;       // per slot
     VolumeSlots slots_;
 };

@@ -32,22 +32,34 @@ double caps_six_volume(const std::vector<std::vector<uint32_t>>& loops, const Ve
 size_t volume_blocks(size_t particles) { return (particles + k_volume_block - 1) / k_volume_block; }
 
 template <class Real>
-void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, size_t b, std::span<VolumeSums> sums) {
+void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, size_t b, BlockSums& sums) {
     // Gradient of 6V at particle i: the sum over its triangles (i, j, k) of x_j x x_k (eq. 9 as a
     // triple product). The caps' terms come later (volume_caps corrects the sums for them).
     const Vec4<Real>* x = p.x.data();
     const Real* w = p.w.data();
-    std::fill(sums.begin(), sums.end(), VolumeSums{});
+    sums.clear();
+    size_t at = 0;  // the entry of the last slot met: neighbours mostly share it
     const size_t end = std::min(p.size(), (b + 1) * k_volume_block);
     for (size_t i = b * k_volume_block; i < end; ++i) {
         const uint32_t s = l.slot_of(uint32_t(i));
         if (s == k_no_volume) continue;
+        if (at >= sums.size() || sums[at].first != s) {
+            at = 0;
+            while (at < sums.size() && sums[at].first != s) ++at;
+            if (at == sums.size()) sums.push_back({s, VolumeSums{}});
+        }
         Vec4<Real> g = Vec4<Real>::Zero();
         for (const auto& r : l.ring->of(uint32_t(i))) g += cross3<Real>(x[r[0]], x[r[1]]);
         grad[i] = g;
-        sums[s].eighteen_v += double(x[i].dot(g));
-        sums[s].denom += double(w[i]) * double(g.squaredNorm());
+        sums[at].second.eighteen_v += double(x[i].dot(g));
+        sums[at].second.denom += double(w[i]) * double(g.squaredNorm());
     }
+}
+
+void reduce_block_sums(std::span<const BlockSums> blocks, std::span<VolumeSums> totals) {
+    std::fill(totals.begin(), totals.end(), VolumeSums{});
+    for (const BlockSums& block : blocks)
+        for (const auto& [slot, s] : block) totals[slot].eighteen_v += s.eighteen_v, totals[slot].denom += s.denom;
 }
 
 template <class Real>
@@ -112,15 +124,17 @@ template <class Real>
 void solve_volumes(std::span<VolumeConstraint* const> slot_constraints, const VolumeLayout& l, ParticlesT<Real>& p,
                    Vec4ArrayT<Real>& scratch, bool xpbd, Real stiffness, Real inv_h2) {
     const size_t blocks = volume_blocks(p.size()), slots = slot_constraints.size();
-    std::vector<VolumeSums> sums(blocks * slots);
-    for (size_t b = 0; b < blocks; ++b) volume_gather<Real>(l, p, scratch, b, std::span(sums).subspan(b * slots, slots));
+    std::vector<BlockSums> sums(blocks);
+    for (size_t b = 0; b < blocks; ++b) volume_gather<Real>(l, p, scratch, b, sums[b]);
+    std::vector<VolumeSums> totals(slots);
+    reduce_block_sums(sums, totals);
     std::vector<Real> steps(slots);
     for (size_t s = 0; s < slots; ++s) {
-        VolumeSums total, caps;
-        for (size_t b = 0; b < blocks; ++b) total.eighteen_v += sums[b * slots + s].eighteen_v, total.denom += sums[b * slots + s].denom;
+        VolumeSums caps;
+        slot_constraints[s]->measured_six_v = totals[s].eighteen_v / 3.0;
         volume_caps<Real>(*slot_constraints[s], p, scratch, caps);
-        total.eighteen_v += caps.eighteen_v, total.denom += caps.denom;
-        steps[s] = volume_step<Real>(*slot_constraints[s], total, xpbd, stiffness, Real(slot_constraints[s]->compliance) * inv_h2);
+        totals[s].eighteen_v += caps.eighteen_v, totals[s].denom += caps.denom;
+        steps[s] = volume_step<Real>(*slot_constraints[s], totals[s], xpbd, stiffness, Real(slot_constraints[s]->compliance) * inv_h2);
     }
     for (size_t b = 0; b < blocks; ++b) volume_apply<Real>(l, p, scratch, steps, b);
 }
@@ -129,8 +143,7 @@ void solve_volumes(std::span<VolumeConstraint* const> slot_constraints, const Vo
     template double triangles_six_volume<Real>(std::span<const mesh::Triangle>, std::span<const uint32_t>, uint32_t,         \
                                                const Vec4ArrayT<Real>&);                                                    \
     template double caps_six_volume<Real>(const std::vector<std::vector<uint32_t>>&, const Vec4ArrayT<Real>&);               \
-    template void volume_gather<Real>(const VolumeLayout&, const ParticlesT<Real>&, Vec4ArrayT<Real>&, size_t,               \
-                                      std::span<VolumeSums>);                                                                \
+    template void volume_gather<Real>(const VolumeLayout&, const ParticlesT<Real>&, Vec4ArrayT<Real>&, size_t, BlockSums&);  \
     template void volume_caps<Real>(const VolumeConstraint&, const ParticlesT<Real>&, Vec4ArrayT<Real>&, VolumeSums&);       \
     template Real volume_step<Real>(VolumeConstraint&, const VolumeSums&, bool, Real, Real);                                 \
     template void volume_apply<Real>(const VolumeLayout&, ParticlesT<Real>&, const Vec4ArrayT<Real>&, std::span<const Real>, \

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstddef>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "mesh/triangle_mesh.h"
@@ -38,6 +39,10 @@ struct VolumeSums {
     double eighteen_v = 0.0;  // sum of x_i . g_i = 18 V (Euler, V homogeneous of degree 3)
     double denom = 0.0;       // sum of w_i |g_i|^2, g = gradient of 6V
 };
+// One block's partial sums: a block of neighbouring particles meets few pieces, so it keeps
+// (slot, sums) for those it met, in the order met, instead of an entry for every slot (a body
+// cut into thousands of pieces would clear thousands per block).
+using BlockSums = std::vector<std::pair<uint32_t, VolumeSums>>;
 
 // 6V of the triangles labelled `piece` (their first corner's label), in double precision.
 template <class Real>
@@ -49,9 +54,11 @@ double caps_six_volume(const std::vector<std::vector<uint32_t>>& loops, const Ve
 
 size_t volume_blocks(size_t particles);
 // Gradient of 6V at the particles of block `b` that a slot projects, into grad; their partial
-// sums per slot into `sums` (one entry per slot, cleared first).
+// sums into `sums` (cleared first).
 template <class Real>
-void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, size_t b, std::span<VolumeSums> sums);
+void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, size_t b, BlockSums& sums);
+// The blocks' sums added per slot, block by block in order (the same for any thread count).
+void reduce_block_sums(std::span<const BlockSums> blocks, std::span<VolumeSums> totals);
 // Adds the virtual caps' terms of one constraint (serial: they are few) to grad, and to `sums`
 // what they change in that constraint's sums.
 template <class Real>

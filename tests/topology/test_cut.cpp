@@ -302,8 +302,12 @@ TEST_SUITE("topology/cut") {
         CHECK(b.distance_groups.slots_reused > 0);
         CHECK(fell_back == 0);  // every cap loop was traced locally
         CHECK(b.distance_groups.slots_appended > 0);
+        // The appended groups were folded again at the tail's cost, far more often than the
+        // whole array was regrouped.
+        CHECK(b.distance_groups.tail_regroupings > b.distance_groups.regroupings);
         MESSAGE("slots reused " << b.distance_groups.slots_reused << ", appended " << b.distance_groups.slots_appended
-                                << ", regroupings " << b.distance_groups.regroupings);
+                                << ", regroupings " << b.distance_groups.regroupings << ", tail regroupings "
+                                << b.distance_groups.tail_regroupings);
     }
 
     TEST_CASE("cuts repeated through one small region keep every corner above a sliver") {
