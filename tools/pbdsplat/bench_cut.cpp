@@ -153,7 +153,8 @@ core::Result<nlohmann::json> measure_sequence(const std::string& spec, uint32_t 
                           {"first_median_crossed", window(crossed, 0)},
                           {"last_median_crossed", window(crossed, last)},
                           {"ring_compactions", b.rings.ring.compactions()},
-                          {"distance_regroupings", b.distance_groups.regroupings}};
+                          {"distance_regroupings", b.distance_groups.regroupings},
+                          {"distance_tail_regroupings", b.distance_groups.tail_regroupings}};
 }
 
 int print_sequence(const std::string& spec, uint32_t count, const topology::CutOptions& options, bool json) {
@@ -165,9 +166,9 @@ int print_sequence(const std::string& spec, uint32_t count, const topology::CutO
         return 0;
     }
     std::printf("%s: %u random scalpel cuts on one body, a frame between cuts (%.1f s)\n", spec.c_str(), count, j["seconds"].get<double>());
-    std::printf("  particles %zu -> %zu, pieces %zu; ring compactions %zu, colour regroupings %zu\n", j["particles_before"].get<size_t>(),
-                j["particles_after"].get<size_t>(), j["pieces_after"].get<size_t>(), j["ring_compactions"].get<size_t>(),
-                j["distance_regroupings"].get<size_t>());
+    std::printf("  particles %zu -> %zu, pieces %zu; ring compactions %zu, colour regroupings %zu (whole) and %zu (tail)\n",
+                j["particles_before"].get<size_t>(), j["particles_after"].get<size_t>(), j["pieces_after"].get<size_t>(),
+                j["ring_compactions"].get<size_t>(), j["distance_regroupings"].get<size_t>(), j["distance_tail_regroupings"].get<size_t>());
     std::printf("  probe cut (the same slit at the pole, median of 7 copies): %.3f ms before, %.3f after 10 cuts, %.3f after %u\n",
                 j["probe_ms_before"].get<double>(), j["probe_ms_after_10"].get<double>(), j["probe_ms_after_last"].get<double>(), count);
     std::printf("  the random cuts: 1-20 %.3f ms (median, %.0f crossed), last 20 %.3f ms (%.0f crossed)\n", j["first_median_ms"].get<double>(),
