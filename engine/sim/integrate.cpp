@@ -97,4 +97,10 @@ template void apply_forces_and_predict<double>(ParticlesT<double>&, const Vec3f&
 template void update_velocities<float>(ParticlesT<float>&, float, size_t, size_t);
 template void update_velocities<double>(ParticlesT<double>&, double, size_t, size_t);
 
+bool edge_on_boundary(const VertexRings& rings, std::span<const mesh::Triangle> triangles, uint32_t t, uint32_t a, uint32_t b) {
+    for (uint32_t f : rings.triangles.of(a))
+        if (f != t && std::ranges::find(triangles[f], b) != triangles[f].end()) return false;
+    return true;
+}
+
 } // namespace pbdsplat::sim

@@ -33,6 +33,10 @@ VertexRings build_vertex_rings(std::span<const mesh::Triangle> triangles, size_t
 void update_vertex_rings(VertexRings& rings, std::span<const mesh::Triangle> triangles, size_t vertex_count,
                          std::span<const uint32_t> vertices, std::span<const uint32_t> extra);
 
+// Whether edge (a, b) of triangle t lies on the boundary: no other triangle has both ends.
+// Costs a's ring.
+bool edge_on_boundary(const VertexRings& rings, std::span<const mesh::Triangle> triangles, uint32_t t, uint32_t a, uint32_t b);
+
 // Area-weighted vertex normals of the deformed surface, gathered per vertex over [begin, end).
 void update_normals(const VertexRings& rings, const Vec4Array& x, std::vector<Vec3f>& normals, size_t begin, size_t end);
 

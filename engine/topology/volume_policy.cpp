@@ -29,9 +29,7 @@ bool holds_air(const sim::SoftBody& b, const Part& part, double volume) {
 
 // Edge (a, b) of triangle t is on the boundary when no other triangle has both ends.
 bool on_boundary(const sim::SoftBody& body, uint32_t t, uint32_t a, uint32_t b) {
-    for (uint32_t f : body.rings.triangles.of(a))
-        if (f != t && std::ranges::find(body.triangles[f], b) != body.triangles[f].end()) return false;
-    return true;
+    return sim::edge_on_boundary(body.rings, body.triangles, t, a, b);
 }
 
 // The boundary edge leaving v (in its triangle's direction), or UINT32_MAX. Without bow-ties

@@ -96,11 +96,7 @@ std::vector<uint8_t> boundary_edges(const sim::SoftBody& body, std::span<const u
     for (size_t r = 0; r < region.size(); ++r) {
         const mesh::Triangle& t = body.triangles[region[r]];
         for (int k = 0; k < 3; ++k) {
-            const uint32_t a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
-            bool shared = false;
-            for (uint32_t other : body.rings.triangles.of(a))
-                if (other != region[r] && std::ranges::find(body.triangles[other], b) != body.triangles[other].end()) shared = true;
-            if (!shared) mask[r] |= uint8_t(1u << k);
+            if (sim::edge_on_boundary(body.rings, body.triangles, region[r], t[size_t(k)], t[size_t((k + 1) % 3)])) mask[r] |= uint8_t(1u << k);
         }
     }
     return mask;
@@ -136,8 +132,9 @@ void refill_touched(const SurfaceFollow& f, const sim::SoftBody& body, std::span
     if (f.edge_samples)
         samples.keep_if([&](size_t i) { return !samples.on_edge(i) || !std::binary_search(refill.begin(), refill.end(), samples.triangle[i]); });
     const size_t before = samples.size();
-    std::vector<uint32_t> piece;
-    mesh::vertex_components(body.triangles, body.particle_count(), piece);
+    // Each triangle's piece, from the labels the topology stage keeps (no component count).
+    std::vector<uint32_t> piece(body.triangles.size());
+    for (size_t t = 0; t < piece.size(); ++t) piece[t] = body.piece_of_particle[body.triangles[t][0]];
     surface::fill_triangles(body.rest_positions, body.triangles, refill,
                             f.particles_are_splats ? std::span<const Vec3f>(body.rest_positions) : std::span<const Vec3f>(), piece,
                             {f.h, f.seed + uint32_t(seed_offset)}, samples);
