@@ -3,22 +3,20 @@
 #include <algorithm>
 #include <cmath>
 
-#include "mesh/topology.h"
+#include "core/assert.h"
 
 namespace pbdsplat::sim {
 
 ShapeReport shape_report(const SoftBody& body, size_t min_particles) {
     ShapeReport out;
     const size_t n = body.particle_count();
-    std::vector<uint32_t> comp_of_triangle;
-    const uint32_t pieces = mesh::vertex_components(body.triangles, n, comp_of_triangle);
-    std::vector<uint32_t> comp(n, UINT32_MAX);
-    for (size_t t = 0; t < body.triangles.size(); ++t)
-        for (uint32_t v : body.triangles[t]) comp[v] = comp_of_triangle[t];
-    std::vector<std::vector<uint32_t>> members(pieces);
+    // The body's own piece labels (kept by topology edits): pieces[c] is piece c's, and none is
+    // empty, since every piece has a triangle.
+    const std::vector<uint32_t>& comp = body.piece_of_particle;
+    PBDSPLAT_ASSERT(comp.size() == n, "shape_report: the piece labels do not cover the particles; call rebuild_derived(body)");
+    std::vector<std::vector<uint32_t>> members(body.pieces);
     for (uint32_t v = 0; v < n; ++v)
-        if (comp[v] != UINT32_MAX) members[comp[v]].push_back(v);
-    // Every component has a triangle, so none is empty and pieces[c] is component c's.
+        if (comp[v] != k_no_piece) members[comp[v]].push_back(v);
     for (const auto& m : members) {
         Vec3d rc = Vec3d::Zero(), xc = Vec3d::Zero();
         Eigen::AlignedBox3d box;
@@ -43,15 +41,12 @@ ShapeReport shape_report(const SoftBody& body, size_t min_particles) {
         const double diag = std::max(box.diagonal().norm(), 1e-12);
         out.pieces.push_back({m.size(), std::sqrt(sum / double(m.size())) / diag, 0.0});
     }
-    // The volume constraint of each piece, found through the piece's first particle.
-    std::vector<uint32_t> piece_particle(body.pieces, 0);
-    for (uint32_t v = uint32_t(n); v-- > 0;)
-        if (body.piece_of_particle[v] < body.pieces) piece_particle[body.piece_of_particle[v]] = v;
+    // The volume constraint of each piece, by its label.
     for (size_t k = 0; k < body.volumes.size(); ++k) {
         const VolumeConstraint& vc = body.volumes[k];
         if (vc.triangle_count == 0 || !(vc.rest_volume > 0.0) || vc.leak > 0.0f) continue;  // opened: no volume to keep
         const double err = std::abs(body.volume(k) / (vc.rest_volume * double(vc.pressure)) - 1.0);
-        PieceShape& piece = out.pieces[comp[piece_particle[vc.piece]]];
+        PieceShape& piece = out.pieces[vc.piece];
         piece.volume_error = std::max(piece.volume_error, err);
     }
     std::stable_sort(out.pieces.begin(), out.pieces.end(), [](const PieceShape& a, const PieceShape& b) { return a.particles > b.particles; });

@@ -11,8 +11,6 @@
 
 namespace pbdsplat::topology {
 
-// What the volume policy needs of a volume constraint from before the change.
-
 class Edit {
 public:
     explicit Edit(sim::SoftBody& body);

@@ -31,11 +31,11 @@ core::Status check_particles(const sim::SoftBody& b) {
 }
 // Every volume constraint over live particles of a single component, with a positive target.
 core::Status check_volumes(const sim::SoftBody& b) {
+    std::vector<uint8_t> kept(b.pieces, 0);
     for (size_t k = 0; k < b.volumes.size(); ++k) {
         const auto& vol = b.volumes[k];
         if (vol.piece >= b.pieces) return broken("volume constraint " + std::to_string(k) + " names a piece the body does not have");
-        for (size_t j = 0; j < k; ++j)
-            if (b.volumes[j].piece == vol.piece) return broken("two volume constraints keep piece " + std::to_string(vol.piece));
+        if (kept[vol.piece]++) return broken("two volume constraints keep piece " + std::to_string(vol.piece));
         for (const auto& loop : vol.cap_loops)
             for (uint32_t i : loop)
                 if (i >= b.particle_count() || b.piece_of_particle[i] != vol.piece)

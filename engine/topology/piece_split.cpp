@@ -8,16 +8,25 @@ namespace pbdsplat::topology {
 namespace {
 Vec3d at(const sim::SoftBody& b, uint32_t i) { return b.particles.x[i].head<3>().cast<double>(); }
 
-// The triangles whose first corner is v, into the part's sums (so each counts once).
-void add_triangles_at(const sim::SoftBody& b, uint32_t v, Part& part) {
-    for (uint32_t f : b.rings.triangles.of(v)) {
-        const mesh::Triangle& t = b.triangles[f];
+// Calls f(a, e1, e2) (first corner and the two edges from it) for the triangles whose first
+// corner is v: over a part's particles, each of its triangles once.
+template <class F>
+void for_triangles_at(const sim::SoftBody& b, uint32_t v, F&& f) {
+    for (uint32_t i : b.rings.triangles.of(v)) {
+        const mesh::Triangle& t = b.triangles[i];
         if (t[0] != v) continue;
-        const Vec3d a = at(b, t[0]), e1 = at(b, t[1]) - a, e2 = at(b, t[2]) - a;
+        const Vec3d a = at(b, t[0]);
+        f(a, Vec3d(at(b, t[1]) - a), Vec3d(at(b, t[2]) - a));
+    }
+}
+
+// The part's sums over those triangles.
+void add_triangles_at(const sim::SoftBody& b, uint32_t v, Part& part) {
+    for_triangles_at(b, v, [&](const Vec3d& a, const Vec3d& e1, const Vec3d& e2) {
         part.six_v += a.dot((a + e1).cross(a + e2));
         part.area_bound += 0.25 * (e1.squaredNorm() + e2.squaredNorm());
         ++part.triangles;
-    }
+    });
 }
 
 // Grows a part from `seed` along the rings, marking its particles in `seen` and summing its
@@ -116,6 +125,13 @@ std::optional<std::vector<Part>> search_locally(const sim::SoftBody& b, std::spa
     return parts;
 }
 } // namespace
+
+double part_area(const sim::SoftBody& b, const Part& part) {
+    double area = 0.0;
+    for (uint32_t v : part.particles)
+        for_triangles_at(b, v, [&](const Vec3d&, const Vec3d& e1, const Vec3d& e2) { area += 0.5 * e1.cross(e2).norm(); });
+    return area;
+}
 
 SplitSearch split_pieces(sim::SoftBody& b, std::span<const uint32_t> reached, std::span<const uint32_t> seeds, size_t budget) {
     SplitSearch out;

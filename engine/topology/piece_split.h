@@ -21,6 +21,9 @@ struct Part {
     std::vector<std::vector<uint32_t>> loops;  // filled by the volume policy
 };
 
+// The exact area of a complete part (a square root per triangle: the caller tries area_bound first).
+double part_area(const sim::SoftBody& body, const Part& part);
+
 struct SplitSearch {
     std::vector<std::vector<Part>> parts_of;  // per reached piece, largest first: the first keeps the piece's label
     size_t searched = 0;                      // particles visited

@@ -10,8 +10,6 @@
 namespace pbdsplat::topology {
 
 namespace {
-Vec3d at(const sim::SoftBody& b, uint32_t i) { return b.particles.x[i].head<3>().cast<double>(); }
-
 // A part too thin or too small to hold air: a flake torn off a shell, a sliver of a few
 // triangles. Its capped volume is nearly zero against its area, so a volume constraint on it
 // has a tiny gradient and a projection step of C / |grad|^2 that flings its particles away: it
@@ -20,10 +18,7 @@ Vec3d at(const sim::SoftBody& b, uint32_t i) { return b.particles.x[i].head<3>()
 bool holds_air(const sim::SoftBody& b, const Part& part, double volume) {
     if (part.triangles < 12) return false;
     if (std::abs(volume) >= 0.01 * std::pow(part.area_bound, 1.5)) return true;
-    double area = 0.0;
-    for (uint32_t v : part.particles)
-        for (uint32_t f : b.rings.triangles.of(v))
-            if (const mesh::Triangle& t = b.triangles[f]; t[0] == v) area += 0.5 * (at(b, t[1]) - at(b, t[0])).cross(at(b, t[2]) - at(b, t[0])).norm();
+    const double area = part_area(b, part);
     return area > 0.0 && std::abs(volume) / std::pow(area, 1.5) >= 0.01;
 }
 
@@ -129,9 +124,7 @@ bool cap_parts(const sim::SoftBody& b, std::span<const uint32_t> seeds, std::spa
         if (Part* part = part_of_label[b.piece_of_particle[loop[0]]]) part->loops.push_back(std::move(loop));
     return traced;
 }
-} // namespace
 
-namespace {
 // The rest of a piece that the local search left unexplored: its triangle count from the
 // parent's, what the edit appended to it and what was cut off; its triangles' 6V from the
 // solver's last measure of the parent less what was cut off (the edit keeps the surface where
