@@ -56,4 +56,34 @@ Result<ImageDiff> compare_images(const ImageRgba8& a, const ImageRgba8& b, uint3
     return d;
 }
 
+Result<double> mean_luminance_change(const ImageRgba8& a, const ImageRgba8& b) {
+    if (a.width != b.width || a.height != b.height)
+        return make_error("images differ in size: " + std::to_string(a.width) + "x" + std::to_string(a.height) +
+                          " against " + std::to_string(b.width) + "x" + std::to_string(b.height));
+    double sum = 0.0;
+    const size_t n = size_t(a.width) * a.height;
+    for (size_t i = 0; i < n; ++i) {
+        const uint8_t* p = &a.pixels[i * 4];
+        const uint8_t* q = &b.pixels[i * 4];
+        const double ya = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+        const double yb = 0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2];
+        sum += std::abs(ya - yb) / 255.0;
+    }
+    return n ? sum / double(n) : 0.0;
+}
+
+ImageRgba8 downsample(const ImageRgba8& big, uint32_t factor) {
+    ImageRgba8 out(big.width / factor, big.height / factor);
+    const uint32_t area = factor * factor;
+    for (uint32_t y = 0; y < out.height; ++y)
+        for (uint32_t x = 0; x < out.width; ++x)
+            for (int c = 0; c < 4; ++c) {
+                uint32_t sum = 0;
+                for (uint32_t dy = 0; dy < factor; ++dy)
+                    for (uint32_t dx = 0; dx < factor; ++dx) sum += big.at(x * factor + dx, y * factor + dy)[c];
+                out.at(x, y)[c] = uint8_t((sum + area / 2) / area);
+            }
+    return out;
+}
+
 } // namespace pbdsplat::core

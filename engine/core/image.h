@@ -31,4 +31,12 @@ struct ImageDiff {
 };
 Result<ImageDiff> compare_images(const ImageRgba8& a, const ImageRgba8& b, uint32_t threshold);
 
+// Mean absolute difference of Rec. 709 luminance (0..1) between two images of one size: the
+// flicker measure of `bench temporal`.
+Result<double> mean_luminance_change(const ImageRgba8& a, const ImageRgba8& b);
+
+// Each factor x factor block averaged into one pixel (a supersampled reference brought down to
+// the size it is compared at); a partial block at the right or bottom edge is dropped.
+ImageRgba8 downsample(const ImageRgba8& big, uint32_t factor);
+
 } // namespace pbdsplat::core

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "core/names.h"
 #include "gpu_types.h"
 
 namespace pbdsplat::render {
@@ -20,14 +21,11 @@ struct Camera {
 // relative to the body's centre (the paper's), from the normal, or the normal for the diffuse
 // term and the position for the specular one. `off` leaves the flat ambient term.
 enum class EnvSampling { off, position, normal, hybrid };
-inline const char* env_sampling_name(EnvSampling s) {
-    switch (s) {
-    case EnvSampling::off: return "off";
-    case EnvSampling::position: return "position";
-    case EnvSampling::normal: return "normal";
-    case EnvSampling::hybrid: return "hybrid";
-    }
-    return "?";
+inline constexpr core::EnumName<EnvSampling> k_env_sampling_names[] = {
+    {EnvSampling::position, "position"}, {EnvSampling::normal, "normal"}, {EnvSampling::hybrid, "hybrid"}, {EnvSampling::off, "off"}};
+inline const char* env_sampling_name(EnvSampling s) { return core::name_of<EnvSampling>(k_env_sampling_names, s); }
+inline std::optional<EnvSampling> env_sampling_from_name(std::string_view n) {
+    return core::from_name<EnvSampling>(k_env_sampling_names, n);
 }
 
 struct Environment {
@@ -70,14 +68,9 @@ enum class Blend { over, additive };
 // renderer cull and sort them in compute passes and draw indirectly. Sorted orders composite
 // every splat behind the nearer ones, as the paper's blending does.
 enum class SplatOrder { unsorted, cpu, gpu };
-inline const char* splat_order_name(SplatOrder o) {
-    switch (o) {
-    case SplatOrder::unsorted: return "off";
-    case SplatOrder::cpu: return "cpu";
-    case SplatOrder::gpu: return "gpu";
-    }
-    return "?";
-}
+inline constexpr core::EnumName<SplatOrder> k_splat_order_names[] = {
+    {SplatOrder::unsorted, "off"}, {SplatOrder::cpu, "cpu"}, {SplatOrder::gpu, "gpu"}};
+inline const char* splat_order_name(SplatOrder o) { return core::name_of<SplatOrder>(k_splat_order_names, o); }
 
 // Where the lighting of eqs. 24-25 is evaluated: per fragment (the paper's), or at the four
 // corners of each quad and interpolated (about a quarter less time on a fill-bound device;
@@ -90,7 +83,8 @@ enum class SplatShading { fragment, corner };
 // coordinates over the sharpness, constant opacity sigmoid(o)), one pass that tests and writes
 // depth, as the paper's real-time scheme draws it.
 enum class Footprint { gaussian, paper };
-inline const char* footprint_name(Footprint f) { return f == Footprint::paper ? "paper" : "gaussian"; }
+inline constexpr core::EnumName<Footprint> k_footprint_names[] = {{Footprint::gaussian, "gaussian"}, {Footprint::paper, "paper"}};
+inline const char* footprint_name(Footprint f) { return core::name_of<Footprint>(k_footprint_names, f); }
 
 // The paper disc's half-size, in units of a record's scale s0, that closes the scenes' surfaces
 // (s0 = 0.7 h, the default splat_scale). A truly maximal Poisson-disk sample at spacing h leaves

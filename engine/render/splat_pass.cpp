@@ -9,15 +9,6 @@ namespace {
 constexpr uint32_t k_splats_per_mesh_group = 32;  // SPLATS_PER_GROUP in splat.mesh
 }
 
-const char* splat_path_name(SplatPath p) {
-    switch (p) {
-    case SplatPath::geometry: return "gs";
-    case SplatPath::mesh: return "mesh";
-    case SplatPath::vertex: return "vertex";
-    }
-    return "?";
-}
-
 SplatPath best_splat_path(const gpu::DeviceCaps& caps) {
     // Measured on Lavapipe (Mesa 25, 20k splats, 1280x720, docs/BENCHMARKS.md): the mesh
     // shader's per-workgroup outputs cost about twice the geometry shader's whole pass, so a CPU

@@ -17,7 +17,10 @@ enum class SplatPath { geometry, mesh, vertex };
 // The carrier each splat is drawn on: a quad, or an octagon that hugs the ellipse (17 % less
 // area, three times the triangles). Vertex pulling always draws quads.
 enum class SplatCarrier { quad, octagon };
-const char* splat_path_name(SplatPath p);
+inline constexpr core::EnumName<SplatPath> k_splat_path_names[] = {
+    {SplatPath::geometry, "gs"}, {SplatPath::mesh, "mesh"}, {SplatPath::vertex, "vertex"}};
+inline constexpr core::EnumName<SplatCarrier> k_splat_carrier_names[] = {{SplatCarrier::quad, "quad"}, {SplatCarrier::octagon, "octagon"}};
+inline const char* splat_path_name(SplatPath p) { return core::name_of<SplatPath>(k_splat_path_names, p); }
 // The fastest path the device has, by measurement: on CPU devices the geometry shader, else
 // mesh, then geometry; vertex pulling where there is neither.
 SplatPath best_splat_path(const gpu::DeviceCaps& caps);

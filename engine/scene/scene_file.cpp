@@ -81,6 +81,15 @@ public:
             if (!s) r_.fail(n->source(), "'" + where(key) + "' must be a string");
             return s->get();
         }
+        // An enum by its name table (core/names.h).
+        template <class E>
+        E named(const std::string& key, E fallback, std::span<const core::EnumName<E>> table) {
+            const std::string v = text(key, core::name_of(table, fallback));
+            if (auto e = core::from_name(table, v)) return *e;
+            std::string all;
+            for (const auto& n : core::names_of(table)) all += (all.empty() ? "" : ", ") + n;
+            r_.fail(t_.get(key)->source(), "'" + where(key) + "' must be one of " + all + ", not '" + v + "'");
+        }
         std::string choice(const std::string& key, const std::string& fallback, std::initializer_list<const char*> options) {
             const std::string v = text(key, fallback);
             std::string all;
@@ -190,7 +199,7 @@ void read_surface(Reader::Table& t, SurfaceDesc& d) {
 
 void read_simulation(const Reader& r, Reader::Table& t, SimulationDesc& s) {
     sim::SolverSettings& solver = s.solver;
-    solver.mode = t.choice("mode", "paper", {"paper", "xpbd"}) == "xpbd" ? sim::SolverMode::xpbd : sim::SolverMode::paper;
+    solver.mode = t.named<sim::SolverMode>("mode", sim::SolverMode::paper, sim::k_solver_mode_names);
     s.dt = t.real("dt", s.dt, 1.0 / 1000.0, 1.0 / 10.0);
     solver.iterations = t.count("iterations", solver.iterations, 1, 1000);
     solver.substeps = t.count("substeps", solver.substeps, 1, 1000);
@@ -207,8 +216,7 @@ void read_simulation(const Reader& r, Reader::Table& t, SimulationDesc& s) {
     solver.damping = t.real("damping", solver.damping, 0.0, 1000.0);
     s.mass = t.real("mass", s.mass, 1e-6, 1e6);
     s.friction = t.real("friction", s.friction, 0.0, 10.0);
-    const std::string policy = t.choice("cut_volume", "cap", {"cap", "burst", "rebase"});
-    s.cut.volume = policy == "burst" ? topology::VolumePolicy::burst : policy == "rebase" ? topology::VolumePolicy::rebase : topology::VolumePolicy::cap;
+    s.cut.volume = t.named<topology::VolumePolicy>("cut_volume", topology::VolumePolicy::cap, topology::k_volume_policy_names);
     s.cut.snap = float(t.real("cut_snap", s.cut.snap, 0.0, 0.45));
     s.fade_frames = t.count("fade_frames", s.fade_frames, 1, 600);
     if (const toml::array* pins = t.array("pins"))
@@ -270,15 +278,13 @@ void read_splat_look(const Reader& r, Reader::Table& t, RenderDesc& d) {
     else if (sort_on == "gpu") d.sort_on = render::SplatOrder::gpu;
     d.shading = t.choice("shading", "fragment", {"fragment", "corner"}) == "corner" ? render::SplatShading::corner
                                                                                     : render::SplatShading::fragment;
-    style.footprint = t.choice("footprint", render::footprint_name(style.footprint), {"gaussian", "paper"}) == "paper"
-                          ? render::Footprint::paper
-                          : render::Footprint::gaussian;
+    style.footprint = t.named<render::Footprint>("footprint", style.footprint, render::k_footprint_names);
     style.kappa = t.real("kappa", style.kappa, 0.0, 6.0);
     if (style.kappa > 0.0f && style.kappa < 0.5f)
         r.fail(t.source_of("kappa"), "'render.kappa' = " + std::to_string(style.kappa) +
                                          " is too small to draw: 0 (the footprint's default) or at least 0.5");
     style.sharpness = t.vec<2>("sharpness", style.sharpness, 0.1, 4.0);
-    d.carrier = t.choice("carrier", "quad", {"quad", "octagon"}) == "octagon" ? render::SplatCarrier::octagon : render::SplatCarrier::quad;
+    d.carrier = t.named<render::SplatCarrier>("carrier", render::SplatCarrier::quad, render::k_splat_carrier_names);
     d.cull_back = t.flag("cull_back", d.cull_back);
     const std::string shape = t.choice("splat_shape", "round", {"round", "surfel", "deformed"});
     d.splat_shape = shape == "surfel" ? SplatShape::surfel : shape == "deformed" ? SplatShape::deformed : SplatShape::round;
@@ -320,11 +326,7 @@ void read_camera(const Reader& r, Reader::Table& t, RenderDesc& d) {
 
 void read_environment(const Reader& r, Reader::Table& t, RenderDesc& d) {
     render::Environment& env = d.frame.lighting.environment;
-    const std::string sampling = t.choice("environment", "position", {"position", "normal", "hybrid", "off"});
-    env.sampling = sampling == "normal" ? render::EnvSampling::normal
-                   : sampling == "hybrid" ? render::EnvSampling::hybrid
-                   : sampling == "off"    ? render::EnvSampling::off
-                                          : render::EnvSampling::position;
+    env.sampling = t.named<render::EnvSampling>("environment", render::EnvSampling::position, render::k_env_sampling_names);
     env.intensity = t.real("environment_intensity", env.intensity, 0.0, 100.0);
     env.diffuse = t.real("environment_diffuse", env.diffuse, 0.0, 100.0);
     env.specular = t.real("environment_specular", env.specular, 0.0, 100.0);
@@ -556,7 +558,7 @@ void write_model_material_surface(std::ostream& o, const Scene& sc) {
 
 void write_simulation(std::ostream& o, const Scene& sc) {
     const SimulationDesc& s = sc.simulation;
-    o << "[simulation]\nmode = " << (s.solver.mode == sim::SolverMode::xpbd ? "\"xpbd\"" : "\"paper\"") << "\ndt = " << num(s.dt)
+    o << "[simulation]\nmode = \"" << core::name_of<sim::SolverMode>(sim::k_solver_mode_names, s.solver.mode) << "\"\ndt = " << num(s.dt)
       << "\niterations = " << s.solver.iterations << "\nsubsteps = " << s.solver.substeps
       << "\nstiffness = " << num(s.solver.stretch_stiffness) << "\ncompliance = " << num(s.compliance)
       << "\nvolume = " << (s.solver.volume ? "true" : "false") << "\nvolume_stiffness = " << num(s.solver.volume_stiffness)
@@ -601,7 +603,7 @@ void write_render(std::ostream& o, const Scene& sc) {
       << (d.shading == render::SplatShading::corner ? "corner" : "fragment") << "\""
       << "\nfootprint = \"" << render::footprint_name(d.frame.style.footprint) << "\""
       << "\nsharpness = " << vec<2>(d.frame.style.sharpness)
-      << "\ncarrier = \"" << (d.carrier == render::SplatCarrier::octagon ? "octagon" : "quad") << "\""
+      << "\ncarrier = \"" << core::name_of<render::SplatCarrier>(render::k_splat_carrier_names, d.carrier) << "\""
       << "\nsplat_shape = \"" << splat_shape_name(d.splat_shape) << "\"\nsurfel_thickness = " << num(d.surfel_thickness)
       << "\nground = " << (d.ground ? "true" : "false") << "\ncull_back = " << (d.cull_back ? "true" : "false")
       << "\nkappa = " << num(d.frame.style.kappa) << "\ndepth_min_alpha = " << num(d.frame.style.depth_min_alpha) << "\ndepth_push = " << num(d.frame.style.depth_push) << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()));

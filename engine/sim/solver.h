@@ -4,6 +4,7 @@
 // velocities from positions, normals. Each stage is its own function over compact arrays.
 #include <cstdint>
 
+#include "core/names.h"
 #include "core/thread_pool.h"
 #include "sim/colliders.h"
 #include "sim/constraints.h"
@@ -17,6 +18,7 @@ enum class SolverMode {
     paper,  // PBD, stiffness in (0,1] corrected for the iteration count
     xpbd,   // compliance-based, iteration-count independent stiffness
 };
+inline constexpr core::EnumName<SolverMode> k_solver_mode_names[] = {{SolverMode::paper, "paper"}, {SolverMode::xpbd, "xpbd"}};
 
 struct SolverSettings {
     SolverMode mode = SolverMode::paper;

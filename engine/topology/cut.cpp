@@ -10,15 +10,6 @@
 
 namespace pbdsplat::topology {
 
-const char* volume_policy_name(VolumePolicy p) {
-    switch (p) {
-    case VolumePolicy::cap: return "cap";
-    case VolumePolicy::burst: return "burst";
-    case VolumePolicy::rebase: return "rebase";
-    }
-    return "?";
-}
-
 namespace {
 
 Vec3f crossing_point(const sim::SoftBody& b, uint32_t i, uint32_t j, float u) {

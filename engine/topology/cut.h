@@ -4,6 +4,7 @@
 // duplicated per fan of triangles (eq. 28) so the two sides come apart. Distance constraints
 // keep their definitions and change only index references; new edges take rest lengths from
 // the rest state at the same parameter t; each component gets a volume constraint by policy.
+#include "core/names.h"
 #include "core/result.h"
 #include "sim/soft_body.h"
 #include "topology/cut_surface.h"
@@ -19,7 +20,9 @@ enum class VolumePolicy {
              // (CutOptions::burst_leak), then its volume constraint rests
     rebase,  // each changed piece takes the volume it has at the cut as its new target
 };
-const char* volume_policy_name(VolumePolicy p);
+inline constexpr core::EnumName<VolumePolicy> k_volume_policy_names[] = {
+    {VolumePolicy::cap, "cap"}, {VolumePolicy::burst, "burst"}, {VolumePolicy::rebase, "rebase"}};
+inline const char* volume_policy_name(VolumePolicy p) { return core::name_of<VolumePolicy>(k_volume_policy_names, p); }
 
 struct CutOptions {
     // Crossings closer than snap * edge length to an end snap to that vertex: no slivers.

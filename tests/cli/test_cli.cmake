@@ -68,6 +68,13 @@ expect_contains("out of range" "${last_err}" "--frames must be between")
 expect("unknown option" 2 info --colour)
 expect_contains("unknown option" "${last_err}" "unknown option --colour")
 expect("unknown suite" 2 bench warp)
+expect("option given twice" 2 bench cut --cuts 2 --cuts 3)
+expect_contains("option given twice" "${last_err}" "--cuts given twice")
+# Help comes from the option table that the parser reads: default and range as enforced.
+expect("help: defaults and ranges" 0 bench cut --help)
+expect_contains("help: defaults and ranges" "${last_out}" "(default 20; 1 to 10000)")
+expect("help's range is the parser's" 2 bench cut --cuts 10001)
+expect_contains("help's range is the parser's" "${last_err}" "--cuts must be between 1 and 10000")
 expect("bad upload path" 2 render --upload teleport)
 
 # info --json: one object with the documented keys.
@@ -280,7 +287,7 @@ if(EXISTS "${WORK_DIR}/out/seq_00001.ply")
 endif()
 expect("export-ply a bad range" 2 export-ply --frames 4:2 out/seq.ply)
 expect("export-ply bad --up" 2 export-ply --up z out/x.ply)
-expect_contains("export-ply bad --up" "${last_err}" "--up must be -y or y, not 'z'")
+expect_contains("export-ply bad --up" "${last_err}" "--up must be one of -y, y, not 'z'")
 # Input dispatched by extension; outputs that would not be what they say are refused.
 expect("render a .spz" 2 render out/scene.spz)
 expect_contains("render a .spz" "${last_err}" "render takes a scene (.toml) or Gaussians (.ply), not a '.spz'")

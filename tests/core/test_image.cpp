@@ -47,4 +47,30 @@ TEST_SUITE("core/image") {
     TEST_CASE("images of different sizes do not compare") {
         CHECK_FALSE(core::compare_images(core::ImageRgba8(4, 4), core::ImageRgba8(4, 5), 2).ok());
     }
+
+    TEST_CASE("luminance change is the mean |dY| over pixels, and refuses images of two sizes") {
+        core::ImageRgba8 a(4, 2), b(4, 2);
+        auto none = core::mean_luminance_change(a, b);
+        REQUIRE(none.ok());
+        CHECK(none.value() == 0.0);
+        for (int c = 0; c < 3; ++c) b.at(1, 1)[c] = 255;  // one white pixel of 8: |dY| = 1 there
+        auto one = core::mean_luminance_change(a, b);
+        REQUIRE(one.ok());
+        CHECK(one.value() == doctest::Approx(1.0 / 8.0));
+        CHECK_FALSE(core::mean_luminance_change(a, core::ImageRgba8(2, 4)).ok());
+    }
+
+    TEST_CASE("downsampling averages each block with rounding") {
+        core::ImageRgba8 big(5, 4);  // the fifth column is a partial block and is dropped
+        big.at(0, 0)[0] = 255;
+        big.at(1, 1)[0] = 254;  // block (0,0): (255 + 254) / 4 = 127.25 -> 127
+        big.at(2, 2)[1] = 2;    // block (1,1): 2 / 4 = 0.5 -> rounds to 1
+        big.at(4, 0)[2] = 200;
+        const core::ImageRgba8 small = core::downsample(big, 2);
+        REQUIRE(small.width == 2);
+        REQUIRE(small.height == 2);
+        CHECK(small.at(0, 0)[0] == 127);
+        CHECK(small.at(1, 1)[1] == 1);
+        CHECK(small.at(1, 0)[2] == 0);
+    }
 }

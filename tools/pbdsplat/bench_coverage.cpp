@@ -1,14 +1,15 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
-#include "pbdsplat/args.h"
+#include "pbdsplat/options.h"
 #include "pbdsplat/commands.h"
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/scene_arg.h"
+#include "pbdsplat/report.h"
 #include "pbdsplat/svg_plot.h"
 #include "passes/coverage.h"
 #include "scene/scene_runtime.h"
@@ -16,38 +17,26 @@
 namespace pbdsplat::cli {
 
 int bench_coverage(const std::vector<std::string>& argv) {
-    static constexpr const char* help =
-        "usage: pbdsplat bench coverage [SCENE.toml] [--frames N] [--every K] [--width W] [--height H]\n"
-        "                               [--out-dir DIR] [--json] [--validation] [--device NAME]\n"
-        "\n"
+    static const CommandSpec command{
+        "bench coverage", "[SCENE.toml]",
         "Coverage through a scene's deformation and cuts: runs the scene (default: the built-in one,\n"
         "which deflates to half its volume, re-inflates and is cut at 5 s) three times, with splats\n"
         "at the mesh vertices only, with boundary particles, and with boundary particles and\n"
         "stretch-aware splat scale; every K frames it measures the hole ratio (share of the mesh\n"
         "raster's pixels the splats leave below half alpha) and the silhouette IoU against a raster\n"
-        "of the same deformed mesh. Writes DIR/coverage.csv and DIR/coverage.svg.\n"
-        "\n"
-        "  --frames N          frames to run (default 360)\n"
-        "  --every K           measure every K frames (default 20)\n"
-        "  --width W, --height H   default 320x180\n"
-        "  --out-dir DIR       default out/bench (docs/bench holds the figures the docs show)\n"
-        "  --json              one JSON object: per mode, the mean and worst hole ratio and IoU\n";
-    std::set<std::string> flags = k_gpu_flags;
-    flags.insert({"json", "help"});
-    std::set<std::string> valued = k_gpu_options;
-    valued.insert({"frames", "every", "width", "height", "out-dir"});
-    auto args = Args::parse(argv, flags, valued);
-    if (!args.ok()) return usage_error("bench coverage", args.error().to_string());
-    if (args->has("help")) return std::fputs(help, stdout), 0;
-    auto frames = args->get_uint("frames", 360, 1, 100000);
-    auto every = args->get_uint("every", 20, 1, 100000);
-    auto width = args->get_uint("width", 320, 16, 4096);
-    auto height = args->get_uint("height", 180, 16, 4096);
-    if (const core::Error* e = first_error(frames, every, width, height)) return usage_error("bench coverage", e->to_string());
-    auto base = load_scene_arg(args->positionals());
+        "of the same deformed mesh. Writes DIR/coverage.csv and DIR/coverage.svg.\n",
+        with_gpu({whole("frames", "N", 360, 1, 100000, "frames to run"),
+                  whole("every", "K", 20, 1, 100000, "measure every K frames"),
+                  whole("width", "W", 320, 16, 4096, "image width"), whole("height", "H", 180, 16, 4096, "image height"),
+                  out_dir_option(), json_option("one JSON object: per mode, the mean and worst hole ratio and IoU")})};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    const Options& opt = *parsed.options;
+    const uint32_t frames = opt.whole("frames"), every = opt.whole("every"), width = opt.whole("width"), height = opt.whole("height");
+    auto base = load_scene_arg(opt.operands());
     if (!base.ok()) return fail("bench coverage", base.error().to_string());
-    const std::filesystem::path out_dir = args->get_or("out-dir", "out/bench");
-    auto ctx = open_context(args.value());
+    const std::filesystem::path out_dir = opt.text("out-dir");
+    auto ctx = open_context(opt);
     if (!ctx.ok()) return fail("bench coverage", ctx.error().to_string());
 
     struct Sample {
@@ -69,29 +58,24 @@ int bench_coverage(const std::vector<std::string>& argv) {
         ro.keep_records = true;
         auto rt = scene::SceneRuntime::create(sc, ro);
         if (!rt.ok()) return fail("bench coverage", std::string(name) + ": " + rt.error().to_string());
-        for (uint64_t f = 0; f < frames.value(); ++f) {
+        for (uint64_t f = 0; f < frames; ++f) {
             if (auto s = rt.value()->step(); !s.ok()) return fail("bench coverage", s.error().to_string());
-            if ((f + 1) % every.value() != 0) continue;
+            if ((f + 1) % every != 0) continue;
             const sim::SoftBody& body = rt.value()->body();
             render::FrameInputs frame = sc.render.frame;
             frame.camera = rt.value()->camera();
             auto c = passes::measure_coverage(*ctx.value(), body.particles.x, body.triangles, rt.value()->records(), frame,
-                                             width.value(), height.value());
+                                             width, height);
             if (!c.ok()) return fail("bench coverage", std::string(name) + ", frame " + std::to_string(f) + ": " + c.error().to_string());
             samples.push_back({name, f + 1, c->hole_ratio, c->silhouette_iou, rt.value()->stats().cuts});
         }
     }
     if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("bench coverage", v.error().to_string());
 
-    std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    if (ec) return fail("bench coverage", out_dir.string() + ": cannot create the folder: " + ec.message());
-    {
-        std::ofstream csv(out_dir / "coverage.csv");
-        if (!csv) return fail("bench coverage", (out_dir / "coverage.csv").string() + ": cannot write");
-        csv << "mode,frame,hole_ratio,silhouette_iou,cuts\n";
-        for (const Sample& s : samples) csv << s.mode << ',' << s.frame << ',' << s.holes << ',' << s.iou << ',' << s.cuts << '\n';
-    }
+    std::ostringstream csv;
+    csv << "mode,frame,hole_ratio,silhouette_iou,cuts\n";
+    for (const Sample& s : samples) csv << s.mode << ',' << s.frame << ',' << s.holes << ',' << s.iou << ',' << s.cuts << '\n';
+    if (auto s = write_report_file(out_dir, "coverage.csv", csv.str()); !s.ok()) return fail("bench coverage", s.error().to_string());
     PlotSpec plot;
     plot.title = "Coverage through " + base->name + ": hole ratio against the mesh raster";
     plot.x_label = "frame";
@@ -113,14 +97,15 @@ int bench_coverage(const std::vector<std::string>& argv) {
         summary[name] = {{"hole_ratio_mean", n ? holes_sum / double(n) : 0.0}, {"hole_ratio_max", holes_max},
                          {"iou_mean", n ? iou_sum / double(n) : 0.0}, {"iou_min", iou_min}, {"samples", n}};
     }
-    std::ofstream(out_dir / "coverage.svg") << render_svg(plot);
-    if (args->has("json")) {
-        const nlohmann::json j = {{"suite", "coverage"}, {"scene", base->name}, {"frames", frames.value()}, {"modes", summary}};
+    if (auto s = write_report_file(out_dir, "coverage.svg", render_svg(plot)); !s.ok())
+        return fail("bench coverage", s.error().to_string());
+    if (opt.flag("json")) {
+        const nlohmann::json j = {{"suite", "coverage"}, {"scene", base->name}, {"frames", frames}, {"modes", summary}};
         std::printf("%s\n", j.dump().c_str());
         return 0;
     }
-    std::printf("scene %s, %u frames, coverage every %u frames at %ux%u:\n", base->name.c_str(), frames.value(), every.value(),
-                width.value(), height.value());
+    std::printf("scene %s, %u frames, coverage every %u frames at %ux%u:\n", base->name.c_str(), frames, every,
+                width, height);
     for (const auto& [name, mode] : modes) {
         const auto& m = summary[name];
         std::printf("  %-18s holes mean %.4f %%, worst %.4f %%; IoU mean %.3f, lowest %.3f\n", name,

@@ -7,7 +7,7 @@
 
 #include "core/timer.h"
 #include "mesh/mesh_spec.h"
-#include "pbdsplat/args.h"
+#include "pbdsplat/options.h"
 #include "pbdsplat/commands.h"
 #include "sim/solver.h"
 #include "topology/cut.h"
@@ -205,61 +205,55 @@ int print_levels(const std::string& range, uint32_t cuts, uint32_t frames, const
 } // namespace
 
 int bench_cut(const std::vector<std::string>& argv) {
-    static constexpr const char* help =
-        "usage: pbdsplat bench cut [--mesh SPEC | --levels A-B] [--cuts N] [--policy cap|burst|rebase] [--frames F] [--json]\n"
-        "\n"
+    static const CommandSpec command{
+        "bench cut", "",
         "The cost of one line cut through the middle of a body at rest (paper section 5.7): N cuts,\n"
         "each on a fresh copy of the body along a plane through its centre at a different angle,\n"
         "median milliseconds of the cut (and of rebuilding the solver's derived data inside it),\n"
         "the crossed region, and Stage A ms per frame (paper solver defaults, median of F frames)\n"
         "before and after the first cut; then the cost per crossed triangle and the median ms of\n"
         "each step of the cut, in the order run. Each copy gets the spare capacity a live body\n"
-        "keeps from its earlier edits (sim::reserve_headroom), outside the timing.\n"
-        "\n"
-        "  --mesh SPEC     default teapot.obj (from ../shared/models); procedural specs work too\n"
-        "  --cuts N        default 20\n"
-        "  --policy P      volume policy of the cut (default cap)\n"
-        "  --frames F      Stage A frames timed before and after (default 30)\n"
-        "  --levels A-B    instead of --mesh: icosphere levels A to B, a table of the cost per crossed\n"
-        "                  triangle at each and its ratio to level A's (how the cut scales)\n"
-        "  --sequence N    instead: N random scalpel cuts (topology::local_cut_on) on the southern part\n"
-        "                  of one body (default mesh icosphere:4), a frame between cuts; the same\n"
-        "                  probe slit at the north pole timed on copies before, after 10 and after N\n"
-        "                  (does a cut cost more once the body has been cut N times?)\n"
-        "  --json          print one JSON object on stdout\n";
-    auto args = Args::parse(argv, {"help", "json"}, {"mesh", "cuts", "policy", "frames", "levels", "sequence"});
-    if (!args.ok()) return usage_error("bench cut", args.error().to_string());
-    if (args->has("help")) return std::fputs(help, stdout), 0;
-    auto cuts = args->get_uint("cuts", 20, 1, 10000);
-    auto frames = args->get_uint("frames", 30, 1, 10000);
-    if (!cuts.ok()) return usage_error("bench cut", cuts.error().to_string());
-    if (!frames.ok()) return usage_error("bench cut", frames.error().to_string());
+        "keeps from its earlier edits (sim::reserve_headroom), outside the timing.\n",
+        {text("mesh", "SPEC", "", "the body: a model from ../shared/models, an OBJ, or a procedural spec")
+             .default_from("teapot.obj; icosphere:4 with --sequence"),
+         whole("cuts", "N", 20, 1, 10000, "cuts, each on a fresh copy"),
+         named<topology::VolumePolicy>("policy", topology::k_volume_policy_names, topology::VolumePolicy::cap,
+                                       "volume policy of the cut"),
+         whole("frames", "F", 30, 1, 10000, "Stage A frames timed before and after"),
+         text("levels", "A-B", "", "instead of --mesh: icosphere levels A to B, a table of the cost per crossed\n"
+                                   "triangle at each and its ratio to level A's (how the cut scales)")
+             .default_from("off"),
+         whole("sequence", "N", 1000, 1, 100000,
+               "instead: N random scalpel cuts (topology::local_cut_on) on the southern part of one\n"
+               "body, a frame between cuts; the same probe slit at the north pole timed on copies\n"
+               "before, after 10 and after N (does a cut cost more once the body has been cut N times?)")
+             .default_from("off"),
+         json_option()}};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    const Options& opt = *parsed.options;
+    const uint32_t cuts = opt.whole("cuts"), frames = opt.whole("frames");
     topology::CutOptions options;
-    const std::string policy = args->get_or("policy", "cap");
-    if (policy == "cap") options.volume = topology::VolumePolicy::cap;
-    else if (policy == "burst") options.volume = topology::VolumePolicy::burst;
-    else if (policy == "rebase") options.volume = topology::VolumePolicy::rebase;
-    else return usage_error("bench cut", "--policy must be cap, burst or rebase, not '" + policy + "'");
+    options.volume = opt.named<topology::VolumePolicy>("policy", topology::k_volume_policy_names);
+    const std::string& policy = opt.text("policy");
 
-    if (args->has("sequence")) {
-        auto count = args->get_uint("sequence", 1000, 1, 100000);
-        if (!count.ok()) return usage_error("bench cut", count.error().to_string());
-        return print_sequence(args->get_or("mesh", "icosphere:4"), count.value(), options, args->has("json"));
-    }
-    if (args->has("levels")) return print_levels(args->get_or("levels", ""), cuts.value(), frames.value(), options, args->has("json"));
-    const std::string spec = args->get_or("mesh", "teapot.obj");
-    auto measured = measure_cuts(spec, cuts.value(), frames.value(), options);
+    const std::string& mesh = opt.text("mesh");
+    if (opt.given("sequence"))
+        return print_sequence(mesh.empty() ? "icosphere:4" : mesh, opt.whole("sequence"), options, opt.flag("json"));
+    if (opt.given("levels")) return print_levels(opt.text("levels"), cuts, frames, options, opt.flag("json"));
+    const std::string spec = mesh.empty() ? "teapot.obj" : mesh;
+    auto measured = measure_cuts(spec, cuts, frames, options);
     if (!measured.ok()) return fail("bench cut", measured.error().to_string());
     nlohmann::json j = std::move(measured).value();
     j["suite"] = "cut";
     j["policy"] = policy;
-    j["cuts"] = cuts.value();
-    if (args->has("json")) {
+    j["cuts"] = cuts;
+    if (opt.flag("json")) {
         std::printf("%s\n", j.dump().c_str());
         return 0;
     }
     std::printf("%s: %zu particles, %zu triangles; %u cuts through the centre (%s)\n", spec.c_str(), j["particles_before"].get<size_t>(),
-                j["triangles_before"].get<size_t>(), cuts.value(), policy.c_str());
+                j["triangles_before"].get<size_t>(), cuts, policy.c_str());
     std::printf("  crossed triangles %.0f, particles after %.0f\n", j["crossed_triangles"].get<double>(), j["particles_after"].get<double>());
     std::printf("  cut %.3f ms (median), of which derived solver data %.3f ms\n", j["median_cut_ms"].get<double>(),
                 j["median_rebuild_ms"].get<double>());

@@ -4,29 +4,23 @@
 
 #include "core/timer.h"
 #include "graph/frame_graph.h"
-#include "pbdsplat/args.h"
+#include "pbdsplat/options.h"
 #include "pbdsplat/commands.h"
 
 namespace pbdsplat::cli {
 
 int bench_graph(const std::vector<std::string>& argv) {
-    static constexpr const char* help =
-        "usage: pbdsplat bench graph [--passes N] [--frames F] [--json]\n"
-        "\n"
+    static const CommandSpec command{
+        "bench graph", "",
         "The frame graph's own cost: a graph of N passes of which all but one are culled (they need\n"
         "a resource that is absent), compiled once, executed F times; prints the median and the\n"
-        "mean microseconds of one execute(), and the cost of one compile().\n"
-        "\n"
-        "  --passes N          passes in the graph (default 30, like the default scene)\n"
-        "  --frames F          executions (default 100000)\n"
-        "  --json              print one JSON object on stdout\n";
-    auto args = Args::parse(argv, {"help", "json"}, {"passes", "frames"});
-    if (!args.ok()) return usage_error("bench graph", args.error().to_string());
-    if (args->has("help")) return std::fputs(help, stdout), 0;
-    auto passes = args->get_uint("passes", 30, 1, 100000);
-    auto frames = args->get_uint("frames", 100000, 1, 100000000);
-    if (!passes.ok()) return usage_error("bench graph", passes.error().to_string());
-    if (!frames.ok()) return usage_error("bench graph", frames.error().to_string());
+        "mean microseconds of one execute(), and the cost of one compile().\n",
+        {whole("passes", "N", 30, 1, 100000, "passes in the graph (30 is like the default scene)"),
+         whole("frames", "F", 100000, 1, 100000000, "executions"), json_option()}};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    const Options& opt = *parsed.options;
+    const uint32_t passes = opt.whole("passes"), frames = opt.whole("frames");
 
     graph::FrameGraph g;
     int state = 0, counter = 0;
@@ -36,7 +30,7 @@ int bench_graph(const std::vector<std::string>& argv) {
         body = b.write(body);
         return [&counter](const graph::PassResources&, graph::ExecuteContext&) { ++counter; };
     });
-    for (uint32_t i = 1; i < passes.value(); ++i)
+    for (uint32_t i = 1; i < passes; ++i)
         g.add_pass("culled." + std::to_string(i), graph::PassKind::cpu, [&](graph::PassBuilder& b) {
             b.read(missing);
             body = b.write(body);
@@ -50,7 +44,7 @@ int bench_graph(const std::vector<std::string>& argv) {
     std::vector<double> us;
     graph::ExecuteContext ctx;
     const uint32_t batch = 100;
-    for (uint32_t f = 0; f < frames.value(); f += batch) {
+    for (uint32_t f = 0; f < frames; f += batch) {
         const core::Stopwatch clock;
         for (uint32_t k = 0; k < batch; ++k) g.execute(ctx);
         us.push_back(clock.elapsed_ms() * 1000.0 / batch);
@@ -58,13 +52,13 @@ int bench_graph(const std::vector<std::string>& argv) {
     double mean = 0.0;
     for (double x : us) mean += x / double(us.size());
     if (counter != int(us.size() * batch)) return fail("bench graph", "a culled pass ran");
-    if (args->has("json")) {
-        const nlohmann::json j = {{"suite", "graph"}, {"passes", passes.value()}, {"kept", 1},
+    if (opt.flag("json")) {
+        const nlohmann::json j = {{"suite", "graph"}, {"passes", passes}, {"kept", 1},
                                   {"median_us", core::median(us)}, {"mean_us", mean}, {"compile_us", compile_us}};
         std::printf("%s\n", j.dump().c_str());
     } else {
         std::printf("%u passes, 1 kept: execute %.3f us median (%.3f mean) per frame; compile %.1f us once\n",
-                    passes.value(), core::median(us), mean, compile_us);
+                    passes, core::median(us), mean, compile_us);
     }
     return 0;
 }

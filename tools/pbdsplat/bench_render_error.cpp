@@ -1,15 +1,16 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "core/timer.h"
-#include "pbdsplat/args.h"
+#include "pbdsplat/options.h"
 #include "pbdsplat/commands.h"
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/splat_sphere.h"
+#include "pbdsplat/report.h"
 #include "pbdsplat/svg_plot.h"
 #include "passes/offscreen_renderer.h"
 #include "splat/sort.h"
@@ -70,58 +71,32 @@ core::Result<std::pair<core::ImageRgba8, double>> render(gpu::Context& ctx, std:
     return std::pair{std::move(image), core::median(ms)};
 }
 
-core::ImageRgba8 downsample(const core::ImageRgba8& big, uint32_t factor) {
-    core::ImageRgba8 out(big.width / factor, big.height / factor);
-    for (uint32_t y = 0; y < out.height; ++y)
-        for (uint32_t x = 0; x < out.width; ++x)
-            for (int c = 0; c < 4; ++c) {
-                uint32_t sum = 0;
-                for (uint32_t dy = 0; dy < factor; ++dy)
-                    for (uint32_t dx = 0; dx < factor; ++dx) sum += big.at(x * factor + dx, y * factor + dy)[c];
-                out.at(x, y)[c] = uint8_t((sum + factor * factor / 2) / (factor * factor));
-            }
-    return out;
-}
-
 } // namespace
 
 int bench_render_error(const std::vector<std::string>& argv) {
-    static constexpr const char* help =
-        "usage: pbdsplat bench render-error [--splats N] [--width W] [--height H] [--repeat R] [--out-dir DIR]\n"
-        "                                   [--json] [--validation] [--device NAME]\n"
-        "\n"
+    static const CommandSpec command{
+        "bench render-error", "",
         "Rendering, time against error: N splats on a sphere rendered in each footprint (the paper's\n"
         "disc, the Gaussian) by every path the device has, unsorted and sorted (CPU, GPU), shaded per\n"
         "fragment and per corner, and with other cut-offs (kappa), sampling densities (eta) and splat\n"
         "scales; each image against a reference of its footprint (geometry shader, sorted on the CPU,\n"
         "per-fragment shading, rendered at 4x the resolution and averaged down). Prints the\n"
         "median GPU ms (sort + draw) of R frames, the PSNR and the share of pixels off by more than\n"
-        "2/255, and writes DIR/render_error.csv and DIR/render_error.svg.\n"
-        "\n"
-        "  --splats N          default 10000\n"
-        "  --width W, --height H   default 480x270\n"
-        "  --repeat R          measured frames per variant (default 3)\n"
-        "  --out-dir DIR       default out/bench (docs/bench holds the figures the docs show)\n"
-        "  --json              one JSON object: the reference and every variant\n";
-    std::set<std::string> flags = k_gpu_flags;
-    flags.insert({"json", "help"});
-    std::set<std::string> valued = k_gpu_options;
-    valued.insert({"splats", "width", "height", "repeat", "out-dir"});
-    auto args = Args::parse(argv, flags, valued);
-    if (!args.ok()) return usage_error("bench render-error", args.error().to_string());
-    if (args->has("help")) return std::fputs(help, stdout), 0;
-    auto count = args->get_uint("splats", 10000, 1, 1u << 22);
-    auto width = args->get_uint("width", 480, 16, 4096);
-    auto height = args->get_uint("height", 270, 16, 4096);
-    auto repeat = args->get_uint("repeat", 3, 1, 1000);
-    if (const core::Error* e = first_error(count, width, height, repeat)) return usage_error("bench render-error", e->to_string());
-    const std::filesystem::path out_dir = args->get_or("out-dir", "out/bench");
-    auto ctx = open_context(args.value());
+        "2/255, and writes DIR/render_error.csv and DIR/render_error.svg.\n",
+        with_gpu({whole("splats", "N", 10000, 1, 1u << 22, "splats on the sphere"),
+                  whole("width", "W", 480, 16, 4096, "image width"), whole("height", "H", 270, 16, 4096, "image height"),
+                  whole("repeat", "R", 3, 1, 1000, "measured frames per variant"), out_dir_option(),
+                  json_option("one JSON object: the reference and every variant")})};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    const Options& opt = *parsed.options;
+    const uint32_t count = opt.whole("splats"), w = opt.whole("width"), h = opt.whole("height"), repeat = opt.whole("repeat");
+    const std::filesystem::path out_dir = opt.text("out-dir");
+    auto ctx = open_context(opt);
     if (!ctx.ok()) return fail("bench render-error", ctx.error().to_string());
     const gpu::DeviceCaps& caps = ctx.value()->caps();
 
-    auto [records, frame] = make_splat_sphere(count.value());
-    const uint32_t w = width.value(), h = height.value();
+    auto [records, frame] = make_splat_sphere(count);
     // One reference per footprint: the disc's hard rims and the Gaussian's soft ones are
     // different images by design; each is judged against its own supersampled truth.
     core::ImageRgba8 truth[2];
@@ -131,7 +106,7 @@ int bench_render_error(const std::vector<std::string>& argv) {
         reference_variant.footprint = f;
         auto reference = render(*ctx.value(), records, frame, reference_variant, 4 * w, 4 * h, 1);
         if (!reference.ok()) return fail("bench render-error", reference.error().to_string());
-        truth[int(f)] = downsample(reference->first, 4);
+        truth[int(f)] = core::downsample(reference->first, 4);
         reference_ms += reference->second;
     }
 
@@ -169,8 +144,8 @@ int bench_render_error(const std::vector<std::string>& argv) {
     std::vector<Measured> results;
     for (const Variant& v : variants) {
         const auto denser = v.density == 1.0f ? SplatSphere{records, frame}
-                                              : make_splat_sphere(std::max<uint32_t>(1, uint32_t(float(count.value()) * v.density)));
-        auto r = render(*ctx.value(), denser.records, frame, v, w, h, repeat.value());
+                                              : make_splat_sphere(std::max<uint32_t>(1, uint32_t(float(count) * v.density)));
+        auto r = render(*ctx.value(), denser.records, frame, v, w, h, repeat);
         if (!r.ok()) return fail("bench render-error", v.name + ": " + r.error().to_string());
         auto diff = core::compare_images(r->first, truth[int(v.footprint)], 2);
         if (!diff.ok()) return fail("bench render-error", diff.error().to_string());
@@ -178,20 +153,18 @@ int bench_render_error(const std::vector<std::string>& argv) {
     }
     if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("bench render-error", v.error().to_string());
 
-    std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    if (ec) return fail("bench render-error", out_dir.string() + ": cannot create the folder: " + ec.message());
     {
-        std::ofstream csv(out_dir / "render_error.csv");
-        if (!csv) return fail("bench render-error", (out_dir / "render_error.csv").string() + ": cannot write");
+        std::ostringstream csv;
         csv << "variant,footprint,path,sort,shading,kappa,scale,density,ms,psnr_db,share_over_2\n";
         for (const Measured& m : results)
             csv << '"' << m.v.name << "\"," << render::footprint_name(m.v.footprint) << ',' << render::splat_path_name(m.v.path) << ',' << render::splat_order_name(m.v.order) << ','
                 << (m.v.shading == render::SplatShading::corner ? "corner" : "fragment") << ',' << m.v.kappa << ',' << m.v.scale
                 << ',' << m.v.density << ',' << m.ms << ',' << m.psnr << ',' << m.share_over << '\n';
+        if (auto s = write_report_file(out_dir, "render_error.csv", csv.str()); !s.ok())
+            return fail("bench render-error", s.error().to_string());
     }
     PlotSpec plot;
-    plot.title = "Rendering: time against error (" + std::to_string(count.value()) + " splats, " + std::to_string(w) + "x" +
+    plot.title = "Rendering: time against error (" + std::to_string(count) + " splats, " + std::to_string(w) + "x" +
                  std::to_string(h) + ", against a 4x supersampled sorted reference)";
     plot.x_label = "GPU ms per frame (sort + draw)";
     plot.y_label = "PSNR (dB)";
@@ -207,10 +180,11 @@ int bench_render_error(const std::vector<std::string>& argv) {
             }
         if (!s.x.empty()) plot.series.push_back(s);
     }
-    std::ofstream(out_dir / "render_error.svg") << render_svg(plot);
+    if (auto s = write_report_file(out_dir, "render_error.svg", render_svg(plot)); !s.ok())
+        return fail("bench render-error", s.error().to_string());
 
-    if (args->has("json")) {
-        nlohmann::json j = {{"suite", "render-error"}, {"device", caps.name}, {"splats", count.value()}, {"width", w},
+    if (opt.flag("json")) {
+        nlohmann::json j = {{"suite", "render-error"}, {"device", caps.name}, {"splats", count}, {"width", w},
                             {"height", h}, {"reference_ms", reference_ms}, {"variants", nlohmann::json::array()}};
         for (const Measured& m : results)
             j["variants"].push_back({{"name", m.v.name}, {"footprint", render::footprint_name(m.v.footprint)}, {"ms", m.ms}, {"psnr_db", std::isfinite(m.psnr) ? m.psnr : 999.0},
@@ -218,7 +192,7 @@ int bench_render_error(const std::vector<std::string>& argv) {
         std::printf("%s\n", j.dump().c_str());
         return 0;
     }
-    std::printf("%u splats at %ux%u on %s; reference per footprint: gs, CPU-sorted, per fragment, 4x supersampled\n", count.value(), w, h,
+    std::printf("%u splats at %ux%u on %s; reference per footprint: gs, CPU-sorted, per fragment, 4x supersampled\n", count, w, h,
                 caps.name.c_str());
     std::printf("  %-40s %10s %10s %12s\n", "variant", "GPU ms", "PSNR dB", "> 2/255");
     for (const Measured& m : results)

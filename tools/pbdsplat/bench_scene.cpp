@@ -13,43 +13,32 @@
 namespace pbdsplat::cli {
 
 int bench_scene(const std::vector<std::string>& argv) {
-    static constexpr const char* help =
-        "usage: pbdsplat bench scene [SCENE.toml] [--frames N] [--threads T] [--before-after] [--json]\n"
-        "                            [--validation] [--device NAME]\n"
-        "\n"
+    static const CommandSpec command{
+        "bench scene", "[SCENE.toml]",
         "Runs a scene (default: the built-in one) through its frame graph without writing images and\n"
         "prints the median milliseconds per frame of each stage group and of the whole frame, and the\n"
-        "GPU time of each GPU pass from timestamps (the paper's \"GPU Scene\" row).\n"
-        "\n"
-        "  --frames N          frames (default 240)\n"
-        "  --threads T         simulation threads (default 1)\n"
-        "  --passes            also the median CPU ms of every pass that runs (what culling a pass saves)\n"
-        "  --before-after      also the medians before and after the first cut or tear, and the change;\n"
-        "                      without --frames it runs until 3 s (simulated) after the first one,\n"
-        "                      and fails if none comes within 10,000 frames\n"
-        "                      (the paper's Tables 2-4)\n"
-        "  --json              print one JSON object on stdout\n";
-    std::set<std::string> flags = k_gpu_flags;
-    flags.insert({"help", "json", "before-after", "passes"});
-    std::set<std::string> valued = k_gpu_options;
-    valued.insert({"frames", "threads"});
-    auto args = Args::parse(argv, flags, valued);
-    if (!args.ok()) return usage_error("bench scene", args.error().to_string());
-    if (args->has("help")) return std::fputs(help, stdout), 0;
-    auto frames = args->get_uint("frames", 240, 1, 1000000);
-    const bool before_after = args->has("before-after");
-    const bool until_after = before_after && !args->has("frames");  // run until enough frames follow the change
-    auto threads = args->get_uint("threads", 1, 1, 64);
-    if (!frames.ok()) return usage_error("bench scene", frames.error().to_string());
-    if (!threads.ok()) return usage_error("bench scene", threads.error().to_string());
-    auto scene = load_scene_arg(args->positionals());
+        "GPU time of each GPU pass from timestamps (the paper's \"GPU Scene\" row).\n",
+        with_gpu({whole("frames", "N", 240, 1, 1000000, "frames"), whole("threads", "T", 1, 1, 64, "simulation threads"),
+                  flag("passes", "also the median CPU ms of every pass that runs (what culling a pass saves)"),
+                  flag("before-after", "also the medians before and after the first cut or tear, and the change\n"
+                                       "(the paper's Tables 2-4); without --frames it runs until 3 s\n"
+                                       "(simulated) after the first one, and fails if none comes within\n"
+                                       "10,000 frames"),
+                  json_option()})};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    const Options& opt = *parsed.options;
+    const uint32_t frames = opt.whole("frames"), threads = opt.whole("threads");
+    const bool before_after = opt.flag("before-after");
+    const bool until_after = before_after && !opt.given("frames");  // run until enough frames follow the change
+    auto scene = load_scene_arg(opt.operands());
     if (!scene.ok()) return fail("bench scene", scene.error().to_string());
-    auto ctx = open_context(args.value());
+    auto ctx = open_context(opt);
     if (!ctx.ok()) return fail("bench scene", ctx.error().to_string());
     scene::RuntimeOptions options;
     options.gpu = ctx.value().get();
     options.readback = false;
-    options.threads = threads.value();
+    options.threads = threads;
     auto runtime = scene::SceneRuntime::create(scene.value(), options);
     if (!runtime.ok()) return fail("bench scene", runtime.error().to_string());
 
@@ -63,14 +52,14 @@ int bench_scene(const std::vector<std::string>& argv) {
     std::vector<std::vector<double>> per_pass;  // per kept pass, per frame
     const uint32_t frames_after = uint32_t(std::ceil(3.0f / std::max(scene->simulation.dt, 1e-6f)));
     constexpr uint32_t k_max_frames = 10000;
-    Progress progress("bench scene", until_after ? 0 : frames.value());
+    Progress progress("bench scene", until_after ? 0 : frames);
     uint32_t run = 0;
     // Frames after the first change, split by whether this frame changed the topology: what a
     // tear or cut costs above the frames around it.
     std::vector<double> changing_cpu, steady_cpu;
     std::vector<std::vector<double>> changing_pass;  // per kept pass, on the frames that changed
     size_t changes_so_far = 0;
-    for (uint32_t f = 0; until_after ? (after.frames < frames_after && f < k_max_frames) : f < frames.value(); ++f) {
+    for (uint32_t f = 0; until_after ? (after.frames < frames_after && f < k_max_frames) : f < frames; ++f) {
         ++run;
         if (auto s = runtime.value()->step(); !s.ok()) return fail("bench scene", s.error().to_string());
         const auto& s = runtime.value()->stats();
@@ -106,7 +95,7 @@ int bench_scene(const std::vector<std::string>& argv) {
     size_t kept = 0, total = 0;
     for (const auto& p : runtime.value()->graph().describe()) ++total, kept += p.culled ? 0 : 1;
     const auto& s = runtime.value()->stats();
-    if (args->has("json")) {
+    if (opt.flag("json")) {
         const nlohmann::json j = {{"suite", "scene"},
                                   {"scene", scene->name},
                                   {"frames", run},
@@ -125,19 +114,19 @@ int bench_scene(const std::vector<std::string>& argv) {
                                                      {"draw", core::median(gpu_draw)}}},
                                   {"gpu_timestamps", ctx.value()->caps().timestamps}};
         nlohmann::json out = j;
-        if (args->has("passes")) {
+        if (opt.flag("passes")) {
             out["passes_median_ms"] = nlohmann::json::object();
             size_t k = 0;
             for (const auto& p : runtime.value()->graph().describe())
                 if (!p.culled && k < per_pass.size()) out["passes_median_ms"][p.name] = core::median(per_pass[k++]);
         }
-        if (args->has("before-after"))
+        if (opt.flag("before-after"))
             for (const auto& [name, part] : {std::pair<const char*, const Split*>{"before", &before}, {"after", &after}})
                 out[name] = {{"frames", part->frames}, {"particles", part->particles}, {"gaussians", part->gaussians},
                              {"cpu_frame_ms", core::median(part->cpu_frame)}, {"gpu_scene_ms", core::median(part->gpu_scene)},
                              {"apply_forces_ms", core::median(part->apply)}, {"constraint_projection_ms", core::median(part->constraints)},
                              {"integrate_normals_ms", core::median(part->integrate)}, {"update_particles_ms", core::median(part->update)}};
-        if (args->has("before-after"))
+        if (opt.flag("before-after"))
             out["change_frames"] = {{"frames", changing_cpu.size()}, {"cpu_frame_ms", core::median(changing_cpu)},
                                     {"steady_frames", steady_cpu.size()}, {"steady_cpu_frame_ms", core::median(steady_cpu)}};
         std::printf("%s\n", out.dump().c_str());
@@ -155,7 +144,7 @@ int bench_scene(const std::vector<std::string>& argv) {
                         core::median(gpu_upload), core::median(gpu_sort), core::median(gpu_draw));
         else
             std::printf("GPU Scene: device '%s' has no timestamp queries\n", ctx.value()->caps().name.c_str());
-        if (args->has("passes")) {
+        if (opt.flag("passes")) {
             std::printf("per pass (median CPU ms; GPU passes: recording%s):\n",
                         changing_pass.empty() ? "" : "; then the median on the frames that cut or tore");
             size_t k = 0;
@@ -170,7 +159,7 @@ int bench_scene(const std::vector<std::string>& argv) {
                 }
             }
         }
-        if (args->has("before-after")) {
+        if (opt.flag("before-after")) {
             if (after.frames == 0 || before.frames == 0) {
                 std::printf("before/after: the run has no frames on one side of a cut or tear\n");
             } else {

@@ -4,7 +4,7 @@
 
 #include "core/timer.h"
 #include "mesh/mesh_spec.h"
-#include "pbdsplat/args.h"
+#include "pbdsplat/options.h"
 #include "pbdsplat/commands.h"
 #include "pbdsplat/sim_baseline.h"
 #include "sim/solver.h"
@@ -13,62 +13,51 @@
 namespace pbdsplat::cli {
 
 int bench_sim(const std::vector<std::string>& argv) {
-    static constexpr const char* help =
-        "usage: pbdsplat bench sim [--mesh SPEC] [--pin top|none] [--mode paper|xpbd] [--iterations I]\n"
-        "                          [--substeps S] [--frames N] [--warmup K] [--volume on|off] [--threads T]\n"
-        "                          [--baseline] [--json]\n"
-        "\n"
+    static const CommandSpec command{
+        "bench sim", "",
         "Runs Stage A (the CPU PBD frame of the paper) on a body hanging under gravity\n"
         "and prints the median milliseconds per frame, in total and per stage as the paper's\n"
         "Tables 3 and 4 break them down: apply forces, constraint projection, integrate + normals,\n"
-        "and update particles (the particle-to-Gaussian mapping).\n"
-        "\n"
-        "  --mesh SPEC         icosphere:L, uvsphere:R:S, torus:S:T, box:D, capsule:R:S, grid:N, or\n"
-        "                      an OBJ file or model name (teapot.obj); default icosphere:5\n"
-        "  --pin top|none      pin the highest particle (default top)\n"
-        "  --mode paper|xpbd   solver (default paper: PBD)\n"
-        "  --iterations I      constraint iterations per step (default 5)\n"
-        "  --substeps S        steps per frame (default 1)\n"
-        "  --frames N          measured frames at 60 Hz (default 300)\n"
-        "  --warmup K          unmeasured frames first (default 30)\n"
-        "  --volume on|off     project the volume constraint (default on)\n"
-        "  --threads T         worker threads, the caller included (default 1)\n"
-        "  --baseline          also run a minimal hand-written loop of the same workload (PBD, one\n"
-        "                      thread, distance constraints in edge order, one volume constraint;\n"
-        "                      tools/pbdsplat/sim_baseline.h), frame for frame alternated with the\n"
-        "                      engine, and print the ratio of the engine's step to it (paper mode)\n"
-        "  --json              print one JSON object on stdout\n";
-    auto args = Args::parse(argv, {"json", "help", "baseline"},
-                            {"mesh", "pin", "mode", "iterations", "substeps", "frames", "warmup", "volume", "threads"});
-    if (!args.ok()) return usage_error("bench sim", args.error().to_string());
-    if (args->has("help")) return std::fputs(help, stdout), 0;
-    auto iterations = args->get_uint("iterations", 5, 1, 1000);
-    auto substeps = args->get_uint("substeps", 1, 1, 1000);
-    auto frames = args->get_uint("frames", 300, 1, 1000000);
-    auto warmup = args->get_uint("warmup", 30, 0, 1000000);
-    auto threads = args->get_uint("threads", 1, 1, 64);
-    auto pin = args->get_choice("pin", "top", {"top", "none"});
-    auto mode = args->get_choice("mode", "paper", {"paper", "xpbd"});
-    auto volume = args->get_choice("volume", "on", {"on", "off"});
-    if (const core::Error* e = first_error(iterations, substeps, frames, warmup, threads, pin, mode, volume)) return usage_error("bench sim", e->to_string());
-    const std::string spec = args->get_or("mesh", "icosphere:5");
+        "and update particles (the particle-to-Gaussian mapping).\n",
+        {text("mesh", "SPEC", "icosphere:5",
+              "icosphere:L, uvsphere:R:S, torus:S:T, box:D, capsule:R:S, grid:N, or an OBJ file\n"
+              "or model name (teapot.obj)"),
+         choice("pin", {"top", "none"}, "top", "pin the highest particle, or none"),
+         named<sim::SolverMode>("mode", sim::k_solver_mode_names, sim::SolverMode::paper, "solver: PBD (paper) or XPBD"),
+         whole("iterations", "I", 5, 1, 1000, "constraint iterations per step"),
+         whole("substeps", "S", 1, 1, 1000, "steps per frame"),
+         whole("frames", "N", 300, 1, 1000000, "measured frames at 60 Hz"),
+         whole("warmup", "K", 30, 0, 1000000, "unmeasured frames first"),
+         choice("volume", {"on", "off"}, "on", "project the volume constraint"),
+         whole("threads", "T", 1, 1, 64, "worker threads, the caller included"),
+         flag("baseline", "also run a minimal hand-written loop of the same workload (PBD, one\n"
+                          "thread, distance constraints in edge order, one volume constraint;\n"
+                          "tools/pbdsplat/sim_baseline.h), frame for frame alternated with the\n"
+                          "engine, and print the ratio of the engine's step to it (paper mode)"),
+         json_option()}};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    const Options& opt = *parsed.options;
+    const uint32_t iterations = opt.whole("iterations"), substeps = opt.whole("substeps"), frames = opt.whole("frames");
+    const uint32_t warmup = opt.whole("warmup"), threads = opt.whole("threads");
+    const std::string& spec = opt.text("mesh");
 
     auto repaired = mesh::load_mesh_spec(spec);
     if (!repaired.ok()) return fail("bench sim", repaired.error().to_string());
     sim::SoftBodyDesc desc;
-    desc.volume = volume.value() == "on";
+    desc.volume = opt.text("volume") == "on";
     auto made = sim::make_soft_body(std::move(repaired).value().mesh, desc);
     if (!made.ok()) return fail("bench sim", made.error().to_string());
     sim::SoftBody body = std::move(made).value();
-    if (pin.value() == "top") body.pin(body.extreme_particle(1));
+    if (opt.text("pin") == "top") body.pin(body.extreme_particle(1));
 
     sim::SolverSettings settings;
-    settings.mode = mode.value() == "xpbd" ? sim::SolverMode::xpbd : sim::SolverMode::paper;
-    settings.iterations = iterations.value();
-    settings.substeps = substeps.value();
+    settings.mode = opt.named<sim::SolverMode>("mode", sim::k_solver_mode_names);
+    settings.iterations = iterations;
+    settings.substeps = substeps;
     settings.volume = desc.volume;
     if (auto v = sim::validate(settings); !v.ok()) return usage_error("bench sim", v.error().to_string());
-    const bool with_baseline = args->has("baseline");
+    const bool with_baseline = opt.flag("baseline");
     if (with_baseline && settings.mode != sim::SolverMode::paper) return usage_error("bench sim", "--baseline runs PBD: use --mode paper");
     // The yardstick runs on the body's own particle order and pin.
     mesh::TriangleMesh as_body;
@@ -83,17 +72,17 @@ int bench_sim(const std::vector<std::string>& argv) {
     SimBaseline baseline(as_body, pinned, bs);
     std::vector<double> engine_step, baseline_step;
 
-    core::ThreadPool pool(threads.value());
+    core::ThreadPool pool(threads);
     sim::Solver solver(&pool);
     splat::Appearance look;
     std::vector<splat::GaussianRecord> records;
     std::vector<double> total, forces, constraints, integrate, update;
-    for (uint32_t f = 0; f < warmup.value() + frames.value(); ++f) {
+    for (uint32_t f = 0; f < warmup + frames; ++f) {
         const sim::StageTimings t = solver.step(body, 1.0f / 60.0f, settings, {}, {});
         core::Stopwatch clock;
         splat::map_points(body.particles.x, body.normals, look, records);
         const double up = clock.elapsed_ms();
-        if (f < warmup.value()) continue;
+        if (f < warmup) continue;
         if (with_baseline) {
             // Alternated frame for frame, so the machine's drift falls on both alike.
             const core::Stopwatch base_clock;
@@ -111,17 +100,17 @@ int bench_sim(const std::vector<std::string>& argv) {
         if (!x.allFinite()) return fail("bench sim", "the simulation produced NaN or Inf; the settings are unstable");
 
     const size_t n_constraints = body.distance.size() + (settings.volume ? body.volumes.size() : 0);
-    if (args->has("json")) {
+    if (opt.flag("json")) {
         const nlohmann::json j = {{"suite", "sim"},
                                   {"mesh", spec},
-                                  {"mode", mode.value()},
-                                  {"iterations", iterations.value()},
-                                  {"substeps", substeps.value()},
+                                  {"mode", opt.text("mode")},
+                                  {"iterations", iterations},
+                                  {"substeps", substeps},
                                   {"volume", desc.volume},
-                                  {"threads", threads.value()},
+                                  {"threads", threads},
                                   {"particles", body.particle_count()},
                                   {"constraints", n_constraints},
-                                  {"frames", frames.value()},
+                                  {"frames", frames},
                                   {"median_ms", core::median(total)},
                                   {"stages_median_ms", {{"apply_forces", core::median(forces)},
                                                         {"constraint_projection", core::median(constraints)},
@@ -135,8 +124,8 @@ int bench_sim(const std::vector<std::string>& argv) {
     } else {
         std::printf("%s: %zu particles, %zu distance + %zu volume constraints; %s, I=%u, S=%u, %u thread(s)\n",
                     spec.c_str(), body.particle_count(), body.distance.size(), settings.volume ? body.volumes.size() : 0,
-                    mode.value().c_str(), iterations.value(), substeps.value(), threads.value());
-        std::printf("median of %u frames:\n", frames.value());
+                    opt.text("mode").c_str(), iterations, substeps, threads);
+        std::printf("median of %u frames:\n", frames);
         std::printf("  apply forces           %8.3f ms\n", core::median(forces));
         std::printf("  constraint projection  %8.3f ms\n", core::median(constraints));
         std::printf("  integrate + normals    %8.3f ms\n", core::median(integrate));

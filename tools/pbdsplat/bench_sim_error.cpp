@@ -1,15 +1,17 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "core/timer.h"
 #include "mesh/mesh_spec.h"
-#include "pbdsplat/args.h"
+#include "pbdsplat/options.h"
 #include "pbdsplat/commands.h"
+#include "pbdsplat/report.h"
 #include "pbdsplat/svg_plot.h"
+#include "sim/error_metrics.h"
 #include "sim/solver.h"
 #include "topology/cut.h"
 
@@ -29,58 +31,32 @@ struct Run {
     double volume_error = 0.0;    // |V - k V0| / (k V0), volumes summed over components
 };
 
-template <class Real>
-double mean_strain(const sim::SoftBodyT<Real>& b) {
-    double sum = 0.0;
-    for (const auto& c : b.distance)
-        sum += std::abs((b.particles.x[c.i] - b.particles.x[c.j]).template head<3>().template cast<double>().norm() - c.rest) /
-               double(c.rest);
-    return b.distance.empty() ? 0.0 : sum / double(b.distance.size());
-}
-
-template <class Real>
-double volume_error(const sim::SoftBodyT<Real>& b) {
-    double v = 0.0, target = 0.0;
-    for (size_t k = 0; k < b.volumes.size(); ++k) v += b.volume(k), target += double(b.volumes[k].pressure) * b.volumes[k].rest_volume;
-    return target > 0.0 ? std::abs(v - target) / target : 0.0;
-}
-
 } // namespace
 
 int bench_sim_error(const std::vector<std::string>& argv) {
-    static constexpr const char* help =
-        "usage: pbdsplat bench sim-error [--meshes A,B,...] [--seconds T] [--out-dir DIR] [--json]\n"
-        "\n"
+    static const CommandSpec command{
+        "bench sim-error", "",
         "Run time against error for Stage A. Each body hangs from its highest particle under gravity\n"
         "(damping 2/s) with its volume constraint on. For PBD (paper mode) with I in {1,2,5,10,20} and XPBD with\n"
         "S in {1,2,4,8,16} x I=1, it measures the median ms per frame and, after T seconds at 60 Hz,\n"
         "the error against a reference run (XPBD, S=64, double precision): RMS position error over\n"
         "the bounding-box diagonal, mean relative edge strain, relative volume error.\n"
-        "Writes DIR/sim_error.csv, DIR/sim_error_position.svg and DIR/sim_error_strain.svg.\n"
-        "\n"
-        "  --meshes LIST       comma-separated mesh specs (default icosphere:4,teapot.obj,stanford-bunny.obj)\n"
-        "  --seconds T         simulated time (default 2)\n"
-        "  --after-cut         first open a slit in each body (a plane cut limited to a ball on its +x\n"
-        "                      side), so the figures are those after a topology change\n"
-        "  --out-dir DIR       where the CSV and plots go (default out/bench)\n"
-        "  --json              print one JSON object on stdout\n";
-    auto args = Args::parse(argv, {"json", "help", "after-cut"}, {"meshes", "seconds", "out-dir"});
-    if (!args.ok()) return usage_error("bench sim-error", args.error().to_string());
-    if (args->has("help")) return std::fputs(help, stdout), 0;
-    auto seconds = args->get_float("seconds", 2.0f, 0.1f, 60.0f);
-    if (!seconds.ok()) return usage_error("bench sim-error", seconds.error().to_string());
-    const std::string list = args->get_or("meshes", "icosphere:4,teapot.obj,stanford-bunny.obj");
-    const std::filesystem::path out_dir = args->get_or("out-dir", "out/bench");
-    const std::string stem = args->has("after-cut") ? "sim_error_after_cut" : "sim_error";
-    const int frames = int(std::lround(seconds.value() * 60.0f));
+        "Writes DIR/sim_error.csv, DIR/sim_error_position.svg and DIR/sim_error_strain.svg.\n",
+        {text("meshes", "LIST", "icosphere:4,teapot.obj,stanford-bunny.obj", "comma-separated mesh specs"),
+         real("seconds", "T", 2.0f, 0.1f, 60.0f, "simulated time"),
+         flag("after-cut", "first open a slit in each body (a plane cut limited to a ball on its +x side),\n"
+                           "so the figures are those after a topology change"),
+         out_dir_option(), json_option()}};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    const Options& opt = *parsed.options;
+    const bool after_cut = opt.flag("after-cut");
+    const std::filesystem::path out_dir = opt.text("out-dir");
+    const std::string stem = after_cut ? "sim_error_after_cut" : "sim_error";
+    const int frames = int(std::lround(opt.real("seconds") * 60.0f));
     const float dt = 1.0f / 60.0f;
 
-    std::vector<std::string> meshes;
-    for (size_t start = 0; start <= list.size();) {
-        const size_t end = std::min(list.find(',', start), list.size());
-        if (end > start) meshes.push_back(list.substr(start, end - start));
-        start = end + 1;
-    }
+    const std::vector<std::string> meshes = split_list(opt.text("meshes"));
     std::vector<Run> runs;
     for (const std::string& spec : meshes) {
         auto repaired = mesh::load_mesh_spec(spec);
@@ -90,8 +66,8 @@ int bench_sim_error(const std::vector<std::string>& argv) {
         if (!made.ok()) return fail("bench sim-error", made.error().to_string());
         sim::SoftBody start = std::move(made).value();
         start.pin(start.extreme_particle(1));
-        const std::string label = args->has("after-cut") ? spec + " after a cut" : spec;
-        if (args->has("after-cut")) {
+        const std::string label = after_cut ? spec + " after a cut" : spec;
+        if (after_cut) {
             // A slit across the +x side: the body stays one piece (hanging from its pin) with a
             // new boundary, re-indexed constraints and a capped volume.
             const Vec3f side = sim::xyz(start.particles.x[start.extreme_particle(0)]);
@@ -130,12 +106,9 @@ int bench_sim_error(const std::vector<std::string>& argv) {
             r.iterations = iterations;
             r.substeps = substeps;
             r.ms_per_frame = core::median(ms);
-            double sq = 0.0;
-            for (size_t i = 0; i < body.particle_count(); ++i)
-                sq += (body.particles.x[i].cast<double>() - reference.particles.x[i]).squaredNorm();
-            r.position_error = std::sqrt(sq / double(body.particle_count())) / double(diagonal);
-            r.strain = mean_strain(body);
-            r.volume_error = volume_error(body);
+            r.position_error = sim::rms_position_error(body, reference, double(diagonal));
+            r.strain = sim::mean_edge_strain(body);
+            r.volume_error = sim::total_volume_error(body);
             std::fprintf(stderr, "  %-4s I=%-2u S=%-2u %8.3f ms/frame  position %.3e  strain %.3e  volume %.3e\n",
                          r.method.c_str(), iterations, substeps, r.ms_per_frame, r.position_error, r.strain, r.volume_error);
             runs.push_back(r);
@@ -147,21 +120,18 @@ int bench_sim_error(const std::vector<std::string>& argv) {
         ref.method = "reference";
         ref.iterations = 1;
         ref.substeps = 64;
-        ref.strain = mean_strain(reference);
-        ref.volume_error = volume_error(reference);
+        ref.strain = sim::mean_edge_strain(reference);
+        ref.volume_error = sim::total_volume_error(reference);
         runs.push_back(ref);
     }
 
-    std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    if (ec) return fail("bench sim-error", out_dir.string() + ": cannot create the folder: " + ec.message());
     {
-        std::ofstream csv(out_dir / (stem + ".csv"));
-        if (!csv) return fail("bench sim-error", (out_dir / (stem + ".csv")).string() + ": cannot write");
+        std::ostringstream csv;
         csv << "mesh,method,iterations,substeps,ms_per_frame,position_error_rel,mean_strain,volume_error_rel\n";
         for (const Run& r : runs)
             csv << r.mesh << ',' << r.method << ',' << r.iterations << ',' << r.substeps << ',' << r.ms_per_frame << ','
                 << r.position_error << ',' << r.strain << ',' << r.volume_error << '\n';
+        if (auto s = write_report_file(out_dir, stem + ".csv", csv.str()); !s.ok()) return fail("bench sim-error", s.error().to_string());
     }
     for (const auto& [file, metric, label] :
          {std::tuple{stem + "_position.svg", &Run::position_error, "RMS position error / bounding-box diagonal"},
@@ -172,7 +142,7 @@ int bench_sim_error(const std::vector<std::string>& argv) {
         plot.y_label = label;
         for (const std::string& mesh_spec : meshes)
             for (const char* method : {"pbd", "xpbd"}) {
-                const std::string spec = args->has("after-cut") ? mesh_spec + " after a cut" : mesh_spec;
+                const std::string spec = after_cut ? mesh_spec + " after a cut" : mesh_spec;
                 PlotSeries s;
                 s.name = spec + (std::string(method) == "pbd" ? " PBD (I)" : " XPBD (S)");
                 for (const Run& r : runs)
@@ -183,9 +153,9 @@ int bench_sim_error(const std::vector<std::string>& argv) {
                     }
                 plot.series.push_back(s);
             }
-        std::ofstream(out_dir / file) << render_svg(plot);
+        if (auto s = write_report_file(out_dir, file, render_svg(plot)); !s.ok()) return fail("bench sim-error", s.error().to_string());
     }
-    if (args->has("json")) {
+    if (opt.flag("json")) {
         nlohmann::json j = {{"suite", "sim-error"}, {"frames", frames}, {"runs", nlohmann::json::array()}};
         for (const Run& r : runs)
             j["runs"].push_back({{"mesh", r.mesh},

@@ -1,3 +1,4 @@
+#include <charconv>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
@@ -14,49 +15,32 @@
 namespace pbdsplat::cli {
 
 int bench_surface(const std::vector<std::string>& argv) {
-    static constexpr const char* help =
-        "usage: pbdsplat bench surface [--mesh SPEC] [--eta LIST] [--scale S] [--repeat R] [--coverage]\n"
-        "                              [--json] [--validation] [--device NAME]\n"
-        "\n"
+    static const CommandSpec command{
+        "bench surface", "",
         "Boundary particles on a mesh at rest: for each eta, the sampling time (median of R), the\n"
         "per-frame update time (median of 200 updates) and the same normalised to 10,000 boundary\n"
         "particles; with --coverage, also the hole ratio and silhouette IoU of the splats against\n"
-        "a raster of the mesh (256x256), for each eta and for the vertices alone.\n"
-        "\n"
-        "  --mesh SPEC         default teapot.obj (from ../shared/models)\n"
-        "  --eta LIST          comma-separated spacing factors (default 0.25,0.5,0.75,1)\n"
-        "  --scale S           splat std dev in units of h (default 0.7, the scene default)\n"
-        "  --repeat R          sampling repetitions (default 5)\n"
-        "  --coverage          measure coverage on the GPU\n"
-        "  --json              print one JSON object on stdout\n";
-    std::set<std::string> flags = k_gpu_flags;
-    flags.insert({"help", "json", "coverage"});
-    std::set<std::string> valued = k_gpu_options;
-    valued.insert({"mesh", "eta", "scale", "repeat"});
-    auto args = Args::parse(argv, flags, valued);
-    if (!args.ok()) return usage_error("bench surface", args.error().to_string());
-    if (args->has("help")) return std::fputs(help, stdout), 0;
-    auto repeat = args->get_uint("repeat", 5, 1, 1000);
-    auto scale = args->get_float("scale", 0.7f, 0.01f, 10.0f);
-    if (!repeat.ok()) return usage_error("bench surface", repeat.error().to_string());
-    if (!scale.ok()) return usage_error("bench surface", scale.error().to_string());
+        "a raster of the mesh (256x256), for each eta and for the vertices alone.\n",
+        with_gpu({text("mesh", "SPEC", "teapot.obj", "a model from ../shared/models, an OBJ, or a procedural spec"),
+                  text("eta", "LIST", "0.25,0.5,0.75,1", "comma-separated spacing factors, each 0.05 to 4"),
+                  real("scale", "S", 0.7f, 0.01f, 10.0f, "splat std dev in units of h (0.7 is the scene default)"),
+                  whole("repeat", "R", 5, 1, 1000, "sampling repetitions"),
+                  flag("coverage", "measure coverage on the GPU"), json_option()})};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    const Options& opt = *parsed.options;
+    const uint32_t repeat = opt.whole("repeat");
+    const float scale = opt.real("scale");
     std::vector<float> etas;
-    {
-        const std::string list = args->get_or("eta", "0.25,0.5,0.75,1");
-        size_t start = 0;
-        while (start <= list.size()) {
-            const size_t end = std::min(list.find(',', start), list.size());
-            try {
-                const float e = std::stof(list.substr(start, end - start));
-                if (!(e >= 0.05f && e <= 4.0f)) throw std::out_of_range("eta");
-                etas.push_back(e);
-            } catch (const std::exception&) {
-                return usage_error("bench surface", "--eta expects numbers from 0.05 to 4, comma-separated; got '" + list + "'");
-            }
-            start = end + 1;
-        }
+    for (const std::string& item : split_list(opt.text("eta"))) {
+        float e = 0.0f;
+        const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), e);
+        if (ec != std::errc() || end != item.data() + item.size() || !(e >= 0.05f && e <= 4.0f))
+            return usage_error("bench surface", "--eta expects numbers from 0.05 to 4, comma-separated; got '" + opt.text("eta") + "'");
+        etas.push_back(e);
     }
-    const std::string spec = args->get_or("mesh", "teapot.obj");
+    if (etas.empty()) return usage_error("bench surface", "--eta names no value");
+    const std::string spec = opt.text("mesh");
     auto repaired = mesh::load_mesh_spec(spec);
     if (!repaired.ok()) return fail("bench surface", repaired.error().to_string());
     auto made = sim::make_soft_body(repaired->mesh, {});
@@ -67,8 +51,8 @@ int bench_surface(const std::vector<std::string>& argv) {
 
     std::unique_ptr<gpu::Context> ctx;
     render::FrameInputs frame;
-    if (args->has("coverage")) {
-        auto c = open_context(args.value());
+    if (opt.flag("coverage")) {
+        auto c = open_context(opt);
         if (!c.ok()) return fail("bench surface", c.error().to_string());
         ctx = std::move(c).value();
         const mesh::Bounds b = mesh::bounds(rest);
@@ -79,7 +63,7 @@ int bench_surface(const std::vector<std::string>& argv) {
     nlohmann::json rows = nlohmann::json::array();
     auto coverage = [&](const surface::BoundaryParticles* samples, float h, double& holes, double& iou) -> core::Status {
         splat::Appearance look;
-        look.scale = scale.value() * h;
+        look.scale = scale * h;
         std::vector<splat::GaussianRecord> records;
         splat::map_body(body.particles.x, body.normals, {}, body.triangles, samples, look, nullptr, records);
         auto c = passes::measure_coverage(*ctx, body.particles.x, tris, records, frame, 256, 256);
@@ -87,16 +71,16 @@ int bench_surface(const std::vector<std::string>& argv) {
         holes = c->hole_ratio, iou = c->silhouette_iou;
         return core::Status::success();
     };
-    if (!args->has("json"))
+    if (!opt.flag("json"))
         std::printf("%s: %zu particles, %zu triangles; splats %.2f h\n", spec.c_str(), body.particle_count(),
-                    body.triangles.size(), scale.value());
+                    body.triangles.size(), scale);
     Progress progress("bench surface", uint32_t(etas.size()), "spacings");
     uint32_t done = 0;
     for (float eta : etas) {
         const float h = surface::spacing(rest, eta);
         std::vector<double> sample_ms;
         surface::BoundaryParticles samples;
-        for (uint32_t r = 0; r < repeat.value(); ++r) {
+        for (uint32_t r = 0; r < repeat; ++r) {
             const core::Stopwatch clock;
             samples = surface::sample_surface(rest, {h, 1});
             sample_ms.push_back(clock.elapsed_ms());
@@ -117,7 +101,7 @@ int bench_surface(const std::vector<std::string>& argv) {
             row["hole_ratio"] = holes;
             row["silhouette_iou"] = iou;
         }
-        if (!args->has("json")) {
+        if (!opt.flag("json")) {
             std::printf("  eta %.2f (h %.4g): %6zu boundary particles, sampling %8.2f ms, update %.3f ms (%.3f ms per 10k)",
                         eta, h, samples.size(), core::median(sample_ms), update, per_10k);
             if (ctx) std::printf(", holes %.3f %%, IoU %.3f", holes * 100.0, iou);
@@ -133,13 +117,13 @@ int bench_surface(const std::vector<std::string>& argv) {
         double holes = 0.0, iou = 0.0;
         if (auto s = coverage(nullptr, h, holes, iou); !s.ok()) return fail("bench surface", s.error().to_string());
         vertices = {{"splat_scale_h_of_eta", etas.front()}, {"hole_ratio", holes}, {"silhouette_iou", iou}};
-        if (!args->has("json"))
+        if (!opt.flag("json"))
             std::printf("  vertices only, splats as for eta %.2f: holes %.3f %%, IoU %.3f\n", etas.front(), holes * 100.0, iou);
         if (auto v = check_validation(*ctx); !v.ok()) return fail("bench surface", v.error().to_string());
     }
-    if (args->has("json")) {
+    if (opt.flag("json")) {
         nlohmann::json j = {{"suite", "surface"}, {"mesh", spec}, {"particles", body.particle_count()},
-                            {"splat_scale", scale.value()}, {"rows", rows}};
+                            {"splat_scale", scale}, {"rows", rows}};
         if (ctx) j["vertices_only"] = vertices;
         std::printf("%s\n", j.dump().c_str());
     }

@@ -1,34 +1,21 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
-#include "pbdsplat/args.h"
+#include "pbdsplat/options.h"
 #include "pbdsplat/commands.h"
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/scene_arg.h"
+#include "pbdsplat/report.h"
 #include "pbdsplat/svg_plot.h"
 #include "passes/mesh_image.h"
 #include "scene/scene_runtime.h"
 
 namespace pbdsplat::cli {
 namespace {
-
-// Mean absolute difference of Rec. 709 luminance (0..1) between two images of one size.
-double mean_luminance_change(const core::ImageRgba8& a, const core::ImageRgba8& b) {
-    double sum = 0.0;
-    const size_t n = size_t(a.width) * a.height;
-    for (size_t i = 0; i < n; ++i) {
-        const uint8_t* p = &a.pixels[i * 4];
-        const uint8_t* q = &b.pixels[i * 4];
-        const double ya = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-        const double yb = 0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2];
-        sum += std::abs(ya - yb) / 255.0;
-    }
-    return n ? sum / double(n) : 0.0;
-}
 
 double mean(const std::vector<double>& v) {
     double s = 0.0;
@@ -39,39 +26,27 @@ double mean(const std::vector<double>& v) {
 } // namespace
 
 int bench_temporal(const std::vector<std::string>& argv) {
-    static constexpr const char* help =
-        "usage: pbdsplat bench temporal [SCENE.toml] [--from F] [--frames N] [--width W] [--height H]\n"
-        "                               [--out-dir DIR] [--json] [--validation] [--device NAME]\n"
-        "\n"
+    static const CommandSpec command{
+        "bench temporal", "[SCENE.toml]",
         "Temporal stability (the paper's \"no flicker\", measured): runs the scene (default: the\n"
         "built-in one, whose camera orbits slowly and which is cut at 5 s) and, for frames F to\n"
         "F + N, renders the splats and the lit mesh of the same body from the same camera. Prints\n"
         "the mean absolute luminance change between consecutive frames (0..1) for each, away from\n"
-        "any cut and within 5 frames of one, and writes DIR/temporal.csv and DIR/temporal.svg.\n"
-        "\n"
-        "  --from F            first measured frame (default 240: the default scene's cut is at 300)\n"
-        "  --frames N          measured frames (default 120)\n"
-        "  --width W, --height H   default 320x180\n"
-        "  --out-dir DIR       default out/bench (docs/bench holds the figures the docs show)\n"
-        "  --json              one JSON object\n";
-    std::set<std::string> flags = k_gpu_flags;
-    flags.insert({"json", "help"});
-    std::set<std::string> valued = k_gpu_options;
-    valued.insert({"from", "frames", "width", "height", "out-dir"});
-    auto args = Args::parse(argv, flags, valued);
-    if (!args.ok()) return usage_error("bench temporal", args.error().to_string());
-    if (args->has("help")) return std::fputs(help, stdout), 0;
-    auto from = args->get_uint("from", 240, 0, 1000000);
-    auto frames = args->get_uint("frames", 120, 2, 100000);
-    auto width = args->get_uint("width", 320, 16, 4096);
-    auto height = args->get_uint("height", 180, 16, 4096);
-    if (const core::Error* e = first_error(from, frames, width, height)) return usage_error("bench temporal", e->to_string());
-    auto scene = load_scene_arg(args->positionals());
+        "any cut and within 5 frames of one, and writes DIR/temporal.csv and DIR/temporal.svg.\n",
+        with_gpu({whole("from", "F", 240, 0, 1000000, "first measured frame (the default scene's cut is at 300)"),
+                  whole("frames", "N", 120, 2, 100000, "measured frames"),
+                  whole("width", "W", 320, 16, 4096, "image width"), whole("height", "H", 180, 16, 4096, "image height"),
+                  out_dir_option(), json_option()})};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    const Options& opt = *parsed.options;
+    const uint32_t from = opt.whole("from"), frames = opt.whole("frames"), width = opt.whole("width"), height = opt.whole("height");
+    auto scene = load_scene_arg(opt.operands());
     if (!scene.ok()) return fail("bench temporal", scene.error().to_string());
-    scene->render.width = width.value();
-    scene->render.height = height.value();
-    const std::filesystem::path out_dir = args->get_or("out-dir", "out/bench");
-    auto ctx = open_context(args.value());
+    scene->render.width = width;
+    scene->render.height = height;
+    const std::filesystem::path out_dir = opt.text("out-dir");
+    auto ctx = open_context(opt);
     if (!ctx.ok()) return fail("bench temporal", ctx.error().to_string());
 
     scene::RuntimeOptions ro;
@@ -81,8 +56,8 @@ int bench_temporal(const std::vector<std::string>& argv) {
     if (!rt.ok()) return fail("bench temporal", rt.error().to_string());
     scene::SceneRuntime& runtime = *rt.value();
     render::MeshRasterOptions mo;
-    mo.width = width.value();
-    mo.height = height.value();
+    mo.width = width;
+    mo.height = height;
     mo.max_vertices = 4 * runtime.body().particle_count() + 1024;  // cuts add vertices
     mo.max_triangles = 4 * runtime.body().triangles.size() + 1024;
     mo.environment_map = scene->render.environment_map;
@@ -97,10 +72,10 @@ int bench_temporal(const std::vector<std::string>& argv) {
     };
     std::vector<Row> rows;
     core::ImageRgba8 last_splats, last_mesh;
-    const uint64_t end = uint64_t(from.value()) + frames.value();
+    const uint64_t end = uint64_t(from) + frames;
     for (uint64_t f = 0; f < end; ++f) {
         if (auto s = runtime.step(); !s.ok()) return fail("bench temporal", s.error().to_string());
-        if (f < from.value()) continue;
+        if (f < from) continue;
         auto splats = runtime.finish();
         if (!splats.ok()) return fail("bench temporal", splats.error().to_string());
         const sim::SoftBody& body = runtime.body();
@@ -111,8 +86,8 @@ int bench_temporal(const std::vector<std::string>& argv) {
         auto mesh = passes::render_mesh_image(*ctx.value(), *raster.value(), frame, render::MeshView::shaded, scene->material.color);
         if (!mesh.ok()) return fail("bench temporal", mesh.error().to_string());
         if (!last_splats.pixels.empty())
-            rows.push_back({f, mean_luminance_change(splats.value(), last_splats), mean_luminance_change(mesh->image, last_mesh),
-                            runtime.stats().cuts});
+            rows.push_back({f, core::mean_luminance_change(splats.value(), last_splats).value(),
+                            core::mean_luminance_change(mesh->image, last_mesh).value(), runtime.stats().cuts});
         last_splats = std::move(splats).value();
         last_mesh = std::move(mesh->image);
     }
@@ -127,15 +102,10 @@ int bench_temporal(const std::vector<std::string>& argv) {
         (near_cut ? cut_splats : calm_splats).push_back(rows[i].splats);
         (near_cut ? cut_mesh : calm_mesh).push_back(rows[i].mesh);
     }
-    std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    if (ec) return fail("bench temporal", out_dir.string() + ": cannot create the folder: " + ec.message());
-    {
-        std::ofstream csv(out_dir / "temporal.csv");
-        if (!csv) return fail("bench temporal", (out_dir / "temporal.csv").string() + ": cannot write");
-        csv << "frame,splats_mean_abs_dY,mesh_mean_abs_dY,cuts\n";
-        for (const Row& r : rows) csv << r.frame << ',' << r.splats << ',' << r.mesh << ',' << r.cuts << '\n';
-    }
+    std::ostringstream csv;
+    csv << "frame,splats_mean_abs_dY,mesh_mean_abs_dY,cuts\n";
+    for (const Row& r : rows) csv << r.frame << ',' << r.splats << ',' << r.mesh << ',' << r.cuts << '\n';
+    if (auto st = write_report_file(out_dir, "temporal.csv", csv.str()); !st.ok()) return fail("bench temporal", st.error().to_string());
     PlotSpec plot;
     plot.title = "Temporal stability: mean |luminance change| between frames (" + scene->name + ")";
     plot.x_label = "frame";
@@ -147,10 +117,11 @@ int bench_temporal(const std::vector<std::string>& argv) {
         m.x.push_back(double(r.frame)), m.y.push_back(r.mesh);
     }
     plot.series = {s, m};
-    std::ofstream(out_dir / "temporal.svg") << render_svg(plot);
+    if (auto st = write_report_file(out_dir, "temporal.svg", render_svg(plot)); !st.ok())
+        return fail("bench temporal", st.error().to_string());
 
-    if (args->has("json")) {
-        const nlohmann::json j = {{"suite", "temporal"}, {"scene", scene->name}, {"from", from.value()}, {"frames", rows.size()},
+    if (opt.flag("json")) {
+        const nlohmann::json j = {{"suite", "temporal"}, {"scene", scene->name}, {"from", from}, {"frames", rows.size()},
                                   {"splats_calm", mean(calm_splats)}, {"mesh_calm", mean(calm_mesh)},
                                   {"splats_around_cut", mean(cut_splats)}, {"mesh_around_cut", mean(cut_mesh)},
                                   {"frames_around_cut", cut_splats.size()}};
@@ -158,7 +129,7 @@ int bench_temporal(const std::vector<std::string>& argv) {
         return 0;
     }
     std::printf("scene %s, frames %u to %llu, mean |luminance change| between frames (0..1):\n", scene->name.c_str(),
-                from.value(), static_cast<unsigned long long>(end - 1));
+                from, static_cast<unsigned long long>(end - 1));
     std::printf("  away from cuts: splats %.5f, mesh %.5f (%zu frames)\n", mean(calm_splats), mean(calm_mesh), calm_splats.size());
     if (!cut_splats.empty())
         std::printf("  around a cut:   splats %.5f, mesh %.5f (%zu frames)\n", mean(cut_splats), mean(cut_mesh), cut_splats.size());

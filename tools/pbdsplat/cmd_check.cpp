@@ -3,7 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "pbdsplat/args.h"
+#include "pbdsplat/options.h"
 #include "pbdsplat/commands.h"
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/scene_arg.h"
@@ -12,10 +12,8 @@
 namespace pbdsplat::cli {
 
 int cmd_check(const std::vector<std::string>& argv) {
-    static const std::string help = std::string(
-        "usage: pbdsplat check [SCENE.toml] [--frames N] [--every K] [--width W --height H] [--no-gpu]\n"
-        "                      [--json] [--validation] [--device NAME]\n"
-        "\n"
+    static const CommandSpec command{
+        "check", "[SCENE.toml]",
         "Runs a scene offscreen (default: the built-in one) and measures every K frames:\n"
         "  shape error   per connected piece, RMS distance of the simulation particles from their rest\n"
         "                shape after the best rigid alignment, over the piece's rest diagonal (worst piece)\n"
@@ -27,44 +25,36 @@ int cmd_check(const std::vector<std::string>& argv) {
         "                the lit mesh (the background or a hidden surface showing through)\n"
         "  spacing       share of boundary particles whose nearest neighbour lies in [0.7 h, 1.4 h]\n"
         "The coverage images are the frame as the scene draws it (footprint, shapes, the far side of\n"
-        "a closed body culled, the environment about the body) without the ground.\n"
-        "\n"
-        "  --frames N          frames to run (default 120)\n"
-        "  --every K           measure every K frames and at the last (default 10)\n"
-        "  --width W, --height H   coverage images (default 320x180)\n"
-        "  --no-gpu            skip the coverage images (shape, strays, pieces and volume only)\n"
-        "  --images DIR        write each measured frame's splat image and lit mesh as PNG into DIR\n"
-        "  --json              one JSON object: shape_error_max, strays_max, hole_ratio_max, iou_min,\n"
-        "                      pieces, volume_error_max and every measured frame\n") + k_gpu_help;
-    std::set<std::string> flags = k_gpu_flags;
-    flags.insert({"json", "help", "no-gpu"});
-    std::set<std::string> valued = k_gpu_options;
-    valued.insert({"frames", "every", "width", "height", "images"});
-    auto args = Args::parse(argv, flags, valued);
-    if (!args.ok()) return usage_error("check", args.error().to_string());
-    if (args->has("help")) return std::fputs(help.c_str(), stdout), 0;
-    auto frames = args->get_uint("frames", 120, 1, 100000);
-    auto every = args->get_uint("every", 10, 1, 100000);
-    auto width = args->get_uint("width", 320, 16, 4096);
-    auto height = args->get_uint("height", 180, 16, 4096);
-    if (const core::Error* e = first_error(frames, every, width, height)) return usage_error("check", e->to_string());
-    auto sc = load_scene_arg(args->positionals());
+        "a closed body culled, the environment about the body) without the ground.\n",
+        with_gpu({whole("frames", "N", 120, 1, 100000, "frames to run"),
+                  whole("every", "K", 10, 1, 100000, "measure every K frames and at the last"),
+                  whole("width", "W", 320, 16, 4096, "coverage image width"),
+                  whole("height", "H", 180, 16, 4096, "coverage image height"),
+                  flag("no-gpu", "skip the coverage images (shape, strays, pieces and volume only)"),
+                  text("images", "DIR", "", "write each measured frame's splat image and lit mesh as PNG into DIR")
+                      .default_from("none"),
+                  json_option("one JSON object: shape_error_max, strays_max, hole_ratio_max, iou_min,\n"
+                              "pieces, volume_error_max and every measured frame")})};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    const Options& opt = *parsed.options;
+    auto sc = load_scene_arg(opt.operands());
     if (!sc.ok()) return fail("check", sc.error().to_string());
     scene::CheckOptions o;
-    o.frames = frames.value();
-    o.every = every.value();
-    o.width = width.value();
-    o.height = height.value();
-    if (args->has("images")) {
-        o.images_dir = *args->get("images");
+    o.frames = opt.whole("frames");
+    o.every = opt.whole("every");
+    o.width = opt.whole("width");
+    o.height = opt.whole("height");
+    if (opt.given("images")) {
+        o.images_dir = opt.text("images");
         std::error_code ec;
         std::filesystem::create_directories(o.images_dir, ec);
         if (ec || !std::filesystem::is_directory(o.images_dir))
             return fail("check", "--images " + o.images_dir + ": cannot create that directory");
     }
     std::unique_ptr<gpu::Context> ctx;
-    if (!args->has("no-gpu")) {
-        auto c = open_context(args.value());
+    if (!opt.flag("no-gpu")) {
+        auto c = open_context(opt);
         if (!c.ok()) return fail("check", c.error().to_string() + " (--no-gpu checks without coverage)");
         ctx = std::move(c).value();
         o.gpu = ctx.get();
@@ -74,7 +64,7 @@ int cmd_check(const std::vector<std::string>& argv) {
     if (ctx)
         if (auto v = check_validation(*ctx); !v.ok()) return fail("check", v.error().to_string());
     const scene::CheckReport& r = report.value();
-    if (args->has("json")) {
+    if (opt.flag("json")) {
         nlohmann::json samples = nlohmann::json::array();
         for (const scene::CheckSample& s : r.samples)
             samples.push_back({{"frame", s.frame}, {"time", s.time}, {"cuts", s.cuts}, {"tears", s.tears},

@@ -2,7 +2,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "pbdsplat/args.h"
+#include "pbdsplat/options.h"
 #include "pbdsplat/commands.h"
 #include "pbdsplat/progress.h"
 #include "pbdsplat/scene_arg.h"
@@ -14,38 +14,35 @@
 namespace pbdsplat::cli {
 
 int cmd_export_ply(const std::vector<std::string>& argv) {
-    static constexpr const char* help =
-        "usage: pbdsplat export-ply [SCENE.toml] [--frame N | --frames A:B] [--up -y|y] [--sh-degree 0|3] OUT.ply\n"
-        "\n"
+    static const CommandSpec command{
+        "export-ply", "[SCENE.toml] OUT.ply",
         "Simulates a scene (default: the built-in one) for N frames and writes its Gaussians (the\n"
         "particles and the boundary particles) as the binary PLY that Gaussian-splat viewers read:\n"
         "x y z, nx ny nz, f_dc_0..2, [f_rest_*,] opacity (logit), scale_0..2 (log), rot_0..3.\n"
         "The colour is the base colour (no lighting baked in); the opacity includes a splat's fade-in\n"
         "after a cut. A deformed-shape scene writes its splats' rotations and scales.\n"
-        "`pbdsplat render OUT.ply` renders such a file as a static scene.\n"
-        "\n"
-        "  --frame N           frames to simulate first (default 1)\n"
-        "  --frames A:B        a sequence: frames A to B (1-based, both included), one file each,\n"
-        "                      OUT_0000A.ply ... (OUT.ply's stem, the frame number in five digits)\n"
-        "  --up -y|y           which way is up in the file: -y (default) is 3D Gaussian splatting's\n"
-        "                      convention (captures are y-down), so other viewers and converters show\n"
-        "                      the body upright; y keeps pbdsplat's y-up world as it is. The two differ\n"
-        "                      by a half turn about x, not a mirror\n"
-        "  --bake-shading      write each splat's lit colour as this scene shades it from its camera\n"
-        "                      (key light, environment, lights) instead of the base colour: viewers\n"
-        "                      without the paper's lighting then show what pbdsplat shows\n"
-        "  --sh-degree D       0 (default): no f_rest columns (pbdsplat has no view-dependent colour,\n"
-        "                      so they would be zeros, 4.4x the file); 3: the 45 zero columns, for\n"
-        "                      tools that insist on them\n";
-    auto args = Args::parse(argv, {"help", "bake-shading"}, {"frame", "frames", "up", "sh-degree"});
-    if (!args.ok()) return usage_error("export-ply", args.error().to_string());
-    if (args->has("help")) return std::fputs(help, stdout), 0;
-    auto frame = args->get_uint("frame", 1, 1, 10000000);
-    if (!frame.ok()) return usage_error("export-ply", frame.error().to_string());
-    uint32_t first = frame.value(), last = frame.value();
-    if (args->has("frames")) {
-        if (args->has("frame")) return usage_error("export-ply", "give --frame N or --frames A:B, not both");
-        const std::string range = args->get_or("frames", "");
+        "`pbdsplat render OUT.ply` renders such a file as a static scene.\n",
+        {whole("frame", "N", 1, 1, 10000000, "frames to simulate first"),
+         text("frames", "A:B", "", "a sequence: frames A to B (1-based, both included), one file each,\n"
+                                   "OUT_0000A.ply ... (OUT.ply's stem, the frame number in five digits)")
+             .default_from("none"),
+         choice("up", {"-y", "y"}, "-y",
+                "which way is up in the file: -y is 3D Gaussian splatting's convention (captures are\n"
+                "y-down), so other viewers and converters show the body upright; y keeps pbdsplat's\n"
+                "y-up world as it is. The two differ by a half turn about x, not a mirror"),
+         flag("bake-shading", "write each splat's lit colour as this scene shades it from its camera\n"
+                              "(key light, environment, lights) instead of the base colour: viewers\n"
+                              "without the paper's lighting then show what pbdsplat shows"),
+         choice("sh-degree", {"0", "3"}, "0",
+                "0: no f_rest columns (pbdsplat has no view-dependent colour, so they would be zeros,\n"
+                "4.4x the file); 3: the 45 zero columns, for tools that insist on them")}};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    const Options& opt = *parsed.options;
+    uint32_t first = opt.whole("frame"), last = first;
+    if (opt.given("frames")) {
+        if (opt.given("frame")) return usage_error("export-ply", "give --frame N or --frames A:B, not both");
+        const std::string& range = opt.text("frames");
         unsigned a = 0, b = 0;
         char colon = 0, extra = 0;
         if (std::sscanf(range.c_str(), "%u%c%u%c", &a, &colon, &b, &extra) != 3 || colon != ':' || a < 1 || b < a || b > 10000000)
@@ -53,13 +50,9 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
         first = a, last = b;
     }
     splat::PlyWriteOptions write;
-    const std::string up = args->get_or("up", "-y");
-    if (up != "y" && up != "-y") return usage_error("export-ply", "--up must be -y or y, not '" + up + "'");
-    write.up = up == "y" ? splat::PlyUp::y : splat::PlyUp::minus_y;
-    const std::string degree = args->get_or("sh-degree", "0");
-    if (degree != "0" && degree != "3") return usage_error("export-ply", "--sh-degree must be 0 or 3, not '" + degree + "'");
-    write.sh_degree = degree == "3" ? 3 : 0;
-    std::vector<std::string> positionals = args->positionals();
+    write.up = opt.text("up") == "y" ? splat::PlyUp::y : splat::PlyUp::minus_y;
+    write.sh_degree = opt.text("sh-degree") == "3" ? 3 : 0;
+    std::vector<std::string> positionals = opt.operands();
     if (positionals.empty() || positionals.back().size() < 4 ||
         positionals.back().compare(positionals.back().size() - 4, 4, ".ply") != 0)
         return usage_error("export-ply", "name the output file, ending in .ply");
@@ -78,9 +71,9 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
     options.keep_records = true;
     auto runtime = scene::SceneRuntime::create(scene.value(), options);
     if (!runtime.ok()) return fail("export-ply", runtime.error().to_string());
-    const bool sequence = args->has("frames");
+    const bool sequence = opt.given("frames");
     std::optional<render::EnvironmentMap> map;
-    if (args->has("bake-shading")) {
+    if (opt.flag("bake-shading")) {
         auto m = render::make_environment_map(scene->render.environment_map, scene->render.frame.lighting.direction);
         if (!m.ok()) return fail("export-ply", m.error().to_string());
         map = std::move(m).value();
@@ -112,12 +105,12 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
             const size_t drawn_particles = st.gaussians > st.boundary_particles ? st.gaussians - st.boundary_particles : 0;
             std::printf("wrote %s (%zu Gaussians: %zu boundary particles + %zu of the %zu simulation particles, frame %u, %s up)\n",
                         file.c_str(), st.gaussians, st.boundary_particles, drawn_particles, st.particles, f,
-                        up == "y" ? "+y" : "-y");
+                        opt.text("up") == "y" ? "+y" : "-y");
         }
     }
     if (sequence)
         std::printf("wrote %u files, frames %u to %u, %s_%05u.ply ... (%s up)\n", last - first + 1, first, last,
-                    out.substr(0, out.size() - 4).c_str(), first, up == "y" ? "+y" : "-y");
+                    out.substr(0, out.size() - 4).c_str(), first, opt.text("up") == "y" ? "+y" : "-y");
     return 0;
 }
 

@@ -11,40 +11,34 @@
 namespace pbdsplat::cli {
 
 int cmd_graph(const std::vector<std::string>& argv) {
-    static constexpr const char* help =
-        "usage: pbdsplat graph [SCENE.toml] [--present] [--dot FILE] [--json] [--validation] [--device NAME]\n"
-        "\n"
+    static const CommandSpec command{
+        "graph", "[SCENE.toml]",
         "Compiles the frame graph of a scene (default: the built-in one) and prints its passes in\n"
         "execution order, with the culled ones marked and the reason: a resource the scene does not\n"
-        "have (\"needs volume constraints\") or an output nobody reads (\"unused\").\n"
-        "\n"
-        "  --present           as for a window: no readback of the image\n"
-        "  --dot FILE          also write the graph as Graphviz dot\n"
-        "  --json              print {\"passes\": [{\"name\", \"kind\", \"culled\", \"reason\", \"barriers\"}]}\n";
-    std::set<std::string> flags = k_gpu_flags;
-    flags.insert({"help", "json", "present"});
-    std::set<std::string> valued = k_gpu_options;
-    valued.insert("dot");
-    auto args = Args::parse(argv, flags, valued);
-    if (!args.ok()) return usage_error("graph", args.error().to_string());
-    if (args->has("help")) return std::fputs(help, stdout), 0;
-    auto scene = load_scene_arg(args->positionals());
+        "have (\"needs volume constraints\") or an output nobody reads (\"unused\").\n",
+        with_gpu({flag("present", "as for a window: no readback of the image"),
+                  text("dot", "FILE", "", "also write the graph as Graphviz dot").default_from("none"),
+                  json_option("print {\"passes\": [{\"name\", \"kind\", \"culled\", \"reason\", \"barriers\"}]}")})};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    const Options& opt = *parsed.options;
+    auto scene = load_scene_arg(opt.operands());
     if (!scene.ok()) return fail("graph", scene.error().to_string());
-    auto ctx = open_context(args.value());
+    auto ctx = open_context(opt);
     if (!ctx.ok()) return fail("graph", ctx.error().to_string());
     scene::RuntimeOptions options;
     options.gpu = ctx.value().get();
-    options.readback = !args->has("present");
+    options.readback = !opt.flag("present");
     auto runtime = scene::SceneRuntime::create(scene.value(), options);
     if (!runtime.ok()) return fail("graph", runtime.error().to_string());
     const auto passes = runtime.value()->graph().describe();
 
-    if (auto dot = args->get("dot")) {
-        std::ofstream out(*dot);
-        if (!out) return fail("graph", *dot + ": cannot write");
+    if (const std::string& dot = opt.text("dot"); !dot.empty()) {
+        std::ofstream out(dot);
+        if (!out) return fail("graph", dot + ": cannot write");
         out << runtime.value()->graph().to_dot();
     }
-    if (args->has("json")) {
+    if (opt.flag("json")) {
         nlohmann::json j = {{"scene", scene->name}, {"passes", nlohmann::json::array()}};
         for (const auto& p : passes)
             j["passes"].push_back({{"name", p.name},

@@ -8,25 +8,21 @@
 namespace pbdsplat::cli {
 
 int cmd_info(const std::vector<std::string>& argv) {
-    static constexpr const char* help =
-        "usage: pbdsplat info [--json] [--validation] [--device NAME]\n"
-        "\n"
+    static const CommandSpec command{
+        "info", "",
         "Prints the Vulkan device pbdsplat would use, its driver and API version, and the features\n"
         "the renderer branches on: geometry shader, mesh shader, timestamp queries, subgroup size,\n"
-        "and whether uploads are written in place (unified memory) or staged.\n"
-        "\n"
-        "  --json              print one JSON object on stdout\n";
-    std::set<std::string> flags = k_gpu_flags;
-    flags.insert({"json", "help"});
-    auto args = Args::parse(argv, flags, k_gpu_options);
-    if (!args.ok()) return usage_error("info", args.error().to_string());
-    if (args->has("help")) return std::fputs(help, stdout), 0;
-    if (!args->positionals().empty()) return usage_error("info", "takes no positional arguments");
+        "and whether uploads are written in place (unified memory) or staged.\n",
+        with_gpu({json_option()})};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    const Options& opt = *parsed.options;
+    if (!opt.operands().empty()) return usage_error("info", "takes no positional arguments");
 
-    auto ctx = open_context(args.value());
+    auto ctx = open_context(opt);
     if (!ctx.ok()) return fail("info", ctx.error().to_string());
     const gpu::DeviceCaps& c = ctx.value()->caps();
-    if (args->has("json")) {
+    if (opt.flag("json")) {
         const nlohmann::json j = {{"device", c.name},
                                   {"device_type", c.type},
                                   {"driver", c.driver},

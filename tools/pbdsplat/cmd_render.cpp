@@ -13,6 +13,7 @@
 #include "pbdsplat/progress.h"
 #include "pbdsplat/scene_arg.h"
 #include "pbdsplat/upload_path_arg.h"
+#include "pbdsplat/options.h"
 #include "passes/offscreen_renderer.h"
 #include "scene/scene_runtime.h"
 #include "splat/ply.h"
@@ -36,10 +37,8 @@ core::Result<Vec3f> parse_vec3(const std::string& text) {
 }
 
 // A .ply of Gaussians as a static scene, drawn as it was trained (scene/ply_view.h).
-int render_ply(const std::string& file, const Args& args, uint32_t width, uint32_t height, const std::filesystem::path& out) {
-    const std::string up = args.get_or("up", "-y");
-    if (up != "y" && up != "-y") return usage_error("render", "--up must be y or -y, not '" + up + "'");
-    auto gaussians = splat::read_ply_gaussians(file, up == "y" ? splat::PlyUp::y : splat::PlyUp::minus_y);
+int render_ply(const std::string& file, const Options& opt, uint32_t width, uint32_t height, const std::filesystem::path& out) {
+    auto gaussians = splat::read_ply_gaussians(file, opt.text("up") == "y" ? splat::PlyUp::y : splat::PlyUp::minus_y);
     if (!gaussians.ok()) return fail("render", gaussians.error().to_string());
     if (gaussians->dropped_nonfinite)
         std::fprintf(stderr, "pbdsplat render: warning: %s: %zu Gaussians with NaN or infinite values left out\n", file.c_str(),
@@ -49,22 +48,20 @@ int render_ply(const std::string& file, const Args& args, uint32_t width, uint32
                      "pbdsplat render: note: %s: %zu Gaussians without a normal: %zu took their flattest axis, %zu the plane of "
                      "their neighbours, %zu face +z in the file (too few neighbours, or none in a plane)%s\n",
                      file.c_str(), gaussians->missing_normals, e.from_shape, e.from_neighbours, e.unresolved,
-                     args.has("lit") ? "" : "; they matter only with --lit");
+                     opt.flag("lit") ? "" : "; they matter only with --lit");
     if (gaussians->records.empty()) return fail("render", file + ": holds no Gaussians");
-    render::FrameInputs frame = scene::ply_view(gaussians->records, args.has("lit"));
+    render::FrameInputs frame = scene::ply_view(gaussians->records, opt.flag("lit"));
     // The automatic camera, unless told otherwise.
     for (const char* key : {"eye", "target"}) {
-        if (!args.has(key)) continue;
-        auto v = parse_vec3(args.get_or(key, ""));
+        if (!opt.given(key)) continue;
+        auto v = parse_vec3(opt.text(key));
         if (!v.ok()) return usage_error("render", std::string("--") + key + ": " + v.error().message);
         (std::string(key) == "eye" ? frame.camera.eye : frame.camera.target) = v.value();
     }
     if ((frame.camera.eye - frame.camera.target).norm() < 1e-6f) return usage_error("render", "--eye and --target coincide");
-    auto fov = args.get_float("fov", frame.camera.fov_y_degrees, 1.0f, 170.0f);
-    if (!fov.ok()) return usage_error("render", fov.error().to_string());
-    frame.camera.fov_y_degrees = fov.value();
+    if (opt.given("fov")) frame.camera.fov_y_degrees = opt.real("fov");
     scene::sort_ply(gaussians.value(), frame);
-    auto ctx = open_context(args);
+    auto ctx = open_context(opt);
     if (!ctx.ok()) return fail("render", ctx.error().to_string());
     const render::RendererOptions ro = scene::ply_renderer_options(gaussians.value(), width ? width : 1280, height ? height : 720);
     auto renderer = passes::OffscreenRenderer::create(*ctx.value(), ro);
@@ -85,10 +82,8 @@ int render_ply(const std::string& file, const Args& args, uint32_t width, uint32
 } // namespace
 
 int cmd_render(const std::vector<std::string>& argv) {
-    static constexpr const char* help =
-        "usage: pbdsplat render [SCENE.toml | GAUSSIANS.ply] [--frames N] [--out PATH] [--width W] [--height H]\n"
-        "                       [--threads T] [--upload auto|staged|direct] [--validation] [--device NAME]\n"
-        "\n"
+    static const CommandSpec command{
+        "render", "[SCENE.toml | GAUSSIANS.ply]",
         "Runs a scene (default: the built-in scenes/default.toml) offscreen for N frames and writes\n"
         "images. With --out ending in .png, the last frame goes to that file; otherwise PATH is a\n"
         "folder that receives frame_0000.png, frame_0001.png, ..., frames.csv (particle counts,\n"
@@ -97,31 +92,24 @@ int cmd_render(const std::vector<std::string>& argv) {
         "A .ply of Gaussians (3DGS layout, e.g. from export-ply or a trained capture) renders as one\n"
         "static image, as it was trained: soft Gaussians far to near, unlit, with its rotations, scales\n"
         "and view-dependent colour; the camera frames it unless --eye/--target/--fov say otherwise.\n"
-        "Progress goes to stderr: a bar on a terminal, a line every 2 s otherwise (--quiet: none).\n"
-        "\n"
-        "  --frames N          frames to simulate and render (default 1)\n"
-        "  --out PATH          output file (.png) or folder (default out/render.png)\n"
-        "  --width W, --height H   override the scene's resolution\n"
-        "  --threads T         simulation threads (default 1)\n"
-        "  --upload PATH       how records reach the GPU: auto (default), staged, direct\n"
-        "  --up y|-y           .ply only: which way is up in the file (default -y, 3DGS's convention)\n"
-        "  --eye X,Y,Z, --target X,Y,Z, --fov DEGREES   .ply only: the camera\n"
-        "  --lit               .ply only: shade with a scene's default lights and environment, by the\n"
-        "                      file's normals (estimated where it has none), instead of as stored\n";
-    std::set<std::string> flags = k_gpu_flags;
-    flags.insert({"help", "lit"});
-    std::set<std::string> valued = k_gpu_options;
-    valued.insert({"out", "width", "height", "frames", "threads", "upload", "up", "eye", "target", "fov"});
-    auto args = Args::parse(argv, flags, valued);
-    if (!args.ok()) return usage_error("render", args.error().to_string());
-    if (args->has("help")) return std::fputs(help, stdout), 0;
-    auto frames = args->get_uint("frames", 1, 1, 1000000);
-    auto width = args->get_uint("width", 0, 16, 16384);
-    auto height = args->get_uint("height", 0, 16, 16384);
-    auto threads = args->get_uint("threads", 1, 1, 64);
-    auto upload = parse_upload_path(args->get_or("upload", "auto"));
-    if (const core::Error* e = first_error(frames, width, height, threads, upload)) return usage_error("render", e->to_string());
-    const std::filesystem::path out = args->get_or("out", "out/render.png");
+        "Progress goes to stderr: a bar on a terminal, a line every 2 s otherwise (--quiet: none).\n",
+        with_gpu({whole("frames", "N", 1, 1, 1000000, "frames to simulate and render"),
+                  text("out", "PATH", "out/render.png", "output file (.png) or folder"),
+                  whole("width", "W", 0, 16, 16384, "image width").default_from("the scene's; 1280 for a .ply"),
+                  whole("height", "H", 0, 16, 16384, "image height").default_from("the scene's; 720 for a .ply"),
+                  whole("threads", "T", 1, 1, 64, "simulation threads"), upload_option(),
+                  choice("up", {"-y", "y"}, "-y", ".ply only: which way is up in the file (-y: 3DGS's convention)"),
+                  text("eye", "X,Y,Z", "", ".ply only: the camera's eye").default_from("framing the file"),
+                  text("target", "X,Y,Z", "", ".ply only: the point looked at").default_from("the file's centre"),
+                  real("fov", "DEGREES", 0.0f, 1.0f, 170.0f, ".ply only: vertical field of view").default_from("framing the file"),
+                  flag("lit", ".ply only: shade with a scene's default lights and environment, by the file's\n"
+                              "normals (estimated where it has none), instead of as stored")})};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    const Options& opt = *parsed.options;
+    const uint32_t frames = opt.whole("frames"), width = opt.whole("width"), height = opt.whole("height");
+    const uint32_t threads = opt.whole("threads");
+    const std::filesystem::path out = opt.text("out");
     const std::string out_ext = out.extension().string();
     for (const char* image : {".jpg", ".jpeg", ".bmp", ".tga", ".gif", ".webp", ".exr", ".tif", ".tiff", ".hdr", ".ppm"})
         if (out_ext == image)
@@ -133,29 +121,29 @@ int cmd_render(const std::vector<std::string>& argv) {
         std::filesystem::create_directories(dir, ec);
         if (ec) return fail("render", dir.string() + ": cannot create the folder: " + ec.message());
     }
-    const auto& pos = args->positionals();
+    const auto& pos = opt.operands();
     if (pos.size() == 1) {
         // Dispatched by extension, with what is accepted when it is neither.
         const std::string ext = std::filesystem::path(pos[0]).extension().string();
-        if (ext == ".ply") return render_ply(pos[0], args.value(), width.value(), height.value(), out);
+        if (ext == ".ply") return render_ply(pos[0], opt, width, height, out);
         if (ext != ".toml")
             return usage_error("render", pos[0] + ": render takes a scene (.toml) or Gaussians (.ply), not a '" +
                                              (ext.empty() ? std::string("file without extension") : ext) + "'");
     }
     for (const char* key : {"up", "eye", "target", "fov", "lit"})
-        if (args->has(key)) return usage_error("render", std::string("--") + key + " applies to a .ply; a scene sets its own camera and lighting");
+        if (opt.given(key)) return usage_error("render", std::string("--") + key + " applies to a .ply; a scene sets its own camera and lighting");
 
-    auto scene = load_scene_arg(args->positionals());
+    auto scene = load_scene_arg(opt.operands());
     if (!scene.ok()) return fail("render", scene.error().to_string());
-    if (width.value()) scene->render.width = width.value();
-    if (height.value()) scene->render.height = height.value();
+    if (width) scene->render.width = width;
+    if (height) scene->render.height = height;
 
-    auto ctx = open_context(args.value());
+    auto ctx = open_context(opt);
     if (!ctx.ok()) return fail("render", ctx.error().to_string());
     scene::RuntimeOptions options;
     options.gpu = ctx.value().get();
-    options.threads = threads.value();
-    options.upload_path = upload.value();
+    options.threads = threads;
+    options.upload_path = upload_path(opt);
     options.frames_in_flight = 1;  // every frame's image is read back and written
     auto runtime = scene::SceneRuntime::create(scene.value(), options);
     if (!runtime.ok()) return fail("render", runtime.error().to_string());
@@ -167,10 +155,10 @@ int cmd_render(const std::vector<std::string>& argv) {
         csv << "frame,time,particles,gaussians,events_ms,apply_forces_ms,constraints_ms,integrate_normals_ms,"
                "update_particles_ms,gpu_record_ms,frame_ms,uploaded_bytes,samples_inserted,samples_retired,samples_fading\n";
     }
-    Progress progress("render", frames.value());
-    for (uint32_t f = 0; f < frames.value(); ++f) {
+    Progress progress("render", frames);
+    for (uint32_t f = 0; f < frames; ++f) {
         if (auto s = runtime.value()->step(); !s.ok()) return fail("render", s.error().to_string());
-        if (!single || f + 1 == frames.value()) {
+        if (!single || f + 1 == frames) {
             auto image = runtime.value()->finish();
             if (!image.ok()) return fail("render", image.error().to_string());
             char name[32];
@@ -185,15 +173,15 @@ int cmd_render(const std::vector<std::string>& argv) {
                 << s.update_particles_ms << ',' << s.gpu_record_ms << ',' << s.graph_ms << ',' << s.uploaded_bytes << ','
                 << s.density.inserted << ',' << s.density.retired << ',' << s.density.fading << '\n';
         }
-        if (frames.value() > 1) progress.frame_done(f + 1);
+        if (frames > 1) progress.frame_done(f + 1);
     }
     if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("render", v.error().to_string());
     if (single) {
         std::printf("wrote %s (%ux%u, scene %s, %zu splats, frame %u)\n", out.string().c_str(), scene->render.width,
-                    scene->render.height, scene->name.c_str(), runtime.value()->stats().gaussians, frames.value());
+                    scene->render.height, scene->name.c_str(), runtime.value()->stats().gaussians, frames);
         return 0;
     }
-    std::printf("wrote %u frames and frames.csv to %s\n", frames.value(), dir.string().c_str());
+    std::printf("wrote %u frames and frames.csv to %s\n", frames, dir.string().c_str());
     if (ffmpeg_available()) {
         const std::string cmd = "ffmpeg -loglevel error -y -framerate " +
                                 std::to_string(int(std::lround(1.0 / scene->simulation.dt))) + " -i '" +

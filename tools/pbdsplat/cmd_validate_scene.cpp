@@ -1,6 +1,6 @@
 #include <cstdio>
 
-#include "pbdsplat/args.h"
+#include "pbdsplat/options.h"
 #include "pbdsplat/commands.h"
 #include "scene/scene_file.h"
 #include "scene/scene_runtime.h"
@@ -8,18 +8,17 @@
 namespace pbdsplat::cli {
 
 int cmd_validate_scene(const std::vector<std::string>& argv) {
-    static constexpr const char* help =
-        "usage: pbdsplat validate-scene FILE.toml...\n"
-        "\n"
+    static const CommandSpec command{
+        "validate-scene", "FILE.toml...",
         "Checks scene files without running them: every key known, of the right type and in range\n"
         "(docs/scene-format.md), and the model found and usable. Prints one line per file; the\n"
-        "first error of a file names its line and column. Exits 1 if any file is invalid.\n";
-    auto args = Args::parse(argv, {"help"}, {});
-    if (!args.ok()) return usage_error("validate-scene", args.error().to_string());
-    if (args->has("help")) return std::fputs(help, stdout), 0;
-    if (args->positionals().empty()) return usage_error("validate-scene", "name at least one scene file");
+        "first error of a file names its line and column. Exits 1 if any file is invalid.\n",
+        {}};
+    const Parsed parsed = parse_command(command, argv);
+    if (!parsed.options) return parsed.exit_code;
+    if (parsed.options->operands().empty()) return usage_error("validate-scene", "name at least one scene file");
     int bad = 0;
-    for (const std::string& file : args->positionals()) {
+    for (const std::string& file : parsed.options->operands()) {
         auto s = scene::load_scene(file);
         if (s.ok()) {
             auto body = scene::make_scene_body(s.value());  // the model must load and be usable

@@ -2,11 +2,11 @@
 
 namespace pbdsplat::cli {
 
-core::Result<std::unique_ptr<gpu::Context>> open_context(const Args& args) {
+core::Result<std::unique_ptr<gpu::Context>> open_context(const Options& options) {
     gpu::ContextOptions o;
-    o.instance.validation = args.has("validation");
+    o.instance.validation = options.flag("validation");
     o.instance.best_practices = o.instance.validation;
-    o.device.name_filter = args.get_or("device", "");
+    o.device.name_filter = options.text("device");
     return gpu::Context::create(o);
 }
 

@@ -8,11 +8,13 @@
 
 namespace pbdsplat::demo {
 
+inline constexpr const char* k_default_screenshot_path = "pbdsplat-screenshot.png";
+
 struct DemoOptions {
     scene::Scene scene;
     uint64_t frames = 0;                   // 0: until the window closes
     std::optional<uint64_t> screenshot_at; // frame index (0-based) to save
-    std::string screenshot_path = "pbdsplat-screenshot.png";
+    std::string screenshot_path = k_default_screenshot_path;
     std::string script_path;               // input script (demo/script.h)
     bool vsync = true;
     bool validation = false;
