@@ -97,65 +97,80 @@ void add_slot_of(SlackLists<uint32_t>& lists, uint32_t v, uint32_t slot, std::ve
     scratch.push_back(slot);
     lists.assign(v, scratch);
 }
-// The added constraints that found no dead slot form groups of their own at the end, coloured
-// among themselves only: groups run one after another, so a new group need not avoid the
-// colours of the old ones.
-void append_groups(std::vector<DistanceConstraint>& constraints, DistanceGroups& g, std::vector<float>& lambda,
-                   std::span<const DistanceConstraint> add, std::span<const uint32_t> spill, std::vector<uint32_t>& placed) {
-    std::vector<uint32_t> scratch;
-    std::vector<DistanceConstraint> extra;
-    for (uint32_t k : spill) extra.push_back(add[k]);
-    const ColourGrouping grouping = colour_groups(extra);
-    const uint32_t base = uint32_t(constraints.size());
-    for (size_t e = 0; e < extra.size(); ++e) {
-        const uint32_t k = spill[grouping.order[e]];
-        const uint32_t slot = base + uint32_t(e);
-        constraints.push_back(add[k]);
-        add_slot_of(g.of_particle, add[k].i, slot, scratch);
-        add_slot_of(g.of_particle, add[k].j, slot, scratch);
-        placed[k] = slot;
+
+// Where the constraints added by one call went, kept up to date as inserting moves slots.
+struct Placement {
+    std::vector<uint32_t> slot_of_added;
+    std::vector<std::pair<uint32_t, uint32_t>> added_at;  // (slot, added index), few
+    void moved(uint32_t from, uint32_t to) {
+        for (auto& [slot, k] : added_at)
+            if (slot == from) slot = to, slot_of_added[k] = to;
     }
-    g.start.pop_back();
-    for (uint32_t s : grouping.start) g.start.push_back(base + s);
-    g.slots_appended += spill.size();
-    lambda.resize(constraints.size(), 0.0f);
+    void place(uint32_t k, uint32_t slot) {
+        slot_of_added[k] = slot;
+        added_at.push_back({slot, k});
+    }
+};
+
+// Opens a slot at the end of colour `col`: the first constraint of each later group moves to
+// that group's end, one group after another from the last, and the boundaries shift by one. A
+// moved constraint stays in its colour, so the grouping holds; the cost is the number of later
+// groups (a dozen or so), not the array's length.
+uint32_t open_slot_in_colour(std::vector<DistanceConstraint>& constraints, DistanceGroups& g, std::vector<float>& lambda,
+                             uint32_t col, Placement& placement) {
+    uint32_t hole = uint32_t(constraints.size());
+    constraints.push_back({0, 0, 0.0f, 0.0f});
+    lambda.push_back(0.0f);
+    const uint32_t groups = uint32_t(g.start.size() - 1);
+    ++g.start[groups];
+    for (uint32_t c = groups - 1; c > col; --c) {
+        const uint32_t first = g.start[c];
+        const DistanceConstraint moved = constraints[first];
+        constraints[hole] = moved;
+        lambda[hole] = lambda[first];
+        if (moved.alive()) {
+            g.of_particle.replace(moved.i, first, hole);
+            g.of_particle.replace(moved.j, first, hole);
+            placement.moved(first, hole);
+        }
+        hole = first;
+        ++g.start[c];
+    }
+    return hole;
 }
 
-// The groups appended since the last full grouping coloured again among themselves (their dead
-// slots dropped): spills of many edits, one or two small groups each, become as few groups as
-// their own colouring needs, at the cost of the tail, not of the body.
-void regroup_tail(std::vector<DistanceConstraint>& constraints, DistanceGroups& g, std::vector<float>& lambda,
-                  std::vector<uint32_t>& placed) {
-    const uint32_t first = g.start[g.colours_when_grouped];
-    std::vector<DistanceConstraint> live;
-    std::vector<uint32_t> old_slot;  // ascending
+// The added constraints that found no dead slot go into a colour free at both their particles,
+// the last such (fewest groups to shift), or into a new group at the end when none is.
+void insert_spilled(std::vector<DistanceConstraint>& constraints, DistanceGroups& g, std::vector<float>& lambda,
+                    std::span<const DistanceConstraint> add, std::span<const uint32_t> spill, Placement& placement) {
     std::vector<uint32_t> scratch;
-    for (uint32_t s = first; s < constraints.size(); ++s) {
-        const DistanceConstraint& c = constraints[s];
-        if (!c.alive()) continue;
-        live.push_back(c), old_slot.push_back(s);
-        remove_slot_of(g.of_particle, c.i, s, scratch);
-        remove_slot_of(g.of_particle, c.j, s, scratch);
-    }
-    g.dead -= (constraints.size() - first) - live.size();
-    const ColourGrouping grouping = colour_groups(live);
-    std::vector<uint32_t> new_slot(live.size());
-    constraints.resize(first);
-    for (uint32_t s = 0; s < live.size(); ++s) {
-        const DistanceConstraint& c = live[grouping.order[s]];
-        const uint32_t slot = first + s;
-        constraints.push_back(c);
-        new_slot[grouping.order[s]] = slot;
+    for (uint32_t k : spill) {
+        const DistanceConstraint& c = add[k];
+        const uint64_t taken = colours_at(constraints, g, c.i) | colours_at(constraints, g, c.j);
+        const uint32_t groups = uint32_t(g.start.size() - 1);
+        uint32_t col = UINT32_MAX;
+        for (uint32_t t = std::min<uint32_t>(groups, 64); t-- > 0;)
+            if (!(taken >> t & 1u)) {
+                col = t;
+                break;
+            }
+        uint32_t slot = 0;
+        if (col == UINT32_MAX) {
+            slot = uint32_t(constraints.size());
+            constraints.push_back(c);
+            lambda.push_back(0.0f);
+            g.start.push_back(slot + 1);
+            ++g.colours_added;
+        } else {
+            slot = open_slot_in_colour(constraints, g, lambda, col, placement);
+        }
+        constraints[slot] = c;
+        lambda[slot] = 0.0f;
         add_slot_of(g.of_particle, c.i, slot, scratch);
         add_slot_of(g.of_particle, c.j, slot, scratch);
+        placement.place(k, slot);
+        ++g.slots_appended;
     }
-    for (uint32_t& p : placed)
-        if (p >= first) p = new_slot[size_t(std::lower_bound(old_slot.begin(), old_slot.end(), p) - old_slot.begin())];
-    g.start.resize(g.colours_when_grouped + 1);
-    for (size_t c = 1; c < grouping.start.size(); ++c) g.start.push_back(first + grouping.start[c]);
-    lambda.resize(constraints.size());
-    std::fill(lambda.begin() + first, lambda.end(), 0.0f);
-    ++g.tail_regroupings;
 }
 
 // The live constraints grouped from scratch (dead slots dropped), following where the added
@@ -174,9 +189,9 @@ void regroup(std::vector<DistanceConstraint>& constraints, DistanceGroups& g, st
         new_slot[old_slot[grouping.order[s]]] = s;
     }
     for (uint32_t& p : placed) p = new_slot[p];
-    const size_t reused = g.slots_reused, appended = g.slots_appended, regroupings = g.regroupings + 1, tails = g.tail_regroupings;
+    const size_t reused = g.slots_reused, appended = g.slots_appended, regroupings = g.regroupings + 1, added = g.colours_added;
     g = DistanceGroups{};
-    g.tail_regroupings = tails;
+    g.colours_added = added;
     g.start = grouping.start;
     g.of_particle = index_by_particle(constraints, particles);
     g.colours_when_grouped = g.start.size() - 1;
@@ -216,7 +231,8 @@ std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstrain
         ++g.dead;
     }
     for (const DistanceConstraint& c : add) g.rest_sum += double(c.rest);
-    std::vector<uint32_t> placed(add.size(), UINT32_MAX);
+    Placement placement;
+    placement.slot_of_added.assign(add.size(), UINT32_MAX);
     std::vector<uint32_t> spill;
     for (uint32_t k = 0; k < add.size(); ++k) {
         const DistanceConstraint& c = add[k];
@@ -237,19 +253,16 @@ std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstrain
         ++g.slots_reused;
         add_slot_of(g.of_particle, c.i, slot, scratch);
         add_slot_of(g.of_particle, c.j, slot, scratch);
-        placed[k] = slot;
+        placement.place(k, slot);
     }
-    if (!spill.empty()) append_groups(constraints, g, lambda, add, spill, placed);
-    // Many small spill groups cost the solver a pass each: past k_tail_groups they are coloured
-    // again among themselves; the whole array only when dead slots pass an eighth of it (rare:
-    // thousands of edits) or the tail will not fold.
-    constexpr size_t k_tail_groups = 16;
-    if (g.dead * 8 > constraints.size()) {
+    // Dead slots taken first: inserting moves slots (free_in's would go stale).
+    insert_spilled(constraints, g, lambda, add, spill, placement);
+    std::vector<uint32_t> placed = std::move(placement.slot_of_added);
+    // The whole array is grouped again only when dead slots pass an eighth of it (thousands of
+    // edits), or when edits added more than a few colours of their own.
+    constexpr size_t k_added_colours = 8;
+    if (g.dead * 8 > constraints.size() || g.start.size() - 1 > g.colours_when_grouped + k_added_colours)
         regroup(constraints, g, lambda, particles, placed);
-    } else if (g.start.size() - 1 > g.colours_when_grouped + k_tail_groups) {
-        regroup_tail(constraints, g, lambda, placed);
-        if (g.start.size() - 1 > g.colours_when_grouped + k_tail_groups) regroup(constraints, g, lambda, particles, placed);
-    }
     return placed;
 }
 

@@ -25,18 +25,20 @@ ColourGrouping colour_groups(std::span<const DistanceConstraint> constraints);
 std::vector<uint32_t> group_by_colour(std::vector<DistanceConstraint>& constraints);
 
 // The colour groups kept up to date through topology edits at the cost of what an edit touches:
-// removed constraints leave dead slots, added ones take a dead slot of a colour free at both
-// their particles or form new groups at the end. The groups at the end are coloured again among
-// themselves when there are too many; everything is regrouped from scratch (dead slots
-// dropped) only when dead slots pass an eighth of the array.
+// removed constraints leave dead slots; an added one takes a dead slot of a colour free at both
+// its particles, else a slot opened at the end of such a colour (the first constraint of each
+// later group moves to its group's end: a dozen moves, whatever the body's size), else a new
+// group at the end. Everything is regrouped from scratch (dead slots dropped) only when dead
+// slots pass an eighth of the array or edits have added more than a few colours.
 struct DistanceGroups {
     std::vector<uint32_t> start;          // colour c holds [start[c], start[c + 1])
     SlackLists<uint32_t> of_particle;     // each particle's constraint slots
     size_t dead = 0;                      // dead slots in the array
     size_t colours_when_grouped = 0;      // groups after the last full grouping
     size_t regroupings = 0;               // full groupings after the first (counted, they cost the body)
-    size_t tail_regroupings = 0;          // the appended groups coloured again (they cost the tail)
-    size_t slots_reused = 0, slots_appended = 0;
+    size_t colours_added = 0;             // groups edits made for constraints no colour could take
+    size_t slots_reused = 0;              // added constraints that took a dead slot
+    size_t slots_appended = 0;            // added constraints that took an opened slot or a new group
     double rest_sum = 0.0;                // of the live constraints' rest lengths, kept through edits
     double mean_rest() const {
         const size_t live = start.empty() ? 0 : start.back() - dead;

@@ -32,6 +32,10 @@ struct VolumeConstraint {
     // Boundary loops closed by virtual fans to their centroid, in the volume sum only, so the
     // volume of an open piece does not depend on where the origin is.
     std::vector<std::vector<uint32_t>> cap_loops;
+    // Per cap loop, once the topology stage has needed them: its rest-space bounding sphere
+    // (centre xyz, radius w), so a cut finds the loops it reaches without reading every loop.
+    // Empty, or one per loop.
+    std::vector<Vec4f> cap_bounds;
     double rest_volume = 0.0;  // V0, measured at creation
     float pressure = 1.0f;     // k: target volume k * V0 (deflate < 1 < inflate)
     float compliance = 0.0f;   // XPBD
@@ -40,6 +44,9 @@ struct VolumeConstraint {
     // a cut that leaves the piece whole takes the piece's volume from here instead of summing
     // the whole piece again.
     double measured_six_v = std::numeric_limits<double>::quiet_NaN();
+    // The caps' 6V at that pass: with it, a cut that leaves the piece whole reads the caps of the
+    // loops it did not reach from here instead of summing every loop again.
+    double measured_caps_six_v = std::numeric_limits<double>::quiet_NaN();
     // An opened component (burst) leaks: its overpressure k - 1 decays at this rate (1/s)
     // instead of vanishing at once, which snapped the stretched shell inward in one frame and
     // imploded it. Once k is within 2 % of 1 the constraint rests. 0: sealed.

@@ -70,6 +70,14 @@ public:
         if (abandoned_ > pool_.size() / 2) compact();
     }
 
+    // Replaces `from` by `to` in key's list, in place (the item moved elsewhere).
+    void replace(uint32_t key, const T& from, const T& to) {
+        const auto first = pool_.begin() + first_[key], last = first + size_[key];
+        const auto it = std::find(first, last, from);
+        PBDSPLAT_ASSERT(it != last, "SlackLists::replace: the item is not in that key's list");
+        *it = to;
+    }
+
     // Lays the lists out again in key order with fresh slack (what build() gives).
     void compact() {
         std::vector<uint32_t> start(keys() + 1, 0);

@@ -48,7 +48,9 @@ using BlockSums = std::vector<std::pair<uint32_t, VolumeSums>>;
 template <class Real>
 double triangles_six_volume(std::span<const mesh::Triangle> triangles, std::span<const uint32_t> piece_of_particle, uint32_t piece,
                             const Vec4ArrayT<Real>& x);
-// 6V of the virtual fans closing `loops` at their centroids.
+// 6V of the virtual fan closing one loop at its centroid, and of several.
+template <class Real>
+double cap_six_volume(std::span<const uint32_t> loop, const Vec4ArrayT<Real>& x);
 template <class Real>
 double caps_six_volume(const std::vector<std::vector<uint32_t>>& loops, const Vec4ArrayT<Real>& x);
 

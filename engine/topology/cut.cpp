@@ -6,6 +6,7 @@
 #include "core/timer.h"
 #include "mesh/topology.h"
 #include "topology/edit.h"
+#include "topology/particle_scratch.h"
 #include "topology/volume_policy.h"
 
 namespace pbdsplat::topology {
@@ -19,9 +20,13 @@ Vec3f crossing_point(const sim::SoftBody& b, uint32_t i, uint32_t j, float u) {
 // Each vertex's signed distance to the cut plane, and its side: -1, +1, or 0 for "on the cut"
 // (within its reach, exactly on the plane or snapped there). The triangles the plane crosses
 // are found in one lean pass; everything after looks at those only.
+// The per-particle arrays come from the thread's scratch (at least the body's size, +1 and 1.0
+// where not written: out of reach is the positive side) and go back when the cut ends.
 struct Sides {
-    std::vector<float> distance;
-    std::vector<int8_t> sign;
+    std::span<float> distance;
+    std::span<int8_t> sign;
+    std::vector<uint32_t> looked_at;  // the particles whose entries were written; all when `all`
+    bool all = false;
     std::vector<uint32_t> crossed;  // triangles with corners strictly on both sides, ascending
     std::vector<uint32_t> on_cut;   // vertices with sign 0, ascending
 };
@@ -31,10 +36,11 @@ float mean_rest_length(const sim::SoftBody& b) { return float(b.distance_groups.
 
 // The signed distances and the crossed triangles. A cut limited to a list of particles (a
 // tear's slit) looks at those, their neighbours and their triangles only; otherwise at all.
-void measure_sides(const sim::SoftBody& b, const CutSurface& s, Sides& out, std::vector<uint32_t>& looked_at) {
+void measure_sides(const sim::SoftBody& b, const CutSurface& s, Sides& out) {
     const size_t n = b.particle_count();
-    std::vector<float>& d = out.distance;
-    std::vector<int8_t>& sign = out.sign;
+    std::span<float> d = out.distance;
+    std::span<int8_t> sign = out.sign;
+    std::vector<uint32_t>& looked_at = out.looked_at;
     auto measure = [&](uint32_t v) {
         d[v] = s.distance(sim::xyz(b.particles.x[v]));
         sign[v] = d[v] < 0.0f ? int8_t(-1) : int8_t(1);
@@ -44,15 +50,12 @@ void measure_sides(const sim::SoftBody& b, const CutSurface& s, Sides& out, std:
         return (d0 < 0.0f || d1 < 0.0f || d2 < 0.0f) && (d0 > 0.0f || d1 > 0.0f || d2 > 0.0f);
     };
     if (s.particles.empty()) {
-        d.resize(n);
-        sign.resize(n);
+        out.all = true;
         for (uint32_t v = 0; v < n; ++v) measure(v);
         for (uint32_t t = 0; t < b.triangles.size(); ++t)
             if (mixed(b.triangles[t])) out.crossed.push_back(t);
         return;
     }
-    d.assign(n, 1.0f);  // particles out of reach: on the positive side, never crossed
-    sign.assign(n, int8_t(1));
     for (uint32_t v : s.particles) {
         looked_at.push_back(v);
         for (const auto& pair : b.rings.ring.of(v)) looked_at.insert(looked_at.end(), pair.begin(), pair.end());
@@ -67,18 +70,16 @@ void measure_sides(const sim::SoftBody& b, const CutSurface& s, Sides& out, std:
     out.crossed.erase(std::unique(out.crossed.begin(), out.crossed.end()), out.crossed.end());
 }
 
-Sides classify(const sim::SoftBody& b, const CutSurface& s, float snap, float reference) {
+void classify(const sim::SoftBody& b, const CutSurface& s, float snap, float reference, Sides& out) {
     const size_t n = b.particle_count();
-    Sides out;
-    std::vector<uint32_t> looked_at;  // empty: all
-    measure_sides(b, s, out, looked_at);
-    const std::vector<float>& d = out.distance;
-    std::vector<int8_t>& sign = out.sign;
+    measure_sides(b, s, out);
+    const std::span<const float> d = out.distance;
+    const std::span<int8_t> sign = out.sign;
     auto each_looked_at = [&](auto&& f) {
-        if (s.particles.empty())
+        if (out.all)
             for (uint32_t v = 0; v < n; ++v) f(v);
         else
-            for (uint32_t v : looked_at) f(v);
+            for (uint32_t v : out.looked_at) f(v);
     };
     bool on_plane = false;
     each_looked_at([&](uint32_t v) { on_plane = on_plane || d[v] == 0.0f; });
@@ -92,7 +93,8 @@ Sides classify(const sim::SoftBody& b, const CutSurface& s, float snap, float re
     // does not depend on the order edges are visited.
     if (!(reference > 0.0f)) reference = mean_rest_length(b);
     const float reach = snap * reference;
-    std::vector<uint8_t> snapped(n, 0);  // a byte per particle: a memset, cheaper than a search
+    thread_local ParticleScratch<uint8_t> snaps(0);
+    std::vector<uint8_t>& snapped = snaps.take(n);  // a byte per particle: cheaper than a search
     std::vector<uint32_t> on_cut;
     auto snap_to = [&](uint32_t v) {
         if (!snapped[v]) snapped[v] = 1, on_cut.push_back(v);
@@ -131,6 +133,7 @@ Sides classify(const sim::SoftBody& b, const CutSurface& s, float snap, float re
         }
     }
     for (uint32_t v : on_cut) sign[v] = 0;
+    snaps.give_back(on_cut);
     if (on_plane) {
         on_cut.clear();
         each_looked_at([&](uint32_t v) {
@@ -139,8 +142,34 @@ Sides classify(const sim::SoftBody& b, const CutSurface& s, float snap, float re
     }
     std::sort(on_cut.begin(), on_cut.end());
     out.on_cut = std::move(on_cut);
-    return out;
 }
+
+// The side arrays of this thread, taken for one cut and given back at its end (reset where
+// written), whichever way the cut returns.
+class SidesLease {
+public:
+    explicit SidesLease(size_t n) {
+        sides.distance = distances().take(n);
+        sides.sign = signs().take(n);
+    }
+    ~SidesLease() {
+        if (sides.all) distances().give_back_all(), signs().give_back_all();
+        else distances().give_back(sides.looked_at), signs().give_back(sides.looked_at);
+    }
+    SidesLease(const SidesLease&) = delete;
+    SidesLease& operator=(const SidesLease&) = delete;
+    Sides sides;
+
+private:
+    static ParticleScratch<float>& distances() {
+        thread_local ParticleScratch<float> s(1.0f);
+        return s;
+    }
+    static ParticleScratch<int8_t>& signs() {
+        thread_local ParticleScratch<int8_t> s(int8_t(1));
+        return s;
+    }
+};
 
 float rest_area(const sim::SoftBody& b, const mesh::Triangle& t) {
     const Vec3f& p = b.rest_positions[t[0]];
@@ -153,8 +182,21 @@ core::Status validate(const sim::SoftBody& b, const CutSurface& s, const CutOpti
         return core::make_error("cut: reference_edge_length must be finite and >= 0");
     if (!s.point.allFinite() || !s.normal.allFinite() || std::abs(s.normal.norm() - 1.0f) > 1e-3f)
         return core::make_error("cut: the surface needs a finite point and a unit normal");
-    for (const Vec4f& x : b.particles.x)
-        if (!x.head<3>().allFinite()) return core::make_error("cut: a particle position is not finite; the body is broken");
+    // What the cut reads: every particle, or a listed cut's particles and their neighbours.
+    auto broken = [] { return core::make_error("cut: a particle position is not finite; the body is broken"); };
+    if (s.particles.empty()) {
+        for (const Vec4f& x : b.particles.x)
+            if (!x.head<3>().allFinite()) return broken();
+        return core::Status::success();
+    }
+    for (uint32_t v : s.particles) {
+        if (v >= b.particle_count()) return core::make_error("cut: the surface lists particle " + std::to_string(v) + " of " +
+                                                             std::to_string(b.particle_count()));
+        if (!b.particles.x[v].head<3>().allFinite()) return broken();
+        for (const auto& pair : b.rings.ring.of(v))
+            for (uint32_t w : pair)
+                if (!b.particles.x[w].head<3>().allFinite()) return broken();
+    }
     return core::Status::success();
 }
 
@@ -199,8 +241,10 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
         step.restart();
     };
     lap("prepare");
-    Sides sides = classify(b, s, o.snap, o.reference_edge_length);
-    e.sign = std::move(sides.sign);
+    SidesLease lease(b.particle_count());
+    Sides& sides = lease.sides;
+    classify(b, s, o.snap, o.reference_edge_length, sides);
+    e.sign = sides.sign;
     e.on_cut_vertices = std::move(sides.on_cut);
     lap("classify");
 

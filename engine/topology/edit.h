@@ -16,7 +16,7 @@ public:
     explicit Edit(sim::SoftBody& body);
 
     // Per original vertex: -1 / +1 for its side of the cut, 0 for "on the cut".
-    std::vector<int8_t> sign;
+    std::span<const int8_t> sign;
     // The original vertices with sign 0 (the new edge points are on the cut too).
     std::vector<uint32_t> on_cut_vertices;
     TopologyChange change;

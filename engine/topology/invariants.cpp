@@ -29,17 +29,29 @@ core::Status check_particles(const sim::SoftBody& b) {
             return broken("particle " + std::to_string(i) + " has a non-finite state or a negative inverse mass");
     return core::Status::success();
 }
-// Every volume constraint over live particles of a single component, with a positive target.
+// Every volume constraint over live particles of a single component, with a positive target,
+// and no particle twice on the cap loops (the solver's cap terms count each loop particle once).
 core::Status check_volumes(const sim::SoftBody& b) {
-    std::vector<uint8_t> kept(b.pieces, 0);
+    std::vector<uint8_t> kept(b.pieces, 0), on_loop(b.particle_count(), 0);
     for (size_t k = 0; k < b.volumes.size(); ++k) {
         const auto& vol = b.volumes[k];
         if (vol.piece >= b.pieces) return broken("volume constraint " + std::to_string(k) + " names a piece the body does not have");
         if (kept[vol.piece]++) return broken("two volume constraints keep piece " + std::to_string(vol.piece));
+        if (!vol.cap_bounds.empty() && vol.cap_bounds.size() != vol.cap_loops.size())
+            return broken("volume constraint " + std::to_string(k) + " has rest bounds for some of its cap loops only");
+        for (size_t l = 0; l < vol.cap_bounds.size(); ++l)
+            for (uint32_t i : vol.cap_loops[l])
+                if (i < b.particle_count() &&
+                    (b.rest_positions[i] - vol.cap_bounds[l].head<3>()).norm() > vol.cap_bounds[l].w() * 1.0001f + 1e-6f)
+                    return broken("volume constraint " + std::to_string(k) + "'s cap loop " + std::to_string(l) +
+                                  " leaves its rest bounds (the cut would miss that it reached it)");
         for (const auto& loop : vol.cap_loops)
             for (uint32_t i : loop)
                 if (i >= b.particle_count() || b.piece_of_particle[i] != vol.piece)
                     return broken("volume constraint " + std::to_string(k) + "'s cap loop leaves its piece");
+                else if (on_loop[i]++)
+                    return broken("particle " + std::to_string(i) + " lies twice on volume constraint " + std::to_string(k) +
+                                  "'s cap loops (a bow-tie vertex the cut left unsplit)");
         if (!(vol.rest_volume > 0.0) || !std::isfinite(vol.rest_volume)) return broken("a volume constraint has no positive rest volume");
     }
     return core::Status::success();

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <optional>
 
+#include "topology/particle_scratch.h"
+
 namespace pbdsplat::topology {
 
 namespace {
@@ -59,7 +61,7 @@ Part grow_part(const sim::SoftBody& b, uint32_t seed, std::vector<uint8_t>& seen
 // The searches of one piece from its seeds at once (see split_pieces). Returns nothing past the
 // budget.
 std::optional<std::vector<Part>> search_locally(const sim::SoftBody& b, std::span<const uint32_t> seeds, size_t budget,
-                                                std::vector<uint32_t>& owner, size_t& searched) {
+                                                std::vector<uint32_t>& owner, size_t& searched, std::vector<uint32_t>& written) {
     constexpr uint32_t unseen = UINT32_MAX;
     std::vector<uint32_t> parent, queued, visited;
     size_t roots = 0, open = 0;
@@ -102,6 +104,7 @@ std::optional<std::vector<Part>> search_locally(const sim::SoftBody& b, std::spa
             }
     }
     searched += visited.size();
+    written.insert(written.end(), visited.begin(), visited.end());
     // The closed groups are whole parts; the open one (at most one is left) is the rest of the
     // piece, unexplored. One group left and open: the piece did not fall apart.
     uint32_t open_root = UINT32_MAX;
@@ -135,7 +138,9 @@ double part_area(const sim::SoftBody& b, const Part& part) {
 
 SplitSearch split_pieces(sim::SoftBody& b, std::span<const uint32_t> reached, std::span<const uint32_t> seeds, size_t budget) {
     SplitSearch out;
-    std::vector<uint32_t> owner(b.particle_count(), UINT32_MAX);
+    thread_local ParticleScratch<uint32_t> owners(UINT32_MAX);
+    std::vector<uint32_t>& owner = owners.take(b.particle_count());
+    std::vector<uint32_t> written;  // by the local searches that settled their piece
     std::vector<uint8_t> seen;  // for the whole search, made when first needed
     out.parts_of.resize(reached.size());
     std::vector<uint32_t> mine;
@@ -144,7 +149,7 @@ SplitSearch split_pieces(sim::SoftBody& b, std::span<const uint32_t> reached, st
         for (uint32_t v : seeds)
             if (b.piece_of_particle[v] == reached[r]) mine.push_back(v);
         std::vector<Part>& parts = out.parts_of[r];
-        if (auto local = search_locally(b, mine, budget, owner, out.searched)) {
+        if (auto local = search_locally(b, mine, budget, owner, out.searched, written)) {
             parts = std::move(*local);
         } else {
             ++out.searched_whole;
@@ -160,6 +165,7 @@ SplitSearch split_pieces(sim::SoftBody& b, std::span<const uint32_t> reached, st
                 for (uint32_t v : parts[k].particles) b.piece_of_particle[v] = parts[k].label;
         }
     }
+    owners.give_back(written);
     return out;
 }
 

@@ -18,7 +18,10 @@ struct Part {
     size_t triangles = 0;
     double six_v = 0.0;       // 6 V of its triangles, caps apart
     double area_bound = 0.0;  // >= its area: (|e1|^2 + |e2|^2) / 4 per triangle, no square root
-    std::vector<std::vector<uint32_t>> loops;  // filled by the volume policy
+    // Filled by the volume policy: its boundary loops, their rest bounds, and 6V of their caps.
+    std::vector<std::vector<uint32_t>> loops;
+    std::vector<Vec4f> loop_bounds;
+    double caps_six_v = 0.0;
 };
 
 // The exact area of a complete part (a square root per triangle: the caller tries area_bound first).

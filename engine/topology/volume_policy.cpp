@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "mesh/topology.h"
 #include "sim/volume.h"
@@ -94,35 +95,142 @@ void set_target(sim::VolumeConstraint& v, const sim::VolumeConstraint& parent, b
     }
 }
 
-// The cap loops of the parts of reached pieces that had a volume constraint: the parent's
-// loops that kept clear of the edit stay as they were, the rest are traced locally. Returns
-// false where the trace fell back to counting the loops over those parts' triangles.
-bool cap_parts(const sim::SoftBody& b, std::span<const uint32_t> seeds, std::span<const uint32_t> touched_triangles,
-               std::span<const sim::VolumeConstraint* const> parents, std::vector<std::vector<Part>>& parts_of) {
-    std::vector<std::vector<uint32_t>> loops;
-    std::vector<const std::vector<uint32_t>*> retrace;
-    for (const sim::VolumeConstraint* parent : parents) {
-        if (!parent) continue;
-        for (const std::vector<uint32_t>& loop : parent->cap_loops) {
-            const bool reached = std::any_of(loop.begin(), loop.end(), [&](uint32_t v) { return std::binary_search(seeds.begin(), seeds.end(), v); });
-            if (reached) retrace.push_back(&loop);
-            else loops.push_back(loop);
-        }
+// A loop's (or any particle list's) rest-space bounding sphere: centre xyz, radius w.
+Vec4f rest_bounds(const sim::SoftBody& b, std::span<const uint32_t> particles) {
+    Vec3f lo = b.rest_positions[particles.front()], hi = lo;
+    for (uint32_t v : particles) lo = lo.cwiseMin(b.rest_positions[v]), hi = hi.cwiseMax(b.rest_positions[v]);
+    const Vec3f c = 0.5f * (lo + hi);
+    return {c.x(), c.y(), c.z(), 0.5f * (hi - lo).norm()};
+}
+
+bool spheres_meet(const Vec4f& a, const Vec4f& b) {
+    const float reach = a.w() + b.w() + 1e-6f;
+    return (a.head<3>() - b.head<3>()).squaredNorm() <= reach * reach;
+}
+
+void ensure_cap_bounds(const sim::SoftBody& b, sim::VolumeConstraint& c) {
+    if (c.cap_bounds.size() == c.cap_loops.size()) return;
+    c.cap_bounds.clear();
+    for (const auto& loop : c.cap_loops) c.cap_bounds.push_back(rest_bounds(b, loop));
+}
+
+void add_loop(const sim::SoftBody& b, Part& part, std::vector<uint32_t>&& loop, const Vec4f& bounds, bool with_caps) {
+    if (with_caps) part.caps_six_v += sim::cap_six_volume<float>(loop, b.particles.x);
+    part.loops.push_back(std::move(loop));
+    part.loop_bounds.push_back(bounds);
+}
+
+// The parts of the reached pieces by label, sorted: a handful, where a table over every piece
+// would cost a body shredded into thousands of pieces a table that size per cut.
+class PartsByLabel {
+public:
+    struct Entry {
+        uint32_t label;
+        Part* part;
+        sim::VolumeConstraint* rest;  // the constraint the part keeps in place (the first part of a piece)
+        bool operator<(const Entry& o) const { return label < o.label; }
+    };
+    PartsByLabel(std::span<sim::VolumeConstraint* const> parents, std::vector<std::vector<Part>>& parts_of) {
+        for (size_t r = 0; r < parts_of.size(); ++r)
+            if (parents[r])
+                for (Part& part : parts_of[r]) entries_.push_back({part.label, &part, &part == &parts_of[r].front() ? parents[r] : nullptr});
+        std::sort(entries_.begin(), entries_.end());
     }
-    std::vector<Part*> part_of_label(b.pieces, nullptr);
-    for (size_t r = 0; r < parts_of.size(); ++r)
-        if (parents[r])
-            for (Part& part : parts_of[r]) part_of_label[part.label] = &part;
-    const bool traced = trace_loops(b, touched_triangles, retrace, loops);
-    if (!traced) {
+    const Entry* find(uint32_t label) const {
+        const auto it = std::lower_bound(entries_.begin(), entries_.end(), Entry{label, nullptr, nullptr});
+        return it != entries_.end() && it->label == label ? &*it : nullptr;
+    }
+    Part* part(uint32_t label) const {
+        const Entry* e = find(label);
+        return e ? e->part : nullptr;
+    }
+
+private:
+    std::vector<Entry> entries_;
+};
+
+// One parent's loops sorted out: those that stay with the rest are not touched (a loop away from
+// the edit and from the parts cut off is settled by its bounds alone, without reading it);
+// those the edit reached are listed to be traced again; those on a part cut off move to it.
+// `leaving` gets the indices that go, descending. Returns whether the rest's caps follow the
+// parent's measure (then they are adjusted here for every loop that leaves).
+bool sort_out_loops(const sim::SoftBody& b, std::span<const uint32_t> seeds, const Vec4f& around, sim::VolumeConstraint& parent,
+                    std::vector<Part>& parts, const PartsByLabel& by_label, std::vector<const std::vector<uint32_t>*>& retrace,
+                    std::vector<uint32_t>& leaving) {
+    ensure_cap_bounds(b, parent);
+    Part& rest = parts.front();
+    const bool adjusted = !rest.complete && std::isfinite(parent.measured_caps_six_v);
+    if (adjusted) rest.caps_six_v = parent.measured_caps_six_v;
+    std::vector<Vec4f> cut_off;
+    for (size_t k = 1; k < parts.size(); ++k) cut_off.push_back(rest_bounds(b, parts[k].particles));
+    for (size_t k = parent.cap_loops.size(); k-- > 0;) {
+        const Vec4f& bounds = parent.cap_bounds[k];
+        const bool near_edit = spheres_meet(bounds, around);
+        const bool near_cut_off = std::any_of(cut_off.begin(), cut_off.end(), [&](const Vec4f& c) { return spheres_meet(c, bounds); });
+        if (!near_cut_off && !near_edit) continue;
+        std::vector<uint32_t>& loop = parent.cap_loops[k];
+        const bool reached = near_edit && std::any_of(loop.begin(), loop.end(), [&](uint32_t v) { return std::binary_search(seeds.begin(), seeds.end(), v); });
+        Part* to = reached ? nullptr : near_cut_off ? by_label.part(b.piece_of_particle[loop.front()]) : &rest;
+        if (to == &rest) continue;
+        leaving.push_back(uint32_t(k));
+        if (adjusted) rest.caps_six_v -= sim::cap_six_volume<float>(loop, b.particles.x);
+        if (reached) retrace.push_back(&loop);
+        else if (to) add_loop(b, *to, std::move(loop), bounds, true);
+    }
+    return adjusted;
+}
+
+// The cap loops of the parts of reached pieces that had a volume constraint, and their caps'
+// 6V. The first part of a piece (the rest, which keeps its label) keeps its loops where they are,
+// in its parent's constraint (sort_out_loops); the reached ones are traced again locally, with
+// the boundary edges of the touched triangles, and the new loops appended to their part. A rest
+// with a measure takes the measured caps, less the loops it lost and plus those it gained: the
+// cost follows the edit (and a bounds test per loop), not the loops' length. Returns false where
+// the trace fell back to counting the loops over those parts' triangles.
+bool cap_parts(const sim::SoftBody& b, std::span<const uint32_t> seeds, std::span<const uint32_t> touched_triangles,
+               std::span<sim::VolumeConstraint* const> parents, std::vector<std::vector<Part>>& parts_of) {
+    const Vec4f around = rest_bounds(b, seeds);
+    const PartsByLabel by_label(parents, parts_of);
+    std::vector<const std::vector<uint32_t>*> retrace;
+    std::vector<std::vector<uint32_t>> leaving(parents.size());
+    std::vector<uint8_t> adjusted(parents.size(), 0);
+    for (size_t r = 0; r < parents.size(); ++r)
+        if (parents[r]) adjusted[r] = sort_out_loops(b, seeds, around, *parents[r], parts_of[r], by_label, retrace, leaving[r]);
+    std::vector<std::vector<uint32_t>> traced;
+    const bool traced_ok = trace_loops(b, touched_triangles, retrace, traced);
+    // The loops that left their parent go (swapped with the last: the order of loops is free).
+    for (size_t r = 0; r < parents.size(); ++r)
+        for (uint32_t k : leaving[r]) {
+            sim::VolumeConstraint& c = *parents[r];
+            c.cap_loops[k] = std::move(c.cap_loops.back()), c.cap_loops.pop_back();
+            c.cap_bounds[k] = c.cap_bounds.back(), c.cap_bounds.pop_back();
+        }
+    if (!traced_ok) {  // every loop of those parts counted again over their triangles
+        traced.clear();
+        for (size_t r = 0; r < parents.size(); ++r)
+            if (parents[r]) {
+                parents[r]->cap_loops.clear(), parents[r]->cap_bounds.clear(), adjusted[r] = 0;
+                for (Part& part : parts_of[r]) part.loops.clear(), part.loop_bounds.clear(), part.caps_six_v = 0.0;
+            }
         std::vector<mesh::Triangle> triangles;
         for (const mesh::Triangle& t : b.triangles)
-            if (part_of_label[b.piece_of_particle[t[0]]]) triangles.push_back(t);
-        loops = mesh::boundary_loops(triangles, b.particle_count());
+            if (by_label.part(b.piece_of_particle[t[0]])) triangles.push_back(t);
+        traced = mesh::boundary_loops(triangles, b.particle_count());
     }
-    for (auto& loop : loops)
-        if (Part* part = part_of_label[b.piece_of_particle[loop[0]]]) part->loops.push_back(std::move(loop));
-    return traced;
+    for (auto& loop : traced) {
+        const PartsByLabel::Entry* e = by_label.find(b.piece_of_particle[loop[0]]);
+        if (!e) continue;
+        const Vec4f bounds = rest_bounds(b, loop);
+        if (e->rest) {
+            e->part->caps_six_v += sim::cap_six_volume<float>(loop, b.particles.x);
+            e->rest->cap_loops.push_back(std::move(loop)), e->rest->cap_bounds.push_back(bounds);
+        } else {
+            add_loop(b, *e->part, std::move(loop), bounds, true);
+        }
+    }
+    for (size_t r = 0; r < parents.size(); ++r)
+        if (parents[r] && !adjusted[r]) parts_of[r].front().caps_six_v = sim::caps_six_volume<float>(parents[r]->cap_loops, b.particles.x);
+    return traced_ok;
 }
 
 // The rest of a piece that the local search left unexplored: its triangle count from the
@@ -146,6 +254,52 @@ void sum_rest(const sim::SoftBody& b, const sim::VolumeConstraint& parent, std::
         ++summed_whole;
     }
 }
+// What a parent constraint looked like just before the change, and how to remake it.
+struct Remake {
+    double caps_before = 0.0;
+    size_t loops_before = 0;
+    size_t first_new_triangle = 0;
+    VolumePolicy policy = VolumePolicy::cap;
+    float leak = 0.0f;
+};
+
+// The parent constraint becomes its rest's, in place (its untouched loops stay where they are);
+// the parts cut off get new constraints in `added`. Returns whether the parent is to go (its
+// rest_volume set negative): a piece that holds no air keeps no constraint.
+bool remake_constraints(const sim::SoftBody& b, sim::VolumeConstraint& c, std::vector<Part>& parts, const Remake& m,
+                        std::vector<sim::VolumeConstraint>& added, size_t& summed_whole) {
+    if (!parts.front().complete) sum_rest(b, c, std::span(parts).subspan(1), m.first_new_triangle, parts.front(), summed_whole);
+    // The parent's volume just before the change: the edit kept the surface where it was, so its
+    // parts' triangles sum to it; its old caps still close it.
+    double parent_now = m.caps_before;
+    for (const Part& part : parts) parent_now += part.six_v;
+    parent_now /= 6.0;
+    sim::VolumeConstraint parent;  // the targets' source, without the loops
+    parent.rest_volume = c.rest_volume, parent.pressure = c.pressure, parent.compliance = c.compliance, parent.leak = c.leak;
+    const size_t parent_triangles = c.triangle_count;
+    bool drop = false;
+    for (size_t k = 0; k < parts.size(); ++k) {
+        Part& part = parts[k];
+        sim::VolumeConstraint fresh;
+        sim::VolumeConstraint& v = k == 0 ? c : fresh;
+        v.piece = part.label;
+        v.triangle_count = part.triangles;
+        v.lambda = 0.0;
+        if (k > 0) v.cap_loops = std::move(part.loops), v.cap_bounds = std::move(part.loop_bounds);
+        const double now = (part.six_v + part.caps_six_v) / 6.0;
+        const bool unchanged = parts.size() == 1 && part.triangles == parent_triangles && v.cap_loops.size() == m.loops_before;
+        set_target(v, parent, unchanged, now, parent_now, m.policy, m.leak);
+        // The unexplored rest of a piece is far larger than what was cut off it: it holds the air
+        // it held. Its measures stay usable for a second cut in the same frame.
+        const double unmeasured = std::numeric_limits<double>::quiet_NaN();
+        v.measured_six_v = part.complete ? unmeasured : part.six_v;
+        v.measured_caps_six_v = part.complete ? unmeasured : part.caps_six_v;
+        const bool keep = v.rest_volume > 0.0 && (unchanged || !part.complete || holds_air(b, part, now));
+        if (k > 0 && keep) added.push_back(std::move(v));
+        if (k == 0 && !keep) v.rest_volume = -1.0, drop = true;
+    }
+    return drop;
+}
 } // namespace
 
 VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float leak, std::span<const uint32_t> touched_triangles,
@@ -158,10 +312,13 @@ VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float l
     for (uint32_t v : seeds) reached.push_back(b.piece_of_particle[v]);
     std::sort(reached.begin(), reached.end());
     reached.erase(std::unique(reached.begin(), reached.end()), reached.end());
-    std::vector<const sim::VolumeConstraint*> parents(reached.size(), nullptr);
-    for (const sim::VolumeConstraint& v : b.volumes)
-        if (auto it = std::lower_bound(reached.begin(), reached.end(), v.piece); it != reached.end() && *it == v.piece)
-            parents[size_t(it - reached.begin())] = &v;
+    std::vector<sim::VolumeConstraint*> parents(reached.size(), nullptr);
+    // The range test first: a shredded body has thousands of constraints the edit did not reach.
+    const uint32_t lowest = reached.empty() ? 1 : reached.front(), highest = reached.empty() ? 0 : reached.back();
+    for (sim::VolumeConstraint& v : b.volumes)
+        if (v.piece >= lowest && v.piece <= highest)
+            if (auto it = std::lower_bound(reached.begin(), reached.end(), v.piece); it != reached.end() && *it == v.piece)
+                parents[size_t(it - reached.begin())] = &v;
 
     // The local search may look at this many particles before it searches the pieces whole: a
     // few rings around the edit, or a sixteenth of the body (a cut through the middle of a large
@@ -173,37 +330,26 @@ VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float l
     result.searched_whole = search.searched_whole;
     result.pieces = b.pieces;
     if (std::none_of(parents.begin(), parents.end(), [](const auto* p) { return p != nullptr; })) return result;
+    // The parents' caps just before the change (their old loops still close them), read before
+    // the loops move to the parts.
+    std::vector<double> caps_before(reached.size(), 0.0);
+    std::vector<size_t> loops_before(reached.size(), 0);
+    for (size_t r = 0; r < reached.size(); ++r)
+        if (const sim::VolumeConstraint* c = parents[r]) {
+            caps_before[r] = std::isfinite(c->measured_caps_six_v) ? c->measured_caps_six_v
+                                                                   : sim::caps_six_volume<float>(c->cap_loops, b.particles.x);
+            loops_before[r] = c->cap_loops.size();
+        }
     result.loops_fell_back = !cap_parts(b, seeds, touched_triangles, parents, parts_of);
 
-    std::vector<sim::VolumeConstraint> out;
-    for (sim::VolumeConstraint& c : b.volumes) {
-        const auto it = std::lower_bound(reached.begin(), reached.end(), c.piece);
-        if (it == reached.end() || *it != c.piece) {  // a piece the change did not reach keeps its constraint as it was
-            out.push_back(std::move(c));
-            continue;
-        }
-        std::vector<Part>& parts = parts_of[size_t(it - reached.begin())];
-        if (!parts.front().complete) sum_rest(b, c, std::span(parts).subspan(1), first_new_triangle, parts.front(), result.summed_whole);
-        // The parent's volume just before the change: the edit kept the surface where it was,
-        // so its parts' triangles sum to it; its old caps still close it.
-        double parent_now = sim::caps_six_volume<float>(c.cap_loops, b.particles.x);
-        for (const Part& part : parts) parent_now += part.six_v;
-        parent_now /= 6.0;
-        for (Part& part : parts) {
-            sim::VolumeConstraint v;
-            v.piece = part.label;
-            v.triangle_count = part.triangles;
-            v.cap_loops = std::move(part.loops);
-            const double now = (part.six_v + sim::caps_six_volume<float>(v.cap_loops, b.particles.x)) / 6.0;
-            const bool unchanged = parts.size() == 1 && part.triangles == c.triangle_count && v.cap_loops.size() == c.cap_loops.size();
-            set_target(v, c, unchanged, now, parent_now, policy, leak);
-            // The unexplored rest of a piece is far larger than what was cut off it: it holds
-            // the air it held. Its measure stays usable for a second cut in the same frame.
-            if (!part.complete) v.measured_six_v = part.six_v;
-            if (v.rest_volume > 0.0 && (unchanged || !part.complete || holds_air(b, part, now))) out.push_back(std::move(v));
-        }
-    }
-    b.volumes = std::move(out);
+    std::vector<sim::VolumeConstraint> added;
+    bool dropped = false;
+    for (size_t r = 0; r < reached.size(); ++r)
+        if (parents[r])
+            dropped |= remake_constraints(b, *parents[r], parts_of[r], {caps_before[r], loops_before[r], first_new_triangle, policy, leak},
+                                          added, result.summed_whole);
+    if (dropped) std::erase_if(b.volumes, [](const sim::VolumeConstraint& v) { return v.rest_volume < 0.0; });
+    for (sim::VolumeConstraint& v : added) b.volumes.push_back(std::move(v));
     return result;
 }
 

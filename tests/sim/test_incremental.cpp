@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "mesh/procedural.h"
@@ -90,5 +91,37 @@ TEST_SUITE("sim/incremental") {
         CHECK(g.slots_reused > 0);
         CHECK(g.slots_appended > 0);
         CHECK(g.regroupings > 0);
+    }
+
+    TEST_CASE("a constraint that finds no dead slot goes into an existing colour, moving one constraint per later group") {
+        const uint32_t n = 64;
+        std::vector<sim::DistanceConstraint> c = ring_edges(n);
+        sim::DistanceGroups g = sim::make_distance_groups(c, n);
+        std::vector<float> lambda(c.size(), 0.0f);
+        for (size_t k = 0; k < lambda.size(); ++k) lambda[k] = float(k);  // follows its constraint when moved
+        const size_t groups = g.start.size() - 1;
+        REQUIRE(groups >= 2);
+        // Each ring vertex to a new particle: no removal, so no dead slot to take, and a ring vertex
+        // uses four of the colours, so one is free at both ends.
+        std::vector<sim::DistanceConstraint> add{{0, n, 3.0f, 0.5f}, {16, n + 1, 3.0f, 0.25f}, {8, n + 2, 3.0f, 0.125f}};
+        std::vector<std::pair<sim::DistanceConstraint, float>> kept;
+        for (size_t k = 0; k < c.size(); ++k) kept.push_back({c[k], lambda[k]});
+        const std::vector<uint32_t> placed = sim::replace_distance_constraints(c, g, lambda, n + 3, {}, add);
+        REQUIRE(sim::distance_groups_valid(c, g, n + 3));
+        CHECK(g.start.size() - 1 == groups);  // no group of their own
+        CHECK(g.colours_added == 0);
+        CHECK(g.regroupings == 0);
+        CHECK(g.slots_appended == add.size());
+        for (size_t k = 0; k < add.size(); ++k) {
+            REQUIRE(placed[k] < c.size());
+            CHECK((c[placed[k]].i == add[k].i && c[placed[k]].j == add[k].j));
+            CHECK(lambda[placed[k]] == 0.0f);
+        }
+        // Every constraint that was there still is, with its own multiplier.
+        for (const auto& [old, l] : kept) {
+            const auto at = std::find_if(c.begin(), c.end(), [&](const sim::DistanceConstraint& x) { return x.i == old.i && x.j == old.j; });
+            REQUIRE(at != c.end());
+            CHECK(lambda[size_t(at - c.begin())] == l);
+        }
     }
 }

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <cstdio>
 #include <random>
 
@@ -102,15 +103,25 @@ core::Result<nlohmann::json> measure_sequence(const std::string& spec, uint32_t 
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     // Slits a few edges long (1.5 to 3.5 mean rest edges in radius).
     const float edge = float(b.distance_groups.mean_rest());
+    nlohmann::json probe_phases = nlohmann::json::array();  // per probe: each phase's median ms
     auto probe = [&]() -> core::Result<double> {
         std::vector<double> ms;
+        std::vector<std::string> names;
+        std::vector<std::vector<double>> phase_ms;
         for (int k = 0; k < 7; ++k) {
             sim::SoftBody copy = b;
             sim::reserve_headroom(copy);
             auto change = topology::cut(copy, topology::local_cut_on(copy, pole, Vec3f::UnitX(), 2.5f * edge), options);
             if (!change.ok()) return change.error();
             ms.push_back(change->ms);
+            for (size_t p = 0; p < change->phases.size(); ++p) {
+                if (p == names.size()) names.push_back(change->phases[p].name), phase_ms.emplace_back();
+                phase_ms[p].push_back(change->phases[p].ms);
+            }
         }
+        nlohmann::json phases = nlohmann::json::object();
+        for (size_t p = 0; p < names.size(); ++p) phases[names[p]] = core::median(phase_ms[p]);
+        probe_phases.push_back(phases);
         return core::median(ms);
     };
     std::vector<double> probes;
@@ -144,6 +155,8 @@ core::Result<nlohmann::json> measure_sequence(const std::string& spec, uint32_t 
                           {"particles_before", particles_before},
                           {"particles_after", b.particle_count()},
                           {"pieces_after", b.pieces},
+                          {"cap_loops_after", std::accumulate(b.volumes.begin(), b.volumes.end(), size_t(0),
+                                                              [](size_t n, const sim::VolumeConstraint& v) { return n + v.cap_loops.size(); })},
                           {"seconds", total.elapsed_ms() / 1000.0},
                           {"probe_ms_before", probes[0]},
                           {"probe_ms_after_10", probes.size() > 2 ? probes[1] : probes[0]},
@@ -152,9 +165,10 @@ core::Result<nlohmann::json> measure_sequence(const std::string& spec, uint32_t 
                           {"last_median_ms", window(ms, last)},
                           {"first_median_crossed", window(crossed, 0)},
                           {"last_median_crossed", window(crossed, last)},
+                          {"probe_phases_ms", probe_phases},
                           {"ring_compactions", b.rings.ring.compactions()},
                           {"distance_regroupings", b.distance_groups.regroupings},
-                          {"distance_tail_regroupings", b.distance_groups.tail_regroupings}};
+                          {"distance_colours_added", b.distance_groups.colours_added}};
 }
 
 int print_sequence(const std::string& spec, uint32_t count, const topology::CutOptions& options, bool json) {
@@ -166,11 +180,16 @@ int print_sequence(const std::string& spec, uint32_t count, const topology::CutO
         return 0;
     }
     std::printf("%s: %u random scalpel cuts on one body, a frame between cuts (%.1f s)\n", spec.c_str(), count, j["seconds"].get<double>());
-    std::printf("  particles %zu -> %zu, pieces %zu; ring compactions %zu, colour regroupings %zu (whole) and %zu (tail)\n",
+    std::printf("  particles %zu -> %zu, pieces %zu, cap loops %zu; ring compactions %zu, colour regroupings %zu, colours added %zu\n",
                 j["particles_before"].get<size_t>(), j["particles_after"].get<size_t>(), j["pieces_after"].get<size_t>(),
-                j["ring_compactions"].get<size_t>(), j["distance_regroupings"].get<size_t>(), j["distance_tail_regroupings"].get<size_t>());
+                j["cap_loops_after"].get<size_t>(), j["ring_compactions"].get<size_t>(), j["distance_regroupings"].get<size_t>(), j["distance_colours_added"].get<size_t>());
     std::printf("  probe cut (the same slit at the pole, median of 7 copies): %.3f ms before, %.3f after 10 cuts, %.3f after %u\n",
                 j["probe_ms_before"].get<double>(), j["probe_ms_after_10"].get<double>(), j["probe_ms_after_last"].get<double>(), count);
+    const nlohmann::json& phases = j["probe_phases_ms"];
+    std::printf("  probe phases, ms (before, after 10, after %u):\n", count);
+    for (const auto& [name, before] : phases.front().items())
+        std::printf("    %-28s %8.3f %8.3f %8.3f\n", name.c_str(), before.get<double>(), phases[phases.size() > 2 ? 1 : 0].value(name, 0.0),
+                    phases.back().value(name, 0.0));
     std::printf("  the random cuts: 1-20 %.3f ms (median, %.0f crossed), last 20 %.3f ms (%.0f crossed)\n", j["first_median_ms"].get<double>(),
                 j["first_median_crossed"].get<double>(), j["last_median_ms"].get<double>(), j["last_median_crossed"].get<double>());
     return 0;
