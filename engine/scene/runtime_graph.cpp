@@ -68,7 +68,14 @@ core::Status SceneRuntime::build_graph() {
     add_surface_passes(g, surface, {splat_particles_, h_, scene_.surface.seed, tag(PassGroup::update)});
     h.samples = surface.samples;
     h.stretch = surface.stretch;
-    add_map_passes(h);
+    map_settings_.particles = splat_particles_;
+    map_settings_.cull_back = scene_.render.cull_back;
+    map_settings_.draw_ground = scene_.render.ground;
+    map_settings_.ground = scene_.simulation.colliders.ground;
+    MapHandles map{h.body, h.samples, h.stretch, h.sort, g.import("appearance", &appearance_), g.import("map settings", &map_settings_),
+                   g.import("mapping", mapping_.get()), h.input};
+    add_mapping_passes(g, map, {h.boundary, sd_surface.stretch_scale, h.sorted, options_.keep_records, tag(PassGroup::update)});
+    h.input = map.input;
     if (renderer_) add_view_passes(h);
     PBDSPLAT_TRY(g.compile());
     group_of_kept_pass_.clear();
@@ -107,41 +114,6 @@ void SceneRuntime::add_event_passes(GraphHandles& h) {
             topology_->run(body_, time_, dt, frame_input_.frame.camera, scene_.simulation.cut, follow, note_);
         };
     }, tag(PassGroup::events));
-}
-
-void SceneRuntime::add_map_passes(GraphHandles& h) {
-    const bool keep = options_.keep_records, boundary = h.boundary, sorted = h.sorted;
-    graph_.add_pass("map", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
-        b.read(h.body);
-        if (boundary) b.read(h.samples);
-        if (scene_.surface.stretch_scale) b.read(h.stretch);
-        h.input = b.write(h.input);
-        if (keep) b.side_effect();
-        return [this, boundary, sorted](const graph::PassResources&, graph::ExecuteContext&) {
-            MappingStage::Sources sources;
-            sources.body = &body_;
-            sources.particles = splat_particles_;
-            sources.samples = boundary && show_boundary_ ? &boundary_ : nullptr;
-            sources.stretch = stretch_.empty() ? nullptr : &stretch_;
-            mapping_->map(sources, appearance_);
-            BodyViewOptions view;
-            view.cull_back = scene_.render.cull_back;
-            view.closed = body_closed_;
-            view.opaque = frame_input_.frame.style.blend == render::Blend::over && appearance_.opacity_logit > math::logit(0.9f);
-            view.draw_ground = scene_.render.ground;
-            follow_body(body_.particles.x, scene_.simulation.colliders.ground, view, frame_input_.frame);
-            if (!sorted) mapping_->publish(frame_input_);  // else the sort stage reorders them first
-        };
-    }, tag(PassGroup::update));
-    graph_.add_pass("sort", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
-        b.read(h.sort);
-        h.input = b.write(h.input);
-        if (keep) b.side_effect();
-        return [this](const graph::PassResources&, graph::ExecuteContext&) {
-            mapping_->sort(frame_input_.frame.camera);
-            mapping_->publish(frame_input_);
-        };
-    }, tag(PassGroup::update));
 }
 
 void SceneRuntime::add_view_passes(GraphHandles& h) {
@@ -184,7 +156,7 @@ SurfaceFollow SceneRuntime::surface_follow() {
 
 core::Result<std::vector<uint32_t>> SceneRuntime::after_each_change(const topology::TopologyChange& change, const topology::CutSurface* cut) {
     // Only a cut or tear can open the boundary, and only where it touched.
-    if (body_closed_) body_closed_ = !opens_boundary(body_, change.touched_triangles);
+    if (map_settings_.closed) map_settings_.closed = !opens_boundary(body_, change.touched_triangles);
     mapping_->topology_changed(body_, change, splat_particles_);
     if (scene_.surface.mode != SurfaceMode::boundary) return std::vector<uint32_t>{};
     return carry_samples_across(surface_follow(), body_, change, cut);

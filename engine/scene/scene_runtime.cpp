@@ -91,7 +91,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
 size_t SceneRuntime::pieces() const { return body_.pieces; }
 
 void SceneRuntime::update_closed() {
-    body_closed_ = !body_.triangles.empty() && mesh::boundary_loops(body_.triangles, body_.particle_count()).empty();
+    map_settings_.closed = !body_.triangles.empty() && mesh::boundary_loops(body_.triangles, body_.particle_count()).empty();
 }
 
 

@@ -132,8 +132,8 @@ public:
     void set_environment_sampling(render::EnvSampling s) { frame_input_.frame.lighting.environment.sampling = s; }
     render::EnvSampling environment_sampling() const { return frame_input_.frame.lighting.environment.sampling; }
     // Hides or shows the boundary particles' splats (the particles' own stay).
-    void set_boundary_visible(bool visible) { show_boundary_ = visible; }
-    bool boundary_visible() const { return show_boundary_; }
+    void set_boundary_visible(bool visible) { map_settings_.show_boundary = visible; }
+    bool boundary_visible() const { return map_settings_.show_boundary; }
     // These change which passes run, so the graph is rebuilt.
     core::Status set_paused(bool paused);
     bool paused() const { return paused_; }
@@ -152,7 +152,6 @@ private:
     core::Status build_graph();  // runtime_graph.cpp, with the stages' passes below
     struct GraphHandles;
     void add_event_passes(GraphHandles& h);
-    void add_map_passes(GraphHandles& h);
     void add_view_passes(GraphHandles& h);
     RuntimeOptions options_;
     render::SplatOrder order_ = render::SplatOrder::unsorted;
@@ -163,7 +162,6 @@ private:
     bool camera_override_ = false;
     bool paused_ = false;
     bool readback_ = true;
-    bool show_boundary_ = true;
     DisplayView view_ = DisplayView::splats;
     float base_scale_multiplier_ = 1.0f;
     std::unique_ptr<render::MeshRaster> mesh_raster_;  // made when a view first shows the mesh
@@ -204,7 +202,7 @@ private:
     core::Status settle_changes(std::span<const uint32_t> touched, size_t seed_offset);
     SurfaceFollow surface_follow();
     // No open boundary: back-facing splats cannot show (kept from build and each topology change).
-    bool body_closed_ = false;
+    MapSettings map_settings_;  // what the map pass reads of the runtime (stages/mapping_stage.h)
     void update_closed();
     uint64_t frame_ = 0;
 };

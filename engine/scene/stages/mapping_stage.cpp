@@ -1,5 +1,7 @@
 #include "scene/stages/mapping_stage.h"
 
+#include "scene/stages/body_view.h"
+
 namespace pbdsplat::scene {
 
 MappingStage::MappingStage(const sim::SoftBody& body, uint32_t fade_frames, bool deformed) : fade_(fade_frames) {
@@ -32,6 +34,52 @@ void MappingStage::publish(passes::GpuFrameInput& input) {
 void MappingStage::topology_changed(const sim::SoftBody& body, const topology::TopologyChange& change, bool particles) {
     if (particles) fade_.add_particles(change.particles_before, change.new_particles());
     if (!deformed_.empty()) deformed_ = splat::DeformedShapes(body.rest_positions, body.triangles);
+}
+
+void add_mapping_passes(graph::FrameGraph& g, MapHandles& h, const MapPassOptions& o) {
+    g.add_pass("map", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
+        b.read(h.body);
+        if (o.boundary) b.read(h.samples);
+        if (o.stretch) b.read(h.stretch);
+        b.read(h.appearance);
+        b.read(h.settings);
+        h.mapping = b.write(h.mapping);
+        h.input = b.write(h.input);
+        if (o.keep_records) b.side_effect();
+        return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
+            const sim::SoftBody& body = r.get(hh.body);
+            const MapSettings& settings = r.get(hh.settings);
+            const splat::Appearance& look = r.get(hh.appearance);
+            MappingStage& mapping = r.get(hh.mapping);
+            passes::GpuFrameInput& input = r.get(hh.input);
+            MappingStage::Sources sources;
+            sources.body = &body;
+            sources.particles = settings.particles;
+            sources.samples = o.boundary && settings.show_boundary ? &r.get(hh.samples) : nullptr;
+            const splat::StretchScale* stretch = o.stretch ? &r.get(hh.stretch) : nullptr;
+            sources.stretch = stretch && !stretch->empty() ? stretch : nullptr;
+            mapping.map(sources, look);
+            BodyViewOptions view;
+            view.cull_back = settings.cull_back;
+            view.closed = settings.closed;
+            view.opaque = input.frame.style.blend == render::Blend::over && look.opacity_logit > math::logit(0.9f);
+            view.draw_ground = settings.draw_ground;
+            follow_body(body.particles.x, settings.ground, view, input.frame);
+            if (!o.sorted) mapping.publish(input);  // else the sort pass reorders them first
+        };
+    }, o.tag);
+    g.add_pass("sort", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
+        b.read(h.sort);
+        h.mapping = b.write(h.mapping);
+        h.input = b.write(h.input);
+        if (o.keep_records) b.side_effect();
+        return [hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
+            MappingStage& mapping = r.get(hh.mapping);
+            passes::GpuFrameInput& input = r.get(hh.input);
+            mapping.sort(input.frame.camera);
+            mapping.publish(input);
+        };
+    }, o.tag);
 }
 
 } // namespace pbdsplat::scene

@@ -3,10 +3,13 @@
 // and the boundary particles, their deformed shapes where the scene asks, the fade-in of
 // splats a cut added, the far-to-near CPU sort, and the hand-over to the GPU passes with the
 // byte ranges that changed since the last frame.
+#include <optional>
 #include <vector>
 
+#include "graph/frame_graph.h"
 #include "render/frame_inputs.h"
 #include "passes/gpu_passes.h"
+#include "sim/colliders.h"
 #include "sim/soft_body.h"
 #include "splat/deformed_shape.h"
 #include "splat/fade_in.h"
@@ -47,5 +50,38 @@ private:
     splat::FadeIn fade_;
     splat::SortScratch sort_scratch_;
 };
+
+// What the map pass reads of the runtime besides the body and the samples: settings that change
+// between frames (the user hides the boundary splats, a cut opens the body).
+struct MapSettings {
+    bool particles = true;      // the particles are splats (not under an embedded surface)
+    bool show_boundary = true;  // the boundary particles' splats are drawn
+    bool closed = false;        // the body has no open boundary now: its far side may be culled
+    bool cull_back = true;      // the scene allows that
+    bool draw_ground = true;
+    std::optional<sim::GroundPlane> ground;
+};
+
+// The resources of the map and sort passes. `samples`, `stretch` and `sort` may be absent (the
+// scene has no boundary particles, no stretch-scaled splats, no CPU sort): the flags in
+// add_mapping_passes say which are there.
+struct MapHandles {
+    graph::Handle<sim::SoftBody> body;
+    graph::Handle<surface::BoundaryParticles> samples;
+    graph::Handle<splat::StretchScale> stretch;
+    graph::Handle<splat::SortScratch> sort;
+    graph::Handle<splat::Appearance> appearance;
+    graph::Handle<MapSettings> settings;
+    graph::Handle<MappingStage> mapping;
+    graph::Handle<passes::GpuFrameInput> input;
+};
+struct MapPassOptions {
+    bool boundary = false, stretch = false, sorted = false;
+    bool keep_records = false;  // the caller reads the records every frame: the passes always run
+    uint32_t tag = 0;
+};
+// "map" (body -> records, the view follows the body, the records handed over unless sorted) and
+// "sort" (far to near on the CPU, then handed over); they reach their data through `h` only.
+void add_mapping_passes(graph::FrameGraph& g, MapHandles& h, const MapPassOptions& o);
 
 } // namespace pbdsplat::scene
