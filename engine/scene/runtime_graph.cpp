@@ -26,6 +26,8 @@ struct SceneRuntime::GraphHandles {
     graph::Handle<splat::StretchScale> stretch;
     graph::Handle<passes::ImageSink> sink;
     graph::Handle<std::vector<Event>> cuts;
+    graph::Handle<splat::Appearance> appearance;
+    graph::Handle<std::string> note;
     bool boundary = false, drags = false, sorted = false;
 };
 
@@ -55,10 +57,12 @@ core::Status SceneRuntime::build_graph() {
     h.sort = g.import("sort", h.sorted ? &mapping_->sort_scratch() : static_cast<splat::SortScratch*>(nullptr));
     h.stretch = g.import("stretch", sd_surface.stretch_scale ? &stretch_ : static_cast<splat::StretchScale*>(nullptr));
     h.sink = g.import("image", readback_ ? &sink_ : static_cast<passes::ImageSink*>(nullptr));
+    h.appearance = g.import("appearance", &appearance_);
+    h.note = g.import("note", &note_);
     h.cuts = g.import("topology events", topology_events ? &topology_->pending() : static_cast<std::vector<Event>*>(nullptr));
     // Paused: nothing moves, so no simulation stage runs; the frame is drawn again as it was.
     if (!paused_) {
-        add_event_passes(h);
+        add_frame_event_passes(h, has_events);
         SimulationHandles sim_handles{h.body, h.volumes, h.shapes, h.drag, h.colliders};
         add_simulation_passes(g, sim_handles, *solver_, sd.solver, sd.dt);
         h.body = sim_handles.body;
@@ -72,7 +76,7 @@ core::Status SceneRuntime::build_graph() {
     map_settings_.cull_back = scene_.render.cull_back;
     map_settings_.draw_ground = scene_.render.ground;
     map_settings_.ground = scene_.simulation.colliders.ground;
-    MapHandles map{h.body, h.samples, h.stretch, h.sort, g.import("appearance", &appearance_), g.import("map settings", &map_settings_),
+    MapHandles map{h.body, h.samples, h.stretch, h.sort, h.appearance, g.import("map settings", &map_settings_),
                    g.import("mapping", mapping_.get()), h.input};
     add_mapping_passes(g, map, {h.boundary, sd_surface.stretch_scale, h.sorted, options_.keep_records, tag(PassGroup::update)});
     h.input = map.input;
@@ -84,88 +88,64 @@ core::Status SceneRuntime::build_graph() {
     return core::Status::success();
 }
 
-void SceneRuntime::add_event_passes(GraphHandles& h) {
-    const float dt = scene_.simulation.dt;
-    graph_.add_pass("events", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
-        if (!options_.interactive) b.read(h.timeline);
-        h.body = b.write(h.body);
-        if (h.drags) h.drag = b.write(h.drag);
-        h.input = b.write(h.input);
-        return [this, dt](const graph::PassResources&, graph::ExecuteContext&) {
-            render::Camera scripted = frame_input_.frame.camera;
-            float opacity = math::sigmoid(appearance_.opacity_logit);
-            const float before = opacity;
-            timeline_->advance(time_, dt, body_, drag_, camera_override_ ? scripted : frame_input_.frame.camera, opacity);
-            if (opacity != before) appearance_.opacity_logit = math::logit(opacity);
-            if (user_drag_.active) drag_ = user_drag_;  // the hand wins over the script
-        };
-    }, tag(PassGroup::events));
-    graph_.add_pass("topology", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
-        b.read(h.cuts);
-        h.body = b.write(h.body);
-        // What a change re-samples, only where the scene has it: an absent resource culls a
-        // pass that declares it (vertices-only scenes lost their cuts so).
-        if (h.boundary) h.samples = b.write(h.samples), h.density = b.write(h.density);
-        if (scene_.surface.stretch_scale) h.stretch = b.write(h.stretch);
-        return [this, dt](const graph::PassResources&, graph::ExecuteContext&) {
-            TopologyStage::Follow follow;
-            follow.each = [this](const topology::TopologyChange& c, const topology::CutSurface* cut) { return after_each_change(c, cut); };
-            follow.settle = [this](std::span<const uint32_t> touched, size_t seed_offset) { return settle_changes(touched, seed_offset); };
-            topology_->run(body_, time_, dt, frame_input_.frame.camera, scene_.simulation.cut, follow, note_);
-        };
-    }, tag(PassGroup::events));
+void SceneRuntime::add_frame_event_passes(GraphHandles& h, bool has_events) {
+    graph::FrameGraph& g = graph_;
+    const SimulationDesc& sd = scene_.simulation;
+    ChangeFollowers::Targets targets;
+    targets.samples = h.boundary ? &boundary_ : nullptr;
+    targets.fine_vertices = &fine_vertices_;
+    targets.density = &density_;
+    targets.mapping = mapping_.get();
+    targets.map_settings = &map_settings_;
+    targets.stretch = &stretch_;
+    targets.h = h_, targets.seed = scene_.surface.seed, targets.fade_frames = sd.fade_frames;
+    targets.edge_samples = scene_.surface.edge_samples;
+    followers_ = std::make_unique<ChangeFollowers>(targets);
+    EventHandles events{g.import("frame control", &control_), h.timeline, h.cuts, g.import("topology stage", topology_.get()),
+                        g.import("change followers", followers_.get()), h.body, h.drag, h.appearance,
+                        h.input, h.samples, h.density, h.stretch, h.note};
+    EventPassOptions o;
+    o.dt = sd.dt, o.interactive = options_.interactive, o.timeline = has_events;
+    o.drags = h.drags, o.boundary = h.boundary, o.stretch = scene_.surface.stretch_scale;
+    o.cut = sd.cut;
+    o.tag = tag(PassGroup::events);
+    add_event_passes(g, events, o);
+    h.body = events.body, h.drag = events.drag, h.input = events.input, h.samples = events.samples;
+    h.density = events.density, h.stretch = events.stretch, h.appearance = events.appearance, h.note = events.note;
 }
 
 void SceneRuntime::add_view_passes(GraphHandles& h) {
     graph::FrameGraph& g = graph_;
     const auto drawn = passes::add_gpu_passes(g, *renderer_, gpu_resources_, h.input, h.sink, order_ == render::SplatOrder::gpu,
                                               tag(PassGroup::gpu_record));
-    passes::PresentSources sources{drawn, {}, renderer_->width(), renderer_->height(), [this] { return renderer_->slot(); }};
+    passes::PresentSources sources{drawn, {}, renderer_->width(), renderer_->height(),
+                                   [renderer = renderer_.get()] { return renderer->slot(); }};
     if (mesh_raster_ && (view_ == DisplayView::mesh || view_ == DisplayView::side_by_side)) {
         auto mesh_color = g.import("mesh colour", &mesh_color_);
         auto mesh_depth = g.import("mesh depth", &mesh_depth_);
+        auto raster = g.import("mesh raster", mesh_raster_.get());
+        auto splats = g.import("splat renderer", renderer_.get());
         g.add_pass("mesh", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
             b.read(h.body);
             b.read(h.input);
+            b.read(h.appearance);
+            b.read(splats);
+            raster = b.write(raster);
+            h.note = b.write(h.note);
             mesh_color = b.write(mesh_color, passes::to_graph(render::uses::color_attachment));
             b.write(mesh_depth, passes::to_graph(render::uses::depth_attachment));
-            return [this](const graph::PassResources&, graph::ExecuteContext& c) {
-                const uint32_t slot = renderer_->slot();
-                if (const core::Status s = mesh_raster_->set_mesh(body_.particles.x, body_.triangles, body_.normals, slot); !s.ok())
-                    note_ = "mesh view: " + s.error().to_string();  // drawn with the last mesh that fitted
-                mesh_raster_->draw(c.cmd, frame_input_.frame, render::MeshView::shaded, appearance_.albedo, slot);
+            return [hh = h, raster, splats](const graph::PassResources& r, graph::ExecuteContext& c) {
+                render::MeshRaster& mesh = r.get(raster);
+                const sim::SoftBody& body = r.get(hh.body);
+                const uint32_t slot = r.get(splats).slot();
+                if (const core::Status s = mesh.set_mesh(body.particles.x, body.triangles, body.normals, slot); !s.ok())
+                    r.get(hh.note) = "mesh view: " + s.error().to_string();  // drawn with the last mesh that fitted
+                mesh.draw(c.cmd, r.get(hh.input).frame, render::MeshView::shaded, r.get(hh.appearance).albedo, slot);
             };
         });
         sources.mesh = mesh_color;
     }
     if (options_.presenter) options_.presenter->add_passes(g, sources);
-}
-
-SurfaceFollow SceneRuntime::surface_follow() {
-    SurfaceFollow f;
-    f.samples = &boundary_;
-    f.fine_vertices = fine_vertices_ ? &*fine_vertices_ : nullptr;
-    f.density = &density_;
-    f.h = h_;
-    f.seed = scene_.surface.seed;
-    f.fade_frames = scene_.simulation.fade_frames;
-    f.edge_samples = scene_.surface.edge_samples;
-    f.particles_are_splats = splat_particles_;
-    return f;
-}
-
-core::Result<std::vector<uint32_t>> SceneRuntime::after_each_change(const topology::TopologyChange& change, const topology::CutSurface* cut) {
-    // Only a cut or tear can open the boundary, and only where it touched.
-    if (map_settings_.closed) map_settings_.closed = !opens_boundary(body_, change.touched_triangles);
-    mapping_->topology_changed(body_, change, splat_particles_);
-    if (scene_.surface.mode != SurfaceMode::boundary) return std::vector<uint32_t>{};
-    return carry_samples_across(surface_follow(), body_, change, cut);
-}
-
-core::Status SceneRuntime::settle_changes(std::span<const uint32_t> touched, size_t seed_offset) {
-    if (scene_.surface.mode == SurfaceMode::boundary) refill_touched(surface_follow(), body_, touched, seed_offset);
-    if (!stretch_.empty()) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
-    return core::Status::success();
 }
 
 } // namespace pbdsplat::scene

@@ -34,7 +34,7 @@ Vec3f pixel_ray(const render::Camera& c, const Vec2f& pixel, const Vec2f& size) 
 
 void SceneRuntime::set_camera(const render::Camera& camera) {
     frame_input_.frame.camera = camera;
-    camera_override_ = true;
+    control_.camera_override = true;
 }
 
 bool SceneRuntime::begin_drag(const Vec2f& pixel, const Vec2f& view_size) {
@@ -45,23 +45,23 @@ bool SceneRuntime::begin_drag(const Vec2f& pixel, const Vec2f& view_size) {
     if (!picked) return false;
     const Vec3f forward = (c.target - c.eye).normalized();
     drag_depth_ = (sim::xyz(body_.particles.x[*picked]) - c.eye).dot(forward);
-    user_drag_.particle = *picked;
-    user_drag_.target = sim::xyz(body_.particles.x[*picked]);
-    user_drag_.stiffness = DragEvent{}.stiffness;
-    user_drag_.active = true;
+    control_.user_drag.particle = *picked;
+    control_.user_drag.target = sim::xyz(body_.particles.x[*picked]);
+    control_.user_drag.stiffness = DragEvent{}.stiffness;
+    control_.user_drag.active = true;
     return true;
 }
 
 void SceneRuntime::move_drag(const Vec2f& pixel, const Vec2f& view_size) {
-    if (!user_drag_.active) return;
+    if (!control_.user_drag.active) return;
     const render::Camera& c = frame_input_.frame.camera;
     const Vec3f ray = pixel_ray(c, pixel, view_size);
     const float along = ray.dot((c.target - c.eye).normalized());
-    if (along > 1e-4f) user_drag_.target = c.eye + ray * (drag_depth_ / along);
+    if (along > 1e-4f) control_.user_drag.target = c.eye + ray * (drag_depth_ / along);
 }
 
 void SceneRuntime::end_drag() {
-    user_drag_.active = false;
+    control_.user_drag.active = false;
     drag_.active = false;
 }
 

@@ -122,7 +122,7 @@ core::Status SceneRuntime::step() {
     }
     if (!topology_->status().ok()) return topology_->status();
     if (renderer_) PBDSPLAT_TRY(frame_input_.upload_status);
-    if (!paused_) time_ += scene_.simulation.dt;
+    if (!paused_) control_.time += scene_.simulation.dt;
     ++frame_;
 
     FrameStats s;
@@ -130,7 +130,7 @@ core::Status SceneRuntime::step() {
     s.tears = topology_->tears();
     s.topology_ms = topology_->ms();
     s.frame = frame_;
-    s.time = time_;
+    s.time = control_.time;
     s.particles = body_.particle_count();
     s.boundary_particles = boundary_.size();
     s.density = density_stats_;

@@ -11,6 +11,8 @@
 #include "graph/frame_graph.h"
 #include "passes/gpu_passes.h"
 #include "scene/scene.h"
+#include "scene/stages/change_follow.h"
+#include "scene/stages/event_stage.h"
 #include "scene/stages/pass_group.h"
 #include "scene/stages/mapping_stage.h"
 #include "scene/stages/surface_stage.h"
@@ -105,7 +107,7 @@ public:
     const Scene& scene() const { return scene_; }
     // What the most recent cut or tear did (empty before any).
     const topology::TopologyChange& last_topology_change() const { return topology_->last_change(); }
-    float time() const { return time_; }
+    float time() const { return control_.time; }
     // Connected pieces of the body now (a cut or tear may have split it).
     size_t pieces() const;
 
@@ -121,7 +123,7 @@ public:
     // Moves the grabbed particle's target under `pixel`, at the depth it was grabbed at.
     void move_drag(const Vec2f& pixel, const Vec2f& view_size);
     void end_drag();
-    bool dragging() const { return user_drag_.active; }
+    bool dragging() const { return control_.user_drag.active; }
     // A cut along the stroke a -> b, applied at the next step. A stroke that cuts nothing, or
     // fails, is reported by interaction_note() and the run goes on.
     void queue_cut(const Vec2f& a, const Vec2f& b, const Vec2f& view_size);
@@ -151,15 +153,13 @@ private:
     // The frame graph for the current settings; run again when one that changes it does.
     core::Status build_graph();  // runtime_graph.cpp, with the stages' passes below
     struct GraphHandles;
-    void add_event_passes(GraphHandles& h);
+    void add_frame_event_passes(GraphHandles& h, bool has_events);
     void add_view_passes(GraphHandles& h);
     RuntimeOptions options_;
     render::SplatOrder order_ = render::SplatOrder::unsorted;
     render::SplatOrder sorted_order_ = render::SplatOrder::cpu;  // what set_sorted(true) picks
-    sim::DragConstraint user_drag_;
     float drag_depth_ = 0.0f;
     std::string note_;
-    bool camera_override_ = false;
     bool paused_ = false;
     bool readback_ = true;
     DisplayView view_ = DisplayView::splats;
@@ -191,16 +191,14 @@ private:
     std::vector<PassGroup> group_of_kept_pass_;  // the Table 3 group of each kept pass, in execution order
     FrameStats stats_;
     std::vector<double> last_pass_ms_;
-    float time_ = 0.0f;
+    FrameControl control_;  // the frame's time, the user's camera and drag (stages/event_stage.h)
     float h_ = 0.0f;  // sampling spacing
     bool splat_particles_ = true;  // the particles are splats too (not with an embedded surface)
     std::unique_ptr<TopologyStage> topology_;  // scripted cuts and tears, the user's strokes
     std::unique_ptr<MappingStage> mapping_;    // body -> Gaussians -> the GPU passes
     // Everything downstream of the mesh follows each change: samples, fades, stretch.
     // The topology stage's follow-up (TopologyStage::Follow): after each change, and once after the frame's.
-    core::Result<std::vector<uint32_t>> after_each_change(const topology::TopologyChange& change, const topology::CutSurface* cut);
-    core::Status settle_changes(std::span<const uint32_t> touched, size_t seed_offset);
-    SurfaceFollow surface_follow();
+    std::unique_ptr<ChangeFollowers> followers_;  // what reacts to a topology change
     // No open boundary: back-facing splats cannot show (kept from build and each topology change).
     MapSettings map_settings_;  // what the map pass reads of the runtime (stages/mapping_stage.h)
     void update_closed();

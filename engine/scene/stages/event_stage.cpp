@@ -1,0 +1,64 @@
+#include "scene/stages/event_stage.h"
+
+namespace pbdsplat::scene {
+
+namespace {
+
+void add_timeline_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOptions& o) {
+    g.add_pass("events", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
+        // An interactive run keeps the pass for the user's drag, with or without a timeline.
+        if (!o.interactive) b.read(h.timeline);
+        b.read(h.control);
+        h.body = b.write(h.body);
+        if (o.drags) h.drag = b.write(h.drag);
+        h.appearance = b.write(h.appearance);
+        h.input = b.write(h.input);
+        const bool has_timeline = o.timeline;
+        return [o, has_timeline, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
+            const FrameControl& control = r.get(hh.control);
+            passes::GpuFrameInput& input = r.get(hh.input);
+            splat::Appearance& look = r.get(hh.appearance);
+            sim::DragConstraint no_drag;
+            sim::DragConstraint& drag = o.drags ? r.get(hh.drag) : no_drag;
+            // A camera the user took over is not the script's to move: it moves a copy.
+            render::Camera scripted = input.frame.camera;
+            float opacity = math::sigmoid(look.opacity_logit);
+            const float before = opacity;
+            if (has_timeline)
+                r.get(hh.timeline).advance(control.time, o.dt, r.get(hh.body), drag, control.camera_override ? scripted : input.frame.camera,
+                                           opacity);
+            if (opacity != before) look.opacity_logit = math::logit(opacity);
+            if (control.user_drag.active) drag = control.user_drag;  // the hand wins over the script
+        };
+    }, o.tag);
+}
+
+void add_topology_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOptions& o) {
+    g.add_pass("topology", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
+        b.read(h.cuts);
+        b.read(h.control);
+        b.read(h.input);
+        h.topology = b.write(h.topology);
+        h.followers = b.write(h.followers);
+        h.body = b.write(h.body);
+        h.note = b.write(h.note);
+        // What a change re-samples, only where the scene has it: an absent resource culls a
+        // pass that declares it (vertices-only scenes lost their cuts so).
+        if (o.boundary) h.samples = b.write(h.samples), h.density = b.write(h.density);
+        if (o.stretch) h.stretch = b.write(h.stretch);
+        return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
+            sim::SoftBody& body = r.get(hh.body);
+            const TopologyStage::Follow follow = r.get(hh.followers).follow(body);
+            r.get(hh.topology).run(body, r.get(hh.control).time, o.dt, r.get(hh.input).frame.camera, o.cut, follow, r.get(hh.note));
+        };
+    }, o.tag);
+}
+
+} // namespace
+
+void add_event_passes(graph::FrameGraph& g, EventHandles& h, const EventPassOptions& o) {
+    add_timeline_pass(g, h, o);
+    add_topology_pass(g, h, o);
+}
+
+} // namespace pbdsplat::scene
