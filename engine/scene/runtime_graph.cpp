@@ -78,7 +78,7 @@ core::Status SceneRuntime::build_graph() {
     map_settings_.ground = scene_.simulation.colliders.ground;
     MapHandles map{h.body, h.samples, h.stretch, h.sort, h.appearance, g.import("map settings", &map_settings_),
                    g.import("mapping", mapping_.get()), h.input};
-    add_mapping_passes(g, map, {h.boundary, sd_surface.stretch_scale, h.sorted, options_.keep_records, tag(PassGroup::update)});
+    add_mapping_passes(g, map, {h.boundary, sd_surface.stretch_scale, h.sorted, options_.keep_records, !paused_, tag(PassGroup::update)});
     h.input = map.input;
     if (renderer_) add_view_passes(h);
     PBDSPLAT_TRY(g.compile());

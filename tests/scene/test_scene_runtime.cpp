@@ -6,6 +6,7 @@
 #include <set>
 
 #include "mesh/model_path.h"
+#include "mesh/procedural.h"
 #include "scene/default_scene.h"
 #include "scene/scene_model.h"
 #include "scene/scene_file.h"
@@ -245,6 +246,33 @@ TEST_SUITE("scene/runtime") {
         passes::changed_ranges(a, b, ranges);
         REQUIRE(ranges.size() == 1);
         CHECK(ranges[0].size == b.size() * sizeof(splat::GaussianRecord));
+    }
+
+    TEST_CASE("a frame that moved the body uploads every record without comparing; a paused one only what changed") {
+        auto made = sim::make_soft_body(mesh::icosphere(2), {});
+        REQUIRE(made.ok());
+        const sim::SoftBody& body = made.value();
+        scene::MappingStage mapping(body, 10, false);
+        scene::MappingStage::Sources sources;
+        sources.body = &body;
+        splat::Appearance look;
+        passes::GpuFrameInput input;
+        mapping.map(sources, look);
+        input.changed.push_back({0, 0});
+        mapping.publish(input, true);
+        CHECK(input.changed.empty());  // everything
+        CHECK(input.records.size() == body.particle_count());
+        mapping.publish(input, false);  // what the GPU holds is not known here: everything again
+        CHECK(input.changed.empty());
+        mapping.map(sources, look);
+        mapping.publish(input, false);  // nothing changed since
+        REQUIRE(input.changed.size() == 1);
+        CHECK(input.changed[0].size == 0);
+        look.opacity_logit += 1.0f;     // a setting changed while paused: every record differs
+        mapping.map(sources, look);
+        mapping.publish(input, false);
+        REQUIRE(input.changed.size() == 1);
+        CHECK(input.changed[0].size == body.particle_count() * sizeof(splat::GaussianRecord));
     }
 }
 

@@ -24,11 +24,18 @@ void MappingStage::sort(const render::Camera& c) {
     splat::sort_far_to_near(records_, shapes_, math::look_at(c.eye, c.target, c.up), sort_scratch_);
 }
 
-void MappingStage::publish(passes::GpuFrameInput& input) {
+void MappingStage::publish(passes::GpuFrameInput& input, bool moved) {
     input.records = records_;
     input.shapes = shapes_;
-    passes::changed_ranges(previous_, records_, input.changed);
+    if (moved) {
+        input.changed.clear();  // everything
+        previous_valid_ = false;
+        return;
+    }
+    if (previous_valid_) passes::changed_ranges(previous_, records_, input.changed);
+    else input.changed.clear();
     previous_ = records_;
+    previous_valid_ = true;
 }
 
 void MappingStage::topology_changed(const sim::SoftBody& body, const topology::TopologyChange& change, bool particles) {
@@ -65,7 +72,7 @@ void add_mapping_passes(graph::FrameGraph& g, MapHandles& h, const MapPassOption
             view.opaque = input.frame.style.blend == render::Blend::over && look.opacity_logit > math::logit(0.9f);
             view.draw_ground = settings.draw_ground;
             follow_body(body.particles.x, settings.ground, view, input.frame);
-            if (!o.sorted) mapping.publish(input);  // else the sort pass reorders them first
+            if (!o.sorted) mapping.publish(input, o.moved);  // else the sort pass reorders them first
         };
     }, o.tag);
     g.add_pass("sort", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
@@ -73,11 +80,11 @@ void add_mapping_passes(graph::FrameGraph& g, MapHandles& h, const MapPassOption
         h.mapping = b.write(h.mapping);
         h.input = b.write(h.input);
         if (o.keep_records) b.side_effect();
-        return [hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
+        return [moved = o.moved, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
             MappingStage& mapping = r.get(hh.mapping);
             passes::GpuFrameInput& input = r.get(hh.input);
             mapping.sort(input.frame.camera);
-            mapping.publish(input);
+            mapping.publish(input, moved);
         };
     }, o.tag);
 }

@@ -33,8 +33,11 @@ public:
     };
     void map(const Sources& s, const splat::Appearance& look);
     void sort(const render::Camera& camera);
-    // Hands the records (and shapes) to the GPU passes with what changed.
-    void publish(passes::GpuFrameInput& input);
+    // Hands the records (and shapes) to the GPU passes with what changed. `moved`: the body was
+    // simulated this frame, so every record changed: all of them go, without comparing them with
+    // the last frame's (a copy and a compare of every record per frame). A frame that did not
+    // move the body (paused) compares, and uploads only what a sort or a setting changed.
+    void publish(passes::GpuFrameInput& input, bool moved);
     // New particles fade in; the deformed shapes follow the new triangles.
     void topology_changed(const sim::SoftBody& body, const topology::TopologyChange& change, bool particles);
 
@@ -44,7 +47,8 @@ public:
 
 private:
     std::vector<splat::GaussianRecord> records_;
-    std::vector<splat::GaussianRecord> previous_;  // what the GPU holds: for the changed ranges
+    std::vector<splat::GaussianRecord> previous_;  // what the GPU holds, when previous_valid_: for the changed ranges
+    bool previous_valid_ = false;
     std::vector<splat::GaussianShape> shapes_;     // parallel to records_ with deformed shapes
     splat::DeformedShapes deformed_;
     splat::FadeIn fade_;
@@ -78,6 +82,7 @@ struct MapHandles {
 struct MapPassOptions {
     bool boundary = false, stretch = false, sorted = false;
     bool keep_records = false;  // the caller reads the records every frame: the passes always run
+    bool moved = true;          // the frame simulates the body (not paused)
     uint32_t tag = 0;
 };
 // "map" (body -> records, the view follows the body, the records handed over unless sorted) and
