@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <unordered_map>
 
 #include "core/assert.h"
 
@@ -101,14 +102,17 @@ void add_slot_of(SlackLists<uint32_t>& lists, uint32_t v, uint32_t slot, std::ve
 // Where the constraints added by one call went, kept up to date as inserting moves slots.
 struct Placement {
     std::vector<uint32_t> slot_of_added;
-    std::vector<std::pair<uint32_t, uint32_t>> added_at;  // (slot, added index), few
+    std::unordered_map<uint32_t, uint32_t> added_at;  // slot -> added index (a cut through a large body adds thousands)
     void moved(uint32_t from, uint32_t to) {
-        for (auto& [slot, k] : added_at)
-            if (slot == from) slot = to, slot_of_added[k] = to;
+        const auto it = added_at.find(from);
+        if (it == added_at.end()) return;
+        const uint32_t k = it->second;
+        added_at.erase(it);
+        added_at[to] = k, slot_of_added[k] = to;
     }
     void place(uint32_t k, uint32_t slot) {
         slot_of_added[k] = slot;
-        added_at.push_back({slot, k});
+        added_at[slot] = k;
     }
 };
 

@@ -270,8 +270,6 @@ void Edit::update_distance_constraints() {
                 default_compliance = c.compliance;
                 break;
             }
-    std::vector<uint32_t> removed_slots;
-    for (const Definition& d : removed) removed_slots.push_back(d.slot);
     // By key for lookups; of two constraints on one edge the later slot defines it.
     std::stable_sort(removed.begin(), removed.end(), [](const Definition& x, const Definition& y) { return x.key < y.key; });
     auto definition = [&](uint64_t key) -> const Definition* {
@@ -284,11 +282,14 @@ void Edit::update_distance_constraints() {
     for (uint32_t t : local)
         for (int k = 0; k < 3; ++k) emitted.push_back(edge_key(b_.triangles[t][size_t(k)], b_.triangles[t][size_t((k + 1) % 3)]));
     sort_unique(emitted);  // each new edge once, in key order (deterministic)
+    std::vector<uint32_t> kept_slots;  // edges the edit left as they were keep their constraint where it is
     for (const uint64_t key : emitted) {
         const uint32_t a = uint32_t(key >> 32), c = uint32_t(key);
         const uint32_t oa = origin(a), oc = origin(c);
         if (const Definition* d = definition(edge_key(oa, oc))) {
-            added.push_back({a, c, d->rest, d->compliance});
+            // Both ends the particles they were (not split off, not new): the same constraint.
+            if (a == oa && c == oc) kept_slots.push_back(d->slot);
+            else added.push_back({a, c, d->rest, d->compliance});
             continue;
         }
         if (!is_edge_point(oa) && !is_edge_point(oc)) continue;  // an edge nobody constrained
@@ -302,6 +303,11 @@ void Edit::update_distance_constraints() {
         if ((other == ep.i || other == ep.j) && parent) rest = parent->rest * (other == ep.i ? ep.t : 1.0f - ep.t);
         added.push_back({a, c, rest, compliance});
     }
+    std::sort(kept_slots.begin(), kept_slots.end());
+    std::vector<uint32_t> removed_slots;
+    for (const Definition& d : removed)
+        if (!std::binary_search(kept_slots.begin(), kept_slots.end(), d.slot)) removed_slots.push_back(d.slot);
+    std::sort(removed_slots.begin(), removed_slots.end());
     sim::replace_distance_constraints(b_.distance, b_.distance_groups, b_.distance_lambda, b_.particle_count(), removed_slots, added);
     change.constraints_removed = removed_slots.size();
     change.constraints_added = added.size();
