@@ -6,6 +6,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/names.h"
 #include "core/math.h"
 #include "render/frame_inputs.h"
 #include "render/splat_pass.h"
@@ -26,6 +27,7 @@ struct ModelDesc {
 };
 
 enum class SurfaceMode { boundary, vertices };
+inline constexpr core::EnumName<SurfaceMode> k_surface_mode_names[] = {{SurfaceMode::boundary, "boundary"}, {SurfaceMode::vertices, "vertices"}};
 
 struct SurfaceDesc {
     SurfaceMode mode = SurfaceMode::boundary;  // boundary particles, or mesh vertices only (Fig. 14a)

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <span>
+#include <variant>
 
 #include <toml++/toml.h>
 
@@ -155,70 +157,120 @@ private:
     std::string file_;
 };
 
+// The plain keys of a section, described once: their name, where the value lives in the
+// section's struct, and their range. read_keys and write_keys both walk the same table, so a key
+// cannot be read and forgotten by the writer (or the other way round). Keys with more to them
+// (enums, optional values, arrays, nested tables) are read and written beside the table.
+template <class D>
+struct Key {
+    using Real = float& (*)(D&);
+    using Count = uint32_t& (*)(D&);
+    using Flag = bool& (*)(D&);
+    using Vec3 = Vec3f& (*)(D&);
+    using Text = std::string& (*)(D&);
+    const char* name;
+    std::variant<Real, Count, Flag, Vec3, Text> at;
+    double lo = -1e6, hi = 1e6;
+};
+// `member` is an expression on `d`, the section's struct: KEY(SurfaceDesc, "eta", eta, 0.05, 4.0).
+#define PBDSPLAT_KEY(D, name, member, ...) \
+    Key<D> { name, +[](D& d) -> decltype(auto) { return (d.member); }, __VA_ARGS__ }
+
+template <class... F>
+struct Overloaded : F... {
+    using F::operator()...;
+};
+
+template <class D>
+void read_keys(Reader::Table& t, D& d, std::span<const Key<D>> keys) {
+    for (const Key<D>& k : keys)
+        std::visit(Overloaded{[&](typename Key<D>::Real f) { f(d) = t.real(k.name, f(d), k.lo, k.hi); },
+                              [&](typename Key<D>::Count f) { f(d) = t.count(k.name, f(d), uint32_t(k.lo), uint32_t(k.hi)); },
+                              [&](typename Key<D>::Flag f) { f(d) = t.flag(k.name, f(d)); },
+                              [&](typename Key<D>::Vec3 f) { f(d) = t.vec<3>(k.name, f(d), k.lo, k.hi); },
+                              [&](typename Key<D>::Text f) { f(d) = t.text(k.name, f(d)); }},
+                   k.at);
+}
+
+const Key<ModelDesc> k_model_keys[] = {
+    PBDSPLAT_KEY(ModelDesc, "mesh", mesh),
+    PBDSPLAT_KEY(ModelDesc, "fit", fit, 0.0, 1e4),
+    PBDSPLAT_KEY(ModelDesc, "translate", translate),
+    PBDSPLAT_KEY(ModelDesc, "rotate_degrees", rotate_degrees, -3600, 3600),
+    PBDSPLAT_KEY(ModelDesc, "scale", scale, 1e-6, 1e6),
+    PBDSPLAT_KEY(ModelDesc, "close_holes", close_holes),
+};
+const Key<MaterialDesc> k_material_keys[] = {
+    PBDSPLAT_KEY(MaterialDesc, "color", color, 0.0, 1.0),
+    PBDSPLAT_KEY(MaterialDesc, "opacity", opacity, 1e-4, 0.9999),
+    PBDSPLAT_KEY(MaterialDesc, "shininess", shininess, 1.0, 10000.0),
+    PBDSPLAT_KEY(MaterialDesc, "diffuse", diffuse, 0.0, 10.0),
+    PBDSPLAT_KEY(MaterialDesc, "specular", specular, 0.0, 10.0),
+    PBDSPLAT_KEY(MaterialDesc, "splat_scale", splat_scale, 0.01, 10.0),
+};
+// After `mode`.
+const Key<SurfaceDesc> k_surface_keys[] = {
+    PBDSPLAT_KEY(SurfaceDesc, "eta", eta, 0.05, 4.0),
+    PBDSPLAT_KEY(SurfaceDesc, "stretch_scale", stretch_scale),
+    PBDSPLAT_KEY(SurfaceDesc, "seed", seed, 0, 0x7fffffff),
+    PBDSPLAT_KEY(SurfaceDesc, "edge_samples", edge_samples),
+    PBDSPLAT_KEY(SurfaceDesc, "density", density.enabled),
+    PBDSPLAT_KEY(SurfaceDesc, "density_grow", density.grow, 1.05, 4.0),
+    PBDSPLAT_KEY(SurfaceDesc, "density_shrink", density.shrink, 0.2, 0.95),
+    PBDSPLAT_KEY(SurfaceDesc, "density_retire_spacing", density.retire_spacing, 0.3, 1.0),
+    PBDSPLAT_KEY(SurfaceDesc, "density_insert_spacing", density.insert_spacing, 0.3, 1.0),
+    PBDSPLAT_KEY(SurfaceDesc, "density_settle_frames", density.settle_frames, 1, 60),
+    PBDSPLAT_KEY(SurfaceDesc, "density_budget", density.budget, 1, 1u << 20),
+};
+// After `mode`; `particles`, `cut_volume`, the pins and the colliders beside it.
+const Key<SimulationDesc> k_simulation_keys[] = {
+    PBDSPLAT_KEY(SimulationDesc, "dt", dt, 1.0 / 1000.0, 1.0 / 10.0),
+    PBDSPLAT_KEY(SimulationDesc, "iterations", solver.iterations, 1, 1000),
+    PBDSPLAT_KEY(SimulationDesc, "substeps", solver.substeps, 1, 1000),
+    PBDSPLAT_KEY(SimulationDesc, "stiffness", solver.stretch_stiffness, 1e-4, 1.0),
+    PBDSPLAT_KEY(SimulationDesc, "compliance", compliance, 0.0, 1e3),
+    PBDSPLAT_KEY(SimulationDesc, "volume", solver.volume),
+    PBDSPLAT_KEY(SimulationDesc, "volume_stiffness", solver.volume_stiffness, 1e-4, 1.0),
+    PBDSPLAT_KEY(SimulationDesc, "volume_compliance", volume_compliance, 0.0, 1e3),
+    PBDSPLAT_KEY(SimulationDesc, "shape_stiffness", solver.shape_stiffness, 0.0, 1.0),
+    PBDSPLAT_KEY(SimulationDesc, "shape_compliance", solver.shape_compliance, 0.0, 1e3),
+    PBDSPLAT_KEY(SimulationDesc, "pressure", pressure, 0.01, 100.0),
+    PBDSPLAT_KEY(SimulationDesc, "gravity", solver.gravity, -1000, 1000),
+    PBDSPLAT_KEY(SimulationDesc, "damping", solver.damping, 0.0, 1000.0),
+    PBDSPLAT_KEY(SimulationDesc, "mass", mass, 1e-6, 1e6),
+    PBDSPLAT_KEY(SimulationDesc, "friction", friction, 0.0, 10.0),
+    PBDSPLAT_KEY(SimulationDesc, "cut_snap", cut.snap, 0.0, 0.45),
+    PBDSPLAT_KEY(SimulationDesc, "fade_frames", fade_frames, 1, 600),
+};
+
 Vec3f normalized_or_fail(const Reader& r, const toml::node* n, const Vec3f& v, const std::string& key) {
     if (v.norm() < 1e-6f) r.fail(n ? n->source() : toml::source_region{}, "'" + key + "' must not be the zero vector");
     return v.normalized();
 }
 
 void read_model(const Reader& r, Reader::Table& t, ModelDesc& m) {
-    m.mesh = t.text("mesh", m.mesh);
-    m.fit = t.real("fit", m.fit, 0.0, 1e4);
-    m.translate = t.vec<3>("translate", m.translate);
-    m.rotate_degrees = t.vec<3>("rotate_degrees", m.rotate_degrees, -3600, 3600);
-    m.scale = t.real("scale", m.scale, 1e-6, 1e6);
-    m.close_holes = t.flag("close_holes", m.close_holes);
+    read_keys<ModelDesc>(t, m, k_model_keys);
     (void)r;
     t.finish();
 }
 
 void read_material(Reader::Table& t, MaterialDesc& m) {
-    m.color = t.vec<3>("color", m.color, 0.0, 1.0);
-    m.opacity = t.real("opacity", m.opacity, 1e-4, 0.9999);
-    m.shininess = t.real("shininess", m.shininess, 1.0, 10000.0);
-    m.diffuse = t.real("diffuse", m.diffuse, 0.0, 10.0);
-    m.specular = t.real("specular", m.specular, 0.0, 10.0);
-    m.splat_scale = t.real("splat_scale", m.splat_scale, 0.01, 10.0);
+    read_keys<MaterialDesc>(t, m, k_material_keys);
     t.finish();
 }
 
 void read_surface(Reader::Table& t, SurfaceDesc& d) {
-    d.mode = t.choice("mode", "boundary", {"boundary", "vertices"}) == "vertices" ? SurfaceMode::vertices : SurfaceMode::boundary;
-    d.eta = t.real("eta", d.eta, 0.05, 4.0);
-    d.stretch_scale = t.flag("stretch_scale", d.stretch_scale);
-    d.seed = t.count("seed", d.seed, 0, 0x7fffffff);
-    d.edge_samples = t.flag("edge_samples", d.edge_samples);
-    d.density.enabled = t.flag("density", d.density.enabled);
-    d.density.grow = t.real("density_grow", d.density.grow, 1.05, 4.0);
-    d.density.shrink = t.real("density_shrink", d.density.shrink, 0.2, 0.95);
-    d.density.retire_spacing = t.real("density_retire_spacing", d.density.retire_spacing, 0.3, 1.0);
-    d.density.insert_spacing = t.real("density_insert_spacing", d.density.insert_spacing, 0.3, 1.0);
-    d.density.settle_frames = t.count("density_settle_frames", d.density.settle_frames, 1, 60);
-    d.density.budget = t.count("density_budget", d.density.budget, 1, 1u << 20);
+    d.mode = t.named<SurfaceMode>("mode", SurfaceMode::boundary, k_surface_mode_names);
+    read_keys<SurfaceDesc>(t, d, k_surface_keys);
     t.finish();
 }
 
 void read_simulation(const Reader& r, Reader::Table& t, SimulationDesc& s) {
     sim::SolverSettings& solver = s.solver;
     solver.mode = t.named<sim::SolverMode>("mode", sim::SolverMode::paper, sim::k_solver_mode_names);
-    s.dt = t.real("dt", s.dt, 1.0 / 1000.0, 1.0 / 10.0);
-    solver.iterations = t.count("iterations", solver.iterations, 1, 1000);
-    solver.substeps = t.count("substeps", solver.substeps, 1, 1000);
-    solver.stretch_stiffness = t.real("stiffness", solver.stretch_stiffness, 1e-4, 1.0);
-    s.compliance = t.real("compliance", s.compliance, 0.0, 1e3);
-    solver.volume = t.flag("volume", solver.volume);
-    solver.volume_stiffness = t.real("volume_stiffness", solver.volume_stiffness, 1e-4, 1.0);
-    solver.shape_stiffness = t.real("shape_stiffness", solver.shape_stiffness, 0.0, 1.0);
-    solver.shape_compliance = t.real("shape_compliance", solver.shape_compliance, 0.0, 1e3);
+    read_keys<SimulationDesc>(t, s, k_simulation_keys);
     if (t.has("particles")) s.particles = t.count("particles", 0, 0, 10'000'000);
-    s.volume_compliance = t.real("volume_compliance", s.volume_compliance, 0.0, 1e3);
-    s.pressure = t.real("pressure", s.pressure, 0.01, 100.0);
-    solver.gravity = t.vec<3>("gravity", solver.gravity, -1000, 1000);
-    solver.damping = t.real("damping", solver.damping, 0.0, 1000.0);
-    s.mass = t.real("mass", s.mass, 1e-6, 1e6);
-    s.friction = t.real("friction", s.friction, 0.0, 10.0);
     s.cut.volume = t.named<topology::VolumePolicy>("cut_volume", topology::VolumePolicy::cap, topology::k_volume_policy_names);
-    s.cut.snap = float(t.real("cut_snap", s.cut.snap, 0.0, 0.45));
-    s.fade_frames = t.count("fade_frames", s.fade_frames, 1, 600);
     if (const toml::array* pins = t.array("pins"))
         for (const toml::node& p : *pins) {
             auto i = p.as_integer();
@@ -535,38 +587,35 @@ std::string quoted(const std::string& t) {
     return o + "\"";
 }
 
+template <class D>
+void write_keys(std::ostream& o, const D& section, std::span<const Key<D>> keys) {
+    D d = section;  // the accessors take the struct as the reader fills it
+    for (const Key<D>& k : keys) {
+        o << k.name << " = ";
+        std::visit(Overloaded{[&](typename Key<D>::Real f) { o << num(f(d)); }, [&](typename Key<D>::Count f) { o << f(d); },
+                              [&](typename Key<D>::Flag f) { o << (f(d) ? "true" : "false"); },
+                              [&](typename Key<D>::Vec3 f) { o << vec<3>(f(d)); }, [&](typename Key<D>::Text f) { o << quoted(f(d)); }},
+                   k.at);
+        o << "\n";
+    }
+}
+
 // One writer per section, in the order a reader meets them.
 void write_model_material_surface(std::ostream& o, const Scene& sc) {
-    const ModelDesc& m = sc.model;
-    o << "[model]\nmesh = " << quoted(m.mesh) << "\nfit = " << num(m.fit) << "\ntranslate = " << vec<3>(m.translate)
-      << "\nrotate_degrees = " << vec<3>(m.rotate_degrees) << "\nscale = " << num(m.scale)
-      << "\nclose_holes = " << (m.close_holes ? "true" : "false") << "\n\n";
-    const MaterialDesc& mat = sc.material;
-    o << "[material]\ncolor = " << vec<3>(mat.color) << "\nopacity = " << num(mat.opacity) << "\nshininess = "
-      << num(mat.shininess) << "\ndiffuse = " << num(mat.diffuse) << "\nspecular = " << num(mat.specular)
-      << "\nsplat_scale = " << num(mat.splat_scale) << "\n\n";
-    const SurfaceDesc& sf = sc.surface;
-    o << "[surface]\nmode = " << (sf.mode == SurfaceMode::vertices ? "\"vertices\"" : "\"boundary\"") << "\neta = " << num(sf.eta)
-      << "\nstretch_scale = " << (sf.stretch_scale ? "true" : "false") << "\nseed = " << sf.seed
-      << "\nedge_samples = " << (sf.edge_samples ? "true" : "false")
-      << "\ndensity = " << (sf.density.enabled ? "true" : "false") << "\ndensity_grow = " << num(sf.density.grow)
-      << "\ndensity_shrink = " << num(sf.density.shrink) << "\ndensity_retire_spacing = " << num(sf.density.retire_spacing)
-      << "\ndensity_insert_spacing = " << num(sf.density.insert_spacing)
-      << "\ndensity_settle_frames = " << sf.density.settle_frames
-      << "\ndensity_budget = " << sf.density.budget << "\n\n";
+    o << "[model]\n";
+    write_keys<ModelDesc>(o, sc.model, k_model_keys);
+    o << "\n[material]\n";
+    write_keys<MaterialDesc>(o, sc.material, k_material_keys);
+    o << "\n[surface]\nmode = \"" << core::name_of<SurfaceMode>(k_surface_mode_names, sc.surface.mode) << "\"\n";
+    write_keys<SurfaceDesc>(o, sc.surface, k_surface_keys);
+    o << "\n";
 }
 
 void write_simulation(std::ostream& o, const Scene& sc) {
     const SimulationDesc& s = sc.simulation;
-    o << "[simulation]\nmode = \"" << core::name_of<sim::SolverMode>(sim::k_solver_mode_names, s.solver.mode) << "\"\ndt = " << num(s.dt)
-      << "\niterations = " << s.solver.iterations << "\nsubsteps = " << s.solver.substeps
-      << "\nstiffness = " << num(s.solver.stretch_stiffness) << "\ncompliance = " << num(s.compliance)
-      << "\nvolume = " << (s.solver.volume ? "true" : "false") << "\nvolume_stiffness = " << num(s.solver.volume_stiffness)
-      << "\nvolume_compliance = " << num(s.volume_compliance) << "\nshape_stiffness = " << num(s.solver.shape_stiffness)
-      << "\nshape_compliance = " << num(s.solver.shape_compliance) << "\npressure = " << num(s.pressure)
-      << "\ngravity = " << vec<3>(s.solver.gravity) << "\ndamping = " << num(s.solver.damping) << "\nmass = " << num(s.mass)
-      << "\nfriction = " << num(s.friction) << "\ncut_volume = \"" << topology::volume_policy_name(s.cut.volume)
-      << "\"\ncut_snap = " << num(s.cut.snap) << "\nfade_frames = " << s.fade_frames;
+    o << "[simulation]\nmode = \"" << core::name_of<sim::SolverMode>(sim::k_solver_mode_names, s.solver.mode) << "\"\n";
+    write_keys<SimulationDesc>(o, s, k_simulation_keys);
+    o << "cut_volume = \"" << topology::volume_policy_name(s.cut.volume) << "\"";
     if (s.particles) o << "\nparticles = " << *s.particles;
     o << "\npins = [";
     for (size_t i = 0; i < s.pins.size(); ++i) o << (i ? ", " : "") << s.pins[i];
