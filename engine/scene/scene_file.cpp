@@ -569,7 +569,7 @@ std::string vec(const Eigen::Matrix<float, N, 1>& v) {
 }
 // A TOML basic string: quotes, backslashes and control characters escaped (found by fuzzing:
 // a mesh name with an escaped newline was written back raw, and the file no longer parsed).
-std::string quoted(const std::string& t) {
+std::string toml_string(const std::string& t) {
     std::string o = "\"";
     for (const char c : t) {
         const auto u = static_cast<unsigned char>(c);
@@ -594,7 +594,7 @@ void write_keys(std::ostream& o, const D& section, std::span<const Key<D>> keys)
         o << k.name << " = ";
         std::visit(Overloaded{[&](typename Key<D>::Real f) { o << num(f(d)); }, [&](typename Key<D>::Count f) { o << f(d); },
                               [&](typename Key<D>::Flag f) { o << (f(d) ? "true" : "false"); },
-                              [&](typename Key<D>::Vec3 f) { o << vec<3>(f(d)); }, [&](typename Key<D>::Text f) { o << quoted(f(d)); }},
+                              [&](typename Key<D>::Vec3 f) { o << vec<3>(f(d)); }, [&](typename Key<D>::Text f) { o << toml_string(f(d)); }},
                    k.at);
         o << "\n";
     }
@@ -659,7 +659,7 @@ void write_render(std::ostream& o, const Scene& sc) {
     o << "\npath = \"" << (d.splat_path ? render::splat_path_name(*d.splat_path) : "auto") << "\"\nenvironment = \""
       << render::env_sampling_name(l.environment.sampling) << "\"\nenvironment_intensity = " << num(l.environment.intensity)
       << "\nenvironment_diffuse = " << num(l.environment.diffuse) << "\nenvironment_specular = " << num(l.environment.specular);
-    if (!d.environment_map.empty()) o << "\nenvironment_map = " << quoted(d.environment_map);
+    if (!d.environment_map.empty()) o << "\nenvironment_map = " << toml_string(d.environment_map);
     o << "\nlights = [";
     for (size_t i = 0; i < l.lights.size(); ++i) {
         const render::Light& g = l.lights[i];
