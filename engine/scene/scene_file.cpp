@@ -243,6 +243,46 @@ const Key<SimulationDesc> k_simulation_keys[] = {
     PBDSPLAT_KEY(SimulationDesc, "fade_frames", fade_frames, 1, 600),
 };
 
+// After `blend`, `sort_on`, `shading`, `footprint`, `carrier` and `splat_shape`.
+const Key<RenderDesc> k_render_keys[] = {
+    PBDSPLAT_KEY(RenderDesc, "width", width, 16, 16384),
+    PBDSPLAT_KEY(RenderDesc, "height", height, 16, 16384),
+    PBDSPLAT_KEY(RenderDesc, "sort", sort),
+    PBDSPLAT_KEY(RenderDesc, "surfel_thickness", surfel_thickness, 0.01, 1.0),
+    PBDSPLAT_KEY(RenderDesc, "ground", ground),
+    PBDSPLAT_KEY(RenderDesc, "cull_back", cull_back),
+    PBDSPLAT_KEY(RenderDesc, "kappa", frame.style.kappa, 0.0, 6.0),
+    PBDSPLAT_KEY(RenderDesc, "depth_min_alpha", frame.style.depth_min_alpha, 0.0, 0.99),
+    PBDSPLAT_KEY(RenderDesc, "depth_push", frame.style.depth_push, 0.0, 10.0),
+    PBDSPLAT_KEY(RenderDesc, "environment_intensity", frame.lighting.environment.intensity, 0.0, 100.0),
+    PBDSPLAT_KEY(RenderDesc, "environment_diffuse", frame.lighting.environment.diffuse, 0.0, 100.0),
+    PBDSPLAT_KEY(RenderDesc, "environment_specular", frame.lighting.environment.specular, 0.0, 100.0),
+};
+// [render.camera], before `orbit_degrees_per_second` and `path`.
+const Key<render::Camera> k_camera_keys[] = {
+    PBDSPLAT_KEY(render::Camera, "eye", eye),
+    PBDSPLAT_KEY(render::Camera, "target", target),
+    PBDSPLAT_KEY(render::Camera, "up", up),
+    PBDSPLAT_KEY(render::Camera, "fov_degrees", fov_y_degrees, 1.0, 170.0),
+};
+// [render.light]: the key light.
+const Key<render::Lighting> k_key_light_keys[] = {
+    PBDSPLAT_KEY(render::Lighting, "direction", direction),  // normalised where it is used
+    PBDSPLAT_KEY(render::Lighting, "color", color, 0.0, 100.0),
+    PBDSPLAT_KEY(render::Lighting, "intensity", intensity, 0.0, 100.0),
+    PBDSPLAT_KEY(render::Lighting, "ambient", ambient, 0.0, 100.0),
+};
+// One entry of render.lights, after `type`.
+const Key<render::Light> k_light_keys[] = {
+    PBDSPLAT_KEY(render::Light, "position", position),
+    PBDSPLAT_KEY(render::Light, "direction", direction),
+    PBDSPLAT_KEY(render::Light, "color", color, 0.0, 100.0),
+    PBDSPLAT_KEY(render::Light, "intensity", intensity, 0.0, 1000.0),
+    PBDSPLAT_KEY(render::Light, "range", range, 1e-3, 1e6),
+    PBDSPLAT_KEY(render::Light, "inner_degrees", inner_degrees, 0.0, 89.0),
+    PBDSPLAT_KEY(render::Light, "outer_degrees", outer_degrees, 0.1, 89.9),
+};
+
 Vec3f normalized_or_fail(const Reader& r, const toml::node* n, const Vec3f& v, const std::string& key) {
     if (v.norm() < 1e-6f) r.fail(n ? n->source() : toml::source_region{}, "'" + key + "' must not be the zero vector");
     return v.normalized();
@@ -320,31 +360,23 @@ void read_simulation(const Reader& r, Reader::Table& t, SimulationDesc& s) {
 
 // The splats' look and the frame: size, blending, sorting, footprint, shape, depth.
 void read_splat_look(const Reader& r, Reader::Table& t, RenderDesc& d) {
-    d.width = t.count("width", d.width, 16, 16384);
-    d.height = t.count("height", d.height, 16, 16384);
+    read_keys<RenderDesc>(t, d, k_render_keys);
     render::SplatStyle& style = d.frame.style;
     style.blend = t.choice("blend", "over", {"over", "additive"}) == "additive" ? render::Blend::additive : render::Blend::over;
-    d.sort = t.flag("sort", d.sort);
     const std::string sort_on = t.choice("sort_on", "auto", {"auto", "cpu", "gpu"});
     if (sort_on == "cpu") d.sort_on = render::SplatOrder::cpu;
     else if (sort_on == "gpu") d.sort_on = render::SplatOrder::gpu;
     d.shading = t.choice("shading", "fragment", {"fragment", "corner"}) == "corner" ? render::SplatShading::corner
                                                                                     : render::SplatShading::fragment;
     style.footprint = t.named<render::Footprint>("footprint", style.footprint, render::k_footprint_names);
-    style.kappa = t.real("kappa", style.kappa, 0.0, 6.0);
     if (style.kappa > 0.0f && style.kappa < 0.5f)
         r.fail(t.source_of("kappa"), "'render.kappa' = " + std::to_string(style.kappa) +
                                          " is too small to draw: 0 (the footprint's default) or at least 0.5");
     style.sharpness = t.vec<2>("sharpness", style.sharpness, 0.1, 4.0);
     d.carrier = t.named<render::SplatCarrier>("carrier", render::SplatCarrier::quad, render::k_splat_carrier_names);
-    d.cull_back = t.flag("cull_back", d.cull_back);
     const std::string shape = t.choice("splat_shape", "round", {"round", "surfel", "deformed"});
     d.splat_shape = shape == "surfel" ? SplatShape::surfel : shape == "deformed" ? SplatShape::deformed : SplatShape::round;
-    d.surfel_thickness = t.real("surfel_thickness", d.surfel_thickness, 0.01, 1.0);
     style.surfel_thickness = d.splat_shape == SplatShape::surfel ? d.surfel_thickness : 0.0f;
-    d.ground = t.flag("ground", d.ground);
-    style.depth_min_alpha = t.real("depth_min_alpha", style.depth_min_alpha, 0.0, 0.99);
-    style.depth_push = t.real("depth_push", style.depth_push, 0.0, 10.0);
     const Vec3f bg = t.vec<3>("background", Vec3f(d.frame.background.head<3>()), 0.0, 1.0);
     d.frame.background = Vec4f(bg.x(), bg.y(), bg.z(), 1.0f);
 }
@@ -353,10 +385,7 @@ void read_camera(const Reader& r, Reader::Table& t, RenderDesc& d) {
     if (const toml::table* cam = t.table("camera")) {
         Reader::Table c(r, *cam, "render.camera");
         render::Camera& k = d.frame.camera;
-        k.eye = c.vec<3>("eye", k.eye);
-        k.target = c.vec<3>("target", k.target);
-        k.up = c.vec<3>("up", k.up);
-        k.fov_y_degrees = c.real("fov_degrees", k.fov_y_degrees, 1.0, 170.0);
+        read_keys<render::Camera>(c, k, k_camera_keys);
         d.orbit.degrees_per_second = c.real("orbit_degrees_per_second", d.orbit.degrees_per_second, -3600, 3600);
         if ((k.eye - k.target).norm() < 1e-6f) r.fail(cam->source(), "'render.camera': eye and target coincide");
         if (const toml::array* path = c.array("path")) {
@@ -379,9 +408,6 @@ void read_camera(const Reader& r, Reader::Table& t, RenderDesc& d) {
 void read_environment(const Reader& r, Reader::Table& t, RenderDesc& d) {
     render::Environment& env = d.frame.lighting.environment;
     env.sampling = t.named<render::EnvSampling>("environment", render::EnvSampling::position, render::k_env_sampling_names);
-    env.intensity = t.real("environment_intensity", env.intensity, 0.0, 100.0);
-    env.diffuse = t.real("environment_diffuse", env.diffuse, 0.0, 100.0);
-    env.specular = t.real("environment_specular", env.specular, 0.0, 100.0);
     if (t.has("environment_map")) {
         d.environment_map = t.text("environment_map", "");
         if (d.environment_map.empty())
@@ -410,14 +436,8 @@ void read_lights(const Reader& r, Reader::Table& t, RenderDesc& d) {
             render::Light l;
             const std::string type = lt.choice("type", "point", {"point", "spot", "directional"});
             l.type = type == "spot" ? render::LightType::spot : type == "directional" ? render::LightType::directional : render::LightType::point;
-            l.position = lt.vec<3>("position", l.position);
-            l.direction = lt.vec<3>("direction", l.direction);
+            read_keys<render::Light>(lt, l, k_light_keys);
             if (l.direction.norm() < 1e-6f) r.fail(n.source(), "'render.lights.direction' must not be the zero vector");
-            l.color = lt.vec<3>("color", l.color, 0.0, 100.0);
-            l.intensity = lt.real("intensity", l.intensity, 0.0, 1000.0);
-            l.range = lt.real("range", l.range, 1e-3, 1e6);
-            l.inner_degrees = lt.real("inner_degrees", l.inner_degrees, 0.0, 89.0);
-            l.outer_degrees = lt.real("outer_degrees", l.outer_degrees, 0.1, 89.9);
             if (l.outer_degrees <= l.inner_degrees) r.fail(n.source(), "'render.lights': outer_degrees must exceed inner_degrees");
             lt.finish();
             d.frame.lighting.lights.push_back(l);
@@ -426,11 +446,8 @@ void read_lights(const Reader& r, Reader::Table& t, RenderDesc& d) {
     if (const toml::table* light = t.table("light")) {
         Reader::Table l(r, *light, "render.light");
         render::Lighting& g = d.frame.lighting;
-        g.direction = l.vec<3>("direction", g.direction);  // normalised where it is used
+        read_keys<render::Lighting>(l, g, k_key_light_keys);
         if (g.direction.norm() < 1e-6f) r.fail(light->source(), "'render.light.direction' must not be the zero vector");
-        g.color = l.vec<3>("color", g.color, 0.0, 100.0);
-        g.intensity = l.real("intensity", g.intensity, 0.0, 100.0);
-        g.ambient = l.vec<3>("ambient", g.ambient, 0.0, 100.0);
         l.finish();
     }
 }
@@ -587,16 +604,18 @@ std::string toml_string(const std::string& t) {
     return o + "\"";
 }
 
+// One "name = value" per line, or `separator`-joined (an inline table's entries).
 template <class D>
-void write_keys(std::ostream& o, const D& section, std::span<const Key<D>> keys) {
+void write_keys(std::ostream& o, const D& section, std::span<const Key<D>> keys, const char* separator = nullptr) {
     D d = section;  // the accessors take the struct as the reader fills it
     for (const Key<D>& k : keys) {
+        if (separator && &k != keys.data()) o << separator;
         o << k.name << " = ";
         std::visit(Overloaded{[&](typename Key<D>::Real f) { o << num(f(d)); }, [&](typename Key<D>::Count f) { o << f(d); },
                               [&](typename Key<D>::Flag f) { o << (f(d) ? "true" : "false"); },
                               [&](typename Key<D>::Vec3 f) { o << vec<3>(f(d)); }, [&](typename Key<D>::Text f) { o << toml_string(f(d)); }},
                    k.at);
-        o << "\n";
+        if (!separator) o << "\n";
     }
 }
 
@@ -646,37 +665,37 @@ void write_render(std::ostream& o, const Scene& sc) {
     const RenderDesc& d = sc.render;
     const render::Camera& c = d.frame.camera;
     const render::Lighting& l = d.frame.lighting;
-    o << "[render]\nwidth = " << d.width << "\nheight = " << d.height << "\nblend = "
-      << (d.frame.style.blend == render::Blend::additive ? "\"additive\"" : "\"over\"") << "\nsort = " << (d.sort ? "true" : "false")
+    o << "[render]\n";
+    write_keys<RenderDesc>(o, d, k_render_keys);
+    o << "blend = " << (d.frame.style.blend == render::Blend::additive ? "\"additive\"" : "\"over\"")
       << "\nsort_on = \"" << (d.sort_on ? render::splat_order_name(*d.sort_on) : "auto") << "\"\nshading = \""
       << (d.shading == render::SplatShading::corner ? "corner" : "fragment") << "\""
       << "\nfootprint = \"" << render::footprint_name(d.frame.style.footprint) << "\""
       << "\nsharpness = " << vec<2>(d.frame.style.sharpness)
       << "\ncarrier = \"" << core::name_of<render::SplatCarrier>(render::k_splat_carrier_names, d.carrier) << "\""
-      << "\nsplat_shape = \"" << splat_shape_name(d.splat_shape) << "\"\nsurfel_thickness = " << num(d.surfel_thickness)
-      << "\nground = " << (d.ground ? "true" : "false") << "\ncull_back = " << (d.cull_back ? "true" : "false")
-      << "\nkappa = " << num(d.frame.style.kappa) << "\ndepth_min_alpha = " << num(d.frame.style.depth_min_alpha) << "\ndepth_push = " << num(d.frame.style.depth_push) << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()));
+      << "\nsplat_shape = \"" << splat_shape_name(d.splat_shape) << "\""
+      << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()));
     o << "\npath = \"" << (d.splat_path ? render::splat_path_name(*d.splat_path) : "auto") << "\"\nenvironment = \""
-      << render::env_sampling_name(l.environment.sampling) << "\"\nenvironment_intensity = " << num(l.environment.intensity)
-      << "\nenvironment_diffuse = " << num(l.environment.diffuse) << "\nenvironment_specular = " << num(l.environment.specular);
+      << render::env_sampling_name(l.environment.sampling) << "\"";
     if (!d.environment_map.empty()) o << "\nenvironment_map = " << toml_string(d.environment_map);
     o << "\nlights = [";
     for (size_t i = 0; i < l.lights.size(); ++i) {
         const render::Light& g = l.lights[i];
         o << (i ? ", " : "") << "{ type = \"" << (g.type == render::LightType::spot ? "spot" : g.type == render::LightType::directional ? "directional" : "point")
-          << "\", position = " << vec<3>(g.position) << ", direction = " << vec<3>(g.direction) << ", color = " << vec<3>(g.color)
-          << ", intensity = " << num(g.intensity) << ", range = " << num(g.range) << ", inner_degrees = " << num(g.inner_degrees)
-          << ", outer_degrees = " << num(g.outer_degrees) << " }";
+          << "\", ";
+        write_keys<render::Light>(o, g, k_light_keys, ", ");
+        o << " }";
     }
-    o << "]\n\n[render.camera]\neye = " << vec<3>(c.eye) << "\ntarget = " << vec<3>(c.target) << "\nup = " << vec<3>(c.up)
-      << "\nfov_degrees = " << num(c.fov_y_degrees) << "\norbit_degrees_per_second = " << num(d.orbit.degrees_per_second)
+    o << "]\n\n[render.camera]\n";
+    write_keys<render::Camera>(o, c, k_camera_keys);
+    o << "orbit_degrees_per_second = " << num(d.orbit.degrees_per_second)
       << "\npath = [";
     for (size_t i = 0; i < d.path.size(); ++i)
         o << (i ? ", " : "") << "{ time = " << num(d.path[i].time) << ", eye = " << vec<3>(d.path[i].eye)
           << ", target = " << vec<3>(d.path[i].target) << " }";
     o << "]"
-      << "\n\n[render.light]\ndirection = " << vec<3>(l.direction) << "\ncolor = " << vec<3>(l.color) << "\nintensity = "
-      << num(l.intensity) << "\nambient = " << vec<3>(l.ambient) << "\n";
+      << "\n\n[render.light]\n";
+    write_keys<render::Lighting>(o, l, k_key_light_keys);
 }
 
 void write_events(std::ostream& o, const Scene& sc) {
