@@ -12,6 +12,8 @@
 
 #include <toml++/toml.h>
 
+#include "scene/scene_keys.h"
+
 #include "render/environment.h"
 
 namespace pbdsplat::scene {
@@ -157,29 +159,7 @@ private:
     std::string file_;
 };
 
-// The plain keys of a section, described once: their name, where the value lives in the
-// section's struct, and their range. read_keys and write_keys both walk the same table, so a key
-// cannot be read and forgotten by the writer (or the other way round). Keys with more to them
-// (enums, optional values, arrays, nested tables) are read and written beside the table.
-template <class D>
-struct Key {
-    using Real = float& (*)(D&);
-    using Count = uint32_t& (*)(D&);
-    using Flag = bool& (*)(D&);
-    using Vec3 = Vec3f& (*)(D&);
-    using Text = std::string& (*)(D&);
-    const char* name;
-    std::variant<Real, Count, Flag, Vec3, Text> at;
-    double lo = -1e6, hi = 1e6;
-};
-// `member` is an expression on `d`, the section's struct: KEY(SurfaceDesc, "eta", eta, 0.05, 4.0).
-#define PBDSPLAT_KEY(D, name, member, ...) \
-    Key<D> { name, +[](D& d) -> decltype(auto) { return (d.member); }, __VA_ARGS__ }
-
-template <class... F>
-struct Overloaded : F... {
-    using F::operator()...;
-};
+using namespace keys;
 
 template <class D>
 void read_keys(Reader::Table& t, D& d, std::span<const Key<D>> keys) {
@@ -191,97 +171,6 @@ void read_keys(Reader::Table& t, D& d, std::span<const Key<D>> keys) {
                               [&](typename Key<D>::Text f) { f(d) = t.text(k.name, f(d)); }},
                    k.at);
 }
-
-const Key<ModelDesc> k_model_keys[] = {
-    PBDSPLAT_KEY(ModelDesc, "mesh", mesh),
-    PBDSPLAT_KEY(ModelDesc, "fit", fit, 0.0, 1e4),
-    PBDSPLAT_KEY(ModelDesc, "translate", translate),
-    PBDSPLAT_KEY(ModelDesc, "rotate_degrees", rotate_degrees, -3600, 3600),
-    PBDSPLAT_KEY(ModelDesc, "scale", scale, 1e-6, 1e6),
-    PBDSPLAT_KEY(ModelDesc, "close_holes", close_holes),
-};
-const Key<MaterialDesc> k_material_keys[] = {
-    PBDSPLAT_KEY(MaterialDesc, "color", color, 0.0, 1.0),
-    PBDSPLAT_KEY(MaterialDesc, "opacity", opacity, 1e-4, 0.9999),
-    PBDSPLAT_KEY(MaterialDesc, "shininess", shininess, 1.0, 10000.0),
-    PBDSPLAT_KEY(MaterialDesc, "diffuse", diffuse, 0.0, 10.0),
-    PBDSPLAT_KEY(MaterialDesc, "specular", specular, 0.0, 10.0),
-    PBDSPLAT_KEY(MaterialDesc, "splat_scale", splat_scale, 0.01, 10.0),
-};
-// After `mode`.
-const Key<SurfaceDesc> k_surface_keys[] = {
-    PBDSPLAT_KEY(SurfaceDesc, "eta", eta, 0.05, 4.0),
-    PBDSPLAT_KEY(SurfaceDesc, "stretch_scale", stretch_scale),
-    PBDSPLAT_KEY(SurfaceDesc, "seed", seed, 0, 0x7fffffff),
-    PBDSPLAT_KEY(SurfaceDesc, "edge_samples", edge_samples),
-    PBDSPLAT_KEY(SurfaceDesc, "density", density.enabled),
-    PBDSPLAT_KEY(SurfaceDesc, "density_grow", density.grow, 1.05, 4.0),
-    PBDSPLAT_KEY(SurfaceDesc, "density_shrink", density.shrink, 0.2, 0.95),
-    PBDSPLAT_KEY(SurfaceDesc, "density_retire_spacing", density.retire_spacing, 0.3, 1.0),
-    PBDSPLAT_KEY(SurfaceDesc, "density_insert_spacing", density.insert_spacing, 0.3, 1.0),
-    PBDSPLAT_KEY(SurfaceDesc, "density_settle_frames", density.settle_frames, 1, 60),
-    PBDSPLAT_KEY(SurfaceDesc, "density_budget", density.budget, 1, 1u << 20),
-};
-// After `mode`; `particles`, `cut_volume`, the pins and the colliders beside it.
-const Key<SimulationDesc> k_simulation_keys[] = {
-    PBDSPLAT_KEY(SimulationDesc, "dt", dt, 1.0 / 1000.0, 1.0 / 10.0),
-    PBDSPLAT_KEY(SimulationDesc, "iterations", solver.iterations, 1, 1000),
-    PBDSPLAT_KEY(SimulationDesc, "substeps", solver.substeps, 1, 1000),
-    PBDSPLAT_KEY(SimulationDesc, "stiffness", solver.stretch_stiffness, 1e-4, 1.0),
-    PBDSPLAT_KEY(SimulationDesc, "compliance", compliance, 0.0, 1e3),
-    PBDSPLAT_KEY(SimulationDesc, "volume", solver.volume),
-    PBDSPLAT_KEY(SimulationDesc, "volume_stiffness", solver.volume_stiffness, 1e-4, 1.0),
-    PBDSPLAT_KEY(SimulationDesc, "volume_compliance", volume_compliance, 0.0, 1e3),
-    PBDSPLAT_KEY(SimulationDesc, "shape_stiffness", solver.shape_stiffness, 0.0, 1.0),
-    PBDSPLAT_KEY(SimulationDesc, "shape_compliance", solver.shape_compliance, 0.0, 1e3),
-    PBDSPLAT_KEY(SimulationDesc, "pressure", pressure, 0.01, 100.0),
-    PBDSPLAT_KEY(SimulationDesc, "gravity", solver.gravity, -1000, 1000),
-    PBDSPLAT_KEY(SimulationDesc, "damping", solver.damping, 0.0, 1000.0),
-    PBDSPLAT_KEY(SimulationDesc, "mass", mass, 1e-6, 1e6),
-    PBDSPLAT_KEY(SimulationDesc, "friction", friction, 0.0, 10.0),
-    PBDSPLAT_KEY(SimulationDesc, "cut_snap", cut.snap, 0.0, 0.45),
-    PBDSPLAT_KEY(SimulationDesc, "fade_frames", fade_frames, 1, 600),
-};
-
-// After `blend`, `sort_on`, `shading`, `footprint`, `carrier` and `splat_shape`.
-const Key<RenderDesc> k_render_keys[] = {
-    PBDSPLAT_KEY(RenderDesc, "width", width, 16, 16384),
-    PBDSPLAT_KEY(RenderDesc, "height", height, 16, 16384),
-    PBDSPLAT_KEY(RenderDesc, "sort", sort),
-    PBDSPLAT_KEY(RenderDesc, "surfel_thickness", surfel_thickness, 0.01, 1.0),
-    PBDSPLAT_KEY(RenderDesc, "ground", ground),
-    PBDSPLAT_KEY(RenderDesc, "cull_back", cull_back),
-    PBDSPLAT_KEY(RenderDesc, "kappa", frame.style.kappa, 0.0, 6.0),
-    PBDSPLAT_KEY(RenderDesc, "depth_min_alpha", frame.style.depth_min_alpha, 0.0, 0.99),
-    PBDSPLAT_KEY(RenderDesc, "depth_push", frame.style.depth_push, 0.0, 10.0),
-    PBDSPLAT_KEY(RenderDesc, "environment_intensity", frame.lighting.environment.intensity, 0.0, 100.0),
-    PBDSPLAT_KEY(RenderDesc, "environment_diffuse", frame.lighting.environment.diffuse, 0.0, 100.0),
-    PBDSPLAT_KEY(RenderDesc, "environment_specular", frame.lighting.environment.specular, 0.0, 100.0),
-};
-// [render.camera], before `orbit_degrees_per_second` and `path`.
-const Key<render::Camera> k_camera_keys[] = {
-    PBDSPLAT_KEY(render::Camera, "eye", eye),
-    PBDSPLAT_KEY(render::Camera, "target", target),
-    PBDSPLAT_KEY(render::Camera, "up", up),
-    PBDSPLAT_KEY(render::Camera, "fov_degrees", fov_y_degrees, 1.0, 170.0),
-};
-// [render.light]: the key light.
-const Key<render::Lighting> k_key_light_keys[] = {
-    PBDSPLAT_KEY(render::Lighting, "direction", direction),  // normalised where it is used
-    PBDSPLAT_KEY(render::Lighting, "color", color, 0.0, 100.0),
-    PBDSPLAT_KEY(render::Lighting, "intensity", intensity, 0.0, 100.0),
-    PBDSPLAT_KEY(render::Lighting, "ambient", ambient, 0.0, 100.0),
-};
-// One entry of render.lights, after `type`.
-const Key<render::Light> k_light_keys[] = {
-    PBDSPLAT_KEY(render::Light, "position", position),
-    PBDSPLAT_KEY(render::Light, "direction", direction),
-    PBDSPLAT_KEY(render::Light, "color", color, 0.0, 100.0),
-    PBDSPLAT_KEY(render::Light, "intensity", intensity, 0.0, 1000.0),
-    PBDSPLAT_KEY(render::Light, "range", range, 1e-3, 1e6),
-    PBDSPLAT_KEY(render::Light, "inner_degrees", inner_degrees, 0.0, 89.0),
-    PBDSPLAT_KEY(render::Light, "outer_degrees", outer_degrees, 0.1, 89.9),
-};
 
 Vec3f normalized_or_fail(const Reader& r, const toml::node* n, const Vec3f& v, const std::string& key) {
     if (v.norm() < 1e-6f) r.fail(n ? n->source() : toml::source_region{}, "'" + key + "' must not be the zero vector");
@@ -568,164 +457,6 @@ core::Result<Scene> parse_scene(const std::string& text, const std::string& name
     for (Event& e : scene.events)
         if (auto* c = std::get_if<CutEvent>(&e.data)) c->screen = Vec2f(float(scene.render.width), float(scene.render.height));
     return scene;
-}
-
-namespace {
-std::string num(double v) {
-    char buf[40];
-    std::snprintf(buf, sizeof(buf), "%.9g", v);
-    std::string s = buf;
-    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // keep it a TOML float
-    return s;
-}
-template <int N>
-std::string vec(const Eigen::Matrix<float, N, 1>& v) {
-    std::string s = "[";
-    for (int k = 0; k < N; ++k) s += (k ? ", " : "") + num(double(v[k]));
-    return s + "]";
-}
-// A TOML basic string: quotes, backslashes and control characters escaped (found by fuzzing:
-// a mesh name with an escaped newline was written back raw, and the file no longer parsed).
-std::string toml_string(const std::string& t) {
-    std::string o = "\"";
-    for (const char c : t) {
-        const auto u = static_cast<unsigned char>(c);
-        if (c == '"' || c == '\\') {
-            o += '\\';
-            o += c;
-        } else if (u < 0x20 || u == 0x7f) {
-            char buf[8];
-            std::snprintf(buf, sizeof(buf), "\\u%04x", unsigned(u));
-            o += buf;
-        } else {
-            o += c;
-        }
-    }
-    return o + "\"";
-}
-
-// One "name = value" per line, or `separator`-joined (an inline table's entries).
-template <class D>
-void write_keys(std::ostream& o, const D& section, std::span<const Key<D>> keys, const char* separator = nullptr) {
-    D d = section;  // the accessors take the struct as the reader fills it
-    for (const Key<D>& k : keys) {
-        if (separator && &k != keys.data()) o << separator;
-        o << k.name << " = ";
-        std::visit(Overloaded{[&](typename Key<D>::Real f) { o << num(f(d)); }, [&](typename Key<D>::Count f) { o << f(d); },
-                              [&](typename Key<D>::Flag f) { o << (f(d) ? "true" : "false"); },
-                              [&](typename Key<D>::Vec3 f) { o << vec<3>(f(d)); }, [&](typename Key<D>::Text f) { o << toml_string(f(d)); }},
-                   k.at);
-        if (!separator) o << "\n";
-    }
-}
-
-// One writer per section, in the order a reader meets them.
-void write_model_material_surface(std::ostream& o, const Scene& sc) {
-    o << "[model]\n";
-    write_keys<ModelDesc>(o, sc.model, k_model_keys);
-    o << "\n[material]\n";
-    write_keys<MaterialDesc>(o, sc.material, k_material_keys);
-    o << "\n[surface]\nmode = \"" << core::name_of<SurfaceMode>(k_surface_mode_names, sc.surface.mode) << "\"\n";
-    write_keys<SurfaceDesc>(o, sc.surface, k_surface_keys);
-    o << "\n";
-}
-
-void write_simulation(std::ostream& o, const Scene& sc) {
-    const SimulationDesc& s = sc.simulation;
-    o << "[simulation]\nmode = \"" << core::name_of<sim::SolverMode>(sim::k_solver_mode_names, s.solver.mode) << "\"\n";
-    write_keys<SimulationDesc>(o, s, k_simulation_keys);
-    o << "cut_volume = \"" << topology::volume_policy_name(s.cut.volume) << "\"";
-    if (s.particles) o << "\nparticles = " << *s.particles;
-    o << "\npins = [";
-    for (size_t i = 0; i < s.pins.size(); ++i) o << (i ? ", " : "") << s.pins[i];
-    o << "]\npin_regions = [";
-    for (size_t i = 0; i < s.pin_regions.size(); ++i)
-        o << (i ? ", " : "") << "{ min = " << vec<3>(s.pin_regions[i].min) << ", max = " << vec<3>(s.pin_regions[i].max) << " }";
-    o << "]\ncolliders = [";
-    bool first = true;
-    auto sep = [&] { o << (first ? "\n  " : ",\n  "); first = false; };
-    if (s.colliders.ground) {
-        sep();
-        o << "{ type = \"plane\", normal = " << vec<3>(s.colliders.ground->normal) << ", offset = " << num(s.colliders.ground->offset) << " }";
-    }
-    for (const auto& sp : s.colliders.spheres) {
-        sep();
-        o << "{ type = \"sphere\", center = " << vec<3>(sp.center) << ", radius = " << num(sp.radius) << " }";
-    }
-    for (const auto& b : s.colliders.boxes) {
-        sep();
-        const Vec3f deg = b.rotation.toRotationMatrix().eulerAngles(2, 1, 0).reverse() * (180.0f / k_pi);
-        o << "{ type = \"box\", center = " << vec<3>(b.center) << ", half_extents = " << vec<3>(b.half_extents)
-          << ", rotate_degrees = " << vec<3>(deg) << " }";
-    }
-    o << (first ? "]\n\n" : "\n]\n\n");
-}
-
-void write_render(std::ostream& o, const Scene& sc) {
-    const RenderDesc& d = sc.render;
-    const render::Camera& c = d.frame.camera;
-    const render::Lighting& l = d.frame.lighting;
-    o << "[render]\n";
-    write_keys<RenderDesc>(o, d, k_render_keys);
-    o << "blend = " << (d.frame.style.blend == render::Blend::additive ? "\"additive\"" : "\"over\"")
-      << "\nsort_on = \"" << (d.sort_on ? render::splat_order_name(*d.sort_on) : "auto") << "\"\nshading = \""
-      << (d.shading == render::SplatShading::corner ? "corner" : "fragment") << "\""
-      << "\nfootprint = \"" << render::footprint_name(d.frame.style.footprint) << "\""
-      << "\nsharpness = " << vec<2>(d.frame.style.sharpness)
-      << "\ncarrier = \"" << core::name_of<render::SplatCarrier>(render::k_splat_carrier_names, d.carrier) << "\""
-      << "\nsplat_shape = \"" << splat_shape_name(d.splat_shape) << "\""
-      << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()));
-    o << "\npath = \"" << (d.splat_path ? render::splat_path_name(*d.splat_path) : "auto") << "\"\nenvironment = \""
-      << render::env_sampling_name(l.environment.sampling) << "\"";
-    if (!d.environment_map.empty()) o << "\nenvironment_map = " << toml_string(d.environment_map);
-    o << "\nlights = [";
-    for (size_t i = 0; i < l.lights.size(); ++i) {
-        const render::Light& g = l.lights[i];
-        o << (i ? ", " : "") << "{ type = \"" << (g.type == render::LightType::spot ? "spot" : g.type == render::LightType::directional ? "directional" : "point")
-          << "\", ";
-        write_keys<render::Light>(o, g, k_light_keys, ", ");
-        o << " }";
-    }
-    o << "]\n\n[render.camera]\n";
-    write_keys<render::Camera>(o, c, k_camera_keys);
-    o << "orbit_degrees_per_second = " << num(d.orbit.degrees_per_second)
-      << "\npath = [";
-    for (size_t i = 0; i < d.path.size(); ++i)
-        o << (i ? ", " : "") << "{ time = " << num(d.path[i].time) << ", eye = " << vec<3>(d.path[i].eye)
-          << ", target = " << vec<3>(d.path[i].target) << " }";
-    o << "]"
-      << "\n\n[render.light]\n";
-    write_keys<render::Lighting>(o, l, k_key_light_keys);
-}
-
-void write_events(std::ostream& o, const Scene& sc) {
-    for (const Event& e : sc.events) {
-        o << "\n[[events]]\ntime = " << num(e.time) << "\ntype = \"" << event_type_name(e.data) << "\"\n";
-        if (auto* p = std::get_if<PressureEvent>(&e.data)) o << "value = " << num(p->value) << "\nduration = " << num(p->duration) << "\n";
-        if (auto* dr = std::get_if<DragEvent>(&e.data))
-            o << "from = " << vec<3>(dr->from) << "\nto = " << vec<3>(dr->to) << "\nduration = " << num(dr->duration)
-              << "\nstiffness = " << num(dr->stiffness) << "\n";
-        if (auto* sp = std::get_if<SpinEvent>(&e.data))
-            o << "axis = " << vec<3>(sp->axis) << "\ndegrees_per_second = " << num(sp->degrees_per_second)
-              << "\nduration = " << num(sp->duration) << "\n";
-        if (auto* cu = std::get_if<CutEvent>(&e.data)) {
-            if (cu->segment) o << "from = " << vec<2>((*cu->segment)[0]) << "\nto = " << vec<2>((*cu->segment)[1]) << "\n";
-            if (cu->plane) o << "point = " << vec<3>(cu->plane->first) << "\nnormal = " << vec<3>(cu->plane->second) << "\n";
-        }
-        if (auto* op = std::get_if<OpacityEvent>(&e.data)) o << "value = " << num(op->value) << "\nduration = " << num(op->duration) << "\n";
-        if (auto* te = std::get_if<TearEvent>(&e.data))
-            o << "threshold = " << num(te->threshold) << "\nmax_per_frame = " << te->max_per_frame << "\nduration = " << num(te->duration) << "\n";
-    }
-}
-} // namespace
-
-std::string to_toml(const Scene& sc) {
-    std::ostringstream o;
-    write_model_material_surface(o, sc);
-    write_simulation(o, sc);
-    write_render(o, sc);
-    write_events(o, sc);
-    return o.str();
 }
 
 core::Result<Scene> load_scene(const std::string& path) {

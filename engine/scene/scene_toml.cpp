@@ -1,0 +1,172 @@
+// Scene -> TOML: every key a reader takes, written back so that parse(to_toml(s)) == s.
+#include <cstdio>
+#include <ostream>
+#include <span>
+#include <sstream>
+
+#include "scene/scene_file.h"
+#include "scene/scene_keys.h"
+
+namespace pbdsplat::scene {
+
+using namespace keys;
+
+namespace {
+std::string num(double v) {
+    char buf[40];
+    std::snprintf(buf, sizeof(buf), "%.9g", v);
+    std::string s = buf;
+    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // keep it a TOML float
+    return s;
+}
+template <int N>
+std::string vec(const Eigen::Matrix<float, N, 1>& v) {
+    std::string s = "[";
+    for (int k = 0; k < N; ++k) s += (k ? ", " : "") + num(double(v[k]));
+    return s + "]";
+}
+// A TOML basic string: quotes, backslashes and control characters escaped (found by fuzzing:
+// a mesh name with an escaped newline was written back raw, and the file no longer parsed).
+std::string toml_string(const std::string& t) {
+    std::string o = "\"";
+    for (const char c : t) {
+        const auto u = static_cast<unsigned char>(c);
+        if (c == '"' || c == '\\') {
+            o += '\\';
+            o += c;
+        } else if (u < 0x20 || u == 0x7f) {
+            char buf[8];
+            std::snprintf(buf, sizeof(buf), "\\u%04x", unsigned(u));
+            o += buf;
+        } else {
+            o += c;
+        }
+    }
+    return o + "\"";
+}
+
+// One "name = value" per line, or `separator`-joined (an inline table's entries).
+template <class D>
+void write_keys(std::ostream& o, const D& section, std::span<const Key<D>> keys, const char* separator = nullptr) {
+    D d = section;  // the accessors take the struct as the reader fills it
+    for (const Key<D>& k : keys) {
+        if (separator && &k != keys.data()) o << separator;
+        o << k.name << " = ";
+        std::visit(Overloaded{[&](typename Key<D>::Real f) { o << num(f(d)); }, [&](typename Key<D>::Count f) { o << f(d); },
+                              [&](typename Key<D>::Flag f) { o << (f(d) ? "true" : "false"); },
+                              [&](typename Key<D>::Vec3 f) { o << vec<3>(f(d)); }, [&](typename Key<D>::Text f) { o << toml_string(f(d)); }},
+                   k.at);
+        if (!separator) o << "\n";
+    }
+}
+
+// One writer per section, in the order a reader meets them.
+void write_model_material_surface(std::ostream& o, const Scene& sc) {
+    o << "[model]\n";
+    write_keys<ModelDesc>(o, sc.model, k_model_keys);
+    o << "\n[material]\n";
+    write_keys<MaterialDesc>(o, sc.material, k_material_keys);
+    o << "\n[surface]\nmode = \"" << core::name_of<SurfaceMode>(k_surface_mode_names, sc.surface.mode) << "\"\n";
+    write_keys<SurfaceDesc>(o, sc.surface, k_surface_keys);
+    o << "\n";
+}
+
+void write_simulation(std::ostream& o, const Scene& sc) {
+    const SimulationDesc& s = sc.simulation;
+    o << "[simulation]\nmode = \"" << core::name_of<sim::SolverMode>(sim::k_solver_mode_names, s.solver.mode) << "\"\n";
+    write_keys<SimulationDesc>(o, s, k_simulation_keys);
+    o << "cut_volume = \"" << topology::volume_policy_name(s.cut.volume) << "\"";
+    if (s.particles) o << "\nparticles = " << *s.particles;
+    o << "\npins = [";
+    for (size_t i = 0; i < s.pins.size(); ++i) o << (i ? ", " : "") << s.pins[i];
+    o << "]\npin_regions = [";
+    for (size_t i = 0; i < s.pin_regions.size(); ++i)
+        o << (i ? ", " : "") << "{ min = " << vec<3>(s.pin_regions[i].min) << ", max = " << vec<3>(s.pin_regions[i].max) << " }";
+    o << "]\ncolliders = [";
+    bool first = true;
+    auto sep = [&] { o << (first ? "\n  " : ",\n  "); first = false; };
+    if (s.colliders.ground) {
+        sep();
+        o << "{ type = \"plane\", normal = " << vec<3>(s.colliders.ground->normal) << ", offset = " << num(s.colliders.ground->offset) << " }";
+    }
+    for (const auto& sp : s.colliders.spheres) {
+        sep();
+        o << "{ type = \"sphere\", center = " << vec<3>(sp.center) << ", radius = " << num(sp.radius) << " }";
+    }
+    for (const auto& b : s.colliders.boxes) {
+        sep();
+        const Vec3f deg = b.rotation.toRotationMatrix().eulerAngles(2, 1, 0).reverse() * (180.0f / k_pi);
+        o << "{ type = \"box\", center = " << vec<3>(b.center) << ", half_extents = " << vec<3>(b.half_extents)
+          << ", rotate_degrees = " << vec<3>(deg) << " }";
+    }
+    o << (first ? "]\n\n" : "\n]\n\n");
+}
+
+void write_render(std::ostream& o, const Scene& sc) {
+    const RenderDesc& d = sc.render;
+    const render::Camera& c = d.frame.camera;
+    const render::Lighting& l = d.frame.lighting;
+    o << "[render]\n";
+    write_keys<RenderDesc>(o, d, k_render_keys);
+    o << "blend = " << (d.frame.style.blend == render::Blend::additive ? "\"additive\"" : "\"over\"")
+      << "\nsort_on = \"" << (d.sort_on ? render::splat_order_name(*d.sort_on) : "auto") << "\"\nshading = \""
+      << (d.shading == render::SplatShading::corner ? "corner" : "fragment") << "\""
+      << "\nfootprint = \"" << render::footprint_name(d.frame.style.footprint) << "\""
+      << "\nsharpness = " << vec<2>(d.frame.style.sharpness)
+      << "\ncarrier = \"" << core::name_of<render::SplatCarrier>(render::k_splat_carrier_names, d.carrier) << "\""
+      << "\nsplat_shape = \"" << splat_shape_name(d.splat_shape) << "\""
+      << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()));
+    o << "\npath = \"" << (d.splat_path ? render::splat_path_name(*d.splat_path) : "auto") << "\"\nenvironment = \""
+      << render::env_sampling_name(l.environment.sampling) << "\"";
+    if (!d.environment_map.empty()) o << "\nenvironment_map = " << toml_string(d.environment_map);
+    o << "\nlights = [";
+    for (size_t i = 0; i < l.lights.size(); ++i) {
+        const render::Light& g = l.lights[i];
+        o << (i ? ", " : "") << "{ type = \"" << (g.type == render::LightType::spot ? "spot" : g.type == render::LightType::directional ? "directional" : "point")
+          << "\", ";
+        write_keys<render::Light>(o, g, k_light_keys, ", ");
+        o << " }";
+    }
+    o << "]\n\n[render.camera]\n";
+    write_keys<render::Camera>(o, c, k_camera_keys);
+    o << "orbit_degrees_per_second = " << num(d.orbit.degrees_per_second)
+      << "\npath = [";
+    for (size_t i = 0; i < d.path.size(); ++i)
+        o << (i ? ", " : "") << "{ time = " << num(d.path[i].time) << ", eye = " << vec<3>(d.path[i].eye)
+          << ", target = " << vec<3>(d.path[i].target) << " }";
+    o << "]"
+      << "\n\n[render.light]\n";
+    write_keys<render::Lighting>(o, l, k_key_light_keys);
+}
+
+void write_events(std::ostream& o, const Scene& sc) {
+    for (const Event& e : sc.events) {
+        o << "\n[[events]]\ntime = " << num(e.time) << "\ntype = \"" << event_type_name(e.data) << "\"\n";
+        if (auto* p = std::get_if<PressureEvent>(&e.data)) o << "value = " << num(p->value) << "\nduration = " << num(p->duration) << "\n";
+        if (auto* dr = std::get_if<DragEvent>(&e.data))
+            o << "from = " << vec<3>(dr->from) << "\nto = " << vec<3>(dr->to) << "\nduration = " << num(dr->duration)
+              << "\nstiffness = " << num(dr->stiffness) << "\n";
+        if (auto* sp = std::get_if<SpinEvent>(&e.data))
+            o << "axis = " << vec<3>(sp->axis) << "\ndegrees_per_second = " << num(sp->degrees_per_second)
+              << "\nduration = " << num(sp->duration) << "\n";
+        if (auto* cu = std::get_if<CutEvent>(&e.data)) {
+            if (cu->segment) o << "from = " << vec<2>((*cu->segment)[0]) << "\nto = " << vec<2>((*cu->segment)[1]) << "\n";
+            if (cu->plane) o << "point = " << vec<3>(cu->plane->first) << "\nnormal = " << vec<3>(cu->plane->second) << "\n";
+        }
+        if (auto* op = std::get_if<OpacityEvent>(&e.data)) o << "value = " << num(op->value) << "\nduration = " << num(op->duration) << "\n";
+        if (auto* te = std::get_if<TearEvent>(&e.data))
+            o << "threshold = " << num(te->threshold) << "\nmax_per_frame = " << te->max_per_frame << "\nduration = " << num(te->duration) << "\n";
+    }
+}
+} // namespace
+
+std::string to_toml(const Scene& sc) {
+    std::ostringstream o;
+    write_model_material_surface(o, sc);
+    write_simulation(o, sc);
+    write_render(o, sc);
+    write_events(o, sc);
+    return o.str();
+}
+
+} // namespace pbdsplat::scene
