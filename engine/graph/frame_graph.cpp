@@ -26,6 +26,7 @@ struct FrameGraph::Impl {
         std::type_index type = typeid(void);
         bool persistent = false;
         int gpu = 0;  // 0 CPU data, 1 buffer, 2 image
+        std::function<uint64_t(const void*)> fingerprint;  // for check_writes
     };
     struct Version {
         uint32_t resource = 0;
@@ -63,7 +64,23 @@ struct FrameGraph::Impl {
     std::vector<uint32_t> kept;   // kept passes, execution order
     std::vector<double> timings;
     std::string build_error;  // first error seen while declaring, reported by compile()
+    bool check_writes = false;
+    std::vector<std::string> violations;
     bool compiled = false;
+
+    // The fingerprinted, present resources that `pass` does not declare a write to.
+    std::vector<std::pair<uint32_t, uint64_t>> fingerprints_not_written(const Pass& pass) const {
+        std::vector<std::pair<uint32_t, uint64_t>> out;
+        for (uint32_t r = 0; r < resources.size(); ++r) {
+            const Resource& res = resources[r];
+            if (!res.fingerprint || !res.data) continue;
+            const bool written = std::any_of(pass.accesses.begin(), pass.accesses.end(), [&](const Access& a) {
+                return a.out != k_none && versions[a.out].resource == r;
+            });
+            if (!written) out.push_back({r, res.fingerprint(res.data)});
+        }
+        return out;
+    }
 
     // The version a reader really sees once culled in-place writers pass their input through.
     uint32_t resolve(uint32_t v) const {
@@ -94,7 +111,7 @@ FrameGraph::FrameGraph(FrameGraph&&) noexcept = default;
 FrameGraph& FrameGraph::operator=(FrameGraph&&) noexcept = default;
 
 uint32_t FrameGraph::import_resource(std::string name, void* data, const std::type_info& type, bool persistent, int gpu) {
-    impl_->resources.push_back({std::move(name), data, type, persistent, gpu});
+    impl_->resources.push_back({std::move(name), data, type, persistent, gpu, {}});
     impl_->versions.push_back({uint32_t(impl_->resources.size() - 1), k_none, k_none, k_none});
     impl_->declared.push_back(false);
     impl_->compiled = false;
@@ -326,11 +343,28 @@ const std::vector<double>& FrameGraph::execute(ExecuteContext& ctx) {
                         gpu::image_barrier(ctx.cmd, img->image, img->aspect, b.before, b.old_layout, b.after, b.new_layout);
                 }
             }
+        std::vector<std::pair<uint32_t, uint64_t>> before;  // (resource, fingerprint) the pass may not change
+        if (g.check_writes) before = g.fingerprints_not_written(pass);
         if (pass.run) pass.run(resources, ctx);
         g.timings[k] = clock.elapsed_ms();
+        for (const auto& [r, print] : before)
+            if (g.resources[r].fingerprint(g.resources[r].data) != print)
+                g.violations.push_back("pass '" + pass.name + "' changed '" + g.resources[r].name + "' without declaring a write");
     }
     return g.timings;
 }
+
+void FrameGraph::set_fingerprint_untyped(uint32_t version, std::function<uint64_t(const void*)> f) {
+    PBDSPLAT_ASSERT(version < impl_->versions.size(), "FrameGraph::set_fingerprint: a handle of this graph, please");
+    impl_->resources[impl_->versions[version].resource].fingerprint = std::move(f);
+}
+
+void FrameGraph::check_writes(bool on) {
+    impl_->check_writes = on;
+    impl_->violations.clear();
+}
+
+const std::vector<std::string>& FrameGraph::write_violations() const { return impl_->violations; }
 
 std::vector<PassInfo> FrameGraph::describe() const {
     std::vector<PassInfo> out;

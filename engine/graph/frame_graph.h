@@ -141,6 +141,19 @@ public:
     std::string to_dot() const;
     size_t kept_pass_count() const;
 
+    // ---- Checking declared writes (tests and debugging; it costs a fingerprint per pass). ----
+    // A fingerprint of a CPU resource's contents: equal before and after a pass that did not
+    // declare a write to it, or the pass wrote it undeclared.
+    template <class T>
+    void set_fingerprint(Handle<T> h, std::function<uint64_t(const T&)> f) {
+        set_fingerprint_untyped(h.version, [f = std::move(f)](const void* data) { return f(*static_cast<const T*>(data)); });
+    }
+    // From now on execute() fingerprints, around every kept pass, each fingerprinted resource the
+    // pass does not declare a write to, and notes every change as a violation.
+    void check_writes(bool on);
+    // "pass 'events' changed 'appearance' without declaring a write", in the order met.
+    const std::vector<std::string>& write_violations() const;
+
 private:
     friend class PassBuilder;
     friend class PassResources;
@@ -152,6 +165,7 @@ private:
         else return 0;
     }
     uint32_t import_resource(std::string name, void* data, const std::type_info& type, bool persistent, int gpu);
+    void set_fingerprint_untyped(uint32_t version, std::function<uint64_t(const void*)> f);
     uint32_t declare_resource(std::string name, void* data, const std::type_info& type, int gpu);
     std::unique_ptr<Impl> impl_;
 };

@@ -7,6 +7,7 @@
 #include "scene/stages/pass_group.h"
 #include "scene/stages/simulation_stage.h"
 #include "scene/stages/surface_stage.h"
+#include "scene/stages/write_check.h"
 
 namespace pbdsplat::scene {
 
@@ -81,6 +82,16 @@ core::Status SceneRuntime::build_graph() {
     add_mapping_passes(g, map, {h.boundary, sd_surface.stretch_scale, h.sorted, options_.keep_records, !paused_, tag(PassGroup::update)});
     h.input = map.input;
     if (renderer_) add_view_passes(h);
+    if (options_.check_writes) {
+        const auto print = [](const auto& resource) { return fingerprint(resource); };
+        g.set_fingerprint<sim::SoftBody>(h.body, print);
+        g.set_fingerprint<splat::Appearance>(h.appearance, print);
+        g.set_fingerprint<passes::GpuFrameInput>(h.input, print);
+        g.set_fingerprint<std::string>(h.note, print);
+        if (h.drags) g.set_fingerprint<sim::DragConstraint>(h.drag, print);
+        if (h.boundary) g.set_fingerprint<surface::BoundaryParticles>(h.samples, print);
+        g.check_writes(true);
+    }
     PBDSPLAT_TRY(g.compile());
     group_of_kept_pass_.clear();
     for (const graph::PassInfo& p : g.describe())

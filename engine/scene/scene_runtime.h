@@ -46,6 +46,9 @@ struct RuntimeOptions {
     // Interaction between steps (drags, cuts): keeps the drag and topology stages in the graph
     // even when the scene scripts none.
     bool interactive = false;
+    // Fingerprint the shared CPU resources around every pass and note each change a pass did not
+    // declare (graph().write_violations()); for tests: it hashes the records every pass.
+    bool check_writes = false;
     // Windowed frames: the passes that take the image to the screen (not owned).
     passes::Presenter* presenter = nullptr;
 };

@@ -180,4 +180,34 @@ TEST_SUITE("graph/frame_graph") {
         CHECK(info(passes, "readback").barriers == 1);    // attachment -> transfer source
         CHECK(g.to_dot().find("digraph frame") == 0);
     }
+
+    TEST_CASE("a pass that changes a resource it did not declare a write to is caught, one that declared it is not") {
+        FrameGraph g;
+        int counter = 0, other = 0;
+        auto c = g.import("counter", &counter, true);
+        auto o = g.import("other", &other, true);
+        g.set_fingerprint<int>(c, [](const int& v) { return uint64_t(v); });
+        g.set_fingerprint<int>(o, [](const int& v) { return uint64_t(v); });
+        g.add_pass("honest", PassKind::cpu, [&](PassBuilder& b) {
+            c = b.write(c);
+            return [c](const graph::PassResources& r, graph::ExecuteContext&) { ++r.get(c); };
+        });
+        g.add_pass("sneaky", PassKind::cpu, [&](PassBuilder& b) {
+            b.read(c);
+            o = b.write(o);
+            // Declares a write of `other` only, and changes `counter` too.
+            return [&counter, o](const graph::PassResources& r, graph::ExecuteContext&) { ++r.get(o), ++counter; };
+        });
+        REQUIRE(g.compile().ok());
+        g.check_writes(true);
+        graph::ExecuteContext ctx;
+        g.execute(ctx);
+        REQUIRE(g.write_violations().size() == 1);
+        CHECK(g.write_violations()[0] == "pass 'sneaky' changed 'counter' without declaring a write");
+        g.check_writes(false);
+        g.execute(ctx);
+        CHECK(g.write_violations().empty());
+        CHECK(counter == 4);
+        CHECK(other == 2);
+    }
 }

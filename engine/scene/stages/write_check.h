@@ -1,0 +1,26 @@
+#pragma once
+// Fingerprints of the frame's shared CPU resources, for FrameGraph::check_writes: a test (or a
+// debugging session, RuntimeOptions::check_writes) runs a scene and learns of any pass that
+// changed the body, the drag, the appearance, the samples, the frame input or the note without
+// declaring the write.
+#include <cstdint>
+#include <string>
+
+#include "passes/gpu_passes.h"
+#include "sim/soft_body.h"
+#include "splat/gaussian_record.h"
+#include "surface/boundary_particles.h"
+
+namespace pbdsplat::scene {
+
+// Positions, velocities, mesh and constraint counts, and each volume constraint's target.
+uint64_t fingerprint(const sim::SoftBody& body);
+uint64_t fingerprint(const sim::DragConstraint& drag);
+uint64_t fingerprint(const splat::Appearance& look);
+// The samples' count, triangles, barycentric coordinates and fades.
+uint64_t fingerprint(const surface::BoundaryParticles& samples);
+// The camera and the records handed to the GPU passes.
+uint64_t fingerprint(const passes::GpuFrameInput& input);
+uint64_t fingerprint(const std::string& text);
+
+} // namespace pbdsplat::scene
