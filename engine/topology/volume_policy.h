@@ -18,8 +18,10 @@ namespace pbdsplat::topology {
 // keeps its parent's ratio of volume to target, so no piece jumps (with a planar cut through a
 // closed body the parts' targets sum to the parent's); a part that did not change keeps its
 // target. `leak`: the rate at which a part opened under `burst` loses its overpressure (1/s).
-// The parts' boundary loops are traced locally from `touched_triangles` and from the parent's
-// old loops that the edit reached.
+// The rest of a piece (the part that keeps its label) keeps its constraint, updated in place:
+// its loops away from the edit stay where they are (settled by their rest bounds, unread), the
+// loops the edit reached are traced again locally from `touched_triangles`, and its caps' volume
+// follows the solver's last measure. The parts cut off get new constraints.
 struct VolumeOutcome {
     size_t pieces = 0;              // connected components after
     size_t particles_searched = 0;  // by the search for the parts of the reached pieces
