@@ -26,7 +26,8 @@ struct SceneRuntime::GraphHandles {
     graph::Handle<splat::SortScratch> sort;
     graph::Handle<splat::StretchScale> stretch;
     graph::Handle<passes::ImageSink> sink;
-    graph::Handle<std::vector<Event>> cuts;
+    graph::Handle<EventQueue> queue;
+    graph::Handle<EventQueue> cuts;
     graph::Handle<splat::Appearance> appearance;
     graph::Handle<std::string> note;
     bool boundary = false, drags = false, sorted = false;
@@ -39,13 +40,13 @@ core::Status SceneRuntime::build_graph() {
     graph::FrameGraph& g = graph_;
     GraphHandles h;
     h.boundary = sd_surface.mode == SurfaceMode::boundary;
-    h.drags = timeline_->has_drag() || options_.interactive;
+    h.drags = timeline_->has_drag(*queue_) || options_.interactive;
     // Sorting only matters when splats are composited with "over" and the scene asks for it.
     h.sorted = order_ == render::SplatOrder::cpu;  // the GPU sort is a GPU pass
     const bool has_volume = sd.solver.volume && !body_.volumes.empty();
     const bool has_events = !scene_.events.empty() || scene_.render.orbit.degrees_per_second != 0.0f || !scene_.render.path.empty();
     const bool has_shape = sd.solver.shape_stiffness > 0.0f && body_.shape_matching;
-    const bool topology_events = topology_->has_scripted_events() || options_.interactive;
+    const bool topology_events = queue_->any(is_topology_event) || options_.interactive;
     h.body = g.import("body", &body_, true);
     h.timeline = g.import("timeline", has_events ? timeline_.get() : static_cast<Timeline*>(nullptr));
     h.volumes = g.import("volume constraints", has_volume ? &body_.volumes : static_cast<std::vector<sim::VolumeConstraint>*>(nullptr));
@@ -60,7 +61,10 @@ core::Status SceneRuntime::build_graph() {
     h.sink = g.import("image", readback_ ? &sink_ : static_cast<passes::ImageSink*>(nullptr));
     h.appearance = g.import("appearance", &appearance_);
     h.note = g.import("note", &note_);
-    h.cuts = g.import("topology events", topology_events ? &topology_->pending() : static_cast<std::vector<Event>*>(nullptr));
+    h.queue = g.import("event queue", queue_.get());
+    // The queue again, as a marker read by the topology pass: absent when no cut or tear can come,
+    // so that the pass is culled (it is never written through this handle).
+    h.cuts = g.import("topology events", topology_events ? queue_.get() : static_cast<EventQueue*>(nullptr));
     // Paused: nothing moves, so no simulation stage runs; the frame is drawn again as it was.
     if (!paused_) {
         add_frame_event_passes(h, has_events);
@@ -112,7 +116,7 @@ void SceneRuntime::add_frame_event_passes(GraphHandles& h, bool has_events) {
     targets.h = h_, targets.seed = scene_.surface.seed, targets.fade_frames = sd.fade_frames;
     targets.edge_samples = scene_.surface.edge_samples;
     followers_ = std::make_unique<ChangeFollowers>(targets);
-    EventHandles events{g.import("frame control", &control_), h.timeline, h.cuts, g.import("topology stage", topology_.get()),
+    EventHandles events{g.import("frame control", &control_), h.timeline, h.queue, h.cuts, g.import("topology stage", topology_.get()),
                         g.import("change followers", followers_.get()), h.body, h.drag, h.appearance,
                         h.input, h.samples, h.density, h.stretch, h.note};
     EventPassOptions o;

@@ -73,7 +73,7 @@ void SceneRuntime::queue_cut(const Vec2f& a, const Vec2f& b, const Vec2f& view_s
     CutEvent c;
     c.segment = std::array<Vec2f, 2>{a, b};
     c.screen = view_size;
-    topology_->queue_user_cut(c);
+    queue_->push(Event{control_.time, c}, true);  // due at the next frame
 }
 
 void SceneRuntime::scale_pressure(float factor) {

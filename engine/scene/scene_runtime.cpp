@@ -41,6 +41,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     pool_ = std::make_unique<core::ThreadPool>(std::max(1u, options.threads));
     solver_ = std::make_unique<sim::Solver>(pool_.get());
     frame_input_.frame = scene_.render.frame;
+    queue_ = std::make_unique<EventQueue>(scene_.events);
     timeline_ = std::make_unique<Timeline>(scene_, scene_.render.frame.camera);
 
     const MaterialDesc& mat = scene_.material;
@@ -83,7 +84,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
 #ifndef NDEBUG
     check_topology = true;
 #endif
-    topology_ = std::make_unique<TopologyStage>(scene_, check_topology);
+    topology_ = std::make_unique<TopologyStage>(check_topology);
     order_ = order;
     return build_graph();
 }

@@ -18,6 +18,7 @@
 #include "scene/stages/surface_stage.h"
 #include "scene/stages/topology_stage.h"
 #include "scene/scene_model.h"
+#include "scene/event_queue.h"
 #include "scene/timeline.h"
 #include "sim/solver.h"
 #include "splat/fade_in.h"
@@ -179,6 +180,7 @@ private:
     std::optional<surface::BoundaryParticles> fine_vertices_;  // made on the first deformed_surface()
     std::unique_ptr<core::ThreadPool> pool_;
     std::unique_ptr<sim::Solver> solver_;
+    std::unique_ptr<EventQueue> queue_;  // the scene's timed events and the user's strokes, in time order
     std::unique_ptr<Timeline> timeline_;
     sim::DragConstraint drag_;
     splat::Appearance appearance_;

@@ -6,18 +6,24 @@
 namespace pbdsplat::scene {
 
 Timeline::Timeline(const Scene& scene, const render::Camera& camera)
-    : orbit_degrees_per_second_(scene.render.orbit.degrees_per_second), path_(scene.render.path), base_camera_(camera) {
-    for (const Event& e : scene.events) {
-        if (auto* p = std::get_if<PressureEvent>(&e.data)) pressure_.push_back({e.time, p->duration, -1.0f, p->value});
-        if (auto* o = std::get_if<OpacityEvent>(&e.data)) opacity_.push_back({e.time, o->duration, -1.0f, o->value});
-        if (auto* d = std::get_if<DragEvent>(&e.data)) drags_.push_back({e.time, *d, false});
-        if (auto* s = std::get_if<SpinEvent>(&e.data)) spins_.push_back({e.time, *s});
-    }
+    : orbit_degrees_per_second_(scene.render.orbit.degrees_per_second), path_(scene.render.path), base_camera_(camera) {}
+
+void Timeline::start(const Event& e) {
+    if (auto* p = std::get_if<PressureEvent>(&e.data)) pressure_.push_back({e.time, p->duration, -1.0f, p->value});
+    if (auto* o = std::get_if<OpacityEvent>(&e.data)) opacity_.push_back({e.time, o->duration, -1.0f, o->value});
+    if (auto* d = std::get_if<DragEvent>(&e.data)) drags_.push_back({e.time, *d, false});
+    if (auto* s = std::get_if<SpinEvent>(&e.data)) spins_.push_back({e.time, *s});
 }
 
-bool Timeline::has_drag() const { return !drags_.empty(); }
+bool Timeline::has_drag(const EventQueue& queue) const {
+    return !drags_.empty() || queue.any([](const EventData& d) { return std::holds_alternative<DragEvent>(d); });
+}
 
-void Timeline::advance(float t, float dt, sim::SoftBody& body, sim::DragConstraint& drag, render::Camera& camera, float& opacity) {
+void Timeline::advance(EventQueue& queue, float t, float dt, sim::SoftBody& body, sim::DragConstraint& drag, render::Camera& camera,
+                       float& opacity) {
+    // An event joins its kind's list when it falls due; the lists then behave as if it had
+    // been there from the start (each ramp waits for its start time).
+    for (const QueuedEvent& q : queue.take_due(t + dt, takes)) start(q.event);
     for (PressureRamp& r : opacity_) {
         if (t < r.start) continue;
         if (r.from < 0.0f) r.from = opacity;

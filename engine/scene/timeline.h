@@ -1,8 +1,10 @@
 #pragma once
-// Plays a scene's timed events onto the body, the drag constraint and the camera, frame by
-// frame: pressure ramps, drags, spins, the camera orbit.
+// Plays the timed events onto the body, the drag constraint and the camera, frame by frame:
+// pressure ramps, drags, spins, opacity, the camera orbit and path. The events come from the
+// run's one queue (event_queue.h) as they fall due.
 #include <vector>
 
+#include "scene/event_queue.h"
 #include "scene/scene.h"
 #include "sim/soft_body.h"
 
@@ -12,12 +14,18 @@ class Timeline {
 public:
     Timeline(const Scene& scene, const render::Camera& initial_camera);
 
-    // Applies what happens during [t, t + dt): called once per frame before the solver.
-    // `opacity`: the splats' sigmoid(o), changed by opacity ramps.
-    void advance(float t, float dt, sim::SoftBody& body, sim::DragConstraint& drag, render::Camera& camera, float& opacity);
-    bool has_drag() const;
+    // Applies what happens during [t, t + dt): called once per frame before the solver. Takes
+    // from `queue` the events of its kinds due in the frame. `opacity`: the splats' sigmoid(o),
+    // changed by opacity ramps.
+    void advance(EventQueue& queue, float t, float dt, sim::SoftBody& body, sim::DragConstraint& drag, render::Camera& camera,
+                 float& opacity);
+    // A drag is running or will come.
+    bool has_drag(const EventQueue& queue) const;
+    // The timeline's kinds: everything but cuts and tears.
+    static bool takes(const EventData& d) { return !is_topology_event(d); }
 
 private:
+    void start(const Event& e);
     struct PressureRamp {
         float start, duration, from = -1.0f, to;
         bool finished = false;

@@ -377,21 +377,43 @@ TEST_SUITE("scene/runtime") {
 }
 
 TEST_SUITE("scene/runtime") {
+    TEST_CASE("one event queue: events in time order, each stage takes its kinds when they fall due") {
+        std::vector<scene::Event> scripted{{2.0f, scene::CutEvent{}}, {0.5f, scene::PressureEvent{}}, {2.0f, scene::TearEvent{}},
+                                           {1.0f, scene::DragEvent{}}};
+        scene::EventQueue queue(scripted);
+        CHECK(queue.any(scene::is_topology_event));
+        // Nothing of the topology's kinds is due before 2 s; the timeline's pressure is.
+        CHECK(queue.take_due(1.0f, scene::is_topology_event).empty());
+        const auto timeline_due = queue.take_due(1.0f, scene::Timeline::takes);
+        REQUIRE(timeline_due.size() == 1);
+        CHECK(std::holds_alternative<scene::PressureEvent>(timeline_due[0].event.data));
+        // A stroke pushed at 2 s goes after the scripted events of that time, and is marked as the user's.
+        queue.push({2.0f, scene::CutEvent{}}, true);
+        const auto cuts = queue.take_due(2.5f, scene::is_topology_event);
+        REQUIRE(cuts.size() == 3);
+        CHECK(std::holds_alternative<scene::CutEvent>(cuts[0].event.data));
+        CHECK(std::holds_alternative<scene::TearEvent>(cuts[1].event.data));
+        CHECK((!cuts[0].from_user && !cuts[1].from_user && cuts[2].from_user));
+        CHECK_FALSE(queue.any(scene::is_topology_event));
+        CHECK(queue.any([](const scene::EventData& d) { return std::holds_alternative<scene::DragEvent>(d); }));
+    }
+
     TEST_CASE("a camera path interpolates its keys and holds the last") {
         scene::Scene s = scene::default_scene();
         s.events.clear();
         s.render.orbit.degrees_per_second = 0.0f;
         s.render.path = {{0.0f, Vec3f(0, 0, 4), Vec3f::Zero()}, {1.0f, Vec3f(4, 0, 0), Vec3f(0, 1, 0)}};
         scene::Timeline timeline(s, s.render.frame.camera);
+        scene::EventQueue queue(s.events);
         auto body = scene::make_scene_body(s);
         REQUIRE(body.ok());
         sim::DragConstraint drag;
         render::Camera camera = s.render.frame.camera;
         float opacity = 0.9f;
-        timeline.advance(0.4f, 0.1f, body.value(), drag, camera, opacity);  // at 0.5 s
+        timeline.advance(queue, 0.4f, 0.1f, body.value(), drag, camera, opacity);  // at 0.5 s
         CHECK((camera.eye - Vec3f(2, 0, 2)).norm() < 1e-5f);
         CHECK((camera.target - Vec3f(0, 0.5f, 0)).norm() < 1e-5f);
-        timeline.advance(3.0f, 0.1f, body.value(), drag, camera, opacity);
+        timeline.advance(queue, 3.0f, 0.1f, body.value(), drag, camera, opacity);
         CHECK((camera.eye - Vec3f(4, 0, 0)).norm() < 1e-5f);
         CHECK(opacity == 0.9f);  // no opacity events: untouched
     }
@@ -401,16 +423,17 @@ TEST_SUITE("scene/runtime") {
         s.events.clear();
         s.events.push_back({1.0f, scene::OpacityEvent{0.2f, 2.0f}});
         scene::Timeline timeline(s, s.render.frame.camera);
+        scene::EventQueue queue(s.events);
         auto body = scene::make_scene_body(s);
         REQUIRE(body.ok());
         sim::DragConstraint drag;
         render::Camera camera = s.render.frame.camera;
         float opacity = 0.8f;
-        timeline.advance(0.5f, 0.1f, body.value(), drag, camera, opacity);
+        timeline.advance(queue, 0.5f, 0.1f, body.value(), drag, camera, opacity);
         CHECK(opacity == 0.8f);  // not started
-        timeline.advance(2.0f, 0.1f, body.value(), drag, camera, opacity);
+        timeline.advance(queue, 2.0f, 0.1f, body.value(), drag, camera, opacity);
         CHECK(opacity == doctest::Approx(0.5f));  // half way from 0.8 to 0.2
-        timeline.advance(5.0f, 0.1f, body.value(), drag, camera, opacity);
+        timeline.advance(queue, 5.0f, 0.1f, body.value(), drag, camera, opacity);
         CHECK(opacity == doctest::Approx(0.2f).epsilon(1e-5));
         // Through a scene file too: the event type parses and writes back.
         auto parsed = scene::parse_scene("[[events]]\ntime = 1\ntype = \"opacity\"\nvalue = 0.3\nduration = 2\n", "t.toml");

@@ -9,6 +9,7 @@ void add_timeline_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
         // An interactive run keeps the pass for the user's drag, with or without a timeline.
         if (!o.interactive) b.read(h.timeline);
         b.read(h.control);
+        h.queue = b.write(h.queue);
         h.body = b.write(h.body);
         if (o.drags) h.drag = b.write(h.drag);
         h.appearance = b.write(h.appearance);
@@ -25,7 +26,7 @@ void add_timeline_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
             float opacity = math::sigmoid(look.opacity_logit);
             const float before = opacity;
             if (has_timeline)
-                r.get(hh.timeline).advance(control.time, o.dt, r.get(hh.body), drag, control.camera_override ? scripted : input.frame.camera,
+                r.get(hh.timeline).advance(r.get(hh.queue), control.time, o.dt, r.get(hh.body), drag, control.camera_override ? scripted : input.frame.camera,
                                            opacity);
             if (opacity != before) look.opacity_logit = math::logit(opacity);
             if (control.user_drag.active) drag = control.user_drag;  // the hand wins over the script
@@ -36,6 +37,7 @@ void add_timeline_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
 void add_topology_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOptions& o) {
     g.add_pass("topology", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         b.read(h.cuts);
+        h.queue = b.write(h.queue);
         b.read(h.control);
         b.read(h.input);
         h.topology = b.write(h.topology);
@@ -49,7 +51,7 @@ void add_topology_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
         return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
             sim::SoftBody& body = r.get(hh.body);
             const TopologyStage::Follow follow = r.get(hh.followers).follow(body);
-            r.get(hh.topology).run(body, r.get(hh.control).time, o.dt, r.get(hh.input).frame.camera, o.cut, follow, r.get(hh.note));
+            r.get(hh.topology).run(r.get(hh.queue), body, r.get(hh.control).time, o.dt, r.get(hh.input).frame.camera, o.cut, follow, r.get(hh.note));
         };
     }, o.tag);
 }

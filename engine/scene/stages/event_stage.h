@@ -10,6 +10,7 @@
 #include "passes/gpu_passes.h"
 #include "scene/stages/change_follow.h"
 #include "scene/stages/topology_stage.h"
+#include "scene/event_queue.h"
 #include "scene/timeline.h"
 #include "sim/drag.h"
 #include "splat/mapping.h"
@@ -26,7 +27,8 @@ struct FrameControl {
 struct EventHandles {
     graph::Handle<FrameControl> control;
     graph::Handle<Timeline> timeline;              // absent when the scene has no timed events
-    graph::Handle<std::vector<Event>> cuts;        // absent when no cut or tear can come
+    graph::Handle<EventQueue> queue;               // the run's one queue: each pass takes its kinds
+    graph::Handle<EventQueue> cuts;                // the queue as a marker: absent when no cut or tear can come
     graph::Handle<TopologyStage> topology;
     graph::Handle<ChangeFollowers> followers;
     graph::Handle<sim::SoftBody> body;

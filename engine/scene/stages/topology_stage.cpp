@@ -8,28 +8,22 @@
 
 namespace pbdsplat::scene {
 
-TopologyStage::TopologyStage(const Scene& scene, bool check_invariants) : check_invariants_(check_invariants) {
-    for (const Event& e : scene.events)
-        if (std::holds_alternative<CutEvent>(e.data) || std::holds_alternative<TearEvent>(e.data)) pending_.push_back(e);
-}
+TopologyStage::TopologyStage(bool check_invariants) : check_invariants_(check_invariants) {}
 
-void TopologyStage::run(sim::SoftBody& body, float t, float dt, const render::Camera& camera, const topology::CutOptions& options,
-                        const Follow& follow, std::string& note) {
+void TopologyStage::run(EventQueue& queue, sim::SoftBody& body, float t, float dt, const render::Camera& camera,
+                        const topology::CutOptions& options, const Follow& follow, std::string& note) {
     const core::Stopwatch clock;
-    for (const CutEvent& c : user_cuts_) {
+    for (const QueuedEvent& q : queue.take_due(t + dt, is_topology_event)) {
         if (!status_.ok()) break;
-        const size_t particles = body.particle_count();
-        const core::Status s = apply_cut(body, c, camera, options, follow);
-        if (!s.ok()) note = "cut failed: " + s.error().to_string();
-        else if (body.particle_count() == particles) note = "the stroke cut nothing";
-        else note = "cut: " + std::to_string(body.particle_count() - particles) + " particles split off";
-        if (s.ok()) ++cuts_;
-    }
-    user_cuts_.clear();
-    while (status_.ok() && !pending_.empty() && pending_.front().time < t + dt) {
-        const Event e = pending_.front();
-        pending_.erase(pending_.begin());
-        if (const auto* c = std::get_if<CutEvent>(&e.data)) {
+        const Event& e = q.event;
+        if (const auto* c = std::get_if<CutEvent>(&e.data); c && q.from_user) {
+            const size_t particles = body.particle_count();
+            const core::Status s = apply_cut(body, *c, camera, options, follow);
+            if (!s.ok()) note = "cut failed: " + s.error().to_string();
+            else if (body.particle_count() == particles) note = "the stroke cut nothing";
+            else note = "cut: " + std::to_string(body.particle_count() - particles) + " particles split off";
+            if (s.ok()) ++cuts_;
+        } else if (c) {
             status_ = apply_cut(body, *c, camera, options, follow);
             ++cuts_;
         } else {

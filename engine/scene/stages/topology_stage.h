@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "render/frame_inputs.h"
+#include "scene/event_queue.h"
 #include "scene/scene.h"
 #include "sim/soft_body.h"
 #include "topology/cut.h"
@@ -30,18 +31,13 @@ public:
         std::function<core::Status(std::span<const uint32_t> touched, size_t seed_offset)> settle;
     };
 
-    TopologyStage(const Scene& scene, bool check_invariants);
+    explicit TopologyStage(bool check_invariants);
 
-    // A stroke from the window, applied at the next frame (camera of that frame).
-    void queue_user_cut(const CutEvent& c) { user_cuts_.push_back(c); }
-    // Scripted cuts or tears still to come (or an interactive run's strokes): the pass is kept.
-    bool has_scripted_events() const { return !pending_.empty(); }
-    std::vector<Event>& pending() { return pending_; }
-
-    // The frame [t, t + dt). A failed scripted change stops the stage (status()); a failed
-    // stroke is only noted (note), and the run goes on.
-    void run(sim::SoftBody& body, float t, float dt, const render::Camera& camera, const topology::CutOptions& options,
-             const Follow& follow, std::string& note);
+    // The frame [t, t + dt): the cuts and tears `queue` holds for it, in time order (a user's
+    // stroke cuts with the camera of that frame). A failed scripted change stops the stage
+    // (status()); a failed stroke is only noted (note), and the run goes on.
+    void run(EventQueue& queue, sim::SoftBody& body, float t, float dt, const render::Camera& camera,
+             const topology::CutOptions& options, const Follow& follow, std::string& note);
 
     const core::Status& status() const { return status_; }
     size_t cuts() const { return cuts_; }
@@ -57,8 +53,6 @@ private:
                        const Follow& follow);
     core::Status settle(const Follow& follow);
 
-    std::vector<Event> pending_;  // cuts and tears not yet started, in time order
-    std::vector<CutEvent> user_cuts_;
     std::optional<TearEvent> tearing_;
     float tearing_until_ = 0.0f;
     bool check_invariants_ = false;
