@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "passes/mesh_image.h"
 #include "sim/drag.h"
 
 namespace pbdsplat::scene {
@@ -105,23 +106,37 @@ core::Status SceneRuntime::set_sorted(bool sorted) {
     return build_graph();
 }
 
+core::Status SceneRuntime::ensure_mesh_raster() {
+    if (mesh_raster_ || !renderer_ || !options_.gpu) return core::Status::success();
+    render::MeshRasterOptions mo;
+    mo.width = renderer_->width();
+    mo.height = renderer_->height();
+    mo.max_vertices = renderer_->max_splats();  // room for what cuts add, as for the splats
+    mo.max_triangles = 4 * body_.triangles.size() + 1024;
+    mo.environment_map = scene_.render.environment_map;
+    mo.sky_sun = scene_.render.frame.lighting.direction;
+    mo.slots = renderer_->frames_in_flight();
+    auto raster = render::MeshRaster::create(*options_.gpu, mo);
+    if (!raster.ok()) return raster.error();
+    mesh_raster_ = std::move(raster).value();
+    mesh_color_.image = mesh_raster_->color_image();
+    mesh_depth_.image = mesh_raster_->depth_image();
+    return core::Status::success();
+}
+
+core::Result<core::ImageRgba8> SceneRuntime::mesh_image() {
+    if (!renderer_) return core::make_error("mesh_image: this scene runtime has no renderer (created without a GPU context)");
+    PBDSPLAT_TRY(ensure_mesh_raster());
+    options_.gpu->device().wait_idle();  // no frame in flight uses the raster's buffers now
+    PBDSPLAT_TRY(mesh_raster_->set_mesh(body_.particles.x, body_.triangles, body_.normals));
+    auto image = passes::render_mesh_image(*options_.gpu, *mesh_raster_, frame_input_.frame, render::MeshView::shaded, appearance_.albedo);
+    if (!image.ok()) return image.error();
+    return std::move(image->image);
+}
+
 core::Status SceneRuntime::set_view(DisplayView view) {
     if (view == view_) return core::Status::success();
-    if ((view == DisplayView::mesh || view == DisplayView::side_by_side) && !mesh_raster_ && renderer_ && options_.gpu) {
-        render::MeshRasterOptions mo;
-        mo.width = renderer_->width();
-        mo.height = renderer_->height();
-        mo.max_vertices = renderer_->max_splats();  // room for what cuts add, as for the splats
-        mo.max_triangles = 4 * body_.triangles.size() + 1024;
-        mo.environment_map = scene_.render.environment_map;
-        mo.sky_sun = scene_.render.frame.lighting.direction;
-        mo.slots = renderer_->frames_in_flight();
-        auto raster = render::MeshRaster::create(*options_.gpu, mo);
-        if (!raster.ok()) return raster.error();
-        mesh_raster_ = std::move(raster).value();
-        mesh_color_.image = mesh_raster_->color_image();
-        mesh_depth_.image = mesh_raster_->depth_image();
-    }
+    if (view == DisplayView::mesh || view == DisplayView::side_by_side) PBDSPLAT_TRY(ensure_mesh_raster());
     view_ = view;
     // Particles as points: the same splats, a fraction of their size.
     frame_input_.frame.style.scale_multiplier = base_scale_multiplier_ * (view == DisplayView::points ? 0.3f : 1.0f);

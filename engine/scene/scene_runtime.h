@@ -85,6 +85,10 @@ public:
     core::Status step();
     // Waits for the GPU; the newest frame's image (offscreen with readback only).
     core::Result<core::ImageRgba8> finish();
+    // The lit mesh of the body as it is now, drawn from this frame's inputs (camera, lights,
+    // environment about the body) by the runtime's own mesh raster, the one the windowed mesh
+    // view draws with: the splats' counterpart for image comparisons. Waits for the GPU.
+    core::Result<core::ImageRgba8> mesh_image();
 
     const graph::FrameGraph& graph() const { return graph_; }
     const FrameStats& stats() const { return stats_; }
@@ -154,6 +158,7 @@ public:
 private:
     SceneRuntime() = default;
     core::Status build(const RuntimeOptions& options);
+    core::Status ensure_mesh_raster();  // made on first need (a mesh view, mesh_image())
     // The frame graph for the current settings; run again when one that changes it does.
     core::Status build_graph();  // runtime_graph.cpp, with the stages' passes below
     struct GraphHandles;

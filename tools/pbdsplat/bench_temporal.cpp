@@ -11,7 +11,6 @@
 #include "pbdsplat/scene_arg.h"
 #include "pbdsplat/report.h"
 #include "pbdsplat/svg_plot.h"
-#include "passes/mesh_image.h"
 #include "scene/scene_runtime.h"
 
 namespace pbdsplat::cli {
@@ -55,16 +54,6 @@ int bench_temporal(const std::vector<std::string>& argv) {
     auto rt = scene::SceneRuntime::create(scene.value(), ro);
     if (!rt.ok()) return fail("bench temporal", rt.error().to_string());
     scene::SceneRuntime& runtime = *rt.value();
-    render::MeshRasterOptions mo;
-    mo.width = width;
-    mo.height = height;
-    mo.max_vertices = 4 * runtime.body().particle_count() + 1024;  // cuts add vertices
-    mo.max_triangles = 4 * runtime.body().triangles.size() + 1024;
-    mo.environment_map = scene->render.environment_map;
-    mo.sky_sun = scene->render.frame.lighting.direction;
-    auto raster = render::MeshRaster::create(*ctx.value(), mo);
-    if (!raster.ok()) return fail("bench temporal", raster.error().to_string());
-
     struct Row {
         uint64_t frame;
         double splats, mesh;
@@ -78,18 +67,13 @@ int bench_temporal(const std::vector<std::string>& argv) {
         if (f < from) continue;
         auto splats = runtime.finish();
         if (!splats.ok()) return fail("bench temporal", splats.error().to_string());
-        const sim::SoftBody& body = runtime.body();
-        if (auto s = raster.value()->set_mesh(body.particles.x, body.triangles, body.normals); !s.ok())
-            return fail("bench temporal", s.error().to_string());
-        render::FrameInputs frame = scene->render.frame;
-        frame.camera = runtime.camera();
-        auto mesh = passes::render_mesh_image(*ctx.value(), *raster.value(), frame, render::MeshView::shaded, scene->material.color);
+        auto mesh = runtime.mesh_image();  // the runtime's own mesh view, from the same frame inputs
         if (!mesh.ok()) return fail("bench temporal", mesh.error().to_string());
         if (!last_splats.pixels.empty())
             rows.push_back({f, core::mean_luminance_change(splats.value(), last_splats).value(),
-                            core::mean_luminance_change(mesh->image, last_mesh).value(), runtime.stats().cuts});
+                            core::mean_luminance_change(mesh.value(), last_mesh).value(), runtime.stats().cuts});
         last_splats = std::move(splats).value();
-        last_mesh = std::move(mesh->image);
+        last_mesh = std::move(mesh).value();
     }
     if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("bench temporal", v.error().to_string());
 
