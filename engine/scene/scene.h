@@ -130,7 +130,7 @@ struct PressureEvent {
     float duration = 0.0f;  // linear ramp from the current k; 0 = at once
 };
 struct DragEvent {
-    Vec3f from, to;         // world points: the particle nearest `from` is pulled to `to`
+    Vec3f from = Vec3f::Zero(), to = Vec3f::Zero();  // world points: the particle nearest `from` is pulled to `to`
     float duration = 1.0f;  // then released
     float stiffness = 0.5f;
 };
