@@ -1,22 +1,19 @@
 #include <cmath>
-#include <cstdio>
-#include <filesystem>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
-#include "pbdsplat/options.h"
-#include "pbdsplat/commands.h"
+#include "pbdsplat/bench_suites.h"
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/scene_arg.h"
-#include "pbdsplat/report.h"
 #include "pbdsplat/svg_plot.h"
 #include "passes/coverage.h"
 #include "scene/scene_runtime.h"
 
 namespace pbdsplat::cli {
 
-int bench_coverage(const std::vector<std::string>& argv) {
+namespace {
+
+const CommandSpec& command_spec() {
     static const CommandSpec command{
         "bench coverage", "[SCENE.toml]",
         "Coverage through a scene's deformation and cuts: runs the scene (default: the built-in one,\n"
@@ -29,15 +26,15 @@ int bench_coverage(const std::vector<std::string>& argv) {
                   whole("every", "K", 20, 1, 100000, "measure every K frames"),
                   whole("width", "W", 320, 16, 4096, "image width"), whole("height", "H", 180, 16, 4096, "image height"),
                   out_dir_option(), json_option("one JSON object: per mode, the mean and worst hole ratio and IoU")})};
-    const Parsed parsed = parse_command(command, argv);
-    if (!parsed.options) return parsed.exit_code;
-    const Options& opt = *parsed.options;
+    return command;
+}
+
+Outcome measure(const Options& opt) {
     const uint32_t frames = opt.whole("frames"), every = opt.whole("every"), width = opt.whole("width"), height = opt.whole("height");
     auto base = load_scene_arg(opt.operands());
-    if (!base.ok()) return fail("bench coverage", base.error().to_string());
-    const std::filesystem::path out_dir = opt.text("out-dir");
+    if (!base.ok()) return base.error();
     auto ctx = open_context(opt);
-    if (!ctx.ok()) return fail("bench coverage", ctx.error().to_string());
+    if (!ctx.ok()) return ctx.error();
 
     struct Sample {
         std::string mode;
@@ -57,63 +54,62 @@ int bench_coverage(const std::vector<std::string>& argv) {
         scene::RuntimeOptions ro;  // the simulation and mapping only: coverage renders its own images
         ro.keep_records = true;
         auto rt = scene::SceneRuntime::create(sc, ro);
-        if (!rt.ok()) return fail("bench coverage", std::string(name) + ": " + rt.error().to_string());
+        if (!rt.ok()) return core::make_error(std::string(name) + ": " + rt.error().to_string());
         for (uint64_t f = 0; f < frames; ++f) {
-            if (auto s = rt.value()->step(); !s.ok()) return fail("bench coverage", s.error().to_string());
+            PBDSPLAT_TRY(rt.value()->step());
             if ((f + 1) % every != 0) continue;
             const sim::SoftBody& body = rt.value()->body();
             render::FrameInputs frame = sc.render.frame;
             frame.camera = rt.value()->camera();
             auto c = passes::measure_coverage(*ctx.value(), body.particles.x, body.triangles, rt.value()->records(), frame,
                                              width, height);
-            if (!c.ok()) return fail("bench coverage", std::string(name) + ", frame " + std::to_string(f) + ": " + c.error().to_string());
+            if (!c.ok()) return core::make_error(std::string(name) + ", frame " + std::to_string(f) + ": " + c.error().to_string());
             samples.push_back({name, f + 1, c->hole_ratio, c->silhouette_iou, rt.value()->stats().cuts});
         }
     }
-    if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("bench coverage", v.error().to_string());
+    PBDSPLAT_TRY(check_validation(*ctx.value()));
 
-    std::ostringstream csv;
-    csv << "mode,frame,hole_ratio,silhouette_iou,cuts\n";
-    for (const Sample& s : samples) csv << s.mode << ',' << s.frame << ',' << s.holes << ',' << s.iou << ',' << s.cuts << '\n';
-    if (auto s = write_report_file(out_dir, "coverage.csv", csv.str()); !s.ok()) return fail("bench coverage", s.error().to_string());
+    Table per_frame({{"mode"}, {"frame"}, {"hole_ratio"}, {"silhouette_iou"}, {"cuts"}});
+    for (const Sample& sample : samples) per_frame.add({sample.mode, sample.frame, sample.holes, sample.iou, sample.cuts});
     PlotSpec plot;
     plot.title = "Coverage through " + base->name + ": hole ratio against the mesh raster";
     plot.x_label = "frame";
     plot.y_label = "hole ratio";
     plot.log_x = false;
-    nlohmann::json summary = nlohmann::json::object();
+    Table summary({{"mode", 0, true, ""}, {"hole_ratio_mean", 5, true, "holes mean"}, {"hole_ratio_max", 5, true, "holes worst"},
+                   {"iou_mean", 3, true, "IoU mean"}, {"iou_min", 3, true, "IoU lowest"}, {"samples", 0, false}});
+    nlohmann::json modes_json = nlohmann::json::object();
     for (const auto& [name, mode] : modes) {
         PlotSeries series;
         series.name = name;
         double holes_sum = 0.0, holes_max = 0.0, iou_sum = 0.0, iou_min = 1.0;
         size_t n = 0;
-        for (const Sample& s : samples) {
-            if (s.mode != name) continue;
-            series.x.push_back(double(s.frame));
-            series.y.push_back(std::max(s.holes, 1e-6));  // a log axis shows "none" at the floor
-            holes_sum += s.holes, holes_max = std::max(holes_max, s.holes), iou_sum += s.iou, iou_min = std::min(iou_min, s.iou), ++n;
+        for (const Sample& sample : samples) {
+            if (sample.mode != name) continue;
+            series.x.push_back(double(sample.frame));
+            series.y.push_back(std::max(sample.holes, 1e-6));  // a log axis shows "none" at the floor
+            holes_sum += sample.holes, holes_max = std::max(holes_max, sample.holes);
+            iou_sum += sample.iou, iou_min = std::min(iou_min, sample.iou), ++n;
         }
         plot.series.push_back(series);
-        summary[name] = {{"hole_ratio_mean", n ? holes_sum / double(n) : 0.0}, {"hole_ratio_max", holes_max},
-                         {"iou_mean", n ? iou_sum / double(n) : 0.0}, {"iou_min", iou_min}, {"samples", n}};
+        const double holes_mean = n ? holes_sum / double(n) : 0.0, iou_mean = n ? iou_sum / double(n) : 0.0;
+        summary.add({name, holes_mean, holes_max, iou_mean, iou_min, n});
+        modes_json[name] = {{"hole_ratio_mean", holes_mean}, {"hole_ratio_max", holes_max}, {"iou_mean", iou_mean},
+                            {"iou_min", iou_min}, {"samples", n}};
     }
-    if (auto s = write_report_file(out_dir, "coverage.svg", render_svg(plot)); !s.ok())
-        return fail("bench coverage", s.error().to_string());
-    if (opt.flag("json")) {
-        const nlohmann::json j = {{"suite", "coverage"}, {"scene", base->name}, {"frames", frames}, {"modes", summary}};
-        std::printf("%s\n", j.dump().c_str());
-        return 0;
-    }
-    std::printf("scene %s, %u frames, coverage every %u frames at %ux%u:\n", base->name.c_str(), frames, every,
-                width, height);
-    for (const auto& [name, mode] : modes) {
-        const auto& m = summary[name];
-        std::printf("  %-18s holes mean %.4f %%, worst %.4f %%; IoU mean %.3f, lowest %.3f\n", name,
-                    100.0 * m["hole_ratio_mean"].get<double>(), 100.0 * m["hole_ratio_max"].get<double>(), m["iou_mean"].get<double>(),
-                    m["iou_min"].get<double>());
-    }
-    std::printf("wrote %s and coverage.svg\n", (out_dir / "coverage.csv").string().c_str());
-    return 0;
+    Report report("coverage");
+    report.json().update({{"scene", base->name}, {"frames", frames}, {"modes", modes_json}});
+    report.table(format("scene %s, %u frames, coverage every %u frames at %ux%u (hole ratio 0..1):", base->name.c_str(), frames,
+                        every, width, height),
+                 summary);
+    report.csv("coverage.csv", per_frame);
+    report.plot("coverage.svg", plot);
+    return report;
 }
+
+} // namespace
+
+const BenchSuite k_bench_coverage{"coverage", "hole ratio and silhouette IoU through deformation and cuts, by surface mode",
+                                  command_spec, measure};
 
 } // namespace pbdsplat::cli

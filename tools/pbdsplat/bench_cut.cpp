@@ -8,8 +8,7 @@
 
 #include "core/timer.h"
 #include "mesh/mesh_spec.h"
-#include "pbdsplat/options.h"
-#include "pbdsplat/commands.h"
+#include "pbdsplat/bench_suites.h"
 #include "sim/solver.h"
 #include "topology/cut.h"
 
@@ -171,59 +170,58 @@ core::Result<nlohmann::json> measure_sequence(const std::string& spec, uint32_t 
                           {"distance_colours_added", b.distance_groups.colours_added}};
 }
 
-int print_sequence(const std::string& spec, uint32_t count, const topology::CutOptions& options, bool json) {
+Outcome report_sequence(const std::string& spec, uint32_t count, const topology::CutOptions& options) {
     auto m = measure_sequence(spec, count, options);
-    if (!m.ok()) return fail("bench cut", m.error().to_string());
+    if (!m.ok()) return m.error();
     const nlohmann::json& j = m.value();
-    if (json) {
-        std::printf("%s\n", nlohmann::json{{"suite", "cut"}, {"sequence", j}}.dump().c_str());
-        return 0;
-    }
-    std::printf("%s: %u random scalpel cuts on one body, a frame between cuts (%.1f s)\n", spec.c_str(), count, j["seconds"].get<double>());
-    std::printf("  particles %zu -> %zu, pieces %zu, cap loops %zu; ring compactions %zu, colour regroupings %zu, colours added %zu\n",
-                j["particles_before"].get<size_t>(), j["particles_after"].get<size_t>(), j["pieces_after"].get<size_t>(),
-                j["cap_loops_after"].get<size_t>(), j["ring_compactions"].get<size_t>(), j["distance_regroupings"].get<size_t>(), j["distance_colours_added"].get<size_t>());
-    std::printf("  probe cut (the same slit at the pole, median of 7 copies): %.3f ms before, %.3f after 10 cuts, %.3f after %u\n",
-                j["probe_ms_before"].get<double>(), j["probe_ms_after_10"].get<double>(), j["probe_ms_after_last"].get<double>(), count);
+    Report report("cut");
+    report.json()["sequence"] = j;
+    report.line(format("%s: %u random scalpel cuts on one body, a frame between cuts (%.1f s)", spec.c_str(), count,
+                       j["seconds"].get<double>()));
+    report.line(format("  particles %zu -> %zu, pieces %zu, cap loops %zu; ring compactions %zu, colour regroupings %zu, colours added %zu",
+                       j["particles_before"].get<size_t>(), j["particles_after"].get<size_t>(), j["pieces_after"].get<size_t>(),
+                       j["cap_loops_after"].get<size_t>(), j["ring_compactions"].get<size_t>(),
+                       j["distance_regroupings"].get<size_t>(), j["distance_colours_added"].get<size_t>()));
+    // The probe's total and each phase: before the first cut, after the 10th, after the last.
     const nlohmann::json& phases = j["probe_phases_ms"];
-    std::printf("  probe phases, ms (before, after 10, after %u):\n", count);
+    const nlohmann::json& after_10 = phases[phases.size() > 2 ? 1 : 0];
+    Table probe({{"phase", 0, true, ""}, {"before", 3}, {"after_10", 3, true, "after 10"}, {"after_last", 3, true, format("after %u", count)}});
+    probe.add({"probe cut (whole)", j["probe_ms_before"], j["probe_ms_after_10"], j["probe_ms_after_last"]});
     for (const auto& [name, before] : phases.front().items())
-        std::printf("    %-28s %8.3f %8.3f %8.3f\n", name.c_str(), before.get<double>(), phases[phases.size() > 2 ? 1 : 0].value(name, 0.0),
-                    phases.back().value(name, 0.0));
-    std::printf("  the random cuts: 1-20 %.3f ms (median, %.0f crossed), last 20 %.3f ms (%.0f crossed)\n", j["first_median_ms"].get<double>(),
-                j["first_median_crossed"].get<double>(), j["last_median_ms"].get<double>(), j["last_median_crossed"].get<double>());
-    return 0;
+        probe.add({"  " + name, before, after_10.value(name, 0.0), phases.back().value(name, 0.0)});
+    report.table("  probe cut (the same slit at the pole, median of 7 copies), ms:", probe, 4);
+    report.line(format("  the random cuts: 1-20 %.3f ms (median, %.0f crossed), last 20 %.3f ms (%.0f crossed)",
+                       j["first_median_ms"].get<double>(), j["first_median_crossed"].get<double>(), j["last_median_ms"].get<double>(),
+                       j["last_median_crossed"].get<double>()));
+    return report;
 }
 
 // --levels A-B: the per-crossed-triangle cost of each icosphere level, and its ratio to the first.
-int print_levels(const std::string& range, uint32_t cuts, uint32_t frames, const topology::CutOptions& options, bool json) {
+Outcome report_levels(const std::string& range, uint32_t cuts, uint32_t frames, const topology::CutOptions& options) {
     unsigned lo = 0, hi = 0;
     char dash = 0;
     if (std::sscanf(range.c_str(), "%u%c%u", &lo, &dash, &hi) != 3 || dash != '-' || lo > hi || hi > 8)
-        return usage_error("bench cut", "--levels must be A-B with 0 <= A <= B <= 8 (icosphere levels), not '" + range + "'");
+        return Outcome::usage("--levels must be A-B with 0 <= A <= B <= 8 (icosphere levels), not '" + range + "'");
     nlohmann::json levels = nlohmann::json::array();
     for (unsigned level = lo; level <= hi; ++level) {
         auto m = measure_cuts("icosphere:" + std::to_string(level), cuts, frames, options);
-        if (!m.ok()) return fail("bench cut", m.error().to_string());
+        if (!m.ok()) return m.error();
         levels.push_back(std::move(m).value());
     }
     const double first = levels.front()["us_per_crossed_triangle"].get<double>();
-    for (auto& l : levels) l["ratio_to_first"] = first > 0.0 ? l["us_per_crossed_triangle"].get<double>() / first : 0.0;
-    if (json) {
-        std::printf("%s\n", nlohmann::json{{"suite", "cut"}, {"cuts", cuts}, {"levels", levels}}.dump().c_str());
-        return 0;
+    Table table({{"mesh", 0, true, ""}, {"particles_before", 0, true, "particles"}, {"crossed_triangles", 0, true, "crossed"}, {"median_cut_ms", 3, true, "cut ms"}, {"us_per_crossed_triangle", 2, true, "us/crossed"}, {"ratio_to_first", 2, true, "ratio"}});
+    for (auto& l : levels) {
+        l["ratio_to_first"] = first > 0.0 ? l["us_per_crossed_triangle"].get<double>() / first : 0.0;
+        table.add({l["mesh"], l["particles_before"], l["crossed_triangles"], l["median_cut_ms"], l["us_per_crossed_triangle"],
+                   l["ratio_to_first"]});
     }
-    std::printf("cost per crossed triangle by icosphere level (%u cuts each through the centre, medians):\n", cuts);
-    std::printf("  %-14s %10s %8s %9s %12s %8s\n", "mesh", "particles", "crossed", "cut ms", "us/crossed", "ratio");
-    for (const auto& l : levels)
-        std::printf("  %-14s %10zu %8.0f %9.3f %12.2f %8.2f\n", l["mesh"].get<std::string>().c_str(), l["particles_before"].get<size_t>(),
-                    l["crossed_triangles"].get<double>(), l["median_cut_ms"].get<double>(), l["us_per_crossed_triangle"].get<double>(),
-                    l["ratio_to_first"].get<double>());
-    return 0;
+    Report report("cut");
+    report.json().update({{"cuts", cuts}, {"levels", levels}});
+    report.table(format("cost per crossed triangle by icosphere level (%u cuts each through the centre, medians):", cuts), table);
+    return report;
 }
-} // namespace
 
-int bench_cut(const std::vector<std::string>& argv) {
+const CommandSpec& command_spec() {
     static const CommandSpec command{
         "bench cut", "",
         "The cost of one line cut through the middle of a body at rest (paper section 5.7): N cuts,\n"
@@ -248,39 +246,42 @@ int bench_cut(const std::vector<std::string>& argv) {
                "before, after 10 and after N (does a cut cost more once the body has been cut N times?)")
              .default_from("off"),
          json_option()}};
-    const Parsed parsed = parse_command(command, argv);
-    if (!parsed.options) return parsed.exit_code;
-    const Options& opt = *parsed.options;
+    return command;
+}
+
+Outcome measure(const Options& opt) {
     const uint32_t cuts = opt.whole("cuts"), frames = opt.whole("frames");
     topology::CutOptions options;
     options.volume = opt.named<topology::VolumePolicy>("policy", topology::k_volume_policy_names);
     const std::string& policy = opt.text("policy");
 
     const std::string& mesh = opt.text("mesh");
-    if (opt.given("sequence"))
-        return print_sequence(mesh.empty() ? "icosphere:4" : mesh, opt.whole("sequence"), options, opt.flag("json"));
-    if (opt.given("levels")) return print_levels(opt.text("levels"), cuts, frames, options, opt.flag("json"));
+    if (opt.given("sequence")) return report_sequence(mesh.empty() ? "icosphere:4" : mesh, opt.whole("sequence"), options);
+    if (opt.given("levels")) return report_levels(opt.text("levels"), cuts, frames, options);
     const std::string spec = mesh.empty() ? "teapot.obj" : mesh;
     auto measured = measure_cuts(spec, cuts, frames, options);
-    if (!measured.ok()) return fail("bench cut", measured.error().to_string());
-    nlohmann::json j = std::move(measured).value();
-    j["suite"] = "cut";
-    j["policy"] = policy;
-    j["cuts"] = cuts;
-    if (opt.flag("json")) {
-        std::printf("%s\n", j.dump().c_str());
-        return 0;
-    }
-    std::printf("%s: %zu particles, %zu triangles; %u cuts through the centre (%s)\n", spec.c_str(), j["particles_before"].get<size_t>(),
-                j["triangles_before"].get<size_t>(), cuts, policy.c_str());
-    std::printf("  crossed triangles %.0f, particles after %.0f\n", j["crossed_triangles"].get<double>(), j["particles_after"].get<double>());
-    std::printf("  cut %.3f ms (median), of which derived solver data %.3f ms\n", j["median_cut_ms"].get<double>(),
-                j["median_rebuild_ms"].get<double>());
-    std::printf("  %.2f us per crossed triangle\n", j["us_per_crossed_triangle"].get<double>());
-    for (const auto& p : j["phases"]) std::printf("    %-22s %8.3f ms\n", p["name"].get<std::string>().c_str(), p["median_ms"].get<double>());
-    std::printf("  Stage A %.3f ms/frame before, %.3f ms/frame after the cut\n", j["stage_a_ms_before"].get<double>(),
-                j["stage_a_ms_after"].get<double>());
-    return 0;
+    if (!measured.ok()) return measured.error();
+    const nlohmann::json& j = measured.value();
+    Report report("cut");
+    report.json().update(j);
+    report.json().update({{"policy", policy}, {"cuts", cuts}});
+    report.line(format("%s: %zu particles, %zu triangles; %u cuts through the centre (%s)", spec.c_str(),
+                       j["particles_before"].get<size_t>(), j["triangles_before"].get<size_t>(), cuts, policy.c_str()));
+    std::vector<Figure> figures = {{"crossed triangles", j["crossed_triangles"].get<double>(), "", 0},
+                                   {"particles after", j["particles_after"].get<double>(), "", 0},
+                                   {"cut (median)", j["median_cut_ms"].get<double>(), "ms"},
+                                   {"of which derived solver data", j["median_rebuild_ms"].get<double>(), "ms"},
+                                   {"per crossed triangle", j["us_per_crossed_triangle"].get<double>(), "us", 2}};
+    for (const auto& p : j["phases"]) figures.push_back({"  " + p["name"].get<std::string>(), p["median_ms"].get<double>(), "ms"});
+    figures.push_back({"Stage A before the cut", j["stage_a_ms_before"].get<double>(), "ms/frame"});
+    figures.push_back({"Stage A after the cut", j["stage_a_ms_after"].get<double>(), "ms/frame"});
+    report.figures("", figures);
+    return report;
 }
+
+} // namespace
+
+const BenchSuite k_bench_cut{"cut", "one line cut: its milliseconds, the crossed region, Stage A before and after", command_spec,
+                             measure};
 
 } // namespace pbdsplat::cli

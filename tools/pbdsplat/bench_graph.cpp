@@ -1,15 +1,13 @@
 #include <cstdio>
 
-#include <nlohmann/json.hpp>
-
 #include "core/timer.h"
 #include "graph/frame_graph.h"
-#include "pbdsplat/options.h"
-#include "pbdsplat/commands.h"
+#include "pbdsplat/bench_suites.h"
 
 namespace pbdsplat::cli {
+namespace {
 
-int bench_graph(const std::vector<std::string>& argv) {
+const CommandSpec& command_spec() {
     static const CommandSpec command{
         "bench graph", "",
         "The frame graph's own cost: a graph of N passes of which all but one are culled (they need\n"
@@ -17,11 +15,11 @@ int bench_graph(const std::vector<std::string>& argv) {
         "mean microseconds of one execute(), and the cost of one compile().\n",
         {whole("passes", "N", 30, 1, 100000, "passes in the graph (30 is like the default scene)"),
          whole("frames", "F", 100000, 1, 100000000, "executions"), json_option()}};
-    const Parsed parsed = parse_command(command, argv);
-    if (!parsed.options) return parsed.exit_code;
-    const Options& opt = *parsed.options;
-    const uint32_t passes = opt.whole("passes"), frames = opt.whole("frames");
+    return command;
+}
 
+Outcome measure(const Options& opt) {
+    const uint32_t passes = opt.whole("passes"), frames = opt.whole("frames");
     graph::FrameGraph g;
     int state = 0, counter = 0;
     auto body = g.import("body", &state, true);
@@ -37,7 +35,7 @@ int bench_graph(const std::vector<std::string>& argv) {
             return [&counter](const graph::PassResources&, graph::ExecuteContext&) { ++counter; };
         });
     const core::Stopwatch compile_clock;
-    if (auto s = g.compile(); !s.ok()) return fail("bench graph", s.error().to_string());
+    PBDSPLAT_TRY(g.compile());
     const double compile_us = compile_clock.elapsed_ms() * 1000.0;
 
     // Timed in batches of 100, since one execute is below the clock's useful resolution.
@@ -51,16 +49,17 @@ int bench_graph(const std::vector<std::string>& argv) {
     }
     double mean = 0.0;
     for (double x : us) mean += x / double(us.size());
-    if (counter != int(us.size() * batch)) return fail("bench graph", "a culled pass ran");
-    if (opt.flag("json")) {
-        const nlohmann::json j = {{"suite", "graph"}, {"passes", passes}, {"kept", 1},
-                                  {"median_us", core::median(us)}, {"mean_us", mean}, {"compile_us", compile_us}};
-        std::printf("%s\n", j.dump().c_str());
-    } else {
-        std::printf("%u passes, 1 kept: execute %.3f us median (%.3f mean) per frame; compile %.1f us once\n",
-                    passes, core::median(us), mean, compile_us);
-    }
-    return 0;
+    if (counter != int(us.size() * batch)) return core::make_error("a culled pass ran");
+    Report report("graph");
+    report.json().update({{"passes", passes}, {"kept", 1}, {"median_us", core::median(us)}, {"mean_us", mean}, {"compile_us", compile_us}});
+    report.figures(format("%u passes, 1 kept:", passes),
+                   {{"execute, median per frame", core::median(us), "us"}, {"execute, mean per frame", mean, "us"},
+                    {"compile, once", compile_us, "us", 1}});
+    return report;
 }
+
+} // namespace
+
+const BenchSuite k_bench_graph{"graph", "the frame graph's own overhead per frame", command_spec, measure};
 
 } // namespace pbdsplat::cli

@@ -1,11 +1,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include <nlohmann/json.hpp>
-
 #include "core/timer.h"
-#include "pbdsplat/options.h"
-#include "pbdsplat/commands.h"
+#include "pbdsplat/bench_suites.h"
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/splat_sphere.h"
 #include "render/frame_uniforms.h"
@@ -14,7 +11,9 @@
 
 namespace pbdsplat::cli {
 
-int bench_render(const std::vector<std::string>& argv) {
+namespace {
+
+const CommandSpec& command_spec() {
     static const CommandSpec command{
         "bench render", "",
         "Milliseconds per frame of the splat pass for N splats on a sphere filling about a third of\n"
@@ -47,9 +46,34 @@ int bench_render(const std::vector<std::string>& argv) {
                   whole("repeat", "R", 20, 1, 100000, "measured frames"),
                   whole("warmup", "K", 3, 0, 100000, "unmeasured frames first"),
                   json_option("one JSON object: median_ms (sort + draw), path, and the parts")})};
-    const Parsed parsed = parse_command(command, argv);
-    if (!parsed.options) return parsed.exit_code;
-    const Options& opt = *parsed.options;
+    return command;
+}
+
+Report device_report(const gpu::DeviceCaps& caps) {
+    Report report("render");
+    report.json().update({{"device", caps.name}, {"driver", caps.driver}});
+    report.line(format("device %s (%s)", caps.name.c_str(), caps.driver.c_str()));
+    return report;
+}
+
+// --path meshraster: the lit mesh the paper compares against, with about as many vertices.
+Outcome measure_mesh_raster(gpu::Context& ctx, const Options& opt, const render::FrameInputs& frame) {
+    const uint32_t count = opt.whole("splats"), width = opt.whole("width"), height = opt.whole("height");
+    const uint32_t repeat = opt.whole("repeat");
+    auto r = bench_mesh_raster(ctx, count, frame, width, height, opt.whole("warmup"), repeat);
+    if (!r.ok()) return r.error();
+    PBDSPLAT_TRY(check_validation(ctx));
+    Report report = device_report(ctx.caps());
+    report.json().update({{"path", "meshraster"}, {"splats", count}, {"vertices", r->vertices}, {"triangles", r->triangles},
+                          {"environment", opt.text("environment")}, {"width", width}, {"height", height}, {"repeat", repeat},
+                          {"median_ms", r->median_ms}});
+    report.figures(format("mesh raster of an icosphere (%zu vertices, %zu triangles) at %ux%u, median of %u frames:", r->vertices,
+                          r->triangles, width, height, repeat),
+                   {{"draw", r->median_ms, "ms GPU"}});
+    return report;
+}
+
+Outcome measure(const Options& opt) {
     const uint32_t count = opt.whole("splats"), width = opt.whole("width"), height = opt.whole("height");
     const uint32_t repeat = opt.whole("repeat"), warmup = opt.whole("warmup");
     std::optional<render::SplatPath> path;
@@ -59,7 +83,7 @@ int bench_render(const std::vector<std::string>& argv) {
     else if (path_arg == "mesh") path = render::SplatPath::mesh;
     else if (path_arg == "vertex") path = render::SplatPath::vertex;
     const std::string& sort = opt.text("sort");
-    if (mesh_raster && sort != "off") return usage_error("bench render", "--path meshraster draws opaque triangles: no --sort");
+    if (mesh_raster && sort != "off") return Outcome::usage("--path meshraster draws opaque triangles: no --sort");
     const std::string& shading_arg = opt.text("shading");
     const std::string& footprint_arg = opt.text("footprint");
     const std::string& carrier_arg = opt.text("carrier");
@@ -67,12 +91,12 @@ int bench_render(const std::vector<std::string>& argv) {
     const render::EnvSampling environment = *render::env_sampling_from_name(opt.text("environment"));
 
     auto ctx = open_context(opt);
-    if (!ctx.ok()) return fail("bench render", ctx.error().to_string());
+    if (!ctx.ok()) return ctx.error();
     const gpu::DeviceCaps& caps = ctx.value()->caps();
-    if (!caps.timestamps) return fail("bench render", "device '" + caps.name + "' has no timestamp queries to measure with");
+    if (!caps.timestamps) return core::make_error("device '" + caps.name + "' has no timestamp queries to measure with");
     if (path) {
         const std::string why = render::splat_path_unsupported(caps, *path);
-        if (!why.empty()) return fail("bench render", why);
+        if (!why.empty()) return core::make_error(why);
     }
 
     auto [records, frame] = make_splat_sphere(count);
@@ -87,25 +111,7 @@ int bench_render(const std::vector<std::string>& argv) {
     const float pixels_per_unit = float(height) / (2.0f * 3.5f * std::tan(math::radians(frame.camera.fov_y_degrees) * 0.5f));
     const float quad_side = 2.0f * render::splat_reach_bound(frame.style) * sigma * pixels_per_unit;
     const double screens = double(quad_side) * quad_side * count / (double(width) * height);
-    if (mesh_raster) {
-        auto r = bench_mesh_raster(*ctx.value(), count, frame, width, height, warmup, repeat);
-        if (!r.ok()) return fail("bench render", r.error().to_string());
-        if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("bench render", v.error().to_string());
-        if (opt.flag("json")) {
-            const nlohmann::json j = {{"suite", "render"}, {"device", caps.name}, {"driver", caps.driver},
-                                      {"path", "meshraster"}, {"splats", count}, {"vertices", r->vertices},
-                                      {"triangles", r->triangles}, {"environment", render::env_sampling_name(environment)},
-                                      {"width", width}, {"height", height}, {"repeat", repeat},
-                                      {"median_ms", r->median_ms}};
-            std::printf("%s\n", j.dump().c_str());
-        } else {
-            std::printf("device %s (%s)\n", caps.name.c_str(), caps.driver.c_str());
-            std::printf("mesh raster of an icosphere (%zu vertices, %zu triangles) at %ux%u, median of %u frames:\n",
-                        r->vertices, r->triangles, width, height, repeat);
-            std::printf("  draw   %8.3f ms GPU\n", r->median_ms);
-        }
-        return 0;
-    }
+    if (mesh_raster) return measure_mesh_raster(*ctx.value(), opt, frame);
     if (sort == "cpu") frame.style.order = render::SplatOrder::cpu;
     if (sort == "gpu") frame.style.order = render::SplatOrder::gpu;
     render::RendererOptions options;
@@ -118,7 +124,7 @@ int bench_render(const std::vector<std::string>& argv) {
     options.frames_in_flight = 1;
     options.path = path;
     auto renderer = passes::OffscreenRenderer::create(*ctx.value(), options);
-    if (!renderer.ok()) return fail("bench render", renderer.error().to_string());
+    if (!renderer.ok()) return renderer.error();
     const render::SplatPath used = path.value_or(render::best_splat_path(caps));
 
     splat::SortScratch scratch;
@@ -132,40 +138,38 @@ int bench_render(const std::vector<std::string>& argv) {
             splat::sort_far_to_near(records, view, scratch);
             sorting = clock.elapsed_ms();
         }
-        if (auto s = renderer.value()->render(records, frame); !s.ok()) return fail("bench render", s.error().to_string());
-        auto img = renderer.value()->finish();
-        if (!img.ok()) return fail("bench render", img.error().to_string());
+        PBDSPLAT_TRY(renderer.value()->render(records, frame));
+        PBDSPLAT_TRY(renderer.value()->finish());
         if (i < warmup) continue;
         draw.push_back(renderer.value()->timings().draw_ms);
         gpu_sort_ms.push_back(renderer.value()->timings().sort_ms);
         sort_ms.push_back(sorting);
         wall.push_back(frame_clock.elapsed_ms());
     }
-    if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("bench render", v.error().to_string());
+    PBDSPLAT_TRY(check_validation(*ctx.value()));
     const double median_ms = core::median(draw) + core::median(sort_ms) + core::median(gpu_sort_ms);
-    if (opt.flag("json")) {
-        const nlohmann::json j = {{"suite", "render"}, {"device", caps.name}, {"driver", caps.driver},
-                                  {"splats", count}, {"path", render::splat_path_name(used)}, {"sort", sort}, {"environment", render::env_sampling_name(environment)}, {"shading", shading_arg},
-                                  {"footprint", footprint_arg}, {"kappa", kappa}, {"carrier", carrier_arg},
-                                  {"cull_facing", cull_facing},
-                                  {"scale", scale}, {"quad_screens", screens},
-                                  {"width", width}, {"height", height}, {"repeat", repeat},
-                                  {"median_ms", median_ms}, {"draw_ms", core::median(draw)},
-                                  {"sort_ms", core::median(sort_ms)}, {"gpu_sort_ms", core::median(gpu_sort_ms)},
-                                  {"frame_wall_ms", core::median(wall)}};
-        std::printf("%s\n", j.dump().c_str());
-        return 0;
-    }
-    std::printf("device %s (%s)\n", caps.name.c_str(), caps.driver.c_str());
-    std::printf("%u splats at %ux%u, path %s, sort %s, shading per %s, median of %u frames:\n", count, width,
-                height, render::splat_path_name(used), sort.c_str(), shading_arg.c_str(), repeat);
-    std::printf("footprint %s, carrier %s, %.1f screens of carrier area\n", footprint_arg.c_str(), carrier_arg.c_str(), screens);
+    Report report = device_report(caps);
+    report.json().update({{"splats", count}, {"path", render::splat_path_name(used)}, {"sort", sort},
+                          {"environment", render::env_sampling_name(environment)}, {"shading", shading_arg},
+                          {"footprint", footprint_arg}, {"kappa", kappa}, {"carrier", carrier_arg}, {"cull_facing", cull_facing},
+                          {"scale", scale}, {"quad_screens", screens}, {"width", width}, {"height", height}, {"repeat", repeat},
+                          {"median_ms", median_ms}, {"draw_ms", core::median(draw)}, {"sort_ms", core::median(sort_ms)},
+                          {"gpu_sort_ms", core::median(gpu_sort_ms)}, {"frame_wall_ms", core::median(wall)}});
+    report.line(format("%u splats at %ux%u, path %s, sort %s, shading per %s, median of %u frames:", count, width, height,
+                       render::splat_path_name(used), sort.c_str(), shading_arg.c_str(), repeat));
+    report.line(format("footprint %s, carrier %s, %.1f screens of carrier area", footprint_arg.c_str(), carrier_arg.c_str(), screens));
     const bool two_passes = sort == "off" && footprint_arg == "gaussian";
-    std::printf("  draw   %8.3f ms GPU (%s)\n", core::median(draw), two_passes ? "visibility + colour passes" : "one pass");
-    if (sort == "cpu") std::printf("  sort   %8.3f ms CPU\n", core::median(sort_ms));
-    if (sort == "gpu") std::printf("  sort   %8.3f ms GPU (cull, radix sort, gather)\n", core::median(gpu_sort_ms));
-    std::printf("  frame  %8.3f ms wall (upload, draw, readback)\n", core::median(wall));
-    return 0;
+    std::vector<Figure> figures = {{"draw", core::median(draw), two_passes ? "ms GPU (visibility + colour passes)" : "ms GPU (one pass)"}};
+    if (sort == "cpu") figures.push_back({"sort", core::median(sort_ms), "ms CPU"});
+    if (sort == "gpu") figures.push_back({"sort", core::median(gpu_sort_ms), "ms GPU (cull, radix sort, gather)"});
+    figures.push_back({"frame", core::median(wall), "ms wall (upload, draw, readback)"});
+    report.figures("", figures);
+    return report;
 }
+
+} // namespace
+
+const BenchSuite k_bench_render{"render", "splat pass ms per frame by path (gs, mesh, vertex, meshraster), sort, shading",
+                                command_spec, measure};
 
 } // namespace pbdsplat::cli

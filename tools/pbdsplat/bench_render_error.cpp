@@ -1,16 +1,12 @@
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "core/timer.h"
-#include "pbdsplat/options.h"
-#include "pbdsplat/commands.h"
+#include "pbdsplat/bench_suites.h"
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/splat_sphere.h"
-#include "pbdsplat/report.h"
 #include "pbdsplat/svg_plot.h"
 #include "passes/offscreen_renderer.h"
 #include "splat/sort.h"
@@ -71,9 +67,7 @@ core::Result<std::pair<core::ImageRgba8, double>> render(gpu::Context& ctx, std:
     return std::pair{std::move(image), core::median(ms)};
 }
 
-} // namespace
-
-int bench_render_error(const std::vector<std::string>& argv) {
+const CommandSpec& command_spec() {
     static const CommandSpec command{
         "bench render-error", "",
         "Rendering, time against error: N splats on a sphere rendered in each footprint (the paper's\n"
@@ -87,13 +81,13 @@ int bench_render_error(const std::vector<std::string>& argv) {
                   whole("width", "W", 480, 16, 4096, "image width"), whole("height", "H", 270, 16, 4096, "image height"),
                   whole("repeat", "R", 3, 1, 1000, "measured frames per variant"), out_dir_option(),
                   json_option("one JSON object: the reference and every variant")})};
-    const Parsed parsed = parse_command(command, argv);
-    if (!parsed.options) return parsed.exit_code;
-    const Options& opt = *parsed.options;
+    return command;
+}
+
+Outcome measure(const Options& opt) {
     const uint32_t count = opt.whole("splats"), w = opt.whole("width"), h = opt.whole("height"), repeat = opt.whole("repeat");
-    const std::filesystem::path out_dir = opt.text("out-dir");
     auto ctx = open_context(opt);
-    if (!ctx.ok()) return fail("bench render-error", ctx.error().to_string());
+    if (!ctx.ok()) return ctx.error();
     const gpu::DeviceCaps& caps = ctx.value()->caps();
 
     auto [records, frame] = make_splat_sphere(count);
@@ -105,7 +99,7 @@ int bench_render_error(const std::vector<std::string>& argv) {
         Variant reference_variant{"reference", render::SplatPath::geometry, render::SplatOrder::cpu};
         reference_variant.footprint = f;
         auto reference = render(*ctx.value(), records, frame, reference_variant, 4 * w, 4 * h, 1);
-        if (!reference.ok()) return fail("bench render-error", reference.error().to_string());
+        if (!reference.ok()) return reference.error();
         truth[int(f)] = core::downsample(reference->first, 4);
         reference_ms += reference->second;
     }
@@ -146,23 +140,28 @@ int bench_render_error(const std::vector<std::string>& argv) {
         const auto denser = v.density == 1.0f ? SplatSphere{records, frame}
                                               : make_splat_sphere(std::max<uint32_t>(1, uint32_t(float(count) * v.density)));
         auto r = render(*ctx.value(), denser.records, frame, v, w, h, repeat);
-        if (!r.ok()) return fail("bench render-error", v.name + ": " + r.error().to_string());
+        if (!r.ok()) return core::make_error(v.name + ": " + r.error().to_string());
         auto diff = core::compare_images(r->first, truth[int(v.footprint)], 2);
-        if (!diff.ok()) return fail("bench render-error", diff.error().to_string());
+        if (!diff.ok()) return diff.error();
         results.push_back({v, r->second, diff->psnr_db, diff->share_over});
     }
-    if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("bench render-error", v.error().to_string());
+    PBDSPLAT_TRY(check_validation(*ctx.value()));
 
-    {
-        std::ostringstream csv;
-        csv << "variant,footprint,path,sort,shading,kappa,scale,density,ms,psnr_db,share_over_2\n";
-        for (const Measured& m : results)
-            csv << '"' << m.v.name << "\"," << render::footprint_name(m.v.footprint) << ',' << render::splat_path_name(m.v.path) << ',' << render::splat_order_name(m.v.order) << ','
-                << (m.v.shading == render::SplatShading::corner ? "corner" : "fragment") << ',' << m.v.kappa << ',' << m.v.scale
-                << ',' << m.v.density << ',' << m.ms << ',' << m.psnr << ',' << m.share_over << '\n';
-        if (auto s = write_report_file(out_dir, "render_error.csv", csv.str()); !s.ok())
-            return fail("bench render-error", s.error().to_string());
-    }
+    Table table({{"variant", 0, true, ""},
+                 {"footprint", 0, false},
+                 {"path", 0, false},
+                 {"sort", 0, false},
+                 {"shading", 0, false},
+                 {"kappa", 1, false},
+                 {"scale", 1, false},
+                 {"density", 1, false},
+                 {"ms", 2, true, "GPU ms"},
+                 {"psnr_db", 2, true, "PSNR dB"},
+                 {"share_over_2", 4, true, "share > 2/255"}});
+    for (const Measured& m : results)
+        table.add({m.v.name, render::footprint_name(m.v.footprint), render::splat_path_name(m.v.path), render::splat_order_name(m.v.order),
+                   m.v.shading == render::SplatShading::corner ? "corner" : "fragment", m.v.kappa, m.v.scale, m.v.density, m.ms,
+                   std::isfinite(m.psnr) ? m.psnr : 999.0, m.share_over});
     PlotSpec plot;
     plot.title = "Rendering: time against error (" + std::to_string(count) + " splats, " + std::to_string(w) + "x" +
                  std::to_string(h) + ", against a 4x supersampled sorted reference)";
@@ -180,25 +179,26 @@ int bench_render_error(const std::vector<std::string>& argv) {
             }
         if (!s.x.empty()) plot.series.push_back(s);
     }
-    if (auto s = write_report_file(out_dir, "render_error.svg", render_svg(plot)); !s.ok())
-        return fail("bench render-error", s.error().to_string());
 
-    if (opt.flag("json")) {
-        nlohmann::json j = {{"suite", "render-error"}, {"device", caps.name}, {"splats", count}, {"width", w},
-                            {"height", h}, {"reference_ms", reference_ms}, {"variants", nlohmann::json::array()}};
-        for (const Measured& m : results)
-            j["variants"].push_back({{"name", m.v.name}, {"footprint", render::footprint_name(m.v.footprint)}, {"ms", m.ms}, {"psnr_db", std::isfinite(m.psnr) ? m.psnr : 999.0},
-                                     {"share_over_2", m.share_over}});
-        std::printf("%s\n", j.dump().c_str());
-        return 0;
-    }
-    std::printf("%u splats at %ux%u on %s; reference per footprint: gs, CPU-sorted, per fragment, 4x supersampled\n", count, w, h,
-                caps.name.c_str());
-    std::printf("  %-40s %10s %10s %12s\n", "variant", "GPU ms", "PSNR dB", "> 2/255");
+    Report report("render-error");
+    nlohmann::json variants_json = nlohmann::json::array();
     for (const Measured& m : results)
-        std::printf("  %-40s %10.2f %10.2f %11.2f%%\n", m.v.name.c_str(), m.ms, m.psnr, 100.0 * m.share_over);
-    std::printf("wrote %s and render_error.svg\n", (out_dir / "render_error.csv").string().c_str());
-    return 0;
+        variants_json.push_back({{"name", m.v.name}, {"footprint", render::footprint_name(m.v.footprint)}, {"ms", m.ms},
+                                 {"psnr_db", std::isfinite(m.psnr) ? m.psnr : 999.0}, {"share_over_2", m.share_over}});
+    report.json().update({{"device", caps.name}, {"splats", count}, {"width", w}, {"height", h}, {"reference_ms", reference_ms},
+                          {"variants", variants_json}});
+    report.table(format("%u splats at %ux%u on %s; reference per footprint: gs, CPU-sorted, per fragment, 4x supersampled "
+                        "(PSNR 999: identical)",
+                        count, w, h, caps.name.c_str()),
+                 table);
+    report.csv("render_error.csv", table);
+    report.plot("render_error.svg", plot);
+    return report;
 }
+
+} // namespace
+
+const BenchSuite k_bench_render_error{"render-error", "rendering time against image error, against a supersampled reference",
+                                      command_spec, measure};
 
 } // namespace pbdsplat::cli

@@ -1,18 +1,17 @@
 #include <cstdio>
 
-#include <nlohmann/json.hpp>
-
 #include "core/timer.h"
 #include "mesh/mesh_spec.h"
-#include "pbdsplat/options.h"
-#include "pbdsplat/commands.h"
+#include "pbdsplat/bench_suites.h"
 #include "pbdsplat/sim_baseline.h"
 #include "sim/solver.h"
 #include "splat/gaussian_record.h"
 
 namespace pbdsplat::cli {
 
-int bench_sim(const std::vector<std::string>& argv) {
+namespace {
+
+const CommandSpec& command_spec() {
     static const CommandSpec command{
         "bench sim", "",
         "Runs Stage A (the CPU PBD frame of the paper) on a body hanging under gravity\n"
@@ -35,19 +34,20 @@ int bench_sim(const std::vector<std::string>& argv) {
                           "tools/pbdsplat/sim_baseline.h), frame for frame alternated with the\n"
                           "engine, and print the ratio of the engine's step to it (paper mode)"),
          json_option()}};
-    const Parsed parsed = parse_command(command, argv);
-    if (!parsed.options) return parsed.exit_code;
-    const Options& opt = *parsed.options;
+    return command;
+}
+
+Outcome measure(const Options& opt) {
     const uint32_t iterations = opt.whole("iterations"), substeps = opt.whole("substeps"), frames = opt.whole("frames");
     const uint32_t warmup = opt.whole("warmup"), threads = opt.whole("threads");
     const std::string& spec = opt.text("mesh");
 
     auto repaired = mesh::load_mesh_spec(spec);
-    if (!repaired.ok()) return fail("bench sim", repaired.error().to_string());
+    if (!repaired.ok()) return repaired.error();
     sim::SoftBodyDesc desc;
     desc.volume = opt.text("volume") == "on";
     auto made = sim::make_soft_body(std::move(repaired).value().mesh, desc);
-    if (!made.ok()) return fail("bench sim", made.error().to_string());
+    if (!made.ok()) return made.error();
     sim::SoftBody body = std::move(made).value();
     if (opt.text("pin") == "top") body.pin(body.extreme_particle(1));
 
@@ -56,9 +56,9 @@ int bench_sim(const std::vector<std::string>& argv) {
     settings.iterations = iterations;
     settings.substeps = substeps;
     settings.volume = desc.volume;
-    if (auto v = sim::validate(settings); !v.ok()) return usage_error("bench sim", v.error().to_string());
+    if (auto v = sim::validate(settings); !v.ok()) return Outcome::usage(v.error().to_string());
     const bool with_baseline = opt.flag("baseline");
-    if (with_baseline && settings.mode != sim::SolverMode::paper) return usage_error("bench sim", "--baseline runs PBD: use --mode paper");
+    if (with_baseline && settings.mode != sim::SolverMode::paper) return Outcome::usage("--baseline runs PBD: use --mode paper");
     // The yardstick runs on the body's own particle order and pin.
     mesh::TriangleMesh as_body;
     as_body.positions = body.rest_positions;
@@ -97,46 +97,45 @@ int bench_sim(const std::vector<std::string>& argv) {
         update.push_back(up);
     }
     for (const auto& x : body.particles.x)
-        if (!x.allFinite()) return fail("bench sim", "the simulation produced NaN or Inf; the settings are unstable");
+        if (!x.allFinite()) return core::make_error("the simulation produced NaN or Inf; the settings are unstable");
 
     const size_t n_constraints = body.distance.size() + (settings.volume ? body.volumes.size() : 0);
-    if (opt.flag("json")) {
-        const nlohmann::json j = {{"suite", "sim"},
-                                  {"mesh", spec},
-                                  {"mode", opt.text("mode")},
-                                  {"iterations", iterations},
-                                  {"substeps", substeps},
-                                  {"volume", desc.volume},
-                                  {"threads", threads},
-                                  {"particles", body.particle_count()},
-                                  {"constraints", n_constraints},
-                                  {"frames", frames},
-                                  {"median_ms", core::median(total)},
-                                  {"stages_median_ms", {{"apply_forces", core::median(forces)},
-                                                        {"constraint_projection", core::median(constraints)},
-                                                        {"integrate_normals", core::median(integrate)},
-                                                        {"update_particles", core::median(update)}}}};
-        nlohmann::json out = j;
-        if (with_baseline)
-            out["baseline"] = {{"engine_step_median_ms", core::median(engine_step)}, {"baseline_median_ms", core::median(baseline_step)},
-                               {"ratio", core::median(engine_step) / std::max(1e-9, core::median(baseline_step))}};
-        std::printf("%s\n", out.dump().c_str());
-    } else {
-        std::printf("%s: %zu particles, %zu distance + %zu volume constraints; %s, I=%u, S=%u, %u thread(s)\n",
-                    spec.c_str(), body.particle_count(), body.distance.size(), settings.volume ? body.volumes.size() : 0,
-                    opt.text("mode").c_str(), iterations, substeps, threads);
-        std::printf("median of %u frames:\n", frames);
-        std::printf("  apply forces           %8.3f ms\n", core::median(forces));
-        std::printf("  constraint projection  %8.3f ms\n", core::median(constraints));
-        std::printf("  integrate + normals    %8.3f ms\n", core::median(integrate));
-        std::printf("  update particles       %8.3f ms (particle-to-Gaussian mapping)\n", core::median(update));
-        std::printf("  Stage A frame          %8.3f ms\n", core::median(total));
-        if (with_baseline)
-            std::printf("baseline (minimal loop, same workload, alternated): engine step %.3f ms, loop %.3f ms, ratio %.2f\n",
-                        core::median(engine_step), core::median(baseline_step),
-                        core::median(engine_step) / std::max(1e-9, core::median(baseline_step)));
+    Report report("sim");
+    report.json().update({{"mesh", spec},
+                          {"mode", opt.text("mode")},
+                          {"iterations", iterations},
+                          {"substeps", substeps},
+                          {"volume", desc.volume},
+                          {"threads", threads},
+                          {"particles", body.particle_count()},
+                          {"constraints", n_constraints},
+                          {"frames", frames},
+                          {"median_ms", core::median(total)},
+                          {"stages_median_ms", {{"apply_forces", core::median(forces)},
+                                                {"constraint_projection", core::median(constraints)},
+                                                {"integrate_normals", core::median(integrate)},
+                                                {"update_particles", core::median(update)}}}});
+    report.line(format("%s: %zu particles, %zu distance + %zu volume constraints; %s, I=%u, S=%u, %u thread(s)", spec.c_str(),
+                       body.particle_count(), body.distance.size(), settings.volume ? body.volumes.size() : 0,
+                       opt.text("mode").c_str(), iterations, substeps, threads));
+    report.figures(format("median of %u frames:", frames),
+                   {{"apply forces", core::median(forces), "ms"},
+                    {"constraint projection", core::median(constraints), "ms"},
+                    {"integrate + normals", core::median(integrate), "ms"},
+                    {"update particles", core::median(update), "ms (particle-to-Gaussian mapping)"},
+                    {"Stage A frame", core::median(total), "ms"}});
+    if (with_baseline) {
+        const double engine = core::median(engine_step), loop = core::median(baseline_step);
+        const double ratio = engine / std::max(1e-9, loop);
+        report.json()["baseline"] = {{"engine_step_median_ms", engine}, {"baseline_median_ms", loop}, {"ratio", ratio}};
+        report.figures("baseline (minimal loop, same workload, alternated):",
+                       {{"engine step", engine, "ms"}, {"loop", loop, "ms"}, {"ratio", ratio, "", 2}});
     }
-    return 0;
+    return report;
 }
+
+} // namespace
+
+const BenchSuite k_bench_sim{"sim", "Stage A milliseconds per frame, per stage (median of frames)", command_spec, measure};
 
 } // namespace pbdsplat::cli

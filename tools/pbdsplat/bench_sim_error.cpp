@@ -1,15 +1,9 @@
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <sstream>
-
-#include <nlohmann/json.hpp>
 
 #include "core/timer.h"
 #include "mesh/mesh_spec.h"
-#include "pbdsplat/options.h"
-#include "pbdsplat/commands.h"
-#include "pbdsplat/report.h"
+#include "pbdsplat/bench_suites.h"
 #include "pbdsplat/svg_plot.h"
 #include "sim/error_metrics.h"
 #include "sim/solver.h"
@@ -31,9 +25,7 @@ struct Run {
     double volume_error = 0.0;    // |V - k V0| / (k V0), volumes summed over components
 };
 
-} // namespace
-
-int bench_sim_error(const std::vector<std::string>& argv) {
+const CommandSpec& command_spec() {
     static const CommandSpec command{
         "bench sim-error", "",
         "Run time against error for Stage A. Each body hangs from its highest particle under gravity\n"
@@ -47,11 +39,11 @@ int bench_sim_error(const std::vector<std::string>& argv) {
          flag("after-cut", "first open a slit in each body (a plane cut limited to a ball on its +x side),\n"
                            "so the figures are those after a topology change"),
          out_dir_option(), json_option()}};
-    const Parsed parsed = parse_command(command, argv);
-    if (!parsed.options) return parsed.exit_code;
-    const Options& opt = *parsed.options;
+    return command;
+}
+
+Outcome measure(const Options& opt) {
     const bool after_cut = opt.flag("after-cut");
-    const std::filesystem::path out_dir = opt.text("out-dir");
     const std::string stem = after_cut ? "sim_error_after_cut" : "sim_error";
     const int frames = int(std::lround(opt.real("seconds") * 60.0f));
     const float dt = 1.0f / 60.0f;
@@ -60,10 +52,10 @@ int bench_sim_error(const std::vector<std::string>& argv) {
     std::vector<Run> runs;
     for (const std::string& spec : meshes) {
         auto repaired = mesh::load_mesh_spec(spec);
-        if (!repaired.ok()) return fail("bench sim-error", repaired.error().to_string());
+        if (!repaired.ok()) return repaired.error();
         const float diagonal = mesh::bounds(repaired->mesh).diagonal();
         auto made = sim::make_soft_body(std::move(repaired).value().mesh, {});
-        if (!made.ok()) return fail("bench sim-error", made.error().to_string());
+        if (!made.ok()) return made.error();
         sim::SoftBody start = std::move(made).value();
         start.pin(start.extreme_particle(1));
         const std::string label = after_cut ? spec + " after a cut" : spec;
@@ -72,11 +64,11 @@ int bench_sim_error(const std::vector<std::string>& argv) {
             // new boundary, re-indexed constraints and a capped volume.
             const Vec3f side = sim::xyz(start.particles.x[start.extreme_particle(0)]);
             auto surface = topology::plane_cut(side, Vec3f::UnitY());
-            if (!surface.ok()) return fail("bench sim-error", surface.error().to_string());
+            if (!surface.ok()) return surface.error();
             const float r = 0.25f * diagonal;
             surface->inside = [side, r](const Vec3f& x) { return (x - side).squaredNorm() < r * r; };
             auto change = topology::cut(start, surface.value());
-            if (!change.ok()) return fail("bench sim-error", spec + ": " + change.error().to_string());
+            if (!change.ok()) return core::make_error(spec + ": " + change.error().to_string());
         }
 
         std::fprintf(stderr, "%s: %zu particles, reference (XPBD S=64, double)...\n", spec.c_str(), start.particle_count());
@@ -125,14 +117,20 @@ int bench_sim_error(const std::vector<std::string>& argv) {
         runs.push_back(ref);
     }
 
-    {
-        std::ostringstream csv;
-        csv << "mesh,method,iterations,substeps,ms_per_frame,position_error_rel,mean_strain,volume_error_rel\n";
-        for (const Run& r : runs)
-            csv << r.mesh << ',' << r.method << ',' << r.iterations << ',' << r.substeps << ',' << r.ms_per_frame << ','
-                << r.position_error << ',' << r.strain << ',' << r.volume_error << '\n';
-        if (auto s = write_report_file(out_dir, stem + ".csv", csv.str()); !s.ok()) return fail("bench sim-error", s.error().to_string());
-    }
+    Table table({{"mesh", 0, true, ""},
+                 {"method", 0, true, ""},
+                 {"iterations", 0, true, "I"},
+                 {"substeps", 0, true, "S"},
+                 {"ms_per_frame", 3, true, "ms/frame"},
+                 {"position_error_rel", -3, true, "position"},
+                 {"mean_strain", -3, true, "strain"},
+                 {"volume_error_rel", -3, true, "volume"}});
+    for (const Run& r : runs)
+        table.add({r.mesh, r.method, r.iterations, r.substeps, r.ms_per_frame, r.position_error, r.strain, r.volume_error});
+    Report report("sim-error");
+    report.json().update({{"frames", frames}, {"runs", table.json()}});
+    report.table(format("after %d frames at 60 Hz (errors relative: position to the bounding-box diagonal):", frames), table);
+    report.csv(stem + ".csv", table);
     for (const auto& [file, metric, label] :
          {std::tuple{stem + "_position.svg", &Run::position_error, "RMS position error / bounding-box diagonal"},
           std::tuple{stem + "_strain.svg", &Run::strain, "mean relative edge strain"}}) {
@@ -143,34 +141,24 @@ int bench_sim_error(const std::vector<std::string>& argv) {
         for (const std::string& mesh_spec : meshes)
             for (const char* method : {"pbd", "xpbd"}) {
                 const std::string spec = after_cut ? mesh_spec + " after a cut" : mesh_spec;
-                PlotSeries s;
-                s.name = spec + (std::string(method) == "pbd" ? " PBD (I)" : " XPBD (S)");
+                PlotSeries series;
+                series.name = spec + (std::string(method) == "pbd" ? " PBD (I)" : " XPBD (S)");
                 for (const Run& r : runs)
                     if (r.mesh == spec && r.method == method) {
-                        s.x.push_back(r.ms_per_frame);
-                        s.y.push_back(r.*metric);
-                        s.labels.push_back(std::to_string(r.method == "pbd" ? r.iterations : r.substeps));
+                        series.x.push_back(r.ms_per_frame);
+                        series.y.push_back(r.*metric);
+                        series.labels.push_back(std::to_string(r.method == "pbd" ? r.iterations : r.substeps));
                     }
-                plot.series.push_back(s);
+                plot.series.push_back(series);
             }
-        if (auto s = write_report_file(out_dir, file, render_svg(plot)); !s.ok()) return fail("bench sim-error", s.error().to_string());
+        report.plot(file, plot);
     }
-    if (opt.flag("json")) {
-        nlohmann::json j = {{"suite", "sim-error"}, {"frames", frames}, {"runs", nlohmann::json::array()}};
-        for (const Run& r : runs)
-            j["runs"].push_back({{"mesh", r.mesh},
-                                 {"method", r.method},
-                                 {"iterations", r.iterations},
-                                 {"substeps", r.substeps},
-                                 {"ms_per_frame", r.ms_per_frame},
-                                 {"position_error_rel", r.position_error},
-                                 {"mean_strain", r.strain},
-                                 {"volume_error_rel", r.volume_error}});
-        std::printf("%s\n", j.dump().c_str());
-    } else {
-        std::printf("wrote %s, %s_position.svg, %s_strain.svg\n", (out_dir / (stem + ".csv")).string().c_str(), stem.c_str(), stem.c_str());
-    }
-    return 0;
+    return report;
 }
+
+} // namespace
+
+const BenchSuite k_bench_sim_error{"sim-error", "Stage A run time against error, PBD and XPBD, to CSV and SVG plots", command_spec,
+                                   measure};
 
 } // namespace pbdsplat::cli

@@ -1,10 +1,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include <nlohmann/json.hpp>
-
 #include "core/timer.h"
-#include "pbdsplat/commands.h"
+#include "pbdsplat/bench_suites.h"
 #include "pbdsplat/progress.h"
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/splat_sphere.h"
@@ -13,7 +11,9 @@
 
 namespace pbdsplat::cli {
 
-int bench_splat(const std::vector<std::string>& argv) {
+namespace {
+
+const CommandSpec& command_spec() {
     static const CommandSpec command{
         "bench splat", "",
         "Renders N splats spread over a sphere R times (after K unmeasured frames), every frame\n"
@@ -25,17 +25,18 @@ int bench_splat(const std::vector<std::string>& argv) {
                   whole("height", "H", 720, 1, 16384, "target height"),
                   whole("repeat", "R", 30, 1, 100000, "measured frames"),
                   whole("warmup", "K", 5, 0, 100000, "unmeasured frames first"), upload_option(), json_option()})};
-    const Parsed parsed = parse_command(command, argv);
-    if (!parsed.options) return parsed.exit_code;
-    const Options& opt = *parsed.options;
+    return command;
+}
+
+Outcome measure(const Options& opt) {
     const uint32_t count = opt.whole("count"), width = opt.whole("width"), height = opt.whole("height");
     const uint32_t repeat = opt.whole("repeat"), warmup = opt.whole("warmup");
     const std::optional<gpu::UploadPath> upload = upload_path(opt);
 
     auto ctx = open_context(opt);
-    if (!ctx.ok()) return fail("bench splat", ctx.error().to_string());
+    if (!ctx.ok()) return ctx.error();
     if (!ctx.value()->caps().timestamps)
-        return fail("bench splat", "device '" + ctx.value()->caps().name + "' has no timestamp queries to measure with");
+        return core::make_error("device '" + ctx.value()->caps().name + "' has no timestamp queries to measure with");
 
     auto [records, frame] = make_splat_sphere(count);
     render::RendererOptions options;
@@ -45,52 +46,50 @@ int bench_splat(const std::vector<std::string>& argv) {
     options.frames_in_flight = 1;  // one frame at a time, so each frame's stages are timed alone
     options.upload_path = upload;
     auto renderer = passes::OffscreenRenderer::create(*ctx.value(), options);
-    if (!renderer.ok()) return fail("bench splat", renderer.error().to_string());
+    if (!renderer.ok()) return renderer.error();
 
     std::vector<double> up_cpu, up, draw, back, wall;
     Progress progress("bench splat", warmup + repeat);
     for (uint32_t i = 0; i < warmup + repeat; ++i) {
         if (i > 0) progress.frame_done(i);
         core::Stopwatch sw;
-        if (auto s = renderer.value()->render(records, frame); !s.ok()) return fail("bench splat", s.error().to_string());
-        auto img = renderer.value()->finish();
-        if (!img.ok()) return fail("bench splat", img.error().to_string());
+        PBDSPLAT_TRY(renderer.value()->render(records, frame));
+        PBDSPLAT_TRY(renderer.value()->finish());
         const double ms = sw.elapsed_ms();
         if (i < warmup) continue;
         const render::GpuTimings t = renderer.value()->timings();
         up_cpu.push_back(t.upload_cpu_ms), up.push_back(t.upload_ms), draw.push_back(t.draw_ms), back.push_back(t.readback_ms), wall.push_back(ms);
     }
-    auto v = check_validation(*ctx.value());
-    if (!v.ok()) return fail("bench splat", v.error().to_string());
+    PBDSPLAT_TRY(check_validation(*ctx.value()));
 
     const char* path = gpu::upload_path_name(renderer.value()->upload_path());
     const auto& caps = ctx.value()->caps();
-    if (opt.flag("json")) {
-        const nlohmann::json j = {{"suite", "splat"},
-                                  {"device", caps.name},
-                                  {"driver", caps.driver},
-                                  {"count", count},
-                                  {"width", width},
-                                  {"height", height},
-                                  {"repeat", repeat},
-                                  {"upload_path", path},
-                                  {"median_ms", {{"upload_cpu", core::median(up_cpu)},
-                                                 {"upload", core::median(up)},
-                                                 {"draw", core::median(draw)},
-                                                 {"readback", core::median(back)},
-                                                 {"frame_wall", core::median(wall)}}}};
-        std::printf("%s\n", j.dump().c_str());
-    } else {
-        std::printf("device %s (%s)\n", caps.name.c_str(), caps.driver.c_str());
-        std::printf("%u splats at %ux%u, %s uploads, median of %u frames:\n", count, width,
-                    height, path, repeat);
-        std::printf("  upload    %8.3f ms CPU (writing records) + %.3f ms GPU (staging copy)\n", core::median(up_cpu),
-                    core::median(up));
-        std::printf("  draw      %8.3f ms GPU (visibility + colour splat passes)\n", core::median(draw));
-        std::printf("  readback  %8.3f ms GPU (image to host buffer)\n", core::median(back));
-        std::printf("  frame     %8.3f ms CPU wall, from recording to image in hand\n", core::median(wall));
-    }
-    return 0;
+    Report report("splat");
+    report.json().update({{"device", caps.name},
+                          {"driver", caps.driver},
+                          {"count", count},
+                          {"width", width},
+                          {"height", height},
+                          {"repeat", repeat},
+                          {"upload_path", path},
+                          {"median_ms", {{"upload_cpu", core::median(up_cpu)},
+                                         {"upload", core::median(up)},
+                                         {"draw", core::median(draw)},
+                                         {"readback", core::median(back)},
+                                         {"frame_wall", core::median(wall)}}}});
+    report.line(format("device %s (%s)", caps.name.c_str(), caps.driver.c_str()));
+    report.figures(format("%u splats at %ux%u, %s uploads, median of %u frames:", count, width, height, path, repeat),
+                   {{"upload (writing records)", core::median(up_cpu), "ms CPU"},
+                    {"upload (staging copy)", core::median(up), "ms GPU"},
+                    {"draw", core::median(draw), "ms GPU (visibility + colour splat passes)"},
+                    {"readback", core::median(back), "ms GPU (image to host buffer)"},
+                    {"frame", core::median(wall), "ms CPU wall, from recording to image in hand"}});
+    return report;
 }
+
+} // namespace
+
+const BenchSuite k_bench_splat{"splat", "GPU milliseconds of upload, draw and readback for N splats (median of repeats)",
+                               command_spec, measure};
 
 } // namespace pbdsplat::cli

@@ -5,7 +5,7 @@
 
 #include "core/timer.h"
 #include "mesh/mesh_spec.h"
-#include "pbdsplat/commands.h"
+#include "pbdsplat/bench_suites.h"
 #include "pbdsplat/progress.h"
 #include "pbdsplat/gpu_options.h"
 #include "passes/coverage.h"
@@ -14,7 +14,9 @@
 
 namespace pbdsplat::cli {
 
-int bench_surface(const std::vector<std::string>& argv) {
+namespace {
+
+const CommandSpec& command_spec() {
     static const CommandSpec command{
         "bench surface", "",
         "Boundary particles on a mesh at rest: for each eta, the sampling time (median of R), the\n"
@@ -26,9 +28,10 @@ int bench_surface(const std::vector<std::string>& argv) {
                   real("scale", "S", 0.7f, 0.01f, 10.0f, "splat std dev in units of h (0.7 is the scene default)"),
                   whole("repeat", "R", 5, 1, 1000, "sampling repetitions"),
                   flag("coverage", "measure coverage on the GPU"), json_option()})};
-    const Parsed parsed = parse_command(command, argv);
-    if (!parsed.options) return parsed.exit_code;
-    const Options& opt = *parsed.options;
+    return command;
+}
+
+Outcome measure(const Options& opt) {
     const uint32_t repeat = opt.whole("repeat");
     const float scale = opt.real("scale");
     std::vector<float> etas;
@@ -36,15 +39,15 @@ int bench_surface(const std::vector<std::string>& argv) {
         float e = 0.0f;
         const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), e);
         if (ec != std::errc() || end != item.data() + item.size() || !(e >= 0.05f && e <= 4.0f))
-            return usage_error("bench surface", "--eta expects numbers from 0.05 to 4, comma-separated; got '" + opt.text("eta") + "'");
+            return Outcome::usage("--eta expects numbers from 0.05 to 4, comma-separated; got '" + opt.text("eta") + "'");
         etas.push_back(e);
     }
-    if (etas.empty()) return usage_error("bench surface", "--eta names no value");
+    if (etas.empty()) return Outcome::usage("--eta names no value");
     const std::string spec = opt.text("mesh");
     auto repaired = mesh::load_mesh_spec(spec);
-    if (!repaired.ok()) return fail("bench surface", repaired.error().to_string());
+    if (!repaired.ok()) return repaired.error();
     auto made = sim::make_soft_body(repaired->mesh, {});
-    if (!made.ok()) return fail("bench surface", made.error().to_string());
+    if (!made.ok()) return made.error();
     const sim::SoftBody& body = made.value();
     const mesh::TriangleMesh rest{body.rest_positions, body.triangles, {}, {}, {}};
     const std::vector<std::array<uint32_t, 3>> tris(body.triangles.begin(), body.triangles.end());
@@ -53,14 +56,21 @@ int bench_surface(const std::vector<std::string>& argv) {
     render::FrameInputs frame;
     if (opt.flag("coverage")) {
         auto c = open_context(opt);
-        if (!c.ok()) return fail("bench surface", c.error().to_string());
+        if (!c.ok()) return c.error();
         ctx = std::move(c).value();
         const mesh::Bounds b = mesh::bounds(rest);
         frame.camera.target = b.center();
         frame.camera.eye = b.center() + Vec3f(0.3f, 0.35f, 1.1f) * b.diagonal();
     }
 
-    nlohmann::json rows = nlohmann::json::array();
+    Table table({{"eta", 2},
+                 {"h", 4},
+                 {"boundary_particles", 0, true, "samples"},
+                 {"sampling_ms", 2, true, "sampling ms"},
+                 {"update_ms", 3, true, "update ms"},
+                 {"update_ms_per_10k", 3, true, "per 10k ms"},
+                 {"hole_ratio", 5, true, "holes"},
+                 {"silhouette_iou", 3, true, "IoU"}});
     auto coverage = [&](const surface::BoundaryParticles* samples, float h, double& holes, double& iou) -> core::Status {
         splat::Appearance look;
         look.scale = scale * h;
@@ -71,9 +81,8 @@ int bench_surface(const std::vector<std::string>& argv) {
         holes = c->hole_ratio, iou = c->silhouette_iou;
         return core::Status::success();
     };
-    if (!opt.flag("json"))
-        std::printf("%s: %zu particles, %zu triangles; splats %.2f h\n", spec.c_str(), body.particle_count(),
-                    body.triangles.size(), scale);
+    Report report("surface");
+    report.line(format("%s: %zu particles, %zu triangles; splats %.2f h", spec.c_str(), body.particle_count(), body.triangles.size(), scale));
     Progress progress("bench surface", uint32_t(etas.size()), "spacings");
     uint32_t done = 0;
     for (float eta : etas) {
@@ -93,41 +102,29 @@ int bench_surface(const std::vector<std::string>& argv) {
         }
         const double update = core::median(update_ms);
         const double per_10k = samples.size() ? update * 10000.0 / double(samples.size()) : 0.0;
-        nlohmann::json row = {{"eta", eta}, {"h", h}, {"boundary_particles", samples.size()},
-                              {"sampling_ms", core::median(sample_ms)}, {"update_ms", update}, {"update_ms_per_10k", per_10k}};
         double holes = 0.0, iou = 0.0;
-        if (ctx) {
-            if (auto s = coverage(&samples, h, holes, iou); !s.ok()) return fail("bench surface", s.error().to_string());
-            row["hole_ratio"] = holes;
-            row["silhouette_iou"] = iou;
-        }
-        if (!opt.flag("json")) {
-            std::printf("  eta %.2f (h %.4g): %6zu boundary particles, sampling %8.2f ms, update %.3f ms (%.3f ms per 10k)",
-                        eta, h, samples.size(), core::median(sample_ms), update, per_10k);
-            if (ctx) std::printf(", holes %.3f %%, IoU %.3f", holes * 100.0, iou);
-            std::printf("\n");
-        }
-        rows.push_back(row);
+        if (ctx) PBDSPLAT_TRY(coverage(&samples, h, holes, iou));
+        table.add({eta, h, samples.size(), core::median(sample_ms), update, per_10k, ctx ? nlohmann::json(holes) : nlohmann::json(),
+                   ctx ? nlohmann::json(iou) : nlohmann::json()});
         progress.frame_done(++done);
     }
-    nlohmann::json vertices;
+    report.json().update({{"mesh", spec}, {"particles", body.particle_count()}, {"splat_scale", scale}, {"rows", table.json()}});
+    report.table("", table);
     if (ctx) {
         // The vertex-only baseline at the splat size of the first eta.
         const float h = surface::spacing(rest, etas.front());
         double holes = 0.0, iou = 0.0;
-        if (auto s = coverage(nullptr, h, holes, iou); !s.ok()) return fail("bench surface", s.error().to_string());
-        vertices = {{"splat_scale_h_of_eta", etas.front()}, {"hole_ratio", holes}, {"silhouette_iou", iou}};
-        if (!opt.flag("json"))
-            std::printf("  vertices only, splats as for eta %.2f: holes %.3f %%, IoU %.3f\n", etas.front(), holes * 100.0, iou);
-        if (auto v = check_validation(*ctx); !v.ok()) return fail("bench surface", v.error().to_string());
+        PBDSPLAT_TRY(coverage(nullptr, h, holes, iou));
+        report.json()["vertices_only"] = {{"splat_scale_h_of_eta", etas.front()}, {"hole_ratio", holes}, {"silhouette_iou", iou}};
+        report.line(format("  vertices only, splats as for eta %.2f: holes %.5f, IoU %.3f", etas.front(), holes, iou));
+        PBDSPLAT_TRY(check_validation(*ctx));
     }
-    if (opt.flag("json")) {
-        nlohmann::json j = {{"suite", "surface"}, {"mesh", spec}, {"particles", body.particle_count()},
-                            {"splat_scale", scale}, {"rows", rows}};
-        if (ctx) j["vertices_only"] = vertices;
-        std::printf("%s\n", j.dump().c_str());
-    }
-    return 0;
+    return report;
 }
+
+} // namespace
+
+const BenchSuite k_bench_surface{"surface", "boundary particles: sampling and update time, coverage against eta", command_spec,
+                                 measure};
 
 } // namespace pbdsplat::cli

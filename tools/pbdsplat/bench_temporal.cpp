@@ -1,15 +1,10 @@
 #include <cmath>
-#include <cstdio>
-#include <filesystem>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
-#include "pbdsplat/options.h"
-#include "pbdsplat/commands.h"
+#include "pbdsplat/bench_suites.h"
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/scene_arg.h"
-#include "pbdsplat/report.h"
 #include "pbdsplat/svg_plot.h"
 #include "scene/scene_runtime.h"
 
@@ -22,9 +17,7 @@ double mean(const std::vector<double>& v) {
     return v.empty() ? 0.0 : s / double(v.size());
 }
 
-} // namespace
-
-int bench_temporal(const std::vector<std::string>& argv) {
+const CommandSpec& command_spec() {
     static const CommandSpec command{
         "bench temporal", "[SCENE.toml]",
         "Temporal stability (the paper's \"no flicker\", measured): runs the scene (default: the\n"
@@ -36,23 +29,23 @@ int bench_temporal(const std::vector<std::string>& argv) {
                   whole("frames", "N", 120, 2, 100000, "measured frames"),
                   whole("width", "W", 320, 16, 4096, "image width"), whole("height", "H", 180, 16, 4096, "image height"),
                   out_dir_option(), json_option()})};
-    const Parsed parsed = parse_command(command, argv);
-    if (!parsed.options) return parsed.exit_code;
-    const Options& opt = *parsed.options;
+    return command;
+}
+
+Outcome measure(const Options& opt) {
     const uint32_t from = opt.whole("from"), frames = opt.whole("frames"), width = opt.whole("width"), height = opt.whole("height");
     auto scene = load_scene_arg(opt.operands());
-    if (!scene.ok()) return fail("bench temporal", scene.error().to_string());
+    if (!scene.ok()) return scene.error();
     scene->render.width = width;
     scene->render.height = height;
-    const std::filesystem::path out_dir = opt.text("out-dir");
     auto ctx = open_context(opt);
-    if (!ctx.ok()) return fail("bench temporal", ctx.error().to_string());
+    if (!ctx.ok()) return ctx.error();
 
     scene::RuntimeOptions ro;
     ro.gpu = ctx.value().get();
     ro.frames_in_flight = 1;
     auto rt = scene::SceneRuntime::create(scene.value(), ro);
-    if (!rt.ok()) return fail("bench temporal", rt.error().to_string());
+    if (!rt.ok()) return rt.error();
     scene::SceneRuntime& runtime = *rt.value();
     struct Row {
         uint64_t frame;
@@ -63,19 +56,19 @@ int bench_temporal(const std::vector<std::string>& argv) {
     core::ImageRgba8 last_splats, last_mesh;
     const uint64_t end = uint64_t(from) + frames;
     for (uint64_t f = 0; f < end; ++f) {
-        if (auto s = runtime.step(); !s.ok()) return fail("bench temporal", s.error().to_string());
+        PBDSPLAT_TRY(runtime.step());
         if (f < from) continue;
         auto splats = runtime.finish();
-        if (!splats.ok()) return fail("bench temporal", splats.error().to_string());
+        if (!splats.ok()) return splats.error();
         auto mesh = runtime.mesh_image();  // the runtime's own mesh view, from the same frame inputs
-        if (!mesh.ok()) return fail("bench temporal", mesh.error().to_string());
+        if (!mesh.ok()) return mesh.error();
         if (!last_splats.pixels.empty())
             rows.push_back({f, core::mean_luminance_change(splats.value(), last_splats).value(),
                             core::mean_luminance_change(mesh.value(), last_mesh).value(), runtime.stats().cuts});
         last_splats = std::move(splats).value();
         last_mesh = std::move(mesh).value();
     }
-    if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("bench temporal", v.error().to_string());
+    PBDSPLAT_TRY(check_validation(*ctx.value()));
 
     // Frames within 5 of a change in the cut count are "around a cut".
     std::vector<double> calm_splats, calm_mesh, cut_splats, cut_mesh;
@@ -86,10 +79,8 @@ int bench_temporal(const std::vector<std::string>& argv) {
         (near_cut ? cut_splats : calm_splats).push_back(rows[i].splats);
         (near_cut ? cut_mesh : calm_mesh).push_back(rows[i].mesh);
     }
-    std::ostringstream csv;
-    csv << "frame,splats_mean_abs_dY,mesh_mean_abs_dY,cuts\n";
-    for (const Row& r : rows) csv << r.frame << ',' << r.splats << ',' << r.mesh << ',' << r.cuts << '\n';
-    if (auto st = write_report_file(out_dir, "temporal.csv", csv.str()); !st.ok()) return fail("bench temporal", st.error().to_string());
+    Table per_frame({{"frame"}, {"splats_mean_abs_dY"}, {"mesh_mean_abs_dY"}, {"cuts"}});
+    for (const Row& r : rows) per_frame.add({r.frame, r.splats, r.mesh, r.cuts});
     PlotSpec plot;
     plot.title = "Temporal stability: mean |luminance change| between frames (" + scene->name + ")";
     plot.x_label = "frame";
@@ -101,24 +92,26 @@ int bench_temporal(const std::vector<std::string>& argv) {
         m.x.push_back(double(r.frame)), m.y.push_back(r.mesh);
     }
     plot.series = {s, m};
-    if (auto st = write_report_file(out_dir, "temporal.svg", render_svg(plot)); !st.ok())
-        return fail("bench temporal", st.error().to_string());
 
-    if (opt.flag("json")) {
-        const nlohmann::json j = {{"suite", "temporal"}, {"scene", scene->name}, {"from", from}, {"frames", rows.size()},
-                                  {"splats_calm", mean(calm_splats)}, {"mesh_calm", mean(calm_mesh)},
-                                  {"splats_around_cut", mean(cut_splats)}, {"mesh_around_cut", mean(cut_mesh)},
-                                  {"frames_around_cut", cut_splats.size()}};
-        std::printf("%s\n", j.dump().c_str());
-        return 0;
-    }
-    std::printf("scene %s, frames %u to %llu, mean |luminance change| between frames (0..1):\n", scene->name.c_str(),
-                from, static_cast<unsigned long long>(end - 1));
-    std::printf("  away from cuts: splats %.5f, mesh %.5f (%zu frames)\n", mean(calm_splats), mean(calm_mesh), calm_splats.size());
-    if (!cut_splats.empty())
-        std::printf("  around a cut:   splats %.5f, mesh %.5f (%zu frames)\n", mean(cut_splats), mean(cut_mesh), cut_splats.size());
-    std::printf("wrote %s and temporal.svg\n", (out_dir / "temporal.csv").string().c_str());
-    return 0;
+    Report report("temporal");
+    report.json().update({{"scene", scene->name}, {"from", from}, {"frames", rows.size()},
+                          {"splats_calm", mean(calm_splats)}, {"mesh_calm", mean(calm_mesh)},
+                          {"splats_around_cut", mean(cut_splats)}, {"mesh_around_cut", mean(cut_mesh)},
+                          {"frames_around_cut", cut_splats.size()}});
+    Table summary({{"frames_of", 0, true, ""}, {"splats", 5}, {"mesh", 5}, {"frames", 0}});
+    summary.add({"away from cuts", mean(calm_splats), mean(calm_mesh), calm_splats.size()});
+    if (!cut_splats.empty()) summary.add({"around a cut", mean(cut_splats), mean(cut_mesh), cut_splats.size()});
+    report.table(format("scene %s, frames %u to %llu, mean |luminance change| between frames (0..1):", scene->name.c_str(), from,
+                        static_cast<unsigned long long>(end - 1)),
+                 summary);
+    report.csv("temporal.csv", per_frame);
+    report.plot("temporal.svg", plot);
+    return report;
 }
+
+} // namespace
+
+const BenchSuite k_bench_temporal{"temporal", "frame-to-frame luminance change (flicker) of splats and mesh, around a cut",
+                                  command_spec, measure};
 
 } // namespace pbdsplat::cli
