@@ -44,22 +44,32 @@ void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<
     const Vec4<Real>* x = p.x.data();
     const Real* w = p.w.data();
     sums.clear();
-    size_t at = 0;  // the entry of the last slot met: neighbours mostly share it
+    // The running sums stay in registers while neighbours share a slot (they mostly do) and go
+    // back to the block's entry when the slot changes: summed through memory, each particle
+    // waited for the previous one's store (a fifth of the gather's time at 41k particles). The
+    // additions happen in the same order as before, so the sums are the same to the bit.
+    uint32_t slot = k_no_volume;
+    size_t at = 0;
+    double eighteen_v = 0.0, denom = 0.0;
+    auto switch_to = [&](uint32_t next) {
+        if (slot != k_no_volume) sums[at].second = {eighteen_v, denom};
+        at = 0;
+        while (at < sums.size() && sums[at].first != next) ++at;
+        if (at == sums.size()) sums.push_back({next, VolumeSums{}});
+        slot = next, eighteen_v = sums[at].second.eighteen_v, denom = sums[at].second.denom;
+    };
     const size_t end = std::min(p.size(), (b + 1) * k_volume_block);
     for (size_t i = b * k_volume_block; i < end; ++i) {
         const uint32_t s = l.slot_of(uint32_t(i));
         if (s == k_no_volume) continue;
-        if (at >= sums.size() || sums[at].first != s) {
-            at = 0;
-            while (at < sums.size() && sums[at].first != s) ++at;
-            if (at == sums.size()) sums.push_back({s, VolumeSums{}});
-        }
+        if (s != slot) switch_to(s);
         Vec4<Real> g = Vec4<Real>::Zero();
         for (const auto& r : l.ring->of(uint32_t(i))) g += cross3<Real>(x[r[0]], x[r[1]]);
         grad[i] = g;
-        sums[at].second.eighteen_v += double(x[i].dot(g));
-        sums[at].second.denom += double(w[i]) * double(g.squaredNorm());
+        eighteen_v += double(x[i].dot(g));
+        denom += double(w[i]) * double(g.squaredNorm());
     }
+    if (slot != k_no_volume) sums[at].second = {eighteen_v, denom};
 }
 
 void reduce_block_sums(std::span<const BlockSums> blocks, std::span<VolumeSums> totals) {
