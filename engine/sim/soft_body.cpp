@@ -39,6 +39,8 @@ void rebuild_derived(SoftBodyT<Real>& b) {
     b.pieces = label_pieces(b.triangles, n, b.piece_of_particle);
     for (size_t k = 0; k < b.volumes.size(); ++k)
         if (particle_of_volume[k] != UINT32_MAX) b.volumes[k].piece = b.piece_of_particle[particle_of_volume[k]];
+    // Kept in piece order: a cut finds a reached piece's constraint by bisection.
+    std::stable_sort(b.volumes.begin(), b.volumes.end(), [](const VolumeConstraint& x, const VolumeConstraint& y) { return x.piece < y.piece; });
     b.normals.resize(n, Vec3f(0.0f, 1.0f, 0.0f));
     rebuild_shape_clusters(b);
 }
@@ -70,6 +72,7 @@ bool reserve_headroom(SoftBody& b, float fraction) {
     if (!b.colors.empty()) reserve(b.colors, n);
     reserve(b.triangles, t);
     reserve(b.distance, e), reserve(b.distance_lambda, e);
+    reserve(b.volumes, b.volumes.size());  // a piece cut off adds its constraint at the end
     auto reserve_lists = [&](auto& lists) {
         if (low(n, lists.key_capacity()) || low(lists.pool_size(), lists.pool_capacity()))
             lists.reserve(room(n), room(lists.pool_size())), grew = true;

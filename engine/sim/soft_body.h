@@ -39,7 +39,7 @@ struct SoftBodyT {
     std::vector<DistanceConstraint> distance;  // grouped by colour; may hold dead slots (see constraint_order.h)
     DistanceGroups distance_groups;            // colour c holds distance[start[c], start[c + 1])
     std::vector<Real> distance_lambda;  // XPBD multipliers, one per distance constraint
-    std::vector<VolumeConstraint> volumes;  // one per piece that holds air, naming its piece
+    std::vector<VolumeConstraint> volumes;  // one per piece that holds air, naming its piece, in piece order
     // The connected piece (of `triangles`, through shared vertices) of every particle, ids
     // 0 .. pieces - 1, k_no_piece for a particle in no triangle. Topology edits keep both: a
     // split relabels the particles of the new pieces, and ids never change otherwise.

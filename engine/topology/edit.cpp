@@ -6,6 +6,8 @@
 #include "core/assert.h"
 #include "mesh/topology.h"
 #include "sim/volume.h"
+#include "topology/edge_key_set.h"
+#include "topology/particle_scratch.h"
 
 namespace pbdsplat::topology {
 
@@ -232,29 +234,31 @@ void Edit::redistribute_mass() {
 
 std::vector<Edit::Definition> Edit::constraints_to_remake() const {
     // Old edges whose constraints are re-made: the parents' edges, and every edge of a local
-    // triangle in terms of the original vertices. Sorted keys: a few thousand at most, where a
-    // hash set would allocate per entry.
-    std::vector<uint64_t> old_edges;
+    // triangle in terms of the original vertices. Their ends' constraints are read once each
+    // (a per-thread mark), and each is looked up among those edges in a table sized for them.
+    thread_local ParticleScratch<uint8_t> marks(0);
+    std::vector<uint8_t>& marked = marks.take(n0_);
+    EdgeKeySet old_edges(3 * (parents_.size() + local_triangles_.size()));
     std::vector<uint32_t> touched;
     auto mark = [&](uint32_t a, uint32_t c) {
         if (a >= n0_ || c >= n0_) return;
-        old_edges.push_back(edge_key(a, c));
-        touched.push_back(a);
-        touched.push_back(c);
+        old_edges.insert(edge_key(a, c));
+        for (uint32_t v : {a, c})
+            if (!marked[v]) marked[v] = 1, touched.push_back(v);
     };
     for (const auto& [t, tri] : parents_)
         for (int k = 0; k < 3; ++k) mark(tri[size_t(k)], tri[size_t((k + 1) % 3)]);
     for (uint32_t t : local_triangles_)
         for (int k = 0; k < 3; ++k) mark(origin(b_.triangles[t][size_t(k)]), origin(b_.triangles[t][size_t((k + 1) % 3)]));
-    sort_unique(old_edges);
-    sort_unique(touched);
+    marks.give_back(touched);
+    // The order met does not matter: the caller orders them by (key, slot).
     std::vector<Definition> removed;
     for (uint32_t a : touched)
         for (uint32_t slot : b_.distance_groups.of_particle.of(a)) {
             const sim::DistanceConstraint& c = b_.distance[slot];
             if (a != std::min(c.i, c.j)) continue;  // met from its lower end only
             const uint64_t k = edge_key(c.i, c.j);
-            if (std::binary_search(old_edges.begin(), old_edges.end(), k)) removed.push_back({k, slot, c.rest, c.compliance});
+            if (old_edges.contains(k)) removed.push_back({k, slot, c.rest, c.compliance});
         }
     return removed;
 }
@@ -262,8 +266,10 @@ std::vector<Edit::Definition> Edit::constraints_to_remake() const {
 void Edit::update_distance_constraints() {
     const std::vector<uint32_t>& local = local_triangles_;
     std::vector<Definition> removed = constraints_to_remake();
-    std::sort(removed.begin(), removed.end(), [](const Definition& x, const Definition& y) { return x.slot < y.slot; });
-    float default_compliance = removed.empty() ? 0.0f : removed.back().compliance;  // the last in array order
+    float default_compliance = 0.0f;  // the last removed in array order
+    uint32_t last_slot = 0;
+    for (const Definition& d : removed)
+        if (d.slot >= last_slot) last_slot = d.slot, default_compliance = d.compliance;
     if (removed.empty())
         for (const sim::DistanceConstraint& c : b_.distance)
             if (c.alive()) {
@@ -271,7 +277,8 @@ void Edit::update_distance_constraints() {
                 break;
             }
     // By key for lookups; of two constraints on one edge the later slot defines it.
-    std::stable_sort(removed.begin(), removed.end(), [](const Definition& x, const Definition& y) { return x.key < y.key; });
+    std::sort(removed.begin(), removed.end(),
+              [](const Definition& x, const Definition& y) { return x.key != y.key ? x.key < y.key : x.slot < y.slot; });
     auto definition = [&](uint64_t key) -> const Definition* {
         auto it = std::upper_bound(removed.begin(), removed.end(), key, [](uint64_t k, const Definition& d) { return k < d.key; });
         return it != removed.begin() && (it - 1)->key == key ? &*(it - 1) : nullptr;

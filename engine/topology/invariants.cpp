@@ -30,13 +30,17 @@ core::Status check_particles(const sim::SoftBody& b) {
     return core::Status::success();
 }
 // Every volume constraint over live particles of a single component, with a positive target,
-// and no particle twice on the cap loops (the solver's cap terms count each loop particle once).
+// in increasing piece order, and no particle twice on the cap loops (the solver's cap terms count each loop particle once).
 core::Status check_volumes(const sim::SoftBody& b) {
     std::vector<uint8_t> kept(b.pieces, 0), on_loop(b.particle_count(), 0);
     for (size_t k = 0; k < b.volumes.size(); ++k) {
         const auto& vol = b.volumes[k];
         if (vol.piece >= b.pieces) return broken("volume constraint " + std::to_string(k) + " names a piece the body does not have");
         if (kept[vol.piece]++) return broken("two volume constraints keep piece " + std::to_string(vol.piece));
+        // In piece order, so a cut finds the constraints of the pieces it reached by bisection.
+        if (k > 0 && b.volumes[k - 1].piece > vol.piece)
+            return broken("volume constraints out of piece order at " + std::to_string(k) + " (piece " + std::to_string(vol.piece) + " after " +
+                          std::to_string(b.volumes[k - 1].piece) + ")");
         if (!vol.cap_bounds.empty() && vol.cap_bounds.size() != vol.cap_loops.size())
             return broken("volume constraint " + std::to_string(k) + " has rest bounds for some of its cap loops only");
         for (size_t l = 0; l < vol.cap_bounds.size(); ++l)

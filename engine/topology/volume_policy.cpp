@@ -313,12 +313,14 @@ VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float l
     std::sort(reached.begin(), reached.end());
     reached.erase(std::unique(reached.begin(), reached.end()), reached.end());
     std::vector<sim::VolumeConstraint*> parents(reached.size(), nullptr);
-    // The range test first: a shredded body has thousands of constraints the edit did not reach.
-    const uint32_t lowest = reached.empty() ? 1 : reached.front(), highest = reached.empty() ? 0 : reached.back();
-    for (sim::VolumeConstraint& v : b.volumes)
-        if (v.piece >= lowest && v.piece <= highest)
-            if (auto it = std::lower_bound(reached.begin(), reached.end(), v.piece); it != reached.end() && *it == v.piece)
-                parents[size_t(it - reached.begin())] = &v;
+    // The constraints stay in piece order (a piece cut off gets the next label and its constraint
+    // goes to the end; topology::check_invariants holds it), so a shredded body's thousands of
+    // constraints the edit did not reach are bisected, not read.
+    for (size_t r = 0; r < reached.size(); ++r) {
+        const auto it = std::lower_bound(b.volumes.begin(), b.volumes.end(), reached[r],
+                                         [](const sim::VolumeConstraint& v, uint32_t piece) { return v.piece < piece; });
+        if (it != b.volumes.end() && it->piece == reached[r]) parents[r] = &*it;
+    }
 
     // The local search may look at this many particles before it searches the pieces whole: a
     // few rings around the edit, or a sixteenth of the body (a cut through the middle of a large
