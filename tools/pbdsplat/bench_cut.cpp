@@ -102,27 +102,44 @@ core::Result<nlohmann::json> measure_sequence(const std::string& spec, uint32_t 
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     // Slits a few edges long (1.5 to 3.5 mean rest edges in radius).
     const float edge = float(b.distance_groups.mean_rest());
-    nlohmann::json probe_phases = nlohmann::json::array();  // per probe: each phase's median ms
-    auto probe = [&]() -> core::Result<double> {
-        std::vector<double> ms;
+    // The probe: the same slit on 7 copies of `body`; its median ms and each phase's median.
+    struct Probe {
+        double ms = 0.0;
         std::vector<std::string> names;
+        std::vector<double> phase_ms;
+    };
+    auto probe_on = [&](const sim::SoftBody& body) -> core::Result<Probe> {
+        std::vector<double> ms;
+        Probe out;
         std::vector<std::vector<double>> phase_ms;
         for (int k = 0; k < 7; ++k) {
-            sim::SoftBody copy = b;
+            sim::SoftBody copy = body;
             sim::reserve_headroom(copy);
             auto change = topology::cut(copy, topology::local_cut_on(copy, pole, Vec3f::UnitX(), 2.5f * edge), options);
             if (!change.ok()) return change.error();
             ms.push_back(change->ms);
             for (size_t p = 0; p < change->phases.size(); ++p) {
-                if (p == names.size()) names.push_back(change->phases[p].name), phase_ms.emplace_back();
+                if (p == out.names.size()) out.names.push_back(change->phases[p].name), phase_ms.emplace_back();
                 phase_ms[p].push_back(change->phases[p].ms);
             }
         }
-        nlohmann::json phases = nlohmann::json::object();
-        for (size_t p = 0; p < names.size(); ++p) phases[names[p]] = core::median(phase_ms[p]);
-        probe_phases.push_back(phases);
-        return core::median(ms);
+        out.ms = core::median(ms);
+        for (const auto& v : phase_ms) out.phase_ms.push_back(core::median(v));
+        return out;
     };
+    nlohmann::json probe_phases = nlohmann::json::array();  // per probe: each phase's median ms
+    auto phases_json = [](const std::vector<std::string>& names, const std::vector<double>& ms) {
+        nlohmann::json phases = nlohmann::json::object();
+        for (size_t p = 0; p < names.size(); ++p) phases[names[p]] = ms[p];
+        return phases;
+    };
+    auto probe = [&]() -> core::Result<double> {
+        auto p = probe_on(b);
+        if (!p.ok()) return p.error();
+        probe_phases.push_back(phases_json(p->names, p->phase_ms));
+        return p->ms;
+    };
+    sim::SoftBody after_10;  // the body after the 10th cut, probed again beside the last
     std::vector<double> probes;
     std::vector<double> ms(count), crossed(count);
     const core::Stopwatch total;
@@ -131,6 +148,7 @@ core::Result<nlohmann::json> measure_sequence(const std::string& spec, uint32_t 
             auto p = probe();
             if (!p.ok()) return p.error();
             probes.push_back(p.value());
+            if (k == 10) after_10 = b;
         }
         const uint32_t at = south[size_t(std::abs(u(rng)) * float(south.size() - 1))];
         Vec3f n(u(rng), u(rng), u(rng));
@@ -144,6 +162,33 @@ core::Result<nlohmann::json> measure_sequence(const std::string& spec, uint32_t 
     auto p = probe();
     if (!p.ok()) return p.error();
     probes.push_back(p.value());
+    // The machine's speed drifts over a run of minutes: the two bodies probed again, alternated,
+    // so what differs between the figures is the body.
+    nlohmann::json alternated;
+    if (count > 10) {
+        std::vector<double> at_10, at_last;
+        std::vector<std::vector<double>> phases_10, phases_last;
+        std::vector<std::string> names;
+        for (int round = 0; round < 5; ++round)
+            for (int which = 0; which < 2; ++which) {
+                auto q = probe_on(which == 0 ? after_10 : b);
+                if (!q.ok()) return q.error();
+                (which == 0 ? at_10 : at_last).push_back(q->ms);
+                auto& phases = which == 0 ? phases_10 : phases_last;
+                phases.resize(q->phase_ms.size());
+                for (size_t k = 0; k < q->phase_ms.size(); ++k) phases[k].push_back(q->phase_ms[k]);
+                names = q->names;
+            }
+        std::vector<double> median_10, median_last;
+        for (const auto& v : phases_10) median_10.push_back(core::median(v));
+        for (const auto& v : phases_last) median_last.push_back(core::median(v));
+        alternated = {{"rounds", 5},
+                      {"after_10_ms", core::median(at_10)},
+                      {"after_last_ms", core::median(at_last)},
+                      {"ratio", core::median(at_last) / std::max(1e-9, core::median(at_10))},
+                      {"phases_after_10_ms", phases_json(names, median_10)},
+                      {"phases_after_last_ms", phases_json(names, median_last)}};
+    }
     auto window = [&](const std::vector<double>& v, size_t first) {
         std::vector<double> w(v.begin() + long(first), v.begin() + long(std::min(v.size(), first + 20)));
         return core::median(w);
@@ -165,6 +210,7 @@ core::Result<nlohmann::json> measure_sequence(const std::string& spec, uint32_t 
                           {"first_median_crossed", window(crossed, 0)},
                           {"last_median_crossed", window(crossed, last)},
                           {"probe_phases_ms", probe_phases},
+                          {"probe_alternated", alternated},
                           {"ring_compactions", b.rings.ring.compactions()},
                           {"distance_regroupings", b.distance_groups.regroupings},
                           {"distance_colours_added", b.distance_groups.colours_added}};
@@ -190,6 +236,14 @@ Outcome report_sequence(const std::string& spec, uint32_t count, const topology:
     for (const auto& [name, before] : phases.front().items())
         probe.add({"  " + name, before, after_10.value(name, 0.0), phases.back().value(name, 0.0)});
     report.table("  probe cut (the same slit at the pole, median of 7 copies), ms:", probe, 4);
+    if (const nlohmann::json& a = j["probe_alternated"]; a.is_object()) {
+        Table alt({{"phase", 0, true, ""}, {"after_10", 3, true, "after 10"}, {"after_last", 3, true, format("after %u", count)}});
+        alt.add({"probe cut (whole)", a["after_10_ms"], a["after_last_ms"]});
+        for (const auto& [name, ms] : a["phases_after_10_ms"].items()) alt.add({"  " + name, ms, a["phases_after_last_ms"].value(name, 0.0)});
+        report.table(format("  the same probe on both bodies again, alternated %d times (medians, ms; ratio %.2f):", a["rounds"].get<int>(),
+                            a["ratio"].get<double>()),
+                     alt, 4);
+    }
     report.line(format("  the random cuts: 1-20 %.3f ms (median, %.0f crossed), last 20 %.3f ms (%.0f crossed)",
                        j["first_median_ms"].get<double>(), j["first_median_crossed"].get<double>(), j["last_median_ms"].get<double>(),
                        j["last_median_crossed"].get<double>()));
