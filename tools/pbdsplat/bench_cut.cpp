@@ -78,6 +78,72 @@ core::Result<nlohmann::json> measure_cuts(const std::string& spec, uint32_t cuts
                           {"stage_a_ms_after", stage_a_ms(first_cut, int(frames))}};
 }
 
+nlohmann::json phases_json(const std::vector<std::string>& names, const std::vector<double>& ms) {
+    nlohmann::json phases = nlohmann::json::object();
+    for (size_t p = 0; p < names.size(); ++p) phases[names[p]] = ms[p];
+    return phases;
+}
+
+// The probe of --sequence: the same slit at one particle, cut on 7 copies of a body; its median
+// ms and each phase's median.
+struct Probe {
+    double ms = 0.0;
+    std::vector<std::string> names;
+    std::vector<double> phase_ms;
+};
+struct Prober {
+    uint32_t particle = 0;
+    float radius = 0.0f;
+    topology::CutOptions options;
+    core::Result<Probe> on(const sim::SoftBody& body) const {
+        std::vector<double> ms;
+        Probe out;
+        std::vector<std::vector<double>> phase_ms;
+        for (int k = 0; k < 7; ++k) {
+            sim::SoftBody copy = body;
+            sim::reserve_headroom(copy);
+            auto change = topology::cut(copy, topology::local_cut_on(copy, particle, Vec3f::UnitX(), radius), options);
+            if (!change.ok()) return change.error();
+            ms.push_back(change->ms);
+            for (size_t p = 0; p < change->phases.size(); ++p) {
+                if (p == out.names.size()) out.names.push_back(change->phases[p].name), phase_ms.emplace_back();
+                phase_ms[p].push_back(change->phases[p].ms);
+            }
+        }
+        out.ms = core::median(ms);
+        for (const auto& v : phase_ms) out.phase_ms.push_back(core::median(v));
+        return out;
+    }
+};
+
+// The machine's speed drifts over a run of minutes: the two bodies probed again, alternated, so
+// what differs between the figures is the body.
+core::Result<nlohmann::json> probe_alternated(const Prober& prober, const sim::SoftBody& first, const sim::SoftBody& last) {
+    constexpr int k_rounds = 5;
+    std::vector<double> at_first, at_last;
+    std::vector<std::vector<double>> phases_first, phases_last;
+    std::vector<std::string> names;
+    for (int round = 0; round < k_rounds; ++round)
+        for (int which = 0; which < 2; ++which) {
+            auto q = prober.on(which == 0 ? first : last);
+            if (!q.ok()) return q.error();
+            (which == 0 ? at_first : at_last).push_back(q->ms);
+            auto& phases = which == 0 ? phases_first : phases_last;
+            phases.resize(q->phase_ms.size());
+            for (size_t k = 0; k < q->phase_ms.size(); ++k) phases[k].push_back(q->phase_ms[k]);
+            names = q->names;
+        }
+    std::vector<double> median_first, median_last;
+    for (const auto& v : phases_first) median_first.push_back(core::median(v));
+    for (const auto& v : phases_last) median_last.push_back(core::median(v));
+    return nlohmann::json{{"rounds", k_rounds},
+                          {"after_10_ms", core::median(at_first)},
+                          {"after_last_ms", core::median(at_last)},
+                          {"ratio", core::median(at_last) / std::max(1e-9, core::median(at_first))},
+                          {"phases_after_10_ms", phases_json(names, median_first)},
+                          {"phases_after_last_ms", phases_json(names, median_last)}};
+}
+
 // --sequence N: N random scalpel cuts one after another on one live body (the long stress suite's
 // run), a solver frame between cuts. The cuts land on the southern half; a probe cut (the same
 // slit at the north pole, on copies of the body) is timed before the first cut, after the 10th
@@ -102,39 +168,10 @@ core::Result<nlohmann::json> measure_sequence(const std::string& spec, uint32_t 
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     // Slits a few edges long (1.5 to 3.5 mean rest edges in radius).
     const float edge = float(b.distance_groups.mean_rest());
-    // The probe: the same slit on 7 copies of `body`; its median ms and each phase's median.
-    struct Probe {
-        double ms = 0.0;
-        std::vector<std::string> names;
-        std::vector<double> phase_ms;
-    };
-    auto probe_on = [&](const sim::SoftBody& body) -> core::Result<Probe> {
-        std::vector<double> ms;
-        Probe out;
-        std::vector<std::vector<double>> phase_ms;
-        for (int k = 0; k < 7; ++k) {
-            sim::SoftBody copy = body;
-            sim::reserve_headroom(copy);
-            auto change = topology::cut(copy, topology::local_cut_on(copy, pole, Vec3f::UnitX(), 2.5f * edge), options);
-            if (!change.ok()) return change.error();
-            ms.push_back(change->ms);
-            for (size_t p = 0; p < change->phases.size(); ++p) {
-                if (p == out.names.size()) out.names.push_back(change->phases[p].name), phase_ms.emplace_back();
-                phase_ms[p].push_back(change->phases[p].ms);
-            }
-        }
-        out.ms = core::median(ms);
-        for (const auto& v : phase_ms) out.phase_ms.push_back(core::median(v));
-        return out;
-    };
+    const Prober prober{pole, 2.5f * edge, options};
     nlohmann::json probe_phases = nlohmann::json::array();  // per probe: each phase's median ms
-    auto phases_json = [](const std::vector<std::string>& names, const std::vector<double>& ms) {
-        nlohmann::json phases = nlohmann::json::object();
-        for (size_t p = 0; p < names.size(); ++p) phases[names[p]] = ms[p];
-        return phases;
-    };
     auto probe = [&]() -> core::Result<double> {
-        auto p = probe_on(b);
+        auto p = prober.on(b);
         if (!p.ok()) return p.error();
         probe_phases.push_back(phases_json(p->names, p->phase_ms));
         return p->ms;
@@ -162,32 +199,11 @@ core::Result<nlohmann::json> measure_sequence(const std::string& spec, uint32_t 
     auto p = probe();
     if (!p.ok()) return p.error();
     probes.push_back(p.value());
-    // The machine's speed drifts over a run of minutes: the two bodies probed again, alternated,
-    // so what differs between the figures is the body.
     nlohmann::json alternated;
     if (count > 10) {
-        std::vector<double> at_10, at_last;
-        std::vector<std::vector<double>> phases_10, phases_last;
-        std::vector<std::string> names;
-        for (int round = 0; round < 5; ++round)
-            for (int which = 0; which < 2; ++which) {
-                auto q = probe_on(which == 0 ? after_10 : b);
-                if (!q.ok()) return q.error();
-                (which == 0 ? at_10 : at_last).push_back(q->ms);
-                auto& phases = which == 0 ? phases_10 : phases_last;
-                phases.resize(q->phase_ms.size());
-                for (size_t k = 0; k < q->phase_ms.size(); ++k) phases[k].push_back(q->phase_ms[k]);
-                names = q->names;
-            }
-        std::vector<double> median_10, median_last;
-        for (const auto& v : phases_10) median_10.push_back(core::median(v));
-        for (const auto& v : phases_last) median_last.push_back(core::median(v));
-        alternated = {{"rounds", 5},
-                      {"after_10_ms", core::median(at_10)},
-                      {"after_last_ms", core::median(at_last)},
-                      {"ratio", core::median(at_last) / std::max(1e-9, core::median(at_10))},
-                      {"phases_after_10_ms", phases_json(names, median_10)},
-                      {"phases_after_last_ms", phases_json(names, median_last)}};
+        auto a = probe_alternated(prober, after_10, b);
+        if (!a.ok()) return a.error();
+        alternated = std::move(a).value();
     }
     auto window = [&](const std::vector<double>& v, size_t first) {
         std::vector<double> w(v.begin() + long(first), v.begin() + long(std::min(v.size(), first + 20)));
