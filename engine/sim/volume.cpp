@@ -63,8 +63,7 @@ void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<
         const uint32_t s = l.slot_of(uint32_t(i));
         if (s == k_no_volume) continue;
         if (s != slot) switch_to(s);
-        Vec4<Real> g = Vec4<Real>::Zero();
-        for (const auto& r : l.ring->of(uint32_t(i))) g += cross3<Real>(x[r[0]], x[r[1]]);
+        const Vec4<Real> g = sum_of_cross3<Real>(l.ring->of(uint32_t(i)), [x](uint32_t k) -> const Vec4<Real>& { return x[k]; });
         grad[i] = g;
         eighteen_v += double(x[i].dot(g));
         denom += double(w[i]) * double(g.squaredNorm());
