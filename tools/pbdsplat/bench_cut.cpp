@@ -313,7 +313,9 @@ const CommandSpec& command_spec() {
          whole("sequence", "N", 1000, 1, 100000,
                "instead: N random scalpel cuts (topology::local_cut_on) on the southern part of one\n"
                "body, a frame between cuts; the same probe slit at the north pole timed on copies\n"
-               "before, after 10 and after N (does a cut cost more once the body has been cut N times?)")
+               "before, after 10 and after N (does a cut cost more once the body has been cut N times?),\n"
+               "then on the bodies after 10 and after N again, alternated 5 times: the figure to trust\n"
+               "on a machine whose speed drifts over minutes")
              .default_from("off"),
          json_option()}};
     return command;
