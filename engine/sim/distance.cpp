@@ -36,8 +36,8 @@ inline void project_one_sse(const DistanceConstraint& c, float* xs, const float*
 // Four constraints of one colour at once (they share no particle): the particles transposed to
 // one register per component, one packed sqrt and divide for the four. Every operation is the
 // one-at-a-time loop's, in its order (|d|^2 as (x^2 + z^2) + (y^2 + w^2)), so the positions are
-// the same to the bit. A lane the loop would skip (no mass, coincident, a dead slot) stores
-// nothing: a dead slot (i == i) may name a particle a live lane of the four moves.
+// the same to the bit. A lane the loop would skip (no mass, coincident) stores nothing; a dead
+// slot (i == i) is coincident, and its particle may be one a live lane of the four moves.
 inline void project_four_sse(const DistanceConstraint* c, float* xs, const float* w, __m128 k) {
     float* pi[4] = {xs + 4 * size_t(c[0].i), xs + 4 * size_t(c[1].i), xs + 4 * size_t(c[2].i), xs + 4 * size_t(c[3].i)};
     float* pj[4] = {xs + 4 * size_t(c[0].j), xs + 4 * size_t(c[1].j), xs + 4 * size_t(c[2].j), xs + 4 * size_t(c[3].j)};
@@ -53,9 +53,7 @@ inline void project_four_sse(const DistanceConstraint* c, float* xs, const float
     const __m128 len2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dz, dz)), _mm_add_ps(_mm_mul_ps(dy, dy), _mm_mul_ps(dw, dw)));
     // The loop's skips: wsum == 0, and len2 < 1e-24 (NaN goes on, as there).
     const __m128 go = _mm_and_ps(_mm_cmpneq_ps(wsum, _mm_setzero_ps()), _mm_cmpnlt_ps(len2, _mm_set1_ps(1e-24f)));
-    int store = _mm_movemask_ps(go);
-    for (int l = 0; l < 4; ++l)
-        if (c[l].i == c[l].j) store &= ~(1 << l);
+    const int store = _mm_movemask_ps(go);
     if (store == 0) return;
     const __m128 len = _mm_sqrt_ps(len2);
     const __m128 s = _mm_and_ps(go, _mm_mul_ps(k, _mm_div_ps(_mm_sub_ps(len, rest), _mm_mul_ps(len, wsum))));

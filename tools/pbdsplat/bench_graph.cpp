@@ -1,5 +1,3 @@
-#include <cstdio>
-
 #include "core/timer.h"
 #include "graph/frame_graph.h"
 #include "pbdsplat/bench_suites.h"

@@ -1,5 +1,3 @@
-#include <cstdio>
-
 #include "core/timer.h"
 #include "mesh/mesh_spec.h"
 #include "pbdsplat/bench_suites.h"

@@ -1,5 +1,4 @@
 #include <cmath>
-#include <cstdio>
 
 #include "core/timer.h"
 #include "pbdsplat/bench_suites.h"

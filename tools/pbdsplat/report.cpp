@@ -4,7 +4,6 @@
 #include <cstdarg>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 
 namespace pbdsplat::cli {
 namespace {
