@@ -106,6 +106,7 @@ public:
     // edge stretched past 3x) are left out. For coverage against a mesh raster.
     void deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles);
     const surface::BoundaryParticles& boundary_particles() const { return boundary_; }
+    bool particles_are_splats() const { return splat_particles_; }
     // The splats of the last frame: the particles' first, then the boundary particles'; with an
     // embedded model surface, the boundary particles' only.
     const std::vector<splat::GaussianRecord>& records() const { return mapping_->records(); }

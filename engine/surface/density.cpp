@@ -249,21 +249,21 @@ void fade_in(BoundaryParticles& s, size_t first, uint32_t frames) {
     }
 }
 
-SpacingReport spacing_report(std::span<const Vec3f> points, float h, float low, float high) {
+SpacingReport spacing_report(std::span<const Vec3f> points, float h, float low, float high, size_t measured) {
     SpacingReport r;
-    r.points = points.size();
-    if (points.size() < 2) return r;
+    r.points = std::min(measured, points.size());
+    if (points.size() < 2 || r.points == 0) return r;
     // Cells of 2h: a nearest neighbour farther than that counts as "too far" anyway.
     PointGrid grid(2.0f * h, points.size());
     for (const Vec3f& p : points) grid.add(p);
-    std::vector<float> d(points.size());
+    std::vector<float> d(r.points);
     size_t in = 0;
-    for (size_t i = 0; i < points.size(); ++i) {
+    for (size_t i = 0; i < r.points; ++i) {
         const float d2 = grid.nearest_squared(points[i], uint32_t(i));
         d[i] = std::isfinite(d2) ? std::sqrt(d2) / h : 2.0f;
         in += d[i] >= low && d[i] <= high;
     }
-    r.within = float(in) / float(points.size());
+    r.within = float(in) / float(r.points);
     auto q = [&](float f) {
         const size_t k = std::min(d.size() - 1, size_t(f * float(d.size())));
         std::nth_element(d.begin(), d.begin() + k, d.end());

@@ -165,4 +165,22 @@ TEST_SUITE("surface/density") {
         CHECK(b.samples.size() == n - 1);
         for (size_t i = 0; i < b.samples.size(); ++i) CHECK(b.samples.fade_of(i) == 1.0f);
     }
+
+    TEST_CASE("the spacing report measures the first points only, against all of them") {
+        // A row one h apart (all within the band), then two points crowding its ends.
+        std::vector<Vec3f> p;
+        for (int i = 0; i < 8; ++i) p.emplace_back(float(i), 0.0f, 0.0f);
+        p.emplace_back(0.0f, 0.5f, 0.0f);
+        p.emplace_back(7.0f, 0.5f, 0.0f);
+        const surface::SpacingReport head = surface::spacing_report(std::span(p).first(8), 1.0f);
+        CHECK(head.points == 8);
+        CHECK(head.within == 1.0f);
+        // Measured against the neighbours: the row's two ends now have one 0.5 h away.
+        const surface::SpacingReport row = surface::spacing_report(p, 1.0f, 0.7f, 1.4f, 8);
+        CHECK(row.points == 8);
+        CHECK(row.within == doctest::Approx(6.0 / 8.0));
+        CHECK(row.p05 == doctest::Approx(0.5f));
+        // Every point measured: the two crowding points count too.
+        CHECK(surface::spacing_report(p, 1.0f).within == doctest::Approx(6.0 / 10.0));
+    }
 }
