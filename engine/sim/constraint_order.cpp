@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <unordered_map>
 
 #include "core/assert.h"
+#include "core/key_table.h"
 
 namespace pbdsplat::sim {
 
@@ -101,18 +101,19 @@ void add_slot_of(SlackLists<uint32_t>& lists, uint32_t v, uint32_t slot, std::ve
 
 // Where the constraints added by one call went, kept up to date as inserting moves slots.
 struct Placement {
+    explicit Placement(size_t added) : slot_of_added(added, UINT32_MAX), added_at(added) {}
     std::vector<uint32_t> slot_of_added;
-    std::unordered_map<uint32_t, uint32_t> added_at;  // slot -> added index (a cut through a large body adds thousands)
+    core::KeyMap<uint32_t> added_at;  // slot -> 1 + added index (0: none; a cut through a large body adds thousands)
     void moved(uint32_t from, uint32_t to) {
-        const auto it = added_at.find(from);
-        if (it == added_at.end()) return;
-        const uint32_t k = it->second;
-        added_at.erase(it);
-        added_at[to] = k, slot_of_added[k] = to;
+        uint32_t* at = added_at.find(from);
+        if (!at || *at == 0) return;
+        const uint32_t k = *at - 1;
+        *at = 0;
+        added_at[to] = k + 1, slot_of_added[k] = to;
     }
     void place(uint32_t k, uint32_t slot) {
         slot_of_added[k] = slot;
-        added_at[slot] = k;
+        added_at[slot] = k + 1;
     }
 };
 
@@ -235,8 +236,7 @@ std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstrain
         ++g.dead;
     }
     for (const DistanceConstraint& c : add) g.rest_sum += double(c.rest);
-    Placement placement;
-    placement.slot_of_added.assign(add.size(), UINT32_MAX);
+    Placement placement(add.size());
     std::vector<uint32_t> spill;
     for (uint32_t k = 0; k < add.size(); ++k) {
         const DistanceConstraint& c = add[k];

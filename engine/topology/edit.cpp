@@ -4,9 +4,9 @@
 #include <numeric>
 
 #include "core/assert.h"
+#include "core/key_table.h"
 #include "mesh/topology.h"
 #include "sim/volume.h"
-#include "topology/edge_key_set.h"
 #include "topology/particle_scratch.h"
 
 namespace pbdsplat::topology {
@@ -238,7 +238,7 @@ std::vector<Edit::Definition> Edit::constraints_to_remake() const {
     // (a per-thread mark), and each is looked up among those edges in a table sized for them.
     thread_local ParticleScratch<uint8_t> marks(0);
     std::vector<uint8_t>& marked = marks.take(n0_);
-    EdgeKeySet old_edges(3 * (parents_.size() + local_triangles_.size()));
+    core::KeySet old_edges(3 * (parents_.size() + local_triangles_.size()));
     std::vector<uint32_t> touched;
     auto mark = [&](uint32_t a, uint32_t c) {
         if (a >= n0_ || c >= n0_) return;
@@ -276,26 +276,30 @@ void Edit::update_distance_constraints() {
                 default_compliance = c.compliance;
                 break;
             }
-    // By key for lookups; of two constraints on one edge the later slot defines it.
-    std::sort(removed.begin(), removed.end(),
-              [](const Definition& x, const Definition& y) { return x.key != y.key ? x.key < y.key : x.slot < y.slot; });
+    // By key for lookups; of two constraints on one edge the later slot defines it. The map
+    // holds 1 + the definition's index (0: a key just met).
+    core::KeyMap<uint32_t> by_key(removed.size());
+    for (uint32_t k = 0; k < removed.size(); ++k) {
+        uint32_t& at = by_key[removed[k].key];
+        if (at == 0 || removed[at - 1].slot < removed[k].slot) at = k + 1;
+    }
     auto definition = [&](uint64_t key) -> const Definition* {
-        auto it = std::upper_bound(removed.begin(), removed.end(), key, [](uint64_t k, const Definition& d) { return k < d.key; });
-        return it != removed.begin() && (it - 1)->key == key ? &*(it - 1) : nullptr;
+        const uint32_t* at = by_key.find(key);
+        return at ? &removed[*at - 1] : nullptr;
     };
+    std::vector<uint8_t> kept(removed.size(), 0);  // edges the edit left as they were keep their constraint where it is
 
     std::vector<sim::DistanceConstraint> added;
     std::vector<uint64_t> emitted;
     for (uint32_t t : local)
         for (int k = 0; k < 3; ++k) emitted.push_back(edge_key(b_.triangles[t][size_t(k)], b_.triangles[t][size_t((k + 1) % 3)]));
     sort_unique(emitted);  // each new edge once, in key order (deterministic)
-    std::vector<uint32_t> kept_slots;  // edges the edit left as they were keep their constraint where it is
     for (const uint64_t key : emitted) {
         const uint32_t a = uint32_t(key >> 32), c = uint32_t(key);
         const uint32_t oa = origin(a), oc = origin(c);
         if (const Definition* d = definition(edge_key(oa, oc))) {
             // Both ends the particles they were (not split off, not new): the same constraint.
-            if (a == oa && c == oc) kept_slots.push_back(d->slot);
+            if (a == oa && c == oc) kept[size_t(d - removed.data())] = 1;
             else added.push_back({a, c, d->rest, d->compliance});
             continue;
         }
@@ -310,10 +314,9 @@ void Edit::update_distance_constraints() {
         if ((other == ep.i || other == ep.j) && parent) rest = parent->rest * (other == ep.i ? ep.t : 1.0f - ep.t);
         added.push_back({a, c, rest, compliance});
     }
-    std::sort(kept_slots.begin(), kept_slots.end());
     std::vector<uint32_t> removed_slots;
-    for (const Definition& d : removed)
-        if (!std::binary_search(kept_slots.begin(), kept_slots.end(), d.slot)) removed_slots.push_back(d.slot);
+    for (size_t k = 0; k < removed.size(); ++k)
+        if (!kept[k]) removed_slots.push_back(removed[k].slot);
     std::sort(removed_slots.begin(), removed_slots.end());
     sim::replace_distance_constraints(b_.distance, b_.distance_groups, b_.distance_lambda, b_.particle_count(), removed_slots, added);
     change.constraints_removed = removed_slots.size();
