@@ -56,6 +56,16 @@ public:
         });
         return best;
     }
+    // The same among the points for which accept(i) holds.
+    template <class Accept>
+    float nearest_squared_if(const Vec3f& p, const Accept& accept) const {
+        float best = std::numeric_limits<float>::infinity();
+        each_around(p, [&](uint32_t i) {
+            if (accept(i)) best = std::min(best, (points_[i] - p).squaredNorm());
+            return true;
+        });
+        return best;
+    }
     // Up to k nearest points other than `self`, nearest first, searched shell of cells by shell
     // out to `max_rings` cells: a point further than that is no neighbour for any purpose here.
     void k_nearest(const Vec3f& p, uint32_t self, uint32_t k, int max_rings, std::vector<uint32_t>& out) const {

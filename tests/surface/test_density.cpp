@@ -176,11 +176,27 @@ TEST_SUITE("surface/density") {
         CHECK(head.points == 8);
         CHECK(head.within == 1.0f);
         // Measured against the neighbours: the row's two ends now have one 0.5 h away.
-        const surface::SpacingReport row = surface::spacing_report(p, 1.0f, 0.7f, 1.4f, 8);
+        const surface::SpacingReport row = surface::spacing_report(p, 1.0f, {0.7f, 1.4f, 8, {}});
         CHECK(row.points == 8);
         CHECK(row.within == doctest::Approx(6.0 / 8.0));
         CHECK(row.p05 == doctest::Approx(0.5f));
         // Every point measured: the two crowding points count too.
         CHECK(surface::spacing_report(p, 1.0f).within == doctest::Approx(6.0 / 10.0));
+    }
+
+    TEST_CASE("with normals, the far face of a fold is no neighbour") {
+        // Two rows h apart, folded flat onto each other 0.3 h apart: facing opposite ways.
+        std::vector<Vec3f> p, n;
+        for (int i = 0; i < 8; ++i) p.emplace_back(float(i), 0.0f, 0.0f), n.emplace_back(0.0f, 1.0f, 0.0f);
+        for (int i = 0; i < 8; ++i) p.emplace_back(float(i), 0.3f, 0.0f), n.emplace_back(0.0f, -1.0f, 0.0f);
+        // In space every point has the other sheet 0.3 h away.
+        CHECK(surface::spacing_report(p, 1.0f).within == 0.0f);
+        // Along the surface each row is one h apart.
+        const surface::SpacingReport folded = surface::spacing_report(p, 1.0f, {0.7f, 1.4f, SIZE_MAX, n});
+        CHECK(folded.within == 1.0f);
+        CHECK(folded.p05 == doctest::Approx(1.0f));
+        // Facing the same way (a second layer, not a fold), the close sheet still counts.
+        std::vector<Vec3f> same(p.size(), Vec3f(0.0f, 1.0f, 0.0f));
+        CHECK(surface::spacing_report(p, 1.0f, {0.7f, 1.4f, SIZE_MAX, same}).within == 0.0f);
     }
 }

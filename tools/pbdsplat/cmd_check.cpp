@@ -23,7 +23,9 @@ int cmd_check(const std::vector<std::string>& argv) {
         "  pieces        connected components; volume error |V / (k V0) - 1|, worst piece\n"
         "  specks        share of the raster's pixels where the splats are less than half as bright as\n"
         "                the lit mesh (the background or a hidden surface showing through)\n"
-        "  spacing       share of boundary particles whose nearest neighbour lies in [0.7 h, 1.4 h]\n"
+        "  spacing       share of boundary particles whose nearest neighbour lies in [0.7 h, 1.4 h]:\n"
+        "                along the surface (a neighbour facing within 60 degrees, so not the far face\n"
+        "                of a sharp fold) and, in the JSON's spacing_within_3d, in space\n"
         "The coverage images are the frame as the scene draws it (footprint, shapes, the far side of\n"
         "a closed body culled, the environment about the body) without the ground.\n",
         with_gpu({whole("frames", "N", 120, 1, 100000, "frames to run"),
@@ -69,7 +71,7 @@ int cmd_check(const std::vector<std::string>& argv) {
         for (const scene::CheckSample& s : r.samples)
             samples.push_back({{"frame", s.frame}, {"time", s.time}, {"cuts", s.cuts}, {"tears", s.tears},
                                {"shape_error", s.shape_error}, {"strays", s.strays}, {"hole_ratio", s.hole_ratio},
-                               {"iou", s.iou}, {"speck_ratio", s.speck_ratio}, {"spacing_within", s.spacing_within}, {"spacing_p05", s.spacing_p05}, {"spacing_p95", s.spacing_p95}, {"area_ratio", s.area_ratio}, {"pieces", s.pieces}, {"particles", s.particles},
+                               {"iou", s.iou}, {"speck_ratio", s.speck_ratio}, {"spacing_within", s.spacing_within}, {"spacing_within_3d", s.spacing_within_3d}, {"spacing_p05", s.spacing_p05}, {"spacing_p95", s.spacing_p95}, {"area_ratio", s.area_ratio}, {"pieces", s.pieces}, {"particles", s.particles},
                                {"gaussians", s.gaussians}, {"volume_error", s.volume_error}});
         const nlohmann::json j = {{"scene", sc->name},
                                   {"frames", o.frames},
@@ -80,6 +82,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                                   {"iou_min", r.iou_min},
                                   {"speck_ratio_max", r.speck_ratio_max},
                                   {"spacing_within_min", r.spacing_within_min},
+                                  {"spacing_within_3d_min", r.spacing_within_3d_min},
                                   {"pieces", r.pieces},
                                   {"volume_error_max", r.volume_error_max},
                                   {"particles", r.particles},
@@ -108,10 +111,10 @@ int cmd_check(const std::vector<std::string>& argv) {
                     s.time, s.cuts, s.tears, s.shape_error, s.strays, percent(s.hole_ratio), s.iou, percent(s.speck_ratio),
                     s.spacing_within, s.pieces, s.volume_error, s.area_ratio);
     std::printf("worst: shape %.4f (%.4f before any cut or tear), strays %zu, holes %.3f %%, IoU %.3f, specks %.3f %%,\n"
-                "       spacing within [0.7 h, 1.4 h] %.3f; %zu pieces at the end;\n"
+                "       spacing within [0.7 h, 1.4 h] %.3f along the surface, %.3f in space; %zu pieces at the end;\n"
                 "       %zu particles, %zu Gaussians; Stage A %.3f ms a frame (median)\n",
                 r.shape_error_max, r.shape_error_before_topology, r.strays_max, percent(r.hole_ratio_max), r.iou_min,
-                percent(r.speck_ratio_max), r.spacing_within_min, r.pieces, r.particles, r.gaussians, r.stage_a_ms);
+                percent(r.speck_ratio_max), r.spacing_within_min, r.spacing_within_3d_min, r.pieces, r.particles, r.gaussians, r.stage_a_ms);
     return 0;
 }
 
