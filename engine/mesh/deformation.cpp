@@ -18,13 +18,18 @@ Eigen::Matrix2f rest_frame_inverse(const Vec3f& a, const Vec3f& b, const Vec3f& 
 }
 
 float largest_stretch(const Eigen::Matrix2f& rest_inverse, const Vec3f& e1, const Vec3f& e2) {
+    return stretches(rest_inverse, e1, e2).largest;
+}
+
+Stretch stretches(const Eigen::Matrix2f& rest_inverse, const Vec3f& e1, const Vec3f& e2) {
     Eigen::Matrix<float, 3, 2> ds;
     ds << e1, e2;
     const Eigen::Matrix<float, 3, 2> f = ds * rest_inverse;
     const Eigen::Matrix2f ftf = f.transpose() * f;
-    // Largest eigenvalue of the symmetric 2x2 F^T F: the squared largest singular value.
+    // The eigenvalues of the symmetric 2x2 F^T F: the squared singular values.
     const float tr = ftf.trace(), det = ftf.determinant();
-    return std::sqrt(std::max(0.0f, 0.5f * tr + std::sqrt(std::max(0.0f, 0.25f * tr * tr - det))));
+    const float root = std::sqrt(std::max(0.0f, 0.25f * tr * tr - det));
+    return {std::sqrt(std::max(0.0f, 0.5f * tr + root)), std::sqrt(std::max(0.0f, 0.5f * tr - root))};
 }
 
 } // namespace pbdsplat::mesh

@@ -14,4 +14,10 @@ Eigen::Matrix2f rest_frame_inverse(const Vec3f& a, const Vec3f& b, const Vec3f& 
 // The largest singular value of F for deformed edges e1 = b - a, e2 = c - a.
 float largest_stretch(const Eigen::Matrix2f& rest_inverse, const Vec3f& e1, const Vec3f& e2);
 
+// Both singular values of F: the stretch along the most and the least stretched directions.
+struct Stretch {
+    float largest = 1.0f, smallest = 1.0f;
+};
+Stretch stretches(const Eigen::Matrix2f& rest_inverse, const Vec3f& e1, const Vec3f& e2);
+
 } // namespace pbdsplat::mesh

@@ -36,7 +36,9 @@ DensityControl::DensityControl(std::span<const Vec3f> rest, std::span<const mesh
     inverse_rest_.resize(triangles.size());
     for (uint32_t t = 0; t < triangles.size(); ++t) set_rest(rest, triangles, t);
     stretch_.assign(triangles.size(), 1.0f);
+    squeeze_.assign(triangles.size(), 1.0f);
     reference_.assign(triangles.size(), 1.0f);
+    reference_squeeze_.assign(triangles.size(), 1.0f);
     beyond_.assign(triangles.size(), 0);
 }
 
@@ -49,12 +51,15 @@ void DensityControl::topology_changed(std::span<const Vec3f> rest, std::span<con
                                       std::span<const uint32_t> touched) {
     inverse_rest_.resize(triangles.size(), Eigen::Matrix2f::Zero());
     stretch_.resize(triangles.size(), 1.0f);
+    squeeze_.resize(triangles.size(), 1.0f);
     reference_.resize(triangles.size(), 1.0f);
+    reference_squeeze_.resize(triangles.size(), 1.0f);
     beyond_.resize(triangles.size(), 0);
     // A touched triangle was refilled from its rest shape: its samples stand for stretch 1.
     for (uint32_t t : touched) {
         set_rest(rest, triangles, t);
         reference_[t] = 1.0f;
+        reference_squeeze_[t] = 1.0f;
         beyond_[t] = 0;
     }
 }
@@ -184,15 +189,24 @@ std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const V
     for (uint32_t t = 0; t < triangles.size(); ++t) {
         const auto& tri = triangles[t];
         const Vec3f e1 = (x[tri[1]] - x[tri[0]]).head<3>(), e2 = (x[tri[2]] - x[tri[0]]).head<3>();
-        const float sigma = inverse_rest_[t].isZero() ? reference_[t] : mesh::largest_stretch(inverse_rest_[t], e1, e2);
-        stretch_[t] = sigma;
-        const float ratio = sigma / reference_[t];
-        const int8_t side = ratio > options_.grow ? 1 : ratio < options_.shrink && sigma > 0.0f ? -1 : 0;
+        const mesh::Stretch sigma = inverse_rest_[t].isZero() ? mesh::Stretch{reference_[t], reference_squeeze_[t]}
+                                                              : mesh::stretches(inverse_rest_[t], e1, e2);
+        stretch_[t] = sigma.largest;
+        squeeze_[t] = sigma.smallest;
+        const float ratio = sigma.largest / reference_[t];
+        // Along its least stretched direction as well: a triangle squashed one way keeps its
+        // largest stretch while its samples crowd along the other (a body landing), and when it
+        // springs back the gaps open along that direction only.
+        const float squeeze = sigma.smallest / std::max(reference_squeeze_[t], 1e-6f);
+        const bool grow = ratio > options_.grow || squeeze > options_.grow;
+        const bool thin = (ratio < options_.shrink || squeeze < options_.shrink) && sigma.smallest > 0.0f;
+        const int8_t side = grow ? 1 : thin ? -1 : 0;
         int8_t& run = beyond_[t];
         // Frames in a row on this side, counted up to 120 (the settle limit is at most 60).
         run = side == 0 ? 0 : run * side > 0 ? int8_t(side * std::min(std::abs(int(run)) + 1, 120)) : side;
         if (uint32_t(std::abs(run)) < std::max(1u, options_.settle_frames)) continue;
-        work.push_back({std::abs(std::log(ratio)), t, side > 0});
+        const float priority = std::max(std::abs(std::log(ratio)), std::abs(std::log(std::max(squeeze, 1e-6f))));
+        work.push_back({priority, t, grow, thin});
     }
     return work;
 }
@@ -214,9 +228,10 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
         PBDSPLAT_ASSERT(s.position.size() == s.size(), "density control: update the boundary particles' positions first");
         Resampler r({x, normals, triangles, anchors_drawn, h, seed, frame_, max_samples_}, options_, s, stats);
         for (const Due& w : work) {
+            if (w.thin) r.retire(w.triangle);  // first: a grown triangle's new samples keep their distance from the kept ones
             if (w.grow) r.insert(w.triangle);
-            else r.retire(w.triangle);
             reference_[w.triangle] = stretch_[w.triangle];
+            reference_squeeze_[w.triangle] = squeeze_[w.triangle];
             beyond_[w.triangle] = 0;
         }
     }

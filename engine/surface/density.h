@@ -69,13 +69,16 @@ private:
     struct Due {
         float priority;
         uint32_t triangle;
-        bool grow;
+        bool grow;  // stretched: new samples
+        bool thin;  // shrunk along some direction: retire the crowded (before any growing)
     };
     std::vector<Due> due_triangles(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangles);
     DensityOptions options_;
     std::vector<Eigen::Matrix2f> inverse_rest_;  // per triangle, in its own rest frame; zero for slivers
     std::vector<float> stretch_;    // largest singular value of each triangle's deformation, this frame
+    std::vector<float> squeeze_;    // and its smallest
     std::vector<float> reference_;  // the stretch each triangle was last sampled at
+    std::vector<float> reference_squeeze_;  // and its smallest singular value then
     std::vector<int8_t> beyond_;  // frames in a row past a threshold: + grow side, - shrink side
     uint64_t frame_ = 0;
     size_t max_samples_ = 0;

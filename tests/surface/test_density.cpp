@@ -28,9 +28,13 @@ struct Balloon {
         density = surface::DensityControl(body.rest_positions, body.triangles, {});
         scale(1.0f);
     }
-    void scale(float s) {
-        for (size_t i = 0; i < body.particle_count(); ++i)
-            body.particles.x[i] = Vec4f(s * body.rest_positions[i].x(), s * body.rest_positions[i].y(), s * body.rest_positions[i].z(), 0.0f);
+    void scale(float s) { scale_axes(Vec3f::Constant(s)); }
+    // Per axis: a squash stretches no triangle but compresses the equator's along the axis.
+    void scale_axes(const Vec3f& s) {
+        for (size_t i = 0; i < body.particle_count(); ++i) {
+            const Vec3f& r = body.rest_positions[i];
+            body.particles.x[i] = Vec4f(s.x() * r.x(), s.y() * r.y(), s.z() * r.z(), 0.0f);
+        }
         surface::update_boundary_particles(body.triangles, body.particles.x, body.normals, samples);
     }
     surface::DensityStats frame() { return density.update(body.particles.x, body.normals, body.triangles, true, h, 3, samples); }
@@ -108,6 +112,28 @@ TEST_SUITE("surface/density") {
         CHECK_MESSAGE(r.within >= 0.95f, r.within << " within [0.7 h, 1.4 h], p05 " << r.p05 << ", p95 " << r.p95);
         // Retired samples leave only where a kept one stands close by.
         CHECK(worst_gap < 1.2f * b.h);
+        CHECK(on_their_triangles(b.samples));
+    }
+
+    TEST_CASE("a squash one way thins the crowded samples, and springing back fills the gaps") {
+        Balloon b;
+        const size_t at_rest = b.samples.size();
+        auto squash = [](float f) { return Vec3f(1.0f, f, 1.0f); };
+        for (int f = 1; f <= 30; ++f) {
+            b.scale_axes(squash(1.0f - 0.4f * float(std::min(f, 20)) / 20.0f));  // to 0.6 of its height
+            b.frame();
+        }
+        // The largest stretch never moved; the samples crowded along the squashed direction.
+        const surface::SpacingReport squashed = surface::spacing_report(b.splats(), b.h);
+        CHECK_MESSAGE(squashed.within >= 0.95f, squashed.within << " within [0.7 h, 1.4 h], p05 " << squashed.p05);
+        CHECK(b.samples.size() < at_rest);
+        for (int f = 1; f <= 30; ++f) {
+            b.scale_axes(squash(0.6f + 0.4f * float(std::min(f, 20)) / 20.0f));
+            b.frame();
+        }
+        const surface::SpacingReport back = surface::spacing_report(b.splats(), b.h);
+        CHECK_MESSAGE(back.within >= 0.95f, back.within << " within [0.7 h, 1.4 h], p95 " << back.p95);
+        CHECK(b.largest_gap() < 1.05f * b.h);
         CHECK(on_their_triangles(b.samples));
     }
 
