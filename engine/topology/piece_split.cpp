@@ -1,7 +1,6 @@
 #include "topology/piece_split.h"
 
 #include <algorithm>
-#include <optional>
 
 #include "topology/particle_scratch.h"
 
@@ -31,102 +30,137 @@ void add_triangles_at(const sim::SoftBody& b, uint32_t v, Part& part) {
     });
 }
 
-// Grows a part from `seed` along the rings, marking its particles in `seen` and summing its
-// triangles (each at its first corner, so once).
-Part grow_part(const sim::SoftBody& b, uint32_t seed, std::vector<uint8_t>& seen) {
-    Part part;
-    part.particles.push_back(seed);
-    seen[seed] = 1;
-    std::vector<uint32_t>& queue = part.particles;
-    for (size_t q = 0; q < queue.size(); ++q) {
-        // The search hops across the body's memory: fetch ahead what the next particles read
-        // (their lists first, then what the lists point at). Halves the search at 164k particles.
-        if (q + 16 < queue.size()) {
-            __builtin_prefetch(b.rings.ring.of(queue[q + 16]).data());
-            __builtin_prefetch(b.rings.triangles.of(queue[q + 16]).data());
-        }
-        if (q + 8 < queue.size()) {
-            for (const auto& pair : b.rings.ring.of(queue[q + 8])) __builtin_prefetch(&b.particles.x[pair[0]]), __builtin_prefetch(&seen[pair[0]]);
-            for (uint32_t f : b.rings.triangles.of(queue[q + 8])) __builtin_prefetch(&b.triangles[f]);
-        }
-        const uint32_t v = queue[q];
-        for (const auto& pair : b.rings.ring.of(v))
-            for (uint32_t w : pair)
-                if (!seen[w]) seen[w] = 1, queue.push_back(w);
-        add_triangles_at(b, v, part);
-    }
-    return part;
-}
+// The searches of one piece from its seeds at once (see split_pieces): breadth first over all
+// of them while the search is small, then one group at a time.
+class PieceSearch {
+public:
+    PieceSearch(const sim::SoftBody& b, std::vector<uint32_t>& owner) : b_(b), owner_(owner) {}
 
-// The searches of one piece from its seeds at once (see split_pieces). Returns nothing past the
-// budget.
-std::optional<std::vector<Part>> search_locally(const sim::SoftBody& b, std::span<const uint32_t> seeds, size_t budget,
-                                                std::vector<uint32_t>& owner, size_t& searched, std::vector<uint32_t>& written) {
-    constexpr uint32_t unseen = UINT32_MAX;
-    std::vector<uint32_t> parent, queued, visited;
-    size_t roots = 0, open = 0;
-    auto find = [&](uint32_t s) {
-        while (parent[s] != s) s = parent[s] = parent[parent[s]];
-        return s;
-    };
-    for (uint32_t v : seeds) {
-        if (owner[v] != unseen) continue;
-        owner[v] = uint32_t(parent.size());
-        parent.push_back(owner[v]);
-        queued.push_back(1);
-        visited.push_back(v);
-        ++roots, ++open;
-    }
-    size_t head = 0;
-    while (roots > 1 && open > 1) {
-        if (visited.size() > budget) {
-            for (uint32_t v : visited) owner[v] = unseen;  // the whole search runs on a clean slate
-            searched += visited.size();
-            return std::nullopt;
+    std::vector<Part> run(std::span<const uint32_t> seeds, size_t budget, bool& went_deep, size_t& searched, std::vector<uint32_t>& written) {
+        for (uint32_t v : seeds) {
+            if (owner_[v] != k_unseen) continue;
+            owner_[v] = uint32_t(parent_.size());
+            parent_.push_back(owner_[v]);
+            queued_.push_back(1);
+            members_.push_back(1);
+            visited_.push_back(v);
+            ++roots_, ++open_;
         }
-        const uint32_t v = visited[head++];
-        uint32_t r = find(owner[v]);
-        if (--queued[r] == 0) --open;
-        for (const auto& pair : b.rings.ring.of(v))
+        // Breadth first: searches that meet merge, and a small part cut off closes early.
+        while (roots_ > 1 && open_ > 1 && visited_.size() <= budget) visit(head_++);
+        // Past the budget (two large parts, as a cut through the middle makes): one open group
+        // at a time, the smallest so far, to its end or until it meets another. When all but
+        // one have closed, the last is the rest and stays unexplored: the cut pays for the parts
+        // cut off, not for the piece (half a sphere cut in two, not all of it).
+        went_deep = roots_ > 1 && open_ > 1;
+        if (went_deep) deep();
+        searched += visited_.size();
+        written.insert(written.end(), visited_.begin(), visited_.end());
+        return parts();
+    }
+
+private:
+    static constexpr uint32_t k_unseen = UINT32_MAX;
+    uint32_t find(uint32_t s) {
+        while (parent_[s] != s) s = parent_[s] = parent_[parent_[s]];
+        return s;
+    }
+    // Expands the particle at position `at` of the search; new particles join its group.
+    // `joined` receives the positions of particles new to the search.
+    template <class Joined>
+    void expand(size_t at, Joined&& joined) {
+        const uint32_t v = visited_[at];
+        const uint32_t r = find(owner_[v]);
+        if (--queued_[r] == 0) --open_;
+        for (const auto& pair : b_.rings.ring.of(v))
             for (uint32_t w : pair) {
-                if (owner[w] == unseen) {
-                    owner[w] = r;
-                    if (queued[r]++ == 0) ++open;
-                    visited.push_back(w);
-                } else if (const uint32_t o = find(owner[w]); o != r) {
+                if (owner_[w] == k_unseen) {
+                    owner_[w] = r;
+                    if (queued_[r]++ == 0) ++open_;
+                    ++members_[r];
+                    visited_.push_back(w);
+                    joined(visited_.size() - 1);
+                } else if (const uint32_t o = find(owner_[w]); o != r) {
                     // Two searches met: one group, open if either was.
-                    open -= (queued[r] > 0) + (queued[o] > 0);
-                    parent[o] = r;
-                    queued[r] += queued[o];
-                    open += queued[r] > 0;
-                    --roots;
+                    open_ -= (queued_[r] > 0) + (queued_[o] > 0);
+                    parent_[o] = r;
+                    queued_[r] += queued_[o];
+                    members_[r] += members_[o];
+                    open_ += queued_[r] > 0;
+                    --roots_;
                 }
             }
     }
-    searched += visited.size();
-    written.insert(written.end(), visited.begin(), visited.end());
+    void visit(size_t at) {
+        expand(at, [](size_t) {});
+    }
+    void deep() {
+        // Per position: 0 waiting in the breadth-first queue, 1 taken by the group being
+        // searched, 2 expanded. Positions before head_ are expanded already.
+        std::vector<uint8_t> state(visited_.size(), 0);
+        std::fill(state.begin(), state.begin() + long(head_), uint8_t(2));
+        std::vector<size_t> mine;
+        while (roots_ > 1 && open_ > 1) {
+            uint32_t group = UINT32_MAX;
+            for (uint32_t g = 0; g < parent_.size(); ++g)
+                if (find(g) == g && queued_[g] > 0 && (group == UINT32_MAX || members_[g] < members_[group])) group = g;
+            mine.clear();
+            auto take_waiting = [&](uint32_t root) {
+                for (size_t p = head_; p < visited_.size(); ++p)
+                    if (state[p] == 0 && find(owner_[visited_[p]]) == root) state[p] = 1, mine.push_back(p);
+            };
+            take_waiting(group);
+            const uint32_t roots_before = roots_;
+            for (size_t q = 0; q < mine.size() && open_ > 1; ++q) {
+                // The search hops across the body's memory: fetch ahead what the next particles
+                // read (their lists first, then what the lists point at).
+                if (q + 16 < mine.size()) __builtin_prefetch(b_.rings.ring.of(visited_[mine[q + 16]]).data());
+                if (q + 8 < mine.size())
+                    for (const auto& pair : b_.rings.ring.of(visited_[mine[q + 8]]))
+                        __builtin_prefetch(&owner_[pair[0]]), __builtin_prefetch(&owner_[pair[1]]);
+                state[mine[q]] = 2;
+                expand(mine[q], [&](size_t p) {
+                    state.push_back(1);
+                    mine.push_back(p);
+                });
+                // Met another group: its waiting particles are this search's now.
+                if (roots_ != roots_before && q + 1 == mine.size()) take_waiting(find(group));
+            }
+            if (roots_ != roots_before) take_waiting(find(group));
+            for (size_t q = 0; q < mine.size(); ++q)
+                if (state[mine[q]] == 1) state[mine[q]] = 0;  // left waiting: the loop ended on open_ == 1
+        }
+    }
     // The closed groups are whole parts; the open one (at most one is left) is the rest of the
     // piece, unexplored. One group left and open: the piece did not fall apart.
-    uint32_t open_root = UINT32_MAX;
-    for (uint32_t g = 0; g < parent.size(); ++g)
-        if (find(g) == g && queued[g] > 0) open_root = g;
-    std::vector<Part> parts;
-    std::vector<uint32_t> part_of_root(parent.size(), UINT32_MAX);
-    for (uint32_t v : visited) {
-        const uint32_t g = find(owner[v]);
-        if (g == open_root) continue;
-        if (part_of_root[g] == UINT32_MAX) part_of_root[g] = uint32_t(parts.size()), parts.emplace_back();
-        Part& part = parts[part_of_root[g]];
-        part.particles.push_back(v);
-        add_triangles_at(b, v, part);
+    std::vector<Part> parts() {
+        uint32_t open_root = UINT32_MAX;
+        for (uint32_t g = 0; g < parent_.size(); ++g)
+            if (find(g) == g && queued_[g] > 0) open_root = g;
+        std::vector<Part> parts;
+        std::vector<uint32_t> part_of_root(parent_.size(), UINT32_MAX);
+        for (uint32_t v : visited_) {
+            const uint32_t g = find(owner_[v]);
+            if (g == open_root) continue;
+            if (part_of_root[g] == UINT32_MAX) part_of_root[g] = uint32_t(parts.size()), parts.emplace_back();
+            Part& part = parts[part_of_root[g]];
+            part.particles.push_back(v);
+            add_triangles_at(b_, v, part);
+        }
+        std::stable_sort(parts.begin(), parts.end(), [](const Part& x, const Part& y) { return x.particles.size() > y.particles.size(); });
+        if (open_root != UINT32_MAX) {
+            parts.insert(parts.begin(), Part{});
+            parts.front().complete = false;
+        }
+        return parts;
     }
-    std::stable_sort(parts.begin(), parts.end(), [](const Part& x, const Part& y) { return x.particles.size() > y.particles.size(); });
-    if (open_root != UINT32_MAX) {
-        parts.insert(parts.begin(), Part{});
-        parts.front().complete = false;
-    }
-    return parts;
-}
+
+    const sim::SoftBody& b_;
+    std::vector<uint32_t>& owner_;
+    std::vector<uint32_t> parent_, queued_, members_, visited_;
+    size_t head_ = 0;
+    uint32_t roots_ = 0, open_ = 0;
+};
 } // namespace
 
 double part_area(const sim::SoftBody& b, const Part& part) {
@@ -140,25 +174,17 @@ SplitSearch split_pieces(sim::SoftBody& b, std::span<const uint32_t> reached, st
     SplitSearch out;
     thread_local ParticleScratch<uint32_t> owners(UINT32_MAX);
     std::vector<uint32_t>& owner = owners.take(b.particle_count());
-    std::vector<uint32_t> written;  // by the local searches that settled their piece
-    std::vector<uint8_t> seen;  // for the whole search, made when first needed
+    std::vector<uint32_t> written;  // particles the searches labelled, to reset afterwards
     out.parts_of.resize(reached.size());
     std::vector<uint32_t> mine;
     for (size_t r = 0; r < reached.size(); ++r) {
         mine.clear();
         for (uint32_t v : seeds)
             if (b.piece_of_particle[v] == reached[r]) mine.push_back(v);
+        bool went_deep = false;
         std::vector<Part>& parts = out.parts_of[r];
-        if (auto local = search_locally(b, mine, budget, owner, out.searched, written)) {
-            parts = std::move(*local);
-        } else {
-            ++out.searched_whole;
-            if (seen.empty()) seen.assign(b.particle_count(), 0);
-            for (uint32_t v : mine)
-                if (!seen[v]) parts.push_back(grow_part(b, v, seen));
-            std::stable_sort(parts.begin(), parts.end(), [](const Part& x, const Part& y) { return x.particles.size() > y.particles.size(); });
-            for (const Part& part : parts) out.searched += part.particles.size();
-        }
+        parts = PieceSearch(b, owner).run(mine, budget, went_deep, out.searched, written);
+        out.searched_whole += went_deep;
         for (size_t k = 0; k < parts.size(); ++k) {
             parts[k].label = k == 0 ? reached[r] : uint32_t(b.pieces++);
             if (k > 0)

@@ -201,6 +201,39 @@ TEST_SUITE("topology/cut") {
         CHECK(b.volumes[0].piece == b.piece_of_particle[b.extreme_particle(1, false)]);
     }
 
+    TEST_CASE("a large body cut in halves: one half explored, the other keeps its label and its air unexplored") {
+        sim::SoftBody b = body_of(mesh::icosphere(5));
+        sim::Solver solver;
+        sim::SolverSettings s;
+        s.gravity = Vec3f::Zero();
+        for (int f = 0; f < 3; ++f) solver.step(b, 1.0f / 60.0f, s, {}, {});
+        REQUIRE(std::isfinite(b.volumes[0].measured_six_v));
+        sim::SoftBody exact = b;  // the same cut with no solver measure: every part summed
+        exact.volumes[0].measured_six_v = std::numeric_limits<double>::quiet_NaN();
+        for (sim::SoftBody* body : {&b, &exact}) {
+            const size_t n = body->particle_count();
+            auto change = topology::cut(*body, plane(Vec3f(0.03f, 0.01f, 0.0f), Vec3f(1.0f, 0.2f, 0.1f)));
+            REQUIRE(change.ok());
+            require_invariants(*body);
+            CHECK(change->components_after == 2);
+            // Two halves of 5k particles each: past the local budget, one explored to its end.
+            CHECK(change->searched_whole == 1);
+            CHECK(change->particles_searched < 3 * n / 4);
+            CHECK(change->particles_searched > n / 2 - n / 10);
+            const auto counts = topology::count_components_and_loops(*body);
+            CHECK(counts.components == 2);
+        }
+        REQUIRE(b.volumes.size() == 2);
+        REQUIRE(exact.volumes.size() == 2);
+        // The unexplored half's target from the solver's measure less the explored half: the
+        // same as summing it, to the measure's age (a step; nothing moves without gravity).
+        for (size_t k = 0; k < 2; ++k) {
+            CHECK(b.volumes[k].piece == exact.volumes[k].piece);
+            CHECK(b.volumes[k].rest_volume == doctest::Approx(exact.volumes[k].rest_volume).epsilon(1e-4));
+        }
+        CHECK(total_rest_volume(b) == doctest::Approx(total_volume(b)).epsilon(0.01));
+    }
+
     TEST_CASE("a cut that misses the body changes nothing") {
         sim::SoftBody b = body_of(mesh::icosphere(2));
         const size_t n = b.particle_count(), t = b.triangles.size();
