@@ -21,12 +21,17 @@ void for_triangles_at(const sim::SoftBody& b, uint32_t v, F&& f) {
     }
 }
 
-// The part's sums over those triangles.
-void add_triangles_at(const sim::SoftBody& b, uint32_t v, Part& part) {
+// A part's sums over its triangles (a Part, or sums kept apart and added to one later).
+struct TriangleSums {
+    double six_v = 0.0, area_bound = 0.0;
+    size_t triangles = 0;
+};
+template <class Sums>
+void add_triangles_at(const sim::SoftBody& b, uint32_t v, Sums& sums) {
     for_triangles_at(b, v, [&](const Vec3d& a, const Vec3d& e1, const Vec3d& e2) {
-        part.six_v += a.dot((a + e1).cross(a + e2));
-        part.area_bound += 0.25 * (e1.squaredNorm() + e2.squaredNorm());
-        ++part.triangles;
+        sums.six_v += a.dot((a + e1).cross(a + e2));
+        sums.area_bound += 0.25 * (e1.squaredNorm() + e2.squaredNorm());
+        ++sums.triangles;
     });
 }
 
@@ -100,6 +105,9 @@ private:
         std::vector<uint8_t> state(visited_.size(), 0);
         std::fill(state.begin(), state.begin() + long(head_), uint8_t(2));
         std::vector<size_t> mine;
+        // Each particle's triangles are summed as it is expanded, while what they read is at
+        // hand (summing the part afterwards, in search order, read it all again from memory).
+        deep_sums_.assign(parent_.size(), {});
         while (roots_ > 1 && open_ > 1) {
             uint32_t group = UINT32_MAX;
             for (uint32_t g = 0; g < parent_.size(); ++g)
@@ -114,11 +122,18 @@ private:
             for (size_t q = 0; q < mine.size() && open_ > 1; ++q) {
                 // The search hops across the body's memory: fetch ahead what the next particles
                 // read (their lists first, then what the lists point at).
-                if (q + 16 < mine.size()) __builtin_prefetch(b_.rings.ring.of(visited_[mine[q + 16]]).data());
-                if (q + 8 < mine.size())
-                    for (const auto& pair : b_.rings.ring.of(visited_[mine[q + 8]]))
-                        __builtin_prefetch(&owner_[pair[0]]), __builtin_prefetch(&owner_[pair[1]]);
+                if (q + 16 < mine.size()) {
+                    __builtin_prefetch(b_.rings.ring.of(visited_[mine[q + 16]]).data());
+                    __builtin_prefetch(b_.rings.triangles.of(visited_[mine[q + 16]]).data());
+                }
+                if (q + 8 < mine.size()) {
+                    const uint32_t ahead = visited_[mine[q + 8]];
+                    for (const auto& pair : b_.rings.ring.of(ahead))
+                        __builtin_prefetch(&owner_[pair[0]]), __builtin_prefetch(&b_.particles.x[pair[0]]);
+                    for (uint32_t f : b_.rings.triangles.of(ahead)) __builtin_prefetch(&b_.triangles[f]);
+                }
                 state[mine[q]] = 2;
+                add_triangles_at(b_, visited_[mine[q]], deep_sums_[find(owner_[visited_[mine[q]]])]);
                 expand(mine[q], [&](size_t p) {
                     state.push_back(1);
                     mine.push_back(p);
@@ -139,13 +154,22 @@ private:
             if (find(g) == g && queued_[g] > 0) open_root = g;
         std::vector<Part> parts;
         std::vector<uint32_t> part_of_root(parent_.size(), UINT32_MAX);
-        for (uint32_t v : visited_) {
+        for (size_t p = 0; p < visited_.size(); ++p) {
+            const uint32_t v = visited_[p];
             const uint32_t g = find(owner_[v]);
             if (g == open_root) continue;
             if (part_of_root[g] == UINT32_MAX) part_of_root[g] = uint32_t(parts.size()), parts.emplace_back();
             Part& part = parts[part_of_root[g]];
             part.particles.push_back(v);
-            add_triangles_at(b_, v, part);
+            if (p < head_) add_triangles_at(b_, v, part);  // expanded breadth first; the rest summed as expanded
+        }
+        for (uint32_t g = 0; g < deep_sums_.size(); ++g) {
+            const uint32_t root = find(g);
+            if (root == open_root || part_of_root[root] == UINT32_MAX) continue;
+            Part& part = parts[part_of_root[root]];
+            part.six_v += deep_sums_[g].six_v;
+            part.area_bound += deep_sums_[g].area_bound;
+            part.triangles += deep_sums_[g].triangles;
         }
         std::stable_sort(parts.begin(), parts.end(), [](const Part& x, const Part& y) { return x.particles.size() > y.particles.size(); });
         if (open_root != UINT32_MAX) {
@@ -158,6 +182,7 @@ private:
     const sim::SoftBody& b_;
     std::vector<uint32_t>& owner_;
     std::vector<uint32_t> parent_, queued_, members_, visited_;
+    std::vector<TriangleSums> deep_sums_;  // per group at the time of expansion (deep search only)
     size_t head_ = 0;
     uint32_t roots_ = 0, open_ = 0;
 };
