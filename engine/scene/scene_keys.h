@@ -57,6 +57,7 @@ inline const Key<SurfaceDesc> k_surface_keys[] = {
     PBDSPLAT_KEY(SurfaceDesc, "density", density.enabled),
     PBDSPLAT_KEY(SurfaceDesc, "density_grow", density.grow, 1.05, 4.0),
     PBDSPLAT_KEY(SurfaceDesc, "density_shrink", density.shrink, 0.2, 0.95),
+    PBDSPLAT_KEY(SurfaceDesc, "density_squash", density.squash, 0.2, 0.95),
     PBDSPLAT_KEY(SurfaceDesc, "density_retire_spacing", density.retire_spacing, 0.3, 1.0),
     PBDSPLAT_KEY(SurfaceDesc, "density_insert_spacing", density.insert_spacing, 0.3, 1.0),
     PBDSPLAT_KEY(SurfaceDesc, "density_settle_frames", density.settle_frames, 1, 60),

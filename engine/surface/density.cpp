@@ -198,8 +198,8 @@ std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const V
         // largest stretch while its samples crowd along the other (a body landing), and when it
         // springs back the gaps open along that direction only.
         const float squeeze = sigma.smallest / std::max(reference_squeeze_[t], 1e-6f);
-        const bool grow = ratio > options_.grow || squeeze > options_.grow;
-        const bool thin = (ratio < options_.shrink || squeeze < options_.shrink) && sigma.smallest > 0.0f;
+        const bool grow = ratio > options_.grow || squeeze > 1.0f / options_.squash;
+        const bool thin = (ratio < options_.shrink || squeeze < options_.squash) && sigma.smallest > 0.0f;
         const int8_t side = grow ? 1 : thin ? -1 : 0;
         int8_t& run = beyond_[t];
         // Frames in a row on this side, counted up to 120 (the settle limit is at most 60).

@@ -21,6 +21,12 @@ struct DensityOptions {
     bool enabled = true;
     float grow = 1.1f;            // resample a triangle stretched this much since its last sampling
     float shrink = 0.9f;          // thin a triangle shrunk to this
+    // Thin a triangle squashed to this along its least stretched direction (its largest stretch
+    // unchanged: a body landing), and grow it again when it springs back past 1 / squash. Wider
+    // than shrink: a tumbling body's triangles jiggle by 10 % along that direction, and at 0.9
+    // the bunny's pieces churned 48k samples in and 42k out over 300 frames (28k / 25k without
+    // the test; 39k / 35k at 0.8, 35k / 31k at 0.7).
+    float squash = 0.75f;
     float retire_spacing = 0.9f;  // thinning keeps samples at least this many h apart
     // New samples keep this many h from every other. Below 1: a maximal set at spacing h
     // leaves neighbours up to 2h apart, and a stretched one more; only a closer throw splits them.
