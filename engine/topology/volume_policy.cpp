@@ -322,9 +322,9 @@ VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float l
         if (it != b.volumes.end() && it->piece == reached[r]) parents[r] = &*it;
     }
 
-    // The local search may look at this many particles before it searches the pieces whole: a
-    // few rings around the edit, or a sixteenth of the body (a cut through the middle of a large
-    // body pays that much extra before the whole search).
+    // The breadth-first search may look at this many particles before it searches one part at a
+    // time: a few rings around the edit, or a sixteenth of the body (a cut through the middle of
+    // a large body pays that much before it explores the smaller side).
     const size_t budget = std::max({size_t(2048), 2 * seeds.size(), b.particle_count() / 16});
     SplitSearch search = split_pieces(b, reached, seeds, budget);
     std::vector<std::vector<Part>>& parts_of = search.parts_of;
