@@ -49,12 +49,7 @@ public:
     // The squared distance from p to the nearest point other than `self` (an index in insertion
     // order) within one cell size; infinity when there is none.
     float nearest_squared(const Vec3f& p, uint32_t self = k_end) const {
-        float best = std::numeric_limits<float>::infinity();
-        each_around(p, [&](uint32_t i) {
-            if (i != self) best = std::min(best, (points_[i] - p).squaredNorm());
-            return true;
-        });
-        return best;
+        return nearest_squared_if(p, [self](uint32_t i) { return i != self; });
     }
     // The same among the points for which accept(i) holds.
     template <class Accept>
@@ -112,9 +107,9 @@ public:
 
 private:
     // Visits the points in the 27 cells around p while visit(i) returns true; false when a
-    // visit stopped it.
-    // The point's own cell first, then those sharing a face with it, then the rest: a query that
-    // stops at the first point near enough (a rejected candidate) usually stops in the first.
+    // visit stopped it. The point's own cell first, then those sharing a face with it, then the
+    // rest: a query that stops at the first point near enough (a rejected candidate) usually
+    // stops in the first.
     template <class Visit>
     bool each_around(const Vec3f& p, const Visit& visit) const {
         static constexpr int8_t k_order[27][3] = {

@@ -251,7 +251,7 @@ std::vector<Edit::Definition> Edit::constraints_to_remake() const {
     for (uint32_t t : local_triangles_)
         for (int k = 0; k < 3; ++k) mark(origin(b_.triangles[t][size_t(k)]), origin(b_.triangles[t][size_t((k + 1) % 3)]));
     marks.give_back(touched);
-    // The order met does not matter: the caller orders them by (key, slot).
+    // The order met does not matter: the caller keys them by edge, the later slot defining it.
     std::vector<Definition> removed;
     for (uint32_t a : touched)
         for (uint32_t slot : b_.distance_groups.of_particle.of(a)) {

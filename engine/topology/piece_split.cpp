@@ -141,9 +141,8 @@ private:
                 // Met another group: its waiting particles are this search's now.
                 if (roots_ != roots_before && q + 1 == mine.size()) take_waiting(find(group));
             }
-            if (roots_ != roots_before) take_waiting(find(group));
-            for (size_t q = 0; q < mine.size(); ++q)
-                if (state[mine[q]] == 1) state[mine[q]] = 0;  // left waiting: the loop ended on open_ == 1
+            // Either the group closed (everything it took was expanded) or it is the last open
+            // one, the rest, and the search ends here.
         }
     }
     // The closed groups are whole parts; the open one (at most one is left) is the rest of the
