@@ -19,6 +19,7 @@ layout(constant_id = 0) const bool k_visibility_pass = false;
 layout(location = 0) in vec3 v_normal[];
 layout(location = 1) in vec4 v_color[];
 layout(location = 2) in vec2 v_scale_opacity[];
+layout(location = 3) in vec3 v_curvature[];
 
 layout(location = 0) out vec2 g_uv;         // see splat_quad(): std devs, or the paper's [-1,1]
 layout(location = 1) out vec3 g_world;      // world position of the fragment (for env lookups)
@@ -36,8 +37,8 @@ void main() {
     const vec3 albedo = splat_albedo(v_color[0].rgb, uint(gl_PrimitiveIDIn), world);
     for (int i = 0; i < k_carrier_corners; ++i) {
         splat_corner(q, world, i, gl_Position, g_world, g_uv);
-        g_normal = v_normal[0];
-        g_color = corner_color(albedo, alpha, v_normal[0], g_world);
+        g_normal = corner_normal(v_normal[0], v_curvature[0], world, g_world);
+        g_color = corner_color(albedo, alpha, g_normal, g_world);
         EmitVertex();
     }
     EndPrimitive();

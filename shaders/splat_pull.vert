@@ -37,5 +37,6 @@ void main() {
     const float alpha = splat_alpha(r.color.a, r.opacity_logit);
     const SplatQuad q = splat_quad(r.position, r.normal, s0, alpha, k_visibility_pass, uint(gl_VertexIndex) / 6u);
     splat_corner(q, r.position, k_corner_of_vertex[gl_VertexIndex % 6], gl_Position, g_world, g_uv);
-    g_color = corner_color(splat_albedo(r.color.rgb, uint(gl_VertexIndex) / 6u, r.position), alpha, r.normal, g_world);
+    g_normal = corner_normal(r.normal, r.curvature, r.position, g_world);
+    g_color = corner_color(splat_albedo(r.color.rgb, uint(gl_VertexIndex) / 6u, r.position), alpha, g_normal, g_world);
 }

@@ -1,5 +1,6 @@
 #include "passes/coverage.h"
 
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -52,6 +53,17 @@ double speck_ratio(const core::ImageRgba8& splats, const core::ImageRgba8& shade
     return inside ? double(specks) / double(inside) : 0.0;
 }
 
+double shading_error(const core::ImageRgba8& splats, const core::ImageRgba8& shaded, const core::ImageRgba8& mask) {
+    size_t inside = 0;
+    double sum = 0.0;
+    for (size_t i = 0; i < size_t(mask.width) * mask.height; ++i) {
+        if (mask.pixels[i * 4 + 3] < 128 || mask.pixels[i * 4] < 128) continue;  // as speck_ratio
+        ++inside;
+        sum += std::abs(pixel_luminance(&splats.pixels[i * 4]) - pixel_luminance(&shaded.pixels[i * 4]));
+    }
+    return inside ? sum / (255.0 * double(inside)) : 0.0;
+}
+
 core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f> x,
                                         std::span<const std::array<uint32_t, 3>> triangles,
                                         std::span<const splat::GaussianRecord> records, render::FrameInputs frame,
@@ -97,7 +109,10 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
     if (c.mesh_pixels == 0) return core::make_error("the mesh is not in view: no coverage to measure");
     c.hole_ratio = double(holes) / double(c.mesh_pixels);
     c.silhouette_iou = double(both) / double(either);
-    if (albedo) c.speck_ratio = speck_ratio(c.splats, c.shaded, c.mesh);
+    if (albedo) {
+        c.speck_ratio = speck_ratio(c.splats, c.shaded, c.mesh);
+        c.shading_error = shading_error(c.splats, c.shaded, c.mesh);
+    }
     return c;
 }
 

@@ -16,6 +16,7 @@ struct Coverage {
     double hole_ratio = 0.0;
     double silhouette_iou = 0.0;
     double speck_ratio = -1.0;  // -1: not measured (no albedo given)
+    double shading_error = -1.0;  // the same
     size_t mesh_pixels = 0;
     core::ImageRgba8 splats, mesh;  // the two images, for people to look at
     core::ImageRgba8 shaded;        // the lit mesh (with an albedo only)
@@ -27,6 +28,11 @@ double pixel_luminance(const uint8_t* rgba);
 // `marked`, when given, receives the splat image with every speck painted magenta.
 double speck_ratio(const core::ImageRgba8& splats, const core::ImageRgba8& shaded_mesh, const core::ImageRgba8& mesh_mask,
                    core::ImageRgba8* marked = nullptr);
+
+// How far the splats' shading is from the lit mesh's: the mean absolute difference of their
+// luma (0-1) over the mesh's front pixels. The speck ratio counts only pixels darker than half;
+// this also sees a body drawn as facets (each splat lit with one normal) or bright discs.
+double shading_error(const core::ImageRgba8& splats, const core::ImageRgba8& shaded_mesh, const core::ImageRgba8& mesh_mask);
 
 core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f> x,
                                         std::span<const std::array<uint32_t, 3>> triangles,

@@ -116,6 +116,10 @@ struct RenderDesc {
     SplatShape splat_shape = SplatShape::round;
     float surfel_thickness = 0.1f;  // kept for the printer whatever the shape
     bool deformed_shapes() const { return splat_shape == SplatShape::deformed; }
+    // "varying": each splat lit with the surface's normal turning across it, as the vertex
+    // normals do across the mesh (splat/normal_field.h). "flat": one normal per splat (the
+    // paper's): on a curved or crumpled body every disc shows as a facet.
+    bool varying_normals = true;
     // Draw the plane collider as a ground under the body, with a contact shadow.
     bool ground = true;
     CameraOrbit orbit;

@@ -83,6 +83,7 @@ core::Status sample_coverage(SceneRuntime& rt, const Scene& scene, const CheckOp
     s.hole_ratio = c->hole_ratio;
     s.iou = c->silhouette_iou;
     s.speck_ratio = c->speck_ratio;
+    s.shading_error = c->shading_error;
     if (o.images_dir.empty()) return core::Status::success();
     char stem[64];
     std::snprintf(stem, sizeof stem, "/%s_f%04llu_", scene.name.c_str(), (unsigned long long)s.frame);
@@ -104,6 +105,7 @@ void summarise(CheckReport& report, std::vector<double> stage_a) {
             report.hole_ratio_max = std::max(report.hole_ratio_max, s.hole_ratio);
             report.iou_min = report.iou_min < 0.0 ? s.iou : std::min(report.iou_min, s.iou);
             report.speck_ratio_max = std::max(report.speck_ratio_max, s.speck_ratio);
+            report.shading_error_max = std::max(report.shading_error_max, s.shading_error);
         }
         if (s.spacing_within >= 0.0) {
             report.spacing_within_min = report.spacing_within_min < 0.0 ? s.spacing_within : std::min(report.spacing_within_min, s.spacing_within);

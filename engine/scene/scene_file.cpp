@@ -266,6 +266,7 @@ void read_splat_look(const Reader& r, Reader::Table& t, RenderDesc& d) {
     const std::string shape = t.choice("splat_shape", "round", {"round", "surfel", "deformed"});
     d.splat_shape = shape == "surfel" ? SplatShape::surfel : shape == "deformed" ? SplatShape::deformed : SplatShape::round;
     style.surfel_thickness = d.splat_shape == SplatShape::surfel ? d.surfel_thickness : 0.0f;
+    d.varying_normals = t.choice("splat_normals", "varying", {"varying", "flat"}) == "varying";
     const Vec3f bg = t.vec<3>("background", Vec3f(d.frame.background.head<3>()), 0.0, 1.0);
     d.frame.background = Vec4f(bg.x(), bg.y(), bg.z(), 1.0f);
 }

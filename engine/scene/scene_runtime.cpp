@@ -53,7 +53,8 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     h_ = surface->h;
     splat_particles_ = surface->particles_are_splats;
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
-    mapping_ = std::make_unique<MappingStage>(body_, scene_.simulation.fade_frames, scene_.render.deformed_shapes());
+    mapping_ = std::make_unique<MappingStage>(body_, scene_.simulation.fade_frames, scene_.render.deformed_shapes(),
+                                               scene_.render.varying_normals);
     appearance_.scale = mat.splat_scale * h_;
     update_closed();
     frame_input_.frame.lighting.intensity *= mat.diffuse;

@@ -1,6 +1,6 @@
 #pragma once
 // The contract between the simulation half and the renderer: one packed Gaussian per particle
-// or boundary particle (layout in shaders/shared/gpu_types.h, 24 bytes).
+// or boundary particle (layout in shaders/shared/gpu_types.h, 32 bytes).
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -18,12 +18,17 @@ struct GaussianRecord {
     uint8_t color[4];        // unorm8 rgb albedo, a = fade
     uint16_t scale_half;     // isotropic std dev s0, IEEE half
     uint16_t opacity_half;   // opacity logit o, IEEE half
+    // How the normal turns across the splat (splat/normal_field.h), IEEE half: xx, xy, yy of the
+    // symmetric 2x2 in splat_tangent_frame(normal), per world unit; all zero: one flat normal.
+    uint16_t curvature_half[3];
+    uint16_t pad;
 };
 static_assert(sizeof(GaussianRecord) == SPLAT_RECORD_SIZE, "GaussianRecord must match SPLAT_RECORD_SIZE");
 static_assert(offsetof(GaussianRecord, position) == SPLAT_OFFSET_POSITION);
 static_assert(offsetof(GaussianRecord, normal_oct) == SPLAT_OFFSET_NORMAL);
 static_assert(offsetof(GaussianRecord, color) == SPLAT_OFFSET_COLOR);
 static_assert(offsetof(GaussianRecord, scale_half) == SPLAT_OFFSET_SCALE_OPACITY);
+static_assert(offsetof(GaussianRecord, curvature_half) == SPLAT_OFFSET_CURVATURE);
 
 // The axes of an anisotropic Gaussian (SPLAT_SHAPE_SIZE in gpu_types.h), in a stream beside the
 // records: only bodies whose splats are not round carry one.

@@ -50,7 +50,7 @@ void StretchScale::update(std::span<const Vec4f> x, std::span<const mesh::Triang
 
 void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const Vec3f> colors,
               std::span<const mesh::Triangle> triangles, const surface::BoundaryParticles* samples, const Appearance& look,
-              const StretchScale* stretch, std::vector<GaussianRecord>& out) {
+              const StretchScale* stretch, const NormalField* field, std::vector<GaussianRecord>& out) {
     const size_t n = x.size(), m = samples ? samples->size() : 0;
     out.resize(n + m);
     map_points(x, normals, look, out);  // resizes to n, keeps capacity
@@ -63,6 +63,10 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
         for (size_t i = 0; i < n; ++i) color_bytes(colors[i], out[i]);
     if (stretch && !stretch->empty())
         for (size_t i = 0; i < n; ++i) out[i].scale_half = float_to_half(look.scale * stretch->vertex(uint32_t(i)));
+    if (field && field->has_vertices())
+        for (size_t i = 0; i < n; ++i)
+            encode_curvature(field->vertex(uint32_t(i)), curvature_limit(half_to_float(out[i].scale_half)), out[i]);
+    const float base_limit = curvature_limit(look.scale);
     for (size_t k = 0; k < m; ++k) {
         GaussianRecord r = base;
         const Vec3f& p = samples->position[k];
@@ -76,6 +80,7 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
         }
         const float size = samples->size_of(k) * (stretch && !stretch->empty() ? stretch->triangle(t) : 1.0f);
         if (size != 1.0f) r.scale_half = float_to_half(look.scale * size);
+        if (field) encode_curvature(field->triangle(t), size != 1.0f ? curvature_limit(look.scale * size) : base_limit, r);
         if (k < samples->fade.size()) r.color[3] = uint8_t(std::lround(std::clamp(samples->fade[k], 0.0f, 1.0f) * 255.0f));
         out[n + k] = r;
     }

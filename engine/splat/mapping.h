@@ -7,6 +7,7 @@
 
 #include "mesh/triangle_mesh.h"
 #include "splat/gaussian_record.h"
+#include "splat/normal_field.h"
 #include "surface/boundary_particles.h"
 
 namespace pbdsplat::splat {
@@ -33,9 +34,11 @@ private:
 
 // Records for the particles (x, normals), then for the boundary particles (may be null).
 // `colors`, when not empty, gives a colour per particle (boundary particles interpolate it).
-// `stretch`, when not null, scales each splat by its stretch factor.
+// `stretch`, when not null, scales each splat by its stretch factor. `field`, when not null and
+// current, gives each splat how the normal turns across it (the particles' only when it has
+// vertices); else every splat is lit with one normal.
 void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const Vec3f> colors,
               std::span<const mesh::Triangle> triangles, const surface::BoundaryParticles* samples, const Appearance& look,
-              const StretchScale* stretch, std::vector<GaussianRecord>& out);
+              const StretchScale* stretch, const NormalField* field, std::vector<GaussianRecord>& out);
 
 } // namespace pbdsplat::splat

@@ -198,6 +198,28 @@ Mat3f triangle_frame(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
     return f;
 }
 
+namespace {
+// surface_frame from the edge's direction (any length) and the interpolated normal.
+Mat3f frame_about(const Vec3f& edge, const Vec3f& normal) {
+    const float ln = normal.norm();
+    if (!(ln > 0.0f)) return Mat3f::Zero();
+    const Vec3f n = normal / ln;
+    const Vec3f t = edge - edge.dot(n) * n;
+    const float lt = t.norm();
+    if (!(lt > 1e-6f * edge.norm())) return Mat3f::Zero();
+    Mat3f f;
+    f.col(0) = t / lt;
+    f.col(1) = n.cross(f.col(0));
+    f.col(2) = n;
+    return f;
+}
+} // namespace
+
+Mat3f surface_frame(const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& normal) {
+    const Mat3f f = frame_about(b - a, normal);
+    return f.col(2).isZero() ? triangle_frame(a, b, c) : f;
+}
+
 void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::span<const Vec4f> x,
                                std::span<const Vec3f> n, BoundaryParticles& s, size_t first) {
     const size_t count = s.size();
@@ -208,26 +230,18 @@ void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::s
     if (s.embedded()) {
         const float* d = s.offset.data();
         const Vec3f* ln = s.local_normal.data();
-        auto place = [&](size_t i, const Mat3f& frame) {
+        // Each sample's normal in the frame of the interpolated normal at it (surface_frame):
+        // only the edge's direction is per triangle.
+        for (size_t i = first; i < count; ++i) {
             const auto& t = triangles[tri_index[i]];
             const float b1 = bary[i].x(), b2 = bary[i].y(), b0 = 1.0f - b1 - b2;
             const Vec3f interpolated = b0 * n[t[0]] + b1 * n[t[1]] + b2 * n[t[2]];
+            const Vec3f a = x[t[0]].head<3>(), b = x[t[1]].head<3>();
             s.position[i] = (b0 * x[t[0]] + b1 * x[t[1]] + b2 * x[t[2]]).head<3>() + d[i] * interpolated;
-            s.normal[i] = frame * ln[i];
-        };
-        auto frame_of = [&](uint32_t t) {
-            const auto& tri = triangles[t];
-            return triangle_frame(x[tri[0]].head<3>(), x[tri[1]].head<3>(), x[tri[2]].head<3>());
-        };
-        if (first > 0) {  // a few new samples: their own frames
-            for (size_t i = first; i < count; ++i) place(i, frame_of(tri_index[i]));
-            return;
+            Mat3f f = frame_about(b - a, interpolated);
+            if (f.col(2).isZero()) f = triangle_frame(a, b, x[t[2]].head<3>());
+            s.normal[i] = f * ln[i];
         }
-        // Frames once per triangle, not once per sample: a coarse triangle carries dozens.
-        thread_local std::vector<Mat3f> frames;
-        frames.resize(triangles.size());
-        for (uint32_t t = 0; t < triangles.size(); ++t) frames[t] = frame_of(t);
-        for (size_t i = 0; i < count; ++i) place(i, frames[tri_index[i]]);
         return;
     }
     for (size_t i = first; i < count; ++i) {

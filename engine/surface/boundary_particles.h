@@ -104,6 +104,12 @@ void embed_appended(size_t first, BoundaryParticles& samples);
 // normal, own normal turned with the triangle's frame).
 // The orthonormal frame of triangle (a, b, c): columns edge a-b, in-plane perpendicular, normal.
 Mat3f triangle_frame(const Vec3f& a, const Vec3f& b, const Vec3f& c);
+// The frame an embedded sample's own normal is kept in: columns edge a-b made perpendicular to
+// `normal` (the interpolated vertex normal at the sample, any length), their cross product, and
+// that normal. It turns from triangle to triangle as smoothly as the interpolated normal does;
+// the face's frame jumped at every coarse edge, and a crumpled coarse mesh showed its triangles
+// as facets in the fine surface's shading. triangle_frame where `normal` is degenerate.
+Mat3f surface_frame(const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& normal);
 
 // Samples [first, size()) only (the ones just added), when the others are current.
 void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::span<const Vec4f> x,

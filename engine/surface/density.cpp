@@ -128,7 +128,8 @@ public:
             if (embedded_) s_.offset.push_back(d), s_.local_normal.push_back(local);
             s_.position.push_back(p);
             const float len = interpolated.norm();
-            s_.normal.push_back(embedded_ ? Vec3f(frame * local) : len > 0.0f ? Vec3f(interpolated / len) : frame.col(2));
+            s_.normal.push_back(embedded_ ? Vec3f(surface_frame(a, b, c, interpolated) * local)
+                                          : len > 0.0f ? Vec3f(interpolated / len) : frame.col(2));
             s_.fade.push_back(0.0f);
             s_.fade_step.push_back(step_);
             ++stats_.inserted;

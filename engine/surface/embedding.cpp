@@ -106,7 +106,14 @@ void embed_points(std::span<const SurfacePoint> points, std::span<const Vec3f> r
         out.triangle.push_back(best_t);
         out.bary.push_back(best.bary);
         out.offset.push_back(best.offset);
-        out.local_normal.push_back(frames[best_t].transpose() * sp.normal);
+        {
+            const auto& tri = triangles[best_t];
+            const Vec2f& b = best.bary;
+            const Vec3f interpolated = (1.0f - b.x() - b.y()) * rest_normals[tri[0]] + b.x() * rest_normals[tri[1]] +
+                                       b.y() * rest_normals[tri[2]];
+            const Mat3f frame = surface_frame(rest[tri[0]], rest[tri[1]], rest[tri[2]], interpolated);
+            out.local_normal.push_back(frame.transpose() * sp.normal);
+        }
         out.position.push_back(p);
         out.normal.push_back(sp.normal);
     }

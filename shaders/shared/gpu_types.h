@@ -20,11 +20,16 @@ struct alignas(16) mat4 { float m[16]; };  // column-major, as GLSL reads it
 // normal     : R16G16_SNORM      octahedral-encoded unit normal
 // color      : R8G8B8A8_UNORM    linear albedo rgb; a = fade-in factor (1 when settled)
 // scale_opac : R16G16_SFLOAT     x = isotropic std-dev s0 in world units, y = opacity logit o
-#define SPLAT_RECORD_SIZE 24
+// curvature  : R16G16B16A16_SFLOAT how the surface's normal turns across the splat, per world
+//              unit: the symmetric 2x2 (xx, xy, yy, w unused) in the tangent frame that
+//              splat_tangent_frame() builds from the decoded normal; zero draws one normal per
+//              splat (the paper's flat shading)
+#define SPLAT_RECORD_SIZE 32
 #define SPLAT_OFFSET_POSITION 0
 #define SPLAT_OFFSET_NORMAL 12
 #define SPLAT_OFFSET_COLOR 16
 #define SPLAT_OFFSET_SCALE_OPACITY 20
+#define SPLAT_OFFSET_CURVATURE 24
 
 // ---- Anisotropic splats (optional storage stream, binding 3 of the splat pass) --------------
 // Per record, the three axes of its Gaussian in world units (columns of R S, so the covariance

@@ -9,6 +9,13 @@ vec3 decode_octahedral(vec2 e) {
     return normalize(n);
 }
 
+// The tangent frame a record's curvature is stored in (splat::tangent_frame on the CPU: the
+// same helper axis, so the two agree).
+void splat_tangent_frame(vec3 n, out vec3 t1, out vec3 t2) {
+    t1 = normalize(cross(n, abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0)));
+    t2 = cross(n, t1);
+}
+
 // Opacity from its logit (eq. 21).
 float sigmoid(float o) { return 1.0 / (1.0 + exp(-o)); }
 

@@ -21,10 +21,38 @@ vec3 splat_albedo(vec3 rgb, uint index, vec3 world) {
 // The splat's opacity: sigmoid(o) (eq. 21) times the fade-in.
 float splat_alpha(float fade, float opacity_logit) { return sigmoid(opacity_logit) * fade; }
 
+// The normal at a carrier corner (unnormalised; the fragment stage normalises the interpolated
+// one). The record's curvature says how the surface's normal turns per unit of distance in the
+// splat's tangent plane; the corner stands for the point where the view ray through it meets
+// that plane. The turn is tangent, so the normal never passes through zero between corners, and
+// the field is linear in the carrier's position, so interpolating the corners' is exact.
+vec3 corner_normal(vec3 n, vec3 curvature, vec3 centre_world, vec3 corner_world) {
+    if (curvature == vec3(0.0)) return n;
+    const vec3 d = corner_world - centre_world;  // in the view plane
+    const vec3 v = normalize(frame.camera_pos.xyz - centre_world);
+    const float nv = dot(n, v);
+    // Seen at a grazing angle the plane meets the ray far out: at most about three times the
+    // carrier's reach (the splat is a sliver there anyway).
+    const float nv_safe = nv >= 0.0 ? max(nv, 0.3) : min(nv, -0.3);
+    const vec3 p = d - v * (dot(n, d) / nv_safe);
+    vec3 t1, t2;
+    splat_tangent_frame(n, t1, t2);
+    const float a = dot(t1, p), b = dot(t2, p);
+    vec3 m = n + (curvature.x * a + curvature.y * b) * t1 + (curvature.y * a + curvature.z * b) * t2;
+    // Where a disc reaches past the silhouette the turn carries its normal over the horizon,
+    // and the fragment stage would light it as the far side (a dark rim): stop it at grazing,
+    // on the side the splat's own normal faces.
+    const float side = nv >= 0.0 ? 1.0 : -1.0;
+    const float lift = 0.05 * length(m) - side * dot(m, v);
+    if (lift > 0.0) m += side * lift * v;
+    return m;
+}
+
 // rgb: the albedo, or the shaded colour; a: the splat's opacity (splat_alpha).
 vec4 corner_color(vec3 albedo, float alpha, vec3 normal, vec3 corner_world) {
     const vec3 rgb = k_shade_per_corner
-                         ? shade(albedo, splat_lit_normal(normal, corner_world, k_footprint == SPLAT_FOOTPRINT_PAPER), corner_world)
+                         ? shade(albedo, splat_lit_normal(normalize(normal), corner_world, k_footprint == SPLAT_FOOTPRINT_PAPER),
+                                 corner_world)
                          : albedo;
     return vec4(rgb, alpha);
 }

@@ -118,8 +118,9 @@ void projected_axes(vec3 c0, mat3 axes, out vec2 r, out vec2 u, out float lr, ou
 // not see (the dark specks).
 mat3 surfel_axes(vec3 normal, float s0, float thickness) {
     const vec3 n = normalize(normal);
-    const vec3 t1 = normalize(cross(n, abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0)));
-    return mat3(s0 * t1, s0 * cross(n, t1), thickness * s0 * n);
+    vec3 t1, t2;
+    splat_tangent_frame(n, t1, t2);
+    return mat3(s0 * t1, s0 * t2, thickness * s0 * n);
 }
 
 // `index`: the splat's place in the draw, where its shape is read (anisotropic pipelines).

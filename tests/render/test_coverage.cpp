@@ -1,6 +1,9 @@
 #include <doctest/doctest.h>
 
+#include <cmath>
+
 #include "mesh/mesh_spec.h"
+#include "mesh/procedural.h"
 #include "mesh/model_path.h"
 #include "passes/coverage.h"
 #include "sim/soft_body.h"
@@ -30,8 +33,8 @@ Result2 coverage_of(gpu::Context& ctx, const std::string& spec, render::Footprin
     splat::Appearance look;
     look.scale = (footprint == render::Footprint::paper ? 0.7f : 0.6f) * h;
     std::vector<splat::GaussianRecord> with, without;
-    splat::map_body(body->particles.x, body->normals, {}, body->triangles, &samples, look, nullptr, with);
-    splat::map_body(body->particles.x, body->normals, {}, body->triangles, nullptr, look, nullptr, without);
+    splat::map_body(body->particles.x, body->normals, {}, body->triangles, &samples, look, nullptr, nullptr, with);
+    splat::map_body(body->particles.x, body->normals, {}, body->triangles, nullptr, look, nullptr, nullptr, without);
 
     const mesh::Bounds b = mesh::bounds(rest);
     render::FrameInputs frame;
@@ -78,6 +81,46 @@ TEST_SUITE("render/coverage") {
         CHECK(c.vertices.hole_ratio > 4.0 * c.boundary.hole_ratio + 0.005);
         const auto d = coverage_of(*ctx, "teapot.obj", render::Footprint::paper);
         CHECK(d.boundary.hole_ratio < 0.005);
+        test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("splats whose normal turns across them are lit closer to the mesh than flat ones") {
+        // A lumpy sphere: every disc spans a curved patch. Lit with one normal each, the discs
+        // show as facets; with the surface's turn across each, the shading runs on across them.
+        mesh::TriangleMesh lumpy = mesh::icosphere(3, 1.0f);
+        for (Vec3f& p : lumpy.positions) p *= 1.0f + 0.08f * std::sin(6.0f * p.x()) * std::cos(5.0f * p.y());
+        auto body = sim::make_soft_body(lumpy, {});
+        REQUIRE(body.ok());
+        const mesh::TriangleMesh rest{body->rest_positions, body->triangles, {}, {}, {}};
+        const float h = surface::spacing(rest, 0.5f);
+        auto samples = surface::sample_surface(rest, {h, 1});
+        surface::update_boundary_particles(body->triangles, body->particles.x, body->normals, samples);
+        const Vec3f albedo(0.8f, 0.4f, 0.3f);
+        splat::Appearance look;
+        look.scale = 0.7f * h;
+        look.albedo = albedo;
+        splat::NormalField field;
+        field.update(body->particles.x, body->normals, body->triangles, true);
+        std::vector<splat::GaussianRecord> flat, turning;
+        splat::map_body(body->particles.x, body->normals, {}, body->triangles, &samples, look, nullptr, nullptr, flat);
+        splat::map_body(body->particles.x, body->normals, {}, body->triangles, &samples, look, nullptr, &field, turning);
+        render::FrameInputs frame;
+        frame.style.footprint = render::Footprint::paper;
+        // The key light alone: the environment's lookups differ between the two renderers.
+        frame.lighting.environment.sampling = render::EnvSampling::off;
+        frame.camera.target = Vec3f::Zero();
+        frame.camera.eye = Vec3f(0.9f, 1.0f, 3.2f);
+        std::vector<std::array<uint32_t, 3>> tris(body->triangles.begin(), body->triangles.end());
+        auto ctx = test::open_validated_context();
+        auto a = passes::measure_coverage(*ctx, body->particles.x, tris, flat, frame, 256, 256, albedo);
+        auto b = passes::measure_coverage(*ctx, body->particles.x, tris, turning, frame, 256, 256, albedo);
+        REQUIRE_MESSAGE(a.ok(), a.error().to_string());
+        REQUIRE_MESSAGE(b.ok(), b.error().to_string());
+        MESSAGE("shading error against the lit mesh: flat " << a->shading_error << ", turning " << b->shading_error);
+        CHECK(b->shading_error < 0.5 * a->shading_error);
+        // The footprint is the same: only the light changed.
+        CHECK(b->hole_ratio == a->hole_ratio);
+        CHECK(b->silhouette_iou == a->silhouette_iou);
         test::require_no_validation_messages(*ctx);
     }
 }

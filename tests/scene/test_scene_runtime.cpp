@@ -286,7 +286,7 @@ TEST_SUITE("scene/runtime") {
         auto made = sim::make_soft_body(mesh::icosphere(2), {});
         REQUIRE(made.ok());
         const sim::SoftBody& body = made.value();
-        scene::MappingStage mapping(body, 10, false);
+        scene::MappingStage mapping(body, 10, false, true);
         scene::MappingStage::Sources sources;
         sources.body = &body;
         splat::Appearance look;

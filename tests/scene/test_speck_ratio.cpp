@@ -41,4 +41,19 @@ TEST_SUITE("scene/speck_ratio") {
         mask = filled(10, 10, 255, 255, 255, 255);
         CHECK(passes::speck_ratio(dark, lit, mask) == 1.0);
     }
+
+    TEST_CASE("the shading error is 0 on the lit mesh, the mean brightness difference otherwise, and ignores the rest") {
+        const core::ImageRgba8 lit = filled(20, 10, 100, 100, 100, 255);
+        core::ImageRgba8 mask = filled(20, 10, 255, 255, 255, 255);
+        CHECK(passes::shading_error(lit, lit, mask) == 0.0);
+        // Half the pixels 51 levels brighter (0.2), the other half unchanged: 0.1 on average.
+        core::ImageRgba8 splats = lit;
+        for (size_t i = 0; i < 100; ++i) splats.pixels[i * 4] = splats.pixels[i * 4 + 1] = splats.pixels[i * 4 + 2] = 151;
+        CHECK(passes::shading_error(splats, lit, mask) == doctest::Approx(0.1));
+        // Brighter or darker counts alike; pixels off the mesh's front not at all.
+        for (size_t i = 0; i < 100; ++i) splats.pixels[i * 4] = splats.pixels[i * 4 + 1] = splats.pixels[i * 4 + 2] = 49;
+        CHECK(passes::shading_error(splats, lit, mask) == doctest::Approx(0.1));
+        for (size_t i = 0; i < 100; ++i) mask.pixels[i * 4 + 3] = 0;
+        CHECK(passes::shading_error(splats, lit, mask) == 0.0);
+    }
 }

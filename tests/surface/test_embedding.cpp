@@ -1,5 +1,8 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "mesh/decimate.h"
 #include "mesh/procedural.h"
 #include "sim/soft_body.h"
@@ -85,5 +88,58 @@ TEST_SUITE("surface/embedding") {
         CHECK(t.samples.offset[0] == offsets[1]);
         CHECK(t.samples.offset[1] == offsets[2]);
         CHECK(t.samples.offset[2] == offsets[4]);
+    }
+
+    TEST_CASE("embedded normals turn smoothly across a coarse edge when the coarse mesh folds there") {
+        // A flat square of two coarse triangles (diagonal 0-2) carrying fine samples close to
+        // both sides of the diagonal. Folding one triangle by 60 degrees about the diagonal tilts
+        // the interpolated normals alike on both sides of it; the samples' normals must follow
+        // them, not jump by the fold as the faces' normals do.
+        const std::vector<Vec3f> rest = {Vec3f(0, 0, 0), Vec3f(1, 0, 0), Vec3f(1, 1, 0), Vec3f(0, 1, 0)};
+        const std::vector<mesh::Triangle> triangles = {{0, 1, 2}, {0, 2, 3}};
+        const std::vector<Vec3f> rest_normals(4, Vec3f::UnitZ());
+        std::vector<surface::SurfacePoint> points;
+        const float e = 0.004f;
+        for (int k = 1; k < 10; ++k) {
+            const float t = 0.1f * float(k);
+            points.push_back({Vec3f(t + e, t - e, 0.0f), Vec3f::UnitZ()});  // in triangle 0-1-2
+            points.push_back({Vec3f(t - e, t + e, 0.0f), Vec3f::UnitZ()});  // in triangle 0-2-3
+        }
+        surface::BoundaryParticles samples;
+        surface::embed_points(points, rest, triangles, rest_normals, samples);
+        REQUIRE(samples.size() == points.size());
+        for (size_t i = 0; i < points.size(); i += 2) {
+            REQUIRE(samples.triangle[i] == 0);
+            REQUIRE(samples.triangle[i + 1] == 1);
+        }
+        mesh::TriangleMesh folded;
+        folded.positions = rest;
+        folded.triangles = triangles;
+        const Vec3f axis = Vec3f(1, 1, 0).normalized();
+        folded.positions[3] = Eigen::AngleAxisf(float(M_PI) / 3.0f, axis) * rest[3];
+        const std::vector<Vec3f> normals = mesh::vertex_normals(folded);
+        std::vector<Vec4f> x;
+        for (const Vec3f& p : folded.positions) x.emplace_back(p.x(), p.y(), p.z(), 1.0f);
+        surface::update_boundary_particles(triangles, x, normals, samples);
+        const Vec3f face0 = (folded.positions[1] - folded.positions[0]).cross(folded.positions[2] - folded.positions[0]).normalized();
+        const Vec3f face1 = (folded.positions[2] - folded.positions[0]).cross(folded.positions[3] - folded.positions[0]).normalized();
+        REQUIRE(std::acos(face0.dot(face1)) > 1.0f);  // the fold: 60 degrees between the faces
+        float worst = 0.0f;
+        for (size_t i = 0; i < samples.size(); i += 2) {
+            CHECK(std::abs(samples.normal[i].norm() - 1.0f) < 1e-4f);
+            worst = std::max(worst, std::acos(std::clamp(samples.normal[i].dot(samples.normal[i + 1]), -1.0f, 1.0f)));
+        }
+        // 8 mm apart on a unit square: the interpolated normal turns by under a degree there.
+        CHECK(worst < 0.03f);
+    }
+
+    TEST_CASE("embedded normals in the rest pose are the fine surface's own") {
+        TwoResolutions t = make(400);
+        const auto points = surface::sample_points(t.fine, t.body.rest_positions, {surface::spacing(t.fine, 0.5f), 1});
+        REQUIRE(points.size() == t.samples.size());
+        surface::update_boundary_particles(t.body.triangles, t.body.particles.x, t.body.normals, t.samples);
+        float worst = 0.0f;
+        for (size_t i = 0; i < points.size(); ++i) worst = std::max(worst, (t.samples.normal[i] - points[i].normal).norm());
+        CHECK(worst < 1e-4f);
     }
 }

@@ -74,7 +74,7 @@ Outcome measure(const Options& opt) {
         splat::Appearance look;
         look.scale = scale * h;
         std::vector<splat::GaussianRecord> records;
-        splat::map_body(body.particles.x, body.normals, {}, body.triangles, samples, look, nullptr, records);
+        splat::map_body(body.particles.x, body.normals, {}, body.triangles, samples, look, nullptr, nullptr, records);
         auto c = passes::measure_coverage(*ctx, body.particles.x, tris, records, frame, 256, 256);
         if (!c.ok()) return c.error();
         holes = c->hole_ratio, iou = c->silhouette_iou;

@@ -14,6 +14,7 @@
 #include "splat/deformed_shape.h"
 #include "splat/fade_in.h"
 #include "splat/mapping.h"
+#include "splat/normal_field.h"
 #include "splat/sort.h"
 #include "surface/boundary_particles.h"
 #include "topology/topology_change.h"
@@ -23,7 +24,8 @@ namespace pbdsplat::scene {
 class MappingStage {
 public:
     // `deformed`: each boundary particle a disc carried by its triangle (render.splat_shape).
-    MappingStage(const sim::SoftBody& body, uint32_t fade_frames, bool deformed);
+    // `varying_normals`: each splat carries how the normal turns across it (render.splat_normals).
+    MappingStage(const sim::SoftBody& body, uint32_t fade_frames, bool deformed, bool varying_normals);
 
     struct Sources {
         const sim::SoftBody* body = nullptr;
@@ -51,6 +53,8 @@ private:
     bool previous_valid_ = false;
     std::vector<splat::GaussianShape> shapes_;     // parallel to records_ with deformed shapes
     splat::DeformedShapes deformed_;
+    splat::NormalField normal_field_;
+    bool varying_normals_ = false;
     splat::FadeIn fade_;
     splat::SortScratch sort_scratch_;
 };
