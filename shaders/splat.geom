@@ -19,7 +19,7 @@ layout(constant_id = 0) const bool k_visibility_pass = false;
 layout(location = 0) in vec3 v_normal[];
 layout(location = 1) in vec4 v_color[];
 layout(location = 2) in vec2 v_scale_opacity[];
-layout(location = 3) in vec3 v_curvature[];
+layout(location = 3) in mat3 v_curvature[];
 
 layout(location = 0) out vec2 g_uv;         // see splat_quad(): std devs, or the paper's [-1,1]
 layout(location = 1) out vec3 g_world;      // world position of the fragment (for env lookups)

@@ -58,8 +58,7 @@ GaussianRecord make_record(const Vec3f& position, const Vec3f& normal, const App
     r.color[3] = to_unorm8(fade);
     r.scale_half = float_to_half(a.scale);
     r.opacity_half = float_to_half(a.opacity_logit);
-    r.curvature_half[0] = r.curvature_half[1] = r.curvature_half[2] = 0;
-    r.pad = 0;
+    for (uint16_t& c : r.curvature_half) c = 0;
     return r;
 }
 

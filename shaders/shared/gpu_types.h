@@ -20,11 +20,11 @@ struct alignas(16) mat4 { float m[16]; };  // column-major, as GLSL reads it
 // normal     : R16G16_SNORM      octahedral-encoded unit normal
 // color      : R8G8B8A8_UNORM    linear albedo rgb; a = fade-in factor (1 when settled)
 // scale_opac : R16G16_SFLOAT     x = isotropic std-dev s0 in world units, y = opacity logit o
-// curvature  : R16G16B16A16_SFLOAT how the surface's normal turns across the splat, per world
-//              unit: the symmetric 2x2 (xx, xy, yy, w unused) in the tangent frame that
-//              splat_tangent_frame() builds from the decoded normal; zero draws one normal per
-//              splat (the paper's flat shading)
-#define SPLAT_RECORD_SIZE 32
+// curvature  : R16G16B16A16_SFLOAT + R16G16_SFLOAT  how the surface's normal turns across the
+//              splat: the symmetric 3x3 S (xx, xy, xz, yy | yz, zz), per world unit, so that a
+//              step p in the splat's tangent plane turns its normal by S p; zero draws one normal
+//              per splat (the paper's flat shading)
+#define SPLAT_RECORD_SIZE 36
 #define SPLAT_OFFSET_POSITION 0
 #define SPLAT_OFFSET_NORMAL 12
 #define SPLAT_OFFSET_COLOR 16

@@ -9,8 +9,10 @@ vec3 decode_octahedral(vec2 e) {
     return normalize(n);
 }
 
-// The tangent frame a record's curvature is stored in (splat::tangent_frame on the CPU: the
-// same helper axis, so the two agree).
+// The record's symmetric curvature from its six halves (xx, xy, xz, yy | yz, zz).
+mat3 splat_curvature(vec4 a, vec2 b) { return mat3(a.x, a.y, a.z, a.y, a.w, b.x, a.z, b.x, b.y); }
+
+// An orthonormal tangent frame about n (the surfel's axes).
 void splat_tangent_frame(vec3 n, out vec3 t1, out vec3 t2) {
     t1 = normalize(cross(n, abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0)));
     t2 = cross(n, t1);

@@ -22,12 +22,13 @@ vec3 splat_albedo(vec3 rgb, uint index, vec3 world) {
 float splat_alpha(float fade, float opacity_logit) { return sigmoid(opacity_logit) * fade; }
 
 // The normal at a carrier corner (unnormalised; the fragment stage normalises the interpolated
-// one). The record's curvature says how the surface's normal turns per unit of distance in the
+// one). The record's curvature S says how the surface's normal turns per unit of distance in the
 // splat's tangent plane; the corner stands for the point where the view ray through it meets
-// that plane. The turn is tangent, so the normal never passes through zero between corners, and
-// the field is linear in the carrier's position, so interpolating the corners' is exact.
-vec3 corner_normal(vec3 n, vec3 curvature, vec3 centre_world, vec3 corner_world) {
-    if (curvature == vec3(0.0)) return n;
+// that plane. The field is linear in the carrier's position, so interpolating the corners' is
+// exact, and it never passes through zero between them (below: each keeps a part towards the
+// side the splat faces).
+vec3 corner_normal(vec3 n, mat3 curvature, vec3 centre_world, vec3 corner_world) {
+    if (curvature[0] == vec3(0.0) && curvature[1] == vec3(0.0) && curvature[2] == vec3(0.0)) return n;
     const vec3 d = corner_world - centre_world;  // in the view plane
     const vec3 v = normalize(frame.camera_pos.xyz - centre_world);
     const float nv = dot(n, v);
@@ -35,10 +36,7 @@ vec3 corner_normal(vec3 n, vec3 curvature, vec3 centre_world, vec3 corner_world)
     // carrier's reach (the splat is a sliver there anyway).
     const float nv_safe = nv >= 0.0 ? max(nv, 0.3) : min(nv, -0.3);
     const vec3 p = d - v * (dot(n, d) / nv_safe);
-    vec3 t1, t2;
-    splat_tangent_frame(n, t1, t2);
-    const float a = dot(t1, p), b = dot(t2, p);
-    vec3 m = n + (curvature.x * a + curvature.y * b) * t1 + (curvature.y * a + curvature.z * b) * t2;
+    vec3 m = n + curvature * p;
     // Where a disc reaches past the silhouette the turn carries its normal over the horizon,
     // and the fragment stage would light it as the far side (a dark rim): stop it at grazing,
     // on the side the splat's own normal faces.

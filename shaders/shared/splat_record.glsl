@@ -13,7 +13,7 @@ struct SplatRecord {
     vec4 color;
     float scale;
     float opacity_logit;
-    vec3 curvature;  // xx, xy, yy in splat_tangent_frame(normal), per world unit
+    mat3 curvature;  // S: a step p in the tangent plane turns the normal by S p
 };
 
 SplatRecord read_record(uint i) {
@@ -26,8 +26,9 @@ SplatRecord read_record(uint i) {
     const vec2 so = unpackHalf2x16(record_words[base + SPLAT_OFFSET_SCALE_OPACITY / 4]);
     r.scale = so.x;
     r.opacity_logit = so.y;
-    const vec2 c01 = unpackHalf2x16(record_words[base + SPLAT_OFFSET_CURVATURE / 4]);
-    r.curvature = vec3(c01, unpackHalf2x16(record_words[base + SPLAT_OFFSET_CURVATURE / 4 + 1u]).x);
+    const uint c = base + SPLAT_OFFSET_CURVATURE / 4;
+    r.curvature = splat_curvature(vec4(unpackHalf2x16(record_words[c]), unpackHalf2x16(record_words[c + 1u])),
+                                  unpackHalf2x16(record_words[c + 2u]));
     return r;
 }
 

@@ -100,7 +100,7 @@ TEST_SUITE("render/coverage") {
         look.scale = 0.7f * h;
         look.albedo = albedo;
         splat::NormalField field;
-        field.update(body->particles.x, body->normals, body->triangles, true);
+        field.update(body->particles.x, body->normals, body->triangles, true, splat::curvature_limit(look.scale));
         std::vector<splat::GaussianRecord> flat, turning;
         splat::map_body(body->particles.x, body->normals, {}, body->triangles, &samples, look, nullptr, nullptr, flat);
         splat::map_body(body->particles.x, body->normals, {}, body->triangles, &samples, look, nullptr, &field, turning);

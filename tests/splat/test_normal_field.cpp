@@ -1,7 +1,7 @@
 #include <doctest/doctest.h>
-#include <cstring>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "mesh/procedural.h"
@@ -18,47 +18,48 @@ std::vector<Vec4f> as_points(const mesh::TriangleMesh& m) {
     return x;
 }
 
-// The record of a splat at p with normal n, its curvature taken from dn/dx.
-Vec3f stored_turn(const Vec3f& p, const Vec3f& n, const Mat3f& dndx, float limit = 1e3f) {
-    splat::GaussianRecord r = splat::make_record(p, n, splat::Appearance{});
-    splat::encode_curvature(dndx, limit, r);
+// S as a record carries it.
+Mat3f stored(const splat::PackedCurvature& c) {
+    splat::GaussianRecord r = splat::make_record(Vec3f::Zero(), Vec3f::UnitZ(), splat::Appearance{});
+    splat::set_curvature(c, r);
     return splat::decode_curvature(r);
 }
+
+// Any unit vector perpendicular to n.
+Vec3f tangent_of(const Vec3f& n) { return n.cross(std::abs(n.x()) < 0.9f ? Vec3f::UnitX() : Vec3f::UnitY()).normalized(); }
 } // namespace
 
 TEST_SUITE("splat/normal_field") {
-    TEST_CASE("on a sphere of radius R the normal turns by 1/R per unit length in every tangent direction") {
+    TEST_CASE("on a sphere of radius R a step along the surface turns the normal by 1/R of it, and nothing else") {
         const float radius = 2.0f;
         const mesh::TriangleMesh m = mesh::icosphere(4, radius);
         const std::vector<Vec4f> x = as_points(m);
         std::vector<Vec3f> normals;
         for (const Vec3f& p : m.positions) normals.push_back(p.normalized());
         splat::NormalField field;
-        field.update(x, normals, m.triangles, true);
+        field.update(x, normals, m.triangles, true, 100.0f);
         REQUIRE(field.has_vertices());
         size_t checked = 0;
         for (uint32_t t = 0; t < m.triangles.size(); t += 7) {
             const auto& tri = m.triangles[t];
-            const Vec3f c = (m.positions[tri[0]] + m.positions[tri[1]] + m.positions[tri[2]]) / 3.0f;
-            const Vec3f k = stored_turn(c, c.normalized(), field.triangle(t));
-            // xx and yy: 1/R; xy: none (the shape operator of a sphere is isotropic).
-            CHECK(k.x() == doctest::Approx(1.0f / radius).epsilon(0.03));
-            CHECK(k.z() == doctest::Approx(1.0f / radius).epsilon(0.03));
-            CHECK(std::abs(k.y()) < 0.01f / radius);
+            const Vec3f n = (m.positions[tri[1]] - m.positions[tri[0]]).cross(m.positions[tri[2]] - m.positions[tri[0]]).normalized();
+            const Mat3f s = stored(field.triangle(t));
+            const Vec3f t1 = tangent_of(n), t2 = n.cross(t1);
+            // A sphere's shape operator is 1/R times the identity on the tangent plane.
+            CHECK((s * t1 - t1 / radius).norm() < 0.03f / radius);
+            CHECK((s * t2 - t2 / radius).norm() < 0.03f / radius);
+            CHECK((s * n).norm() < 0.01f / radius);  // no turn out of the plane
             ++checked;
         }
         for (uint32_t v = 0; v < m.positions.size(); v += 5) {
-            const Vec3f k = stored_turn(m.positions[v], normals[v], field.vertex(v));
-            CHECK(k.x() == doctest::Approx(1.0f / radius).epsilon(0.03));
-            CHECK(k.z() == doctest::Approx(1.0f / radius).epsilon(0.03));
-            CHECK(std::abs(k.y()) < 0.01f / radius);
+            const Mat3f s = stored(field.vertex(v));
+            const Vec3f t1 = tangent_of(normals[v]);
+            CHECK(t1.dot(s * t1) == doctest::Approx(1.0f / radius).epsilon(0.03));
         }
         CHECK(checked > 100);
     }
 
     TEST_CASE("a cylinder turns the normal across its axis only") {
-        // A strip of a cylinder of radius 1 about z: the turn is 1 across, 0 along the axis, so
-        // the stored 2x2 has trace 1 and determinant 0 whichever tangent frame it is stored in.
         mesh::TriangleMesh m;
         std::vector<Vec3f> normals;
         const int around = 24, along = 6;
@@ -76,16 +77,16 @@ TEST_SUITE("splat/normal_field") {
                 m.triangles.push_back({a, d, c});
             }
         splat::NormalField field;
-        field.update(as_points(m), normals, m.triangles, false);
+        field.update(as_points(m), normals, m.triangles, false, 100.0f);
         CHECK_FALSE(field.has_vertices());
         for (uint32_t t = 0; t < m.triangles.size(); ++t) {
             const auto& tri = m.triangles[t];
             const Vec3f c = (m.positions[tri[0]] + m.positions[tri[1]] + m.positions[tri[2]]) / 3.0f;
-            const Vec3f n = Vec3f(c.x(), c.y(), 0.0f).normalized();
-            const Vec3f k = stored_turn(c, n, field.triangle(t));
-            // The linear field over a chord is a little weaker than the circle's curvature.
-            CHECK(k.x() + k.z() == doctest::Approx(1.0f).epsilon(0.03));
-            CHECK(std::abs(k.x() * k.z() - k.y() * k.y()) < 0.02f);
+            const Vec3f around_axis = Vec3f(-c.y(), c.x(), 0.0f).normalized();
+            const Mat3f s = stored(field.triangle(t));
+            // The linear field over a chord turns a little less than the circle's curvature.
+            CHECK(around_axis.dot(s * around_axis) == doctest::Approx(1.0f).epsilon(0.03));
+            CHECK((s * Vec3f::UnitZ()).norm() < 0.01f);
         }
     }
 
@@ -95,37 +96,23 @@ TEST_SUITE("splat/normal_field") {
         m.triangles = {{0, 1, 2}, {0, 1, 3}};
         std::vector<Vec3f> normals(4, Vec3f::UnitZ());
         splat::NormalField field;
-        field.update(as_points(m), normals, m.triangles, true);
-        CHECK(field.triangle(0).isZero());
-        CHECK(field.vertex(2).isZero());
+        field.update(as_points(m), normals, m.triangles, true, 100.0f);
+        CHECK(stored(field.triangle(0)).isZero());
+        CHECK(stored(field.vertex(2)).isZero());
         // Bent normals on the sliver: its inverse would be huge; it turns nothing instead.
         normals[3] = Vec3f(1, 0, 1).normalized();
-        field.update(as_points(m), normals, m.triangles, true);
-        CHECK(field.triangle(1).isZero());
+        field.update(as_points(m), normals, m.triangles, true, 100.0f);
+        CHECK(stored(field.triangle(1)).isZero());
 
         Mat3f nan = Mat3f::Identity();
         nan(0, 0) = std::numeric_limits<float>::quiet_NaN();
-        const Vec3f k_nan = stored_turn(Vec3f::Zero(), Vec3f::UnitZ(), nan);
-        CHECK(std::isfinite(k_nan.x()));
-        CHECK(k_nan.x() == 0.0f);
-        const Vec3f capped = stored_turn(Vec3f::Zero(), Vec3f::UnitZ(), 50.0f * Mat3f::Identity(), splat::curvature_limit(0.1f));
-        CHECK(capped.x() == doctest::Approx(10.0f).epsilon(0.002));
-        CHECK(capped.z() == doctest::Approx(10.0f).epsilon(0.002));
-    }
-
-    TEST_CASE("the tangent frame is orthonormal about the normal on both sides of its helper-axis switch") {
-        for (float nx : {0.0f, 0.5f, 0.8999f, 0.9001f, 0.99f, -0.95f, 1.0f}) {
-            const Vec3f n = Vec3f(nx, std::sqrt(std::max(0.0f, 1.0f - nx * nx)) * 0.6f,
-                                  std::sqrt(std::max(0.0f, 1.0f - nx * nx)) * 0.8f)
-                                .normalized();
-            Vec3f t1, t2;
-            splat::tangent_frame(n, t1, t2);
-            CHECK(std::abs(t1.norm() - 1.0f) < 1e-5f);
-            CHECK(std::abs(t2.norm() - 1.0f) < 1e-5f);
-            CHECK(std::abs(t1.dot(n)) < 1e-5f);
-            CHECK(std::abs(t2.dot(n)) < 1e-5f);
-            CHECK((t1.cross(t2) - n).norm() < 1e-5f);
-        }
+        const Mat3f s_nan = stored(splat::pack_curvature(nan, 10.0f));
+        CHECK(s_nan(0, 0) == 0.0f);
+        CHECK(s_nan(1, 1) == 1.0f);
+        const Mat3f capped = stored(splat::pack_curvature(50.0f * Mat3f::Identity(), splat::curvature_limit(0.1f)));
+        CHECK(capped(0, 0) == doctest::Approx(10.0f).epsilon(0.002));
+        CHECK(capped(2, 2) == doctest::Approx(10.0f).epsilon(0.002));
+        CHECK(capped(0, 1) == 0.0f);
     }
 
     TEST_CASE("map_body gives particles and samples their turn with a field, and none without") {
@@ -138,17 +125,18 @@ TEST_SUITE("splat/normal_field") {
         splat::Appearance look;
         look.scale = 0.05f;
         splat::NormalField field;
-        field.update(x, normals, m.triangles, true);
+        field.update(x, normals, m.triangles, true, splat::curvature_limit(look.scale));
         std::vector<splat::GaussianRecord> with, without;
         splat::map_body(x, normals, {}, m.triangles, &samples, look, nullptr, &field, with);
         splat::map_body(x, normals, {}, m.triangles, &samples, look, nullptr, nullptr, without);
         REQUIRE(with.size() == x.size() + samples.size());
         for (size_t i = 0; i < with.size(); ++i) {
-            const Vec3f k = splat::decode_curvature(with[i]);
-            // A unit sphere: about 1 per unit in both directions (coarse: the chords shorten it).
-            CHECK(k.x() > 0.7f);
-            CHECK(k.z() > 0.7f);
-            CHECK(k.x() < 1.2f);
+            const Vec3f n = splat::decode_octahedral(with[i].normal_oct);
+            const Vec3f t = tangent_of(n);
+            // A unit sphere: about 1 per unit (coarse: the chords shorten it).
+            const float turn = t.dot(splat::decode_curvature(with[i]) * t);
+            CHECK(turn > 0.7f);
+            CHECK(turn < 1.2f);
             CHECK(splat::decode_curvature(without[i]).isZero());
             // Everything else in the record is the same.
             CHECK(std::memcmp(&with[i], &without[i], offsetof(splat::GaussianRecord, curvature_half)) == 0);

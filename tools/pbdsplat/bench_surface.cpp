@@ -68,6 +68,8 @@ Outcome measure(const Options& opt) {
                  {"sampling_ms", 2, true, "sampling ms"},
                  {"update_ms", 3, true, "update ms"},
                  {"update_ms_per_10k", 3, true, "per 10k ms"},
+                 {"map_flat_ms", 3, true, "map flat ms"},
+                 {"map_varying_ms", 3, true, "map varying ms"},
                  {"hole_ratio", 5, true, "holes"},
                  {"silhouette_iou", 3, true, "IoU"}});
     auto coverage = [&](const surface::BoundaryParticles* samples, float h, double& holes, double& iou) -> core::Status {
@@ -101,9 +103,27 @@ Outcome measure(const Options& opt) {
         }
         const double update = core::median(update_ms);
         const double per_10k = samples.size() ? update * 10000.0 / double(samples.size()) : 0.0;
+        // The map stage's records for every particle and sample, with one normal per splat and
+        // with the normal field (render.splat_normals): what the field costs per frame.
+        std::vector<double> flat_ms, varying_ms;
+        {
+            splat::Appearance look;
+            look.scale = scale * h;
+            std::vector<splat::GaussianRecord> records;
+            splat::NormalField field;
+            for (int r = 0; r < 100; ++r) {
+                const core::Stopwatch flat_clock;
+                splat::map_body(body.particles.x, body.normals, {}, body.triangles, &samples, look, nullptr, nullptr, records);
+                flat_ms.push_back(flat_clock.elapsed_ms());
+                const core::Stopwatch varying_clock;
+                field.update(body.particles.x, body.normals, body.triangles, true, splat::curvature_limit(look.scale));
+                splat::map_body(body.particles.x, body.normals, {}, body.triangles, &samples, look, nullptr, &field, records);
+                varying_ms.push_back(varying_clock.elapsed_ms());
+            }
+        }
         double holes = 0.0, iou = 0.0;
         if (ctx) PBDSPLAT_TRY(coverage(&samples, h, holes, iou));
-        table.add({eta, h, samples.size(), core::median(sample_ms), update, per_10k, ctx ? nlohmann::json(holes) : nlohmann::json(),
+        table.add({eta, h, samples.size(), core::median(sample_ms), update, per_10k, core::median(flat_ms), core::median(varying_ms), ctx ? nlohmann::json(holes) : nlohmann::json(),
                    ctx ? nlohmann::json(iou) : nlohmann::json()});
         progress.frame_done(++done);
     }

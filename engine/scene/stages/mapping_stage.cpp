@@ -11,7 +11,8 @@ MappingStage::MappingStage(const sim::SoftBody& body, uint32_t fade_frames, bool
 
 void MappingStage::map(const Sources& s, const splat::Appearance& look) {
     const sim::SoftBody& body = *s.body;
-    if (varying_normals_) normal_field_.update(body.particles.x, body.normals, body.triangles, s.particles);
+    if (varying_normals_)
+        normal_field_.update(body.particles.x, body.normals, body.triangles, s.particles, splat::curvature_limit(look.scale));
     splat::map_body(s.particles ? std::span<const Vec4f>(body.particles.x) : std::span<const Vec4f>(),
                     s.particles ? std::span<const Vec3f>(body.normals) : std::span<const Vec3f>(), body.colors, body.triangles,
                     s.samples, look, s.stretch, varying_normals_ ? &normal_field_ : nullptr, records_);
