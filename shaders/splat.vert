@@ -7,8 +7,7 @@ layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec2 in_normal_oct;
 layout(location = 2) in vec4 in_color;
 layout(location = 3) in vec2 in_scale_opacity;
-layout(location = 4) in vec4 in_curvature_a;  // xx, xy, xz, yy
-layout(location = 5) in vec2 in_curvature_b;  // yz, zz
+layout(location = 4) in vec4 in_curvature;
 
 layout(location = 0) out vec3 v_normal;
 layout(location = 1) out vec4 v_color;
@@ -20,5 +19,5 @@ void main() {
     v_normal = decode_octahedral(in_normal_oct);
     v_color = in_color;
     v_scale_opacity = in_scale_opacity;
-    v_curvature = splat_curvature(in_curvature_a, in_curvature_b);
+    v_curvature = splat_curvature(in_curvature, v_normal);
 }

@@ -77,8 +77,7 @@ core::Status SplatPass::describe_front(const gpu::Context& ctx, gpu::GraphicsPip
                            {1, 0, VK_FORMAT_R16G16_SNORM, SPLAT_OFFSET_NORMAL},
                            {2, 0, VK_FORMAT_R8G8B8A8_UNORM, SPLAT_OFFSET_COLOR},
                            {3, 0, VK_FORMAT_R16G16_SFLOAT, SPLAT_OFFSET_SCALE_OPACITY},
-                           {4, 0, VK_FORMAT_R16G16B16A16_SFLOAT, SPLAT_OFFSET_CURVATURE},
-                           {5, 0, VK_FORMAT_R16G16_SFLOAT, SPLAT_OFFSET_CURVATURE + 8}};
+                           {4, 0, VK_FORMAT_R16G16B16A16_SFLOAT, SPLAT_OFFSET_CURVATURE}};
         desc.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
         break;
     case SplatPath::mesh:

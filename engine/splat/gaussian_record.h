@@ -1,6 +1,6 @@
 #pragma once
 // The contract between the simulation half and the renderer: one packed Gaussian per particle
-// or boundary particle (layout in shaders/shared/gpu_types.h, 36 bytes).
+// or boundary particle (layout in shaders/shared/gpu_types.h, 32 bytes).
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -18,9 +18,9 @@ struct GaussianRecord {
     uint8_t color[4];        // unorm8 rgb albedo, a = fade
     uint16_t scale_half;     // isotropic std dev s0, IEEE half
     uint16_t opacity_half;   // opacity logit o, IEEE half
-    // How the normal turns across the splat (splat/normal_field.h), IEEE half: xx, xy, xz, yy,
-    // yz, zz of a symmetric 3x3, per world unit; all zero: one flat normal.
-    uint16_t curvature_half[6];
+    // How the normal turns across the splat (splat/normal_field.h), IEEE half: a 2x2 block of
+    // a symmetric 3x3 and the axis it leaves out (gpu_types.h); all zero: one flat normal.
+    uint16_t curvature_half[4];
 };
 static_assert(sizeof(GaussianRecord) == SPLAT_RECORD_SIZE, "GaussianRecord must match SPLAT_RECORD_SIZE");
 static_assert(offsetof(GaussianRecord, position) == SPLAT_OFFSET_POSITION);

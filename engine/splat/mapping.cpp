@@ -64,7 +64,7 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
     if (stretch && !stretch->empty())
         for (size_t i = 0; i < n; ++i) out[i].scale_half = float_to_half(look.scale * stretch->vertex(uint32_t(i)));
     if (field && field->has_vertices())
-        for (size_t i = 0; i < n; ++i) set_curvature(field->vertex(uint32_t(i)), out[i]);
+        for (size_t i = 0; i < n; ++i) set_curvature(field->vertex(uint32_t(i)), normals[i], out[i]);
     for (size_t k = 0; k < m; ++k) {
         GaussianRecord r = base;
         const Vec3f& p = samples->position[k];
@@ -78,7 +78,7 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
         }
         const float size = samples->size_of(k) * (stretch && !stretch->empty() ? stretch->triangle(t) : 1.0f);
         if (size != 1.0f) r.scale_half = float_to_half(look.scale * size);
-        if (field) set_curvature(field->triangle(t), r);
+        if (field) set_curvature(field->triangle(t), samples->normal[k], r);
         if (k < samples->fade.size()) r.color[3] = uint8_t(std::lround(std::clamp(samples->fade[k], 0.0f, 1.0f) * 255.0f));
         out[n + k] = r;
     }

@@ -8,33 +8,64 @@ namespace pbdsplat::splat {
 namespace {
 // xx, xy, xz, yy, yz, zz of a symmetric matrix.
 constexpr int k_row[6] = {0, 0, 0, 1, 1, 2}, k_col[6] = {0, 1, 2, 1, 2, 2};
+// Index of (r, c) in SymmetricCurvature.
+constexpr int k_index[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
 } // namespace
 
-PackedCurvature pack_curvature(const Mat3f& s, float limit) {
-    // Within what a half holds, so the fast conversion applies.
+Mat3f to_matrix(const SymmetricCurvature& s) {
+    Mat3f m;
+    for (int k = 0; k < 6; ++k) m(k_row[k], k_col[k]) = m(k_col[k], k_row[k]) = s[size_t(k)];
+    return m;
+}
+
+SymmetricCurvature to_symmetric(const Mat3f& m, float limit) {
+    // Within what a half holds, so the fast conversion applies when it is packed.
     limit = std::min(limit, 60000.0f);
-    PackedCurvature c;
+    SymmetricCurvature s;
     for (int k = 0; k < 6; ++k) {
-        const float v = s(k_row[k], k_col[k]);
-        c[size_t(k)] = core::float_to_half_in_range(std::isfinite(v) ? std::clamp(v, -limit, limit) : 0.0f);
+        const float v = m(k_row[k], k_col[k]);
+        s[size_t(k)] = std::isfinite(v) ? std::clamp(v, -limit, limit) : 0.0f;
     }
-    return c;
+    return s;
+}
+
+void set_curvature(const SymmetricCurvature& s, const Vec3f& n, GaussianRecord& r) {
+    // The axis left out is stored, so the shader never has to decide between two near-equal
+    // components of its own (decoded) normal.
+    const Vec3f a = n.cwiseAbs();
+    const int d = a.x() >= a.y() && a.x() >= a.z() ? 0 : a.y() >= a.z() ? 1 : 2;
+    const int i = (d + 1) % 3, j = (d + 2) % 3;
+    r.curvature_half[0] = core::float_to_half_in_range(s[size_t(k_index[i][i])]);
+    r.curvature_half[1] = core::float_to_half_in_range(s[size_t(k_index[i][j])]);
+    r.curvature_half[2] = core::float_to_half_in_range(s[size_t(k_index[j][j])]);
+    r.curvature_half[3] = core::float_to_half_in_range(float(d));
 }
 
 Mat3f decode_curvature(const GaussianRecord& r) {
-    Mat3f s;
-    for (int k = 0; k < 6; ++k) s(k_row[k], k_col[k]) = s(k_col[k], k_row[k]) = half_to_float(r.curvature_half[k]);
-    return s;
+    const Vec3f n = decode_octahedral(r.normal_oct);
+    const int d = int(std::lround(half_to_float(r.curvature_half[3])));
+    const int i = (d + 1) % 3, j = (d + 2) % 3;
+    const float a = half_to_float(r.curvature_half[0]), b = half_to_float(r.curvature_half[1]),
+                c = half_to_float(r.curvature_half[2]);
+    if (a == 0.0f && b == 0.0f && c == 0.0f) return Mat3f::Zero();  // flat, as the shader reads it
+    // S n = 0 gives the column of d, then its diagonal entry (as splat_curvature in the shader).
+    const float id = -(a * n[i] + b * n[j]) / n[d], jd = -(b * n[i] + c * n[j]) / n[d];
+    const float dd = -(id * n[i] + jd * n[j]) / n[d];
+    Mat3f m;
+    m(i, i) = a, m(j, j) = c, m(d, d) = dd;
+    m(i, j) = m(j, i) = b;
+    m(i, d) = m(d, i) = id;
+    m(j, d) = m(d, j) = jd;
+    return m;
 }
 
 void NormalField::update(std::span<const Vec4f> x, std::span<const Vec3f> vertex_normals,
                          std::span<const mesh::Triangle> triangles, bool vertices, float limit) {
     triangle_.resize(triangles.size());
     if (vertices) {
-        vertex_sum_.assign(x.size(), {});
+        vertex_.assign(x.size(), SymmetricCurvature{});
         weight_.assign(x.size(), 0.0f);
     } else {
-        vertex_sum_.clear();
         vertex_.clear();
     }
     for (size_t t = 0; t < triangles.size(); ++t) {
@@ -60,23 +91,20 @@ void NormalField::update(std::span<const Vec4f> x, std::span<const Vec3f> vertex
             const Mat3f d = dn1 * r1.transpose() + dn2 * r2.transpose();
             s = 0.5f * (d + d.transpose());
         }
-        triangle_[t] = pack_curvature(s, limit);
+        triangle_[t] = to_symmetric(s, limit);
         if (vertices) {
             const float area = std::sqrt(std::max(det, 0.0f));
             for (uint32_t v : tri) {
-                for (int k = 0; k < 6; ++k) vertex_sum_[v][size_t(k)] += area * s(k_row[k], k_col[k]);
+                for (size_t k = 0; k < 6; ++k) vertex_[v][k] += area * triangle_[t][k];
                 weight_[v] += area;
             }
         }
     }
-    if (!vertices) return;
-    vertex_.resize(x.size());
-    for (size_t v = 0; v < x.size(); ++v) {
-        const float w = weight_[v] > 0.0f ? 1.0f / weight_[v] : 0.0f;
-        Mat3f s;
-        for (int k = 0; k < 6; ++k) s(k_row[k], k_col[k]) = s(k_col[k], k_row[k]) = w * vertex_sum_[v][size_t(k)];
-        vertex_[v] = pack_curvature(s, limit);
-    }
+    if (vertices)
+        for (size_t v = 0; v < x.size(); ++v) {
+            const float w = weight_[v] > 0.0f ? 1.0f / weight_[v] : 0.0f;
+            for (float& e : vertex_[v]) e *= w;
+        }
 }
 
 } // namespace pbdsplat::splat

@@ -7,9 +7,10 @@
 // neighbouring discs as it does across the mesh raster's triangles. The field is the one that
 // raster interpolates: vertex normals, linear over each triangle.
 //
-// It is stored as a symmetric 3x3 S in world axes (six halves), so that a step p in the tangent
-// plane turns the normal by S p: the work is per triangle (or per vertex), a splat only copies
-// its triangle's, and the GPU needs no tangent frame.
+// The derivative is a symmetric 3x3 S in world axes (a step p in the tangent plane turns the
+// normal by S p), built once per triangle (or vertex). S n = 0, so a record keeps three of its
+// entries, the 2x2 block off the normal's largest axis, and the shader rebuilds the rest from its
+// normal: a splat costs a few copies and no tangent frame, and the record stays 32 bytes.
 #include <array>
 #include <span>
 #include <vector>
@@ -20,7 +21,7 @@
 
 namespace pbdsplat::splat {
 
-using PackedCurvature = std::array<uint16_t, 6>;  // xx, xy, xz, yy, yz, zz as IEEE halves
+using SymmetricCurvature = std::array<float, 6>;  // xx, xy, xz, yy, yz, zz
 
 class NormalField {
 public:
@@ -30,22 +31,21 @@ public:
     // fold cannot turn a disc's normal past tangent within it.
     void update(std::span<const Vec4f> x, std::span<const Vec3f> vertex_normals, std::span<const mesh::Triangle> triangles,
                 bool vertices, float limit);
-    const PackedCurvature& triangle(uint32_t t) const { return triangle_[t]; }
-    const PackedCurvature& vertex(uint32_t v) const { return vertex_[v]; }
+    const SymmetricCurvature& triangle(uint32_t t) const { return triangle_[t]; }
+    const SymmetricCurvature& vertex(uint32_t v) const { return vertex_[v]; }
     bool has_vertices() const { return !vertex_.empty(); }
 
 private:
-    std::vector<PackedCurvature> triangle_, vertex_;
-    std::vector<std::array<float, 6>> vertex_sum_;
+    std::vector<SymmetricCurvature> triangle_, vertex_;
     std::vector<float> weight_;
 };
 
-// The symmetric 3x3 as a record stores it, and back (tests and tools).
-PackedCurvature pack_curvature(const Mat3f& s, float limit);
+Mat3f to_matrix(const SymmetricCurvature& s);
+SymmetricCurvature to_symmetric(const Mat3f& m, float limit);
+// Writes S into a record whose normal is `normal` (the unit normal it encodes), and back: the
+// full S the shader rebuilds from the record's decoded normal.
+void set_curvature(const SymmetricCurvature& s, const Vec3f& normal, GaussianRecord& r);
 Mat3f decode_curvature(const GaussianRecord& r);
-inline void set_curvature(const PackedCurvature& c, GaussianRecord& r) {
-    for (int k = 0; k < 6; ++k) r.curvature_half[k] = c[size_t(k)];
-}
 // The limit for splats of std dev `scale`: the normal turns at most 45 degrees per std dev.
 inline float curvature_limit(float scale) { return scale > 0.0f ? 1.0f / scale : 0.0f; }
 

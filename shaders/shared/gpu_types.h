@@ -20,11 +20,13 @@ struct alignas(16) mat4 { float m[16]; };  // column-major, as GLSL reads it
 // normal     : R16G16_SNORM      octahedral-encoded unit normal
 // color      : R8G8B8A8_UNORM    linear albedo rgb; a = fade-in factor (1 when settled)
 // scale_opac : R16G16_SFLOAT     x = isotropic std-dev s0 in world units, y = opacity logit o
-// curvature  : R16G16B16A16_SFLOAT + R16G16_SFLOAT  how the surface's normal turns across the
-//              splat: the symmetric 3x3 S (xx, xy, xz, yy | yz, zz), per world unit, so that a
-//              step p in the splat's tangent plane turns its normal by S p; zero draws one normal
-//              per splat (the paper's flat shading)
-#define SPLAT_RECORD_SIZE 36
+// curvature  : R16G16B16A16_SFLOAT how the surface's normal turns across the splat: the
+//              symmetric 3x3 S, per world unit, so that a step p in the splat's tangent plane
+//              turns its normal by S p. S n = 0, so three numbers hold it: x, y, z are S's 2x2
+//              block (ii, ij, jj) on the two axes other than d = w (0, 1 or 2, the normal's
+//              largest component), i = d+1, j = d+2 (mod 3); splat_curvature() rebuilds the rest.
+//              Zero draws one normal per splat (the paper's flat shading)
+#define SPLAT_RECORD_SIZE 32
 #define SPLAT_OFFSET_POSITION 0
 #define SPLAT_OFFSET_NORMAL 12
 #define SPLAT_OFFSET_COLOR 16

@@ -9,8 +9,24 @@ vec3 decode_octahedral(vec2 e) {
     return normalize(n);
 }
 
-// The record's symmetric curvature from its six halves (xx, xy, xz, yy | yz, zz).
-mat3 splat_curvature(vec4 a, vec2 b) { return mat3(a.x, a.y, a.z, a.y, a.w, b.x, a.z, b.x, b.y); }
+// The record's symmetric curvature S from its 2x2 block (c.xyz on axes i, j) and the axis d it
+// leaves out (c.w), with S n = 0 (splat::decode_curvature on the CPU).
+mat3 splat_curvature(vec4 c, vec3 n) {
+    if (c.xyz == vec3(0.0)) return mat3(0.0);
+    const int d = clamp(int(c.w + 0.5), 0, 2), i = (d + 1) % 3, j = (d + 2) % 3;
+    const float id = -(c.x * n[i] + c.y * n[j]) / n[d], jd = -(c.y * n[i] + c.z * n[j]) / n[d];
+    mat3 s;
+    s[i][i] = c.x;
+    s[j][j] = c.z;
+    s[d][d] = -(id * n[i] + jd * n[j]) / n[d];
+    s[i][j] = c.y;
+    s[j][i] = c.y;
+    s[i][d] = id;
+    s[d][i] = id;
+    s[j][d] = jd;
+    s[d][j] = jd;
+    return s;
+}
 
 // An orthonormal tangent frame about n (the surfel's axes).
 void splat_tangent_frame(vec3 n, out vec3 t1, out vec3 t2) {

@@ -27,8 +27,7 @@ SplatRecord read_record(uint i) {
     r.scale = so.x;
     r.opacity_logit = so.y;
     const uint c = base + SPLAT_OFFSET_CURVATURE / 4;
-    r.curvature = splat_curvature(vec4(unpackHalf2x16(record_words[c]), unpackHalf2x16(record_words[c + 1u])),
-                                  unpackHalf2x16(record_words[c + 2u]));
+    r.curvature = splat_curvature(vec4(unpackHalf2x16(record_words[c]), unpackHalf2x16(record_words[c + 1u])), r.normal);
     return r;
 }
 
