@@ -230,17 +230,14 @@ void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::s
     if (s.embedded()) {
         const float* d = s.offset.data();
         const Vec3f* ln = s.local_normal.data();
-        // Each sample's normal in the frame of the interpolated normal at it (surface_frame):
-        // only the edge's direction is per triangle.
+        // Each sample's normal in the frame of the interpolated normal at it (surface_frame), so
+        // the frame is per sample, not per triangle.
         for (size_t i = first; i < count; ++i) {
             const auto& t = triangles[tri_index[i]];
             const float b1 = bary[i].x(), b2 = bary[i].y(), b0 = 1.0f - b1 - b2;
             const Vec3f interpolated = b0 * n[t[0]] + b1 * n[t[1]] + b2 * n[t[2]];
-            const Vec3f a = x[t[0]].head<3>(), b = x[t[1]].head<3>();
             s.position[i] = (b0 * x[t[0]] + b1 * x[t[1]] + b2 * x[t[2]]).head<3>() + d[i] * interpolated;
-            Mat3f f = frame_about(b - a, interpolated);
-            if (f.col(2).isZero()) f = triangle_frame(a, b, x[t[2]].head<3>());
-            s.normal[i] = f * ln[i];
+            s.normal[i] = surface_frame(x[t[0]].head<3>(), x[t[1]].head<3>(), x[t[2]].head<3>(), interpolated) * ln[i];
         }
         return;
     }
