@@ -89,6 +89,7 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
     ro.max_splats = uint32_t(std::max<size_t>(1, records.size()));
     ro.frames_in_flight = 1;
     ro.anisotropic = !shapes.empty();
+    ro.normalised = frame.style.blend == render::Blend::normalised;
     auto splats = OffscreenRenderer::create(ctx, ro);
     if (!splats.ok()) return splats.error();
     frame.background = Vec4f::Zero();  // the accumulated alpha is then the splats' coverage

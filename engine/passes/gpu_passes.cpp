@@ -33,6 +33,7 @@ void GpuPassResources::refresh(const render::SplatRenderer& r) {
     sort_control.buffer = r.sort_control_buffer();
     color.image = r.color_image();
     depth.image = r.depth_image();
+    accumulation.image = r.accumulation_image();
 }
 
 graph::GpuUse to_graph(const render::Use& u) { return {u.access.stage, u.access.access, u.layout}; }
@@ -79,7 +80,7 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             };
         }, tag);
     }
-    graph::Handle<graph::GpuImageRef> drawn;
+    graph::Handle<graph::GpuImageRef> drawn, depth_drawn;
     g.add_pass("splat", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
         b.read(input);
         if (gpu_sort) {
@@ -89,13 +90,39 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             b.read(uploaded, to_graph(records_read));
         }
         drawn = b.write(color, to_graph(render::uses::color_attachment));
-        b.write(depth, to_graph(render::uses::depth_attachment));
+        depth_drawn = b.write(depth, to_graph(render::uses::depth_attachment));
         b.side_effect();  // the colour target is what a frame is for (presented or read back)
         return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
             GpuFrameInput& in = r.get(input);
             renderer.draw(in.frame, uint32_t(in.records.size()));
         };
     }, tag);
+    if (renderer.has_normalised()) {
+        // Normalised blending: the front fragments summed against the visibility depth the splat
+        // pass left, then divided and blended over the colour target. Normalised frames are never
+        // sorted (the sums do not depend on order), so the records are the uploaded ones.
+        const auto accumulation = g.import("accumulation image", &res.accumulation);
+        graph::Handle<graph::GpuImageRef> summed;
+        g.add_pass("splat accumulate", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+            b.read(input);
+            b.read(uploaded, to_graph(records_read));
+            b.write(depth_drawn, to_graph(render::uses::depth_attachment));
+            summed = b.write(accumulation, to_graph(render::uses::color_attachment));
+            return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
+                GpuFrameInput& in = r.get(input);
+                renderer.accumulate(in.frame, uint32_t(in.records.size()));
+            };
+        }, tag);
+        g.add_pass("splat resolve", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+            b.read(input);
+            b.read(summed, to_graph(render::uses::accumulation_sampled));
+            drawn = b.write(drawn, to_graph(render::uses::color_attachment));
+            b.side_effect();  // as the splat pass: the colour target is what a frame is for
+            return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
+                renderer.resolve(r.get(input).frame);
+            };
+        }, tag);
+    }
     g.add_pass("readback", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
         b.read(drawn, to_graph(render::uses::color_copy_source));
         b.write(readback, to_graph(render::uses::readback_write));

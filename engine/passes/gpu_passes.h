@@ -31,6 +31,7 @@ struct GpuPassResources {
     graph::GpuBufferRef sorted, sort_control;  // with the GPU sort
     graph::GpuImageRef color{VK_NULL_HANDLE, VK_IMAGE_ASPECT_COLOR_BIT};
     graph::GpuImageRef depth{VK_NULL_HANDLE, VK_IMAGE_ASPECT_DEPTH_BIT};
+    graph::GpuImageRef accumulation{VK_NULL_HANDLE, VK_IMAGE_ASPECT_COLOR_BIT};  // with normalised blending
     void refresh(const render::SplatRenderer& r);
 };
 
@@ -55,7 +56,8 @@ public:
 };
 
 // Declares "upload", "gpu sort" (when `gpu_sort`: the frames are drawn with SplatOrder::gpu),
-// "splat" and "readback". The readback pass needs `sink`; without one it is culled. `input` is
+// "splat", "splat accumulate" and "splat resolve" (when the renderer has normalised blending)
+// and "readback". The readback pass needs `sink`; without one it is culled. `input` is
 // the version of the frame input the passes read (after the mapping).
 // Returns the colour target as the splat pass leaves it.
 graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer,

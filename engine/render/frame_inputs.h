@@ -61,7 +61,12 @@ struct Lighting {
     std::vector<Light> lights;
 };
 
-enum class Blend { over, additive };
+// How splats combine. `over`: premultiplied "over" (a depth-only visibility pass first, or
+// sorted). `additive`: summed, no occlusion. `normalised`: the front surface's splats (behind
+// the visibility pass's depth) averaged with their Gaussian weights and their coverage combined,
+// in any order, then blended over the target (render/normalised_blend.h): no disc's rim shows.
+// Needs the Gaussian footprint.
+enum class Blend { over, additive, normalised };
 
 // Where the far-to-near order for "over" blending comes from. `unsorted` draws a depth-only
 // visibility pass first (see SplatStyle); `cpu` means the records arrive sorted; `gpu` has the

@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "gpu/barriers.h"
+#include "gpu/rendering.h"
 
 namespace pbdsplat::render {
 
@@ -27,31 +28,12 @@ core::Result<OffscreenTarget> OffscreenTarget::create(gpu::Context& ctx, uint32_
     return t;
 }
 
-void OffscreenTarget::begin(VkCommandBuffer cmd, const float clear_rgba[4]) {
-    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    color.imageView = color_.view();
-    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    std::memcpy(color.clearValue.color.float32, clear_rgba, sizeof(float) * 4);
-    VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    depth.imageView = depth_.view();
-    depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-    depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    depth.clearValue.depthStencil = {1.0f, 0};
-    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    info.renderArea = {{0, 0}, {width(), height()}};
-    info.layerCount = 1;
-    info.colorAttachmentCount = 1;
-    info.pColorAttachments = &color;
-    info.pDepthAttachment = &depth;
-    vkCmdBeginRendering(cmd, &info);
-
-    const VkViewport viewport{0.0f, 0.0f, float(width()), float(height()), 0.0f, 1.0f};
-    const VkRect2D scissor{{0, 0}, {width(), height()}};
-    vkCmdSetViewport(cmd, 0, 1, &viewport);
-    vkCmdSetScissor(cmd, 0, 1, &scissor);
+void OffscreenTarget::begin(VkCommandBuffer cmd, const float clear_rgba[4], bool keep_depth) {
+    gpu::ColorTarget color{color_.view(), VK_ATTACHMENT_LOAD_OP_CLEAR, {}};
+    std::memcpy(color.clear.float32, clear_rgba, sizeof(float) * 4);
+    gpu::begin_rendering(cmd, {width(), height()}, color,
+                         {depth_.view(), VK_ATTACHMENT_LOAD_OP_CLEAR,
+                          keep_depth ? VK_ATTACHMENT_STORE_OP_STORE : VK_ATTACHMENT_STORE_OP_DONT_CARE, 1.0f});
 }
 
 void OffscreenTarget::end(VkCommandBuffer cmd) { vkCmdEndRendering(cmd); }

@@ -25,7 +25,8 @@ public:
 
     // Begins dynamic rendering with a clear; the images must be in the attachment layouts
     // (the frame graph's barriers put them there: see color_use / depth_use).
-    void begin(VkCommandBuffer cmd, const float clear_rgba[4]);
+    // `keep_depth`: store the depth for a later pass (normalised blending's accumulation).
+    void begin(VkCommandBuffer cmd, const float clear_rgba[4], bool keep_depth = false);
     void end(VkCommandBuffer cmd);
     // Copies the colour image (in TRANSFER_SRC layout) into the readback buffer of `slot`, and
     // makes the copy visible to the host once the frame's fence signals.

@@ -9,6 +9,7 @@
 #include "gpu/buffer.h"
 #include "gpu/device_handle.h"
 #include "gpu/image.h"
+#include "gpu/sampled_image_set.h"
 #include "gpu/texture.h"
 #include "render/splat_renderer.h"
 
@@ -41,14 +42,11 @@ public:
 private:
     OverlayPass() = default;
     gpu::Image image_;
-    gpu::Sampler sampler_;
     std::vector<gpu::Buffer> staging_;       // per slot
     std::vector<uint64_t> staged_version_;   // what each slot's staging buffer holds
     core::ImageRgba8 latest_;
     uint64_t version_ = 0;
-    gpu::DescriptorSetLayout set_layout_;
-    gpu::DescriptorPool pool_;
-    VkDescriptorSet set_ = VK_NULL_HANDLE;
+    gpu::SampledImageSet set_;
     gpu::PipelineLayout layout_;
     gpu::Pipeline pipeline_;
 };

@@ -1,5 +1,6 @@
 #include "render/splat_pass.h"
 
+#include "core/assert.h"
 #include "gpu/uniform_sets.h"
 #include "splat/gaussian_record.h"
 
@@ -28,7 +29,8 @@ std::string splat_path_unsupported(const gpu::DeviceCaps& caps, SplatPath path) 
 }
 
 core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path,
-                                          SplatShading shading, SplatCarrier carrier, bool anisotropic, uint32_t sh_degree) {
+                                          SplatShading shading, SplatCarrier carrier, bool anisotropic, uint32_t sh_degree,
+                                          VkFormat accumulation) {
     if (sh_degree > 3) return core::make_error("spherical-harmonic degree " + std::to_string(sh_degree) + " is not 0 to 3");
     if (const std::string why = splat_path_unsupported(ctx.caps(), path); !why.empty()) return core::make_error(why);
     SplatPass p;
@@ -42,7 +44,7 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     desc.color_format = color;
     desc.depth_format = depth;
     desc.layout = p.layout_.get();
-    PBDSPLAT_TRY(p.create_pipelines(ctx, std::move(desc), sh_degree));
+    PBDSPLAT_TRY(p.create_pipelines(ctx, std::move(desc), sh_degree, accumulation));
     return p;
 }
 
@@ -96,16 +98,18 @@ core::Status SplatPass::describe_front(const gpu::Context& ctx, gpu::GraphicsPip
     return core::Status::success();
 }
 
-core::Status SplatPass::create_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc desc, uint32_t sh_degree) {
+core::Status SplatPass::create_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc desc, uint32_t sh_degree,
+                                        VkFormat accumulation) {
     const uint32_t per_corner = shading_ == SplatShading::corner ? 1u : 0u;
     const uint32_t octagon = carrier_ == SplatCarrier::octagon ? 1u : 0u;
     const uint32_t aniso = anisotropic_ ? 1u : 0u;
-    auto make = [&](gpu::Pipeline& into) -> core::Status {
-        auto made = gpu::create_graphics_pipeline(ctx, desc);
+    auto make_from = [&](const gpu::GraphicsPipelineDesc& d, gpu::Pipeline& into) -> core::Status {
+        auto made = gpu::create_graphics_pipeline(ctx, d);
         if (!made.ok()) return made.error();
         into = std::move(made).value();
         return core::Status::success();
     };
+    auto make = [&](gpu::Pipeline& into) { return make_from(desc, into); };
     desc.color_write = false;
     // k_visibility_pass, k_shade_per_corner, k_footprint, k_octagon, k_footprint_dither, k_anisotropic,
     // k_sh_degree
@@ -121,6 +125,13 @@ core::Status SplatPass::create_pipelines(const gpu::Context& ctx, gpu::GraphicsP
     // Additive splats do not occlude one another: order does not matter, no visibility pass.
     desc.blend = gpu::BlendMode::additive;
     PBDSPLAT_TRY(make(additive_));
+    if (accumulation != VK_FORMAT_UNDEFINED) {
+        // The same fragments, summed as weights and weighted colours into the float image.
+        gpu::GraphicsPipelineDesc sums = desc;
+        sums.stages.back().second = "splat_accumulate.frag";
+        sums.color_format = accumulation;
+        PBDSPLAT_TRY(make_from(sums, accumulate_));
+    }
 
     // The paper's disc: additive blending needs no depth; "over" writes it, so the nearest disc
     // wins each pixel whatever the draw order (its mask must run before the test).
@@ -179,11 +190,25 @@ void SplatPass::record(VkCommandBuffer cmd, const SplatStyle& style, VkDescripto
         draw(cmd, source);
         return;
     }
-    if (!additive && style.order == SplatOrder::unsorted) {
+    const bool normalised = style.blend == Blend::normalised;
+    if (!additive && (normalised || style.order == SplatOrder::unsorted)) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, visibility_.get());
         draw(cmd, source);
     }
+    if (normalised) return;  // the sums follow in their own pass (record_accumulation)
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, additive ? additive_.get() : over_.get());
+    draw(cmd, source);
+}
+
+void SplatPass::record_accumulation(VkCommandBuffer cmd, VkDescriptorSet frame_set, const SplatSource& source) const {
+    PBDSPLAT_ASSERT(normalised(), "SplatPass::record_accumulation: create the pass with an accumulation format");
+    if (source.count == 0) return;
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &frame_set, 0, nullptr);
+    if (path_ == SplatPath::geometry) {
+        const VkDeviceSize offset = 0;
+        vkCmdBindVertexBuffers(cmd, 0, 1, &source.records, &offset);
+    }
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, accumulate_.get());
     draw(cmd, source);
 }
 

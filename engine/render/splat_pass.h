@@ -37,11 +37,12 @@ struct SplatSource {
 
 class SplatPass {
 public:
-    // Fails with a clear reason when the device lacks what the path needs.
+    // Fails with a clear reason when the device lacks what the path needs. `accumulation`: the
+    // format of normalised blending's accumulation image (UNDEFINED: no normalised blending).
     static core::Result<SplatPass> create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path,
                                           SplatShading shading = SplatShading::fragment,
                                           SplatCarrier carrier = SplatCarrier::quad, bool anisotropic = false,
-                                          uint32_t sh_degree = 0);
+                                          uint32_t sh_degree = 0, VkFormat accumulation = VK_FORMAT_UNDEFINED);
     SplatPass() = default;
 
     SplatPath path() const { return path_; }
@@ -53,7 +54,11 @@ public:
     // The Gaussian footprint under unsorted "over" draws the visibility pass first; sorted
     // orders, additive blending and the paper's disc draw one pass. `frame_set`'s storage
     // binding must hold `source.records`.
+    // Normalised blending draws only the visibility pass here; record_accumulation() then adds
+    // the front fragments into the accumulation image.
     void record(VkCommandBuffer cmd, const SplatStyle& style, VkDescriptorSet frame_set, const SplatSource& source) const;
+    bool normalised() const { return static_cast<bool>(accumulate_); }
+    void record_accumulation(VkCommandBuffer cmd, VkDescriptorSet frame_set, const SplatSource& source) const;
 
 private:
     SplatPath path_ = SplatPath::geometry;
@@ -68,6 +73,7 @@ private:
     gpu::Pipeline paper_over_;      // unsorted: writes depth, tests after the mask, opacity dithered
     gpu::Pipeline paper_sorted_;    // far to near: the same, opacity blended
     gpu::Pipeline paper_additive_;
+    gpu::Pipeline accumulate_;      // normalised blending: weighted sums into the accumulation image
     PFN_vkCmdDrawMeshTasksEXT draw_mesh_tasks_ = nullptr;
     PFN_vkCmdDrawMeshTasksIndirectEXT draw_mesh_tasks_indirect_ = nullptr;
     void draw(VkCommandBuffer cmd, const SplatSource& source) const;
@@ -75,7 +81,7 @@ private:
     // every pipeline variant from that description.
     core::Status create_layouts(const gpu::Context& ctx);
     core::Status describe_front(const gpu::Context& ctx, gpu::GraphicsPipelineDesc& desc);
-    core::Status create_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc desc, uint32_t sh_degree);
+    core::Status create_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc desc, uint32_t sh_degree, VkFormat accumulation);
 };
 
 } // namespace pbdsplat::render

@@ -108,9 +108,15 @@ core::Status SplatRenderer::create_passes() {
     gpu::Context& ctx = *ctx_;
     const RendererOptions& options = options_;
     auto pass = SplatPass::create(ctx, k_color_format, k_depth_format, options.path.value_or(best_splat_path(ctx.caps())),
-                                  options.shading, options.carrier, options.anisotropic, options.sh_degree);
+                                  options.shading, options.carrier, options.anisotropic, options.sh_degree,
+                                  options.normalised ? k_accumulation_format : VK_FORMAT_UNDEFINED);
     if (!pass.ok()) return pass.error();
     splat_ = std::move(pass).value();
+    if (options.normalised) {
+        auto blend = NormalisedBlend::create(ctx, options.width, options.height, k_color_format);
+        if (!blend.ok()) return blend.error();
+        blend_ = std::move(blend).value();
+    }
     auto ground = GroundPass::create(ctx, k_color_format, k_depth_format, splat_.set_layout());
     if (!ground.ok()) return ground.error();
     ground_ = std::move(ground).value();
@@ -247,13 +253,33 @@ void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
     PBDSPLAT_ASSERT(!gpu_sorted || has_gpu_sort(), "SplatOrder::gpu needs a renderer created with options.gpu_sort");
     const gpu::UniformSets& sets = gpu_sorted ? sorted_uniforms_ : uniforms_;
     std::memcpy(sets.mapped(slot), &uniforms, sizeof(uniforms));
-    target_.begin(cmd_, inputs.background.data());
+    const bool normalised = inputs.style.blend == Blend::normalised;
+    PBDSPLAT_ASSERT(!normalised || has_normalised(),
+                    "Blend::normalised needs a renderer created with options.normalised (and the graph's accumulation and resolve passes)");
+    PBDSPLAT_ASSERT(!normalised || inputs.style.footprint == Footprint::gaussian,
+                    "Blend::normalised weighs each splat by its Gaussian falloff: draw it with Footprint::gaussian");
+    target_.begin(cmd_, inputs.background.data(), normalised);
     if (inputs.ground.visible) ground_.record(cmd_, sets.set(slot), inputs.ground);
     SplatSource source{records_.buffer(slot), count};
     if (gpu_sorted) source = {sort_.sorted_records(slot), count, sort_.control(slot)};
     splat_.record(cmd_, inputs.style, sets.set(slot), source);
     target_.end(cmd_);
-    timers_[slot].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
+    // Normalised blending's draw ends with its resolve, which marks it.
+    if (!normalised) timers_[slot].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
+}
+
+void SplatRenderer::accumulate(const FrameInputs& inputs, uint32_t count) {
+    if (inputs.style.blend != Blend::normalised) return;
+    const uint32_t slot = frames_.slot();
+    blend_.begin_accumulation(cmd_, target_.depth().view());
+    splat_.record_accumulation(cmd_, uniforms_.set(slot), {records_.buffer(slot), count});
+    blend_.end_accumulation(cmd_);
+}
+
+void SplatRenderer::resolve(const FrameInputs& inputs) {
+    if (inputs.style.blend != Blend::normalised) return;
+    blend_.record_resolve(cmd_, target_.color().view());
+    timers_[frames_.slot()].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
 
 void SplatRenderer::readback() {

@@ -17,7 +17,9 @@
 #include "render/environment_texture.h"
 #include "render/frame_inputs.h"
 #include "render/gpu_sort.h"
+#include "render/gpu_use.h"
 #include "render/ground.h"
+#include "render/normalised_blend.h"
 #include "render/offscreen_target.h"
 #include "render/splat_pass.h"
 #include "splat/gaussian_record.h"
@@ -45,6 +47,9 @@ struct RendererOptions {
     uint32_t sh_degree = 0;
     // Create the GPU depth sort (frames drawn with SplatOrder::gpu need it).
     bool gpu_sort = false;
+    // Create normalised blending's accumulation image and passes (frames drawn with
+    // Blend::normalised need them; the graph then declares the accumulation and resolve passes).
+    bool normalised = false;
 };
 
 // GPU milliseconds of the last finished frame, from timestamps (0 when the device has none).
@@ -58,10 +63,6 @@ struct GpuTimings {
 };
 
 // How each operation uses what it touches.
-struct Use {
-    gpu::Access access;
-    VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
-};
 namespace uses {
 inline constexpr Use upload_write{{VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT}};
 inline constexpr Use compute_read{{VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT}};
@@ -108,13 +109,20 @@ public:
     // Culls and sorts the uploaded records far to near (needs options.gpu_sort); a following
     // draw() with SplatOrder::gpu draws the result.
     void sort(const FrameInputs& inputs, uint32_t count);
+    // With Blend::normalised, draw() lays down the ground and the visibility depth only;
+    // accumulate() sums the front fragments and resolve() blends them over the colour target.
+    // Both record nothing for other blends.
     void draw(const FrameInputs& inputs, uint32_t count);
+    void accumulate(const FrameInputs& inputs, uint32_t count);
+    void resolve(const FrameInputs& inputs);
     void readback();
 
     // The resources the current frame uses (the record buffer differs per slot on the direct path).
     VkBuffer records_buffer() const { return records_.buffer(frames_.slot()); }
     VkImage color_image() const { return target_.color().handle(); }
     VkImage depth_image() const { return target_.depth().handle(); }
+    bool has_normalised() const { return splat_.normalised(); }
+    VkImage accumulation_image() const { return has_normalised() ? blend_.accumulation().handle() : VK_NULL_HANDLE; }
     VkBuffer readback_buffer() const { return target_.readback_buffer(frames_.slot()); }
     bool has_gpu_sort() const { return sort_.capacity() > 0; }
     VkBuffer sorted_records_buffer() const { return has_gpu_sort() ? sort_.sorted_records(frames_.slot()) : VK_NULL_HANDLE; }
@@ -150,6 +158,7 @@ private:
     OffscreenTarget target_;
     SplatPass splat_;
     GroundPass ground_;
+    NormalisedBlend blend_;  // empty without options.normalised
     gpu::Texture environment_;
     std::array<Vec3f, 9> sh_{};
     gpu::UniformSets uniforms_;  // one per frame in flight

@@ -251,13 +251,17 @@ void read_simulation(const Reader& r, Reader::Table& t, SimulationDesc& s) {
 void read_splat_look(const Reader& r, Reader::Table& t, RenderDesc& d) {
     read_keys<RenderDesc>(t, d, k_render_keys);
     render::SplatStyle& style = d.frame.style;
-    style.blend = t.choice("blend", "over", {"over", "additive"}) == "additive" ? render::Blend::additive : render::Blend::over;
+    const std::string blend = t.choice("blend", "over", {"over", "additive", "normalised"});
+    style.blend = blend == "additive" ? render::Blend::additive : blend == "normalised" ? render::Blend::normalised : render::Blend::over;
     const std::string sort_on = t.choice("sort_on", "auto", {"auto", "cpu", "gpu"});
     if (sort_on == "cpu") d.sort_on = render::SplatOrder::cpu;
     else if (sort_on == "gpu") d.sort_on = render::SplatOrder::gpu;
     d.shading = t.choice("shading", "fragment", {"fragment", "corner"}) == "corner" ? render::SplatShading::corner
                                                                                     : render::SplatShading::fragment;
     style.footprint = t.named<render::Footprint>("footprint", style.footprint, render::k_footprint_names);
+    if (style.blend == render::Blend::normalised && style.footprint != render::Footprint::gaussian)
+        r.fail(t.source_of("blend"), "'render.blend' = \"normalised\" weighs each splat by its Gaussian falloff: it needs "
+                                     "'render.footprint' = \"gaussian\" (the paper's flat disc has no falloff to weigh by)");
     if (style.kappa > 0.0f && style.kappa < 0.5f)
         r.fail(t.source_of("kappa"), "'render.kappa' = " + std::to_string(style.kappa) +
                                          " is too small to draw: 0 (the footprint's default) or at least 0.5");

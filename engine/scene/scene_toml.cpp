@@ -108,7 +108,10 @@ void write_render(std::ostream& o, const Scene& sc) {
     const render::Lighting& l = d.frame.lighting;
     o << "[render]\n";
     write_keys<RenderDesc>(o, d, k_render_keys);
-    o << "blend = " << (d.frame.style.blend == render::Blend::additive ? "\"additive\"" : "\"over\"")
+    o << "blend = "
+      << (d.frame.style.blend == render::Blend::additive     ? "\"additive\""
+          : d.frame.style.blend == render::Blend::normalised ? "\"normalised\""
+                                                             : "\"over\"")
       << "\nsort_on = \"" << (d.sort_on ? render::splat_order_name(*d.sort_on) : "auto") << "\"\nshading = \""
       << (d.shading == render::SplatShading::corner ? "corner" : "fragment") << "\""
       << "\nfootprint = \"" << render::footprint_name(d.frame.style.footprint) << "\""

@@ -1,7 +1,8 @@
 // Splat pass, fragment stage: the footprint's mask (paper section 5.6.1) and shading
 // (section 5.6.2), with premultiplied alpha for the "over" blend. Included by splat.frag (the
-// pipelines that test depth without writing it) and splat_paper.frag (the paper's one pass,
-// which writes depth and so cannot test early).
+// pipelines that test depth without writing it), splat_paper.frag (the paper's one pass,
+// which writes depth and so cannot test early) and splat_accumulate.frag (normalised blending's
+// weighted sums).
 #ifndef PBDSPLAT_SPLAT_FRAGMENT_GLSL
 #define PBDSPLAT_SPLAT_FRAGMENT_GLSL
 
@@ -54,7 +55,15 @@ void main() {
     }
     const vec3 n = splat_lit_normal(normalize(g_normal), g_world, k_footprint == SPLAT_FOOTPRINT_PAPER);
     const vec3 color = k_shade_per_corner ? g_color.rgb : shade(g_color.rgb, n, g_world);
+#ifdef PBDSPLAT_WEIGHTED_OUTPUT
+    // Normalised blending's weight: -ln(1 - alpha) adds up like a log transmittance (the resolve
+    // recovers the coverage from the sum), and weighs each splat's colour by how much it covers,
+    // falling smoothly to nothing at its rim.
+    const float w = -log(1.0 - min(alpha, 0.996));
+    out_color = vec4(color * w, w);
+#else
     out_color = vec4(color * alpha, alpha);
+#endif
 }
 
 #endif

@@ -98,6 +98,14 @@ TEST_SUITE("render/splat") {
         render::FrameInputs soft = scene.frame;
         soft.style.footprint = render::Footprint::gaussian;
         check_against_golden(render_once(*ctx, scene.records, soft, 320, 240), "builtin_icosphere_gaussian_320x240");
+        // The Gaussian averaged over the front surface (normalised blending) on every path.
+        render::FrameInputs normalised = soft;
+        normalised.style.blend = render::Blend::normalised;
+        const auto averaged = render_once(*ctx, scene.records, normalised, 320, 240);
+        check_against_golden(averaged, "builtin_icosphere_normalised_320x240");
+        auto pulled = core::compare_images(render_once(*ctx, scene.records, normalised, 320, 240, render::SplatPath::vertex), averaged, 2);
+        REQUIRE(pulled.ok());
+        CHECK(pulled->share_over <= 0.001);
         // The disc sorted far to near: its flat alpha blended, not dithered.
         render::FrameInputs sorted = scene.frame;
         sorted.style.order = render::SplatOrder::cpu;

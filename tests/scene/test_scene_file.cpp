@@ -138,6 +138,19 @@ TEST_SUITE("scene/scene_file") {
         CHECK(unknown.error().to_string().find("surfel") != std::string::npos);  // the accepted names are listed
     }
 
+    TEST_CASE("normalised blending needs the Gaussian footprint, and says so with the line") {
+        auto ok = scene::parse_scene("[render]\nfootprint = \"gaussian\"\nblend = \"normalised\"\n", "n.toml");
+        REQUIRE_MESSAGE(ok.ok(), ok.error().to_string());
+        CHECK(ok->render.frame.style.blend == render::Blend::normalised);
+        auto again = scene::parse_scene(scene::to_toml(ok.value()), "printed.toml");
+        REQUIRE_MESSAGE(again.ok(), again.error().to_string());
+        CHECK(again->render.frame.style.blend == render::Blend::normalised);
+        // The paper's disc is the default footprint: it has no falloff to weigh by.
+        const std::string why = refusal("[render]\nblend = \"normalised\"\n");
+        CHECK(why.find("bad.toml:2:9: 'render.blend' = \"normalised\"") == 0);
+        CHECK(why.find("footprint") != std::string::npos);
+    }
+
     TEST_CASE("a scene survives printing and parsing again") {
         auto first = scene::parse_scene(k_full, "full.toml");
         REQUIRE(first.ok());
@@ -203,7 +216,7 @@ TEST_SUITE("scene/scene_file") {
         CHECK(refusal("[model]\nmesh = \"icosphere:3\"\ncolour = 1\n") == "bad.toml:3:1: unknown key 'model.colour'");
         CHECK(refusal("[simulation]\niterations = \"five\"\n") == "bad.toml:2:14: 'simulation.iterations' must be a whole number");
         CHECK(refusal("[simulation]\n  dt = 2.0\n") == "bad.toml:2:8: 'simulation.dt' = 2 is out of range [0.001, 0.1]");
-        CHECK(refusal("[render]\nblend = \"multiply\"\n") == "bad.toml:2:9: 'render.blend' must be one of over, additive, not 'multiply'");
+        CHECK(refusal("[render]\nblend = \"multiply\"\n") == "bad.toml:2:9: 'render.blend' must be one of over, additive, normalised, not 'multiply'");
         CHECK(refusal("[material]\ncolor = [1, 0]\n") == "bad.toml:2:9: 'material.color' must be an array of 3 numbers");
         CHECK(refusal("[[events]]\ntime = 1\ntype = \"cut\"\n").find("bad.toml:1:1: a cut event needs either") == 0);
         // A half-specified event is an error, not a silent no-op.

@@ -23,6 +23,7 @@ inline core::ImageRgba8 render_once(gpu::Context& ctx, const std::vector<splat::
     o.shading = shading;
     o.carrier = carrier;
     o.anisotropic = !shapes.empty();  // one shape per record: drawn with their axes
+    o.normalised = frame.style.blend == render::Blend::normalised;
     o.width = w;
     o.height = h;
     o.max_splats = std::max<uint32_t>(1, uint32_t(records.size()));

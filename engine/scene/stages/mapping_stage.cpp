@@ -72,7 +72,7 @@ void add_mapping_passes(graph::FrameGraph& g, MapHandles& h, const MapPassOption
             BodyViewOptions view;
             view.cull_back = settings.cull_back;
             view.closed = settings.closed;
-            view.opaque = input.frame.style.blend == render::Blend::over && look.opacity_logit > math::logit(0.9f);
+            view.opaque = input.frame.style.blend != render::Blend::additive && look.opacity_logit > math::logit(0.9f);
             view.draw_ground = settings.draw_ground;
             follow_body(body.particles.x, settings.ground, view, input.frame);
             if (!o.sorted) mapping.publish(input, o.moved);  // else the sort pass reorders them first

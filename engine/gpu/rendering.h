@@ -1,0 +1,25 @@
+#pragma once
+// Dynamic rendering into one colour attachment and, optionally, a depth attachment, with the
+// viewport and scissor covering the whole target: how every pass here begins drawing.
+#include "gpu/vk.h"
+
+namespace pbdsplat::gpu {
+
+struct ColorTarget {
+    VkImageView view = VK_NULL_HANDLE;
+    VkAttachmentLoadOp load = VK_ATTACHMENT_LOAD_OP_LOAD;
+    VkClearColorValue clear{};  // with VK_ATTACHMENT_LOAD_OP_CLEAR
+};
+
+struct DepthTarget {
+    VkImageView view = VK_NULL_HANDLE;  // none: no depth attachment
+    VkAttachmentLoadOp load = VK_ATTACHMENT_LOAD_OP_LOAD;
+    VkAttachmentStoreOp store = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    float clear = 1.0f;  // with VK_ATTACHMENT_LOAD_OP_CLEAR
+};
+
+// The images must be in COLOR_ATTACHMENT_OPTIMAL and DEPTH_ATTACHMENT_OPTIMAL (the frame
+// graph's barriers put them there). The colour is always stored.
+void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, const ColorTarget& color, const DepthTarget& depth = {});
+
+} // namespace pbdsplat::gpu

@@ -1,0 +1,50 @@
+#pragma once
+// Normalised blending (render.blend = "normalised"): the front surface's splats are averaged
+// instead of composited one over another. The splat pass lays down the visibility depth, an
+// accumulation pass adds every front fragment's weighted colour and weight into a float image,
+// and the resolve here divides and blends the result over the colour target. With the Gaussian
+// footprint's smooth weights the colour at a pixel varies continuously as discs begin and end,
+// so no disc's rim shows (surface splatting's normalisation). The two steps are separate graph
+// passes, so the graph places the accumulation image's barriers.
+#include "gpu/device_handle.h"
+#include "gpu/image.h"
+#include "gpu/pipeline.h"
+#include "gpu/sampled_image_set.h"
+#include "render/gpu_use.h"
+
+namespace pbdsplat::render {
+
+// Sums of w c (rgb) and w (a), w = -ln(1 - alpha): 16-bit floats hold a few hundred splats of
+// weight 5.5 (alpha 0.996) and their colours.
+constexpr VkFormat k_accumulation_format = VK_FORMAT_R16G16B16A16_SFLOAT;
+
+namespace uses {
+inline constexpr Use accumulation_sampled{{VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT},
+                                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+} // namespace uses
+
+class NormalisedBlend {
+public:
+    // `target_format`: the colour target the resolve blends over.
+    static core::Result<NormalisedBlend> create(gpu::Context& ctx, uint32_t width, uint32_t height, VkFormat target_format);
+    NormalisedBlend() = default;
+
+    const gpu::Image& accumulation() const { return accumulation_; }
+    // Begins rendering into the accumulation image (cleared to zero) with `depth` attached for
+    // testing (loaded; the accumulation pipeline does not write it, but an attachment's store
+    // counts as a write: the graph sees a depth attachment use). Both in attachment layouts.
+    void begin_accumulation(VkCommandBuffer cmd, VkImageView depth) const;
+    void end_accumulation(VkCommandBuffer cmd) const;
+    // Divides the sums and blends them over `target` (COLOR_ATTACHMENT layout); the accumulation
+    // image must be in SHADER_READ_ONLY layout.
+    void record_resolve(VkCommandBuffer cmd, VkImageView target) const;
+
+private:
+    gpu::Image accumulation_;
+    gpu::SampledImageSet sums_;  // the accumulation image, for the resolve
+    gpu::PipelineLayout layout_;
+    gpu::Pipeline resolve_;
+    VkExtent2D extent_{};
+};
+
+} // namespace pbdsplat::render
