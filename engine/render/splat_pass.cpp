@@ -112,7 +112,7 @@ core::Status SplatPass::create_pipelines(const gpu::Context& ctx, gpu::GraphicsP
     auto make = [&](gpu::Pipeline& into) { return make_from(desc, into); };
     desc.color_write = false;
     // k_visibility_pass, k_shade_per_corner, k_footprint, k_octagon, k_footprint_dither, k_anisotropic,
-    // k_sh_degree
+    // k_sh_degree (and k_opaque_surface, 0 unless given)
     desc.specialization = {1u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon, 0u, aniso, sh_degree};
     PBDSPLAT_TRY(make(visibility_));
 
@@ -130,6 +130,8 @@ core::Status SplatPass::create_pipelines(const gpu::Context& ctx, gpu::GraphicsP
         gpu::GraphicsPipelineDesc sums = desc;
         sums.stages.back().second = "splat_accumulate.frag";
         sums.color_format = accumulation;
+        sums.specialization.resize(8, 0u);
+        sums.specialization[7] = 1u;  // k_opaque_surface: what shows is the surface, lit from the seen side
         PBDSPLAT_TRY(make_from(sums, accumulate_));
     }
 

@@ -40,11 +40,19 @@ vec3 seen_side(vec3 n, vec3 world) { return dot(n, frame.camera_pos.xyz - world)
 // far side of a closed body around its silhouette included: turned fully round, that far side
 // would ring the silhouette with light; laid onto the view plane instead, it is lit as the
 // grazing surface at the silhouette that it stands for.
-vec3 splat_lit_normal(vec3 n, vec3 world, bool opaque_disc) {
+// Normalised blending's averaged surface (`opaque_surface`) is both: a splat facing just away
+// stands past a silhouette (laid onto the view plane: turned round, the top of a balloon's
+// outline would be lit as a surface facing down, a dark fringe), one facing clearly away is the
+// inside of an opened body (seen side). Between the two the normals are mixed, so the inside's
+// shading has no seam where it turns past the angle.
+vec3 splat_lit_normal(vec3 n, vec3 world, bool opaque_disc, bool opaque_surface) {
     if (opaque_disc) return seen_side(n, world);
     const vec3 t = normalize(frame.camera_pos.xyz - world);
     const float d = dot(n, t);
-    return d >= 0.0 ? n : normalize(n - d * t + 1e-4 * t);
+    if (d >= 0.0) return n;
+    const vec3 laid = normalize(n - d * t + 1e-4 * t);
+    if (!opaque_surface) return laid;
+    return normalize(mix(laid, -n, smoothstep(0.15, 0.45, -d)));
 }
 
 vec3 shade(vec3 albedo, vec3 n, vec3 world) {

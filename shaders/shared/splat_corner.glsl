@@ -8,6 +8,7 @@
 #define PBDSPLAT_SPLAT_CORNER_GLSL
 
 layout(constant_id = 1) const bool k_shade_per_corner = false;
+layout(constant_id = 7) const bool k_opaque_surface = false;  // as in splat_fragment.glsl
 
 #include "splat_sh.glsl"
 
@@ -49,7 +50,7 @@ vec3 corner_normal(vec3 n, mat3 curvature, vec3 centre_world, vec3 corner_world)
 // rgb: the albedo, or the shaded colour; a: the splat's opacity (splat_alpha).
 vec4 corner_color(vec3 albedo, float alpha, vec3 normal, vec3 corner_world) {
     const vec3 rgb = k_shade_per_corner
-                         ? shade(albedo, splat_lit_normal(normalize(normal), corner_world, k_footprint == SPLAT_FOOTPRINT_PAPER),
+                         ? shade(albedo, splat_lit_normal(normalize(normal), corner_world, k_footprint == SPLAT_FOOTPRINT_PAPER, k_opaque_surface),
                                  corner_world)
                          : albedo;
     return vec4(rgb, alpha);

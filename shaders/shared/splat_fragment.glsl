@@ -18,6 +18,9 @@ const float k_alpha_floor = 1.0 / 255.0;
 // The paper footprint's opacity as dithered coverage (its depth-writing pass) or as blending
 // (its additive pass, where order does not matter).
 layout(constant_id = 4) const bool k_footprint_dither = false;
+// The splats stand for an opaque surface as the paper's disc does (normalised blending): see
+// splat_lit_normal in shading.glsl.
+layout(constant_id = 7) const bool k_opaque_surface = false;
 
 layout(location = 0) in vec2 g_uv;
 layout(location = 1) in vec3 g_world;
@@ -53,7 +56,7 @@ void main() {
         alpha = min(g_color.a * exp(-0.5 * r2), 1.0);
         if (alpha < k_alpha_floor) discard;
     }
-    const vec3 n = splat_lit_normal(normalize(g_normal), g_world, k_footprint == SPLAT_FOOTPRINT_PAPER);
+    const vec3 n = splat_lit_normal(normalize(g_normal), g_world, k_footprint == SPLAT_FOOTPRINT_PAPER, k_opaque_surface);
     const vec3 color = k_shade_per_corner ? g_color.rgb : shade(g_color.rgb, n, g_world);
 #ifdef PBDSPLAT_WEIGHTED_OUTPUT
     // Normalised blending's weight: -ln(1 - alpha) adds up like a log transmittance (the resolve

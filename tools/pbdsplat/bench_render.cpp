@@ -30,6 +30,9 @@ const CommandSpec& command_spec() {
                   choice("footprint", {"paper", "gaussian"}, "paper",
                          "the paper's flat disc in one depth-writing pass, or the soft Gaussian cut at\n"
                          "alpha 1/255 (see docs/BENCHMARKS.md)"),
+                  choice("blend", {"over", "normalised"}, "over",
+                         "over: composited (with the visibility pass when unsorted); normalised: the\n"
+                         "front splats averaged, then resolved (needs --footprint gaussian, no --sort)"),
                   real("kappa", "K", 0.0f, 0.0f, 6.0f,
                        "Gaussian: cap on the reach in std devs (0: none; 3 is the old fixed quad);\n"
                        "paper: the disc's half-size in s0 (0: closing, 1.8)"),
@@ -85,6 +88,10 @@ Outcome measure(const Options& opt) {
     if (mesh_raster && sort != "off") return Outcome::usage("--path meshraster draws opaque triangles: no --sort");
     const std::string& shading_arg = opt.text("shading");
     const std::string& footprint_arg = opt.text("footprint");
+    const bool normalised = opt.text("blend") == "normalised";
+    if (normalised && footprint_arg != "gaussian")
+        return Outcome::usage("--blend normalised weighs each splat by its Gaussian falloff: add --footprint gaussian");
+    if (normalised && sort != "off") return Outcome::usage("--blend normalised does not depend on the order: no --sort");
     const std::string& carrier_arg = opt.text("carrier");
     const float kappa = opt.real("kappa"), cull_facing = opt.real("cull-facing"), scale = opt.real("scale");
     const render::EnvSampling environment = *render::env_sampling_from_name(opt.text("environment"));
@@ -103,6 +110,7 @@ Outcome measure(const Options& opt) {
     frame.style.scale_multiplier = scale;
     frame.style.footprint = footprint_arg == "paper" ? render::Footprint::paper : render::Footprint::gaussian;
     frame.style.kappa = kappa;
+    if (normalised) frame.style.blend = render::Blend::normalised;
     frame.style.cull_facing = cull_facing;
     // Screens of carrier area drawn: each quad spans twice the splat's reach at its distance
     // (about 3.5 here).
@@ -122,6 +130,7 @@ Outcome measure(const Options& opt) {
     options.max_splats = count;
     options.frames_in_flight = 1;
     options.path = path;
+    options.normalised = normalised;
     auto renderer = passes::OffscreenRenderer::create(*ctx.value(), options);
     if (!renderer.ok()) return renderer.error();
     const render::SplatPath used = path.value_or(render::best_splat_path(caps));
@@ -150,15 +159,17 @@ Outcome measure(const Options& opt) {
     Report report = device_report(caps);
     report.json().update({{"splats", count}, {"path", render::splat_path_name(used)}, {"sort", sort},
                           {"environment", render::env_sampling_name(environment)}, {"shading", shading_arg},
-                          {"footprint", footprint_arg}, {"kappa", kappa}, {"carrier", carrier_arg}, {"cull_facing", cull_facing},
+                          {"footprint", footprint_arg}, {"blend", opt.text("blend")}, {"kappa", kappa}, {"carrier", carrier_arg}, {"cull_facing", cull_facing},
                           {"scale", scale}, {"quad_screens", screens}, {"width", width}, {"height", height}, {"repeat", repeat},
                           {"median_ms", median_ms}, {"draw_ms", core::median(draw)}, {"sort_ms", core::median(sort_ms)},
                           {"gpu_sort_ms", core::median(gpu_sort_ms)}, {"frame_wall_ms", core::median(wall)}});
     report.line(format("%u splats at %ux%u, path %s, sort %s, shading per %s, median of %u frames:", count, width, height,
                        render::splat_path_name(used), sort.c_str(), shading_arg.c_str(), repeat));
-    report.line(format("footprint %s, carrier %s, %.1f screens of carrier area", footprint_arg.c_str(), carrier_arg.c_str(), screens));
+    report.line(format("footprint %s, blend %s, carrier %s, %.1f screens of carrier area", footprint_arg.c_str(), opt.text("blend").c_str(),
+                       carrier_arg.c_str(), screens));
     const bool two_passes = sort == "off" && footprint_arg == "gaussian";
-    std::vector<Figure> figures = {{"draw", core::median(draw), two_passes ? "ms GPU (visibility + colour passes)" : "ms GPU (one pass)"}};
+    const char* passes = normalised ? "ms GPU (visibility, sums, resolve)" : two_passes ? "ms GPU (visibility + colour passes)" : "ms GPU (one pass)";
+    std::vector<Figure> figures = {{"draw", core::median(draw), passes}};
     if (sort == "cpu") figures.push_back({"sort", core::median(sort_ms), "ms CPU"});
     if (sort == "gpu") figures.push_back({"sort", core::median(gpu_sort_ms), "ms GPU (cull, radix sort, gather)"});
     figures.push_back({"frame", core::median(wall), "ms wall (upload, draw, readback)"});
