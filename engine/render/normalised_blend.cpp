@@ -1,5 +1,6 @@
 #include "render/normalised_blend.h"
 
+#include "gpu/pipeline.h"
 #include "gpu/rendering.h"
 #include "gpu/vk.h"
 

@@ -8,7 +8,6 @@
 // passes, so the graph places the accumulation image's barriers.
 #include "gpu/device_handle.h"
 #include "gpu/image.h"
-#include "gpu/pipeline.h"
 #include "gpu/sampled_image_set.h"
 #include "render/gpu_use.h"
 
