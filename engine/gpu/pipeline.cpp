@@ -1,5 +1,7 @@
 #include "gpu/pipeline.h"
 
+#include <array>
+
 #include "embedded_shaders.h"
 
 namespace pbdsplat::gpu {
@@ -43,6 +45,8 @@ struct FixedState {
     VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
     VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     VkPipelineColorBlendAttachmentState attachment{};
+    std::array<VkPipelineColorBlendAttachmentState, 4> attachments{};
+    std::array<VkFormat, 4> formats{};
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     VkDynamicState dyn[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
     VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
@@ -74,12 +78,14 @@ struct FixedState {
             attachment.dstColorBlendFactor = attachment.dstAlphaBlendFactor =
                 desc.blend == BlendMode::additive ? VK_BLEND_FACTOR_ONE : VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
         }
-        blend.attachmentCount = 1;
-        blend.pAttachments = &attachment;
+        attachments.fill(attachment);
+        formats.fill(desc.color_format);
+        blend.attachmentCount = desc.color_count;
+        blend.pAttachments = attachments.data();
         dynamic.dynamicStateCount = 2;
         dynamic.pDynamicStates = dyn;
-        rendering.colorAttachmentCount = 1;
-        rendering.pColorAttachmentFormats = &desc.color_format;
+        rendering.colorAttachmentCount = desc.color_count;
+        rendering.pColorAttachmentFormats = formats.data();
         rendering.depthAttachmentFormat = desc.depth_format;
     }
     FixedState(const FixedState&) = delete;
@@ -88,6 +94,7 @@ struct FixedState {
 } // namespace
 
 core::Result<Pipeline> create_graphics_pipeline(const Context& ctx, const GraphicsPipelineDesc& desc) {
+    PBDSPLAT_ASSERT(desc.color_count >= 1 && desc.color_count <= 4, "GraphicsPipelineDesc::color_count: give 1 to 4 attachments");
     std::vector<VkSpecializationMapEntry> spec_entries;
     for (uint32_t i = 0; i < desc.specialization.size(); ++i) spec_entries.push_back({i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)});
     const VkSpecializationInfo spec{uint32_t(spec_entries.size()), spec_entries.data(), desc.specialization.size() * sizeof(uint32_t),

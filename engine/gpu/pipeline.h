@@ -20,6 +20,7 @@ struct GraphicsPipelineDesc {
     std::vector<VkVertexInputAttributeDescription> attributes;
     VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
     VkFormat color_format = VK_FORMAT_R8G8B8A8_UNORM;
+    uint32_t color_count = 1;  // colour attachments, all of color_format, written and blended alike (at most 4)
     VkFormat depth_format = VK_FORMAT_D32_SFLOAT;
     bool depth_test = true;
     bool depth_write = true;

@@ -1,14 +1,26 @@
 #include "gpu/rendering.h"
 
+#include <array>
+
+#include "core/assert.h"
+
 namespace pbdsplat::gpu {
 
 void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, const ColorTarget& color, const DepthTarget& depth) {
-    VkRenderingAttachmentInfo c{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    c.imageView = color.view;
-    c.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    c.loadOp = color.load;
-    c.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    c.clearValue.color = color.clear;
+    begin_rendering(cmd, extent, std::span<const ColorTarget>(&color, 1), depth);
+}
+
+void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, std::span<const ColorTarget> colors, const DepthTarget& depth) {
+    PBDSPLAT_ASSERT(!colors.empty() && colors.size() <= 4, "begin_rendering: give 1 to 4 colour targets");
+    std::array<VkRenderingAttachmentInfo, 4> c{};
+    for (size_t i = 0; i < colors.size(); ++i) {
+        c[i].sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO;
+        c[i].imageView = colors[i].view;
+        c[i].imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        c[i].loadOp = colors[i].load;
+        c[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+        c[i].clearValue.color = colors[i].clear;
+    }
     VkRenderingAttachmentInfo d{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
     d.imageView = depth.view;
     d.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
@@ -18,8 +30,8 @@ void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, const ColorTarget& 
     VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
     info.renderArea = {{0, 0}, extent};
     info.layerCount = 1;
-    info.colorAttachmentCount = 1;
-    info.pColorAttachments = &c;
+    info.colorAttachmentCount = uint32_t(colors.size());
+    info.pColorAttachments = c.data();
     info.pDepthAttachment = depth.view ? &d : nullptr;
     vkCmdBeginRendering(cmd, &info);
     const VkViewport viewport{0.0f, 0.0f, float(extent.width), float(extent.height), 0.0f, 1.0f};

@@ -1,6 +1,8 @@
 #pragma once
-// Dynamic rendering into one colour attachment and, optionally, a depth attachment, with the
+// Dynamic rendering into colour attachments and, optionally, a depth attachment, with the
 // viewport and scissor covering the whole target: how every pass here begins drawing.
+#include <span>
+
 #include "gpu/vk.h"
 
 namespace pbdsplat::gpu {
@@ -21,5 +23,7 @@ struct DepthTarget {
 // The images must be in COLOR_ATTACHMENT_OPTIMAL and DEPTH_ATTACHMENT_OPTIMAL (the frame
 // graph's barriers put them there). The colour is always stored.
 void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, const ColorTarget& color, const DepthTarget& depth = {});
+// Several colour attachments (locations 0, 1, ... in that order; at most 4).
+void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, std::span<const ColorTarget> colors, const DepthTarget& depth = {});
 
 } // namespace pbdsplat::gpu

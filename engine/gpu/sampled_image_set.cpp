@@ -1,9 +1,16 @@
 #include "gpu/sampled_image_set.h"
 
+#include <vector>
+
 namespace pbdsplat::gpu {
 
 core::Result<SampledImageSet> SampledImageSet::create(const Context& ctx, VkImageView view) {
+    return create(ctx, std::span<const VkImageView>(&view, 1));
+}
+
+core::Result<SampledImageSet> SampledImageSet::create(const Context& ctx, std::span<const VkImageView> views) {
     SampledImageSet s;
+    const uint32_t n = uint32_t(views.size());
     VkSamplerCreateInfo sampler_info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     sampler_info.magFilter = sampler_info.minFilter = VK_FILTER_NEAREST;  // one texel per pixel
     sampler_info.addressModeU = sampler_info.addressModeV = sampler_info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
@@ -11,15 +18,16 @@ core::Result<SampledImageSet> SampledImageSet::create(const Context& ctx, VkImag
     PBDSPLAT_VK_TRY(vkCreateSampler(ctx.vk(), &sampler_info, nullptr, &sampler));
     s.sampler_ = Sampler(ctx.vk(), sampler);
 
-    const VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+    std::vector<VkDescriptorSetLayoutBinding> bindings;
+    for (uint32_t i = 0; i < n; ++i) bindings.push_back({i, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr});
     VkDescriptorSetLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    layout_info.bindingCount = 1;
-    layout_info.pBindings = &binding;
+    layout_info.bindingCount = n;
+    layout_info.pBindings = bindings.data();
     VkDescriptorSetLayout layout = VK_NULL_HANDLE;
     PBDSPLAT_VK_TRY(vkCreateDescriptorSetLayout(ctx.vk(), &layout_info, nullptr, &layout));
     s.layout_ = DescriptorSetLayout(ctx.vk(), layout);
 
-    const VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1};
+    const VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, n};
     VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool_info.maxSets = 1;
     pool_info.poolSizeCount = 1;
@@ -33,13 +41,17 @@ core::Result<SampledImageSet> SampledImageSet::create(const Context& ctx, VkImag
     alloc.descriptorSetCount = 1;
     alloc.pSetLayouts = &layout;
     PBDSPLAT_VK_TRY(vkAllocateDescriptorSets(ctx.vk(), &alloc, &s.set_));
-    const VkDescriptorImageInfo image{sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    write.dstSet = s.set_;
-    write.descriptorCount = 1;
-    write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-    write.pImageInfo = &image;
-    vkUpdateDescriptorSets(ctx.vk(), 1, &write, 0, nullptr);
+    std::vector<VkDescriptorImageInfo> images;
+    for (VkImageView view : views) images.push_back({sampler, view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL});
+    std::vector<VkWriteDescriptorSet> writes(n, VkWriteDescriptorSet{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET});
+    for (uint32_t i = 0; i < n; ++i) {
+        writes[i].dstSet = s.set_;
+        writes[i].dstBinding = i;
+        writes[i].descriptorCount = 1;
+        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        writes[i].pImageInfo = &images[i];
+    }
+    vkUpdateDescriptorSets(ctx.vk(), n, writes.data(), 0, nullptr);
     return s;
 }
 

@@ -1,6 +1,9 @@
 #pragma once
-// A descriptor set with one image at binding 0 (combined with a nearest, clamped sampler) for a
-// fragment shader that reads an image another pass wrote or uploaded, texel for texel.
+// A descriptor set with images at bindings 0, 1, ... (each combined with one nearest, clamped
+// sampler) for a fragment shader that reads images another pass wrote or uploaded, texel for
+// texel.
+#include <span>
+
 #include "gpu/context.h"
 #include "gpu/device_handle.h"
 
@@ -10,6 +13,8 @@ class SampledImageSet {
 public:
     // `view` is read in SHADER_READ_ONLY_OPTIMAL layout.
     static core::Result<SampledImageSet> create(const Context& ctx, VkImageView view);
+    // `views[i]` at binding i, each read in SHADER_READ_ONLY_OPTIMAL layout.
+    static core::Result<SampledImageSet> create(const Context& ctx, std::span<const VkImageView> views);
     SampledImageSet() = default;
 
     VkDescriptorSetLayout layout() const { return layout_.get(); }

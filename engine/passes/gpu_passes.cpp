@@ -33,7 +33,8 @@ void GpuPassResources::refresh(const render::SplatRenderer& r) {
     sort_control.buffer = r.sort_control_buffer();
     color.image = r.color_image();
     depth.image = r.depth_image();
-    accumulation.image = r.accumulation_image();
+    accumulation.image = r.accumulation_image(render::SumLayer::seen_side);
+    accumulation_inside.image = r.accumulation_image(render::SumLayer::inside);
 }
 
 graph::GpuUse to_graph(const render::Use& u) { return {u.access.stage, u.access.access, u.layout}; }
@@ -102,12 +103,14 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
         // pass left, then divided and blended over the colour target. Normalised frames are never
         // sorted (the sums do not depend on order), so the records are the uploaded ones.
         const auto accumulation = g.import("accumulation image", &res.accumulation);
-        graph::Handle<graph::GpuImageRef> summed;
+        const auto accumulation_inside = g.import("accumulation image, inside", &res.accumulation_inside);
+        graph::Handle<graph::GpuImageRef> summed, summed_inside;
         g.add_pass("splat accumulate", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
             b.read(input);
             b.read(uploaded, to_graph(records_read));
             b.write(depth_drawn, to_graph(render::uses::depth_attachment));
             summed = b.write(accumulation, to_graph(render::uses::color_attachment));
+            summed_inside = b.write(accumulation_inside, to_graph(render::uses::color_attachment));
             return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
                 GpuFrameInput& in = r.get(input);
                 renderer.accumulate(in.frame, uint32_t(in.records.size()));
@@ -116,6 +119,7 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
         g.add_pass("splat resolve", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
             b.read(input);
             b.read(summed, to_graph(render::uses::accumulation_sampled));
+            b.read(summed_inside, to_graph(render::uses::accumulation_sampled));
             drawn = b.write(drawn, to_graph(render::uses::color_attachment));
             b.side_effect();  // as the splat pass: the colour target is what a frame is for
             return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {

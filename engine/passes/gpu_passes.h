@@ -31,7 +31,9 @@ struct GpuPassResources {
     graph::GpuBufferRef sorted, sort_control;  // with the GPU sort
     graph::GpuImageRef color{VK_NULL_HANDLE, VK_IMAGE_ASPECT_COLOR_BIT};
     graph::GpuImageRef depth{VK_NULL_HANDLE, VK_IMAGE_ASPECT_DEPTH_BIT};
-    graph::GpuImageRef accumulation{VK_NULL_HANDLE, VK_IMAGE_ASPECT_COLOR_BIT};  // with normalised blending
+    // With normalised blending: its sums of the seen side and of the inside.
+    graph::GpuImageRef accumulation{VK_NULL_HANDLE, VK_IMAGE_ASPECT_COLOR_BIT};
+    graph::GpuImageRef accumulation_inside{VK_NULL_HANDLE, VK_IMAGE_ASPECT_COLOR_BIT};
     void refresh(const render::SplatRenderer& r);
 };
 

@@ -9,14 +9,18 @@ namespace pbdsplat::render {
 core::Result<NormalisedBlend> NormalisedBlend::create(gpu::Context& ctx, uint32_t width, uint32_t height, VkFormat target_format) {
     NormalisedBlend n;
     n.extent_ = {width, height};
-    auto image = gpu::Image::create_2d(ctx, width, height, k_accumulation_format,
-                                       VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
-    if (!image.ok()) return image.error();
-    n.accumulation_ = std::move(image).value();
+    VkImageView views[k_sum_layers];
+    for (uint32_t i = 0; i < k_sum_layers; ++i) {
+        auto image = gpu::Image::create_2d(ctx, width, height, k_accumulation_format,
+                                           VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
+        if (!image.ok()) return image.error();
+        n.layers_[i] = std::move(image).value();
+        views[i] = n.layers_[i].view();
+    }
 
-    // One image for every frame in flight, as the colour target: the graph's barriers order the
-    // frames' uses of it.
-    auto sums = gpu::SampledImageSet::create(ctx, n.accumulation_.view());
+    // One set of images for every frame in flight, as the colour target: the graph's barriers
+    // order the frames' uses of them.
+    auto sums = gpu::SampledImageSet::create(ctx, views);
     if (!sums.ok()) return sums.error();
     n.sums_ = std::move(sums).value();
 
@@ -39,8 +43,9 @@ core::Result<NormalisedBlend> NormalisedBlend::create(gpu::Context& ctx, uint32_
 
 void NormalisedBlend::begin_accumulation(VkCommandBuffer cmd, VkImageView depth) const {
     // Nothing reads the depth after the accumulation; its store still counts as a write.
-    gpu::begin_rendering(cmd, extent_, {accumulation_.view(), VK_ATTACHMENT_LOAD_OP_CLEAR, {}},
-                         {depth, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_DONT_CARE});
+    gpu::ColorTarget targets[k_sum_layers];
+    for (uint32_t i = 0; i < k_sum_layers; ++i) targets[i] = {layers_[i].view(), VK_ATTACHMENT_LOAD_OP_CLEAR, {}};
+    gpu::begin_rendering(cmd, extent_, targets, {depth, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_DONT_CARE});
 }
 
 void NormalisedBlend::end_accumulation(VkCommandBuffer cmd) const { vkCmdEndRendering(cmd); }

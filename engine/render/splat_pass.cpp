@@ -2,6 +2,7 @@
 
 #include "core/assert.h"
 #include "gpu/uniform_sets.h"
+#include "render/normalised_blend.h"
 #include "splat/gaussian_record.h"
 
 namespace pbdsplat::render {
@@ -130,6 +131,7 @@ core::Status SplatPass::create_pipelines(const gpu::Context& ctx, gpu::GraphicsP
         gpu::GraphicsPipelineDesc sums = desc;
         sums.stages.back().second = "splat_accumulate.frag";
         sums.color_format = accumulation;
+        sums.color_count = k_sum_layers;
         sums.specialization.resize(8, 0u);
         sums.specialization[7] = 1u;  // k_opaque_surface: what shows is the surface, lit from the seen side
         PBDSPLAT_TRY(make_from(sums, accumulate_));

@@ -122,7 +122,7 @@ public:
     VkImage color_image() const { return target_.color().handle(); }
     VkImage depth_image() const { return target_.depth().handle(); }
     bool has_normalised() const { return splat_.normalised(); }
-    VkImage accumulation_image() const { return has_normalised() ? blend_.accumulation().handle() : VK_NULL_HANDLE; }
+    VkImage accumulation_image(SumLayer layer) const { return has_normalised() ? blend_.accumulation(layer).handle() : VK_NULL_HANDLE; }
     VkBuffer readback_buffer() const { return target_.readback_buffer(frames_.slot()); }
     bool has_gpu_sort() const { return sort_.capacity() > 0; }
     VkBuffer sorted_records_buffer() const { return has_gpu_sort() ? sort_.sorted_records(frames_.slot()) : VK_NULL_HANDLE; }

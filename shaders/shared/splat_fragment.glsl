@@ -28,6 +28,9 @@ layout(location = 2) in vec3 g_normal;
 layout(location = 3) in vec4 g_color;  // rgb: albedo, or the colour shaded at the corners; a: opacity
 
 layout(location = 0) out vec4 out_color;
+#ifdef PBDSPLAT_WEIGHTED_OUTPUT
+layout(location = 1) out vec4 out_inside;  // normalised blending's second layer (normalised_blend.h)
+#endif
 
 // A 4x4 ordered-dither threshold in (0, 1) for this pixel.
 float dither_threshold() {
@@ -63,7 +66,12 @@ void main() {
     // recovers the coverage from the sum), and weighs each splat's colour by how much it covers,
     // falling smoothly to nothing at its rim.
     const float w = -log(1.0 - min(alpha, 0.996));
-    out_color = vec4(color * w, w);
+    // Seen from behind (an open body's inside), the weight goes to the second layer, shared
+    // between the two across the same angles over which splat_lit_normal turns to the seen side.
+    const float behind = -dot(normalize(g_normal), normalize(frame.camera_pos.xyz - g_world));
+    const float inside = k_opaque_surface ? smoothstep(0.15, 0.45, behind) : 0.0;
+    out_color = vec4(color, 1.0) * (w * (1.0 - inside));
+    out_inside = vec4(color, 1.0) * (w * inside);
 #else
     out_color = vec4(color * alpha, alpha);
 #endif

@@ -86,6 +86,19 @@ bool is_background(const uint8_t* px, const Vec4f& bg) {
     return true;
 }
 
+// A camera on +z looking at the origin over black, lit by ambient light alone: a splat's pixel
+// is its albedo times its coverage.
+render::FrameInputs albedo_only_frame() {
+    render::FrameInputs frame;
+    frame.camera.eye = Vec3f(0, 0, 3);
+    frame.background = Vec4f(0, 0, 0, 1);
+    frame.lighting.ambient = Vec3f(1, 1, 1);
+    frame.lighting.environment.sampling = render::EnvSampling::off;
+    frame.lighting.intensity = 0.0f;
+    frame.lighting.specular = 0.0f;
+    return frame;
+}
+
 } // namespace
 
 TEST_SUITE("render/splat") {
@@ -248,13 +261,7 @@ TEST_SUITE("render/splat") {
 
     TEST_CASE("additive blending accumulates where over blending occludes") {
         auto ctx = test::open_validated_context();
-        render::FrameInputs frame;
-        frame.camera.eye = Vec3f(0, 0, 3);
-        frame.background = Vec4f(0, 0, 0, 1);
-        frame.lighting.ambient = Vec3f(1, 1, 1);
-        frame.lighting.environment.sampling = render::EnvSampling::off;
-        frame.lighting.intensity = 0.0f;
-        frame.lighting.specular = 0.0f;
+        render::FrameInputs frame = albedo_only_frame();
         splat::Appearance look;
         look.albedo = Vec3f(0.3f, 0.3f, 0.3f);
         look.scale = 0.1f;
@@ -266,6 +273,32 @@ TEST_SUITE("render/splat") {
         const int over_centre = over.at(32, 32)[0], add_centre = add.at(32, 32)[0];
         CHECK(over_centre == doctest::Approx(0.3 * 255 * 0.982).epsilon(0.05));  // the front splat alone
         CHECK(add_centre > over_centre * 2);                                     // three splats summed
+        test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("normalised blending shows a faint outer surface's colour over an opened body's inside behind it") {
+        // A front splat too faint to write visibility depth (alpha 0.2 < 0.4) facing the camera,
+        // and behind it a nearly opaque splat facing away: an open body's inside seen through a
+        // gap between the outer surface's opaque cores. Averaged by weight, the inside (weight
+        // 5.5 against 0.22) would paint the gap its colour: the dark dots on the open monkey.
+        auto ctx = test::open_validated_context();
+        render::FrameInputs frame = albedo_only_frame();
+        frame.style.footprint = render::Footprint::gaussian;
+        frame.style.blend = render::Blend::normalised;
+        splat::Appearance outer, inside;
+        outer.albedo = Vec3f(0.9f, 0.1f, 0.1f);
+        outer.scale = 0.1f;
+        outer.opacity_logit = std::log(0.2f / 0.8f);
+        inside.albedo = Vec3f(0.1f, 0.1f, 0.9f);
+        inside.scale = 0.1f;
+        inside.opacity_logit = 6.0f;
+        const auto inside_record = splat::make_record(Vec3f(0, 0, -0.1f), Vec3f(0, 0, -1), inside);
+        const auto alone = render_once(*ctx, {inside_record}, frame, 64, 64);
+        CHECK(alone.at(32, 32)[2] > alone.at(32, 32)[0] + 60);  // the inside alone is drawn, blue
+        const auto both = render_once(*ctx, {splat::make_record(Vec3f::Zero(), Vec3f(0, 0, 1), outer), inside_record}, frame, 64, 64);
+        const auto c = both.at(32, 32);
+        CHECK(c[0] > c[2] + 60);  // the outer surface's red decides the colour
+        CHECK(c[0] + c[1] + c[2] > 150);  // at the coverage of both: not a faint veil
         test::require_no_validation_messages(*ctx);
     }
 }
