@@ -2,6 +2,9 @@
 // Math vocabulary of the engine: Eigen's fixed-size types under short names, and the camera
 // matrices in Vulkan's conventions (right-handed view looking down -Z, clip depth in [0, 1],
 // clip-space y pointing down).
+#include <algorithm>
+#include <cmath>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -30,6 +33,13 @@ inline float radians(float degrees) { return degrees * (k_pi / 180.0f); }
 // Logistic sigmoid: maps an opacity logit to [0, 1] (the paper's equation 21).
 inline float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
 inline float logit(float p) { return std::log(p / (1.0f - p)); }
+
+// 0 at e0, 1 at e1 (either order), with zero slope at both ends: GLSL's smoothstep, so CPU
+// models of the shaders match them.
+inline float smoothstep(float e0, float e1, float v) {
+    const float t = std::clamp((v - e0) / (e1 - e0), 0.0f, 1.0f);
+    return t * t * (3.0f - 2.0f * t);
+}
 
 } // namespace math
 } // namespace pbdsplat

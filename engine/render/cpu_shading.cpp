@@ -13,11 +13,6 @@ Vec3f direct_light(const Vec3f& albedo, const Vec3f& n, const Vec3f& t, const Ve
     const float spec = std::pow(std::max(n.dot((l + t).normalized()), 0.0f), shininess);
     return (albedo * nl + Vec3f::Constant(specular * spec)).cwiseProduct(radiance);
 }
-
-float smoothstep(float e0, float e1, float v) {
-    const float t = std::clamp((v - e0) / (e1 - e0), 0.0f, 1.0f);
-    return t * t * (3.0f - 2.0f * t);
-}
 } // namespace
 
 Vec3f shade_cpu(const CpuShading& s, const Vec3f& albedo, const Vec3f& normal, const Vec3f& world) {
@@ -58,7 +53,7 @@ Vec3f shade_cpu(const CpuShading& s, const Vec3f& albedo, const Vec3f& normal, c
             const float fall = std::clamp(1.0f - d / li.range, 0.0f, 1.0f);
             attenuation = fall * fall;
             if (li.type == LightType::spot)
-                attenuation *= smoothstep(std::cos(math::radians(li.outer_degrees)), std::cos(math::radians(li.inner_degrees)),
+                attenuation *= math::smoothstep(std::cos(math::radians(li.outer_degrees)), std::cos(math::radians(li.inner_degrees)),
                                           (-dir).dot(li.direction.normalized()));
         }
         color += direct_light(albedo, n, t, dir, li.color * li.intensity * attenuation, l.specular, l.shininess);

@@ -36,13 +36,6 @@ Vec3f sample_nearest(const EnvironmentMap& m, const Vec3f& d) {
     return m.texel(x, y);
 }
 
-namespace {
-// 0 at e0, 1 at e1 (either order), with zero slope at both ends.
-float smoothstep(float e0, float e1, float v) {
-    const float t = std::clamp((v - e0) / (e1 - e0), 0.0f, 1.0f);
-    return t * t * (3.0f - 2.0f * t);
-}
-} // namespace
 
 EnvironmentMap procedural_studio(const Vec3f& key, uint32_t width, uint32_t height) {
     EnvironmentMap m;
@@ -60,10 +53,10 @@ EnvironmentMap procedural_studio(const Vec3f& key, uint32_t width, uint32_t heig
         for (uint32_t x = 0; x < width; ++x) {
             const Vec3f d = equirect_direction(m, float(x) + 0.5f, float(y) + 0.5f);
             // Walls to floor, and the overhead strip, with soft edges (see the sky).
-            Vec3f c = Vec3f(0.05f, 0.05f, 0.06f) + smoothstep(0.1f, -0.2f, d.y()) * Vec3f(0.04f, 0.03f, 0.01f);
+            Vec3f c = Vec3f(0.05f, 0.05f, 0.06f) + math::smoothstep(0.1f, -0.2f, d.y()) * Vec3f(0.04f, 0.03f, 0.01f);
             c += box(d, k, 0.93f, 0.88f) * Vec3f(3.0f, 2.9f, 2.7f);
             c += box(d, fill, 0.95f, 0.90f) * Vec3f(0.9f, 1.0f, 1.2f);
-            c += smoothstep(0.8f, 0.9f, d.y()) * smoothstep(0.25f, 0.15f, std::abs(d.x())) * Vec3f(1.6f, 1.6f, 1.6f);
+            c += math::smoothstep(0.8f, 0.9f, d.y()) * math::smoothstep(0.25f, 0.15f, std::abs(d.x())) * Vec3f(1.6f, 1.6f, 1.6f);
             float* p = &m.rgba[(size_t(y) * width + x) * 4];
             p[0] = c.x(), p[1] = c.y(), p[2] = c.z(), p[3] = 1.0f;
         }
@@ -86,7 +79,7 @@ EnvironmentMap procedural_sky(const Vec3f& sun, uint32_t width, uint32_t height)
             const Vec3f d = equirect_direction(m, float(x) + 0.5f, float(y) + 0.5f);
             // Smooth bands with no kink at the horizon: the position-based lookup maps the sky
             // onto a body by direction from its centre, and a kink draws a hard line across it.
-            const float to_ground = smoothstep(0.05f, -0.45f, d.y()), to_zenith = smoothstep(-0.05f, 0.8f, d.y());
+            const float to_ground = math::smoothstep(0.05f, -0.45f, d.y()), to_zenith = math::smoothstep(-0.05f, 0.8f, d.y());
             Vec3f c = horizon + (ground - horizon) * to_ground + (zenith - horizon) * to_zenith;
             const float glow = std::pow(std::max(0.0f, d.dot(s)), 64.0f);
             c += glow * Vec3f(2.4f, 2.0f, 1.5f);

@@ -22,7 +22,6 @@ using namespace pbdsplat;
 
 namespace {
 
-sim::SoftBody body_of(mesh::TriangleMesh m, sim::SoftBodyDesc d = {}) { return test::make_body(std::move(m), d); }
 using test::total_mass;
 
 double kinetic_energy(const sim::SoftBody& b) {
@@ -84,7 +83,7 @@ TEST_SUITE("stress/solver") {
     TEST_CASE("time steps up to 1/15 s: a balloon on the ground stays finite, bounded and near its volume") {
         for (const float dt : {1.0f / 240.0f, 1.0f / 60.0f, 1.0f / 30.0f, 1.0f / 15.0f}) {
             CAPTURE(dt);
-            auto b = body_of(mesh::icosphere(3));
+            auto b = test::make_body(mesh::icosphere(3));
             sim::Colliders c;
             c.ground = sim::GroundPlane{Vec3f(0, 1, 0), -1.05f};
             sim::SolverSettings s;
@@ -103,7 +102,7 @@ TEST_SUITE("stress/solver") {
             sim::SoftBodyDesc d;
             d.stretch_compliance = 0.0f;
             d.volume_compliance = 0.0f;
-            auto b = body_of(mesh::icosphere(3), d);
+            auto b = test::make_body(mesh::icosphere(3), d);
             std::mt19937 rng(5);
             std::uniform_real_distribution<float> u(-2.0f, 2.0f);
             for (auto& v : b.particles.v) v = Vec4f(u(rng), u(rng), u(rng), 0.0f);
@@ -126,7 +125,7 @@ TEST_SUITE("stress/solver") {
     TEST_CASE("pressure factors from 0.05 to 20: finite, monotonic, and at k V0 within 2 %") {
         double previous = 0.0;
         for (const float k : {0.05f, 0.3f, 1.0f, 5.0f, 20.0f}) {
-            auto b = body_of(mesh::icosphere(3));
+            auto b = test::make_body(mesh::icosphere(3));
             b.volumes[0].pressure = k;
             sim::SolverSettings s;
             s.gravity = Vec3f::Zero();
@@ -146,7 +145,7 @@ TEST_SUITE("stress/solver") {
     TEST_CASE("1 to 100 iterations: finite, and the volume error does not grow with more iterations") {
         double error_at_1 = 0.0;
         for (const uint32_t iterations : {1u, 2u, 10u, 100u}) {
-            auto b = body_of(mesh::icosphere(3));
+            auto b = test::make_body(mesh::icosphere(3));
             b.volumes[0].pressure = 0.6f;
             sim::SolverSettings s;
             s.gravity = Vec3f::Zero();
@@ -161,7 +160,7 @@ TEST_SUITE("stress/solver") {
     }
 
     TEST_CASE("conflicting pins: two pins pulled apart past the rest shape, a drag against a pin") {
-        auto b = body_of(mesh::icosphere(3));
+        auto b = test::make_body(mesh::icosphere(3));
         b.pin(0);
         b.pin(1);
         b.particles.x[1] += Vec4f(3.0f, 0.0f, 0.0f, 0.0f);  // far beyond what the edges allow
@@ -179,7 +178,7 @@ TEST_SUITE("stress/solver") {
     }
 
     TEST_CASE("a start state crushed flat, or turned inside out, stays finite; the flat one re-inflates") {
-        auto flat = body_of(mesh::icosphere(3));
+        auto flat = test::make_body(mesh::icosphere(3));
         for (size_t i = 0; i < flat.particle_count(); ++i) {
             flat.particles.x[i].y() *= 1e-3f;
             flat.particles.x_prev[i] = flat.particles.x[i];
@@ -190,7 +189,7 @@ TEST_SUITE("stress/solver") {
         MESSAGE("crushed flat, after " << 2 * k_frames << " frames: volume " << volume_ratio(flat) << " V0");
         CHECK(volume_ratio(flat) > 0.8);
 
-        auto inverted = body_of(mesh::icosphere(3));
+        auto inverted = test::make_body(mesh::icosphere(3));
         for (size_t i = 0; i < inverted.particle_count(); ++i) {
             inverted.particles.x[i].x() *= -1.0f;  // a mirror: every triangle's orientation flips
             inverted.particles.x_prev[i] = inverted.particles.x[i];
@@ -201,7 +200,7 @@ TEST_SUITE("stress/solver") {
 
     TEST_CASE("models scaled by 1e-4 and 1e4 behave as the unit one, in proportion") {
         for (const float scale : {1e-4f, 1.0f, 1e4f}) {
-            auto b = body_of(mesh::icosphere(3, scale));
+            auto b = test::make_body(mesh::icosphere(3, scale));
             b.volumes[0].pressure = 0.7f;
             sim::SolverSettings s;
             s.gravity = Vec3f::Zero();
@@ -214,7 +213,7 @@ TEST_SUITE("stress/solver") {
 
 TEST_SUITE("stress/topology") {
     TEST_CASE("random cuts through a simulated, pressurised body keep every invariant and the mass") {
-        auto b = body_of(mesh::icosphere(4));
+        auto b = test::make_body(mesh::icosphere(4));
         const double mass = total_mass(b);
         std::mt19937 rng(11);
         std::uniform_real_distribution<float> u(-1.0f, 1.0f);
@@ -251,7 +250,7 @@ TEST_SUITE("stress/topology") {
     }
 
     TEST_CASE("a tearing cascade (inflated far past what the edges hold) keeps every invariant") {
-        auto b = body_of(mesh::icosphere(3));
+        auto b = test::make_body(mesh::icosphere(3));
         b.volumes[0].pressure = 8.0f;
         sim::Solver solver;
         sim::SolverSettings s;

@@ -19,7 +19,6 @@
 using namespace pbdsplat;
 
 namespace {
-sim::SoftBody body_of(mesh::TriangleMesh m, sim::SoftBodyDesc d = {}) { return test::make_body(std::move(m), d); }
 using test::total_mass;
 double total_volume(const sim::SoftBody& b) {
     double v = 0.0;
@@ -50,7 +49,7 @@ void require_invariants(const sim::SoftBody& b) {
 
 TEST_SUITE("topology/cut") {
     TEST_CASE("a plane cuts an icosphere in two capped halves whose volumes sum to the original") {
-        sim::SoftBody b = body_of(mesh::icosphere(3));
+        sim::SoftBody b = test::make_body(mesh::icosphere(3));
         const double volume = total_volume(b), mass = total_mass(b);
         const size_t n = b.particle_count();
         // Off-centre and tilted, so it crosses edges rather than following them.
@@ -84,7 +83,7 @@ TEST_SUITE("topology/cut") {
 
     TEST_CASE("the volume policies: burst releases the pressure, rebase keeps the volume of the moment") {
         for (topology::VolumePolicy policy : {topology::VolumePolicy::burst, topology::VolumePolicy::rebase}) {
-            sim::SoftBody b = body_of(mesh::icosphere(3));
+            sim::SoftBody b = test::make_body(mesh::icosphere(3));
             // Squash the body first so its volume differs from the rest volume.
             for (auto& x : b.particles.x) x.y() *= 0.8f;
             const double squashed = total_volume(b);
@@ -110,7 +109,7 @@ TEST_SUITE("topology/cut") {
 
     TEST_CASE("a cut exactly through vertices and along existing edges duplicates them without new particles") {
         // The sheet's vertices at x = 0 form a column of its edges; the box's form a ring.
-        sim::SoftBody sheet = body_of(mesh::grid_sheet(8, 2.0f), {.volume = false});
+        sim::SoftBody sheet = test::make_body(mesh::grid_sheet(8, 2.0f), {.volume = false});
         auto change = topology::cut(sheet, plane(Vec3f::Zero(), Vec3f::UnitX()));
         REQUIRE(change.ok());
         require_invariants(sheet);
@@ -118,7 +117,7 @@ TEST_SUITE("topology/cut") {
         CHECK(change->duplicated_vertices == 9);  // the whole column, its two boundary ends included
         CHECK(change->components_after == 2);
 
-        sim::SoftBody box = body_of(mesh::box(Vec3f(1.0f, 1.0f, 1.0f), 4));
+        sim::SoftBody box = test::make_body(mesh::box(Vec3f(1.0f, 1.0f, 1.0f), 4));
         size_t on_plane = 0;
         for (const auto& x : box.particles.x) on_plane += x.x() == 0.0f ? 1 : 0;
         REQUIRE(on_plane >= 16);
@@ -131,7 +130,7 @@ TEST_SUITE("topology/cut") {
     }
 
     TEST_CASE("a partial cut opens a slit and stops at its last crossed edge") {
-        sim::SoftBody b = body_of(mesh::icosphere(3));
+        sim::SoftBody b = test::make_body(mesh::icosphere(3));
         topology::CutSurface s = plane(Vec3f::Zero(), Vec3f(1.0f, 0.0f, 0.2f));
         s.inside = [](const Vec3f& x) { return x.y() > 0.3f; };  // only the cap above y = 0.3
         auto change = topology::cut(b, s);
@@ -150,7 +149,7 @@ TEST_SUITE("topology/cut") {
     }
 
     TEST_CASE("a slit in a large body is settled around it: no whole-piece search, the target as a full sum gives") {
-        sim::SoftBody b = body_of(mesh::icosphere(5));
+        sim::SoftBody b = test::make_body(mesh::icosphere(5));
         sim::Solver solver;
         sim::SolverSettings s;
         s.gravity = Vec3f::Zero();
@@ -183,7 +182,7 @@ TEST_SUITE("topology/cut") {
     }
 
     TEST_CASE("a flake cut off a large body is found locally, labelled apart, and the rest keeps its air") {
-        sim::SoftBody b = body_of(mesh::icosphere(5));
+        sim::SoftBody b = test::make_body(mesh::icosphere(5));
         const uint32_t pole = b.extreme_particle(1);
         const Vec3f top = sim::xyz(b.particles.x[pole]);
         // A plane just under the pole: a small cap comes off.
@@ -202,7 +201,7 @@ TEST_SUITE("topology/cut") {
     }
 
     TEST_CASE("a large body cut in halves: one half explored, the other keeps its label and its air unexplored") {
-        sim::SoftBody b = body_of(mesh::icosphere(5));
+        sim::SoftBody b = test::make_body(mesh::icosphere(5));
         sim::Solver solver;
         sim::SolverSettings s;
         s.gravity = Vec3f::Zero();
@@ -235,7 +234,7 @@ TEST_SUITE("topology/cut") {
     }
 
     TEST_CASE("a cut that misses the body changes nothing") {
-        sim::SoftBody b = body_of(mesh::icosphere(2));
+        sim::SoftBody b = test::make_body(mesh::icosphere(2));
         const size_t n = b.particle_count(), t = b.triangles.size();
         auto change = topology::cut(b, plane(Vec3f(5.0f, 0.0f, 0.0f), Vec3f::UnitX()));
         REQUIRE(change.ok());
@@ -245,7 +244,7 @@ TEST_SUITE("topology/cut") {
     }
 
     TEST_CASE("cut, then cut the pieces again") {
-        sim::SoftBody b = body_of(mesh::icosphere(3));
+        sim::SoftBody b = test::make_body(mesh::icosphere(3));
         const double volume = total_volume(b);
         REQUIRE(topology::cut(b, plane(Vec3f(0.03f, 0.0f, 0.0f), Vec3f(1.0f, 0.05f, 0.0f))).ok());
         auto second = topology::cut(b, plane(Vec3f(0.0f, -0.04f, 0.0f), Vec3f(0.02f, 1.0f, 0.1f)));
@@ -262,7 +261,7 @@ TEST_SUITE("topology/cut") {
     }
 
     TEST_CASE("an open sheet cut across splits into two strips; a pinned row stays pinned") {
-        sim::SoftBody b = body_of(mesh::grid_sheet(16), {.volume = false});
+        sim::SoftBody b = test::make_body(mesh::grid_sheet(16), {.volume = false});
         const uint32_t top = b.extreme_particle(1);
         b.pin(top);
         auto change = topology::cut(b, plane(Vec3f(0.013f, 0.0f, 0.0f), Vec3f::UnitX()));
@@ -274,7 +273,7 @@ TEST_SUITE("topology/cut") {
     }
 
     TEST_CASE("bad input is refused with a reason") {
-        sim::SoftBody b = body_of(mesh::icosphere(1));
+        sim::SoftBody b = test::make_body(mesh::icosphere(1));
         topology::CutSurface s;
         s.normal = Vec3f(std::nanf(""), 0.0f, 0.0f);
         CHECK_FALSE(topology::cut(b, s).ok());
@@ -299,7 +298,7 @@ TEST_SUITE("topology/cut") {
         }
         auto m = mesh::load_mesh_spec(spec);
         REQUIRE_MESSAGE(m.ok(), m.error().to_string());
-        sim::SoftBody b = body_of(std::move(m).value().mesh);
+        sim::SoftBody b = test::make_body(std::move(m).value().mesh);
         const double mass = total_mass(b);
         std::mt19937 rng(7);
         std::uniform_real_distribution<float> u(-1.0f, 1.0f);
@@ -352,7 +351,7 @@ TEST_SUITE("topology/cut") {
         // re-cut generation after generation. Without the corner rule in topology/cut.cpp, cut
         // 104 of these leaves a triangle of 7.5e-5 of the mean area (checked by disabling it);
         // with it, 400 cuts keep every triangle above 2.4e-4.
-        sim::SoftBody b = body_of(mesh::icosphere(3));
+        sim::SoftBody b = test::make_body(mesh::icosphere(3));
         const Vec3f centre = sim::xyz(b.particles.x[0]);
         const float edge = b.distance.front().rest;
         std::mt19937 rng(5);
@@ -382,7 +381,7 @@ TEST_SUITE("topology/cut") {
 
     TEST_CASE("a scripted cut sequence is deterministic") {
         auto run = [] {
-            sim::SoftBody b = body_of(mesh::icosphere(3));
+            sim::SoftBody b = test::make_body(mesh::icosphere(3));
             sim::Solver solver;
             sim::SolverSettings s;
             for (int f = 0; f < 40; ++f) {
