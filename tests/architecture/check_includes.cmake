@@ -51,7 +51,7 @@ endforeach()
 set(tools_allowed "core;gpu;graph;render;passes;splat;scene")
 set(tools_extra_bench_cut "mesh;sim;topology")
 set(tools_extra_bench_sim "mesh;sim")
-set(tools_extra_sim_baseline "mesh")  # the yardstick loop bench sim --baseline runs
+set(tools_extra_sim_baseline "mesh;sim")  # the yardstick loops bench sim --baseline runs (sim/vec4_ops.h)
 set(tools_extra_bench_sim_error "mesh;sim;topology")
 set(tools_extra_bench_surface "mesh;sim;surface")
 set(tools_extra_splat_sphere "mesh")  # the test sphere the render benches draw

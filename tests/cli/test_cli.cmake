@@ -191,6 +191,15 @@ if(NOT particles EQUAL 162)
   message(SEND_ERROR "bench sim: icosphere:2 should have 162 particles, got ${particles}")
   math(EXPR failures "${failures} + 1")
 endif()
+# --baseline: both hand-written loops run the engine's workload, so after three frames their
+# bodies lie where the engine's does (about 1e-3 of its size apart: the order of their sweeps;
+# a hanging body swings, so the orders' difference grows over later frames), and each ratio is
+# reported.
+expect("bench sim --baseline" 0 bench sim --mesh icosphere:3 --frames 3 --warmup 0 --baseline --json)
+expect_json_range("bench sim --baseline" 0.01 1000 baseline ratio)
+expect_json_range("bench sim --baseline" 0.01 1000 baseline tuned_ratio)
+expect_json_range("bench sim --baseline" 0 0.003 baseline plain_apart_per_size)
+expect_json_range("bench sim --baseline" 0 0.003 baseline tuned_apart_per_size)
 expect("bench sim: missing model" 1 bench sim --mesh no-such-model.obj)
 expect_contains("bench sim: missing model" "${last_err}" "no-such-model.obj: no such file")
 expect("bench sim: bad mode" 2 bench sim --mode fast)
