@@ -59,7 +59,8 @@ void main() {
         alpha = min(g_color.a * exp(-0.5 * r2), 1.0);
         if (alpha < k_alpha_floor) discard;
     }
-    const vec3 n = splat_lit_normal(normalize(g_normal), g_world, k_footprint == SPLAT_FOOTPRINT_PAPER, k_opaque_surface);
+    const vec3 facing = normalize(g_normal);
+    const vec3 n = splat_lit_normal(facing, g_world, k_footprint == SPLAT_FOOTPRINT_PAPER, k_opaque_surface);
     const vec3 color = k_shade_per_corner ? g_color.rgb : shade(g_color.rgb, n, g_world);
 #ifdef PBDSPLAT_WEIGHTED_OUTPUT
     // Normalised blending's weight: -ln(1 - alpha) adds up like a log transmittance (the resolve
@@ -68,7 +69,7 @@ void main() {
     const float w = -log(1.0 - min(alpha, 0.996));
     // Seen from behind (an open body's inside), the weight goes to the second layer, shared
     // between the two across the same angles over which splat_lit_normal turns to the seen side.
-    const float behind = -dot(normalize(g_normal), normalize(frame.camera_pos.xyz - g_world));
+    const float behind = -dot(facing, normalize(frame.camera_pos.xyz - g_world));
     const float inside = k_opaque_surface ? smoothstep(0.15, 0.45, behind) : 0.0;
     out_color = vec4(color, 1.0) * (w * (1.0 - inside));
     out_inside = vec4(color, 1.0) * (w * inside);

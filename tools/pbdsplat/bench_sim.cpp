@@ -85,13 +85,14 @@ Outcome measure(const Options& opt) {
         const double up = clock.elapsed_ms();
         if (f < warmup) continue;
         if (with_baseline) {
-            // Alternated frame for frame, so the machine's drift falls on both alike.
-            const core::Stopwatch base_clock;
-            for (uint32_t k = 0; k < settings.substeps; ++k) baseline.step(1.0f / 60.0f / float(settings.substeps));
-            baseline_step.push_back(base_clock.elapsed_ms());
-            const core::Stopwatch tuned_clock;
-            for (uint32_t k = 0; k < settings.substeps; ++k) tuned.step(1.0f / 60.0f / float(settings.substeps));
-            tuned_step.push_back(tuned_clock.elapsed_ms());
+            // Alternated frame for frame, so the machine's drift falls on all three alike.
+            const auto time_frame = [&](SimBaseline& loop, std::vector<double>& ms) {
+                const core::Stopwatch loop_clock;
+                for (uint32_t k = 0; k < settings.substeps; ++k) loop.step(1.0f / 60.0f / float(settings.substeps));
+                ms.push_back(loop_clock.elapsed_ms());
+            };
+            time_frame(baseline, baseline_step);
+            time_frame(tuned, tuned_step);
         }
         engine_step.push_back(t.total());
         total.push_back(t.total() + up);

@@ -74,23 +74,26 @@ SimBaseline::SimBaseline(const mesh::TriangleMesh& m, uint32_t pinned, const Set
     for (size_t i = 0; i < n; ++i) w_[i] = mass[i] > 0.0 ? float(total / mass[i]) : 0.0f;  // total mass 1
     if (pinned < n) w_[pinned] = 0.0f;
     for (const mesh::Edge& e : mesh::unique_edges(m)) edges_.push_back({e.a, e.b, (m.positions[e.a] - m.positions[e.b]).norm()});
-    if (s_.tuned) {
-        std::erase_if(edges_, [&](const Edge& e) { return w_[e.i] + w_[e.j] == 0.0f; });
-        for (Edge& e : edges_) {
-            const float wsum = w_[e.i] + w_[e.j];
-            e.share_i = w_[e.i] / wsum, e.share_j = w_[e.j] / wsum;
-        }
-        edges_ = interleave(edges_);
-        ring_start_.assign(n + 1, 0);
-        for (const auto& t : triangles_)
-            for (uint32_t v : t) ++ring_start_[v + 1];
-        for (size_t i = 0; i < n; ++i) ring_start_[i + 1] += ring_start_[i];
-        ring_.resize(ring_start_[n]);
-        std::vector<uint32_t> fill(ring_start_.begin(), ring_start_.end() - 1);
-        for (const auto& t : triangles_)
-            for (int k = 0; k < 3; ++k) ring_[fill[t[k]]++] = {t[(k + 1) % 3], t[(k + 2) % 3]};
-    }
+    if (s_.tuned) prepare_tuned();
     for (const auto& t : triangles_) rest_volume_ += double(x_[t[0]].dot(cross4(x_[t[1]], x_[t[2]]))) / 6.0;
+}
+
+void SimBaseline::prepare_tuned() {
+    std::erase_if(edges_, [&](const Edge& e) { return w_[e.i] + w_[e.j] == 0.0f; });
+    for (Edge& e : edges_) {
+        const float wsum = w_[e.i] + w_[e.j];
+        e.share_i = w_[e.i] / wsum, e.share_j = w_[e.j] / wsum;
+    }
+    edges_ = interleave(edges_);
+    const size_t n = x_.size();
+    ring_start_.assign(n + 1, 0);
+    for (const auto& t : triangles_)
+        for (uint32_t v : t) ++ring_start_[v + 1];
+    for (size_t i = 0; i < n; ++i) ring_start_[i + 1] += ring_start_[i];
+    ring_.resize(ring_start_[n]);
+    std::vector<uint32_t> fill(ring_start_.begin(), ring_start_.end() - 1);
+    for (const auto& t : triangles_)
+        for (int k = 0; k < 3; ++k) ring_[fill[t[k]]++] = {t[(k + 1) % 3], t[(k + 2) % 3]};
 }
 
 void SimBaseline::step(float dt) {
@@ -115,22 +118,27 @@ void SimBaseline::step(float dt) {
         v_[i] = w_[i] > 0.0f ? Vec4f((p_[i] - x_[i]) * inv) : Vec4f::Zero();
         x_[i] = p_[i];
     }
-    if (s_.tuned) {
-        // Gathered from the ring: the sum of the incident faces' area vectors.
-        for (size_t i = 0; i < n; ++i) {
-            Vec4f f = Vec4f::Zero();
-            for (uint32_t r = ring_start_[i]; r < ring_start_[i + 1]; ++r)
-                f += sim::cross3<float>(x_[ring_[r].first] - x_[i], x_[ring_[r].second] - x_[i]);
-            n_[i] = f.head<3>().normalized();
-        }
-        return;
-    }
+    if (s_.tuned) update_normals_tuned();
+    else update_normals_plain();
+}
+
+void SimBaseline::update_normals_plain() {
     std::fill(n_.begin(), n_.end(), Vec3f::Zero());
     for (const auto& t : triangles_) {
         const Vec4f f = cross4(x_[t[1]] - x_[t[0]], x_[t[2]] - x_[t[0]]);
         for (uint32_t v : t) n_[v] += f.head<3>();
     }
     for (Vec3f& nv : n_) nv.normalize();
+}
+
+void SimBaseline::update_normals_tuned() {
+    // Gathered from the ring: the sum of the incident faces' area vectors.
+    for (size_t i = 0; i < x_.size(); ++i) {
+        Vec4f f = Vec4f::Zero();
+        for (uint32_t r = ring_start_[i]; r < ring_start_[i + 1]; ++r)
+            f += sim::cross3<float>(x_[ring_[r].first] - x_[i], x_[ring_[r].second] - x_[i]);
+        n_[i] = f.head<3>().normalized();
+    }
 }
 
 void SimBaseline::project_volume_plain(float kv) {

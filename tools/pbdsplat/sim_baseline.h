@@ -45,10 +45,13 @@ private:
         float rest;
         float share_i = 0.0f, share_j = 0.0f;  // w_i / (w_i + w_j), w_j / (w_i + w_j): tuned only
     };
+    void prepare_tuned();  // the tuned loop's edge order, mass shares and rings
     void project_edges_plain(float ks);
     void project_edges_tuned(float ks);
     void project_volume_plain(float kv);
     void project_volume_tuned(float kv);
+    void update_normals_plain();
+    void update_normals_tuned();
     Settings s_;
     std::vector<Vec4f> x_, p_, v_, grad_;
     std::vector<Vec3f> n_;
