@@ -9,39 +9,102 @@ namespace pbdsplat::topology {
 namespace {
 Vec3d at(const sim::SoftBody& b, uint32_t i) { return b.particles.x[i].head<3>().cast<double>(); }
 
-// Calls f(a, e1, e2) (first corner and the two edges from it) for the triangles whose first
-// corner is v: over a part's particles, each of its triangles once.
+// Calls f(a, b, c) (a triangle's corners, in its winding) for each triangle of v's ring whose
+// lowest-numbered corner is v: over a part's particles, each of its triangles once. The ring
+// holds each triangle's other two corners in winding order, so the search, which reads the
+// ring anyway, reads no triangle list.
 template <class F>
 void for_triangles_at(const sim::SoftBody& b, uint32_t v, F&& f) {
-    for (uint32_t i : b.rings.triangles.of(v)) {
-        const mesh::Triangle& t = b.triangles[i];
-        if (t[0] != v) continue;
-        const Vec3d a = at(b, t[0]);
-        f(a, Vec3d(at(b, t[1]) - a), Vec3d(at(b, t[2]) - a));
+    for (const auto& [j, k] : b.rings.ring.of(v)) {
+        if (j < v || k < v) continue;
+        f(at(b, v), at(b, j), at(b, k));
     }
 }
 
-// A part's sums over its triangles (a Part, or sums kept apart and added to one later).
-struct TriangleSums {
-    double six_v = 0.0, area_bound = 0.0;
-    size_t triangles = 0;
-};
-template <class Sums>
-void add_triangles_at(const sim::SoftBody& b, uint32_t v, Sums& sums) {
-    for_triangles_at(b, v, [&](const Vec3d& a, const Vec3d& e1, const Vec3d& e2) {
-        sums.six_v += a.dot((a + e1).cross(a + e2));
-        sums.area_bound += 0.25 * (e1.squaredNorm() + e2.squaredNorm());
+// Adds v's share of a part's triangles to its sums.
+void add_triangles_at(const sim::SoftBody& b, uint32_t v, Part& sums) {
+    for_triangles_at(b, v, [&](const Vec3d& a, const Vec3d& p, const Vec3d& q) {
+        sums.six_v += a.dot(p.cross(q));
+        sums.area_bound += 0.25 * ((p - a).squaredNorm() + (q - a).squaredNorm());
         ++sums.triangles;
     });
 }
 
+// A piece's parts by one union-find pass over its triangles in memory order, for an edit whose
+// searches outgrew their budget (two large parts, as a cut through the middle makes). A search
+// hops across memory and waits on a cache miss per particle; this pass streams the triangle
+// list and keeps its work in a per-particle array that stays in cache, so it reads the whole
+// piece several times faster than a search reads half of it. The largest part is the rest:
+// it keeps the label and, like a search's unexplored rest, stays unsummed (`complete` false)
+// unless `sum_rest` (the piece has no solver measure to take its volume from).
+std::vector<Part> sweep_parts(const sim::SoftBody& b, uint32_t piece, bool sum_rest, std::vector<uint32_t>& up, size_t& searched) {
+    const std::vector<uint32_t>& label = b.piece_of_particle;
+    const uint32_t n = uint32_t(b.particle_count());
+    up.resize(n);
+    for (uint32_t v = 0; v < n; ++v) up[v] = v;
+    auto find = [&](uint32_t s) {
+        while (up[s] != s) s = up[s] = up[up[s]];
+        return s;
+    };
+    // Roots are the lowest particle of their part, so a pass in index order meets each root first.
+    auto link = [&](uint32_t a, uint32_t c) {
+        if (a == c) return a;
+        if (a > c) std::swap(a, c);
+        up[c] = a;
+        return a;
+    };
+    for (const mesh::Triangle& t : b.triangles)
+        if (label[t[0]] == piece) link(link(find(t[0]), find(t[1])), find(t[2]));
+    std::vector<uint32_t> roots;  // ascending
+    std::vector<size_t> counts;
+    size_t cached = 0;  // the part of the previous particle: neighbours in memory are mostly one part
+    auto part_of = [&](uint32_t root) {
+        if (roots[cached] != root) cached = size_t(std::lower_bound(roots.begin(), roots.end(), root) - roots.begin());
+        return cached;
+    };
+    for (uint32_t v = 0; v < n; ++v) {
+        if (label[v] != piece) continue;
+        const uint32_t r = up[v] == v ? v : (up[v] = find(up[v]));
+        if (r == v) roots.push_back(v), counts.push_back(0);
+        ++counts[part_of(r)];
+        ++searched;
+    }
+    std::vector<Part> parts(roots.size());
+    if (parts.size() < 2) {  // the searches all met, beyond the region they saw
+        parts.front().complete = false;
+        return parts;
+    }
+    const size_t rest = size_t(std::max_element(counts.begin(), counts.end()) - counts.begin());
+    const size_t skipped = sum_rest ? parts.size() : rest;
+    if (!sum_rest) parts[rest].complete = false;
+    for (size_t k = 0; k < parts.size(); ++k)
+        if (k != skipped) parts[k].particles.reserve(counts[k]);
+    for (uint32_t v = 0; v < n; ++v)
+        if (label[v] == piece)
+            if (const size_t k = part_of(up[v]); k != skipped) parts[k].particles.push_back(v);
+    for (const mesh::Triangle& t : b.triangles) {
+        if (label[t[0]] != piece) continue;
+        const size_t k = part_of(up[t[0]]);
+        if (k == skipped) continue;
+        const Vec3d a = at(b, t[0]), p = at(b, t[1]), q = at(b, t[2]);
+        Part& part = parts[k];
+        part.six_v += a.dot(p.cross(q));
+        part.area_bound += 0.25 * ((p - a).squaredNorm() + (q - a).squaredNorm());
+        ++part.triangles;
+    }
+    // The rest first, then the parts cut off, largest first.
+    std::swap(parts[0], parts[rest]);
+    std::stable_sort(parts.begin() + 1, parts.end(), [](const Part& x, const Part& y) { return x.particles.size() > y.particles.size(); });
+    return parts;
+}
+
 // The searches of one piece from its seeds at once (see split_pieces): breadth first over all
-// of them while the search is small, then one group at a time.
+// of them while the search is small, then a sweep of the whole piece.
 class PieceSearch {
 public:
-    PieceSearch(const sim::SoftBody& b, std::vector<uint32_t>& owner) : b_(b), owner_(owner) {}
+    PieceSearch(const sim::SoftBody& b, std::vector<uint32_t>& owner, std::vector<uint32_t>& sweep) : b_(b), owner_(owner), sweep_(sweep) {}
 
-    std::vector<Part> run(std::span<const uint32_t> seeds, size_t budget, bool& went_deep, size_t& searched, std::vector<uint32_t>& written) {
+    std::vector<Part> run(uint32_t piece, bool sum_rest, std::span<const uint32_t> seeds, size_t budget, bool& went_deep, size_t& searched, std::vector<uint32_t>& written) {
         for (uint32_t v : seeds) {
             if (owner_[v] != k_unseen) continue;
             owner_[v] = uint32_t(parent_.size());
@@ -53,14 +116,12 @@ public:
         }
         // Breadth first: searches that meet merge, and a small part cut off closes early.
         while (roots_ > 1 && open_ > 1 && visited_.size() <= budget) visit(head_++);
-        // Past the budget (two large parts, as a cut through the middle makes): one open group
-        // at a time, the smallest so far, to its end or until it meets another. When all but
-        // one have closed, the last is the rest and stays unexplored: the cut pays for the parts
-        // cut off, not for the piece (half a sphere cut in two, not all of it).
-        went_deep = roots_ > 1 && open_ > 1;
-        if (went_deep) deep();
         searched += visited_.size();
         written.insert(written.end(), visited_.begin(), visited_.end());
+        // Past the budget (two large parts, as a cut through the middle makes) the piece is
+        // swept whole: see sweep_parts.
+        went_deep = roots_ > 1 && open_ > 1;
+        if (went_deep) return sweep_parts(b_, piece, sum_rest, sweep_, searched);
         return parts();
     }
 
@@ -71,21 +132,21 @@ private:
         return s;
     }
     // Expands the particle at position `at` of the search; new particles join its group.
-    // `joined` receives the positions of particles new to the search.
-    template <class Joined>
-    void expand(size_t at, Joined&& joined) {
+    void visit(size_t at) {
         const uint32_t v = visited_[at];
-        const uint32_t r = find(owner_[v]);
+        const uint32_t raw = owner_[v];
+        const uint32_t r = find(raw);
         if (--queued_[r] == 0) --open_;
         for (const auto& pair : b_.rings.ring.of(v))
             for (uint32_t w : pair) {
-                if (owner_[w] == k_unseen) {
+                const uint32_t ow = owner_[w];
+                if (ow == raw || ow == r) continue;  // most neighbours: the same search, no find
+                if (ow == k_unseen) {
                     owner_[w] = r;
                     if (queued_[r]++ == 0) ++open_;
                     ++members_[r];
                     visited_.push_back(w);
-                    joined(visited_.size() - 1);
-                } else if (const uint32_t o = find(owner_[w]); o != r) {
+                } else if (const uint32_t o = find(ow); o != r) {
                     // Two searches met: one group, open if either was.
                     open_ -= (queued_[r] > 0) + (queued_[o] > 0);
                     parent_[o] = r;
@@ -95,55 +156,6 @@ private:
                     --roots_;
                 }
             }
-    }
-    void visit(size_t at) {
-        expand(at, [](size_t) {});
-    }
-    void deep() {
-        // Per position: 0 waiting in the breadth-first queue, 1 taken by the group being
-        // searched, 2 expanded. Positions before head_ are expanded already.
-        std::vector<uint8_t> state(visited_.size(), 0);
-        std::fill(state.begin(), state.begin() + long(head_), uint8_t(2));
-        std::vector<size_t> mine;
-        // Each particle's triangles are summed as it is expanded, while what they read is at
-        // hand (summing the part afterwards, in search order, read it all again from memory).
-        deep_sums_.assign(parent_.size(), {});
-        while (roots_ > 1 && open_ > 1) {
-            uint32_t group = UINT32_MAX;
-            for (uint32_t g = 0; g < parent_.size(); ++g)
-                if (find(g) == g && queued_[g] > 0 && (group == UINT32_MAX || members_[g] < members_[group])) group = g;
-            mine.clear();
-            auto take_waiting = [&](uint32_t root) {
-                for (size_t p = head_; p < visited_.size(); ++p)
-                    if (state[p] == 0 && find(owner_[visited_[p]]) == root) state[p] = 1, mine.push_back(p);
-            };
-            take_waiting(group);
-            const uint32_t roots_before = roots_;
-            for (size_t q = 0; q < mine.size() && open_ > 1; ++q) {
-                // The search hops across the body's memory: fetch ahead what the next particles
-                // read (their lists first, then what the lists point at).
-                if (q + 16 < mine.size()) {
-                    __builtin_prefetch(b_.rings.ring.of(visited_[mine[q + 16]]).data());
-                    __builtin_prefetch(b_.rings.triangles.of(visited_[mine[q + 16]]).data());
-                }
-                if (q + 8 < mine.size()) {
-                    const uint32_t ahead = visited_[mine[q + 8]];
-                    for (const auto& pair : b_.rings.ring.of(ahead))
-                        __builtin_prefetch(&owner_[pair[0]]), __builtin_prefetch(&b_.particles.x[pair[0]]);
-                    for (uint32_t f : b_.rings.triangles.of(ahead)) __builtin_prefetch(&b_.triangles[f]);
-                }
-                state[mine[q]] = 2;
-                add_triangles_at(b_, visited_[mine[q]], deep_sums_[find(owner_[visited_[mine[q]]])]);
-                expand(mine[q], [&](size_t p) {
-                    state.push_back(1);
-                    mine.push_back(p);
-                });
-                // Met another group: its waiting particles are this search's now.
-                if (roots_ != roots_before && q + 1 == mine.size()) take_waiting(find(group));
-            }
-            // Either the group closed (everything it took was expanded) or it is the last open
-            // one, the rest, and the search ends here.
-        }
     }
     // The closed groups are whole parts; the open one (at most one is left) is the rest of the
     // piece, unexplored. One group left and open: the piece did not fall apart.
@@ -160,15 +172,7 @@ private:
             if (part_of_root[g] == UINT32_MAX) part_of_root[g] = uint32_t(parts.size()), parts.emplace_back();
             Part& part = parts[part_of_root[g]];
             part.particles.push_back(v);
-            if (p < head_) add_triangles_at(b_, v, part);  // expanded breadth first; the rest summed as expanded
-        }
-        for (uint32_t g = 0; g < deep_sums_.size(); ++g) {
-            const uint32_t root = find(g);
-            if (root == open_root || part_of_root[root] == UINT32_MAX) continue;
-            Part& part = parts[part_of_root[root]];
-            part.six_v += deep_sums_[g].six_v;
-            part.area_bound += deep_sums_[g].area_bound;
-            part.triangles += deep_sums_[g].triangles;
+            add_triangles_at(b_, v, part);  // a closed group's particles were all expanded
         }
         std::stable_sort(parts.begin(), parts.end(), [](const Part& x, const Part& y) { return x.particles.size() > y.particles.size(); });
         if (open_root != UINT32_MAX) {
@@ -181,7 +185,7 @@ private:
     const sim::SoftBody& b_;
     std::vector<uint32_t>& owner_;
     std::vector<uint32_t> parent_, queued_, members_, visited_;
-    std::vector<TriangleSums> deep_sums_;  // per group at the time of expansion (deep search only)
+    std::vector<uint32_t>& sweep_;  // sweep_parts' scratch, kept between edits
     size_t head_ = 0;
     uint32_t roots_ = 0, open_ = 0;
 };
@@ -190,14 +194,16 @@ private:
 double part_area(const sim::SoftBody& b, const Part& part) {
     double area = 0.0;
     for (uint32_t v : part.particles)
-        for_triangles_at(b, v, [&](const Vec3d&, const Vec3d& e1, const Vec3d& e2) { area += 0.5 * e1.cross(e2).norm(); });
+        for_triangles_at(b, v, [&](const Vec3d& a, const Vec3d& p, const Vec3d& q) { area += 0.5 * (p - a).cross(q - a).norm(); });
     return area;
 }
 
-SplitSearch split_pieces(sim::SoftBody& b, std::span<const uint32_t> reached, std::span<const uint32_t> seeds, size_t budget) {
+SplitSearch split_pieces(sim::SoftBody& b, std::span<const uint32_t> reached, std::span<const uint8_t> unmeasured, std::span<const uint32_t> seeds,
+                        size_t budget) {
     SplitSearch out;
     thread_local ParticleScratch<uint32_t> owners(UINT32_MAX);
     std::vector<uint32_t>& owner = owners.take(b.particle_count());
+    thread_local std::vector<uint32_t> sweep;
     std::vector<uint32_t> written;  // particles the searches labelled, to reset afterwards
     out.parts_of.resize(reached.size());
     std::vector<uint32_t> mine;
@@ -207,7 +213,7 @@ SplitSearch split_pieces(sim::SoftBody& b, std::span<const uint32_t> reached, st
             if (b.piece_of_particle[v] == reached[r]) mine.push_back(v);
         bool went_deep = false;
         std::vector<Part>& parts = out.parts_of[r];
-        parts = PieceSearch(b, owner).run(mine, budget, went_deep, out.searched, written);
+        parts = PieceSearch(b, owner, sweep).run(reached[r], unmeasured[r] != 0, mine, budget, went_deep, out.searched, written);
         out.searched_whole += went_deep;
         for (size_t k = 0; k < parts.size(); ++k) {
             parts[k].label = k == 0 ? reached[r] : uint32_t(b.pieces++);

@@ -30,7 +30,7 @@ double part_area(const sim::SoftBody& body, const Part& part);
 struct SplitSearch {
     std::vector<std::vector<Part>> parts_of;  // per reached piece, largest first: the first keeps the piece's label
     size_t searched = 0;                      // particles visited
-    size_t searched_whole = 0;                // reached pieces the breadth-first search could not settle within the budget
+    size_t searched_whole = 0;                // reached pieces the breadth-first search could not settle within the budget (swept whole)
 };
 
 // For each piece in `reached` (sorted), searches from its particles among `seeds` (sorted) all at
@@ -38,9 +38,11 @@ struct SplitSearch {
 // fall apart; when all but one have closed, the closed ones are parts cut off (complete, summed)
 // and the open one is the rest, which keeps the label unexplored. Either way the search costs
 // the region around the edit, not the piece. Past `budget` particles (two large parts, as a cut
-// through the middle makes) it searches one open group at a time, to its end or until it meets
-// another, until all but one have closed: the parts cut off are explored, the rest is not. Parts
-// cut off get new labels (`piece_of_particle`, `pieces`).
-SplitSearch split_pieces(sim::SoftBody& body, std::span<const uint32_t> reached, std::span<const uint32_t> seeds, size_t budget);
+// through the middle makes) it labels the piece's parts by one pass over its triangles in
+// memory order instead; the largest part is the rest, unsummed unless `unmeasured` (per reached
+// piece: it has no solver measure to take the rest's volume from). Parts cut off get new labels
+// (`piece_of_particle`, `pieces`).
+SplitSearch split_pieces(sim::SoftBody& body, std::span<const uint32_t> reached, std::span<const uint8_t> unmeasured,
+                         std::span<const uint32_t> seeds, size_t budget);
 
 } // namespace pbdsplat::topology

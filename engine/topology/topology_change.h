@@ -20,7 +20,7 @@ struct TopologyChange {
     bool headroom_grown = false;    // the body's arrays were moved to make room (amortised)
     bool loops_fell_back = false;   // the boundary loops were counted over whole pieces (a local trace failed)
     size_t particles_searched = 0;  // by the search for the parts of the pieces the change reached
-    size_t searched_whole = 0;      // reached pieces that search could not settle locally (searched a part at a time)
+    size_t searched_whole = 0;      // reached pieces that search could not settle locally (swept whole)
     size_t summed_whole = 0;        // pieces kept whole whose volume took a pass over the body (no solver measure yet)
     // Children of every re-triangulated triangle; triangles not listed kept their index.
     std::vector<mesh::TriangleSplit> splits;

@@ -326,7 +326,9 @@ VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float l
     // time: a few rings around the edit, or a sixteenth of the body (a cut through the middle of
     // a large body pays that much before it explores the smaller side).
     const size_t budget = std::max({size_t(2048), 2 * seeds.size(), b.particle_count() / 16});
-    SplitSearch search = split_pieces(b, reached, seeds, budget);
+    std::vector<uint8_t> unmeasured(reached.size(), 0);
+    for (size_t r = 0; r < reached.size(); ++r) unmeasured[r] = parents[r] && !std::isfinite(parents[r]->measured_six_v);
+    SplitSearch search = split_pieces(b, reached, unmeasured, seeds, budget);
     std::vector<std::vector<Part>>& parts_of = search.parts_of;
     result.particles_searched = search.searched;
     result.searched_whole = search.searched_whole;

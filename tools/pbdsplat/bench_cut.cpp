@@ -39,7 +39,7 @@ core::Result<nlohmann::json> measure_cuts(const std::string& spec, uint32_t cuts
     centre /= float(body.particle_count());
 
     std::vector<double> ms, rebuild_ms;
-    std::vector<double> crossed, after;
+    std::vector<double> crossed, after, searched, swept;
     std::vector<const char*> phase_names;
     std::vector<std::vector<double>> phase_ms;
     sim::SoftBody first_cut;
@@ -56,6 +56,8 @@ core::Result<nlohmann::json> measure_cuts(const std::string& spec, uint32_t cuts
         rebuild_ms.push_back(change->rebuild_ms);
         crossed.push_back(double(change->crossed_triangles));
         after.push_back(double(change->particles_after));
+        searched.push_back(double(change->particles_searched));
+        swept.push_back(double(change->searched_whole));
         for (size_t p = 0; p < change->phases.size(); ++p) {
             if (p == phase_names.size()) phase_names.push_back(change->phases[p].name), phase_ms.emplace_back();
             phase_ms[p].push_back(change->phases[p].ms);
@@ -69,6 +71,8 @@ core::Result<nlohmann::json> measure_cuts(const std::string& spec, uint32_t cuts
                           {"particles_before", body.particle_count()},
                           {"triangles_before", body.triangles.size()},
                           {"particles_after", core::median(after)},
+                          {"particles_searched", core::median(searched)},
+                          {"pieces_swept_whole", core::median(swept)},
                           {"crossed_triangles", median_crossed},
                           {"median_cut_ms", core::median(ms)},
                           {"median_rebuild_ms", core::median(rebuild_ms)},
@@ -341,6 +345,8 @@ Outcome measure(const Options& opt) {
                        j["particles_before"].get<size_t>(), j["triangles_before"].get<size_t>(), cuts, policy.c_str()));
     std::vector<Figure> figures = {{"crossed triangles", j["crossed_triangles"].get<double>(), "", 0},
                                    {"particles after", j["particles_after"].get<double>(), "", 0},
+                                   {"particles searched for the pieces", j["particles_searched"].get<double>(), "", 0},
+                                   {"pieces swept whole", j["pieces_swept_whole"].get<double>(), "", 0},
                                    {"cut (median)", j["median_cut_ms"].get<double>(), "ms"},
                                    {"of which derived solver data", j["median_rebuild_ms"].get<double>(), "ms"},
                                    {"per crossed triangle", j["us_per_crossed_triangle"].get<double>(), "us", 2}};
