@@ -40,36 +40,47 @@ void add_triangles_at(const sim::SoftBody& b, uint32_t v, Part& sums) {
 std::vector<Part> sweep_parts(const sim::SoftBody& b, uint32_t piece, bool sum_rest, std::vector<uint32_t>& up, size_t& searched) {
     const std::vector<uint32_t>& label = b.piece_of_particle;
     const uint32_t n = uint32_t(b.particle_count());
+    // A root holds k_root and its part's size; once the particle pass has met it, k_part and the
+    // part's index instead. Union by size keeps the trees shallow.
+    constexpr uint32_t k_root = 0x80000000u, k_part = 0x40000000u, k_value = k_part - 1;
+    PBDSPLAT_ASSERT(n <= k_value, "a body of more than 2^30 particles: sweep_parts packs flags into the particle index");
     up.resize(n);
-    for (uint32_t v = 0; v < n; ++v) up[v] = v;
+    std::fill(up.begin(), up.end(), k_root | 1u);
     auto find = [&](uint32_t s) {
-        while (up[s] != s) s = up[s] = up[up[s]];
+        while (!(up[s] & k_root)) {
+            const uint32_t parent = up[s];
+            if (up[parent] & k_root) return parent;
+            s = up[s] = up[parent];  // halving: point at the grandparent and go there
+        }
         return s;
     };
-    // Roots are the lowest particle of their part, so a pass in index order meets each root first.
     auto link = [&](uint32_t a, uint32_t c) {
         if (a == c) return a;
-        if (a > c) std::swap(a, c);
+        if ((up[a] & k_value) < (up[c] & k_value)) std::swap(a, c);
+        up[a] += up[c] & k_value;
         up[c] = a;
         return a;
     };
-    for (const mesh::Triangle& t : b.triangles)
-        if (label[t[0]] == piece) link(link(find(t[0]), find(t[1])), find(t[2]));
-    std::vector<uint32_t> roots;  // ascending
+    // Triangles come sorted by their first corner, so consecutive ones mostly share it: its root
+    // is the last link's result (still a root: only these links change roots).
+    uint32_t last = UINT32_MAX, last_root = 0;
+    for (const mesh::Triangle& t : b.triangles) {
+        if (label[t[0]] != piece) continue;
+        const uint32_t r0 = t[0] == last ? last_root : find(t[0]);
+        const uint32_t r01 = link(r0, find(t[1]));  // before the next find: link takes roots
+        last = t[0], last_root = link(r01, find(t[2]));
+    }
+    // Parts numbered in the order of their lowest particle; every particle pointed at its root.
     std::vector<size_t> counts;
-    size_t cached = 0;  // the part of the previous particle: neighbours in memory are mostly one part
-    auto part_of = [&](uint32_t root) {
-        if (roots[cached] != root) cached = size_t(std::lower_bound(roots.begin(), roots.end(), root) - roots.begin());
-        return cached;
-    };
     for (uint32_t v = 0; v < n; ++v) {
         if (label[v] != piece) continue;
-        const uint32_t r = up[v] == v ? v : (up[v] = find(up[v]));
-        if (r == v) roots.push_back(v), counts.push_back(0);
-        ++counts[part_of(r)];
+        const uint32_t r = find(v);
+        if (r != v) up[v] = r;
+        if (!(up[r] & k_part)) counts.push_back(up[r] & k_value), up[r] = k_root | k_part | uint32_t(counts.size() - 1);
         ++searched;
     }
-    std::vector<Part> parts(roots.size());
+    auto part_of = [&](uint32_t v) { return size_t(up[up[v] & k_root ? v : up[v]] & k_value); };
+    std::vector<Part> parts(counts.size());
     if (parts.size() < 2) {  // the searches all met, beyond the region they saw
         parts.front().complete = false;
         return parts;
@@ -81,15 +92,22 @@ std::vector<Part> sweep_parts(const sim::SoftBody& b, uint32_t piece, bool sum_r
         if (k != skipped) parts[k].particles.reserve(counts[k]);
     for (uint32_t v = 0; v < n; ++v)
         if (label[v] == piece)
-            if (const size_t k = part_of(up[v]); k != skipped) parts[k].particles.push_back(v);
-    for (const mesh::Triangle& t : b.triangles) {
+            if (const size_t k = part_of(v); k != skipped) parts[k].particles.push_back(v);
+    const size_t triangles = b.triangles.size();
+    for (size_t f = 0; f < triangles; ++f) {
+        if (f + 16 < triangles) {
+            const mesh::Triangle& ahead = b.triangles[f + 16];
+            __builtin_prefetch(&b.particles.x[ahead[1]]), __builtin_prefetch(&b.particles.x[ahead[2]]);
+        }
+        const mesh::Triangle& t = b.triangles[f];
         if (label[t[0]] != piece) continue;
-        const size_t k = part_of(up[t[0]]);
+        const size_t k = part_of(t[0]);
         if (k == skipped) continue;
-        const Vec3d a = at(b, t[0]), p = at(b, t[1]), q = at(b, t[2]);
+        const Vec4f& a = b.particles.x[t[0]];
+        const Vec4f p = b.particles.x[t[1]] - a, q = b.particles.x[t[2]] - a;
         Part& part = parts[k];
-        part.six_v += a.dot(p.cross(q));
-        part.area_bound += 0.25 * ((p - a).squaredNorm() + (q - a).squaredNorm());
+        part.six_v += double(sim::xyz(a).dot(sim::xyz(p).cross(sim::xyz(q))));
+        part.area_bound += 0.25 * double(p.head<3>().squaredNorm() + q.head<3>().squaredNorm());
         ++part.triangles;
     }
     // The rest first, then the parts cut off, largest first.
