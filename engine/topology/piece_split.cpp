@@ -7,27 +7,21 @@
 namespace pbdsplat::topology {
 
 namespace {
-Vec3d at(const sim::SoftBody& b, uint32_t i) { return b.particles.x[i].head<3>().cast<double>(); }
-
-// Calls f(a, b, c) (a triangle's corners, in its winding) for each triangle of v's ring whose
-// lowest-numbered corner is v: over a part's particles, each of its triangles once. The ring
-// holds each triangle's other two corners in winding order, so the search, which reads the
-// ring anyway, reads no triangle list.
-template <class F>
-void for_triangles_at(const sim::SoftBody& b, uint32_t v, F&& f) {
-    for (const auto& [j, k] : b.rings.ring.of(v)) {
-        if (j < v || k < v) continue;
-        f(at(b, v), at(b, j), at(b, k));
-    }
+// Adds triangle (a, b, c) to a part's sums: each triangle's terms in float (as the solver's
+// volume pass takes them), the sums in double.
+void add_triangle(Part& part, const Vec4f& a, const Vec4f& b, const Vec4f& c) {
+    const Vec3f p = sim::xyz(b) - sim::xyz(a), q = sim::xyz(c) - sim::xyz(a);
+    part.six_v += double(sim::xyz(a).dot(p.cross(q)));
+    part.area_bound += 0.25 * double(p.squaredNorm() + q.squaredNorm());
+    ++part.triangles;
 }
 
-// Adds v's share of a part's triangles to its sums.
-void add_triangles_at(const sim::SoftBody& b, uint32_t v, Part& sums) {
-    for_triangles_at(b, v, [&](const Vec3d& a, const Vec3d& p, const Vec3d& q) {
-        sums.six_v += a.dot(p.cross(q));
-        sums.area_bound += 0.25 * ((p - a).squaredNorm() + (q - a).squaredNorm());
-        ++sums.triangles;
-    });
+// Adds v's share of a part's triangles to its sums: those whose lowest-numbered corner is v.
+// The ring holds each triangle's other two corners in winding order, so the search, which reads
+// the ring anyway, reads no triangle list.
+void add_triangles_at(const sim::SoftBody& b, uint32_t v, Part& part) {
+    for (const auto& [j, k] : b.rings.ring.of(v))
+        if (j > v && k > v) add_triangle(part, b.particles.x[v], b.particles.x[j], b.particles.x[k]);
 }
 
 // A piece's parts by one union-find pass over its triangles in memory order, for an edit whose
@@ -103,12 +97,7 @@ std::vector<Part> sweep_parts(const sim::SoftBody& b, uint32_t piece, bool sum_r
         if (label[t[0]] != piece) continue;
         const size_t k = part_of(t[0]);
         if (k == skipped) continue;
-        const Vec4f& a = b.particles.x[t[0]];
-        const Vec4f p = b.particles.x[t[1]] - a, q = b.particles.x[t[2]] - a;
-        Part& part = parts[k];
-        part.six_v += double(sim::xyz(a).dot(sim::xyz(p).cross(sim::xyz(q))));
-        part.area_bound += 0.25 * double(p.head<3>().squaredNorm() + q.head<3>().squaredNorm());
-        ++part.triangles;
+        add_triangle(parts[k], b.particles.x[t[0]], b.particles.x[t[1]], b.particles.x[t[2]]);
     }
     // The rest first, then the parts cut off, largest first.
     std::swap(parts[0], parts[rest]);
@@ -212,7 +201,11 @@ private:
 double part_area(const sim::SoftBody& b, const Part& part) {
     double area = 0.0;
     for (uint32_t v : part.particles)
-        for_triangles_at(b, v, [&](const Vec3d& a, const Vec3d& p, const Vec3d& q) { area += 0.5 * (p - a).cross(q - a).norm(); });
+        for (const auto& [j, k] : b.rings.ring.of(v))  // each triangle at its lowest corner, as add_triangles_at
+            if (j > v && k > v) {
+                const Vec3d a = sim::xyz(b.particles.x[v]).cast<double>();
+                area += 0.5 * (sim::xyz(b.particles.x[j]).cast<double>() - a).cross(sim::xyz(b.particles.x[k]).cast<double>() - a).norm();
+            }
     return area;
 }
 
