@@ -25,6 +25,7 @@ layout(location = 0) out vec2 g_uv;         // see splat_quad(): std devs, or th
 layout(location = 1) out vec3 g_world;      // world position of the fragment (for env lookups)
 layout(location = 2) out vec3 g_normal;
 layout(location = 3) out vec4 g_color;      // see corner_color()
+layout(location = 4) out float g_depth;  // distance to the splat's surface along the view axis
 
 void main() {
     const vec3 world = gl_in[0].gl_Position.xyz;
@@ -36,7 +37,7 @@ void main() {
     if (!(q.extent > 0.0)) return;  // too faint to show anywhere
     const vec3 albedo = splat_albedo(v_color[0].rgb, uint(gl_PrimitiveIDIn), world);
     for (int i = 0; i < k_carrier_corners; ++i) {
-        splat_corner(q, world, i, gl_Position, g_world, g_uv);
+        splat_corner(q, world, i, gl_Position, g_world, g_uv, g_depth);
         g_normal = corner_normal(v_normal[0], v_curvature[0], world, g_world);
         g_color = corner_color(albedo, alpha, g_normal, g_world);
         EmitVertex();

@@ -17,6 +17,7 @@ layout(location = 0) out vec2 g_uv;
 layout(location = 1) out vec3 g_world;
 layout(location = 2) out vec3 g_normal;
 layout(location = 3) out vec4 g_color;
+layout(location = 4) out float g_depth;  // distance to the splat's surface along the view axis
 
 // Strip corners (0, 1, 2) and (2, 1, 3): the quad strip's two triangles.
 const int k_corner_of_vertex[6] = int[6](0, 1, 2, 2, 1, 3);
@@ -30,13 +31,14 @@ void main() {
         g_uv = vec2(0.0);
         g_world = r.position;
         g_color = vec4(0.0);
+        g_depth = 0.0;
         return;
     }
     // Always the quad: six vertices per splat, each running the whole footprint, make an
     // octagon's eighteen cost more than the fill it saves.
     const float alpha = splat_alpha(r.color.a, r.opacity_logit);
     const SplatQuad q = splat_quad(r.position, r.normal, s0, alpha, k_visibility_pass, uint(gl_VertexIndex) / 6u);
-    splat_corner(q, r.position, k_corner_of_vertex[gl_VertexIndex % 6], gl_Position, g_world, g_uv);
+    splat_corner(q, r.position, k_corner_of_vertex[gl_VertexIndex % 6], gl_Position, g_world, g_uv, g_depth);
     g_normal = corner_normal(r.normal, r.curvature, r.position, g_world);
     g_color = corner_color(splat_albedo(r.color.rgb, uint(gl_VertexIndex) / 6u, r.position), alpha, g_normal, g_world);
 }

@@ -123,9 +123,14 @@ core::Result<Pipeline> create_graphics_pipeline(const Context& ctx, const Graphi
 
 core::Result<PipelineLayout> create_pipeline_layout(const Context& ctx, VkDescriptorSetLayout set_layout,
                                                     VkPushConstantRange push) {
+    return create_pipeline_layout(ctx, std::span<const VkDescriptorSetLayout>(&set_layout, 1), push);
+}
+
+core::Result<PipelineLayout> create_pipeline_layout(const Context& ctx, std::span<const VkDescriptorSetLayout> set_layouts,
+                                                    VkPushConstantRange push) {
     VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    info.setLayoutCount = 1;
-    info.pSetLayouts = &set_layout;
+    info.setLayoutCount = uint32_t(set_layouts.size());
+    info.pSetLayouts = set_layouts.data();
     info.pushConstantRangeCount = push.size > 0 ? 1 : 0;
     info.pPushConstantRanges = &push;
     VkPipelineLayout layout = VK_NULL_HANDLE;

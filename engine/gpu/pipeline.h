@@ -2,6 +2,7 @@
 // Shader modules from the embedded SPIR-V, and a small description of a graphics pipeline for
 // dynamic rendering (no render-pass objects).
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,9 @@ struct GraphicsPipelineDesc {
 core::Result<Pipeline> create_graphics_pipeline(const Context& ctx, const GraphicsPipelineDesc& desc);
 // One descriptor set layout and at most one push-constant range (size 0: none).
 core::Result<PipelineLayout> create_pipeline_layout(const Context& ctx, VkDescriptorSetLayout set_layout,
+                                                    VkPushConstantRange push = {});
+// Sets 0, 1, ... in order (none: push constants alone).
+core::Result<PipelineLayout> create_pipeline_layout(const Context& ctx, std::span<const VkDescriptorSetLayout> set_layouts,
                                                     VkPushConstantRange push = {});
 core::Result<Pipeline> create_compute_pipeline(const Context& ctx, const std::string& shader, VkPipelineLayout layout);
 

@@ -90,8 +90,10 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
     ro.frames_in_flight = 1;
     ro.anisotropic = !shapes.empty();
     ro.normalised = frame.style.blend == render::Blend::normalised;
+    ro.occluders = ro.normalised && frame.style.mesh_occluders;
     auto splats = OffscreenRenderer::create(ctx, ro);
     if (!splats.ok()) return splats.error();
+    splats.value()->set_occluders(x, triangles);
     frame.background = Vec4f::Zero();  // the accumulated alpha is then the splats' coverage
     PBDSPLAT_TRY(splats.value()->render(records, frame, {}, shapes));
     auto image = splats.value()->finish();

@@ -35,6 +35,7 @@ void GpuPassResources::refresh(const render::SplatRenderer& r) {
     depth.image = r.depth_image();
     accumulation.image = r.accumulation_image(render::SumLayer::seen_side);
     accumulation_inside.image = r.accumulation_image(render::SumLayer::inside);
+    occluders.image = r.occluder_image();
 }
 
 graph::GpuUse to_graph(const render::Use& u) { return {u.access.stage, u.access.access, u.layout}; }
@@ -104,10 +105,25 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
         // sorted (the sums do not depend on order), so the records are the uploaded ones.
         const auto accumulation = g.import("accumulation image", &res.accumulation);
         const auto accumulation_inside = g.import("accumulation image, inside", &res.accumulation_inside);
-        graph::Handle<graph::GpuImageRef> summed, summed_inside;
+        graph::Handle<graph::GpuImageRef> summed, summed_inside, occluded;
+        if (renderer.has_occluders()) {
+            // The surface mesh's depth over the ground's, and its distance image.
+            const auto occluders = g.import("occluder image", &res.occluders);
+            g.add_pass("occluders", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+                b.read(input);
+                depth_drawn = b.write(depth_drawn, to_graph(render::uses::depth_attachment));
+                occluded = b.write(occluders, to_graph(render::uses::color_attachment));
+                return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
+                    GpuFrameInput& in = r.get(input);
+                    if (in.upload_status.ok()) in.upload_status = renderer.set_occluders(in.occluder_positions, in.occluder_triangles);
+                    renderer.draw_occluders(in.frame);
+                };
+            }, tag);
+        }
         g.add_pass("splat accumulate", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
             b.read(input);
             b.read(uploaded, to_graph(records_read));
+            if (renderer.has_occluders()) b.read(occluded, to_graph(render::uses::accumulation_sampled));
             b.write(depth_drawn, to_graph(render::uses::depth_attachment));
             summed = b.write(accumulation, to_graph(render::uses::color_attachment));
             summed_inside = b.write(accumulation_inside, to_graph(render::uses::color_attachment));

@@ -18,6 +18,9 @@ struct GpuFrameInput {
     std::span<const splat::GaussianShape> shapes;  // anisotropic splats' axes, parallel to records; or none
     std::span<const splat::GaussianSH> sh;         // view-dependent colour, parallel to records; or none
     render::FrameInputs frame;
+    // The surface mesh, with frame.style.mesh_occluders (render/occluder_pass.h).
+    std::span<const Vec4f> occluder_positions;
+    std::span<const std::array<uint32_t, 3>> occluder_triangles;
     core::Status upload_status;  // set by the upload pass; the frame's owner reports a failure
 };
 
@@ -34,6 +37,7 @@ struct GpuPassResources {
     // With normalised blending: its sums of the seen side and of the inside.
     graph::GpuImageRef accumulation{VK_NULL_HANDLE, VK_IMAGE_ASPECT_COLOR_BIT};
     graph::GpuImageRef accumulation_inside{VK_NULL_HANDLE, VK_IMAGE_ASPECT_COLOR_BIT};
+    graph::GpuImageRef occluders{VK_NULL_HANDLE, VK_IMAGE_ASPECT_COLOR_BIT};  // with mesh occluders
     void refresh(const render::SplatRenderer& r);
 };
 
@@ -58,7 +62,8 @@ public:
 };
 
 // Declares "upload", "gpu sort" (when `gpu_sort`: the frames are drawn with SplatOrder::gpu),
-// "splat", "splat accumulate" and "splat resolve" (when the renderer has normalised blending)
+// "splat", "occluders" (when the renderer has mesh occluders), "splat accumulate" and "splat
+// resolve" (when the renderer has normalised blending)
 // and "readback". The readback pass needs `sink`; without one it is culled. `input` is
 // the version of the frame input the passes read (after the mapping).
 // Returns the colour target as the splat pass leaves it.

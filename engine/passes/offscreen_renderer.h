@@ -18,6 +18,12 @@ public:
     core::Status render(std::span<const splat::GaussianRecord> records, const render::FrameInputs& inputs,
                         std::span<const gpu::ByteRange> changed = {}, std::span<const splat::GaussianShape> shapes = {},
                         std::span<const splat::GaussianSH> sh = {});
+    // The surface mesh for the next render()s' occluders (a renderer created with
+    // options.occluders, frames with SplatStyle::mesh_occluders); the spans must outlive them.
+    void set_occluders(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles) {
+        input_.occluder_positions = positions;
+        input_.occluder_triangles = triangles;
+    }
     // Waits for the GPU and returns the last frame's image.
     core::Result<core::ImageRgba8> finish() { return renderer_->finish(); }
     render::GpuTimings timings() const { return renderer_->timings(); }

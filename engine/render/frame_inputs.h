@@ -126,6 +126,16 @@ struct SplatStyle {
     // background through must not hide its own surface's neighbours' colour, nor the surface
     // behind (dark specks); splats fading in after a cut write none.
     float depth_min_alpha = 0.4f;
+    // Normalised blending only: the visibility depth comes from the surface mesh
+    // (render/occluder_pass.h) instead of the splats' cores, and a fragment farther than
+    // occluder_tolerance (world units, along the view axis) from the surface the mesh shows at
+    // its pixel is dropped. Needs a renderer created with options.occluders and the mesh each
+    // frame (SplatRenderer::set_occluders).
+    bool mesh_occluders = false;
+    float occluder_tolerance = 0.0f;
+    // How far the mesh's depth is pushed back for the early test (world units): farther than any
+    // of the surface's own splats can lie behind it.
+    float occluder_push = 0.0f;
 };
 
 // The scene's ground plane as drawn (render/ground.h): a disc on the plane, with a contact shadow

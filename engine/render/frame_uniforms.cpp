@@ -42,7 +42,7 @@ gpu_types::FrameUniforms make_frame_uniforms(const FrameInputs& in, uint32_t wid
     const float kappa = s.footprint == Footprint::paper ? paper_kappa(s) : s.kappa;
     u.splat = {kappa, s.sharpness.x(), s.sharpness.y(), s.scale_multiplier};
     u.material = {l.shininess, s.surfel_thickness, 0.0f, 0.0f};
-    u.visibility = {s.depth_push, s.cull_facing, s.depth_min_alpha, 0.0f};
+    u.visibility = {s.depth_push, s.cull_facing, s.depth_min_alpha, s.mesh_occluders ? s.occluder_tolerance : 0.0f};
     const Environment& e = l.environment;
     u.environment = {float(int(e.sampling)), e.diffuse, e.specular, e.intensity};
     const size_t lights = std::min<size_t>(l.lights.size(), PBDSPLAT_MAX_LIGHTS);

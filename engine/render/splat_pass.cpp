@@ -31,7 +31,7 @@ std::string splat_path_unsupported(const gpu::DeviceCaps& caps, SplatPath path) 
 
 core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path,
                                           SplatShading shading, SplatCarrier carrier, bool anisotropic, uint32_t sh_degree,
-                                          VkFormat accumulation) {
+                                          VkFormat accumulation, VkDescriptorSetLayout occluders) {
     if (sh_degree > 3) return core::make_error("spherical-harmonic degree " + std::to_string(sh_degree) + " is not 0 to 3");
     if (const std::string why = splat_path_unsupported(ctx.caps(), path); !why.empty()) return core::make_error(why);
     SplatPass p;
@@ -39,7 +39,7 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     p.shading_ = shading;
     p.carrier_ = path == SplatPath::vertex ? SplatCarrier::quad : carrier;
     p.anisotropic_ = anisotropic;
-    PBDSPLAT_TRY(p.create_layouts(ctx));
+    PBDSPLAT_TRY(p.create_layouts(ctx, occluders));
     gpu::GraphicsPipelineDesc desc;
     PBDSPLAT_TRY(p.describe_front(ctx, desc));
     desc.color_format = color;
@@ -49,7 +49,7 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     return p;
 }
 
-core::Status SplatPass::create_layouts(const gpu::Context& ctx) {
+core::Status SplatPass::create_layouts(const gpu::Context& ctx, VkDescriptorSetLayout occluders) {
     const VkShaderStageFlags front = path_ == SplatPath::geometry ? VK_SHADER_STAGE_GEOMETRY_BIT
                                      : path_ == SplatPath::mesh  ? VK_SHADER_STAGE_MESH_BIT_EXT
                                                                  : VK_SHADER_STAGE_VERTEX_BIT;
@@ -68,6 +68,12 @@ core::Status SplatPass::create_layouts(const gpu::Context& ctx) {
     auto pipeline_layout = gpu::create_pipeline_layout(ctx, set_layout_.get(), path_ == SplatPath::mesh ? count_range : VkPushConstantRange{});
     if (!pipeline_layout.ok()) return pipeline_layout.error();
     layout_ = std::move(pipeline_layout).value();
+    if (occluders) {
+        const VkDescriptorSetLayout sets[2] = {set_layout_.get(), occluders};
+        auto occluded = gpu::create_pipeline_layout(ctx, sets, path_ == SplatPath::mesh ? count_range : VkPushConstantRange{});
+        if (!occluded.ok()) return occluded.error();
+        occluded_layout_ = std::move(occluded).value();
+    }
     return core::Status::success();
 }
 
@@ -135,6 +141,11 @@ core::Status SplatPass::create_pipelines(const gpu::Context& ctx, gpu::GraphicsP
         sums.specialization.resize(8, 0u);
         sums.specialization[7] = 1u;  // k_opaque_surface: what shows is the surface, lit from the seen side
         PBDSPLAT_TRY(make_from(sums, accumulate_));
+        if (occluded_layout_) {
+            sums.stages.back().second = "splat_accumulate_occluded.frag";
+            sums.layout = occluded_layout_.get();
+            PBDSPLAT_TRY(make_from(sums, accumulate_occluded_));
+        }
     }
 
     // The paper's disc: additive blending needs no depth; "over" writes it, so the nearest disc
@@ -195,7 +206,8 @@ void SplatPass::record(VkCommandBuffer cmd, const SplatStyle& style, VkDescripto
         return;
     }
     const bool normalised = style.blend == Blend::normalised;
-    if (!additive && (normalised || style.order == SplatOrder::unsorted)) {
+    // Mesh occluders lay down the visibility depth in their own pass (render/occluder_pass.h).
+    if (!additive && ((normalised && !style.mesh_occluders) || (!normalised && style.order == SplatOrder::unsorted))) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, visibility_.get());
         draw(cmd, source);
     }
@@ -204,15 +216,20 @@ void SplatPass::record(VkCommandBuffer cmd, const SplatStyle& style, VkDescripto
     draw(cmd, source);
 }
 
-void SplatPass::record_accumulation(VkCommandBuffer cmd, VkDescriptorSet frame_set, const SplatSource& source) const {
+void SplatPass::record_accumulation(VkCommandBuffer cmd, VkDescriptorSet frame_set, const SplatSource& source,
+                                    VkDescriptorSet occluder_set) const {
     PBDSPLAT_ASSERT(normalised(), "SplatPass::record_accumulation: create the pass with an accumulation format");
+    PBDSPLAT_ASSERT(!occluder_set || accumulate_occluded_,
+                    "SplatPass::record_accumulation with occluders: create the pass with the occluders' set layout");
     if (source.count == 0) return;
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &frame_set, 0, nullptr);
+    const VkDescriptorSet sets[2] = {frame_set, occluder_set};
+    const VkPipelineLayout layout = occluder_set ? occluded_layout_.get() : layout_.get();
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, occluder_set ? 2 : 1, sets, 0, nullptr);
     if (path_ == SplatPath::geometry) {
         const VkDeviceSize offset = 0;
         vkCmdBindVertexBuffers(cmd, 0, 1, &source.records, &offset);
     }
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, accumulate_.get());
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, occluder_set ? accumulate_occluded_.get() : accumulate_.get());
     draw(cmd, source);
 }
 

@@ -42,7 +42,8 @@ public:
     static core::Result<SplatPass> create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path,
                                           SplatShading shading = SplatShading::fragment,
                                           SplatCarrier carrier = SplatCarrier::quad, bool anisotropic = false,
-                                          uint32_t sh_degree = 0, VkFormat accumulation = VK_FORMAT_UNDEFINED);
+                                          uint32_t sh_degree = 0, VkFormat accumulation = VK_FORMAT_UNDEFINED,
+                                          VkDescriptorSetLayout occluders = VK_NULL_HANDLE);
     SplatPass() = default;
 
     SplatPath path() const { return path_; }
@@ -58,7 +59,10 @@ public:
     // the front fragments into the accumulation image.
     void record(VkCommandBuffer cmd, const SplatStyle& style, VkDescriptorSet frame_set, const SplatSource& source) const;
     bool normalised() const { return static_cast<bool>(accumulate_); }
-    void record_accumulation(VkCommandBuffer cmd, VkDescriptorSet frame_set, const SplatSource& source) const;
+    // `occluder_set` (set 1: the mesh occluders' distance image, render/occluder_pass.h): keep
+    // only the fragments on the surface the mesh shows; needs the pass created with `occluders`.
+    void record_accumulation(VkCommandBuffer cmd, VkDescriptorSet frame_set, const SplatSource& source,
+                             VkDescriptorSet occluder_set = VK_NULL_HANDLE) const;
 
 private:
     SplatPath path_ = SplatPath::geometry;
@@ -67,6 +71,7 @@ private:
     bool anisotropic_ = false;
     gpu::DescriptorSetLayout set_layout_;
     gpu::PipelineLayout layout_;
+    gpu::PipelineLayout occluded_layout_;  // the frame set and the occluders' (set 1)
     gpu::Pipeline visibility_;
     gpu::Pipeline over_;
     gpu::Pipeline additive_;
@@ -74,12 +79,13 @@ private:
     gpu::Pipeline paper_sorted_;    // far to near: the same, opacity blended
     gpu::Pipeline paper_additive_;
     gpu::Pipeline accumulate_;      // normalised blending: weighted sums into the accumulation image
+    gpu::Pipeline accumulate_occluded_;  // the same against mesh occluders
     PFN_vkCmdDrawMeshTasksEXT draw_mesh_tasks_ = nullptr;
     PFN_vkCmdDrawMeshTasksIndirectEXT draw_mesh_tasks_indirect_ = nullptr;
     void draw(VkCommandBuffer cmd, const SplatSource& source) const;
     // create() in steps: the layouts every path shares, the front stages of the path, then
     // every pipeline variant from that description.
-    core::Status create_layouts(const gpu::Context& ctx);
+    core::Status create_layouts(const gpu::Context& ctx, VkDescriptorSetLayout occluders);
     core::Status describe_front(const gpu::Context& ctx, gpu::GraphicsPipelineDesc& desc);
     core::Status create_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc desc, uint32_t sh_degree, VkFormat accumulation);
 };

@@ -107,9 +107,17 @@ core::Status SplatRenderer::create_streams() {
 core::Status SplatRenderer::create_passes() {
     gpu::Context& ctx = *ctx_;
     const RendererOptions& options = options_;
+    PBDSPLAT_ASSERT(!options.occluders || options.normalised,
+                    "RendererOptions::occluders serve normalised blending: set options.normalised too");
+    if (options.occluders) {
+        auto occluders = OccluderPass::create(ctx, options.width, options.height, options.frames_in_flight, k_depth_format);
+        if (!occluders.ok()) return occluders.error();
+        occluders_ = std::move(occluders).value();
+    }
     auto pass = SplatPass::create(ctx, k_color_format, k_depth_format, options.path.value_or(best_splat_path(ctx.caps())),
                                   options.shading, options.carrier, options.anisotropic, options.sh_degree,
-                                  options.normalised ? k_accumulation_format : VK_FORMAT_UNDEFINED);
+                                  options.normalised ? k_accumulation_format : VK_FORMAT_UNDEFINED,
+                                  options.occluders ? occluders_.set_layout() : VK_NULL_HANDLE);
     if (!pass.ok()) return pass.error();
     splat_ = std::move(pass).value();
     if (options.normalised) {
@@ -258,6 +266,8 @@ void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
                     "Blend::normalised needs a renderer created with options.normalised (and the graph's accumulation and resolve passes)");
     PBDSPLAT_ASSERT(!normalised || inputs.style.footprint == Footprint::gaussian,
                     "Blend::normalised weighs each splat by its Gaussian falloff: draw it with Footprint::gaussian");
+    PBDSPLAT_ASSERT(!normalised || !inputs.style.mesh_occluders || has_occluders(),
+                    "SplatStyle::mesh_occluders needs a renderer created with options.occluders (and the graph's occluders pass)");
     target_.begin(cmd_, inputs.background.data(), normalised);
     if (inputs.ground.visible) ground_.record(cmd_, sets.set(slot), inputs.ground);
     SplatSource source{records_.buffer(slot), count};
@@ -268,11 +278,23 @@ void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
     if (!normalised) timers_[slot].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
 
+core::Status SplatRenderer::set_occluders(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles) {
+    PBDSPLAT_ASSERT(has_occluders(), "SplatRenderer::set_occluders: create the renderer with options.occluders");
+    return occluders_.set_mesh(positions, triangles, frames_.slot());
+}
+
+void SplatRenderer::draw_occluders(const FrameInputs& inputs) {
+    if (inputs.style.blend != Blend::normalised || !inputs.style.mesh_occluders) return;
+    PBDSPLAT_ASSERT(has_occluders(), "SplatStyle::mesh_occluders needs a renderer created with options.occluders");
+    occluders_.record(cmd_, inputs.camera, inputs.style.occluder_push, target_.depth().view(), frames_.slot());
+}
+
 void SplatRenderer::accumulate(const FrameInputs& inputs, uint32_t count) {
     if (inputs.style.blend != Blend::normalised) return;
     const uint32_t slot = frames_.slot();
     blend_.begin_accumulation(cmd_, target_.depth().view());
-    splat_.record_accumulation(cmd_, uniforms_.set(slot), {records_.buffer(slot), count});
+    splat_.record_accumulation(cmd_, uniforms_.set(slot), {records_.buffer(slot), count},
+                               inputs.style.mesh_occluders ? occluders_.set() : VK_NULL_HANDLE);
     blend_.end_accumulation(cmd_);
 }
 

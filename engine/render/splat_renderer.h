@@ -20,6 +20,7 @@
 #include "render/gpu_use.h"
 #include "render/ground.h"
 #include "render/normalised_blend.h"
+#include "render/occluder_pass.h"
 #include "render/offscreen_target.h"
 #include "render/splat_pass.h"
 #include "splat/gaussian_record.h"
@@ -50,6 +51,9 @@ struct RendererOptions {
     // Create normalised blending's accumulation image and passes (frames drawn with
     // Blend::normalised need them; the graph then declares the accumulation and resolve passes).
     bool normalised = false;
+    // Create the mesh occluders of normalised blending (render/occluder_pass.h); frames drawn
+    // with SplatStyle::mesh_occluders need them (and the graph then declares their pass).
+    bool occluders = false;
 };
 
 // GPU milliseconds of the last finished frame, from timestamps (0 when the device has none).
@@ -113,6 +117,10 @@ public:
     // accumulate() sums the front fragments and resolve() blends them over the colour target.
     // Both record nothing for other blends.
     void draw(const FrameInputs& inputs, uint32_t count);
+    // Mesh occluders (options.occluders): the surface mesh for this frame's slot, then its pass,
+    // between draw() and accumulate(); records nothing unless the style asks for them.
+    core::Status set_occluders(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles);
+    void draw_occluders(const FrameInputs& inputs);
     void accumulate(const FrameInputs& inputs, uint32_t count);
     void resolve(const FrameInputs& inputs);
     void readback();
@@ -122,6 +130,8 @@ public:
     VkImage color_image() const { return target_.color().handle(); }
     VkImage depth_image() const { return target_.depth().handle(); }
     bool has_normalised() const { return splat_.normalised(); }
+    bool has_occluders() const { return static_cast<bool>(occluders_.image().handle()); }
+    VkImage occluder_image() const { return occluders_.image().handle(); }
     VkImage accumulation_image(SumLayer layer) const { return has_normalised() ? blend_.accumulation(layer).handle() : VK_NULL_HANDLE; }
     VkBuffer readback_buffer() const { return target_.readback_buffer(frames_.slot()); }
     bool has_gpu_sort() const { return sort_.capacity() > 0; }
@@ -159,6 +169,7 @@ private:
     SplatPass splat_;
     GroundPass ground_;
     NormalisedBlend blend_;  // empty without options.normalised
+    OccluderPass occluders_;  // empty without options.occluders
     gpu::Texture environment_;
     std::array<Vec3f, 9> sh_{};
     gpu::UniformSets uniforms_;  // one per frame in flight

@@ -3,6 +3,7 @@
 #include "scene/scene_runtime.h"
 
 #include "scene/stages/body_view.h"
+#include "scene/stages/fine_surface.h"
 #include "scene/stages/mapping_stage.h"
 #include "scene/stages/pass_group.h"
 #include "scene/stages/simulation_stage.h"
@@ -131,6 +132,25 @@ void SceneRuntime::add_frame_event_passes(GraphHandles& h, bool has_events) {
 
 void SceneRuntime::add_view_passes(GraphHandles& h) {
     graph::FrameGraph& g = graph_;
+    if (renderer_->has_occluders()) {
+        // The surface the splats stand for, as it is this frame, for the occluders' pass.
+        g.add_pass("occluder mesh", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
+            b.read(h.body);
+            h.input = b.write(h.input);
+            return [this, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
+                const sim::SoftBody& body = r.get(hh.body);
+                passes::GpuFrameInput& in = r.get(hh.input);
+                if (fine_) {
+                    deformed_fine_surface(body, *fine_, fine_vertices_, occluder_x_, occluder_triangles_);
+                    in.occluder_positions = occluder_x_;
+                    in.occluder_triangles = occluder_triangles_;
+                } else {
+                    in.occluder_positions = body.particles.x;
+                    in.occluder_triangles = body.triangles;
+                }
+            };
+        }, tag(PassGroup::update));
+    }
     const auto drawn = passes::add_gpu_passes(g, *renderer_, gpu_resources_, h.input, h.sink, order_ == render::SplatOrder::gpu,
                                               tag(PassGroup::gpu_record));
     passes::PresentSources sources{drawn, {}, renderer_->width(), renderer_->height(),

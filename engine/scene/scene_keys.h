@@ -90,6 +90,7 @@ inline const Key<RenderDesc> k_render_keys[] = {
     PBDSPLAT_KEY(RenderDesc, "height", height, 16, 16384),
     PBDSPLAT_KEY(RenderDesc, "sort", sort),
     PBDSPLAT_KEY(RenderDesc, "surfel_thickness", surfel_thickness, 0.01, 1.0),
+    PBDSPLAT_KEY(RenderDesc, "occluder_tolerance", occluder_tolerance, 0.05, 20.0),
     PBDSPLAT_KEY(RenderDesc, "ground", ground),
     PBDSPLAT_KEY(RenderDesc, "cull_back", cull_back),
     PBDSPLAT_KEY(RenderDesc, "kappa", frame.style.kappa, 0.0, 6.0),

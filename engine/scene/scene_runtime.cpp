@@ -56,6 +56,13 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     mapping_ = std::make_unique<MappingStage>(body_, scene_.simulation.fade_frames, scene_.render.deformed_shapes(),
                                                scene_.render.varying_normals);
     appearance_.scale = mat.splat_scale * h_;
+    if (scene_.render.frame.style.mesh_occluders) {
+        render::SplatStyle& style = frame_input_.frame.style;
+        style.occluder_tolerance = scene_.render.occluder_tolerance * appearance_.scale;
+        // Behind the mesh, the surface's own carriers lie at their centres' depth, which on a
+        // surface turned from the eye is up to about their reach farther than the mesh there.
+        style.occluder_push = std::max(4.0f * appearance_.scale, 2.0f * style.occluder_tolerance);
+    }
     update_closed();
     frame_input_.frame.lighting.intensity *= mat.diffuse;
     frame_input_.frame.lighting.specular = mat.specular;

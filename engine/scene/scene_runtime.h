@@ -184,6 +184,10 @@ private:
     mesh::DecimateReport decimation_;
     surface::EmbeddingStats embedding_;
     std::optional<surface::BoundaryParticles> fine_vertices_;  // made on the first deformed_surface()
+    // The surface mesh as the mesh occluders draw it (render.visibility = "mesh"): the fine
+    // surface where the body carries one, else the body's own triangles (not copied).
+    std::vector<Vec4f> occluder_x_;
+    std::vector<mesh::Triangle> occluder_triangles_;
     std::unique_ptr<core::ThreadPool> pool_;
     std::unique_ptr<sim::Solver> solver_;
     std::unique_ptr<EventQueue> queue_;  // the scene's timed events and the user's strokes, in time order

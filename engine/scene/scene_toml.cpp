@@ -119,6 +119,7 @@ void write_render(std::ostream& o, const Scene& sc) {
       << "\ncarrier = \"" << core::name_of<render::SplatCarrier>(render::k_splat_carrier_names, d.carrier) << "\""
       << "\nsplat_shape = \"" << splat_shape_name(d.splat_shape) << "\""
       << "\nsplat_normals = \"" << (d.varying_normals ? "varying" : "flat") << "\""
+      << "\nvisibility = \"" << (d.frame.style.mesh_occluders ? "mesh" : "splats") << "\""
       << "\nbackground = " << vec<3>(Vec3f(d.frame.background.head<3>()));
     o << "\npath = \"" << (d.splat_path ? render::splat_path_name(*d.splat_path) : "auto") << "\"\nenvironment = \""
       << render::env_sampling_name(l.environment.sampling) << "\"";

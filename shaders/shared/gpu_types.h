@@ -70,6 +70,7 @@ struct FrameUniforms {
                        // y: splats whose normal faces the eye by less than this cosine are
                        // culled (a closed, opaque body); below -1: none;
                        // z: the least alpha (opacity x fade x falloff) that writes depth
+                       // w: mesh occluders' tolerance along the view axis, world units
     // Environment lighting (paper eqs. 24-25, section 7.2).
     vec4 environment;  // x: sampling (0 off: ambient only, 1 position, 2 normal, 3 hybrid);
                        // y: diffuse weight k_d; z: specular weight; w: intensity

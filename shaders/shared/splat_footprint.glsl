@@ -22,6 +22,8 @@ struct SplatQuad {
     vec3 axis_right;  // view space, half-size along r (eq. 19)
     vec3 axis_up;     // view space, half-size along u_perp (eq. 20)
     float extent;     // the carrier covers uv in [-extent, extent]^2; 0: nothing to draw
+    vec3 plane;       // view space: a surfel's unit normal (its corners' depths lie on its plane);
+                      // zero for a round splat (every corner at the centre's depth)
 };
 
 // Half-size of the carrier in units of the splat's standard deviation s0. The Gaussian's reach
@@ -132,6 +134,7 @@ SplatQuad splat_quad(vec3 world, vec3 normal, float s0, float alpha, bool visibi
     q.centre = c0;
     if (visibility_pass) q.centre.z -= frame.visibility.x * s0;  // the camera looks down -z
     q.extent = k_footprint == SPLAT_FOOTPRINT_PAPER ? (reach > 0.0 ? 1.0 : 0.0) : reach;
+    q.plane = !k_anisotropic && frame.material.y > 0.0 ? mat3(frame.view) * normalize(normal) : vec3(0.0);
     if (k_anisotropic || frame.material.y > 0.0) {
         vec2 r, u;
         float lr, lu;
@@ -171,14 +174,26 @@ SplatQuad splat_quad(vec3 world, vec3 normal, float s0, float alpha, bool visibi
     return q;
 }
 
-// Corner i of the carrier (strip order): clip position, world position and uv. A carrier with
-// nothing to draw lands outside the clip volume.
-void splat_corner(SplatQuad q, vec3 world, int i, out vec4 clip, out vec3 corner_world, out vec2 uv) {
+// Corner i of the carrier (strip order): clip position, world position, uv, and the distance
+// along the view axis at which the view ray through the corner meets the splat's surface (its
+// plane for a surfel, the centre's depth otherwise; mesh occluders compare it with the surface's
+// own). A carrier with nothing to draw lands outside the clip volume.
+void splat_corner(SplatQuad q, vec3 world, int i, out vec4 clip, out vec3 corner_world, out vec2 uv, out float depth) {
     const vec2 c = carrier_corner(i);
     const vec3 offset = c.x * q.axis_right + c.y * q.axis_up;
     clip = q.extent > 0.0 ? frame.proj * vec4(q.centre + offset, 1.0) : vec4(2.0, 2.0, 2.0, 1.0);
     corner_world = world + transpose(mat3(frame.view)) * offset;
     uv = c * q.extent;
+    const vec3 c0 = (frame.view * vec4(world, 1.0)).xyz;
+    depth = -c0.z;
+    if (q.plane != vec3(0.0)) {
+        // The ray t (c0 + offset) meets the plane at t = n.c0 / n.(c0 + offset). Seen at a grazing
+        // angle that is far out: the surface then lies within about the carrier's size in depth.
+        const float along = dot(q.plane, c0 + offset);
+        const float slack = 2.0 * max(length(q.axis_right), length(q.axis_up));
+        const float t = abs(along) > 1e-12 ? dot(q.plane, c0) / along : 1.0;
+        depth = clamp(t * depth, depth - slack, depth + slack);
+    }
 }
 
 #endif

@@ -28,6 +28,12 @@ layout(location = 2) in vec3 g_normal;
 layout(location = 3) in vec4 g_color;  // rgb: albedo, or the colour shaded at the corners; a: opacity
 
 layout(location = 0) out vec4 out_color;
+#ifdef PBDSPLAT_OCCLUDERS
+// The surface mesh's own distance along the view axis at this pixel (render/occluder_pass.h;
+// 0 where no surface is), and the splat's from splat_corner().
+layout(location = 4) in float g_depth;
+layout(set = 1, binding = 0) uniform sampler2D occluder_depth;
+#endif
 #ifdef PBDSPLAT_WEIGHTED_OUTPUT
 layout(location = 1) out vec4 out_inside;  // normalised blending's second layer (normalised_blend.h)
 #endif
@@ -40,6 +46,25 @@ float dither_threshold() {
 }
 
 void main() {
+#ifdef PBDSPLAT_OCCLUDERS
+    // Only the surface the mesh shows at this pixel: a splat reaching past an occluding contour
+    // (a head over the ear behind it, a crease's near face over the far one) lies well in front
+    // of it there and would paint that surface over with its own colour. Past the body's outline
+    // (no surface) a splat keeps a pixel of its soft rim, no more: the outline is the surface's,
+    // drawn smooth.
+    const ivec2 pixel = ivec2(gl_FragCoord.xy);
+    const float surface = texelFetch(occluder_depth, pixel, 0).r;
+    if (surface > 0.0) {
+        if (abs(g_depth - surface) > frame.visibility.w) discard;
+    } else {
+        const ivec2 last = textureSize(occluder_depth, 0) - 1;
+        const float near = max(max(texelFetch(occluder_depth, min(pixel + ivec2(1, 0), last), 0).r,
+                                   texelFetch(occluder_depth, max(pixel - ivec2(1, 0), ivec2(0)), 0).r),
+                               max(texelFetch(occluder_depth, min(pixel + ivec2(0, 1), last), 0).r,
+                                   texelFetch(occluder_depth, max(pixel - ivec2(0, 1), ivec2(0)), 0).r));
+        if (!(near > 0.0)) discard;
+    }
+#endif
     // Eqs. 22-23: normalise by the sharpness.
     const vec2 u = g_uv / frame.splat.yz;
     const float r2 = dot(u, u);

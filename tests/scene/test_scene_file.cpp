@@ -151,6 +151,27 @@ TEST_SUITE("scene/scene_file") {
         CHECK(why.find("footprint") != std::string::npos);
     }
 
+    TEST_CASE("mesh occluders serve normalised blending, print back, and say so with the line") {
+        auto ok = scene::parse_scene("[render]\nfootprint = \"gaussian\"\nblend = \"normalised\"\nvisibility = \"mesh\"\n"
+                                     "occluder_tolerance = 2.5\n", "m.toml");
+        REQUIRE_MESSAGE(ok.ok(), ok.error().to_string());
+        CHECK(ok->render.frame.style.mesh_occluders);
+        CHECK(ok->render.occluder_tolerance == doctest::Approx(2.5f));
+        auto again = scene::parse_scene(scene::to_toml(ok.value()), "printed.toml");
+        REQUIRE_MESSAGE(again.ok(), again.error().to_string());
+        CHECK(again->render.frame.style.mesh_occluders);
+        CHECK(again->render.occluder_tolerance == doctest::Approx(2.5f));
+        // The default: the splats' own cores.
+        auto plain = scene::parse_scene("[render]\nfootprint = \"gaussian\"\nblend = \"normalised\"\n", "p.toml");
+        REQUIRE(plain.ok());
+        CHECK_FALSE(plain->render.frame.style.mesh_occluders);
+        const std::string why = refusal("[render]\nvisibility = \"mesh\"\n");
+        CHECK(why.find("bad.toml:2:14: 'render.visibility' = \"mesh\"") == 0);
+        CHECK(why.find("normalised") != std::string::npos);
+        CHECK(refusal("[render]\nvisibility = \"cores\"\n").find("must be one of splats, mesh") != std::string::npos);
+        CHECK(refusal("[render]\noccluder_tolerance = 0.0\n").find("occluder_tolerance") != std::string::npos);
+    }
+
     TEST_CASE("a scene survives printing and parsing again") {
         auto first = scene::parse_scene(k_full, "full.toml");
         REQUIRE(first.ok());

@@ -1,0 +1,62 @@
+#pragma once
+// Mesh occluders for normalised blending (render.visibility = "mesh"): the surface mesh the
+// splats stand for is rasterised once, both sides, into the splat target's depth (pushed back
+// along the view rays) and, as its distance along the view axis, into a float image that the
+// accumulation reads. The accumulation then keeps only the fragments lying on the surface the
+// mesh shows at each pixel (within a tolerance), so a splat's disc ends at every occluding
+// contour and crease where the mesh does, instead of painting the surface behind it over with its
+// own colour; past the body's outline (no surface) splats keep their soft rims.
+//
+// Replaces the splats' own visibility pass (their opaque cores), which cannot tell a
+// neighbour of the same surface from a surface behind at a contour.
+#include <array>
+#include <span>
+#include <vector>
+
+#include "core/math.h"
+#include "gpu/buffer.h"
+#include "gpu/device_handle.h"
+#include "gpu/image.h"
+#include "gpu/pipeline.h"
+#include "gpu/sampled_image_set.h"
+#include "render/frame_inputs.h"
+#include "render/gpu_use.h"
+
+namespace pbdsplat::render {
+
+// Distance along the view axis, 0 where no surface is.
+constexpr VkFormat k_occluder_format = VK_FORMAT_R32_SFLOAT;
+
+class OccluderPass {
+public:
+    // `slots`: copies of the mesh buffers, one per frame in flight.
+    static core::Result<OccluderPass> create(gpu::Context& ctx, uint32_t width, uint32_t height, uint32_t slots, VkFormat depth_format);
+    OccluderPass() = default;
+
+    // Copies the mesh into `slot`'s host-visible buffers (grown as a cut adds vertices); call
+    // while no frame using that slot is in flight.
+    core::Status set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles, uint32_t slot);
+    // Draws `slot`'s mesh into `depth` (loaded and stored, in attachment layout) and the distance
+    // image (cleared); `push`: how far depth is pushed back, world units.
+    void record(VkCommandBuffer cmd, const Camera& camera, float push, VkImageView depth, uint32_t slot) const;
+
+    const gpu::Image& image() const { return image_; }
+    // The distance image at binding 0 (SHADER_READ_ONLY layout), for the accumulation's set 1.
+    VkDescriptorSetLayout set_layout() const { return sampled_.layout(); }
+    VkDescriptorSet set() const { return sampled_.set(); }
+
+private:
+    gpu::Context* ctx_ = nullptr;
+    struct Slot {
+        gpu::Buffer vertices, indices;
+        uint32_t index_count = 0;
+    };
+    std::vector<Slot> slots_;
+    gpu::Image image_;
+    gpu::SampledImageSet sampled_;
+    gpu::PipelineLayout layout_;
+    gpu::Pipeline pipeline_;
+    VkExtent2D extent_{};
+};
+
+} // namespace pbdsplat::render
