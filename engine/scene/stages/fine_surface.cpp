@@ -27,10 +27,26 @@ void deformed_fine_surface(const sim::SoftBody& body, const mesh::TriangleMesh& 
     for (size_t i = 0; i < fv.size(); ++i) x[i] = sim::to4(fv.position[i]);
     std::vector<uint32_t> comp_of_triangle;
     mesh::vertex_components(body.triangles, body.particle_count(), comp_of_triangle);
+    // Two body triangles that met at rest (a corner at the same rest position) but share no
+    // vertex now were torn or cut apart between them: a fine triangle with corners on both would
+    // bridge the opening (a tear that has not yet split the piece leaves both in one component).
+    const auto torn_apart = [&](uint32_t a, uint32_t b) {
+        if (a == b) return false;
+        const mesh::Triangle &ta = body.triangles[a], &tb = body.triangles[b];
+        bool met = false;
+        for (uint32_t i : ta)
+            for (uint32_t j : tb) {
+                if (i == j) return false;
+                met = met || body.rest_positions[i] == body.rest_positions[j];
+            }
+        return met;
+    };
     triangles.clear();
     for (const mesh::Triangle& t : fine.triangles) {
         const uint32_t c = comp_of_triangle[fv.triangle[t[0]]];
         if (comp_of_triangle[fv.triangle[t[1]]] != c || comp_of_triangle[fv.triangle[t[2]]] != c) continue;
+        const uint32_t e0 = fv.triangle[t[0]], e1 = fv.triangle[t[1]], e2 = fv.triangle[t[2]];
+        if (torn_apart(e0, e1) || torn_apart(e1, e2) || torn_apart(e0, e2)) continue;
         bool torn = false;
         for (int k = 0; k < 3; ++k) {
             const uint32_t a = t[k], b = t[(k + 1) % 3];

@@ -1,8 +1,9 @@
 #pragma once
 // The model's full-resolution surface as the simulation mesh carries it now (a decimated body
 // under a fine surface): its vertices embedded in the simulation triangles like the samples,
-// made on the first call (only coverage checks ask). Triangles a cut or tear tore across
-// (corners on different pieces, or an edge stretched past 3x) are left out.
+// made on the first call (only coverage checks and mesh occluders ask). Triangles a cut or tear
+// tore across (corners on different pieces, or on body triangles torn apart between them, or an
+// edge stretched past 3x) are left out.
 #include <optional>
 #include <vector>
 
