@@ -161,10 +161,19 @@ TEST_SUITE("scene/scene_file") {
         REQUIRE_MESSAGE(again.ok(), again.error().to_string());
         CHECK(again->render.frame.style.mesh_occluders);
         CHECK(again->render.occluder_tolerance == doctest::Approx(2.5f));
-        // The default: the splats' own cores.
+        // The default: the mesh under normalised blending, the splats' own cores otherwise.
         auto plain = scene::parse_scene("[render]\nfootprint = \"gaussian\"\nblend = \"normalised\"\n", "p.toml");
         REQUIRE(plain.ok());
-        CHECK_FALSE(plain->render.frame.style.mesh_occluders);
+        CHECK(plain->render.frame.style.mesh_occluders);
+        auto cores = scene::parse_scene("[render]\nfootprint = \"gaussian\"\nblend = \"normalised\"\nvisibility = \"splats\"\n", "c.toml");
+        REQUIRE(cores.ok());
+        CHECK_FALSE(cores->render.frame.style.mesh_occluders);
+        auto over = scene::parse_scene("[render]\nfootprint = \"gaussian\"\n", "o.toml");
+        REQUIRE(over.ok());
+        CHECK_FALSE(over->render.frame.style.mesh_occluders);
+        auto again_cores = scene::parse_scene(scene::to_toml(cores.value()), "printed_cores.toml");
+        REQUIRE(again_cores.ok());
+        CHECK_FALSE(again_cores->render.frame.style.mesh_occluders);
         const std::string why = refusal("[render]\nvisibility = \"mesh\"\n");
         CHECK(why.find("bad.toml:2:14: 'render.visibility' = \"mesh\"") == 0);
         CHECK(why.find("normalised") != std::string::npos);
