@@ -1,10 +1,14 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <optional>
 
+#include "core/image.h"
 #include "passes/coverage.h"
+#include "passes/offscreen_renderer.h"
 #include "splat/gaussian_record.h"
 #include "support/gpu_fixture.h"
+#include "support/skip.h"
 
 using namespace pbdsplat;
 
@@ -107,6 +111,47 @@ TEST_SUITE("render/occluder_pass") {
         auto alpha_at = [&](const core::ImageRgba8& image, int x) { return image.pixels[(row * Plates::k_size + size_t(x)) * 4 + 3]; };
         CHECK(alpha_at(a->splats, outline + 2) > 0);  // the splats' own reach runs on past it
         for (int x = outline + 2; x < int(Plates::k_size); ++x) CHECK(alpha_at(b->splats, x) == 0);
+        test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("mesh occluders draw the same on every splat path") {
+        // Each path computes its carrier corners' depths on the surfel's plane in its own stage
+        // (geometry, mesh, vertex); the accumulation compares them with the mesh's.
+        const Plates s;
+        render::FrameInputs frame = s.frame;
+        frame.style.mesh_occluders = true;
+        auto ctx = test::open_validated_context();
+        std::optional<core::ImageRgba8> first;
+        for (render::SplatPath path : {render::SplatPath::geometry, render::SplatPath::mesh, render::SplatPath::vertex}) {
+            if (const std::string why = render::splat_path_unsupported(ctx->caps(), path); !why.empty()) {
+                test::skip("the " + std::string(render::splat_path_name(path)) + " path: " + why);
+                continue;
+            }
+            render::RendererOptions ro;
+            ro.width = ro.height = Plates::k_size;
+            ro.max_splats = uint32_t(s.records.size());
+            ro.frames_in_flight = 1;
+            ro.normalised = ro.occluders = true;
+            ro.path = path;
+            auto r = passes::OffscreenRenderer::create(*ctx, ro);
+            REQUIRE_MESSAGE(r.ok(), r.error().to_string());
+            r.value()->set_occluders(s.x, s.triangles);
+            REQUIRE(r.value()->render(s.records, frame).ok());
+            auto image = r.value()->finish();
+            REQUIRE_MESSAGE(image.ok(), image.error().to_string());
+            const BandCount band = count_band(image.value(), 1, 3);
+            MESSAGE(std::string(render::splat_path_name(path)) << ": three columns right of the near plate's edge " << band.red
+                                                                 << " red / " << band.blue << " blue / " << band.holes << " open");
+            CHECK(band.red == 0);
+            CHECK(band.holes == 0);
+            if (!first) {
+                first = std::move(image).value();
+                continue;
+            }
+            auto diff = core::compare_images(image.value(), *first, 2);
+            REQUIRE(diff.ok());
+            CHECK(diff->share_over < 0.002);
+        }
         test::require_no_validation_messages(*ctx);
     }
 }
