@@ -90,7 +90,7 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
     ro.frames_in_flight = 1;
     ro.anisotropic = !shapes.empty();
     ro.normalised = frame.style.blend == render::Blend::normalised;
-    ro.occluders = ro.normalised && frame.style.mesh_occluders;
+    ro.occluders = render::occluded_style(frame.style);
     auto splats = OffscreenRenderer::create(ctx, ro);
     if (!splats.ok()) return splats.error();
     splats.value()->set_occluders(x, triangles);

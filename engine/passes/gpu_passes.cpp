@@ -99,27 +99,48 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             renderer.draw(in.frame, uint32_t(in.records.size()));
         };
     }, tag);
+    graph::Handle<graph::GpuImageRef> occluded;
+    if (renderer.has_occluders()) {
+        // The surface mesh's depth over the ground's, and its distance image.
+        const auto occluders = g.import("occluder image", &res.occluders);
+        g.add_pass("occluders", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+            b.read(input);
+            depth_drawn = b.write(depth_drawn, to_graph(render::uses::depth_attachment));
+            occluded = b.write(occluders, to_graph(render::uses::color_attachment));
+            return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
+                GpuFrameInput& in = r.get(input);
+                if (in.upload_status.ok()) in.upload_status = renderer.set_occluders(in.occluder_positions, in.occluder_triangles);
+                renderer.draw_occluders(in.frame);
+            };
+        }, tag);
+    }
+    if (renderer.has_occluders() && !renderer.has_normalised()) {
+        // The paper's disc, drawn against them.
+        g.add_pass("splat over occluders", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+            b.read(input);
+            if (gpu_sort) {
+                b.read(sorted, to_graph(records_read));
+                b.read(control, to_graph(render::uses::indirect_read));
+            } else {
+                b.read(uploaded, to_graph(records_read));
+            }
+            b.read(occluded, to_graph(render::uses::accumulation_sampled));
+            drawn = b.write(drawn, to_graph(render::uses::color_attachment));
+            depth_drawn = b.write(depth_drawn, to_graph(render::uses::depth_attachment));
+            b.side_effect();
+            return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
+                GpuFrameInput& in = r.get(input);
+                renderer.draw_over_occluders(in.frame, uint32_t(in.records.size()));
+            };
+        }, tag);
+    }
     if (renderer.has_normalised()) {
         // Normalised blending: the front fragments summed against the visibility depth the splat
         // pass left, then divided and blended over the colour target. Normalised frames are never
         // sorted (the sums do not depend on order), so the records are the uploaded ones.
         const auto accumulation = g.import("accumulation image", &res.accumulation);
         const auto accumulation_inside = g.import("accumulation image, inside", &res.accumulation_inside);
-        graph::Handle<graph::GpuImageRef> summed, summed_inside, occluded;
-        if (renderer.has_occluders()) {
-            // The surface mesh's depth over the ground's, and its distance image.
-            const auto occluders = g.import("occluder image", &res.occluders);
-            g.add_pass("occluders", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-                b.read(input);
-                depth_drawn = b.write(depth_drawn, to_graph(render::uses::depth_attachment));
-                occluded = b.write(occluders, to_graph(render::uses::color_attachment));
-                return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-                    GpuFrameInput& in = r.get(input);
-                    if (in.upload_status.ok()) in.upload_status = renderer.set_occluders(in.occluder_positions, in.occluder_triangles);
-                    renderer.draw_occluders(in.frame);
-                };
-            }, tag);
-        }
+        graph::Handle<graph::GpuImageRef> summed, summed_inside;
         g.add_pass("splat accumulate", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
             b.read(input);
             b.read(uploaded, to_graph(records_read));

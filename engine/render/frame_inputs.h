@@ -126,8 +126,8 @@ struct SplatStyle {
     // background through must not hide its own surface's neighbours' colour, nor the surface
     // behind (dark specks); splats fading in after a cut write none.
     float depth_min_alpha = 0.4f;
-    // Normalised blending only: the visibility depth comes from the surface mesh
-    // (render/occluder_pass.h) instead of the splats' cores, and a fragment farther than
+    // Normalised blending or the paper's disc (occluded_style): the visibility depth comes from
+    // the surface mesh (render/occluder_pass.h) instead of the splats, and a fragment farther than
     // occluder_tolerance (world units, along the view axis) from the surface the mesh shows at
     // its pixel is dropped. Needs a renderer created with options.occluders and the mesh each
     // frame (SplatRenderer::set_occluders).
@@ -137,6 +137,12 @@ struct SplatStyle {
     // of the surface's own splats can lie behind it.
     float occluder_push = 0.0f;
 };
+
+// The styles mesh occluders serve (with mesh_occluders set): normalised blending, and the
+// paper's disc under "over" (its one depth-writing pass then runs after the occluders').
+inline bool occluded_style(const SplatStyle& s) {
+    return s.mesh_occluders && (s.blend == Blend::normalised || (s.blend == Blend::over && s.footprint == Footprint::paper));
+}
 
 // The scene's ground plane as drawn (render/ground.h): a disc on the plane, with a contact shadow
 // under the body. The scene fills it every frame from its plane collider and the body's bounds.

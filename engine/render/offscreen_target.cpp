@@ -36,6 +36,11 @@ void OffscreenTarget::begin(VkCommandBuffer cmd, const float clear_rgba[4], bool
                           keep_depth ? VK_ATTACHMENT_STORE_OP_STORE : VK_ATTACHMENT_STORE_OP_DONT_CARE, 1.0f});
 }
 
+void OffscreenTarget::resume(VkCommandBuffer cmd) {
+    gpu::begin_rendering(cmd, {width(), height()}, gpu::ColorTarget{color_.view(), VK_ATTACHMENT_LOAD_OP_LOAD, {}},
+                         {depth_.view(), VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_STORE});
+}
+
 void OffscreenTarget::end(VkCommandBuffer cmd) { vkCmdEndRendering(cmd); }
 
 void OffscreenTarget::record_readback(VkCommandBuffer cmd, uint32_t slot) {

@@ -27,6 +27,8 @@ public:
     // (the frame graph's barriers put them there: see color_use / depth_use).
     // `keep_depth`: store the depth for a later pass (normalised blending's accumulation).
     void begin(VkCommandBuffer cmd, const float clear_rgba[4], bool keep_depth = false);
+    // Goes on drawing into what an earlier pass of the frame left (colour and depth loaded).
+    void resume(VkCommandBuffer cmd);
     void end(VkCommandBuffer cmd);
     // Copies the colour image (in TRANSFER_SRC layout) into the readback buffer of `slot`, and
     // makes the copy visible to the host once the frame's fence signals.

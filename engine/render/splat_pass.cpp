@@ -157,6 +157,14 @@ core::Status SplatPass::create_pipelines(const gpu::Context& ctx, gpu::GraphicsP
     desc.depth_write = true;
     // Sorted far to near, the flat alpha blends over what lies behind, as the paper composites.
     PBDSPLAT_TRY(make(paper_sorted_));
+    if (occluded_layout_) {
+        gpu::GraphicsPipelineDesc occluded = desc;
+        occluded.stages.back().second = "splat_paper_occluded.frag";
+        occluded.layout = occluded_layout_.get();
+        PBDSPLAT_TRY(make_from(occluded, paper_sorted_occluded_));
+        occluded.specialization[4] = 1u;
+        PBDSPLAT_TRY(make_from(occluded, paper_over_occluded_));
+    }
     desc.specialization[4] = 1u;  // k_footprint_dither: unsorted, opacity becomes coverage
     return make(paper_over_);
 }
@@ -197,6 +205,7 @@ void SplatPass::record(VkCommandBuffer cmd, const SplatStyle& style, VkDescripto
         vkCmdBindVertexBuffers(cmd, 0, 1, &source.records, &offset);
     }
     const bool additive = style.blend == Blend::additive;
+    if (style.footprint == Footprint::paper && style.mesh_occluders && !additive) return;  // record_paper_occluded()
     if (style.footprint == Footprint::paper) {
         const VkPipeline pipeline = additive ? paper_additive_.get()
                                     : style.order == SplatOrder::unsorted ? paper_over_.get()
@@ -213,6 +222,21 @@ void SplatPass::record(VkCommandBuffer cmd, const SplatStyle& style, VkDescripto
     }
     if (normalised) return;  // the sums follow in their own pass (record_accumulation)
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, additive ? additive_.get() : over_.get());
+    draw(cmd, source);
+}
+
+void SplatPass::record_paper_occluded(VkCommandBuffer cmd, const SplatStyle& style, VkDescriptorSet frame_set,
+                                      const SplatSource& source, VkDescriptorSet occluder_set) const {
+    PBDSPLAT_ASSERT(paper_over_occluded_, "SplatPass::record_paper_occluded: create the pass with the occluders' set layout");
+    if (source.count == 0) return;
+    const VkDescriptorSet sets[2] = {frame_set, occluder_set};
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, occluded_layout_.get(), 0, 2, sets, 0, nullptr);
+    if (path_ == SplatPath::geometry) {
+        const VkDeviceSize offset = 0;
+        vkCmdBindVertexBuffers(cmd, 0, 1, &source.records, &offset);
+    }
+    const VkPipeline pipeline = style.order == SplatOrder::unsorted ? paper_over_occluded_.get() : paper_sorted_occluded_.get();
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
     draw(cmd, source);
 }
 

@@ -59,6 +59,10 @@ public:
     // the front fragments into the accumulation image.
     void record(VkCommandBuffer cmd, const SplatStyle& style, VkDescriptorSet frame_set, const SplatSource& source) const;
     bool normalised() const { return static_cast<bool>(accumulate_); }
+    // The paper's disc against mesh occluders (record() then draws nothing for it): set 1 holds
+    // the occluders' distance image; needs the pass created with `occluders`.
+    void record_paper_occluded(VkCommandBuffer cmd, const SplatStyle& style, VkDescriptorSet frame_set, const SplatSource& source,
+                               VkDescriptorSet occluder_set) const;
     // `occluder_set` (set 1: the mesh occluders' distance image, render/occluder_pass.h): keep
     // only the fragments on the surface the mesh shows; needs the pass created with `occluders`.
     void record_accumulation(VkCommandBuffer cmd, VkDescriptorSet frame_set, const SplatSource& source,
@@ -80,6 +84,7 @@ private:
     gpu::Pipeline paper_additive_;
     gpu::Pipeline accumulate_;      // normalised blending: weighted sums into the accumulation image
     gpu::Pipeline accumulate_occluded_;  // the same against mesh occluders
+    gpu::Pipeline paper_over_occluded_, paper_sorted_occluded_;  // the paper's disc against them
     PFN_vkCmdDrawMeshTasksEXT draw_mesh_tasks_ = nullptr;
     PFN_vkCmdDrawMeshTasksIndirectEXT draw_mesh_tasks_indirect_ = nullptr;
     void draw(VkCommandBuffer cmd, const SplatSource& source) const;

@@ -107,8 +107,6 @@ core::Status SplatRenderer::create_streams() {
 core::Status SplatRenderer::create_passes() {
     gpu::Context& ctx = *ctx_;
     const RendererOptions& options = options_;
-    PBDSPLAT_ASSERT(!options.occluders || options.normalised,
-                    "RendererOptions::occluders serve normalised blending: set options.normalised too");
     if (options.occluders) {
         auto occluders = OccluderPass::create(ctx, options.width, options.height, options.frames_in_flight, k_depth_format);
         if (!occluders.ok()) return occluders.error();
@@ -266,16 +264,33 @@ void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
                     "Blend::normalised needs a renderer created with options.normalised (and the graph's accumulation and resolve passes)");
     PBDSPLAT_ASSERT(!normalised || inputs.style.footprint == Footprint::gaussian,
                     "Blend::normalised weighs each splat by its Gaussian falloff: draw it with Footprint::gaussian");
-    PBDSPLAT_ASSERT(!normalised || !inputs.style.mesh_occluders || has_occluders(),
+    const bool occluded = render::occluded_style(inputs.style);
+    PBDSPLAT_ASSERT(!occluded || has_occluders(),
                     "SplatStyle::mesh_occluders needs a renderer created with options.occluders (and the graph's occluders pass)");
-    target_.begin(cmd_, inputs.background.data(), normalised);
+    target_.begin(cmd_, inputs.background.data(), normalised || occluded);
     if (inputs.ground.visible) ground_.record(cmd_, sets.set(slot), inputs.ground);
-    SplatSource source{records_.buffer(slot), count};
-    if (gpu_sorted) source = {sort_.sorted_records(slot), count, sort_.control(slot)};
-    splat_.record(cmd_, inputs.style, sets.set(slot), source);
+    splat_.record(cmd_, inputs.style, sets.set(slot), splat_source(inputs, count));
     target_.end(cmd_);
-    // Normalised blending's draw ends with its resolve, which marks it.
-    if (!normalised) timers_[slot].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
+    // Normalised blending's draw ends with its resolve, the occluded disc's with its own pass.
+    if (!normalised && !occluded) timers_[slot].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
+}
+
+SplatSource SplatRenderer::splat_source(const FrameInputs& inputs, uint32_t count) const {
+    const uint32_t slot = frames_.slot();
+    if (inputs.style.blend == Blend::over && inputs.style.order == SplatOrder::gpu)
+        return {sort_.sorted_records(slot), count, sort_.control(slot)};
+    return {records_.buffer(slot), count};
+}
+
+void SplatRenderer::draw_over_occluders(const FrameInputs& inputs, uint32_t count) {
+    if (!render::occluded_style(inputs.style) || inputs.style.blend == Blend::normalised) return;
+    const uint32_t slot = frames_.slot();
+    const bool gpu_sorted = inputs.style.order == SplatOrder::gpu;
+    const gpu::UniformSets& sets = gpu_sorted ? sorted_uniforms_ : uniforms_;
+    target_.resume(cmd_);
+    splat_.record_paper_occluded(cmd_, inputs.style, sets.set(slot), splat_source(inputs, count), occluders_.set());
+    target_.end(cmd_);
+    timers_[slot].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
 
 core::Status SplatRenderer::set_occluders(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles) {
@@ -284,7 +299,7 @@ core::Status SplatRenderer::set_occluders(std::span<const Vec4f> positions, std:
 }
 
 void SplatRenderer::draw_occluders(const FrameInputs& inputs) {
-    if (inputs.style.blend != Blend::normalised || !inputs.style.mesh_occluders) return;
+    if (!render::occluded_style(inputs.style)) return;
     PBDSPLAT_ASSERT(has_occluders(), "SplatStyle::mesh_occluders needs a renderer created with options.occluders");
     occluders_.record(cmd_, inputs.camera, inputs.style.occluder_push, target_.depth().view(), frames_.slot());
 }

@@ -51,8 +51,9 @@ struct RendererOptions {
     // Create normalised blending's accumulation image and passes (frames drawn with
     // Blend::normalised need them; the graph then declares the accumulation and resolve passes).
     bool normalised = false;
-    // Create the mesh occluders of normalised blending (render/occluder_pass.h); frames drawn
-    // with SplatStyle::mesh_occluders need them (and the graph then declares their pass).
+    // Create the mesh occluders (render/occluder_pass.h), for normalised blending or the paper's
+    // disc under "over"; frames drawn with SplatStyle::mesh_occluders need them (and the graph
+    // then declares their pass, and the disc's own pass after it).
     bool occluders = false;
 };
 
@@ -121,6 +122,9 @@ public:
     // between draw() and accumulate(); records nothing unless the style asks for them.
     core::Status set_occluders(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles);
     void draw_occluders(const FrameInputs& inputs);
+    // The paper's disc against the occluders, after draw_occluders(); records nothing for other
+    // styles (draw() drew them).
+    void draw_over_occluders(const FrameInputs& inputs, uint32_t count);
     void accumulate(const FrameInputs& inputs, uint32_t count);
     void resolve(const FrameInputs& inputs);
     void readback();
@@ -157,6 +161,8 @@ private:
     core::Status create_passes();
     core::Status create_sets();
     core::Status collect_timings(uint32_t slot);
+    // The records the splat pass draws this frame: the uploaded ones, or the GPU sort's.
+    SplatSource splat_source(const FrameInputs& inputs, uint32_t count) const;
 
     gpu::Context* ctx_ = nullptr;
     RendererOptions options_;

@@ -269,9 +269,10 @@ void read_splat_look(const Reader& r, Reader::Table& t, RenderDesc& d) {
     // fewer specks and holes and a closer outline with them (docs/BENCHMARKS.md, "Mesh occluders").
     const bool normalised = style.blend == render::Blend::normalised;
     style.mesh_occluders = t.choice("visibility", normalised ? "mesh" : "splats", {"splats", "mesh"}) == "mesh";
-    if (style.mesh_occluders && style.blend != render::Blend::normalised)
+    if (style.mesh_occluders && !render::occluded_style(style))
         r.fail(t.source_of("visibility"), "'render.visibility' = \"mesh\" sets what hides the surfaces behind under normalised "
-                                          "blending: it needs 'render.blend' = \"normalised\"");
+                                          "blending or the paper's disc: it needs 'render.blend' = \"normalised\", or "
+                                          "'render.footprint' = \"paper\" with 'render.blend' = \"over\"");
     style.sharpness = t.vec<2>("sharpness", style.sharpness, 0.1, 4.0);
     d.carrier = t.named<render::SplatCarrier>("carrier", render::SplatCarrier::quad, render::k_splat_carrier_names);
     const std::string shape = t.choice("splat_shape", "round", {"round", "surfel", "deformed"});

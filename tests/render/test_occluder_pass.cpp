@@ -154,4 +154,30 @@ TEST_SUITE("render/occluder_pass") {
         }
         test::require_no_validation_messages(*ctx);
     }
+
+    TEST_CASE("mesh occluders cut the paper's disc at an occluding contour too") {
+        // The disc's one pass writes depth (the nearest disc wins), after the occluders' pass.
+        const Plates s;
+        render::FrameInputs cores = s.frame;
+        cores.style.footprint = render::Footprint::paper;
+        cores.style.blend = render::Blend::over;
+        cores.style.kappa = 0.0f;  // the closing size
+        render::FrameInputs mesh = cores;
+        mesh.style.mesh_occluders = true;
+        auto ctx = test::open_validated_context();
+        auto a = passes::measure_coverage(*ctx, s.x, s.triangles, s.records, cores, Plates::k_size, Plates::k_size);
+        auto b = passes::measure_coverage(*ctx, s.x, s.triangles, s.records, mesh, Plates::k_size, Plates::k_size);
+        REQUIRE_MESSAGE(a.ok(), a.error().to_string());
+        REQUIRE_MESSAGE(b.ok(), b.error().to_string());
+        const BandCount over_depth = count_band(a->splats, 1, 3), over_mesh = count_band(b->splats, 1, 3);
+        MESSAGE("paper disc, three columns right of the near plate's edge: own depth " << over_depth.red << " red / "
+                << over_depth.blue << " blue, mesh occluders " << over_mesh.red << " red / " << over_mesh.blue << " blue / "
+                << over_mesh.holes << " open");
+        CHECK(over_depth.red > 40);
+        CHECK(over_mesh.red == 0);
+        CHECK(over_mesh.holes == 0);
+        CHECK(count_band(b->splats, -3, -1).blue == 0);
+        CHECK(b->hole_ratio < 0.001);
+        test::require_no_validation_messages(*ctx);
+    }
 }

@@ -174,9 +174,15 @@ TEST_SUITE("scene/scene_file") {
         auto again_cores = scene::parse_scene(scene::to_toml(cores.value()), "printed_cores.toml");
         REQUIRE(again_cores.ok());
         CHECK_FALSE(again_cores->render.frame.style.mesh_occluders);
-        const std::string why = refusal("[render]\nvisibility = \"mesh\"\n");
-        CHECK(why.find("bad.toml:2:14: 'render.visibility' = \"mesh\"") == 0);
+        // The paper's disc under "over" (the defaults) takes them too; the Gaussian under "over"
+        // and additive blending do not.
+        auto paper = scene::parse_scene("[render]\nvisibility = \"mesh\"\n", "d.toml");
+        REQUIRE_MESSAGE(paper.ok(), paper.error().to_string());
+        CHECK(paper->render.frame.style.mesh_occluders);
+        const std::string why = refusal("[render]\nfootprint = \"gaussian\"\nvisibility = \"mesh\"\n");
+        CHECK(why.find("bad.toml:3:14: 'render.visibility' = \"mesh\"") == 0);
         CHECK(why.find("normalised") != std::string::npos);
+        CHECK(refusal("[render]\nblend = \"additive\"\nvisibility = \"mesh\"\n").find("bad.toml:3:14:") == 0);
         CHECK(refusal("[render]\nvisibility = \"cores\"\n").find("must be one of splats, mesh") != std::string::npos);
         CHECK(refusal("[render]\noccluder_tolerance = 0.0\n").find("occluder_tolerance") != std::string::npos);
     }

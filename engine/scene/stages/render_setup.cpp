@@ -23,7 +23,7 @@ render::RendererOptions renderer_options(const Scene& scene, const SortChoice& s
     // Interactive runs may switch the sort on later: have it ready.
     ro.gpu_sort = sort.order == render::SplatOrder::gpu || (needs.interactive && sort.when_sorted == render::SplatOrder::gpu);
     ro.normalised = scene.render.frame.style.blend == render::Blend::normalised;
-    ro.occluders = ro.normalised && scene.render.frame.style.mesh_occluders;
+    ro.occluders = render::occluded_style(scene.render.frame.style);
     ro.width = scene.render.width;
     ro.height = scene.render.height;
     // A cut duplicates vertices along its path: leave room for them. Tearing keeps opening new
