@@ -82,8 +82,8 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             };
         }, tag);
     }
-    graph::Handle<graph::GpuImageRef> drawn, depth_drawn;
-    g.add_pass("splat", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+    // What a pass that draws the splats reads: the frame, and the uploaded records or the sort's.
+    const auto read_draw_records = [&](graph::PassBuilder& b) {
         b.read(input);
         if (gpu_sort) {
             b.read(sorted, to_graph(records_read));
@@ -91,6 +91,10 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
         } else {
             b.read(uploaded, to_graph(records_read));
         }
+    };
+    graph::Handle<graph::GpuImageRef> drawn, depth_drawn;
+    g.add_pass("splat", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+        read_draw_records(b);
         drawn = b.write(color, to_graph(render::uses::color_attachment));
         depth_drawn = b.write(depth, to_graph(render::uses::depth_attachment));
         b.side_effect();  // the colour target is what a frame is for (presented or read back)
@@ -117,13 +121,7 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
     if (renderer.has_occluders() && !renderer.has_normalised()) {
         // The paper's disc, drawn against them.
         g.add_pass("splat over occluders", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-            b.read(input);
-            if (gpu_sort) {
-                b.read(sorted, to_graph(records_read));
-                b.read(control, to_graph(render::uses::indirect_read));
-            } else {
-                b.read(uploaded, to_graph(records_read));
-            }
+            read_draw_records(b);
             b.read(occluded, to_graph(render::uses::accumulation_sampled));
             drawn = b.write(drawn, to_graph(render::uses::color_attachment));
             depth_drawn = b.write(depth_drawn, to_graph(render::uses::depth_attachment));
