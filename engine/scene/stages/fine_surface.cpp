@@ -25,8 +25,8 @@ void deformed_fine_surface(const sim::SoftBody& body, const mesh::TriangleMesh& 
     const surface::BoundaryParticles& fv = *fine_vertices;
     x.resize(fv.size());
     for (size_t i = 0; i < fv.size(); ++i) x[i] = sim::to4(fv.position[i]);
-    std::vector<uint32_t> comp_of_triangle;
-    mesh::vertex_components(body.triangles, body.particle_count(), comp_of_triangle);
+    // The body keeps every particle's piece through its edits: a triangle's is its corners'.
+    const auto piece = [&](uint32_t triangle) { return body.piece_of_particle[body.triangles[triangle][0]]; };
     // Two body triangles that met at rest (a corner at the same rest position) but share no
     // vertex now were torn or cut apart between them: a fine triangle with corners on both would
     // bridge the opening (a tear that has not yet split the piece leaves both in one component).
@@ -43,9 +43,9 @@ void deformed_fine_surface(const sim::SoftBody& body, const mesh::TriangleMesh& 
     };
     triangles.clear();
     for (const mesh::Triangle& t : fine.triangles) {
-        const uint32_t c = comp_of_triangle[fv.triangle[t[0]]];
-        if (comp_of_triangle[fv.triangle[t[1]]] != c || comp_of_triangle[fv.triangle[t[2]]] != c) continue;
         const uint32_t e0 = fv.triangle[t[0]], e1 = fv.triangle[t[1]], e2 = fv.triangle[t[2]];
+        const uint32_t c = piece(e0);
+        if (piece(e1) != c || piece(e2) != c) continue;
         if (torn_apart(e0, e1) || torn_apart(e1, e2) || torn_apart(e0, e2)) continue;
         bool torn = false;
         for (int k = 0; k < 3; ++k) {
