@@ -63,7 +63,8 @@ public:
 
 // Declares "upload", "gpu sort" (when `gpu_sort`: the frames are drawn with SplatOrder::gpu),
 // "splat", "occluders" (when the renderer has mesh occluders), "splat accumulate" and "splat
-// resolve" (when the renderer has normalised blending)
+// resolve" (when the renderer has normalised blending), or else "splat over occluders" (the
+// paper's disc, when it has mesh occluders)
 // and "readback". The readback pass needs `sink`; without one it is culled. `input` is
 // the version of the frame input the passes read (after the mapping).
 // Returns the colour target as the splat pass leaves it.

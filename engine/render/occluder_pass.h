@@ -1,11 +1,12 @@
 #pragma once
-// Mesh occluders for normalised blending (render.visibility = "mesh"): the surface mesh the
-// splats stand for is rasterised once, both sides, into the splat target's depth (pushed back
-// along the view rays) and, as its distance along the view axis, into a float image that the
-// accumulation reads. The accumulation then keeps only the fragments lying on the surface the
-// mesh shows at each pixel (within a tolerance), so a splat's disc ends at every occluding
-// contour and crease where the mesh does, instead of painting the surface behind it over with its
-// own colour; past the body's outline (no surface) splats keep their soft rims.
+// Mesh occluders (render.visibility = "mesh"; normalised blending, or the paper's disc under
+// "over"): the surface mesh the splats stand for is rasterised once, both sides, into the splat
+// target's depth (pushed back along the view rays) and, as its distance along the view axis,
+// into a float image that the splats' fragment stage reads. It then keeps only the fragments
+// lying on the surface the mesh shows at each pixel (within a tolerance), so a splat ends at
+// every occluding contour and crease where the mesh does, instead of painting the surface behind
+// it over with its own colour; past the body's outline (no surface) a splat keeps one pixel of
+// its rim (shaders/shared/splat_fragment.glsl).
 //
 // Replaces the splats' own visibility pass (their opaque cores), which cannot tell a
 // neighbour of the same surface from a surface behind at a contour.

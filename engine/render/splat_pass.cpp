@@ -196,16 +196,22 @@ void SplatPass::draw(VkCommandBuffer cmd, const SplatSource& s) const {
     }
 }
 
-void SplatPass::record(VkCommandBuffer cmd, const SplatStyle& style, VkDescriptorSet frame_set,
-                       const SplatSource& source) const {
-    if (source.count == 0) return;
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &frame_set, 0, nullptr);
+void SplatPass::bind(VkCommandBuffer cmd, VkDescriptorSet frame_set, VkDescriptorSet occluder_set, const SplatSource& source) const {
+    const VkDescriptorSet sets[2] = {frame_set, occluder_set};
+    const VkPipelineLayout layout = occluder_set ? occluded_layout_.get() : layout_.get();
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, occluder_set ? 2 : 1, sets, 0, nullptr);
     if (path_ == SplatPath::geometry) {
         const VkDeviceSize offset = 0;
         vkCmdBindVertexBuffers(cmd, 0, 1, &source.records, &offset);
     }
+}
+
+void SplatPass::record(VkCommandBuffer cmd, const SplatStyle& style, VkDescriptorSet frame_set,
+                       const SplatSource& source) const {
+    if (source.count == 0) return;
+    if (style.footprint == Footprint::paper && occluded_style(style)) return;  // record_paper_occluded()
+    bind(cmd, frame_set, VK_NULL_HANDLE, source);
     const bool additive = style.blend == Blend::additive;
-    if (style.footprint == Footprint::paper && style.mesh_occluders && !additive) return;  // record_paper_occluded()
     if (style.footprint == Footprint::paper) {
         const VkPipeline pipeline = additive ? paper_additive_.get()
                                     : style.order == SplatOrder::unsorted ? paper_over_.get()
@@ -229,12 +235,7 @@ void SplatPass::record_paper_occluded(VkCommandBuffer cmd, const SplatStyle& sty
                                       const SplatSource& source, VkDescriptorSet occluder_set) const {
     PBDSPLAT_ASSERT(paper_over_occluded_, "SplatPass::record_paper_occluded: create the pass with the occluders' set layout");
     if (source.count == 0) return;
-    const VkDescriptorSet sets[2] = {frame_set, occluder_set};
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, occluded_layout_.get(), 0, 2, sets, 0, nullptr);
-    if (path_ == SplatPath::geometry) {
-        const VkDeviceSize offset = 0;
-        vkCmdBindVertexBuffers(cmd, 0, 1, &source.records, &offset);
-    }
+    bind(cmd, frame_set, occluder_set, source);
     const VkPipeline pipeline = style.order == SplatOrder::unsorted ? paper_over_occluded_.get() : paper_sorted_occluded_.get();
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
     draw(cmd, source);
@@ -246,13 +247,7 @@ void SplatPass::record_accumulation(VkCommandBuffer cmd, VkDescriptorSet frame_s
     PBDSPLAT_ASSERT(!occluder_set || accumulate_occluded_,
                     "SplatPass::record_accumulation with occluders: create the pass with the occluders' set layout");
     if (source.count == 0) return;
-    const VkDescriptorSet sets[2] = {frame_set, occluder_set};
-    const VkPipelineLayout layout = occluder_set ? occluded_layout_.get() : layout_.get();
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, occluder_set ? 2 : 1, sets, 0, nullptr);
-    if (path_ == SplatPath::geometry) {
-        const VkDeviceSize offset = 0;
-        vkCmdBindVertexBuffers(cmd, 0, 1, &source.records, &offset);
-    }
+    bind(cmd, frame_set, occluder_set, source);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, occluder_set ? accumulate_occluded_.get() : accumulate_.get());
     draw(cmd, source);
 }

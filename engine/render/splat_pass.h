@@ -87,6 +87,8 @@ private:
     gpu::Pipeline paper_over_occluded_, paper_sorted_occluded_;  // the paper's disc against them
     PFN_vkCmdDrawMeshTasksEXT draw_mesh_tasks_ = nullptr;
     PFN_vkCmdDrawMeshTasksIndirectEXT draw_mesh_tasks_indirect_ = nullptr;
+    // The frame set (and the occluders' set 1, when given) and, on the geometry path, the records.
+    void bind(VkCommandBuffer cmd, VkDescriptorSet frame_set, VkDescriptorSet occluder_set, const SplatSource& source) const;
     void draw(VkCommandBuffer cmd, const SplatSource& source) const;
     // create() in steps: the layouts every path shares, the front stages of the path, then
     // every pipeline variant from that description.

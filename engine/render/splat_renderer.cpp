@@ -255,9 +255,8 @@ void SplatRenderer::sort(const FrameInputs& inputs, uint32_t count) {
 void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
     const uint32_t slot = frames_.slot();
     const auto uniforms = make_frame_uniforms(inputs, target_.width(), target_.height(), &sh_);
-    const bool gpu_sorted = inputs.style.blend == Blend::over && inputs.style.order == SplatOrder::gpu;
-    PBDSPLAT_ASSERT(!gpu_sorted || has_gpu_sort(), "SplatOrder::gpu needs a renderer created with options.gpu_sort");
-    const gpu::UniformSets& sets = gpu_sorted ? sorted_uniforms_ : uniforms_;
+    PBDSPLAT_ASSERT(!gpu_sorted(inputs.style) || has_gpu_sort(), "SplatOrder::gpu needs a renderer created with options.gpu_sort");
+    const gpu::UniformSets& sets = frame_sets(inputs.style);
     std::memcpy(sets.mapped(slot), &uniforms, sizeof(uniforms));
     const bool normalised = inputs.style.blend == Blend::normalised;
     PBDSPLAT_ASSERT(!normalised || has_normalised(),
@@ -275,20 +274,21 @@ void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
     if (!normalised && !occluded) timers_[slot].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
 
+bool SplatRenderer::gpu_sorted(const SplatStyle& s) { return s.blend == Blend::over && s.order == SplatOrder::gpu; }
+
+const gpu::UniformSets& SplatRenderer::frame_sets(const SplatStyle& s) const { return gpu_sorted(s) ? sorted_uniforms_ : uniforms_; }
+
 SplatSource SplatRenderer::splat_source(const FrameInputs& inputs, uint32_t count) const {
     const uint32_t slot = frames_.slot();
-    if (inputs.style.blend == Blend::over && inputs.style.order == SplatOrder::gpu)
-        return {sort_.sorted_records(slot), count, sort_.control(slot)};
+    if (gpu_sorted(inputs.style)) return {sort_.sorted_records(slot), count, sort_.control(slot)};
     return {records_.buffer(slot), count};
 }
 
 void SplatRenderer::draw_over_occluders(const FrameInputs& inputs, uint32_t count) {
     if (!render::occluded_style(inputs.style) || inputs.style.blend == Blend::normalised) return;
     const uint32_t slot = frames_.slot();
-    const bool gpu_sorted = inputs.style.order == SplatOrder::gpu;
-    const gpu::UniformSets& sets = gpu_sorted ? sorted_uniforms_ : uniforms_;
     target_.resume(cmd_);
-    splat_.record_paper_occluded(cmd_, inputs.style, sets.set(slot), splat_source(inputs, count), occluders_.set());
+    splat_.record_paper_occluded(cmd_, inputs.style, frame_sets(inputs.style).set(slot), splat_source(inputs, count), occluders_.set());
     target_.end(cmd_);
     timers_[slot].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
@@ -309,7 +309,7 @@ void SplatRenderer::accumulate(const FrameInputs& inputs, uint32_t count) {
     const uint32_t slot = frames_.slot();
     blend_.begin_accumulation(cmd_, target_.depth().view());
     splat_.record_accumulation(cmd_, uniforms_.set(slot), {records_.buffer(slot), count},
-                               inputs.style.mesh_occluders ? occluders_.set() : VK_NULL_HANDLE);
+                               render::occluded_style(inputs.style) ? occluders_.set() : VK_NULL_HANDLE);
     blend_.end_accumulation(cmd_);
 }
 

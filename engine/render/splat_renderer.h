@@ -161,6 +161,9 @@ private:
     core::Status create_passes();
     core::Status create_sets();
     core::Status collect_timings(uint32_t slot);
+    // Frames drawn from the GPU sort's output, and the uniform sets that name it.
+    static bool gpu_sorted(const SplatStyle& style);
+    const gpu::UniformSets& frame_sets(const SplatStyle& style) const;
     // The records the splat pass draws this frame: the uploaded ones, or the GPU sort's.
     SplatSource splat_source(const FrameInputs& inputs, uint32_t count) const;
 

@@ -120,8 +120,9 @@ struct RenderDesc {
     // normals do across the mesh (splat/normal_field.h). "flat": one normal per splat (the
     // paper's): on a curved or crumpled body every disc shows as a facet.
     bool varying_normals = true;
-    // `visibility`: what hides the surfaces behind under normalised blending. "splats": each
-    // splat's opaque core writes depth. "mesh" (the default there): the surface mesh itself
+    // `visibility`: what hides the surfaces behind under normalised blending (or the paper's
+    // disc under "over"). "splats": each splat's opaque core writes depth (the disc: its own
+    // depth). "mesh" (the default under normalised blending): the surface mesh itself
     // (frame.style.mesh_occluders, render/occluder_pass.h), and a splat fragment farther than
     // `occluder_tolerance` splat scales from the surface the mesh shows at its pixel is dropped:
     // discs end at occluding contours and creases where the surface does.
