@@ -62,6 +62,8 @@ inline const Key<SurfaceDesc> k_surface_keys[] = {
     PBDSPLAT_KEY(SurfaceDesc, "density_insert_spacing", density.insert_spacing, 0.3, 1.0),
     PBDSPLAT_KEY(SurfaceDesc, "density_settle_frames", density.settle_frames, 1, 60),
     PBDSPLAT_KEY(SurfaceDesc, "density_budget", density.budget, 1, 1u << 20),
+    PBDSPLAT_KEY(SurfaceDesc, "density_crowd_spacing", density.crowd_spacing, 0.0, 0.95),
+    PBDSPLAT_KEY(SurfaceDesc, "density_gap_spacing", density.gap_spacing, 0.0, 4.0),
 };
 // After `mode`; `particles`, `cut_volume`, the pins and the colliders beside it.
 inline const Key<SimulationDesc> k_simulation_keys[] = {

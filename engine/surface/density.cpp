@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include "core/assert.h"
 #include "mesh/deformation.h"
+#include "surface/crowding.h"
 #include "surface/embedding.h"
 #include "surface/point_grid.h"
 
@@ -40,6 +42,10 @@ DensityControl::DensityControl(std::span<const Vec3f> rest, std::span<const mesh
     reference_.assign(triangles.size(), 1.0f);
     reference_squeeze_.assign(triangles.size(), 1.0f);
     beyond_.assign(triangles.size(), 0);
+    checked_stretch_.assign(triangles.size(), 1.0f);
+    checked_squeeze_.assign(triangles.size(), 1.0f);
+    // A fresh maximal sampling has neither crowds nor gaps: the samples' trigger waits for a change.
+    changed_.assign(triangles.size(), 0);
 }
 
 void DensityControl::set_rest(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, uint32_t t) {
@@ -55,12 +61,17 @@ void DensityControl::topology_changed(std::span<const Vec3f> rest, std::span<con
     reference_.resize(triangles.size(), 1.0f);
     reference_squeeze_.resize(triangles.size(), 1.0f);
     beyond_.resize(triangles.size(), 0);
+    checked_stretch_.resize(triangles.size(), 1.0f);
+    checked_squeeze_.resize(triangles.size(), 1.0f);
+    changed_.resize(triangles.size(), 1);
+    check_due_ = true;
     // A touched triangle was refilled from its rest shape: its samples stand for stretch 1.
     for (uint32_t t : touched) {
         set_rest(rest, triangles, t);
         reference_[t] = 1.0f;
         reference_squeeze_[t] = 1.0f;
         beyond_[t] = 0;
+        changed_[t] = 1;
     }
 }
 
@@ -194,6 +205,12 @@ std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const V
                                                               : mesh::stretches(inverse_rest_[t], e1, e2);
         stretch_[t] = sigma.largest;
         squeeze_[t] = sigma.smallest;
+        constexpr float k_changed = 0.05f;
+        if (!changed_[t] && (std::abs(sigma.largest - checked_stretch_[t]) > k_changed * checked_stretch_[t] ||
+                             std::abs(sigma.smallest - checked_squeeze_[t]) > k_changed * checked_squeeze_[t])) {
+            changed_[t] = 1;
+            check_due_ = true;
+        }
         const float ratio = sigma.largest / reference_[t];
         // Along its least stretched direction as well: a triangle squashed one way keeps its
         // largest stretch while its samples crowd along the other (a body landing), and when it
@@ -220,21 +237,67 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
     DensityStats stats;
     ++frame_;
     std::vector<Due> work = due_triangles(x, triangles);
-    if (!work.empty() && options_.enabled) {
+    if (!options_.enabled) {
+        stats.removed = uint32_t(advance_fades(s, &stats.fading));
+        return stats;
+    }
+    PBDSPLAT_ASSERT(s.position.size() == s.size(), "density control: update the boundary particles' positions first");
+    std::optional<Resampler> resampler;
+    auto r = [&]() -> Resampler& {
+        if (!resampler) resampler.emplace(Resampler::Inputs{x, normals, triangles, anchors_drawn, h, seed, frame_, max_samples_}, options_, s, stats);
+        return *resampler;
+    };
+    auto sampled = [&](uint32_t t) {
+        reference_[t] = stretch_[t];
+        reference_squeeze_[t] = squeeze_[t];
+        beyond_[t] = 0;
+    };
+    if (!work.empty()) {
         const size_t take = std::min<size_t>(work.size(), options_.budget);
         std::partial_sort(work.begin(), work.begin() + take, work.end(), [](const Due& a, const Due& b) { return a.priority > b.priority; });
         stats.pending = uint32_t(work.size() - take);
         work.resize(take);
         stats.resampled = uint32_t(take);
-        PBDSPLAT_ASSERT(s.position.size() == s.size(), "density control: update the boundary particles' positions first");
-        Resampler r({x, normals, triangles, anchors_drawn, h, seed, frame_, max_samples_}, options_, s, stats);
         for (const Due& w : work) {
-            if (w.thin) r.retire(w.triangle);  // first: a grown triangle's new samples keep their distance from the kept ones
-            if (w.grow) r.insert(w.triangle);
-            reference_[w.triangle] = stretch_[w.triangle];
-            reference_squeeze_[w.triangle] = squeeze_[w.triangle];
-            beyond_[w.triangle] = 0;
+            if (w.thin) r().retire(w.triangle);  // first: a grown triangle's new samples keep their distance from the kept ones
+            if (w.grow) r().insert(w.triangle);
+            sampled(w.triangle);
         }
+    }
+    // The samples' own trigger, once the triangles' work is done (its new samples are kept).
+    const bool by_samples = options_.crowd_spacing > 0.0f || options_.gap_spacing > 0.0f;
+    if (by_samples && check_due_ && frame_ >= checked_frame_ + std::max(1u, options_.settle_frames)) {
+        CrowdingQuery q;
+        q.h = h;
+        q.crowd = options_.crowd_spacing;
+        // Embedded samples stand off the simulation triangles by their offsets: a triangle's
+        // centre is no point of the surface they cover.
+        q.gap = s.embedded() ? 0.0f : options_.gap_spacing;
+        q.anchors_drawn = anchors_drawn;
+        q.fade_step = 1.0f / float(std::max(1u, options_.fade_frames));
+        q.max_retired = 4 * options_.budget;
+        q.changed = changed_;
+        CrowdingResult c = thin_crowds(x, normals, triangles, q, s);
+        stats.crowded = c.retired;
+        stats.retired += c.retired;
+        // Refill around what left (a crowded sample's triangle may hold a gap the kept one leaves
+        // uncovered) and wherever no sample reaches, within the budget.
+        // Refill wherever no sample reaches, within what the triangles' work left of the budget.
+        // Not the crowded samples' own triangles: on a surface still folding, samples thrown
+        // there crowd again a few frames later (the teapot deflating: 80-100 retired every 4
+        // frames for 200 frames, against 1,300 in all without).
+        const size_t room = options_.budget - std::min<size_t>(options_.budget, stats.resampled);
+        for (size_t k = 0; k < c.gaps.size() && k < room; ++k) {
+            if (inverse_rest_[c.gaps[k]].isZero()) continue;
+            r().insert(c.gaps[k]);
+            sampled(c.gaps[k]);
+            ++stats.gaps;
+            ++stats.resampled;
+        }
+        for (size_t t = 0; t < changed_.size(); ++t)
+            if (changed_[t]) changed_[t] = 0, checked_stretch_[t] = stretch_[t], checked_squeeze_[t] = squeeze_[t];
+        checked_frame_ = frame_;
+        check_due_ = false;
     }
     stats.removed = uint32_t(advance_fades(s, &stats.fading));
     return stats;

@@ -37,13 +37,24 @@ struct DensityOptions {
     // a landing or a jiggle that squashes it for a moment changes nothing (no churn, no flicker).
     uint32_t settle_frames = 4;
     float candidates = 48.0f;     // candidate points per h^2 of deformed area
+    // The trigger on the samples themselves (surface/crowding.h), run every settle_frames frames
+    // while some triangle has changed shape by more than 5 % since the last run (only the
+    // samples on such triangles are tested, and only such triangles searched for gaps): a sample nearer
+    // than crowd_spacing h to a kept one on its own side retires (0: never), and a triangle whose
+    // centre lies farther than gap_spacing h from every sample is resampled (0: never).
+    float crowd_spacing = 0.7f;
+    // Above the growth trigger's reach: a maximal set at spacing h stretched by `grow` leaves
+    // centres up to about 1.1 h from a sample, and those are the triangles' business.
+    float gap_spacing = 1.25f;
 };
 
 struct DensityStats {
-    uint32_t resampled = 0;  // triangles grown or thinned this frame
+    uint32_t resampled = 0;  // triangles grown or thinned this frame (gaps included)
     uint32_t pending = 0;    // triangles past a threshold left for later frames (budget)
     uint32_t inserted = 0, retired = 0, removed = 0;
     uint32_t fading = 0;     // samples still fading in or out
+    uint32_t crowded = 0;    // samples retired by the samples' own trigger (in `retired` too)
+    uint32_t gaps = 0;       // triangles resampled because no sample covered their centre (in `resampled` too)
     bool capped = false;     // insertion stopped at the sample limit (set_max_samples)
 };
 
@@ -86,6 +97,11 @@ private:
     std::vector<float> reference_;  // the stretch each triangle was last sampled at
     std::vector<float> reference_squeeze_;  // and its smallest singular value then
     std::vector<int8_t> beyond_;  // frames in a row past a threshold: + grow side, - shrink side
+    // The samples' trigger: each triangle's stretches when it last ran, and when that was.
+    std::vector<float> checked_stretch_, checked_squeeze_;
+    std::vector<uint8_t> changed_;  // per triangle: its shape changed since
+    uint64_t checked_frame_ = 0;
+    bool check_due_ = false;  // some triangle changed shape since (or the topology did)
     uint64_t frame_ = 0;
     size_t max_samples_ = 0;
 };

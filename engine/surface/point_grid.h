@@ -46,6 +46,36 @@ public:
             return !((tag == k_any || tags_[i] == k_any || tags_[i] == tag) && (points_[i] - p).squaredNorm() < h2_);
         });
     }
+    // Any point within h of p for which accept(i) holds; stops at the first.
+    template <class Accept>
+    bool near_if(const Vec3f& p, const Accept& accept) const {
+        return !each_around(p, [&](uint32_t i) { return !((points_[i] - p).squaredNorm() < h2_ && accept(i)); });
+    }
+    // Any point within r of p for which accept(i) holds, with cells at least 2r wide: such a
+    // point lies in the 2x2x2 block of cells nearest p (on each axis, p's own cell and the one
+    // on the side of p's nearer face), so 8 lookups instead of 27 for a test that mostly finds
+    // nothing (the density control's crowd test).
+    template <class Accept>
+    bool near_within_if(const Vec3f& p, float r, const Accept& accept) const {
+        return !each_within(p, r, [&](uint32_t i) { return !accept(i); });
+    }
+    // Visits every point within r of p (cells at least 2r wide) while visit(i) returns true.
+    template <class Visit>
+    bool each_within(const Vec3f& p, float r, const Visit& visit) const {
+        const Vec3f scaled = p * inv_h_;
+        const Eigen::Vector3i c = scaled.array().floor().cast<int>();
+        Eigen::Vector3i side;
+        for (int k = 0; k < 3; ++k) side[k] = scaled[k] - float(c[k]) < 0.5f ? -1 : 1;
+        const float r2 = r * r;
+        for (int m = 0; m < 8; ++m) {
+            const Eigen::Vector3i cc = c + Eigen::Vector3i(m & 1 ? side.x() : 0, m & 2 ? side.y() : 0, m & 4 ? side.z() : 0);
+            const size_t slot = find(key(cc));
+            if (slot == k_end) continue;
+            for (uint32_t i = heads_[slot]; i != k_end; i = next_[i])
+                if ((points_[i] - p).squaredNorm() < r2 && !visit(i)) return false;
+        }
+        return true;
+    }
     // The squared distance from p to the nearest point other than `self` (an index in insertion
     // order) within one cell size; infinity when there is none.
     float nearest_squared(const Vec3f& p, uint32_t self = k_end) const {

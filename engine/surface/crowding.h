@@ -1,0 +1,47 @@
+#pragma once
+// The density control's trigger on the samples themselves. The triangle-based trigger
+// (surface/density.h) sees a triangle stretch or shrink under its own samples; it cannot see
+// the surface *between* two kept samples fold or shrink while neither sample's triangle does
+// (a crumpled balloon's wrinkles bring samples two rings apart within half a spacing), nor the
+// gap such a fold leaves behind when it opens again. Both show on the samples: a sample whose
+// nearest neighbour on its own side of the surface came nearer than `crowd` h, and a triangle
+// whose centre lies farther than `gap` h from every sample.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/math.h"
+#include "mesh/triangle_mesh.h"
+#include "surface/boundary_particles.h"
+
+namespace pbdsplat::surface {
+
+struct CrowdingQuery {
+    float h = 1.0f;
+    float crowd = 0.7f;  // in h; a sample nearer than this to a kept one retires
+    float gap = 1.25f;   // in h; a triangle centre farther than this from every sample is a gap; 0: no gap search
+    bool anchors_drawn = false;  // the particles are splats: they are kept and count as samples
+    float fade_step = 1.0f / 6.0f;  // a retired sample fades out by this per frame
+    uint32_t max_retired = ~0u;     // at most this many retire in one call
+    // Per triangle, nonzero where its shape changed since the last call (empty: all did). Only
+    // samples on changed triangles are tested (the others are kept), and only changed
+    // triangles are searched for gaps: a surface that stays as it was needs neither.
+    std::span<const uint8_t> changed;
+};
+
+struct CrowdingResult {
+    uint32_t retired = 0;
+    std::vector<uint32_t> gaps;     // triangles whose centre no sample covers
+};
+
+// Keeps, greedily, the particles (where drawn) and the samples on unchanged triangles, then the
+// settled samples on changed ones, then those still fading in (each in storage order, so the
+// oldest stay), and starts the fade-out of every sample that has a kept one within `crowd` h on
+// its own side (its triangle's face normals within 60 degrees: the two faces of a sharp fold
+// are no neighbours). Edge samples take no part: they follow the boundary (surface/edges.h).
+// Then lists the changed triangles whose centre nothing kept covers. `x`: the particles (w
+// ignored), `normals`: theirs; the samples' positions must be current.
+CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const mesh::Triangle> triangles,
+                           const CrowdingQuery& query, BoundaryParticles& samples);
+
+} // namespace pbdsplat::surface
