@@ -12,7 +12,7 @@ namespace {
 // Which cells of a grid lie within one cell of a point, as bits of a small hashed bitmap: each
 // point added marks its cell and the 26 around it, so a query reads the one bit of its own
 // cell, from cache, and rejects most of a large set tested against a small one before any
-// lookup in the grid itself (70k unchanged samples against a few dozen candidates: 2 ms with
+// lookup in the grid itself (70k samples kept as they are against a few dozen candidates: 2 ms with
 // eight lookups each, 4-5 ms of hash probing without the bitmap). A false positive only costs
 // the real test.
 class CellBits {
@@ -58,21 +58,22 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
         const float len = n.norm();
         face[t] = len > 0.0f ? Vec3f(n / len) : Vec3f::Zero();
     }
-    auto changed = [&](uint32_t t) { return q.changed.empty() || q.changed[t] != 0; };
-    // The samples by rank: on unchanged triangles (kept as they are), settled, fading in. Edge
+    auto shrank = [&](uint32_t t) { return q.changed.empty() || (q.changed[t] & k_shrank) != 0; };
+    auto grew = [&](uint32_t t) { return q.changed.empty() || (q.changed[t] & k_grew) != 0; };
+    // The samples by rank: on triangles that did not shrink (kept as they are), settled, fading in. Edge
     // samples stay out of it: they lie h/2 apart along a boundary with smaller splats on
     // purpose, and the interior ones beside them cover what they do not.
     std::vector<uint32_t> ranked[3];
     for (size_t i = 0; i < s.size(); ++i) {
         if (s.retiring(i) || s.on_edge(i)) continue;
-        ranked[!changed(s.triangle[i]) ? 0 : s.fade_step[i] > 0.0f ? 2 : 1].push_back(uint32_t(i));
+        ranked[!shrank(s.triangle[i]) ? 0 : s.fade_step[i] > 0.0f ? 2 : 1].push_back(uint32_t(i));
     }
     const size_t anchors = q.anchors_drawn ? x.size() : 0;  // the particles, when they are splats
     auto anchor_side = [&](size_t v) { return v < normals.size() ? normals[v] : Vec3f::Zero(); };
-    // The candidates (samples on changed triangles) go into a small grid of cells 2 `crowd` h
+    // The candidates (samples on shrunk triangles) go into a small grid of cells 2 `crowd` h
     // wide, each test reading the 8 nearest; the samples kept as they are and the particles then
     // look for candidates near them there, so the large set is read once in order and never
-    // gridded (gridding the bunny's 70k unchanged samples took 3-4 ms a check).
+    // gridded (gridding the bunny's 70k samples kept as they are took 3-4 ms a check).
     constexpr float same_side = 0.5f;  // cos 60 degrees, as the spacing figure counts
     const float crowd_r = std::max(q.crowd, 0.05f) * q.h;
     std::vector<uint32_t> candidates = std::move(ranked[1]);
@@ -114,7 +115,7 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
         kept_side.push_back(n);
     }
     if (q.gap > 0.0f) {
-        // What is kept near a changed triangle's centre may cover it: only that is gridded.
+        // What is kept near a grown triangle's centre may cover it: only that is gridded.
         const float gap_r = q.gap * q.h;
         std::vector<uint32_t> centres;
         CellBits wanted(2.0f * gap_r);
@@ -123,7 +124,7 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
             return Vec3f(((x[c[0]] + x[c[1]] + x[c[2]]) / 3.0f).head<3>());
         };
         for (uint32_t t = 0; t < triangles.size(); ++t)
-            if (changed(t) && !face[t].isZero()) centres.push_back(t), wanted.add(centre_of(t));
+            if (grew(t) && !face[t].isZero()) centres.push_back(t), wanted.add(centre_of(t));
         PointGrid cover(2.0f * gap_r, std::min<size_t>(anchors + s.size(), 4 * centres.size() + 1024));
         std::vector<Vec3f> side;
         auto offer = [&](const Vec3f& p, const Vec3f& n) {

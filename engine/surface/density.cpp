@@ -71,7 +71,7 @@ void DensityControl::topology_changed(std::span<const Vec3f> rest, std::span<con
         reference_[t] = 1.0f;
         reference_squeeze_[t] = 1.0f;
         beyond_[t] = 0;
-        changed_[t] = 1;
+        changed_[t] = k_shrank | k_grew;
     }
 }
 
@@ -206,11 +206,11 @@ std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const V
         stretch_[t] = sigma.largest;
         squeeze_[t] = sigma.smallest;
         constexpr float k_changed = 0.05f;
-        if (!changed_[t] && (std::abs(sigma.largest - checked_stretch_[t]) > k_changed * checked_stretch_[t] ||
-                             std::abs(sigma.smallest - checked_squeeze_[t]) > k_changed * checked_squeeze_[t])) {
-            changed_[t] = 1;
-            check_due_ = true;
-        }
+        const float large = checked_stretch_[t], small = checked_squeeze_[t];
+        const uint8_t was = changed_[t];
+        if (sigma.largest < (1.0f - k_changed) * large || sigma.smallest < (1.0f - k_changed) * small) changed_[t] |= k_shrank;
+        if (sigma.largest > (1.0f + k_changed) * large || sigma.smallest > (1.0f + k_changed) * small) changed_[t] |= k_grew;
+        if (changed_[t] != was) check_due_ = true;
         const float ratio = sigma.largest / reference_[t];
         // Along its least stretched direction as well: a triangle squashed one way keeps its
         // largest stretch while its samples crowd along the other (a body landing), and when it

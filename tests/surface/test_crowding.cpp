@@ -180,10 +180,14 @@ TEST_SUITE("surface/crowding") {
         s.add_beside(5, 0.3f);
         surface::DensityOptions o;
         surface::DensityControl control(s.rest, s.triangles, o);
-        // While nothing changes shape the samples' trigger does not run (it costs nothing).
-        for (uint32_t f = 0; f < 2 * o.settle_frames; ++f)
-            REQUIRE(control.update(s.x, s.normals, s.triangles, true, s.h, 3, s.samples).crowded == 0);
-        s.scale(1.06f);  // a change the triangles' trigger lets pass, the samples' does not
+        // While nothing changes shape the samples' trigger does not run (it costs nothing), and
+        // growing is no reason to look for crowds.
+        for (float f : {1.0f, 1.06f})
+            for (uint32_t k = 0; k < 2 * o.settle_frames; ++k) {
+                s.scale(f);
+                REQUIRE(control.update(s.x, s.normals, s.triangles, true, s.h, 3, s.samples).crowded == 0);
+            }
+        s.scale(0.94f);  // a shrink the triangles' trigger lets pass (density_shrink 0.9), the samples' does not
         uint32_t crowded = 0;
         for (uint32_t f = 0; f < o.settle_frames + o.fade_frames + 1; ++f)
             crowded += control.update(s.x, s.normals, s.triangles, true, s.h, 3, s.samples).crowded;
