@@ -28,4 +28,12 @@ inline double median(std::vector<double> samples) {
     return m;
 }
 
+// Mean of a sample set: what a pass that works one frame in several costs over the run.
+inline double mean(const std::vector<double>& samples) {
+    if (samples.empty()) return 0.0;
+    double sum = 0.0;
+    for (double v : samples) sum += v;
+    return sum / double(samples.size());
+}
+
 } // namespace pbdsplat::core

@@ -12,9 +12,9 @@ namespace {
 // Which cells of a grid lie within one cell of a point, as bits of a small hashed bitmap: each
 // point added marks its cell and the 26 around it, so a query reads the one bit of its own
 // cell, from cache, and rejects most of a large set tested against a small one before any
-// lookup in the grid itself (70k samples kept as they are against a few dozen candidates: 2 ms with
-// eight lookups each, 4-5 ms of hash probing without the bitmap). A false positive only costs
-// the real test.
+// lookup in the grid itself (70k samples kept as they are against a few dozen candidates: 2 ms
+// with eight lookups each, 4-5 ms of hash probing without the bitmap). A false positive only
+// costs the real test.
 class CellBits {
 public:
     explicit CellBits(float cell) : inv_(1.0f / cell), bits_(k_words, 0) {}

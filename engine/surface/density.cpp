@@ -122,9 +122,9 @@ public:
             if (in_.anchors_drawn)
                 for (uint32_t v : in_.triangles[n]) grid_.add(in_.x[v].head<3>());
         });
-        // Samples this frame already added to the neighbours (not in by_triangle yet) are in
-        // fresh_, kept over the frame: copying them into every triangle's grid grew with the
-        // frame's insertions.
+        // Samples inserted this frame (this triangle's and its neighbours', not in by_triangle
+        // yet) are in fresh_, kept over the frame: copying them into every triangle's grid grew
+        // with the frame's insertions.
         const Mat3f frame = triangle_frame(a, b, c);
         const float area = 0.5f * (b - a).cross(c - a).norm();
         const float expected = area * o_.candidates / (in_.h * in_.h);
@@ -147,7 +147,6 @@ public:
                 stats_.capped = true;
                 break;
             }
-            grid_.add(p);
             fresh_.add(p);
             s_.triangle.push_back(t);
             s_.bary.emplace_back(b1, b2);
@@ -296,8 +295,6 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
         CrowdingResult c = thin_crowds(x, normals, triangles, q, s);
         stats.crowded = c.retired;
         stats.retired += c.retired;
-        // Refill around what left (a crowded sample's triangle may hold a gap the kept one leaves
-        // uncovered) and wherever no sample reaches, within the budget.
         // Refill wherever no sample reaches, within what the triangles' work left of the budget.
         // Not the crowded samples' own triangles: on a surface still folding, samples thrown
         // there crowd again a few frames later (the teapot deflating: 80-100 retired every 4

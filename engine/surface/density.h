@@ -42,10 +42,10 @@ struct DensityOptions {
     // 0.71 ms); a gap a sparse throw misses is the samples' trigger's (gap_spacing).
     float candidates = 16.0f;
     // The trigger on the samples themselves (surface/crowding.h), run every settle_frames frames
-    // while some triangle has changed shape by more than 5 % since the last run (only the
-    // samples on such triangles are tested, and only such triangles searched for gaps): a sample nearer
-    // than crowd_spacing h to a kept one on its own side retires (0: never), and a triangle whose
-    // centre lies farther than gap_spacing h from every sample is resampled (0: never).
+    // while some triangle has shrunk or grown by more than 5 % since the last run: a sample on a
+    // shrunk triangle nearer than crowd_spacing h to a kept one on its own side retires (0:
+    // never), and a grown triangle whose centre lies farther than gap_spacing h from every
+    // sample is resampled (0: never).
     float crowd_spacing = 0.7f;
     // Above the growth trigger's reach: a maximal set at spacing h stretched by `grow` leaves
     // centres up to about 1.1 h from a sample, and those are the triangles' business.
@@ -103,7 +103,7 @@ private:
     std::vector<int8_t> beyond_;  // frames in a row past a threshold: + grow side, - shrink side
     // The samples' trigger: each triangle's stretches when it last ran, and when that was.
     std::vector<float> checked_stretch_, checked_squeeze_;
-    std::vector<uint8_t> changed_;  // per triangle: its shape changed since
+    std::vector<uint8_t> changed_;  // per triangle: k_shrank / k_grew since
     uint64_t checked_frame_ = 0;
     bool check_due_ = false;  // some triangle changed shape since (or the topology did)
     uint64_t frame_ = 0;

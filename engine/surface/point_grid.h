@@ -46,11 +46,6 @@ public:
             return !((tag == k_any || tags_[i] == k_any || tags_[i] == tag) && (points_[i] - p).squaredNorm() < h2_);
         });
     }
-    // Any point within h of p for which accept(i) holds; stops at the first.
-    template <class Accept>
-    bool near_if(const Vec3f& p, const Accept& accept) const {
-        return !each_around(p, [&](uint32_t i) { return !((points_[i] - p).squaredNorm() < h2_ && accept(i)); });
-    }
     // Any point within r of p for which accept(i) holds, with cells at least 2r wide: such a
     // point lies in the 2x2x2 block of cells nearest p (on each axis, p's own cell and the one
     // on the side of p's nearer face), so 8 lookups instead of 27 for a test that mostly finds

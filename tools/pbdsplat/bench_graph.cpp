@@ -45,8 +45,7 @@ Outcome measure(const Options& opt) {
         for (uint32_t k = 0; k < batch; ++k) g.execute(ctx);
         us.push_back(clock.elapsed_ms() * 1000.0 / batch);
     }
-    double mean = 0.0;
-    for (double x : us) mean += x / double(us.size());
+    const double mean = core::mean(us);
     if (counter != int(us.size() * batch)) return core::make_error("a culled pass ran");
     Report report("graph");
     report.json().update({{"passes", passes}, {"kept", 1}, {"median_us", core::median(us)}, {"mean_us", mean}, {"compile_us", compile_us}});

@@ -1,4 +1,3 @@
-#include <algorithm>
 #include <cmath>
 
 #include "core/timer.h"
@@ -110,9 +109,7 @@ void report_passes(Report& report, const Samples& m, const graph::FrameGraph& gr
             table.add({p.name, nullptr, nullptr, nullptr, "culled: " + p.reason});
         } else if (k < m.per_pass.size()) {
             const double ms = core::median(m.per_pass[k]);
-            double mean = 0.0;
-            for (double v : m.per_pass[k]) mean += v;
-            mean /= double(std::max<size_t>(1, m.per_pass[k].size()));
+            const double mean = core::mean(m.per_pass[k]);
             report.json()["passes_median_ms"][p.name] = ms;
             report.json()["passes_mean_ms"][p.name] = mean;
             table.add({p.name, ms, mean, k < m.changing_pass.size() ? nlohmann::json(core::median(m.changing_pass[k])) : nlohmann::json(),
