@@ -5,6 +5,7 @@
 
 #include "core/assert.h"
 #include "surface/point_grid.h"
+#include "surface/rows.h"
 
 namespace pbdsplat::surface {
 namespace {
@@ -81,12 +82,18 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
     std::vector<uint8_t> crowded(candidates.size(), 0);
     if (q.crowd > 0.0f && !candidates.empty()) {
         PointGrid grid(2.0f * crowd_r, candidates.size());
-        CellBits cells(2.0f * crowd_r);
-        for (uint32_t i : candidates) grid.add(s.position[i]), cells.add(s.position[i]);
+        // The bitmap pays where the candidates are few against what tests them; where most of the
+        // body shrank (a balloon let down), marking 27 cells for each costs more than it saves.
+        const bool sparse = candidates.size() * 4 < ranked[0].size() + anchors;
+        CellBits cells(sparse ? 2.0f * crowd_r : 1.0f);
+        for (uint32_t i : candidates) {
+            grid.add(s.position[i]);
+            if (sparse) cells.add(s.position[i]);
+        }
         std::vector<Vec3f> candidate_side(candidates.size());
         for (size_t k = 0; k < candidates.size(); ++k) candidate_side[k] = face[s.triangle[candidates[k]]];
         auto press = [&](const Vec3f& p, const Vec3f& n) {
-            if (!cells.maybe_near(p)) return;
+            if (sparse && !cells.maybe_near(p)) return;
             grid.each_within(p, crowd_r, [&](uint32_t k) {
                 if (candidate_side[k].dot(n) >= same_side) crowded[k] = 1;
                 return true;
@@ -115,29 +122,47 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
         kept_side.push_back(n);
     }
     if (q.gap > 0.0f) {
-        // What is kept near a grown triangle's centre may cover it: only that is gridded.
-        const float gap_r = q.gap * q.h;
-        std::vector<uint32_t> centres;
-        CellBits wanted(2.0f * gap_r);
-        auto centre_of = [&](uint32_t t) {
+        // A grown triangle's centre is covered by what is kept around it: its own samples, those
+        // of the triangles sharing a vertex with it, and those triangles' corners where the
+        // particles are drawn. A surface sampled at h is never so crumpled inside a grown
+        // triangle that cover comes from farther away; and no grid is built (gridding every
+        // sample of an inflating body, each of its triangles grown, was half of the check).
+        const float gap_r2 = (q.gap * q.h) * (q.gap * q.h);
+        std::vector<uint8_t> kept_flag(s.size(), 0);
+        for (uint32_t i : ranked[0]) kept_flag[i] = 1;
+        for (uint32_t i : kept_candidates) kept_flag[i] = 1;
+        const Rows by_triangle = make_rows(triangles.size(), s.size(), [&](size_t i) { return s.triangle[i]; },
+                                           [&](size_t i) { return kept_flag[i] != 0; });
+        Rows own_ring;
+        if (!q.ring) own_ring = corner_rows(x.size(), triangles);
+        const Rows& ring = q.ring ? *q.ring : own_ring;
+        std::vector<uint32_t> mark(triangles.size(), ~0u);
+        for (uint32_t t = 0; t < triangles.size(); ++t) {
+            if (!grew(t) || face[t].isZero()) continue;
             const mesh::Triangle& c = triangles[t];
-            return Vec3f(((x[c[0]] + x[c[1]] + x[c[2]]) / 3.0f).head<3>());
-        };
-        for (uint32_t t = 0; t < triangles.size(); ++t)
-            if (grew(t) && !face[t].isZero()) centres.push_back(t), wanted.add(centre_of(t));
-        PointGrid cover(2.0f * gap_r, std::min<size_t>(anchors + s.size(), 4 * centres.size() + 1024));
-        std::vector<Vec3f> side;
-        auto offer = [&](const Vec3f& p, const Vec3f& n) {
-            if (!wanted.maybe_near(p)) return;
-            cover.add(p);
-            side.push_back(n);
-        };
-        for (size_t v = 0; v < anchors; ++v) offer(x[v].head<3>(), anchor_side(v));
-        for (uint32_t i : ranked[0]) offer(s.position[i], face[s.triangle[i]]);
-        for (uint32_t i : kept_candidates) offer(s.position[i], face[s.triangle[i]]);
-        for (uint32_t t : centres)
-            if (!cover.near_within_if(centre_of(t), gap_r, [&](uint32_t j) { return side[j].dot(face[t]) >= same_side; }))
-                out.gaps.push_back(t);
+            const Vec3f centre = ((x[c[0]] + x[c[1]] + x[c[2]]) / 3.0f).head<3>();
+            const Vec3f& n = face[t];
+            auto covers = [&](const Vec3f& p, const Vec3f& side) { return (p - centre).squaredNorm() < gap_r2 && side.dot(n) >= same_side; };
+            auto covered_by = [&](uint32_t u) {
+                for (uint32_t i : by_triangle[u])
+                    if (covers(s.position[i], face[u])) return true;
+                if (anchors)
+                    for (uint32_t v : triangles[u])
+                        if (covers(x[v].head<3>(), anchor_side(v))) return true;
+                return false;
+            };
+            // Its own samples first: they cover it most often.
+            bool covered = covered_by(t);
+            mark[t] = t;
+            for (int k = 0; k < 3 && !covered; ++k)
+                for (uint32_t corner : ring[c[k]]) {
+                    const uint32_t u = corner / 3;
+                    if (mark[u] == t) continue;
+                    mark[u] = t;
+                    if ((covered = covered_by(u))) break;
+                }
+            if (!covered) out.gaps.push_back(t);
+        }
     }
     return out;
 }

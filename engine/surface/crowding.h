@@ -13,6 +13,7 @@
 #include "core/math.h"
 #include "mesh/triangle_mesh.h"
 #include "surface/boundary_particles.h"
+#include "surface/rows.h"
 
 namespace pbdsplat::surface {
 
@@ -31,6 +32,8 @@ struct CrowdingQuery {
     // inflating one crowds nowhere (the whole test on balloon_inflate's 19k samples, every 4
     // frames, for nothing).
     std::span<const uint8_t> changed;
+    // The triangles around each particle (corner_rows), where the caller keeps them; built here if null.
+    const Rows* ring = nullptr;
 };
 
 struct CrowdingResult {
@@ -43,7 +46,8 @@ struct CrowdingResult {
 // oldest stay), and starts the fade-out of every sample that has a kept one within `crowd` h on
 // its own side (its triangle's face normals within 60 degrees: the two faces of a sharp fold
 // are no neighbours). Edge samples take no part: they follow the boundary (surface/edges.h).
-// Then lists the grown triangles whose centre nothing kept covers. `x`: the particles (w
+// Then lists the grown triangles whose centre nothing kept around them (on their own triangle
+// or one sharing a vertex) covers. `x`: the particles (w
 // ignored), `normals`: theirs; the samples' positions must be current.
 CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const mesh::Triangle> triangles,
                            const CrowdingQuery& query, BoundaryParticles& samples);

@@ -2,33 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <numeric>
 #include <optional>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "core/assert.h"
 #include "mesh/deformation.h"
 #include "surface/crowding.h"
 #include "surface/embedding.h"
 #include "surface/point_grid.h"
+#include "surface/rows.h"
 
 namespace pbdsplat::surface {
 namespace {
-
-// Index lists by key (compressed rows): keys [0, n), values in insertion order.
-struct Rows {
-    std::vector<uint32_t> start, items;
-    std::span<const uint32_t> operator[](uint32_t k) const { return {items.data() + start[k], items.data() + start[k + 1]}; }
-};
-template <class KeyOf>
-Rows make_rows(size_t keys, size_t count, const KeyOf& key_of) {
-    Rows r;
-    r.start.assign(keys + 1, 0);
-    for (size_t i = 0; i < count; ++i) ++r.start[key_of(i) + 1];
-    for (size_t k = 0; k < keys; ++k) r.start[k + 1] += r.start[k];
-    r.items.resize(r.start.back());
-    std::vector<uint32_t> fill(r.start.begin(), r.start.end() - 1);
-    for (size_t i = 0; i < count; ++i) r.items[fill[key_of(i)]++] = uint32_t(i);
-    return r;
-}
 
 // SplitMix64: a 64-bit counter through a mixing function; plenty for throwing darts.
 struct SplitMix {
@@ -42,19 +31,51 @@ struct SplitMix {
     float unit() { return float(next() >> 8) * (1.0f / 16777216.0f); }  // [0, 1)
 };
 
+// A few dozen points tested by brute force: for the one-ring of a triangle, cheaper than any
+// hash (no table to clear, no cell lookups), and a test that stops at the first point near
+// enough usually stops among the first few (the triangle's own samples come first).
+class LocalPoints {
+public:
+    void clear() { blocks_.clear(), size_ = 0; }
+    size_t size() const { return size_; }
+    void add(const Vec3f& p) {
+        if (size_ % 4 == 0) blocks_.push_back(Block{});  // padded far away: a miss
+        Block& b = blocks_.back();
+        const size_t k = size_ % 4;
+        b.x[k] = p.x(), b.y[k] = p.y(), b.z[k] = p.z();
+        ++size_;
+    }
+    // Any point nearer than sqrt(r2) to p: four at a time (one SSE compare each), stopping at
+    // the first block with a hit.
+    bool near(const Vec3f& p, float r2) const {
+        for (const Block& b : blocks_) {
+            const Eigen::Array4f dx = b.x - p.x(), dy = b.y - p.y(), dz = b.z - p.z();
+            if (((dx * dx + dy * dy + dz * dz) < r2).any()) return true;
+        }
+        return false;
+    }
+
+private:
+    struct Block {
+        Eigen::Array4f x = Eigen::Array4f::Constant(1e18f), y = Eigen::Array4f::Constant(1e18f), z = Eigen::Array4f::Constant(1e18f);
+    };
+    std::vector<Block> blocks_;
+    size_t size_ = 0;
+};
+
 } // namespace
 
 DensityControl::DensityControl(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, const DensityOptions& o)
     : options_(o) {
     inverse_rest_.resize(triangles.size());
     for (uint32_t t = 0; t < triangles.size(); ++t) set_rest(rest, triangles, t);
-    stretch_.assign(triangles.size(), 1.0f);
-    squeeze_.assign(triangles.size(), 1.0f);
-    reference_.assign(triangles.size(), 1.0f);
-    reference_squeeze_.assign(triangles.size(), 1.0f);
+    stretch2_.assign(triangles.size(), 1.0f);
+    squeeze2_.assign(triangles.size(), 1.0f);
+    reference2_.assign(triangles.size(), 1.0f);
+    reference_squeeze2_.assign(triangles.size(), 1.0f);
     beyond_.assign(triangles.size(), 0);
-    checked_stretch_.assign(triangles.size(), 1.0f);
-    checked_squeeze_.assign(triangles.size(), 1.0f);
+    checked_stretch2_.assign(triangles.size(), 1.0f);
+    checked_squeeze2_.assign(triangles.size(), 1.0f);
     // A fresh maximal sampling has neither crowds nor gaps: the samples' trigger waits for a change.
     changed_.assign(triangles.size(), 0);
 }
@@ -67,20 +88,21 @@ void DensityControl::set_rest(std::span<const Vec3f> rest, std::span<const mesh:
 void DensityControl::topology_changed(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles,
                                       std::span<const uint32_t> touched) {
     inverse_rest_.resize(triangles.size(), Eigen::Matrix2f::Zero());
-    stretch_.resize(triangles.size(), 1.0f);
-    squeeze_.resize(triangles.size(), 1.0f);
-    reference_.resize(triangles.size(), 1.0f);
-    reference_squeeze_.resize(triangles.size(), 1.0f);
+    stretch2_.resize(triangles.size(), 1.0f);
+    squeeze2_.resize(triangles.size(), 1.0f);
+    reference2_.resize(triangles.size(), 1.0f);
+    reference_squeeze2_.resize(triangles.size(), 1.0f);
     beyond_.resize(triangles.size(), 0);
-    checked_stretch_.resize(triangles.size(), 1.0f);
-    checked_squeeze_.resize(triangles.size(), 1.0f);
+    checked_stretch2_.resize(triangles.size(), 1.0f);
+    checked_squeeze2_.resize(triangles.size(), 1.0f);
     changed_.resize(triangles.size(), 1);
     check_due_ = true;
+    ring_.start.clear();
     // A touched triangle was refilled from its rest shape: its samples stand for stretch 1.
     for (uint32_t t : touched) {
         set_rest(rest, triangles, t);
-        reference_[t] = 1.0f;
-        reference_squeeze_[t] = 1.0f;
+        reference2_[t] = 1.0f;
+        reference_squeeze2_[t] = 1.0f;
         beyond_[t] = 0;
         changed_[t] = k_shrank | k_grew;
     }
@@ -96,6 +118,7 @@ public:
         std::span<const Vec4f> x;
         std::span<const Vec3f> normals;
         std::span<const mesh::Triangle> triangles;
+        const Rows& ring;  // the triangles around each particle
         bool anchors_drawn;
         float h;
         uint32_t seed;
@@ -105,9 +128,9 @@ public:
     Resampler(const Inputs& in, const DensityOptions& o, BoundaryParticles& s, DensityStats& stats)
         : in_(in), o_(o), s_(s), stats_(stats),
           by_triangle_(make_rows(in.triangles.size(), s.size(), [&](size_t i) { return s.triangle[i]; })),
-          ring_(make_rows(in.x.size(), in.triangles.size() * 3, [&](size_t i) { return in.triangles[i / 3][i % 3]; })),
+          ring_(in.ring),
           mark_(in.triangles.size(), 0), step_(1.0f / float(std::max(1u, o.fade_frames))), embedded_(s.embedded()),
-          fresh_(o.insert_spacing * in.h, 256) {
+          fresh_(o.insert_spacing * in.h, 256), fresh_head_(in.triangles.size(), k_none), first_new_(uint32_t(s.size())) {
         s.pad_fades();
     }
 
@@ -115,39 +138,67 @@ public:
         const auto& tri = in_.triangles[t];
         const Vec3f a = in_.x[tri[0]].head<3>(), b = in_.x[tri[1]].head<3>(), c = in_.x[tri[2]].head<3>();
         same_.assign(by_triangle_[t].begin(), by_triangle_[t].end());
-        grid_.reset(o_.insert_spacing * in_.h);
+        // The triangle's own samples first: most darts land near one of them.
+        local_.clear();
+        for (uint32_t i : same_)
+            if (!s_.retiring(i)) local_.add(s_.position[i]);
         around(t, [&](uint32_t n) {
-            for (uint32_t i : by_triangle_[n])
-                if (!s_.retiring(i)) grid_.add(s_.position[i]);
+            if (n != t)
+                for (uint32_t i : by_triangle_[n])
+                    if (!s_.retiring(i)) local_.add(s_.position[i]);
+            for (uint32_t i = fresh_head_[n]; i != k_none; i = fresh_next_[i - first_new_]) local_.add(s_.position[i]);
             if (in_.anchors_drawn)
-                for (uint32_t v : in_.triangles[n]) grid_.add(in_.x[v].head<3>());
+                for (uint32_t v : in_.triangles[n]) local_.add(in_.x[v].head<3>());
         });
-        // Samples inserted this frame (this triangle's and its neighbours', not in by_triangle
-        // yet) are in fresh_, kept over the frame: copying them into every triangle's grid grew
-        // with the frame's insertions.
+        const float r2 = (o_.insert_spacing * in_.h) * (o_.insert_spacing * in_.h);
         const Mat3f frame = triangle_frame(a, b, c);
         const float area = 0.5f * (b - a).cross(c - a).norm();
         const float expected = area * o_.candidates / (in_.h * in_.h);
         // A generator per triangle and frame, seeded in a few instructions: a Mersenne twister
         // seeded its 624 words for every resampled triangle (a fifth of balloon_inflate's run).
         SplitMix rng{(uint64_t(in_.seed) << 32) ^ (in_.frame * 0x9E3779B97F4A7C15ull) ^ (uint64_t(t) * 0xD1B54A32D192ED03ull)};
-        uint32_t n = uint32_t(expected);
-        if (rng.unit() < expected - float(n)) ++n;
+        // Stratified darts: the triangle cut into cells x cells sub-triangles, one dart in each,
+        // visited in a scrambled order (a stride through the cells from a random start). A gap
+        // the size of a cell cannot be missed, where independent darts need several times as
+        // many throws to find the same gaps (48 per h^2 once, 16 before this).
+        const uint32_t cells = std::clamp(uint32_t(std::lround(std::sqrt(expected))), 1u, 64u);
+        const uint32_t n = cells * cells;
+        const uint32_t start = rng.next() % n;
+        uint32_t stride = 1 + 2 * (rng.next() % std::max(1u, n / 2));  // odd; coprime with n below
+        while (std::gcd(stride, n) != 1) stride += 2;
+        const float inv_cells = 1.0f / float(cells);
         for (uint32_t k = 0; k < n; ++k) {
-            float b1 = rng.unit(), b2 = rng.unit();
-            if (b1 + b2 > 1.0f) b1 = 1.0f - b1, b2 = 1.0f - b2;
+            // Cell m: row i (along b1) holds 2 (cells - i) - 1 sub-triangles, upright and
+            // inverted alternately.
+            uint32_t m = uint32_t((uint64_t(start) + uint64_t(k) * stride) % n), i = 0;
+            while (m >= 2 * (cells - i) - 1) m -= 2 * (cells - i) - 1, ++i;
+            const uint32_t j = m / 2;
+            float u = rng.unit(), v = rng.unit();
+            if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
+            // Upright cells span (i, j), (i + 1, j), (i, j + 1); inverted ones the mirror image
+            // from (i + 1, j + 1).
+            const bool inverted = m % 2 == 1;
+            const float b1 = (inverted ? float(i + 1) - u : float(i) + u) * inv_cells;
+            const float b2 = (inverted ? float(j + 1) - v : float(j) + v) * inv_cells;
             const float b0 = 1.0f - b1 - b2;
             const Vec3f interpolated = b0 * in_.normals[tri[0]] + b1 * in_.normals[tri[1]] + b2 * in_.normals[tri[2]];
             float d = 0.0f;
             Vec3f local = Vec3f::UnitZ();
             if (embedded_) interpolate_embedding(s_, same_, Vec2f(b1, b2), d, local);
             const Vec3f p = b0 * a + b1 * b + b2 * c + d * interpolated;
-            if (grid_.near(p) || fresh_.near(p)) continue;
+            // The one-ring's samples (this frame's new ones included) in a flat list, the rest of
+            // the frame's new ones in a grid: a hash grid rebuilt per triangle cost 27 lookups a
+            // dart and the clearing of its table.
+            if (local_.near(p, r2) || fresh_.near(p)) continue;
             if (in_.max_samples && s_.size() >= in_.max_samples) {
                 stats_.capped = true;
                 break;
             }
             fresh_.add(p);
+            local_.add(p);
+            const uint32_t index = uint32_t(s_.size());
+            fresh_next_.push_back(fresh_head_[t]);
+            fresh_head_[t] = index;
             s_.triangle.push_back(t);
             s_.bary.emplace_back(b1, b2);
             if (embedded_) s_.offset.push_back(d), s_.local_normal.push_back(local);
@@ -162,21 +213,22 @@ public:
     }
 
     void retire(uint32_t t) {
-        grid_.reset(o_.retire_spacing * in_.h);
+        local_.clear();
         around(t, [&](uint32_t n) {
             if (n != t)
                 for (uint32_t i : by_triangle_[n])
-                    if (!s_.retiring(i)) grid_.add(s_.position[i]);
+                    if (!s_.retiring(i)) local_.add(s_.position[i]);
             if (in_.anchors_drawn)
-                for (uint32_t v : in_.triangles[n]) grid_.add(in_.x[v].head<3>());
+                for (uint32_t v : in_.triangles[n]) local_.add(in_.x[v].head<3>());
         });
+        const float r2 = (o_.retire_spacing * in_.h) * (o_.retire_spacing * in_.h);
         for (uint32_t i : by_triangle_[t]) {
             if (s_.retiring(i) || s_.on_edge(i)) continue;  // edge samples follow the boundary (surface/edges.h)
-            if (grid_.near(s_.position[i])) {
+            if (local_.near(s_.position[i], r2)) {
                 s_.fade_step[i] = -step_;
                 ++stats_.retired;
             } else {
-                grid_.add(s_.position[i]);
+                local_.add(s_.position[i]);
             }
         }
     }
@@ -199,47 +251,128 @@ private:
     const DensityOptions& o_;
     BoundaryParticles& s_;
     DensityStats& stats_;
-    Rows by_triangle_, ring_;
+    Rows by_triangle_;
+    const Rows& ring_;
     std::vector<uint32_t> mark_;
     uint32_t stamp_ = 0;
     float step_;
     bool embedded_;
     std::vector<uint32_t> same_;
-    PointGrid grid_{1.0f, 256};  // reset per triangle
-    PointGrid fresh_;            // every sample inserted this frame
+    LocalPoints local_;  // the samples around the triangle at hand
+    PointGrid fresh_;    // every sample inserted this frame
+    // The frame's new samples by triangle: a chain through fresh_next_ (indexed from first_new_).
+    static constexpr uint32_t k_none = ~0u;
+    std::vector<uint32_t> fresh_head_, fresh_next_;
+    uint32_t first_new_;
 };
 
 } // namespace
 
+const Rows& DensityControl::ring(size_t particles, std::span<const mesh::Triangle> triangles) {
+    // Kept from frame to frame: only a topology change (which clears it) changes it.
+    if (ring_.start.size() != particles + 1 || ring_.items.size() != 3 * triangles.size()) ring_ = corner_rows(particles, triangles);
+    return ring_;
+}
+
 std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangles) {
     std::vector<Due> work;
-    for (uint32_t t = 0; t < triangles.size(); ++t) {
-        const auto& tri = triangles[t];
-        const Vec3f e1 = (x[tri[1]] - x[tri[0]]).head<3>(), e2 = (x[tri[2]] - x[tri[0]]).head<3>();
-        const mesh::Stretch sigma = inverse_rest_[t].isZero() ? mesh::Stretch{reference_[t], reference_squeeze_[t]}
-                                                              : mesh::stretches(inverse_rest_[t], e1, e2);
-        stretch_[t] = sigma.largest;
-        squeeze_[t] = sigma.smallest;
-        constexpr float k_changed = 0.05f;
-        const float large = checked_stretch_[t], small = checked_squeeze_[t];
+    // Squared stretches throughout (one square root a triangle instead of three, no division):
+    // this loop runs over every triangle every frame, the whole cost of a frame where nothing
+    // stretches.
+    constexpr float k_changed = 0.05f;
+    constexpr float shrank2 = (1.0f - k_changed) * (1.0f - k_changed), grew2 = (1.0f + k_changed) * (1.0f + k_changed);
+    const float grow2 = options_.grow * options_.grow, shrink2 = options_.shrink * options_.shrink;
+    const float squash2 = options_.squash * options_.squash, unsquash2 = 1.0f / squash2;
+    const uint32_t settle = std::max(1u, options_.settle_frames);
+    auto thresholds = [&](uint32_t t) {
+        // A sliver (zero inverse: zero stretches) keeps its reference: never due, never changed.
+        if (stretch2_[t] == 0.0f && inverse_rest_[t].isZero()) return;
+        const float l2 = stretch2_[t], s2 = squeeze2_[t];
+        const float large2 = checked_stretch2_[t], small2 = checked_squeeze2_[t];
         const uint8_t was = changed_[t];
-        if (sigma.largest < (1.0f - k_changed) * large || sigma.smallest < (1.0f - k_changed) * small) changed_[t] |= k_shrank;
-        if (sigma.largest > (1.0f + k_changed) * large || sigma.smallest > (1.0f + k_changed) * small) changed_[t] |= k_grew;
-        if (changed_[t] != was) check_due_ = true;
-        const float ratio = sigma.largest / reference_[t];
+        uint8_t now = was;
+        if (l2 < shrank2 * large2 || s2 < shrank2 * small2) now |= k_shrank;
+        if (l2 > grew2 * large2 || s2 > grew2 * small2) now |= k_grew;
+        if (now != was) changed_[t] = now, check_due_ = true;
+        const float ref2 = reference2_[t], ref_squeeze2 = std::max(reference_squeeze2_[t], 1e-12f);
         // Along its least stretched direction as well: a triangle squashed one way keeps its
         // largest stretch while its samples crowd along the other (a body landing), and when it
         // springs back the gaps open along that direction only.
-        const float squeeze = sigma.smallest / std::max(reference_squeeze_[t], 1e-6f);
-        const bool grow = ratio > options_.grow || squeeze > 1.0f / options_.squash;
-        const bool thin = (ratio < options_.shrink || squeeze < options_.squash) && sigma.smallest > 0.0f;
-        const int8_t side = grow ? 1 : thin ? -1 : 0;
+        const bool grow = l2 > grow2 * ref2 || s2 > unsquash2 * ref_squeeze2;
+        const bool thin = (l2 < shrink2 * ref2 || s2 < squash2 * ref_squeeze2) && s2 > 0.0f;
         int8_t& run = beyond_[t];
+        if (!grow && !thin) {
+            run = 0;
+            return;
+        }
+        const int8_t side = grow ? 1 : -1;
         // Frames in a row on this side, counted up to 120 (the settle limit is at most 60).
-        run = side == 0 ? 0 : run * side > 0 ? int8_t(side * std::min(std::abs(int(run)) + 1, 120)) : side;
-        if (uint32_t(std::abs(run)) < std::max(1u, options_.settle_frames)) continue;
-        const float priority = std::max(std::abs(std::log(ratio)), std::abs(std::log(std::max(squeeze, 1e-6f))));
+        run = run * side > 0 ? int8_t(side * std::min(std::abs(int(run)) + 1, 120)) : side;
+        if (uint32_t(std::abs(run)) < settle) return;
+        const float priority = std::max(std::abs(std::log(l2 / ref2)), std::abs(std::log(std::max(s2 / ref_squeeze2, 1e-12f))));
         work.push_back({priority, t, grow, thin});
+    };
+    const size_t n = triangles.size();
+    size_t t = 0;
+#if defined(__SSE2__)
+    // Four triangles at a time (mesh::squared_stretches in SSE lanes, the corners transposed as
+    // they load), and the thresholds tested in the same lanes: a block where no triangle changed
+    // by 5 %, none is past a threshold and none was is quiet, and skips the per-triangle logic.
+    // A frame where nothing stretches costs this loop alone.
+    const __m128 v_shrank2 = _mm_set1_ps(shrank2), v_grew2 = _mm_set1_ps(grew2), v_grow2 = _mm_set1_ps(grow2);
+    const __m128 v_shrink2 = _mm_set1_ps(shrink2), v_squash2 = _mm_set1_ps(squash2), v_unsquash2 = _mm_set1_ps(unsquash2);
+    const __m128 v_tiny = _mm_set1_ps(1e-12f), v_zero = _mm_setzero_ps(), v_half = _mm_set1_ps(0.5f), v_two = _mm_set1_ps(2.0f);
+    for (; t + 4 <= n; t += 4) {
+        __m128 e1[4], e2[4], m[4];
+        for (int k = 0; k < 4; ++k) {
+            const mesh::Triangle& tri = triangles[t + size_t(k)];
+            const __m128 o = _mm_loadu_ps(x[tri[0]].data());
+            e1[k] = _mm_sub_ps(_mm_loadu_ps(x[tri[1]].data()), o);
+            e2[k] = _mm_sub_ps(_mm_loadu_ps(x[tri[2]].data()), o);
+            m[k] = _mm_loadu_ps(inverse_rest_[t + size_t(k)].data());  // column-major: a, c, b, d
+        }
+        _MM_TRANSPOSE4_PS(e1[0], e1[1], e1[2], e1[3]);
+        _MM_TRANSPOSE4_PS(e2[0], e2[1], e2[2], e2[3]);
+        _MM_TRANSPOSE4_PS(m[0], m[1], m[2], m[3]);
+        const __m128 a = m[0], c = m[1], b = m[2], d = m[3];
+        auto dot = [](const __m128* u, const __m128* v) {
+            return _mm_add_ps(_mm_add_ps(_mm_mul_ps(u[0], v[0]), _mm_mul_ps(u[1], v[1])), _mm_mul_ps(u[2], v[2]));
+        };
+        const __m128 g11 = dot(e1, e1), g12 = dot(e1, e2), g22 = dot(e2, e2);
+        auto form = [&](__m128 p, __m128 q) {  // (p, q) G (p, q)^T
+            return _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(p, p), g11), _mm_mul_ps(_mm_mul_ps(v_two, _mm_mul_ps(p, q)), g12)),
+                              _mm_mul_ps(_mm_mul_ps(q, q), g22));
+        };
+        const __m128 p11 = form(a, c), p22 = form(b, d);
+        const __m128 p12 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(a, b), g11), _mm_mul_ps(_mm_add_ps(_mm_mul_ps(a, d), _mm_mul_ps(b, c)), g12)),
+                                      _mm_mul_ps(_mm_mul_ps(c, d), g22));
+        const __m128 half = _mm_mul_ps(v_half, _mm_add_ps(p11, p22)), diff = _mm_mul_ps(v_half, _mm_sub_ps(p11, p22));
+        const __m128 root = _mm_sqrt_ps(_mm_add_ps(_mm_mul_ps(diff, diff), _mm_mul_ps(p12, p12)));
+        const __m128 l2 = _mm_add_ps(half, root), s2 = _mm_max_ps(_mm_sub_ps(half, root), v_zero);
+        _mm_storeu_ps(stretch2_.data() + t, l2);
+        _mm_storeu_ps(squeeze2_.data() + t, s2);
+        const __m128 large2 = _mm_loadu_ps(checked_stretch2_.data() + t), small2 = _mm_loadu_ps(checked_squeeze2_.data() + t);
+        const __m128 ref2 = _mm_loadu_ps(reference2_.data() + t);
+        const __m128 ref_squeeze2 = _mm_max_ps(_mm_loadu_ps(reference_squeeze2_.data() + t), v_tiny);
+        __m128 any = _mm_or_ps(_mm_cmplt_ps(l2, _mm_mul_ps(v_shrank2, large2)), _mm_cmplt_ps(s2, _mm_mul_ps(v_shrank2, small2)));
+        any = _mm_or_ps(any, _mm_or_ps(_mm_cmpgt_ps(l2, _mm_mul_ps(v_grew2, large2)), _mm_cmpgt_ps(s2, _mm_mul_ps(v_grew2, small2))));
+        any = _mm_or_ps(any, _mm_or_ps(_mm_cmpgt_ps(l2, _mm_mul_ps(v_grow2, ref2)), _mm_cmpgt_ps(s2, _mm_mul_ps(v_unsquash2, ref_squeeze2))));
+        any = _mm_or_ps(any, _mm_or_ps(_mm_cmplt_ps(l2, _mm_mul_ps(v_shrink2, ref2)), _mm_cmplt_ps(s2, _mm_mul_ps(v_squash2, ref_squeeze2))));
+        // NaN (a broken simulation) compares false everywhere: take the per-triangle path too.
+        any = _mm_or_ps(any, _mm_cmpunord_ps(l2, s2));
+        uint32_t runs;
+        std::memcpy(&runs, beyond_.data() + t, sizeof(runs));
+        if (_mm_movemask_ps(any) == 0 && runs == 0) continue;
+        for (uint32_t k = 0; k < 4; ++k) thresholds(uint32_t(t) + k);
+    }
+#endif
+    for (; t < n; ++t) {
+        const auto& tri = triangles[t];
+        const Vec3f o = x[tri[0]].head<3>();
+        const mesh::Stretch sigma2 = mesh::squared_stretches(inverse_rest_[t], x[tri[1]].head<3>() - o, x[tri[2]].head<3>() - o);
+        stretch2_[t] = sigma2.largest;
+        squeeze2_[t] = sigma2.smallest;
+        thresholds(uint32_t(t));
     }
     return work;
 }
@@ -259,12 +392,12 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
     PBDSPLAT_ASSERT(s.position.size() == s.size(), "density control: update the boundary particles' positions first");
     std::optional<Resampler> resampler;
     auto r = [&]() -> Resampler& {
-        if (!resampler) resampler.emplace(Resampler::Inputs{x, normals, triangles, anchors_drawn, h, seed, frame_, max_samples_}, options_, s, stats);
+        if (!resampler) resampler.emplace(Resampler::Inputs{x, normals, triangles, ring(x.size(), triangles), anchors_drawn, h, seed, frame_, max_samples_}, options_, s, stats);
         return *resampler;
     };
     auto sampled = [&](uint32_t t) {
-        reference_[t] = stretch_[t];
-        reference_squeeze_[t] = squeeze_[t];
+        reference2_[t] = stretch2_[t];
+        reference_squeeze2_[t] = squeeze2_[t];
         beyond_[t] = 0;
     };
     if (!work.empty()) {
@@ -292,6 +425,7 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
         q.fade_step = 1.0f / float(std::max(1u, options_.fade_frames));
         q.max_retired = 4 * options_.budget;
         q.changed = changed_;
+        q.ring = &ring(x.size(), triangles);
         CrowdingResult c = thin_crowds(x, normals, triangles, q, s);
         stats.crowded = c.retired;
         stats.retired += c.retired;
@@ -308,7 +442,7 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
             ++stats.resampled;
         }
         for (size_t t = 0; t < changed_.size(); ++t)
-            if (changed_[t]) changed_[t] = 0, checked_stretch_[t] = stretch_[t], checked_squeeze_[t] = squeeze_[t];
+            if (changed_[t]) changed_[t] = 0, checked_stretch2_[t] = stretch2_[t], checked_squeeze2_[t] = squeeze2_[t];
         checked_frame_ = frame_;
         check_due_ = false;
     }

@@ -14,6 +14,7 @@
 #include "core/math.h"
 #include "mesh/triangle_mesh.h"
 #include "surface/boundary_particles.h"
+#include "surface/rows.h"
 
 namespace pbdsplat::surface {
 
@@ -40,7 +41,7 @@ struct DensityOptions {
     // so most darts land near one: 48 (the initial sampler's) threw three times the darts for
     // the same result (balloon_inflate: spacing 0.991 -> 0.987, no hole, the pass's mean 1.18 ->
     // 0.71 ms); a gap a sparse throw misses is the samples' trigger's (gap_spacing).
-    float candidates = 16.0f;
+    float candidates = 12.0f;
     // The trigger on the samples themselves (surface/crowding.h), run every settle_frames frames
     // while some triangle has shrunk or grown by more than 5 % since the last run: a sample on a
     // shrunk triangle nearer than crowd_spacing h to a kept one on its own side retires (0:
@@ -93,17 +94,19 @@ private:
         bool grow;  // stretched: new samples
         bool thin;  // shrunk along some direction: retire the crowded (before any growing)
     };
+    // The triangles around each particle (surface/rows.h), rebuilt after a topology change.
+    const Rows& ring(size_t particles, std::span<const mesh::Triangle> triangles);
     std::vector<Due> due_triangles(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangles);
     DensityOptions options_;
     std::vector<Eigen::Matrix2f> inverse_rest_;  // per triangle, in its own rest frame; zero for slivers
-    std::vector<float> stretch_;    // largest singular value of each triangle's deformation, this frame
-    std::vector<float> squeeze_;    // and its smallest
-    std::vector<float> reference_;  // the stretch each triangle was last sampled at
-    std::vector<float> reference_squeeze_;  // and its smallest singular value then
+    // Per triangle, squared (the eigenvalues of F^T F): the largest and smallest stretch this
+    // frame, when the triangle was last sampled, and when the samples' trigger last ran.
+    std::vector<float> stretch2_, squeeze2_;
+    std::vector<float> reference2_, reference_squeeze2_;
     std::vector<int8_t> beyond_;  // frames in a row past a threshold: + grow side, - shrink side
-    // The samples' trigger: each triangle's stretches when it last ran, and when that was.
-    std::vector<float> checked_stretch_, checked_squeeze_;
+    std::vector<float> checked_stretch2_, checked_squeeze2_;
     std::vector<uint8_t> changed_;  // per triangle: k_shrank / k_grew since
+    Rows ring_;
     uint64_t checked_frame_ = 0;
     bool check_due_ = false;  // some triangle changed shape since (or the topology did)
     uint64_t frame_ = 0;

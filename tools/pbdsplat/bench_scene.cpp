@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include "core/timer.h"
@@ -42,6 +43,11 @@ struct Samples {
     std::vector<std::vector<double>> changing_pass;  // per kept pass, on the frames that changed
     size_t changes_so_far = 0;
     uint32_t run = 0;
+    // The density control, per frame: its pass's ms per 10k boundary particles, and whether it
+    // resampled or retired anything (the issue's "during inflation" is the span of such frames).
+    std::vector<double> density_per_10k;
+    std::vector<bool> density_working;
+    size_t density_pass = SIZE_MAX;  // index among the kept passes
 
     void add(const scene::SceneRuntime& runtime) {
         const auto& s = runtime.stats();
@@ -52,6 +58,10 @@ struct Samples {
         const auto& pm = runtime.pass_ms();
         if (per_pass.size() < pm.size()) per_pass.resize(pm.size());
         for (size_t k = 0; k < pm.size(); ++k) per_pass[k].push_back(pm[k]);
+        if (density_pass < pm.size()) {
+            density_per_10k.push_back(pm[density_pass] * 1e4 / double(std::max<size_t>(1, s.boundary_particles)));
+            density_working.push_back(s.density.resampled + s.density.retired > 0);
+        }
         Split& part = s.cuts + s.tears == 0 ? before : after;
         // The events group holds the topology pass (cuts, tears and their follow-up): adding
         // topology_ms as well counted it twice.
@@ -96,6 +106,35 @@ void report_stages(Report& report, const Samples& m, const gpu::DeviceCaps& caps
         report.line("GPU Scene: device '" + caps.name + "' has no timestamp queries");
 }
 
+// The density control's cost against its goal (issue 15: at most 0.3 ms a frame per 10k
+// samples while the surface changes, ~0 when nothing does): per 10k samples, the mean over all
+// frames, over the span from its first to its last working frame, and over the frames between
+// with nothing to do.
+void report_density(Report& report, const Samples& m) {
+    if (m.density_per_10k.empty()) return;
+    const auto& w = m.density_working;
+    const auto first = std::find(w.begin(), w.end(), true);
+    const auto last = std::find(w.rbegin(), w.rend(), true);
+    std::vector<double> span, idle;
+    if (first != w.end()) {
+        const size_t a = size_t(first - w.begin()), b = w.size() - size_t(last - w.rbegin());
+        span.assign(m.density_per_10k.begin() + ptrdiff_t(a), m.density_per_10k.begin() + ptrdiff_t(b));
+    }
+    size_t working = 0;
+    for (size_t f = 0; f < w.size(); ++f)
+        if (w[f]) ++working;
+        else idle.push_back(m.density_per_10k[f]);
+    report.json()["density_ms_per_10k_samples"] = {{"mean", core::mean(m.density_per_10k)},
+                                                   {"mean_working_span", core::mean(span)},
+                                                   {"working_span_frames", span.size()},
+                                                   {"working_frames", working},
+                                                   {"median_idle", core::median(idle)}};
+    report.figures("density control per 10k boundary particles (goal <= 0.3 ms while working):",
+                   {{"mean, all frames", core::mean(m.density_per_10k), "ms"},
+                    {"mean, first to last working frame", core::mean(span), format("ms (%zu frames, %zu working)", span.size(), working)},
+                    {"median, frames with nothing to do", core::median(idle), "ms"}});
+}
+
 // --passes: every pass's median CPU ms (GPU passes: their recording), culled ones with the reason,
 // and the mean: a pass that works one frame in several (the density control's sample check)
 // shows there, not in the median.
@@ -118,6 +157,7 @@ void report_passes(Report& report, const Samples& m, const graph::FrameGraph& gr
         }
     }
     report.table("per pass (median CPU ms; GPU passes: recording):", table);
+    report_density(report, m);
 }
 
 // --before-after: the paper's Tables 2-4, split at the first cut or tear.
@@ -167,6 +207,14 @@ Outcome measure(const Options& opt) {
     scene::SceneRuntime& runtime = *created.value();
 
     Samples m;
+    {
+        size_t k = 0;
+        for (const auto& p : runtime.graph().describe())
+            if (!p.culled) {
+                if (p.name == "density") m.density_pass = k;
+                ++k;
+            }
+    }
     const uint32_t frames_after = uint32_t(std::ceil(3.0f / std::max(scene->simulation.dt, 1e-6f)));
     constexpr uint32_t k_max_frames = 10000;
     Progress progress("bench scene", until_after ? 0 : frames);
