@@ -151,7 +151,6 @@ public:
                 for (uint32_t v : in_.triangles[n]) local_.add(in_.x[v].head<3>());
         });
         const float r2 = (o_.insert_spacing * in_.h) * (o_.insert_spacing * in_.h);
-        const Mat3f frame = triangle_frame(a, b, c);
         const float area = 0.5f * (b - a).cross(c - a).norm();
         const float expected = area * o_.candidates / (in_.h * in_.h);
         // A generator per triangle and frame, seeded in a few instructions: a Mersenne twister
@@ -163,14 +162,18 @@ public:
         // many throws to find the same gaps (48 per h^2 once, 16 before this).
         const uint32_t cells = std::clamp(uint32_t(std::lround(std::sqrt(expected))), 1u, 64u);
         const uint32_t n = cells * cells;
-        const uint32_t start = rng.next() % n;
+        uint32_t cell = rng.next() % n;
         uint32_t stride = 1 + 2 * (rng.next() % std::max(1u, n / 2));  // odd; coprime with n below
         while (std::gcd(stride, n) != 1) stride += 2;
+        stride %= n;
         const float inv_cells = 1.0f / float(cells);
+        const Vec3f &na = in_.normals[tri[0]], &nb = in_.normals[tri[1]], &nc = in_.normals[tri[2]];
         for (uint32_t k = 0; k < n; ++k) {
             // Cell m: row i (along b1) holds 2 (cells - i) - 1 sub-triangles, upright and
             // inverted alternately.
-            uint32_t m = uint32_t((uint64_t(start) + uint64_t(k) * stride) % n), i = 0;
+            uint32_t m = cell, i = 0;
+            cell += stride;
+            if (cell >= n) cell -= n;
             while (m >= 2 * (cells - i) - 1) m -= 2 * (cells - i) - 1, ++i;
             const uint32_t j = m / 2;
             float u = rng.unit(), v = rng.unit();
@@ -181,11 +184,16 @@ public:
             const float b1 = (inverted ? float(i + 1) - u : float(i) + u) * inv_cells;
             const float b2 = (inverted ? float(j + 1) - v : float(j) + v) * inv_cells;
             const float b0 = 1.0f - b1 - b2;
-            const Vec3f interpolated = b0 * in_.normals[tri[0]] + b1 * in_.normals[tri[1]] + b2 * in_.normals[tri[2]];
+            Vec3f p = b0 * a + b1 * b + b2 * c;
+            // The normal and the offset only where the samples stand off the triangle, or for a
+            // dart that stays: most are rejected.
             float d = 0.0f;
-            Vec3f local = Vec3f::UnitZ();
-            if (embedded_) interpolate_embedding(s_, same_, Vec2f(b1, b2), d, local);
-            const Vec3f p = b0 * a + b1 * b + b2 * c + d * interpolated;
+            Vec3f local = Vec3f::UnitZ(), interpolated = Vec3f::Zero();
+            if (embedded_) {
+                interpolate_embedding(s_, same_, Vec2f(b1, b2), d, local);
+                interpolated = b0 * na + b1 * nb + b2 * nc;
+                p += d * interpolated;
+            }
             // The one-ring's samples (this frame's new ones included) in a flat list, the rest of
             // the frame's new ones in a grid: a hash grid rebuilt per triangle cost 27 lookups a
             // dart and the clearing of its table.
@@ -194,6 +202,7 @@ public:
                 stats_.capped = true;
                 break;
             }
+            if (!embedded_) interpolated = b0 * na + b1 * nb + b2 * nc;
             fresh_.add(p);
             local_.add(p);
             const uint32_t index = uint32_t(s_.size());
@@ -205,7 +214,7 @@ public:
             s_.position.push_back(p);
             const float len = interpolated.norm();
             s_.normal.push_back(embedded_ ? Vec3f(surface_frame(a, b, c, interpolated) * local)
-                                          : len > 0.0f ? Vec3f(interpolated / len) : frame.col(2));
+                                          : len > 0.0f ? Vec3f(interpolated / len) : Vec3f(triangle_frame(a, b, c).col(2)));
             s_.fade.push_back(0.0f);
             s_.fade_step.push_back(step_);
             ++stats_.inserted;
