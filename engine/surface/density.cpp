@@ -138,6 +138,21 @@ public:
         const auto& tri = in_.triangles[t];
         const Vec3f a = in_.x[tri[0]].head<3>(), b = in_.x[tri[1]].head<3>(), c = in_.x[tri[2]].head<3>();
         same_.assign(by_triangle_[t].begin(), by_triangle_[t].end());
+        const float r = o_.insert_spacing * in_.h, r2 = r * r;
+        // How far the offset can move a dart: a new sample's offset blends its neighbours' here.
+        float reach = 0.0f;
+        if (embedded_)
+            for (uint32_t i : same_) reach = std::max(reach, std::abs(s_.offset[i]));
+        // Every dart lies within `bound` of the centre (the farthest corner, plus the offset): a
+        // point farther than bound + r can reject none, and stays out of the list. The one-ring
+        // of a coarse triangle carrying many samples holds several times what borders it (the
+        // bunny: a dart that stays was tested against some 220 points).
+        const Vec3f centre = (a + b + c) / 3.0f;
+        const float bound = std::sqrt(std::max({(a - centre).squaredNorm(), (b - centre).squaredNorm(), (c - centre).squaredNorm()})) + reach;
+        const float keep2 = (bound + r) * (bound + r);
+        auto offer = [&](const Vec3f& q) {
+            if ((q - centre).squaredNorm() < keep2) local_.add(q);
+        };
         // The triangle's own samples first: most darts land near one of them.
         local_.clear();
         for (uint32_t i : same_)
@@ -145,12 +160,11 @@ public:
         around(t, [&](uint32_t n) {
             if (n != t)
                 for (uint32_t i : by_triangle_[n])
-                    if (!s_.retiring(i)) local_.add(s_.position[i]);
-            for (uint32_t i = fresh_head_[n]; i != k_none; i = fresh_next_[i - first_new_]) local_.add(s_.position[i]);
+                    if (!s_.retiring(i)) offer(s_.position[i]);
+            for (uint32_t i = fresh_head_[n]; i != k_none; i = fresh_next_[i - first_new_]) offer(s_.position[i]);
             if (in_.anchors_drawn)
-                for (uint32_t v : in_.triangles[n]) local_.add(in_.x[v].head<3>());
+                for (uint32_t v : in_.triangles[n]) offer(in_.x[v].head<3>());
         });
-        const float r2 = (o_.insert_spacing * in_.h) * (o_.insert_spacing * in_.h);
         const float area = 0.5f * (b - a).cross(c - a).norm();
         const float expected = area * o_.candidates / (in_.h * in_.h);
         // A generator per triangle and frame, seeded in a few instructions: a Mersenne twister
@@ -461,17 +475,21 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
 
 size_t advance_fades(BoundaryParticles& s, uint32_t* fading) {
     uint32_t still = 0;
-    bool remove = false;
+    size_t finished = 0;
     const size_t n = std::min(s.fade.size(), s.fade_step.size());
     for (size_t i = 0; i < n; ++i) {
         if (s.fade_step[i] == 0.0f) continue;
         s.fade[i] = std::clamp(s.fade[i] + s.fade_step[i], 0.0f, 1.0f);
         if (s.fade_step[i] > 0.0f && s.fade[i] >= 1.0f) s.fade_step[i] = 0.0f;
-        else if (s.fade_step[i] < 0.0f && s.fade[i] <= 0.0f) remove = true;
+        else if (s.fade_step[i] < 0.0f && s.fade[i] <= 0.0f) ++finished;
         else ++still;
     }
     if (fading) *fading = still;
-    if (!remove) return 0;
+    // Faded out, a sample is invisible (zero opacity) and out of every test (retiring): it
+    // leaves with the next batch, once a 64th of the samples has finished or nothing else
+    // fades. Compacting every array of the bunny's 75k samples on each frame that some finished
+    // was 15 % of its density pass.
+    if (finished == 0 || (finished * 64 < n && still > 0)) return 0;
     return s.keep_if([&](size_t i) { return !(s.retiring(i) && s.fade[i] <= 0.0f); });
 }
 

@@ -132,8 +132,10 @@ struct SpacingQuery {
 SpacingReport spacing_report(std::span<const Vec3f> points, float h, const SpacingQuery& query);
 inline SpacingReport spacing_report(std::span<const Vec3f> points, float h) { return spacing_report(points, h, SpacingQuery{}); }
 
-// Advances the fades by one frame and removes the samples that finished fading out. Returns
-// how many were removed; `fading` receives how many still fade.
+// Advances the fades by one frame and removes the samples that finished fading out, in batches:
+// once a 64th of them has finished, or when nothing else still fades (until then a finished one
+// stays, invisible and retiring). Returns how many were removed; `fading` receives how many
+// still fade.
 size_t advance_fades(BoundaryParticles& samples, uint32_t* fading = nullptr);
 
 // Starts a fade-in over `frames` frames for samples [first, size()).
