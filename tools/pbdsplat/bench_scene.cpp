@@ -18,7 +18,8 @@ const CommandSpec& command_spec() {
         "prints the median milliseconds per frame of each stage group and of the whole frame, and the\n"
         "GPU time of each GPU pass from timestamps (the paper's \"GPU Scene\" row).\n",
         with_gpu({whole("frames", "N", 240, 1, 1000000, "frames"), whole("threads", "T", 1, 1, 64, "simulation threads"),
-                  flag("passes", "also the median and mean CPU ms of every pass that runs (what culling a pass saves)"),
+                  flag("passes", "also the median and mean CPU ms of every pass that runs (what culling a pass saves),\n"
+                                 "and the density control's ms per 10k boundary particles"),
                   flag("before-after", "also the medians before and after the first cut or tear, and the change\n"
                                        "(the paper's Tables 2-4); without --frames it runs until 3 s\n"
                                        "(simulated) after the first one, and fails if none comes within\n"
