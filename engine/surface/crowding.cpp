@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/assert.h"
 #include "surface/point_grid.h"
@@ -84,16 +85,16 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
         PointGrid grid(2.0f * crowd_r, candidates.size());
         // The bitmap pays where the candidates are few against what tests them; where most of the
         // body shrank (a balloon let down), marking 27 cells for each costs more than it saves.
-        const bool sparse = candidates.size() * 4 < ranked[0].size() + anchors;
-        CellBits cells(sparse ? 2.0f * crowd_r : 1.0f);
+        std::optional<CellBits> cells;
+        if (candidates.size() * 4 < ranked[0].size() + anchors) cells.emplace(2.0f * crowd_r);
         for (uint32_t i : candidates) {
             grid.add(s.position[i]);
-            if (sparse) cells.add(s.position[i]);
+            if (cells) cells->add(s.position[i]);
         }
         std::vector<Vec3f> candidate_side(candidates.size());
         for (size_t k = 0; k < candidates.size(); ++k) candidate_side[k] = face[s.triangle[candidates[k]]];
         auto press = [&](const Vec3f& p, const Vec3f& n) {
-            if (sparse && !cells.maybe_near(p)) return;
+            if (cells && !cells->maybe_near(p)) return;
             grid.each_within(p, crowd_r, [&](uint32_t k) {
                 if (candidate_side[k].dot(n) >= same_side) crowded[k] = 1;
                 return true;

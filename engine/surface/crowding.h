@@ -41,14 +41,14 @@ struct CrowdingResult {
     std::vector<uint32_t> gaps;     // triangles whose centre no sample covers
 };
 
-// Keeps, greedily, the particles (where drawn) and the samples on triangles that did not shrink,
-// then the settled samples on shrunk ones, then those still fading in (each in storage order, so the
-// oldest stay), and starts the fade-out of every sample that has a kept one within `crowd` h on
-// its own side (its triangle's face normals within 60 degrees: the two faces of a sharp fold
-// are no neighbours). Edge samples take no part: they follow the boundary (surface/edges.h).
-// Then lists the grown triangles whose centre nothing kept around them (on their own triangle
-// or one sharing a vertex) covers. `x`: the particles (w
-// ignored), `normals`: theirs; the samples' positions must be current.
+// Keeps, greedily, the particles (where drawn) and the samples on triangles that did not
+// shrink, then the settled samples on shrunk ones, then those still fading in (each in storage
+// order, so the oldest stay), and starts the fade-out of every sample that has a kept one within
+// `crowd` h on its own side (its triangle's face normals within 60 degrees: the two faces of a
+// sharp fold are no neighbours). Edge samples take no part: they follow the boundary
+// (surface/edges.h). Then lists the grown triangles whose centre nothing kept around them (on
+// their own triangle or one sharing a vertex) covers. `x`: the particles (w ignored),
+// `normals`: theirs; the samples' positions must be current.
 CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const mesh::Triangle> triangles,
                            const CrowdingQuery& query, BoundaryParticles& samples);
 

@@ -37,7 +37,6 @@ struct SplitMix {
 class LocalPoints {
 public:
     void clear() { blocks_.clear(), size_ = 0; }
-    size_t size() const { return size_; }
     void add(const Vec3f& p) {
         if (size_ % 4 == 0) blocks_.push_back(Block{});  // padded far away: a miss
         Block& b = blocks_.back();
