@@ -1,8 +1,8 @@
 #include "surface/density.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
-#include <cstring>
 #include <numeric>
 #include <optional>
 #if defined(__SSE2__)
@@ -331,7 +331,9 @@ std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const V
         // Frames in a row on this side, counted up to 120 (the settle limit is at most 60).
         run = run * side > 0 ? int8_t(side * std::min(std::abs(int(run)) + 1, 120)) : side;
         if (uint32_t(std::abs(run)) < settle) return;
-        const float priority = std::max(std::abs(std::log(l2 / ref2)), std::abs(std::log(std::max(s2 / ref_squeeze2, 1e-12f))));
+        // max(|log a|, |log b|) orders as max(a, 1/a, b, 1/b): no logarithm for each due triangle.
+        const float a = l2 / ref2, b = std::max(s2 / ref_squeeze2, 1e-12f);
+        const float priority = std::max({a, 1.0f / a, b, 1.0f / b});
         work.push_back({priority, t, grow, thin});
     };
     const size_t n = triangles.size();
@@ -382,10 +384,13 @@ std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const V
         any = _mm_or_ps(any, _mm_or_ps(_mm_cmplt_ps(l2, _mm_mul_ps(v_shrink2, ref2)), _mm_cmplt_ps(s2, _mm_mul_ps(v_squash2, ref_squeeze2))));
         // NaN (a broken simulation) compares false everywhere: take the per-triangle path too.
         any = _mm_or_ps(any, _mm_cmpunord_ps(l2, s2));
-        uint32_t runs;
-        std::memcpy(&runs, beyond_.data() + t, sizeof(runs));
-        if (_mm_movemask_ps(any) == 0 && runs == 0) continue;
-        for (uint32_t k = 0; k < 4; ++k) thresholds(uint32_t(t) + k);
+        // Only the lanes that changed, crossed a threshold or were counting frames past one: for
+        // any other, the per-triangle logic changes nothing (an inflating body has every block
+        // busy, rarely every lane).
+        uint32_t lanes = uint32_t(_mm_movemask_ps(any));
+        for (uint32_t k = 0; k < 4; ++k)
+            if (beyond_[t + k] != 0) lanes |= 1u << k;
+        for (; lanes != 0; lanes &= lanes - 1) thresholds(uint32_t(t) + uint32_t(std::countr_zero(lanes)));
     }
 #endif
     for (; t < n; ++t) {
