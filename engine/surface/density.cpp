@@ -140,8 +140,10 @@ public:
         const float r = o_.insert_spacing * in_.h, r2 = r * r;
         // How far the offset can move a dart: a new sample's offset blends its neighbours' here.
         float reach = 0.0f;
-        if (embedded_)
+        if (embedded_) {
             for (uint32_t i : same_) reach = std::max(reach, std::abs(s_.offset[i]));
+            neighbours_.assign(s_, same_);
+        }
         // Every dart lies within `bound` of the centre (the farthest corner, plus the offset): a
         // point farther than bound + r can reject none, and stays out of the list. The one-ring
         // of a coarse triangle carrying many samples holds several times what borders it (the
@@ -203,7 +205,7 @@ public:
             float d = 0.0f;
             Vec3f local = Vec3f::UnitZ(), interpolated = Vec3f::Zero();
             if (embedded_) {
-                interpolate_embedding(s_, same_, Vec2f(b1, b2), d, local);
+                interpolate_embedding(neighbours_, Vec2f(b1, b2), d, local);
                 interpolated = b0 * na + b1 * nb + b2 * nc;
                 p += d * interpolated;
             }
@@ -280,6 +282,7 @@ private:
     float step_;
     bool embedded_;
     std::vector<uint32_t> same_;
+    EmbeddedNeighbours neighbours_;  // same_'s embeddings, for the darts' interpolation
     LocalPoints local_;  // the samples around the triangle at hand
     PointGrid fresh_;    // every sample inserted this frame
     // The frame's new samples by triangle: a chain through fresh_next_ (indexed from first_new_).

@@ -121,34 +121,70 @@ void embed_points(std::span<const SurfacePoint> points, std::span<const Vec3f> r
     if (stats) *stats = st;
 }
 
+namespace {
+// The three nearest of `count` samples in barycentric space (ties: the earlier first), their
+// offsets and rest normals inverse-distance weighted. One routine for both entry points, so they
+// give the same numbers.
+template <class Bary, class Offset, class Normal>
+void blend_nearest(size_t count, const Bary& bary_of, const Offset& offset_of, const Normal& normal_of, const Vec2f& bary,
+                   float& offset, Vec3f& local_normal) {
+    // The three nearest: enough to follow the fine surface's slope across the gap, few enough
+    // that a far sample on the other side of a fold does not pull the new one off the surface.
+    // Kept in three named slots (an insertion into a small array cost a third of the density
+    // control's darts on the bunny).
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    float d0 = inf, d1 = inf, d2 = inf;
+    size_t i0 = 0, i1 = 0, i2 = 0;
+    for (size_t k = 0; k < count; ++k) {
+        const float d = (bary_of(k) - bary).squaredNorm();
+        if (d >= d2) continue;
+        if (d1 > d) {
+            d2 = d1, i2 = i1;
+            if (d0 > d) d1 = d0, i1 = i0, d0 = d, i0 = k;
+            else d1 = d, i1 = k;
+        } else {
+            d2 = d, i2 = k;
+        }
+    }
+    const float dist[3] = {d0, d1, d2};
+    const size_t index[3] = {i0, i1, i2};
+    float wsum = 0.0f, sum = 0.0f;
+    Vec3f n = Vec3f::Zero();
+    for (int m = 0; m < 3; ++m) {
+        if (!std::isfinite(dist[m])) break;
+        const float w = 1.0f / (dist[m] + 1e-8f);
+        wsum += w;
+        sum += w * offset_of(index[m]);
+        n += w * normal_of(index[m]);
+    }
+    offset = sum / wsum;
+    if (n.norm() > 1e-6f) local_normal = n.normalized();
+}
+} // namespace
+
 void interpolate_embedding(const BoundaryParticles& s, std::span<const uint32_t> same, const Vec2f& bary, float& offset,
                            Vec3f& local_normal) {
     offset = 0.0f;
     local_normal = Vec3f::UnitZ();
     if (same.empty() || !s.embedded()) return;
-    // The three nearest: enough to follow the fine surface's slope across the gap, few enough
-    // that a far sample on the other side of a fold does not pull the new one off the surface.
-    constexpr int k = 3;
-    std::array<std::pair<float, uint32_t>, k> best;
-    best.fill({std::numeric_limits<float>::infinity(), 0u});
-    for (uint32_t i : same) {
-        const float d2 = (s.bary[i] - bary).squaredNorm();
-        if (d2 >= best[k - 1].first) continue;
-        int j = k - 1;
-        while (j > 0 && best[j - 1].first > d2) best[j] = best[j - 1], --j;
-        best[j] = {d2, i};
-    }
-    float wsum = 0.0f, d = 0.0f;
-    Vec3f n = Vec3f::Zero();
-    for (const auto& [d2, i] : best) {
-        if (!std::isfinite(d2)) break;
-        const float w = 1.0f / (d2 + 1e-8f);
-        wsum += w;
-        d += w * s.offset[i];
-        n += w * s.local_normal[i];
-    }
-    offset = d / wsum;
-    if (n.norm() > 1e-6f) local_normal = n.normalized();
+    blend_nearest(
+        same.size(), [&](size_t k) -> const Vec2f& { return s.bary[same[k]]; }, [&](size_t k) { return s.offset[same[k]]; },
+        [&](size_t k) -> const Vec3f& { return s.local_normal[same[k]]; }, bary, offset, local_normal);
+}
+
+void EmbeddedNeighbours::assign(const BoundaryParticles& s, std::span<const uint32_t> same) {
+    bary.clear(), offset.clear(), local_normal.clear();
+    if (!s.embedded()) return;
+    for (uint32_t i : same) bary.push_back(s.bary[i]), offset.push_back(s.offset[i]), local_normal.push_back(s.local_normal[i]);
+}
+
+void interpolate_embedding(const EmbeddedNeighbours& same, const Vec2f& bary, float& offset, Vec3f& local_normal) {
+    offset = 0.0f;
+    local_normal = Vec3f::UnitZ();
+    if (same.bary.empty()) return;
+    blend_nearest(
+        same.bary.size(), [&](size_t k) -> const Vec2f& { return same.bary[k]; }, [&](size_t k) { return same.offset[k]; },
+        [&](size_t k) -> const Vec3f& { return same.local_normal[k]; }, bary, offset, local_normal);
 }
 
 } // namespace pbdsplat::surface

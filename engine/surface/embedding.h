@@ -33,4 +33,16 @@ void embed_points(std::span<const SurfacePoint> points, std::span<const Vec3f> r
 void interpolate_embedding(const BoundaryParticles& samples, std::span<const uint32_t> same, const Vec2f& bary, float& offset,
                            Vec3f& local_normal);
 
+// The same from a triangle's embedded samples copied out once (barycentric coordinates,
+// offsets, rest normals, in the order of `same`), for many new samples on one triangle: the
+// density control's darts read them from a few cache lines instead of gathering them from
+// every sample's arrays. The same numbers as the version above.
+struct EmbeddedNeighbours {
+    std::vector<Vec2f> bary;
+    std::vector<float> offset;
+    std::vector<Vec3f> local_normal;
+    void assign(const BoundaryParticles& samples, std::span<const uint32_t> same);
+};
+void interpolate_embedding(const EmbeddedNeighbours& same, const Vec2f& bary, float& offset, Vec3f& local_normal);
+
 } // namespace pbdsplat::surface
