@@ -36,7 +36,7 @@ public:
 
 private:
     static constexpr size_t k_words = 4096;  // 262,144 bits, 32 KB
-    Eigen::Vector3i cell(const Vec3f& p) const { return (p * inv_).array().floor().cast<int>(); }
+    Eigen::Vector3i cell(const Vec3f& p) const { return math::floor_to_int(Vec3f(p * inv_)); }
     static uint32_t bit(const Eigen::Vector3i& c) {
         const uint64_t k = (uint64_t(uint32_t(c.x())) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(uint32_t(c.y())) * 0xC2B2AE3D27D4EB4Full) ^
                            (uint64_t(uint32_t(c.z())) * 0x165667B19E3779F9ull);

@@ -58,7 +58,7 @@ public:
     template <class Visit>
     bool each_within(const Vec3f& p, float r, const Visit& visit) const {
         const Vec3f scaled = p * inv_h_;
-        const Eigen::Vector3i c = scaled.array().floor().cast<int>();
+        const Eigen::Vector3i c = math::floor_to_int(scaled);
         Eigen::Vector3i side;
         for (int k = 0; k < 3; ++k) side[k] = scaled[k] - float(c[k]) < 0.5f ? -1 : 1;
         const float r2 = r * r;
@@ -176,7 +176,7 @@ private:
         tags_.clear();
         for (size_t i = 0; i < old.size(); ++i) add(old[i], old_tags[i]);
     }
-    Eigen::Vector3i cell(const Vec3f& p) const { return (p * inv_h_).array().floor().cast<int>(); }
+    Eigen::Vector3i cell(const Vec3f& p) const { return math::floor_to_int(Vec3f(p * inv_h_)); }
     static uint64_t key(const Eigen::Vector3i& c) {
         return (uint64_t(uint32_t(c.x()) & 0x1fffff) << 42) | (uint64_t(uint32_t(c.y()) & 0x1fffff) << 21) |
                uint64_t(uint32_t(c.z()) & 0x1fffff);

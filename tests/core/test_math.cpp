@@ -48,6 +48,20 @@ TEST_SUITE("core/math") {
         CHECK(math::sigmoid(0.0f) == doctest::Approx(0.5f));
     }
 
+    TEST_CASE("floor_to_int agrees with std::floor, negatives and exact integers included") {
+        // The grids' cells: a point on a cell's lower face belongs to that cell, one a hair
+        // below it to the cell before.
+        for (float v : {0.0f, -0.0f, 0.5f, -0.5f, 1.0f, -1.0f, 2.999999f, -2.999999f, 1e6f + 0.5f, -1e6f - 0.5f, 123456.0f, -7.25f}) {
+            CHECK(math::floor_to_int(v) == int(std::floor(v)));
+            const float below = std::nextafter(v, -1e30f), above = std::nextafter(v, 1e30f);
+            CHECK(math::floor_to_int(below) == int(std::floor(below)));
+            CHECK(math::floor_to_int(above) == int(std::floor(above)));
+        }
+        CHECK(math::floor_to_int(-1e-30f) == -1);
+        const Eigen::Vector3i c = math::floor_to_int(Vec3f(-0.25f, 3.0f, -4.0f));
+        CHECK(c == Eigen::Vector3i(-1, 3, -4));
+    }
+
     TEST_CASE("median of odd and even sample sets") {
         CHECK(core::median({5.0, 1.0, 3.0}) == 3.0);
         CHECK(core::median({4.0, 1.0, 3.0, 2.0}) == 2.5);
