@@ -65,10 +65,20 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
     // The samples by rank: on triangles that did not shrink (kept as they are), settled, fading in. Edge
     // samples stay out of it: they lie h/2 apart along a boundary with smaller splats on
     // purpose, and the interior ones beside them cover what they do not.
+    // A byte per sample, not a list: the kept ones are most of a body (65k of the bunny's 70k
+    // at a check), and listing them cost more than the test that reads them.
+    constexpr uint8_t k_kept = 0, k_settled = 1, k_fading_in = 2, k_out = 3;
+    std::vector<uint8_t> rank(s.size());
     std::vector<uint32_t> ranked[3];
+    size_t kept_as_they_are = 0;
     for (size_t i = 0; i < s.size(); ++i) {
-        if (s.retiring(i) || s.on_edge(i)) continue;
-        ranked[!shrank(s.triangle[i]) ? 0 : s.fade_step[i] > 0.0f ? 2 : 1].push_back(uint32_t(i));
+        if (s.retiring(i) || s.on_edge(i)) {
+            rank[i] = k_out;
+            continue;
+        }
+        rank[i] = !shrank(s.triangle[i]) ? k_kept : s.fade_step[i] > 0.0f ? k_fading_in : k_settled;
+        if (rank[i] == k_kept) ++kept_as_they_are;
+        else ranked[rank[i]].push_back(uint32_t(i));
     }
     const size_t anchors = q.anchors_drawn ? x.size() : 0;  // the particles, when they are splats
     auto anchor_side = [&](size_t v) { return v < normals.size() ? normals[v] : Vec3f::Zero(); };
@@ -78,15 +88,15 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
     // gridded (gridding the bunny's 70k samples kept as they are took 3-4 ms a check).
     constexpr float same_side = 0.5f;  // cos 60 degrees, as the spacing figure counts
     const float crowd_r = std::max(q.crowd, 0.05f) * q.h;
-    std::vector<uint32_t> candidates = std::move(ranked[1]);
-    candidates.insert(candidates.end(), ranked[2].begin(), ranked[2].end());
+    std::vector<uint32_t> candidates = std::move(ranked[k_settled]);
+    candidates.insert(candidates.end(), ranked[k_fading_in].begin(), ranked[k_fading_in].end());
     std::vector<uint8_t> crowded(candidates.size(), 0);
     if (q.crowd > 0.0f && !candidates.empty()) {
         PointGrid grid(2.0f * crowd_r, candidates.size());
         // The bitmap pays where the candidates are few against what tests them; where most of the
         // body shrank (a balloon let down), marking 27 cells for each costs more than it saves.
         std::optional<CellBits> cells;
-        if (candidates.size() * 4 < ranked[0].size() + anchors) cells.emplace(2.0f * crowd_r);
+        if (candidates.size() * 4 < kept_as_they_are + anchors) cells.emplace(2.0f * crowd_r);
         for (uint32_t i : candidates) {
             grid.add(s.position[i]);
             if (cells) cells->add(s.position[i]);
@@ -101,7 +111,8 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
             });
         };
         for (size_t v = 0; v < anchors; ++v) press(x[v].head<3>(), anchor_side(v));
-        for (uint32_t i : ranked[0]) press(s.position[i], face[s.triangle[i]]);
+        for (size_t i = 0; i < s.size(); ++i)
+            if (rank[i] == k_kept) press(s.position[i], face[s.triangle[i]]);
     }
     // Among the candidates, the older stay: the settled first, then those fading in, each in
     // storage order.
@@ -129,11 +140,9 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
         // triangle that cover comes from farther away; and no grid is built (gridding every
         // sample of an inflating body, each of its triangles grown, was half of the check).
         const float gap_r2 = (q.gap * q.h) * (q.gap * q.h);
-        std::vector<uint8_t> kept_flag(s.size(), 0);
-        for (uint32_t i : ranked[0]) kept_flag[i] = 1;
-        for (uint32_t i : kept_candidates) kept_flag[i] = 1;
+        for (uint32_t i : kept_candidates) rank[i] = k_kept;
         const Rows by_triangle = make_rows(triangles.size(), s.size(), [&](size_t i) { return s.triangle[i]; },
-                                           [&](size_t i) { return kept_flag[i] != 0; });
+                                           [&](size_t i) { return rank[i] == k_kept; });
         Rows own_ring;
         if (!q.ring) own_ring = corner_rows(x.size(), triangles);
         const Rows& ring = q.ring ? *q.ring : own_ring;
