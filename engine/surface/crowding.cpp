@@ -62,23 +62,25 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
     }
     auto shrank = [&](uint32_t t) { return q.changed.empty() || (q.changed[t] & k_shrank) != 0; };
     auto grew = [&](uint32_t t) { return q.changed.empty() || (q.changed[t] & k_grew) != 0; };
-    // The samples by rank: on triangles that did not shrink (kept as they are), settled, fading in. Edge
-    // samples stay out of it: they lie h/2 apart along a boundary with smaller splats on
-    // purpose, and the interior ones beside them cover what they do not.
-    // A byte per sample, not a list: the kept ones are most of a body (65k of the bunny's 70k
-    // at a check), and listing them cost more than the test that reads them.
-    constexpr uint8_t k_kept = 0, k_settled = 1, k_fading_in = 2, k_out = 3;
+    // The samples by rank: on triangles that did not shrink (kept as they are), settled, fading
+    // in. Edge samples stay out of it: they lie h/2 apart along a boundary with smaller splats on
+    // purpose, and the interior ones beside them cover what they do not. A byte per sample marks
+    // the kept ones, not a list: they are most of a body (65k of the bunny's 70k at a check), and
+    // listing them cost more than the test that reads them.
+    constexpr uint8_t k_kept = 0, k_candidate = 1, k_out = 2;
     std::vector<uint8_t> rank(s.size());
-    std::vector<uint32_t> ranked[3];
+    std::vector<uint32_t> settled, fading_in;
     size_t kept_as_they_are = 0;
     for (size_t i = 0; i < s.size(); ++i) {
         if (s.retiring(i) || s.on_edge(i)) {
             rank[i] = k_out;
-            continue;
+        } else if (!shrank(s.triangle[i])) {
+            rank[i] = k_kept;
+            ++kept_as_they_are;
+        } else {
+            rank[i] = k_candidate;
+            (s.fade_step[i] > 0.0f ? fading_in : settled).push_back(uint32_t(i));
         }
-        rank[i] = !shrank(s.triangle[i]) ? k_kept : s.fade_step[i] > 0.0f ? k_fading_in : k_settled;
-        if (rank[i] == k_kept) ++kept_as_they_are;
-        else ranked[rank[i]].push_back(uint32_t(i));
     }
     const size_t anchors = q.anchors_drawn ? x.size() : 0;  // the particles, when they are splats
     auto anchor_side = [&](size_t v) { return v < normals.size() ? normals[v] : Vec3f::Zero(); };
@@ -88,8 +90,8 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
     // gridded (gridding the bunny's 70k samples kept as they are took 3-4 ms a check).
     constexpr float same_side = 0.5f;  // cos 60 degrees, as the spacing figure counts
     const float crowd_r = std::max(q.crowd, 0.05f) * q.h;
-    std::vector<uint32_t> candidates = std::move(ranked[k_settled]);
-    candidates.insert(candidates.end(), ranked[k_fading_in].begin(), ranked[k_fading_in].end());
+    std::vector<uint32_t> candidates = std::move(settled);
+    candidates.insert(candidates.end(), fading_in.begin(), fading_in.end());
     std::vector<uint8_t> crowded(candidates.size(), 0);
     if (q.crowd > 0.0f && !candidates.empty()) {
         PointGrid grid(2.0f * crowd_r, candidates.size());
