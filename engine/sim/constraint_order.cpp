@@ -74,17 +74,16 @@ SlackLists<uint32_t> index_by_particle(const std::vector<DistanceConstraint>& co
     return lists;
 }
 
-uint32_t colour_of_slot(const std::vector<uint32_t>& start, uint32_t slot) {
-    return uint32_t(std::upper_bound(start.begin(), start.end(), slot) - start.begin()) - 1u;
+std::vector<uint8_t> colour_of_slots(const std::vector<uint32_t>& start) {
+    std::vector<uint8_t> colour(start.back());
+    for (size_t c = 0; c + 1 < start.size(); ++c) std::fill(colour.begin() + start[c], colour.begin() + start[c + 1], uint8_t(std::min<size_t>(c, 255)));
+    return colour;
 }
 
-uint64_t colours_at(const std::vector<DistanceConstraint>& constraints, const DistanceGroups& g, uint32_t v) {
+uint64_t colours_at(const DistanceGroups& g, uint32_t v) {
     uint64_t used = 0;
-    for (uint32_t slot : g.of_particle.of(v)) {
-        const uint32_t c = colour_of_slot(g.start, slot);
-        if (c < 64) used |= 1ull << c;
-    }
-    (void)constraints;
+    for (uint32_t slot : g.of_particle.of(v))
+        if (const uint32_t c = g.colour[slot]; c < 64) used |= 1ull << c;
     return used;
 }
 
@@ -127,6 +126,7 @@ uint32_t open_slot_in_colour(std::vector<DistanceConstraint>& constraints, Dista
     constraints.push_back({0, 0, 0.0f, 0.0f});
     lambda.push_back(0.0f);
     const uint32_t groups = uint32_t(g.start.size() - 1);
+    g.colour.push_back(uint8_t(std::min<uint32_t>(groups - 1, 255)));
     ++g.start[groups];
     for (uint32_t c = groups - 1; c > col; --c) {
         const uint32_t first = g.start[c];
@@ -140,6 +140,7 @@ uint32_t open_slot_in_colour(std::vector<DistanceConstraint>& constraints, Dista
         }
         hole = first;
         ++g.start[c];
+        g.colour[first] = uint8_t(std::min<uint32_t>(c - 1, 255));  // the slot now ends group c - 1
     }
     return hole;
 }
@@ -151,7 +152,7 @@ void insert_spilled(std::vector<DistanceConstraint>& constraints, DistanceGroups
     std::vector<uint32_t> scratch;
     for (uint32_t k : spill) {
         const DistanceConstraint& c = add[k];
-        const uint64_t taken = colours_at(constraints, g, c.i) | colours_at(constraints, g, c.j);
+        const uint64_t taken = colours_at(g, c.i) | colours_at(g, c.j);
         const uint32_t groups = uint32_t(g.start.size() - 1);
         uint32_t col = UINT32_MAX;
         for (uint32_t t = std::min<uint32_t>(groups, 64); t-- > 0;)
@@ -165,6 +166,7 @@ void insert_spilled(std::vector<DistanceConstraint>& constraints, DistanceGroups
             constraints.push_back(c);
             lambda.push_back(0.0f);
             g.start.push_back(slot + 1);
+            g.colour.push_back(uint8_t(std::min<size_t>(g.start.size() - 2, 255)));
             ++g.colours_added;
         } else {
             slot = open_slot_in_colour(constraints, g, lambda, col, placement);
@@ -198,6 +200,7 @@ void regroup(std::vector<DistanceConstraint>& constraints, DistanceGroups& g, st
     g = DistanceGroups{};
     g.colours_added = added;
     g.start = grouping.start;
+    g.colour = colour_of_slots(g.start);
     g.of_particle = index_by_particle(constraints, particles);
     g.colours_when_grouped = g.start.size() - 1;
     g.slots_reused = reused, g.slots_appended = appended, g.regroupings = regroupings;
@@ -210,6 +213,7 @@ DistanceGroups make_distance_groups(std::vector<DistanceConstraint>& constraints
     std::erase_if(constraints, [](const DistanceConstraint& c) { return !c.alive(); });
     DistanceGroups g;
     g.start = group_by_colour(constraints);
+    g.colour = colour_of_slots(g.start);
     g.of_particle = index_by_particle(constraints, particles);
     g.colours_when_grouped = g.start.size() - 1;
     for (const DistanceConstraint& c : constraints) g.rest_sum += double(c.rest);
@@ -232,7 +236,7 @@ std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstrain
         g.rest_sum -= double(c.rest);
         c = {c.i, c.i, 0.0f, c.compliance};
         lambda[slot] = 0.0f;
-        free_in[colour_of_slot(g.start, slot)].push_back(slot);
+        free_in[g.colour[slot]].push_back(slot);
         ++g.dead;
     }
     for (const DistanceConstraint& c : add) g.rest_sum += double(c.rest);
@@ -240,7 +244,7 @@ std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstrain
     std::vector<uint32_t> spill;
     for (uint32_t k = 0; k < add.size(); ++k) {
         const DistanceConstraint& c = add[k];
-        const uint64_t taken = colours_at(constraints, g, c.i) | colours_at(constraints, g, c.j);
+        const uint64_t taken = colours_at(g, c.i) | colours_at(g, c.j);
         uint32_t slot = UINT32_MAX;
         for (uint32_t col = 0; col < free_in.size() && col < 64; ++col)
             if (!(taken >> col & 1u) && !free_in[col].empty()) {
@@ -272,6 +276,7 @@ std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstrain
 
 bool distance_groups_valid(const std::vector<DistanceConstraint>& constraints, const DistanceGroups& g, size_t particles) {
     if (g.start.empty() || g.start.front() != 0 || g.start.back() != constraints.size()) return false;
+    if (g.colour != colour_of_slots(g.start)) return false;
     if (g.of_particle.keys() != particles) return false;
     std::vector<uint32_t> last_group(particles, UINT32_MAX);
     size_t dead = 0;

@@ -32,6 +32,7 @@ std::vector<uint32_t> group_by_colour(std::vector<DistanceConstraint>& constrain
 // slots pass an eighth of the array or edits have added more than a few colours.
 struct DistanceGroups {
     std::vector<uint32_t> start;          // colour c holds [start[c], start[c + 1])
+    std::vector<uint8_t> colour;          // per slot, its group (an edit reads it for every slot around the particles it touches)
     SlackLists<uint32_t> of_particle;     // each particle's constraint slots
     size_t dead = 0;                      // dead slots in the array
     size_t colours_when_grouped = 0;      // groups after the last full grouping

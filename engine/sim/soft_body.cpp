@@ -71,7 +71,7 @@ bool reserve_headroom(SoftBody& b, float fraction) {
     reserve(b.rest_positions, n), reserve(b.normals, n), reserve(b.piece_of_particle, n);
     if (!b.colors.empty()) reserve(b.colors, n);
     reserve(b.triangles, t);
-    reserve(b.distance, e), reserve(b.distance_lambda, e);
+    reserve(b.distance, e), reserve(b.distance_lambda, e), reserve(b.distance_groups.colour, e);
     reserve(b.volumes, b.volumes.size());  // a piece cut off adds its constraint at the end
     auto reserve_lists = [&](auto& lists) {
         if (low(n, lists.key_capacity()) || low(lists.pool_size(), lists.pool_capacity()))

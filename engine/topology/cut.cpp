@@ -282,7 +282,10 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
     lap("mass");
     e.update_distance_constraints();
     lap("distance constraints");
-    const VolumeOutcome volumes = apply_volume_policy(b, o.volume, o.burst_leak, e.local_triangles(), e.change.triangles_before);
+    // Which side of the cut each original particle was on steers the search for the pieces
+    // toward the smaller side; only where every particle was classified (not a tear's slit).
+    const std::span<const int8_t> side = sides.all ? std::span<const int8_t>(sides.sign).first(e.change.particles_before) : std::span<const int8_t>{};
+    const VolumeOutcome volumes = apply_volume_policy(b, o.volume, o.burst_leak, e.local_triangles(), e.change.triangles_before, side);
     b.pieces = volumes.pieces;
     e.change.components_after = b.pieces;
     e.change.loops_fell_back = volumes.loops_fell_back;

@@ -8,11 +8,14 @@ namespace pbdsplat::topology {
 
 namespace {
 // Adds triangle (a, b, c) to a part's sums: each triangle's terms in float (as the solver's
-// volume pass takes them), the sums in double.
-void add_triangle(Part& part, const Vec4f& a, const Vec4f& b, const Vec4f& c) {
-    const Vec3f p = sim::xyz(b) - sim::xyz(a), q = sim::xyz(c) - sim::xyz(a);
-    part.six_v += double(sim::xyz(a).dot(p.cross(q)));
-    part.area_bound += 0.25 * double(p.squaredNorm() + q.squaredNorm());
+// volume pass takes them), the sums in double. Written out: a search sums a part cut off from a
+// large body, hundreds of thousands of triangles.
+inline void add_triangle(Part& part, const Vec4f& a, const Vec4f& b, const Vec4f& c) {
+    const float px = b.x() - a.x(), py = b.y() - a.y(), pz = b.z() - a.z();
+    const float qx = c.x() - a.x(), qy = c.y() - a.y(), qz = c.z() - a.z();
+    const float cx = py * qz - pz * qy, cy = pz * qx - px * qz, cz = px * qy - py * qx;
+    part.six_v += double(a.x() * cx + a.y() * cy + a.z() * cz);
+    part.area_bound += 0.25 * double(px * px + py * py + pz * pz + (qx * qx + qy * qy + qz * qz));
     ++part.triangles;
 }
 
@@ -111,7 +114,8 @@ class PieceSearch {
 public:
     PieceSearch(const sim::SoftBody& b, std::vector<uint32_t>& owner, std::vector<uint32_t>& sweep) : b_(b), owner_(owner), sweep_(sweep) {}
 
-    std::vector<Part> run(uint32_t piece, bool sum_rest, std::span<const uint32_t> seeds, size_t budget, bool& went_deep, size_t& searched, std::vector<uint32_t>& written) {
+    std::vector<Part> run(uint32_t piece, bool sum_rest, std::span<const uint32_t> seeds, std::span<const int8_t> side, size_t budget, bool& went_deep,
+                          size_t& searched, std::vector<uint32_t>& written) {
         for (uint32_t v : seeds) {
             if (owner_[v] != k_unseen) continue;
             owner_[v] = uint32_t(parent_.size());
@@ -121,19 +125,93 @@ public:
             visited_.push_back(v);
             ++roots_, ++open_;
         }
-        // Breadth first: searches that meet merge, and a small part cut off closes early.
-        while (roots_ > 1 && open_ > 1 && visited_.size() <= budget) visit(head_++);
+        // Breadth first: searches that meet merge, and a small part cut off closes early. With
+        // sides, past the first rings around the edit, one part at a time is flooded instead.
+        const size_t rings = std::min(budget, k_first_rings + 2 * seeds.size());
+        bool flood_failed = false;
+        while (roots_ > 1 && open_ > 1) {
+            if (!side.empty() && visited_.size() >= rings) {
+                if (!flood_one(piece, side)) {
+                    flood_failed = true;
+                    break;
+                }
+            } else if (visited_.size() <= budget) {
+                visit(head_++);
+            } else {
+                break;
+            }
+        }
         searched += visited_.size();
         written.insert(written.end(), visited_.begin(), visited_.end());
         // Past the budget (two large parts, as a cut through the middle makes) the piece is
         // swept whole: see sweep_parts.
-        went_deep = roots_ > 1 && open_ > 1;
+        went_deep = flood_failed || (roots_ > 1 && open_ > 1);
         if (went_deep) return sweep_parts(b_, piece, sum_rest, sweep_, searched);
         return parts();
     }
 
 private:
     static constexpr uint32_t k_unseen = UINT32_MAX;
+    static constexpr size_t k_first_rings = 256;
+    // Floods the open search on the side with fewer of the piece's particles until it closes
+    // (true: a part cut off, all its particles expanded) or meets a search from the other side
+    // (false: the cut did not separate them; the caller sweeps). Searches from its own side that
+    // it meets join it.
+    bool flood_one(uint32_t piece, std::span<const int8_t> side) {
+        if (side_count_[0] < 0) {
+            side_count_[0] = side_count_[1] = 0;
+            for (uint32_t v = 0; v < side.size(); ++v)
+                if (side[v] != 0 && b_.piece_of_particle[v] == piece) ++side_count_[side[v] > 0];
+        }
+        const int smaller = side_count_[1] < side_count_[0] ? 1 : -1;
+        // Each search's side: the sign most of its particles had (0: none had one).
+        std::vector<int32_t> votes(parent_.size(), 0);
+        for (uint32_t v : visited_)
+            if (v < side.size()) votes[find(owner_[v])] += side[v];
+        auto side_of = [&](uint32_t root) { return (votes[root] > 0) - (votes[root] < 0); };
+        uint32_t g = UINT32_MAX;
+        int g_side = 0;
+        for (uint32_t r = 0; r < parent_.size(); ++r) {
+            if (find(r) != r || queued_[r] == 0) continue;
+            const int s = side_of(r);
+            const bool better = g == UINT32_MAX || (s == smaller && g_side != smaller) || (s == g_side && members_[r] < members_[g]);
+            if (better) g = r, g_side = s;
+        }
+        std::vector<uint32_t> frontier;  // the flood's particles still to expand: depth first, the order does not matter
+        auto take_queued = [&](uint32_t root) {
+            for (size_t at = head_; at < visited_.size(); ++at)
+                if (find(owner_[visited_[at]]) == root) frontier.push_back(visited_[at]);
+        };
+        take_queued(g);
+        while (!frontier.empty()) {
+            const uint32_t v = frontier.back();
+            frontier.pop_back();
+            for (const auto& pair : b_.rings.ring.of(v)) {  // the first of each pair: see visit
+                const uint32_t w = pair[0];
+                const uint32_t ow = owner_[w];
+                if (ow == g) continue;
+                if (ow == k_unseen) {
+                    owner_[w] = g;
+                    ++members_[g];
+                    visited_.push_back(w);
+                    frontier.push_back(w);
+                    continue;
+                }
+                const uint32_t o = find(ow);
+                if (o == g) continue;
+                if (g_side != 0 && side_of(o) == -g_side) return false;
+                take_queued(o);  // before the merge: only o's particles
+                open_ -= queued_[o] > 0;
+                queued_[g] += queued_[o], queued_[o] = 0;
+                members_[g] += members_[o];
+                parent_[o] = g;
+                --roots_;
+            }
+        }
+        open_ -= queued_[g] > 0;  // closed: its entries left in the queue are never expanded
+        queued_[g] = 0;
+        return true;
+    }
     uint32_t find(uint32_t s) {
         while (parent_[s] != s) s = parent_[s] = parent_[parent_[s]];
         return s;
@@ -144,25 +222,28 @@ private:
         const uint32_t raw = owner_[v];
         const uint32_t r = find(raw);
         if (--queued_[r] == 0) --open_;
-        for (const auto& pair : b_.rings.ring.of(v))
-            for (uint32_t w : pair) {
-                const uint32_t ow = owner_[w];
-                if (ow == raw || ow == r) continue;  // most neighbours: the same search, no find
-                if (ow == k_unseen) {
-                    owner_[w] = r;
-                    if (queued_[r]++ == 0) ++open_;
-                    ++members_[r];
-                    visited_.push_back(w);
-                } else if (const uint32_t o = find(ow); o != r) {
-                    // Two searches met: one group, open if either was.
-                    open_ -= (queued_[r] > 0) + (queued_[o] > 0);
-                    parent_[o] = r;
-                    queued_[r] += queued_[o];
-                    members_[r] += members_[o];
-                    open_ += queued_[r] > 0;
-                    --roots_;
-                }
+        // Each triangle (v, j, k) sits in v's ring as (j, k), in j's as (k, v), in k's as (v, j):
+        // following the first of each pair walks every triangle's corners round, so a search
+        // that expanded all its particles has reached every corner of their triangles.
+        for (const auto& pair : b_.rings.ring.of(v)) {
+            const uint32_t w = pair[0];
+            const uint32_t ow = owner_[w];
+            if (ow == raw || ow == r) continue;  // most neighbours: the same search, no find
+            if (ow == k_unseen) {
+                owner_[w] = r;
+                if (queued_[r]++ == 0) ++open_;
+                ++members_[r];
+                visited_.push_back(w);
+            } else if (const uint32_t o = find(ow); o != r) {
+                // Two searches met: one group, open if either was.
+                open_ -= (queued_[r] > 0) + (queued_[o] > 0);
+                parent_[o] = r;
+                queued_[r] += queued_[o];
+                members_[r] += members_[o];
+                open_ += queued_[r] > 0;
+                --roots_;
             }
+        }
     }
     // The closed groups are whole parts; the open one (at most one is left) is the rest of the
     // piece, unexplored. One group left and open: the piece did not fall apart.
@@ -195,6 +276,7 @@ private:
     std::vector<uint32_t>& sweep_;  // sweep_parts' scratch, kept between edits
     size_t head_ = 0;
     uint32_t roots_ = 0, open_ = 0;
+    int64_t side_count_[2] = {-1, -1};  // the piece's particles on the negative and positive side, counted at the first flood
 };
 } // namespace
 
@@ -210,7 +292,7 @@ double part_area(const sim::SoftBody& b, const Part& part) {
 }
 
 SplitSearch split_pieces(sim::SoftBody& b, std::span<const uint32_t> reached, std::span<const uint8_t> unmeasured, std::span<const uint32_t> seeds,
-                        size_t budget) {
+                        size_t budget, std::span<const int8_t> side) {
     SplitSearch out;
     thread_local ParticleScratch<uint32_t> owners(UINT32_MAX);
     std::vector<uint32_t>& owner = owners.take(b.particle_count());
@@ -224,7 +306,7 @@ SplitSearch split_pieces(sim::SoftBody& b, std::span<const uint32_t> reached, st
             if (b.piece_of_particle[v] == reached[r]) mine.push_back(v);
         bool went_deep = false;
         std::vector<Part>& parts = out.parts_of[r];
-        parts = PieceSearch(b, owner, sweep).run(reached[r], unmeasured[r] != 0, mine, budget, went_deep, out.searched, written);
+        parts = PieceSearch(b, owner, sweep).run(reached[r], unmeasured[r] != 0, mine, side, budget, went_deep, out.searched, written);
         out.searched_whole += went_deep;
         for (size_t k = 0; k < parts.size(); ++k) {
             parts[k].label = k == 0 ? reached[r] : uint32_t(b.pieces++);

@@ -42,7 +42,12 @@ struct SplitSearch {
 // memory order instead; the largest part is the rest, unsummed unless `unmeasured` (per reached
 // piece: it has no solver measure to take the rest's volume from). Parts cut off get new labels
 // (`piece_of_particle`, `pieces`).
+// With `side` (per particle before the edit, the side of a cut through the whole body: -1, +1,
+// 0 on the cut), a search still open after the first rings around the edit floods one part at a
+// time, the one on the side with fewer of the piece's particles: a cut through the middle
+// costs the smaller part, not both parts' first halves or the whole piece. A flood that meets
+// a search from the other side (the cut did not go through) falls back to the sweep.
 SplitSearch split_pieces(sim::SoftBody& body, std::span<const uint32_t> reached, std::span<const uint8_t> unmeasured,
-                         std::span<const uint32_t> seeds, size_t budget);
+                         std::span<const uint32_t> seeds, size_t budget, std::span<const int8_t> side = {});
 
 } // namespace pbdsplat::topology

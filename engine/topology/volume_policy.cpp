@@ -303,7 +303,7 @@ bool remake_constraints(const sim::SoftBody& b, sim::VolumeConstraint& c, std::v
 } // namespace
 
 VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float leak, std::span<const uint32_t> touched_triangles,
-                                  size_t first_new_triangle) {
+                                  size_t first_new_triangle, std::span<const int8_t> side) {
     VolumeOutcome result;
     std::vector<uint32_t> seeds, reached;
     for (uint32_t f : touched_triangles) seeds.insert(seeds.end(), b.triangles[f].begin(), b.triangles[f].end());
@@ -328,7 +328,7 @@ VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float l
     const size_t budget = std::max({size_t(2048), 2 * seeds.size(), b.particle_count() / 16});
     std::vector<uint8_t> unmeasured(reached.size(), 0);
     for (size_t r = 0; r < reached.size(); ++r) unmeasured[r] = parents[r] && !std::isfinite(parents[r]->measured_six_v);
-    SplitSearch search = split_pieces(b, reached, unmeasured, seeds, budget);
+    SplitSearch search = split_pieces(b, reached, unmeasured, seeds, budget, side);
     std::vector<std::vector<Part>>& parts_of = search.parts_of;
     result.particles_searched = search.searched;
     result.searched_whole = search.searched_whole;

@@ -30,7 +30,9 @@ struct VolumeOutcome {
     bool loops_fell_back = false;   // a local trace did not close: loops counted over the parts
 };
 // `first_new_triangle`: the triangle count before the edit (triangles from there on are new).
+// `side`: optional, per particle before the edit, the side of a cut through the whole body it
+// was on (-1, +1, 0 on the cut): see split_pieces.
 VolumeOutcome apply_volume_policy(sim::SoftBody& body, VolumePolicy policy, float leak, std::span<const uint32_t> touched_triangles,
-                                  size_t first_new_triangle);
+                                  size_t first_new_triangle, std::span<const int8_t> side = {});
 
 } // namespace pbdsplat::topology

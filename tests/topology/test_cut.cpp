@@ -200,7 +200,7 @@ TEST_SUITE("topology/cut") {
         CHECK(b.volumes[0].piece == b.piece_of_particle[b.extreme_particle(1, false)]);
     }
 
-    TEST_CASE("a large body cut in halves: swept once past the search's budget, the larger half keeps its label and its air unsummed") {
+    TEST_CASE("a large body cut in halves: the smaller half flooded once past the first rings, the larger keeps its label and its air unsummed") {
         sim::SoftBody b = test::make_body(mesh::icosphere(5));
         sim::Solver solver;
         sim::SolverSettings s;
@@ -215,11 +215,12 @@ TEST_SUITE("topology/cut") {
             REQUIRE(change.ok());
             require_invariants(*body);
             CHECK(change->components_after == 2);
-            // Two halves of 5k particles each: past the local search's budget (a sixteenth of
-            // the body, or 2048 particles), one sweep that reads every particle once.
-            CHECK(change->searched_whole == 1);
-            CHECK(change->particles_searched >= n);
-            CHECK(change->particles_searched < n + n / 4);
+            // Two halves of 5k particles each: past the first rings around the cut, the search
+            // floods the half on the side with fewer particles and stops when it closes: that
+            // half and those rings, not the body (no sweep).
+            CHECK(change->searched_whole == 0);
+            CHECK(change->particles_searched >= n * 2 / 5);
+            CHECK(change->particles_searched < n * 3 / 4);
             const auto counts = topology::count_components_and_loops(*body);
             CHECK(counts.components == 2);
         }

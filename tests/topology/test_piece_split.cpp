@@ -91,6 +91,55 @@ TEST_SUITE("topology/piece_split") {
         CHECK(swept.pieces == 3);
     }
 
+    TEST_CASE("with sides, the searches flood the smaller side's parts one at a time and find what the search finds") {
+        sim::SoftBody searched = three_spheres_as_one_piece();
+        sim::SoftBody flooded = searched;
+        const std::vector<uint32_t> seeds = a_seed_per_sphere(searched);
+        const uint32_t reached[1] = {0};
+        const uint8_t measured[1] = {0};
+        // The two small spheres (804 particles) on the negative side, the large one (2,562) on
+        // the positive: the floods take the small ones and never enter the large one past the
+        // first rings.
+        std::vector<int8_t> side(flooded.particle_count());
+        for (uint32_t v = 0; v < side.size(); ++v) side[v] = flooded.particles.x[v].x() < 4.5f ? int8_t(-1) : int8_t(1);
+        const topology::SplitSearch a = topology::split_pieces(searched, reached, measured, seeds, 1u << 30);
+        const topology::SplitSearch f = topology::split_pieces(flooded, reached, measured, seeds, 1u << 30, side);
+        CHECK(f.searched_whole == 0);
+        CHECK(f.searched < 804 + 300);
+        CHECK(f.searched < a.searched);
+        REQUIRE(f.parts_of[0].size() == 3);
+        CHECK_FALSE(f.parts_of[0][0].complete);
+        for (size_t k = 1; k < 3; ++k) {
+            const topology::Part& pa = a.parts_of[0][k];
+            const topology::Part& pf = f.parts_of[0][k];
+            CHECK(pf.complete);
+            CHECK(pf.label == pa.label);
+            CHECK(sorted(pf.particles) == sorted(pa.particles));
+            CHECK(pf.triangles == pa.triangles);
+            CHECK(pf.six_v == doctest::Approx(pa.six_v).epsilon(1e-5));
+            CHECK(pf.area_bound == doctest::Approx(pa.area_bound).epsilon(1e-5));
+        }
+        CHECK(searched.piece_of_particle == flooded.piece_of_particle);
+        CHECK(flooded.pieces == 3);
+    }
+
+    TEST_CASE("a flood that meets the search from the other side falls back to the sweep and leaves the piece whole") {
+        // One sphere seeded at both poles, the sides split at the equator as a cut that did not
+        // go through would leave them: the searches meet past the first rings.
+        sim::SoftBody b = test::make_body(mesh::icosphere(3));
+        const uint32_t reached[1] = {0};
+        const uint8_t measured[1] = {0};
+        const std::vector<uint32_t> seeds = sorted({b.extreme_particle(1), b.extreme_particle(1, false)});
+        std::vector<int8_t> side(b.particle_count());
+        for (uint32_t v = 0; v < side.size(); ++v) side[v] = b.particles.x[v].y() < 0.0f ? int8_t(-1) : int8_t(1);
+        const topology::SplitSearch s = topology::split_pieces(b, reached, measured, seeds, 1u << 30, side);
+        CHECK(s.searched_whole == 1);
+        REQUIRE(s.parts_of[0].size() == 1);
+        CHECK_FALSE(s.parts_of[0][0].complete);
+        CHECK(b.pieces == 1);
+        CHECK(std::all_of(b.piece_of_particle.begin(), b.piece_of_particle.end(), [](uint32_t p) { return p == 0; }));
+    }
+
     TEST_CASE("a sweep of a piece with no solver measure sums its rest too") {
         sim::SoftBody b = three_spheres_as_one_piece();
         const std::vector<uint32_t> seeds = a_seed_per_sphere(b);

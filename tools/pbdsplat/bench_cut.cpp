@@ -33,6 +33,13 @@ core::Result<nlohmann::json> measure_cuts(const std::string& spec, uint32_t cuts
     if (!repaired.ok()) return repaired.error();
     auto made = sim::make_soft_body(repaired->mesh, {});
     if (!made.ok()) return made.error();
+    // One solver step first, as every body in a scene has had before anyone cuts it: a cut reads
+    // a piece's volume from the solver's last measure where it can, and a body never stepped has
+    // none (then the cut sums the whole piece, a cost no scene pays).
+    {
+        sim::Solver solver;
+        solver.step(made.value(), 1.0f / 60.0f, sim::SolverSettings{}, {}, {});
+    }
     const sim::SoftBody& body = made.value();
     Vec3f centre = Vec3f::Zero();
     for (const Vec4f& x : body.particles.x) centre += x.head<3>();
