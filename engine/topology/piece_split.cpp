@@ -177,29 +177,50 @@ private:
             const bool better = g == UINT32_MAX || (s == smaller && g_side != smaller) || (s == g_side && members_[r] < members_[g]);
             if (better) g = r, g_side = s;
         }
-        std::vector<uint32_t> frontier;  // the flood's particles still to expand: depth first, the order does not matter
+        // Breadth first, so the particles to expand next are known and their lists and data are
+        // fetched a few steps ahead: a flood through half a large body otherwise waits on a
+        // cache miss at every step. Each particle's triangles at their lowest corner are summed
+        // as it is expanded (its ring is in cache then); parts() sums only those the first
+        // rings expanded.
+        // Both lists sized for every particle of the body up front and written by index: a
+        // push_back that the compiler leaves out of line costs more than the rest of a step.
+        std::vector<uint32_t>& queue = flood_queue_;
+        const size_t n = b_.particle_count();
+        queue.resize(n);
+        size_t queued = 0, seen = visited_.size();
+        visited_.resize(seen + n);
         auto take_queued = [&](uint32_t root) {
-            for (size_t at = head_; at < visited_.size(); ++at)
-                if (find(owner_[visited_[at]]) == root) frontier.push_back(visited_[at]);
+            for (size_t at = head_; at < seen; ++at)
+                if (find(owner_[visited_[at]]) == root) queue[queued++] = visited_[at];
         };
         take_queued(g);
-        while (!frontier.empty()) {
-            const uint32_t v = frontier.back();
-            frontier.pop_back();
-            for (const auto& pair : b_.rings.ring.of(v)) {  // the first of each pair: see visit
-                const uint32_t w = pair[0];
+        Part sums;
+        const sim::SlackLists<std::array<uint32_t, 2>>& rings = b_.rings.ring;
+        const auto& x = b_.particles.x;
+        constexpr size_t k_place_ahead = 16, k_items_ahead = 8, k_data_ahead = 4;
+        for (size_t c = 0; c < queued; ++c) {
+            if (c + k_place_ahead < queued) rings.prefetch_place(queue[c + k_place_ahead]);
+            if (c + k_items_ahead < queued) rings.prefetch_items(queue[c + k_items_ahead]);
+            if (c + k_data_ahead < queued)
+                for (const auto& pair : rings.of(queue[c + k_data_ahead])) __builtin_prefetch(&owner_[pair[0]]), __builtin_prefetch(&x[pair[0]]);
+            const uint32_t v = queue[c];
+            for (const auto& [w, k] : rings.of(v)) {  // the first of each pair: see visit
+                if (w > v && k > v) add_triangle(sums, x[v], x[w], x[k]);
                 const uint32_t ow = owner_[w];
                 if (ow == g) continue;
                 if (ow == k_unseen) {
                     owner_[w] = g;
                     ++members_[g];
-                    visited_.push_back(w);
-                    frontier.push_back(w);
+                    visited_[seen++] = w;
+                    queue[queued++] = w;
                     continue;
                 }
                 const uint32_t o = find(ow);
                 if (o == g) continue;
-                if (g_side != 0 && side_of(o) == -g_side) return false;
+                if (g_side != 0 && side_of(o) == -g_side) {
+                    visited_.resize(seen);
+                    return false;
+                }
                 take_queued(o);  // before the merge: only o's particles
                 open_ -= queued_[o] > 0;
                 queued_[g] += queued_[o], queued_[o] = 0;
@@ -208,8 +229,10 @@ private:
                 --roots_;
             }
         }
+        visited_.resize(seen);
         open_ -= queued_[g] > 0;  // closed: its entries left in the queue are never expanded
         queued_[g] = 0;
+        flood_sums_.push_back({g, std::move(sums)});
         return true;
     }
     uint32_t find(uint32_t s) {
@@ -253,14 +276,30 @@ private:
             if (find(g) == g && queued_[g] > 0) open_root = g;
         std::vector<Part> parts;
         std::vector<uint32_t> part_of_root(parent_.size(), UINT32_MAX);
+        std::vector<size_t> filled;  // per part, its particles written so far (sized by its members, written by index)
         for (size_t p = 0; p < visited_.size(); ++p) {
             const uint32_t v = visited_[p];
             const uint32_t g = find(owner_[v]);
             if (g == open_root) continue;
-            if (part_of_root[g] == UINT32_MAX) part_of_root[g] = uint32_t(parts.size()), parts.emplace_back();
+            if (part_of_root[g] == UINT32_MAX) {
+                part_of_root[g] = uint32_t(parts.size());
+                parts.emplace_back().particles.resize(members_[g]);
+                filled.push_back(0);
+            }
+            const uint32_t k = part_of_root[g];
+            Part& part = parts[k];
+            part.particles[filled[k]++] = v;
+            // A closed group's particles were all expanded: those before the queue's head by
+            // the first rings, the others by a flood, which summed them.
+            if (p < head_) add_triangles_at(b_, v, part);
+        }
+        for (size_t k = 0; k < parts.size(); ++k) {
+            PBDSPLAT_ASSERT(filled[k] == parts[k].particles.size(), "PieceSearch: a group's member count differs from its particles");
+            parts[k].particles.resize(filled[k]);
+        }
+        for (const auto& [g, sums] : flood_sums_) {
             Part& part = parts[part_of_root[g]];
-            part.particles.push_back(v);
-            add_triangles_at(b_, v, part);  // a closed group's particles were all expanded
+            part.six_v += sums.six_v, part.area_bound += sums.area_bound, part.triangles += sums.triangles;
         }
         std::stable_sort(parts.begin(), parts.end(), [](const Part& x, const Part& y) { return x.particles.size() > y.particles.size(); });
         if (open_root != UINT32_MAX) {
@@ -276,7 +315,9 @@ private:
     std::vector<uint32_t>& sweep_;  // sweep_parts' scratch, kept between edits
     size_t head_ = 0;
     uint32_t roots_ = 0, open_ = 0;
-    int64_t side_count_[2] = {-1, -1};  // the piece's particles on the negative and positive side, counted at the first flood
+    int64_t side_count_[2] = {-1, -1};
+    std::vector<uint32_t> flood_queue_;
+    std::vector<std::pair<uint32_t, Part>> flood_sums_;  // per flood that closed: its group and its particles' triangles  // the piece's particles on the negative and positive side, counted at the first flood
 };
 } // namespace
 

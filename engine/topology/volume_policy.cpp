@@ -161,8 +161,11 @@ bool sort_out_loops(const sim::SoftBody& b, std::span<const uint32_t> seeds, con
     Part& rest = parts.front();
     const bool adjusted = !rest.complete && std::isfinite(parent.measured_caps_six_v);
     if (adjusted) rest.caps_six_v = parent.measured_caps_six_v;
+    // Bounds of the parts cut off (a pass over their particles, half a body after a cut through
+    // the middle): only when there are loops to test against them.
     std::vector<Vec4f> cut_off;
-    for (size_t k = 1; k < parts.size(); ++k) cut_off.push_back(rest_bounds(b, parts[k].particles));
+    if (!parent.cap_loops.empty())
+        for (size_t k = 1; k < parts.size(); ++k) cut_off.push_back(rest_bounds(b, parts[k].particles));
     for (size_t k = parent.cap_loops.size(); k-- > 0;) {
         const Vec4f& bounds = parent.cap_bounds[k];
         const bool near_edit = spheres_meet(bounds, around);
