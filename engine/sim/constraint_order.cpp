@@ -87,16 +87,6 @@ uint64_t colours_at(const DistanceGroups& g, uint32_t v) {
     return used;
 }
 
-void remove_slot_of(SlackLists<uint32_t>& lists, uint32_t v, uint32_t slot, std::vector<uint32_t>& scratch) {
-    scratch.assign(lists.of(v).begin(), lists.of(v).end());
-    std::erase(scratch, slot);
-    lists.assign(v, scratch);
-}
-void add_slot_of(SlackLists<uint32_t>& lists, uint32_t v, uint32_t slot, std::vector<uint32_t>& scratch) {
-    scratch.assign(lists.of(v).begin(), lists.of(v).end());
-    scratch.push_back(slot);
-    lists.assign(v, scratch);
-}
 
 // Where the constraints added by one call went, kept up to date as inserting moves slots.
 struct Placement {
@@ -149,7 +139,6 @@ uint32_t open_slot_in_colour(std::vector<DistanceConstraint>& constraints, Dista
 // the last such (fewest groups to shift), or into a new group at the end when none is.
 void insert_spilled(std::vector<DistanceConstraint>& constraints, DistanceGroups& g, std::vector<float>& lambda,
                     std::span<const DistanceConstraint> add, std::span<const uint32_t> spill, Placement& placement) {
-    std::vector<uint32_t> scratch;
     for (uint32_t k : spill) {
         const DistanceConstraint& c = add[k];
         const uint64_t taken = colours_at(g, c.i) | colours_at(g, c.j);
@@ -173,8 +162,8 @@ void insert_spilled(std::vector<DistanceConstraint>& constraints, DistanceGroups
         }
         constraints[slot] = c;
         lambda[slot] = 0.0f;
-        add_slot_of(g.of_particle, c.i, slot, scratch);
-        add_slot_of(g.of_particle, c.j, slot, scratch);
+        g.of_particle.push(c.i, slot);
+        g.of_particle.push(c.j, slot);
         placement.place(k, slot);
         ++g.slots_appended;
     }
@@ -224,15 +213,14 @@ std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstrain
                                                    std::vector<float>& lambda, size_t particles,
                                                    std::span<const uint32_t> remove, std::span<const DistanceConstraint> add) {
     g.of_particle.grow(particles);
-    std::vector<uint32_t> scratch;
     // Dead slots per colour, the new ones first (they sit where the added constraints' old
     // neighbours were: reusing them keeps memory order local).
     std::vector<std::vector<uint32_t>> free_in(g.start.size() - 1);
     for (uint32_t slot : remove) {
         DistanceConstraint& c = constraints[slot];
         PBDSPLAT_ASSERT(c.alive(), "replace_distance_constraints: a slot removed twice");
-        remove_slot_of(g.of_particle, c.i, slot, scratch);
-        remove_slot_of(g.of_particle, c.j, slot, scratch);
+        g.of_particle.erase(c.i, slot);
+        g.of_particle.erase(c.j, slot);
         g.rest_sum -= double(c.rest);
         c = {c.i, c.i, 0.0f, c.compliance};
         lambda[slot] = 0.0f;
@@ -259,8 +247,8 @@ std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstrain
         constraints[slot] = c;
         --g.dead;
         ++g.slots_reused;
-        add_slot_of(g.of_particle, c.i, slot, scratch);
-        add_slot_of(g.of_particle, c.j, slot, scratch);
+        g.of_particle.push(c.i, slot);
+        g.of_particle.push(c.j, slot);
         placement.place(k, slot);
     }
     // Dead slots taken first: inserting moves slots (free_in's would go stale).

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/assert.h"
+#include "core/radix_sort.h"
+#include "core/small_sort.h"
 #include "sim/vec4_ops.h"
 
 namespace pbdsplat::sim {
@@ -52,20 +55,23 @@ void update_vertex_rings(VertexRings& rings, std::span<const mesh::Triangle> tri
     rings.ring.grow(vertex_count);
     rings.triangles.grow(vertex_count);
     // Per vertex, the extra triangles having it as a corner: sorted (vertex, triangle) pairs.
-    std::vector<std::pair<uint32_t, uint32_t>> by_vertex;
+    std::vector<uint64_t> by_vertex;  // vertex << 32 | triangle
     by_vertex.reserve(3 * extra.size());
     for (uint32_t f : extra)
-        for (uint32_t v : triangles[f]) by_vertex.push_back({v, f});
-    std::sort(by_vertex.begin(), by_vertex.end());
+        for (uint32_t v : triangles[f]) by_vertex.push_back(uint64_t(v) << 32 | f);
+    core::radix_sort(std::span(by_vertex));
     std::vector<uint32_t> mine;
     std::vector<std::array<uint32_t, 2>> ring;
+    // `vertices` ascend, as do the pairs: one walk along both instead of a search per vertex.
+    PBDSPLAT_ASSERT(std::is_sorted(vertices.begin(), vertices.end()), "update_vertex_rings: sort the vertices ascending first");
+    auto it = by_vertex.begin();
     for (uint32_t v : vertices) {
         mine.clear();
         for (uint32_t f : rings.triangles.of(v))
             if (f < triangles.size()) mine.push_back(f);
-        auto it = std::lower_bound(by_vertex.begin(), by_vertex.end(), std::pair<uint32_t, uint32_t>{v, 0});
-        for (; it != by_vertex.end() && it->first == v; ++it) mine.push_back(it->second);
-        std::sort(mine.begin(), mine.end());
+        while (it != by_vertex.end() && uint32_t(*it >> 32) < v) ++it;
+        for (; it != by_vertex.end() && uint32_t(*it >> 32) == v; ++it) mine.push_back(uint32_t(*it));
+        core::insertion_sort(mine.begin(), mine.end());  // a vertex has a handful of triangles
         mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
         ring.clear();
         size_t kept = 0;

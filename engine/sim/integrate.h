@@ -29,7 +29,7 @@ struct VertexRings {
 VertexRings build_vertex_rings(std::span<const mesh::Triangle> triangles, size_t vertex_count);
 // After an edit: the rings of `vertices` made again from their current triangles, found among
 // each one's old ring triangles and `extra` (triangles that are new or whose corners changed).
-// Rings grow to `triangles`' vertex count. Equal to build_vertex_rings afterwards.
+// `vertices` ascending. Rings grow to `triangles`' vertex count. Equal to build_vertex_rings afterwards.
 void update_vertex_rings(VertexRings& rings, std::span<const mesh::Triangle> triangles, size_t vertex_count,
                          std::span<const uint32_t> vertices, std::span<const uint32_t> extra);
 

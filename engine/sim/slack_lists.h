@@ -78,6 +78,27 @@ public:
         if (abandoned_ > pool_.size() / 2) compact();
     }
 
+    // One item at the end of key's list: in place while its room lasts (most edits), else as
+    // assign() does.
+    void push(uint32_t key, const T& item) {
+        PBDSPLAT_ASSERT(key < keys(), "SlackLists::push: grow() the key range first");
+        if (size_[key] < capacity_[key]) {
+            pool_[first_[key] + size_[key]++] = item;
+            return;
+        }
+        std::vector<T> items(of(key).begin(), of(key).end());
+        items.push_back(item);
+        assign(key, items);
+    }
+    // The first `item` in key's list taken out, the items after it moved up (the order kept).
+    void erase(uint32_t key, const T& item) {
+        const auto first = pool_.begin() + first_[key], last = first + size_[key];
+        const auto it = std::find(first, last, item);
+        PBDSPLAT_ASSERT(it != last, "SlackLists::erase: the item is not in that key's list");
+        std::copy(it + 1, last, it);
+        --size_[key];
+    }
+
     // Replaces `from` by `to` in key's list, in place (the item moved elsewhere).
     void replace(uint32_t key, const T& from, const T& to) {
         const auto first = pool_.begin() + first_[key], last = first + size_[key];

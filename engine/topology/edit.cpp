@@ -5,6 +5,8 @@
 
 #include "core/assert.h"
 #include "core/key_table.h"
+#include "core/radix_sort.h"
+#include "core/small_sort.h"
 #include "mesh/topology.h"
 #include "sim/volume.h"
 #include "topology/particle_scratch.h"
@@ -12,12 +14,6 @@
 namespace pbdsplat::topology {
 
 namespace {
-template <class T>
-void sort_unique(std::vector<T>& v) {
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
-}
-
 float area_of(const std::vector<Vec3f>& p, const mesh::Triangle& t) {
     return 0.5f * (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]).norm();
 }
@@ -132,25 +128,25 @@ void Edit::retriangulate(uint32_t t) {
 void Edit::split_vertices_along_cut() {
     // Triangles around every vertex on the cut: an original vertex's from its ring (before the
     // edit; a re-used parent index may have lost it), and the children of the split triangles.
-    std::vector<std::pair<uint32_t, uint32_t>> children;  // (corner on the cut, child)
+    std::vector<uint64_t> children;  // (corner on the cut) << 32 | child
     for (const mesh::TriangleSplit& s : change.splits)
         for (uint32_t v : b_.triangles[s.triangle])
-            if (on_cut(v)) children.push_back({v, s.triangle});
-    std::sort(children.begin(), children.end());
+            if (on_cut(v)) children.push_back(uint64_t(v) << 32 | s.triangle);
+    core::radix_sort(std::span(children));
     std::vector<uint32_t> candidates = on_cut_vertices;
-    for (const auto& [v, t] : children) candidates.push_back(v);
-    std::sort(candidates.begin(), candidates.end());  // deterministic copy numbering
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    for (uint64_t c : children) candidates.push_back(uint32_t(c >> 32));
+    core::radix_sort_unique(candidates);  // deterministic copy numbering
 
     std::vector<uint32_t> root, fan;
+    auto child = children.begin();  // both ascend: one walk along the children
     for (uint32_t v : candidates) {
         fan.clear();
         if (v < n0_)
             for (uint32_t t : b_.rings.triangles.of(v))
                 if (std::ranges::find(b_.triangles[t], v) != b_.triangles[t].end()) fan.push_back(t);
-        auto child = std::lower_bound(children.begin(), children.end(), std::pair<uint32_t, uint32_t>{v, 0});
-        for (; child != children.end() && child->first == v; ++child) fan.push_back(child->second);
-        std::sort(fan.begin(), fan.end());
+        while (child != children.end() && uint32_t(*child >> 32) < v) ++child;
+        for (; child != children.end() && uint32_t(*child >> 32) == v; ++child) fan.push_back(uint32_t(*child));
+        core::insertion_sort(fan.begin(), fan.end());  // a fan is a handful of triangles
         fan.erase(std::unique(fan.begin(), fan.end()), fan.end());
         if (fan.empty()) continue;
         const size_t m = fan.size();
@@ -192,8 +188,7 @@ void Edit::split_vertices_along_cut() {
     }
     // The local triangles: the children and those around duplicated vertices.
     for (const mesh::TriangleSplit& s : change.splits) local_triangles_.push_back(s.triangle);
-    std::sort(local_triangles_.begin(), local_triangles_.end());
-    local_triangles_.erase(std::unique(local_triangles_.begin(), local_triangles_.end()), local_triangles_.end());
+    core::radix_sort_unique(local_triangles_);
 }
 
 void Edit::update_rings() {
@@ -201,8 +196,7 @@ void Edit::update_rings() {
     // are corners of its children, a duplicated vertex keeps one fan.
     std::vector<uint32_t> region;
     for (uint32_t t : local_triangles_) region.insert(region.end(), b_.triangles[t].begin(), b_.triangles[t].end());
-    std::sort(region.begin(), region.end());
-    region.erase(std::unique(region.begin(), region.end()), region.end());
+    core::radix_sort_unique(region);
     sim::update_vertex_rings(b_.rings, b_.triangles, b_.particle_count(), region, local_triangles_);
     region_ = std::move(region);
     b_.normals.resize(b_.particle_count(), Vec3f(0.0f, 1.0f, 0.0f));
@@ -293,7 +287,7 @@ void Edit::update_distance_constraints() {
     std::vector<uint64_t> emitted;
     for (uint32_t t : local)
         for (int k = 0; k < 3; ++k) emitted.push_back(edge_key(b_.triangles[t][size_t(k)], b_.triangles[t][size_t((k + 1) % 3)]));
-    sort_unique(emitted);  // each new edge once, in key order (deterministic)
+    core::radix_sort_unique(emitted);  // each new edge once, in key order (deterministic)
     for (const uint64_t key : emitted) {
         const uint32_t a = uint32_t(key >> 32), c = uint32_t(key);
         const uint32_t oa = origin(a), oc = origin(c);
@@ -317,7 +311,7 @@ void Edit::update_distance_constraints() {
     std::vector<uint32_t> removed_slots;
     for (size_t k = 0; k < removed.size(); ++k)
         if (!kept[k]) removed_slots.push_back(removed[k].slot);
-    std::sort(removed_slots.begin(), removed_slots.end());
+    core::radix_sort(std::span(removed_slots));
     sim::replace_distance_constraints(b_.distance, b_.distance_groups, b_.distance_lambda, b_.particle_count(), removed_slots, added);
     change.constraints_removed = removed_slots.size();
     change.constraints_added = added.size();

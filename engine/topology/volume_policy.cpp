@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/radix_sort.h"
 #include "mesh/topology.h"
 #include "sim/volume.h"
 #include "topology/piece_split.h"
@@ -310,8 +311,7 @@ VolumeOutcome apply_volume_policy(sim::SoftBody& b, VolumePolicy policy, float l
     VolumeOutcome result;
     std::vector<uint32_t> seeds, reached;
     for (uint32_t f : touched_triangles) seeds.insert(seeds.end(), b.triangles[f].begin(), b.triangles[f].end());
-    std::sort(seeds.begin(), seeds.end());
-    seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+    core::radix_sort_unique(seeds);
     for (uint32_t v : seeds) reached.push_back(b.piece_of_particle[v]);
     std::sort(reached.begin(), reached.end());
     reached.erase(std::unique(reached.begin(), reached.end()), reached.end());

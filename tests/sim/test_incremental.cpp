@@ -41,6 +41,26 @@ TEST_SUITE("sim/incremental") {
         CHECK(l.abandoned() == 0);
     }
 
+    TEST_CASE("slack lists: push stays in place while the room lasts, then moves; erase keeps the order") {
+        sim::SlackLists<uint32_t> l;
+        const std::vector<uint32_t> start{0, 3, 4}, items{1, 2, 3, 4};
+        l.build(start, items);
+        const size_t pool = l.pool_size();
+        for (uint32_t k = 0; k < sim::SlackLists<uint32_t>::k_slack; ++k) l.push(0, 10 + k);
+        CHECK(l.pool_size() == pool);  // the slack took them
+        CHECK(std::ranges::equal(l.of(0), std::vector<uint32_t>{1, 2, 3, 10, 11}));
+        CHECK(std::ranges::equal(l.of(1), std::vector<uint32_t>{4}));
+        l.push(0, 99);  // past the room: the list moves to the pool's end
+        CHECK(l.pool_size() > pool);
+        CHECK(std::ranges::equal(l.of(0), std::vector<uint32_t>{1, 2, 3, 10, 11, 99}));
+        l.erase(0, 2);
+        CHECK(std::ranges::equal(l.of(0), std::vector<uint32_t>{1, 3, 10, 11, 99}));
+        l.erase(0, 99);
+        l.erase(1, 4);
+        CHECK(std::ranges::equal(l.of(0), std::vector<uint32_t>{1, 3, 10, 11}));
+        CHECK(l.of(1).empty());
+    }
+
     TEST_CASE("rings updated for the touched vertices equal a full build") {
         mesh::TriangleMesh m = mesh::icosphere(2);
         sim::VertexRings r = sim::build_vertex_rings(m.triangles, m.positions.size());
