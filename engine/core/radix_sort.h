@@ -11,27 +11,32 @@
 
 namespace pbdsplat::core {
 
-// Ascending; stable. 11-bit digits, only as many passes as the largest key needs (two for ids
-// under four million). Other types than uint32_t/uint64_t are not meant to come here.
+// Ascending; stable. A pass per digit in which the keys differ: digits where every key has the
+// same bits (the high bits of small ids, the gap between the two halves of a packed pair) are
+// skipped. 8-bit digits for a few thousand keys (the histogram stays small against them), 11-bit
+// ones for more. Other types than uint32_t/uint64_t are not meant to come here.
 template <class U>
 void radix_sort(std::span<U> items) {
     static_assert(std::is_same_v<U, uint32_t> || std::is_same_v<U, uint64_t>, "radix_sort: unsigned 32- or 64-bit keys");
     if (items.size() < 2) return;
-    U largest = 0;
-    for (U x : items) largest |= x;
-    constexpr unsigned k_bits = 11, k_buckets = 1u << k_bits;
+    U any = 0, all = ~U(0);
+    for (U x : items) any |= x, all &= x;
+    const U varying = any ^ all;  // the bits not the same in every key
+    const unsigned bits = items.size() < 4096 ? 8 : 11, buckets = 1u << bits;
     thread_local std::vector<U> spare;
+    thread_local std::vector<uint32_t> count;
     spare.resize(items.size());
+    count.resize(buckets + 1);
     std::span<U> from = items, to = spare;
-    unsigned passes = 0;
-    for (unsigned shift = 0; shift < 8 * sizeof(U) && (largest >> shift) != 0; shift += k_bits, ++passes) {
-        uint32_t count[k_buckets + 1] = {};
-        for (U x : from) ++count[((x >> shift) & (k_buckets - 1)) + 1];
-        for (unsigned b = 0; b < k_buckets; ++b) count[b + 1] += count[b];
-        for (U x : from) to[count[(x >> shift) & (k_buckets - 1)]++] = x;
+    for (unsigned shift = 0; shift < 8 * sizeof(U) && (varying >> shift) != 0; shift += bits) {
+        if (((varying >> shift) & (buckets - 1)) == 0) continue;
+        std::fill(count.begin(), count.end(), 0u);
+        for (U x : from) ++count[((x >> shift) & (buckets - 1)) + 1];
+        for (unsigned b = 0; b < buckets; ++b) count[b + 1] += count[b];
+        for (U x : from) to[count[(x >> shift) & (buckets - 1)]++] = x;
         std::swap(from, to);
     }
-    if (passes % 2 == 1) std::copy(from.begin(), from.end(), items.begin());
+    if (from.data() != items.data()) std::copy(from.begin(), from.end(), items.begin());
 }
 
 // Sorted ascending with duplicates dropped.

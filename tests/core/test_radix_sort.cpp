@@ -29,6 +29,23 @@ TEST_SUITE("core/radix_sort") {
         }
     }
 
+    TEST_CASE("radix_sort skips digits every key shares and still orders packed pairs") {
+        // (vertex << 32 | triangle) with a shared high vertex bit and both halves small: the
+        // digits between the halves are the same in every key.
+        std::mt19937 rng(3);
+        for (size_t n : {size_t(3), size_t(500), size_t(6000)}) {
+            std::vector<uint64_t> keys;
+            for (size_t k = 0; k < n; ++k) keys.push_back(uint64_t((1u << 20) | (rng() % 4000)) << 32 | (rng() % 9000));
+            std::vector<uint64_t> expected = keys;
+            std::sort(expected.begin(), expected.end());
+            core::radix_sort(std::span<uint64_t>(keys));
+            CHECK(keys == expected);
+        }
+        std::vector<uint32_t> same(100, 77u);
+        core::radix_sort(std::span<uint32_t>(same));
+        CHECK(same == std::vector<uint32_t>(100, 77u));
+    }
+
     TEST_CASE("radix_sort_unique drops duplicates") {
         std::vector<uint32_t> a{5, 3, 5, 0, 3, 4000000, 0, 9};
         core::radix_sort_unique(a);
