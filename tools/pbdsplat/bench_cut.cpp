@@ -310,8 +310,10 @@ const CommandSpec& command_spec() {
         "median milliseconds of the cut (and of rebuilding the solver's derived data inside it),\n"
         "the crossed region, and Stage A ms per frame (paper solver defaults, median of F frames)\n"
         "before and after the first cut; then the cost per crossed triangle and the median ms of\n"
-        "each step of the cut, in the order run. Each copy gets the spare capacity a live body\n"
-        "keeps from its earlier edits (sim::reserve_headroom), outside the timing.\n",
+        "each step of the cut, in the order run. The body is stepped once by the solver first, as\n"
+        "a body in a scene always has been (a cut takes a piece's volume from the solver's last\n"
+        "measure), and each copy gets the spare capacity a live body keeps from its earlier edits\n"
+        "(sim::reserve_headroom), outside the timing.\n",
         {text("mesh", "SPEC", "", "the body: a model from ../shared/models, an OBJ, or a procedural spec")
              .default_from("teapot.obj; icosphere:4 with --sequence"),
          whole("cuts", "N", 20, 1, 10000, "cuts, each on a fresh copy"),
