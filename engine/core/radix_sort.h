@@ -18,7 +18,13 @@ namespace pbdsplat::core {
 template <class U>
 void radix_sort(std::span<U> items) {
     static_assert(std::is_same_v<U, uint32_t> || std::is_same_v<U, uint64_t>, "radix_sort: unsigned 32- or 64-bit keys");
-    if (items.size() < 2) return;
+    // A short list (a tear's few ids) costs less to sort by compares than a pass's histogram
+    // costs to clear and add up; the order is the same either way.
+    constexpr size_t k_compare_below = 64;
+    if (items.size() < k_compare_below) {
+        std::sort(items.begin(), items.end());
+        return;
+    }
     U any = 0, all = ~U(0);
     for (U x : items) any |= x, all &= x;
     const U varying = any ^ all;  // the bits not the same in every key
