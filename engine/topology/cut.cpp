@@ -50,19 +50,11 @@ void measure_sides(const sim::SoftBody& b, const CutSurface& s, Sides& out) {
         return (d0 < 0.0f || d1 < 0.0f || d2 < 0.0f) && (d0 > 0.0f || d1 > 0.0f || d2 > 0.0f);
     };
     if (s.particles.empty()) {
-        // The whole body: written out plainly, as these two passes are most of a cut's cost on
-        // a large body. A triangle is crossed only where its corners' signs differ (a distance
-        // of exactly 0 has sign +1, so the float test decides those few).
+        // The whole body. A triangle is crossed only where its corners' signs differ (a distance
+        // of exactly 0 has sign +1, so the float test decides those few): these two passes are
+        // most of a cut's cost on a large body.
         out.all = true;
-        const auto& x = b.particles.x;
-        const float nx = s.normal.x(), ny = s.normal.y(), nz = s.normal.z();
-        const float px = s.point.x(), py = s.point.y(), pz = s.point.z();
-        for (uint32_t v = 0; v < n; ++v) {
-            // CutSurface::distance's arithmetic, in its order: the same float.
-            const float dv = (nx * (x[v].x() - px) + ny * (x[v].y() - py)) + nz * (x[v].z() - pz);
-            d[v] = dv;
-            sign[v] = dv < 0.0f ? int8_t(-1) : int8_t(1);
-        }
+        for (uint32_t v = 0; v < n; ++v) measure(v);
         for (uint32_t t = 0; t < b.triangles.size(); ++t) {
             const mesh::Triangle& f = b.triangles[t];
             const int8_t s0 = sign[f[0]], s1 = sign[f[1]], s2 = sign[f[2]];

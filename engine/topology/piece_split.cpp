@@ -6,6 +6,7 @@
 #include <xmmintrin.h>
 #endif
 
+#include "sim/vec4_ops.h"
 #include "topology/particle_scratch.h"
 
 namespace pbdsplat::topology {
@@ -19,10 +20,9 @@ inline void add_triangle(Part& part, const Vec4f& a, const Vec4f& b, const Vec4f
     // Four lanes, the same products and the same order of additions as the scalar code below
     // (the same bits): rows (a . cross terms, |p|^2 terms, |q|^2 terms) transposed so one pair of
     // adds sums all three.
-    const __m128 va = _mm_load_ps(a.data()), p = _mm_sub_ps(_mm_load_ps(b.data()), va), q = _mm_sub_ps(_mm_load_ps(c.data()), va);
-    const __m128 p_yzx = _mm_shuffle_ps(p, p, _MM_SHUFFLE(3, 0, 2, 1)), q_yzx = _mm_shuffle_ps(q, q, _MM_SHUFFLE(3, 0, 2, 1));
-    const __m128 zxy = _mm_sub_ps(_mm_mul_ps(p, q_yzx), _mm_mul_ps(p_yzx, q));  // lanes (cz, cx, cy)
-    __m128 terms = _mm_mul_ps(va, _mm_shuffle_ps(zxy, zxy, _MM_SHUFFLE(3, 0, 2, 1)));  // (ax cx, ay cy, az cz)
+    const Vec4f pv = b - a, qv = c - a;
+    const __m128 p = _mm_load_ps(pv.data()), q = _mm_load_ps(qv.data());
+    __m128 terms = _mm_mul_ps(_mm_load_ps(a.data()), _mm_load_ps(sim::cross3<float>(pv, qv).data()));  // (ax cx, ay cy, az cz)
     __m128 pp = _mm_mul_ps(p, p), qq = _mm_mul_ps(q, q), zero = _mm_setzero_ps();
     _MM_TRANSPOSE4_PS(terms, pp, qq, zero);  // now terms = x lanes, pp = y lanes, qq = z lanes
     float sums[4];
@@ -201,9 +201,9 @@ private:
         // Breadth first, so the particles to expand next are known and their rings are fetched
         // a few steps ahead: a flood through half a large body otherwise waits on a cache miss
         // at every step (without it the flood at icosphere:7 took 1.6x as long; fetching the
-        // neighbours' labels and positions too gained nothing: those arrays stay in cache). Each particle's triangles at their lowest corner are summed
-        // as it is expanded (its ring is in cache then); parts() sums only those the first
-        // rings expanded.
+        // neighbours' labels and positions too gained nothing: those arrays stay in cache).
+        // Each particle's triangles at their lowest corner are summed as it is expanded (its
+        // ring is in cache then); parts() sums only those the first rings expanded.
         // Both lists sized for every particle of the body up front and written by index: a
         // push_back that the compiler leaves out of line costs more than the rest of a step.
         std::vector<uint32_t>& queue = flood_queue_;
