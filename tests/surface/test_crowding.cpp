@@ -94,6 +94,49 @@ TEST_SUITE("surface/crowding") {
         CHECK(surface::thin_crowds(s.x, s.normals, s.triangles, s.query(), s.samples).retired == 0);
     }
 
+    TEST_CASE("one candidate among many kept: every kept sample within reach finds it, wherever the cells fall") {
+        // One shrunk triangle among 1,280: its lone sample is the only candidate, so the kept
+        // samples meet it through the cell bitmap that prefilters a small set against a large
+        // one. Placed in random directions at 0.5-0.69 h from a kept sample of a neighbouring
+        // triangle, it must retire every time, wherever it falls against the cell faces.
+        Sampled base(mesh::icosphere(3));
+        std::mt19937 rng(3);
+        std::uniform_real_distribution<float> u(0.0f, 1.0f);
+        int retired = 0;
+        constexpr int k_trials = 300;
+        for (int trial = 0; trial < k_trials; ++trial) {
+            Sampled s = base;
+            const size_t i = rng() % s.samples.size();
+            const uint32_t t = s.samples.triangle[i];
+            const mesh::Triangle& c = s.triangles[t];
+            // A neighbour of t across its first edge: the candidate's triangle.
+            uint32_t neighbour = t;
+            for (uint32_t f = 0; f < s.triangles.size() && neighbour == t; ++f) {
+                const mesh::Triangle& o = s.triangles[f];
+                const int shared = int(std::count(o.begin(), o.end(), c[0])) + int(std::count(o.begin(), o.end(), c[1]));
+                if (f != t && shared == 2) neighbour = f;
+            }
+            REQUIRE(neighbour != t);
+            const Vec3f n = (s.rest[c[1]] - s.rest[c[0]]).cross(s.rest[c[2]] - s.rest[c[0]]).normalized();
+            const Vec3f e1 = (s.rest[c[1]] - s.rest[c[0]]).normalized(), e2 = n.cross(e1);
+            const float angle = 6.2831853f * u(rng), d = 0.5f + 0.19f * u(rng);
+            const size_t k = s.add_beside(i, 0.0f);
+            s.samples.triangle[k] = neighbour;
+            s.samples.position[k] = s.samples.position[i] + d * s.h * (std::cos(angle) * e1 + std::sin(angle) * e2);
+            std::vector<uint8_t> changed(s.triangles.size(), 0);
+            changed[neighbour] = surface::k_shrank;
+            surface::CrowdingQuery q = s.query();
+            q.changed = changed;
+            q.gap = 0.0f;
+            const surface::CrowdingResult r = surface::thin_crowds(s.x, s.normals, s.triangles, q, s.samples);
+            CAPTURE(trial);
+            CAPTURE(d);
+            CHECK(s.samples.retiring(k));
+            retired += int(r.retired);
+        }
+        CHECK(retired == k_trials);  // only the candidate, every time
+    }
+
     TEST_CASE("samples fading in give way to settled ones") {
         Sampled s(mesh::icosphere(3));
         const size_t n = s.samples.size();
