@@ -17,8 +17,8 @@ namespace {
 // cache, and rejects most of a large set tested against a small one before any lookup in the
 // grid itself (70k samples kept as they are against a few dozen candidates: 2 ms with eight
 // lookups each, 4-5 ms of hash probing without the bitmap). Marking the 27 cells around each
-// point instead set three times the bits: with the bunny's 4.8k candidates a third of the map,
-// and each false positive costs the real test.
+// point instead set 2.4 times the bits on bunny_cut and let 19 % of the kept samples through to
+// the grid against 11.6 %: each false positive costs the real test.
 class CellBits {
 public:
     CellBits(float cell, float reach) : inv_(1.0f / cell), reach_(reach * inv_), bits_(k_words, 0) {

@@ -333,9 +333,10 @@ const CommandSpec& command_spec() {
          whole("sequence", "N", 1000, 1, 100000,
                "instead: N random scalpel cuts (topology::local_cut_on) on the southern part of one\n"
                "body, a frame between cuts; the same probe slit at the north pole timed on copies\n"
-               "(assigned into storage kept between them, as a live body keeps its arrays) before, after 10 and after N (does a cut cost more once the body has been cut N times?),\n"
-               "then on the bodies after 10 and after N again, alternated 5 times: the figure to trust\n"
-               "on a machine whose speed drifts over minutes")
+               "(assigned into storage kept between them, as a live body keeps its arrays) before,\n"
+               "after 10 and after N (does a cut cost more once the body has been cut N times?), then\n"
+               "on the bodies after 10 and after N again, alternated 5 times: the figure to trust on a\n"
+               "machine whose speed drifts over minutes")
              .default_from("off"),
          json_option()}};
     return command;
