@@ -15,18 +15,72 @@ core::Status validate(const TearOptions& o) {
     return core::Status::success();
 }
 
+namespace {
+// Stretch ratios: the same arithmetic wherever an edge is measured, so that the frame's set and
+// a fresh scan agree to the bit. Most edges are far from tearing; a squared test with a margin
+// (0.1 %, far above float rounding) passes them over without the square root and the division,
+// and decides nothing the exact test below would not.
+struct RatioTest {
+    explicit RatioTest(float at) : threshold(at), margin2(at * at * 0.999f) {}
+    // The ratio when past the threshold, else 0.
+    float operator()(const sim::SoftBody& b, const sim::DistanceConstraint& c) const {
+        if (!(c.rest > 0.0f)) return 0.0f;
+        const Vec3f d = (b.particles.x[c.i] - b.particles.x[c.j]).head<3>();
+        const float d2 = d.squaredNorm();
+        if (d2 < margin2 * (c.rest * c.rest)) return 0.0f;
+        const float ratio = d.norm() / c.rest;
+        return ratio > threshold ? ratio : 0.0f;
+    }
+    float threshold, margin2;
+};
+
+bool more_strained(const StrainedEdge& x, const StrainedEdge& y) {
+    if (x.ratio != y.ratio) return x.ratio > y.ratio;
+    return x.i != y.i ? x.i < y.i : x.j < y.j;
+}
+} // namespace
+
 std::vector<StrainedEdge> strained_edges(const sim::SoftBody& b, float threshold, size_t limit) {
     std::vector<StrainedEdge> strained;
-    for (const sim::DistanceConstraint& c : b.distance) {
-        if (!(c.rest > 0.0f)) continue;
-        const float ratio = (b.particles.x[c.i] - b.particles.x[c.j]).head<3>().norm() / c.rest;
-        if (ratio > threshold) strained.push_back({c.i, c.j, ratio});
-    }
+    const RatioTest test(threshold);
+    for (const sim::DistanceConstraint& c : b.distance)
+        if (const float ratio = test(b, c); ratio > 0.0f) strained.push_back({c.i, c.j, ratio});
     const size_t n = std::min(strained.size(), limit);
-    std::partial_sort(strained.begin(), strained.begin() + ptrdiff_t(n), strained.end(),
-                      [](const StrainedEdge& x, const StrainedEdge& y) { return x.ratio > y.ratio || (x.ratio == y.ratio && x.i < y.i); });
+    std::partial_sort(strained.begin(), strained.begin() + ptrdiff_t(n), strained.end(), more_strained);
     strained.resize(n);
     return strained;
+}
+
+StrainedSet::StrainedSet(const sim::SoftBody& b, float threshold) : threshold_(threshold) {
+    edges_ = strained_edges(b, threshold, SIZE_MAX);
+}
+
+void StrainedSet::sort() { std::sort(edges_.begin(), edges_.end(), more_strained); }
+
+void StrainedSet::update(const sim::SoftBody& b, const TopologyChange& change) {
+    if (!change.changed()) return;
+    const RatioTest test(threshold_);
+    const sim::DistanceGroups& groups = b.distance_groups;
+    // An edge stays while a live constraint joins its ends with the same rest length (its ratio
+    // then is what it was: neither end moved).
+    std::erase_if(edges_, [&](const StrainedEdge& e) {
+        if (e.i >= b.particle_count()) return true;
+        for (uint32_t slot : groups.of_particle.of(e.i)) {
+            const sim::DistanceConstraint& c = b.distance[slot];
+            if (c.alive() && ((c.i == e.i && c.j == e.j) || (c.i == e.j && c.j == e.i))) return test(b, c) != e.ratio;
+        }
+        return true;
+    });
+    // The constraints the change added: each has a new particle at one end.
+    const uint32_t first_new = uint32_t(change.particles_before);
+    for (uint32_t v = first_new; v < change.particles_after; ++v)
+        for (uint32_t slot : groups.of_particle.of(v)) {
+            const sim::DistanceConstraint& c = b.distance[slot];
+            const uint32_t other = c.i == v ? c.j : c.i;
+            if (!c.alive() || (other >= first_new && other < v)) continue;  // an edge between two new particles: once
+            if (const float ratio = test(b, c); ratio > 0.0f) edges_.push_back({c.i, c.j, ratio});
+        }
+    sort();
 }
 
 namespace {
@@ -65,10 +119,11 @@ std::vector<uint32_t> neighbourhood(const sim::SoftBody& b, uint32_t v, int ring
 }
 } // namespace
 
-core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const TearOptions& tear, const CutOptions& cut_options) {
+core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const TearOptions& tear, const CutOptions& cut_options,
+                                                      StrainedSet& strained) {
     PBDSPLAT_TRY(validate(tear));
     // The most strained edges first; the first that can open does.
-    for (const StrainedEdge& e : strained_edges(b, tear.threshold, 16)) {
+    for (const StrainedEdge& e : strained.most_strained(16)) {
         const Vec3f xi = sim::xyz(b.particles.x[e.i]), xj = sim::xyz(b.particles.x[e.j]);
         const Vec3f along = (xj - xi).normalized();
         // Split an end vertex across the edge: the plane through it, normal to the edge. Its fan
@@ -80,10 +135,17 @@ core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const Te
             slit.particles = neighbourhood(b, v, 2);
             auto change = cut(b, slit, cut_options);
             if (!change.ok()) return change.error();
+            strained.update(b, change.value());
             return std::optional<TopologyChange>(std::move(change).value());
         }
     }
     return std::optional<TopologyChange>{};
+}
+
+core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const TearOptions& tear, const CutOptions& cut_options) {
+    PBDSPLAT_TRY(validate(tear));
+    StrainedSet strained(b, tear.threshold);
+    return tear_once(b, tear, cut_options, strained);
 }
 
 } // namespace pbdsplat::topology

@@ -74,6 +74,44 @@ TEST_SUITE("topology/tear") {
         CHECK(counts.components <= 4);
     }
 
+    TEST_CASE("the frame's strained set, kept through tears, equals a fresh scan after each") {
+        // A sphere shaken out of shape: many edges past the threshold, tears all over it.
+        auto made = sim::make_soft_body(mesh::icosphere(3), {});
+        REQUIRE(made.ok());
+        sim::SoftBody b = std::move(made).value();
+        uint64_t state = 12345;
+        auto unit = [&] {
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            return float(state >> 40) / float(1u << 24) - 0.5f;
+        };
+        const float edge = float(b.distance_groups.mean_rest());
+        for (Vec4f& x : b.particles.x) x += Vec4f(unit(), unit(), unit(), 0.0f) * (0.8f * edge);
+        topology::TearOptions tear;
+        tear.threshold = 1.3f;
+        topology::CutOptions cut;
+        cut.reference_edge_length = edge;
+        topology::StrainedSet strained(b, tear.threshold);
+        REQUIRE(strained.size() > 40);
+        size_t torn = 0;
+        for (int k = 0; k < 40; ++k) {
+            auto t = topology::tear_once(b, tear, cut, strained);
+            REQUIRE_MESSAGE(t.ok(), t.error().to_string());
+            if (!t.value()) break;
+            ++torn;
+            const topology::StrainedSet fresh(b, tear.threshold);
+            const auto kept = strained.most_strained(SIZE_MAX), scanned = fresh.most_strained(SIZE_MAX);
+            REQUIRE(kept.size() == scanned.size());
+            for (size_t e = 0; e < kept.size(); ++e) {
+                CHECK(kept[e].i == scanned[e].i);
+                CHECK(kept[e].j == scanned[e].j);
+                CHECK(kept[e].ratio == scanned[e].ratio);
+            }
+            const core::Status st = topology::check_invariants(b);
+            REQUIRE_MESSAGE(st.ok(), st.error().to_string());
+        }
+        CHECK(torn >= 20);
+    }
+
     TEST_CASE("tear options are checked") {
         topology::TearOptions o;
         o.threshold = 0.9f;

@@ -58,8 +58,10 @@ core::Status TopologyStage::apply_tears(sim::SoftBody& body, const topology::Cut
     topology::TearOptions options;
     options.threshold = tearing_->threshold;
     options.max_per_frame = tearing_->max_per_frame;
+    PBDSPLAT_TRY(topology::validate(options));
+    topology::StrainedSet strained(body, options.threshold);  // one pass a frame, kept through its tears
     for (uint32_t k = 0; k < options.max_per_frame; ++k) {
-        auto change = topology::tear_once(body, options, cut_options);
+        auto change = topology::tear_once(body, options, cut_options, strained);
         if (!change.ok()) return change.error();
         if (!change.value()) break;  // nothing strained enough
         ++tears_;
