@@ -20,7 +20,7 @@ constexpr int k_spin = 1 << 14;  // roughly tens of microseconds before sleeping
 
 ThreadPool::ThreadPool(unsigned threads) {
     PBDSPLAT_ASSERT(threads >= 1 && threads <= 256, "ThreadPool: use 1 to 256 threads");
-    for (unsigned i = 1; i < threads; ++i) workers_.emplace_back([this, i] { worker(i); });
+    for (unsigned i = 1; i < threads; ++i) workers_.emplace_back([this] { worker(); });
 }
 
 ThreadPool::~ThreadPool() {
@@ -33,7 +33,18 @@ ThreadPool::~ThreadPool() {
     for (auto& t : workers_) t.join();
 }
 
-void ThreadPool::worker(unsigned index) {
+void ThreadPool::take_chunks() {
+    const unsigned chunks = this->chunks();
+    // The job and its size are read after each chunk is taken: a thread that was late to see the
+    // last chunk go may take the first of the next loop, which its counter's reset published.
+    for (unsigned c = next_chunk_.fetch_add(1, std::memory_order_acq_rel); c < chunks; c = next_chunk_.fetch_add(1, std::memory_order_acq_rel)) {
+        const size_t n = n_;
+        (*job_)(c, n * c / chunks, n * (c + 1) / chunks);
+        pending_.fetch_sub(1, std::memory_order_acq_rel);
+    }
+}
+
+void ThreadPool::worker() {
     unsigned seen = 0;
     while (true) {
         int spins = 0;
@@ -44,9 +55,7 @@ void ThreadPool::worker(unsigned index) {
         }
         seen = generation_.load(std::memory_order_acquire);
         if (stop_.load()) return;
-        const size_t chunks = size(), n = n_;
-        (*job_)(index, n * index / chunks, n * (index + 1) / chunks);
-        pending_.fetch_sub(1, std::memory_order_acq_rel);
+        take_chunks();
     }
 }
 
@@ -57,14 +66,15 @@ void ThreadPool::parallel_for(size_t n, const std::function<void(unsigned, size_
     }
     job_ = &fn;
     n_ = n;
-    pending_.store(unsigned(workers_.size()), std::memory_order_relaxed);
+    pending_.store(chunks(), std::memory_order_relaxed);
+    next_chunk_.store(0, std::memory_order_release);  // publishes the job to whoever takes a chunk
     {
         // Under the mutex, so a worker between its check and its wait cannot miss the change.
         std::lock_guard lock(mutex_);
         generation_.fetch_add(1, std::memory_order_release);
     }
     wake_.notify_all();
-    fn(0, 0, n / size());
+    take_chunks();
     while (pending_.load(std::memory_order_acquire) != 0) cpu_relax();
 }
 
