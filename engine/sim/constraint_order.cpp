@@ -227,6 +227,11 @@ std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstrain
         free_in[g.colour[slot]].push_back(slot);
         ++g.dead;
     }
+    // The colours (of the first 64) with a dead slot left, as bits: an added constraint takes
+    // the lowest one free at both its particles in a few instructions, not a walk over colours.
+    uint64_t with_room = 0;
+    for (uint32_t col = 0; col < free_in.size() && col < 64; ++col)
+        if (!free_in[col].empty()) with_room |= uint64_t(1) << col;
     for (const DistanceConstraint& c : add) g.rest_sum += double(c.rest);
     Placement placement(add.size());
     std::vector<uint32_t> spill;
@@ -234,12 +239,12 @@ std::vector<uint32_t> replace_distance_constraints(std::vector<DistanceConstrain
         const DistanceConstraint& c = add[k];
         const uint64_t taken = colours_at(g, c.i) | colours_at(g, c.j);
         uint32_t slot = UINT32_MAX;
-        for (uint32_t col = 0; col < free_in.size() && col < 64; ++col)
-            if (!(taken >> col & 1u) && !free_in[col].empty()) {
-                slot = free_in[col].back();
-                free_in[col].pop_back();
-                break;
-            }
+        if (const uint64_t open = with_room & ~taken; open != 0) {
+            const uint32_t col = uint32_t(std::countr_zero(open));
+            slot = free_in[col].back();
+            free_in[col].pop_back();
+            if (free_in[col].empty()) with_room &= ~(uint64_t(1) << col);
+        }
         if (slot == UINT32_MAX) {
             spill.push_back(k);
             continue;

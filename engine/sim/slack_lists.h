@@ -86,9 +86,18 @@ public:
             pool_[first_[key] + size_[key]++] = item;
             return;
         }
-        std::vector<T> items(of(key).begin(), of(key).end());
-        items.push_back(item);
-        assign(key, items);
+        // Moved to the pool's end with fresh slack, as assign() would place it, copied there
+        // without a list on the heap between (a new particle's lists start empty and grow by
+        // push: two moves each, most of an edit's allocations once).
+        const uint32_t n = size_[key], at = uint32_t(pool_.size());
+        abandoned_ += capacity_[key];
+        capacity_[key] = n + 1 + k_slack;
+        pool_.resize(size_t(at) + capacity_[key]);
+        std::copy_n(pool_.begin() + first_[key], n, pool_.begin() + at);
+        pool_[size_t(at) + n] = item;
+        first_[key] = at;
+        size_[key] = n + 1;
+        if (abandoned_ > pool_.size() / 2) compact();
     }
     // The first `item` in key's list taken out, the items after it moved up (the order kept).
     void erase(uint32_t key, const T& item) {
