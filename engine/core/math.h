@@ -7,6 +7,9 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace pbdsplat {
 
@@ -48,7 +51,21 @@ inline int floor_to_int(float v) {
     const int i = int(v);
     return i - int(float(i) > v);
 }
-inline Eigen::Vector3i floor_to_int(const Vec3f& v) { return {floor_to_int(v.x()), floor_to_int(v.y()), floor_to_int(v.z())}; }
+inline Eigen::Vector3i floor_to_int(const Vec3f& v) {
+#if defined(__SSE2__)
+    // The three at once, the same steps in SSE lanes: a grid query takes a cell per point, and
+    // the crowd check queries every sample kept as it is (23 instructions a point one lane at a
+    // time).
+    const __m128 f = _mm_setr_ps(v.x(), v.y(), v.z(), 0.0f);
+    const __m128i i = _mm_cvttps_epi32(f);
+    const __m128i up = _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(i), f));  // -1 where truncating went up
+    alignas(16) int out[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(out), _mm_add_epi32(i, up));
+    return {out[0], out[1], out[2]};
+#else
+    return {floor_to_int(v.x()), floor_to_int(v.y()), floor_to_int(v.z())};
+#endif
+}
 
 } // namespace math
 } // namespace pbdsplat

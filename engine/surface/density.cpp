@@ -67,6 +67,7 @@ private:
 DensityControl::DensityControl(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, const DensityOptions& o)
     : options_(o) {
     inverse_rest_.resize(triangles.size());
+    inverse_rest_lanes_.assign(4 * ((triangles.size() + 3) / 4) * 4, 0.0f);
     for (uint32_t t = 0; t < triangles.size(); ++t) set_rest(rest, triangles, t);
     stretch2_.assign(triangles.size(), 1.0f);
     squeeze2_.assign(triangles.size(), 1.0f);
@@ -82,11 +83,14 @@ DensityControl::DensityControl(std::span<const Vec3f> rest, std::span<const mesh
 void DensityControl::set_rest(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, uint32_t t) {
     // A sliver (zero inverse) is never resampled: its neighbours cover it.
     inverse_rest_[t] = mesh::rest_frame_inverse(rest[triangles[t][0]], rest[triangles[t][1]], rest[triangles[t][2]]);
+    float* block = inverse_rest_lanes_.data() + 16 * (t / 4);
+    for (int e = 0; e < 4; ++e) block[4 * e + t % 4] = inverse_rest_[t].data()[e];
 }
 
 void DensityControl::topology_changed(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles,
                                       std::span<const uint32_t> touched) {
     inverse_rest_.resize(triangles.size(), Eigen::Matrix2f::Zero());
+    inverse_rest_lanes_.resize(4 * ((triangles.size() + 3) / 4) * 4, 0.0f);
     stretch2_.resize(triangles.size(), 1.0f);
     squeeze2_.resize(triangles.size(), 1.0f);
     reference2_.resize(triangles.size(), 1.0f);
@@ -350,18 +354,17 @@ std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const V
     const __m128 v_shrink2 = _mm_set1_ps(shrink2), v_squash2 = _mm_set1_ps(squash2), v_unsquash2 = _mm_set1_ps(unsquash2);
     const __m128 v_tiny = _mm_set1_ps(1e-12f), v_zero = _mm_setzero_ps(), v_half = _mm_set1_ps(0.5f), v_two = _mm_set1_ps(2.0f);
     for (; t + 4 <= n; t += 4) {
-        __m128 e1[4], e2[4], m[4];
+        __m128 e1[4], e2[4];
         for (int k = 0; k < 4; ++k) {
             const mesh::Triangle& tri = triangles[t + size_t(k)];
             const __m128 o = _mm_loadu_ps(x[tri[0]].data());
             e1[k] = _mm_sub_ps(_mm_loadu_ps(x[tri[1]].data()), o);
             e2[k] = _mm_sub_ps(_mm_loadu_ps(x[tri[2]].data()), o);
-            m[k] = _mm_loadu_ps(inverse_rest_[t + size_t(k)].data());  // column-major: a, c, b, d
         }
         _MM_TRANSPOSE4_PS(e1[0], e1[1], e1[2], e1[3]);
         _MM_TRANSPOSE4_PS(e2[0], e2[1], e2[2], e2[3]);
-        _MM_TRANSPOSE4_PS(m[0], m[1], m[2], m[3]);
-        const __m128 a = m[0], c = m[1], b = m[2], d = m[3];
+        const float* rest = inverse_rest_lanes_.data() + 4 * t;  // t is a multiple of 4: its block
+        const __m128 a = _mm_loadu_ps(rest), c = _mm_loadu_ps(rest + 4), b = _mm_loadu_ps(rest + 8), d = _mm_loadu_ps(rest + 12);
         auto dot = [](const __m128* u, const __m128* v) {
             return _mm_add_ps(_mm_add_ps(_mm_mul_ps(u[0], v[0]), _mm_mul_ps(u[1], v[1])), _mm_mul_ps(u[2], v[2]));
         };

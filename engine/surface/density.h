@@ -99,6 +99,9 @@ private:
     std::vector<Due> due_triangles(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangles);
     DensityOptions options_;
     std::vector<Eigen::Matrix2f> inverse_rest_;  // per triangle, in its own rest frame; zero for slivers
+    // The same, laid out for the stretch scan's four lanes: per block of four triangles, their
+    // a entries, then c, b, d (column-major order), so a block loads without a transpose.
+    std::vector<float> inverse_rest_lanes_;
     // Per triangle, squared (the eigenvalues of F^T F): the largest and smallest stretch this
     // frame, when the triangle was last sampled, and when the samples' trigger last ran.
     std::vector<float> stretch2_, squeeze2_;

@@ -60,6 +60,14 @@ TEST_SUITE("core/math") {
         CHECK(math::floor_to_int(-1e-30f) == -1);
         const Eigen::Vector3i c = math::floor_to_int(Vec3f(-0.25f, 3.0f, -4.0f));
         CHECK(c == Eigen::Vector3i(-1, 3, -4));
+        // The three-lane form (SSE where built with it) against std::floor, lane by lane.
+        const float values[] = {0.0f, -0.0f, 0.5f, -0.5f, 1.0f, -1.0f, 2.999999f, -2.999999f, -1e-30f, 1e6f + 0.5f, -1e6f - 0.5f, -7.25f};
+        for (float a : values)
+            for (float b : values) {
+                const float z = std::nextafter(a, -1e30f);
+                const Eigen::Vector3i cell = math::floor_to_int(Vec3f(a, b, z));
+                CHECK(cell == Eigen::Vector3i(int(std::floor(a)), int(std::floor(b)), int(std::floor(z))));
+            }
     }
 
     TEST_CASE("median of odd and even sample sets") {
