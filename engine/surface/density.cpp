@@ -62,12 +62,15 @@ private:
     size_t size_ = 0;
 };
 
+// inverse_rest_lanes_'s size: four entries per triangle, in whole blocks of four triangles.
+size_t lane_floats(size_t triangles) { return 16 * ((triangles + 3) / 4); }
+
 } // namespace
 
 DensityControl::DensityControl(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, const DensityOptions& o)
     : options_(o) {
     inverse_rest_.resize(triangles.size());
-    inverse_rest_lanes_.assign(4 * ((triangles.size() + 3) / 4) * 4, 0.0f);
+    inverse_rest_lanes_.assign(lane_floats(triangles.size()), 0.0f);
     for (uint32_t t = 0; t < triangles.size(); ++t) set_rest(rest, triangles, t);
     stretch2_.assign(triangles.size(), 1.0f);
     squeeze2_.assign(triangles.size(), 1.0f);
@@ -90,7 +93,7 @@ void DensityControl::set_rest(std::span<const Vec3f> rest, std::span<const mesh:
 void DensityControl::topology_changed(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles,
                                       std::span<const uint32_t> touched) {
     inverse_rest_.resize(triangles.size(), Eigen::Matrix2f::Zero());
-    inverse_rest_lanes_.resize(4 * ((triangles.size() + 3) / 4) * 4, 0.0f);
+    inverse_rest_lanes_.resize(lane_floats(triangles.size()), 0.0f);  // zero, as the new inverses
     stretch2_.resize(triangles.size(), 1.0f);
     squeeze2_.resize(triangles.size(), 1.0f);
     reference2_.resize(triangles.size(), 1.0f);
