@@ -147,7 +147,7 @@ public:
         : in_(in), o_(o), s_(s), stats_(stats),
           by_triangle_(make_rows(in.triangles.size(), s.size(), [&](size_t i) { return s.triangle[i]; })),
           ring_(in.ring),
-          mark_(in.triangles.size(), 0), step_(1.0f / float(std::max(1u, o.fade_frames))), embedded_(s.embedded()),
+          mark_(in.triangles.size(), 0), vertex_mark_(in.anchors_drawn ? in.x.size() : 0, 0), step_(1.0f / float(std::max(1u, o.fade_frames))), embedded_(s.embedded()),
           fresh_(o.insert_spacing * in.h, 256), fresh_head_(in.triangles.size(), k_none), first_new_(uint32_t(s.size())) {
         s.pad_fades();
     }
@@ -182,8 +182,7 @@ public:
                 for (uint32_t i : by_triangle_[n])
                     if (!s_.retiring(i)) offer(s_.position[i]);
             for (uint32_t i = fresh_head_[n]; i != k_none; i = fresh_next_[i - first_new_]) offer(s_.position[i]);
-            if (in_.anchors_drawn)
-                for (uint32_t v : in_.triangles[n]) offer(in_.x[v].head<3>());
+            if (in_.anchors_drawn) each_new_corner(n, [&](uint32_t v) { offer(in_.x[v].head<3>()); });
         });
         const float area = 0.5f * (b - a).cross(c - a).norm();
         const float expected = area * o_.candidates / (in_.h * in_.h);
@@ -261,8 +260,7 @@ public:
             if (n != t)
                 for (uint32_t i : by_triangle_[n])
                     if (!s_.retiring(i)) local_.add(s_.position[i]);
-            if (in_.anchors_drawn)
-                for (uint32_t v : in_.triangles[n]) local_.add(in_.x[v].head<3>());
+            if (in_.anchors_drawn) each_new_corner(n, [&](uint32_t v) { local_.add(in_.x[v].head<3>()); });
         });
         const float r2 = (o_.retire_spacing * in_.h) * (o_.retire_spacing * in_.h);
         for (uint32_t i : by_triangle_[t]) {
@@ -290,13 +288,25 @@ private:
             }
     }
 
+    // Within a call of around(): each corner of triangle n not met yet in this call. A vertex is
+    // a corner of some six triangles of the ring: offered once, not three times (39 offers a
+    // resampling on balloon_inflate for some 13 vertices, each a point more for every dart).
+    template <class Visit>
+    void each_new_corner(uint32_t n, Visit&& visit) {
+        for (uint32_t v : in_.triangles[n]) {
+            if (vertex_mark_[v] == stamp_) continue;
+            vertex_mark_[v] = stamp_;
+            visit(v);
+        }
+    }
+
     Inputs in_;
     const DensityOptions& o_;
     BoundaryParticles& s_;
     DensityStats& stats_;
     Rows by_triangle_;
     const Rows& ring_;
-    std::vector<uint32_t> mark_;
+    std::vector<uint32_t> mark_, vertex_mark_;  // stamped per call of around()
     uint32_t stamp_ = 0;
     float step_;
     bool embedded_;
