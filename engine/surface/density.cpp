@@ -22,13 +22,19 @@ namespace {
 // SplitMix64: a 64-bit counter through a mixing function; plenty for throwing darts.
 struct SplitMix {
     uint64_t state;
-    uint32_t next() {
-        uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    static uint64_t mix(uint64_t z) {
         z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
         z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return uint32_t((z ^ (z >> 31)) >> 32);
+        return z ^ (z >> 31);
     }
-    float unit() { return float(next() >> 8) * (1.0f / 16777216.0f); }  // [0, 1)
+    uint32_t next() { return uint32_t(mix(state += 0x9E3779B97F4A7C15ull) >> 32); }
+    // Two numbers in [0, 1) for draw k of a stream keyed by `key`, from one mix: any draw without
+    // the ones before it, so a draw that is not needed is not made.
+    static void unit_pair(uint64_t key, uint64_t k, float& u, float& v) {
+        const uint64_t z = mix(key + (k + 1) * 0x9E3779B97F4A7C15ull);
+        u = float(uint32_t(z >> 40)) * (1.0f / 16777216.0f);
+        v = float(uint32_t(z >> 8) & 0xFFFFFFu) * (1.0f / 16777216.0f);
+    }
 };
 
 // A few dozen points tested by brute force: for the one-ring of a triangle, cheaper than any
@@ -199,17 +205,21 @@ public:
         uint32_t stride = 1 + 2 * (rng.next() % std::max(1u, n / 2));  // odd; coprime with n below
         while (std::gcd(stride, n) != 1) stride += 2;
         stride %= n;
+        // Each cell's dart from its own draw of the triangle's stream.
+        const uint64_t key = uint64_t(rng.next()) << 32 | rng.next();
         const float inv_cells = 1.0f / float(cells);
         const Vec3f &na = in_.normals[tri[0]], &nb = in_.normals[tri[1]], &nc = in_.normals[tri[2]];
         for (uint32_t k = 0; k < n; ++k) {
             // Cell m: row i (along b1) holds 2 (cells - i) - 1 sub-triangles, upright and
             // inverted alternately.
+            const uint32_t id = cell;
             uint32_t m = cell, i = 0;
             cell += stride;
             if (cell >= n) cell -= n;
             while (m >= 2 * (cells - i) - 1) m -= 2 * (cells - i) - 1, ++i;
             const uint32_t j = m / 2;
-            float u = rng.unit(), v = rng.unit();
+            float u, v;
+            SplitMix::unit_pair(key, id, u, v);
             if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
             // Upright cells span (i, j), (i + 1, j), (i, j + 1); inverted ones the mirror image
             // from (i + 1, j + 1).
