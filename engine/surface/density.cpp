@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <optional>
 #if defined(__SSE2__)
@@ -95,10 +96,31 @@ DensityControl::DensityControl(std::span<const Vec3f> rest, std::span<const mesh
     reference2_.assign(triangles.size(), 1.0f);
     reference_squeeze2_.assign(triangles.size(), 1.0f);
     beyond_.assign(triangles.size(), 0);
-    checked_stretch2_.assign(triangles.size(), 1.0f);
-    checked_squeeze2_.assign(triangles.size(), 1.0f);
     // A fresh maximal sampling has neither crowds nor gaps: the samples' trigger waits for a change.
     changed_.assign(triangles.size(), 0);
+    shrank_large2_.resize(triangles.size());
+    shrank_small2_.resize(triangles.size());
+    grew_large2_.resize(triangles.size());
+    grew_small2_.resize(triangles.size());
+    for (uint32_t t = 0; t < triangles.size(); ++t) arm_change_bounds(t);
+}
+
+namespace {
+constexpr float k_changed = 0.05f;  // the change (in stretch) that calls the samples' trigger
+constexpr float k_shrank2 = (1.0f - k_changed) * (1.0f - k_changed), k_grew2 = (1.0f + k_changed) * (1.0f + k_changed);
+} // namespace
+
+void DensityControl::arm_change_bounds(uint32_t t) {
+    shrank_large2_[t] = k_shrank2 * stretch2_[t];
+    shrank_small2_[t] = k_shrank2 * squeeze2_[t];
+    grew_large2_[t] = k_grew2 * stretch2_[t];
+    grew_small2_[t] = k_grew2 * squeeze2_[t];
+}
+
+void DensityControl::disarm_change_bounds(uint32_t t) {
+    // Squared stretches are >= 0 and finite (or NaN, which compares false): these never trigger.
+    if (changed_[t] & k_shrank) shrank_large2_[t] = shrank_small2_[t] = -1.0f;
+    if (changed_[t] & k_grew) grew_large2_[t] = grew_small2_[t] = std::numeric_limits<float>::infinity();
 }
 
 void DensityControl::set_rest(std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles, uint32_t t) {
@@ -117,10 +139,15 @@ void DensityControl::topology_changed(std::span<const Vec3f> rest, std::span<con
     reference2_.resize(triangles.size(), 1.0f);
     reference_squeeze2_.resize(triangles.size(), 1.0f);
     beyond_.resize(triangles.size(), 0);
-    checked_stretch2_.resize(triangles.size(), 1.0f);
-    checked_squeeze2_.resize(triangles.size(), 1.0f);
+    const size_t before = changed_.size();
     changed_.resize(triangles.size(), 1);
+    shrank_large2_.resize(triangles.size());
+    shrank_small2_.resize(triangles.size());
+    grew_large2_.resize(triangles.size());
+    grew_small2_.resize(triangles.size());
+    for (size_t t = before; t < triangles.size(); ++t) arm_change_bounds(uint32_t(t)), disarm_change_bounds(uint32_t(t));
     check_due_ = true;
+    check_wait_ = 0;  // a changed topology is checked once the settle frames since the last check have passed
     ring_.start.clear();
     // A touched triangle was refilled from its rest shape: its samples stand for stretch 1.
     for (uint32_t t : touched) {
@@ -129,6 +156,7 @@ void DensityControl::topology_changed(std::span<const Vec3f> rest, std::span<con
         reference_squeeze2_[t] = 1.0f;
         beyond_[t] = 0;
         changed_[t] = k_shrank | k_grew;
+        disarm_change_bounds(t);
     }
 }
 
@@ -343,8 +371,6 @@ std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const V
     // Squared stretches throughout (one square root a triangle instead of three, no division):
     // this loop runs over every triangle every frame, the whole cost of a frame where nothing
     // stretches.
-    constexpr float k_changed = 0.05f;
-    constexpr float shrank2 = (1.0f - k_changed) * (1.0f - k_changed), grew2 = (1.0f + k_changed) * (1.0f + k_changed);
     const float grow2 = options_.grow * options_.grow, shrink2 = options_.shrink * options_.shrink;
     const float squash2 = options_.squash * options_.squash, unsquash2 = 1.0f / squash2;
     const uint32_t settle = std::max(1u, options_.settle_frames);
@@ -352,12 +378,11 @@ std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const V
         // A sliver (zero inverse: zero stretches) keeps its reference: never due, never changed.
         if (stretch2_[t] == 0.0f && inverse_rest_[t].isZero()) return;
         const float l2 = stretch2_[t], s2 = squeeze2_[t];
-        const float large2 = checked_stretch2_[t], small2 = checked_squeeze2_[t];
         const uint8_t was = changed_[t];
         uint8_t now = was;
-        if (l2 < shrank2 * large2 || s2 < shrank2 * small2) now |= k_shrank;
-        if (l2 > grew2 * large2 || s2 > grew2 * small2) now |= k_grew;
-        if (now != was) changed_[t] = now, check_due_ = true;
+        if (l2 < shrank_large2_[t] || s2 < shrank_small2_[t]) now |= k_shrank;
+        if (l2 > grew_large2_[t] || s2 > grew_small2_[t]) now |= k_grew;
+        if (now != was) changed_[t] = now, check_due_ = true, disarm_change_bounds(t);
         const float ref2 = reference2_[t], ref_squeeze2 = std::max(reference_squeeze2_[t], 1e-12f);
         // Along its least stretched direction as well: a triangle squashed one way keeps its
         // largest stretch while its samples crowd along the other (a body landing), and when it
@@ -385,7 +410,7 @@ std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const V
     // they load), and the thresholds tested in the same lanes: a block where no triangle changed
     // by 5 %, none is past a threshold and none was is quiet, and skips the per-triangle logic.
     // A frame where nothing stretches costs this loop alone.
-    const __m128 v_shrank2 = _mm_set1_ps(shrank2), v_grew2 = _mm_set1_ps(grew2), v_grow2 = _mm_set1_ps(grow2);
+    const __m128 v_grow2 = _mm_set1_ps(grow2);
     const __m128 v_shrink2 = _mm_set1_ps(shrink2), v_squash2 = _mm_set1_ps(squash2), v_unsquash2 = _mm_set1_ps(unsquash2);
     const __m128 v_tiny = _mm_set1_ps(1e-12f), v_zero = _mm_setzero_ps(), v_half = _mm_set1_ps(0.5f), v_two = _mm_set1_ps(2.0f);
     for (; t + 4 <= n; t += 4) {
@@ -416,11 +441,10 @@ std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const V
         const __m128 l2 = _mm_add_ps(half, root), s2 = _mm_max_ps(_mm_sub_ps(half, root), v_zero);
         _mm_storeu_ps(stretch2_.data() + t, l2);
         _mm_storeu_ps(squeeze2_.data() + t, s2);
-        const __m128 large2 = _mm_loadu_ps(checked_stretch2_.data() + t), small2 = _mm_loadu_ps(checked_squeeze2_.data() + t);
         const __m128 ref2 = _mm_loadu_ps(reference2_.data() + t);
         const __m128 ref_squeeze2 = _mm_max_ps(_mm_loadu_ps(reference_squeeze2_.data() + t), v_tiny);
-        __m128 any = _mm_or_ps(_mm_cmplt_ps(l2, _mm_mul_ps(v_shrank2, large2)), _mm_cmplt_ps(s2, _mm_mul_ps(v_shrank2, small2)));
-        any = _mm_or_ps(any, _mm_or_ps(_mm_cmpgt_ps(l2, _mm_mul_ps(v_grew2, large2)), _mm_cmpgt_ps(s2, _mm_mul_ps(v_grew2, small2))));
+        __m128 any = _mm_or_ps(_mm_cmplt_ps(l2, _mm_loadu_ps(shrank_large2_.data() + t)), _mm_cmplt_ps(s2, _mm_loadu_ps(shrank_small2_.data() + t)));
+        any = _mm_or_ps(any, _mm_or_ps(_mm_cmpgt_ps(l2, _mm_loadu_ps(grew_large2_.data() + t)), _mm_cmpgt_ps(s2, _mm_loadu_ps(grew_small2_.data() + t))));
         any = _mm_or_ps(any, _mm_or_ps(_mm_cmpgt_ps(l2, _mm_mul_ps(v_grow2, ref2)), _mm_cmpgt_ps(s2, _mm_mul_ps(v_unsquash2, ref_squeeze2))));
         any = _mm_or_ps(any, _mm_or_ps(_mm_cmplt_ps(l2, _mm_mul_ps(v_shrink2, ref2)), _mm_cmplt_ps(s2, _mm_mul_ps(v_squash2, ref_squeeze2))));
         // NaN (a broken simulation) compares false everywhere: take the per-triangle path too.
@@ -482,7 +506,8 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
     }
     // The samples' own trigger, once the triangles' work is done (its new samples are kept).
     const bool by_samples = options_.crowd_spacing > 0.0f || options_.gap_spacing > 0.0f;
-    if (by_samples && check_due_ && frame_ >= checked_frame_ + std::max(1u, options_.settle_frames)) {
+    const uint32_t settle = std::max(1u, options_.settle_frames);
+    if (by_samples && check_due_ && frame_ >= checked_frame_ + std::max(settle, check_wait_)) {
         CrowdingQuery q;
         q.h = h;
         q.crowd = options_.crowd_spacing;
@@ -495,6 +520,7 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
         q.changed = changed_;
         q.ring = &ring(x.size(), triangles);
         CrowdingResult c = thin_crowds(x, normals, triangles, q, s);
+        stats.checked = true;
         stats.crowded = c.retired;
         stats.retired += c.retired;
         // Refill wherever no sample reaches, within what the triangles' work left of the budget.
@@ -510,9 +536,16 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
             ++stats.resampled;
         }
         for (size_t t = 0; t < changed_.size(); ++t)
-            if (changed_[t]) changed_[t] = 0, checked_stretch2_[t] = stretch2_[t], checked_squeeze2_[t] = squeeze2_[t];
+            if (changed_[t]) changed_[t] = 0, arm_change_bounds(uint32_t(t));
         checked_frame_ = frame_;
         check_due_ = false;
+        // A check that found nothing doubles the wait for the next, up to k_check_backoff times
+        // the settle frames; one that found anything brings it back. The changes keep adding up
+        // in between (changed_), so a later check still sees all of them. balloon_inflate's 42
+        // checks in 240 frames found nothing (the triangles' own trigger keeps up with an even
+        // inflation), a quarter of its density pass; a crumpling surface finds crowds at every
+        // check and keeps the short wait.
+        check_wait_ = c.retired == 0 && c.gaps.empty() ? std::min(2 * std::max(settle, check_wait_), k_check_backoff * settle) : settle;
     }
     stats.removed = uint32_t(advance_fades(s, &stats.fading));
     return stats;

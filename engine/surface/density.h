@@ -61,6 +61,7 @@ struct DensityStats {
     uint32_t crowded = 0;    // samples retired by the samples' own trigger (in `retired` too)
     uint32_t gaps = 0;       // triangles resampled because no sample covered their centre (in `resampled` too)
     bool capped = false;     // insertion stopped at the sample limit (set_max_samples)
+    bool checked = false;    // the samples' own trigger ran this frame
 };
 
 class DensityControl {
@@ -103,15 +104,24 @@ private:
     // a entries, then c, b, d (column-major order), so a block loads without a transpose.
     std::vector<float> inverse_rest_lanes_;
     // Per triangle, squared (the eigenvalues of F^T F): the largest and smallest stretch this
-    // frame, when the triangle was last sampled, and when the samples' trigger last ran.
+    // frame, and when the triangle was last sampled.
     std::vector<float> stretch2_, squeeze2_;
     std::vector<float> reference2_, reference_squeeze2_;
     std::vector<int8_t> beyond_;  // frames in a row past a threshold: + grow side, - shrink side
-    std::vector<float> checked_stretch2_, checked_squeeze2_;
-    std::vector<uint8_t> changed_;  // per triangle: k_shrank / k_grew since
+    std::vector<uint8_t> changed_;  // per triangle: k_shrank / k_grew since the samples' trigger last ran
+    // Per triangle, the squared stretches (largest, smallest) below which it has shrunk and above
+    // which it has grown by 5 % since the samples' trigger last ran; a bound is moved out of
+    // reach once its change is recorded in changed_, so a triangle that has changed stops
+    // drawing the scan's attention until the next run (with the wait between runs doubling, it
+    // did so on every frame of the wait).
+    std::vector<float> shrank_large2_, shrank_small2_, grew_large2_, grew_small2_;
+    void arm_change_bounds(uint32_t t);      // from this frame's stretches, nothing recorded
+    void disarm_change_bounds(uint32_t t);   // for the bits set in changed_[t]
     Rows ring_;
     uint64_t checked_frame_ = 0;
     bool check_due_ = false;  // some triangle changed shape since (or the topology did)
+    uint32_t check_wait_ = 0;  // frames from one check to the next (at least the settle frames)
+    static constexpr uint32_t k_check_backoff = 4;
     uint64_t frame_ = 0;
     size_t max_samples_ = 0;
 };

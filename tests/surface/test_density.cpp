@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <random>
+#include <string>
 
 #include "mesh/procedural.h"
 #include "sim/soft_body.h"
@@ -224,5 +225,39 @@ TEST_SUITE("surface/density") {
         // Facing the same way (a second layer, not a fold), the close sheet still counts.
         std::vector<Vec3f> same(p.size(), Vec3f(0.0f, 1.0f, 0.0f));
         CHECK(surface::spacing_report(p, 1.0f, {0.7f, 1.4f, SIZE_MAX, same}).within == 0.0f);
+    }
+}
+
+TEST_SUITE("surface/density") {
+    TEST_CASE("a check of the samples that finds nothing doubles the wait for the next, up to four settle periods") {
+        Balloon b;
+        const surface::DensityOptions o;
+        std::vector<int> checks;
+        std::vector<uint32_t> found;
+        // An even, slow inflation: the triangles' own trigger keeps up, and the samples' checks
+        // (called by every 5 % of change) find no gap and no crowd.
+        for (int f = 1; f <= 120; ++f) {
+            b.scale(1.0f + 0.004f * float(f));
+            const surface::DensityStats s = b.frame();
+            if (s.checked) checks.push_back(f), found.push_back(s.crowded + s.gaps);
+        }
+        REQUIRE(checks.size() >= 4);
+        for (size_t k = 0; k < checks.size(); ++k) CHECK_MESSAGE(found[k] == 0, "check at frame " << checks[k] << " found " << found[k]);
+        const int settle = int(o.settle_frames);
+        // A check also waits for a change of 5 %, so the gaps are at least the waits.
+        std::string at;
+        for (int c : checks) at += " " + std::to_string(c);
+        INFO("checks at frames" << at);
+        CHECK(checks[1] - checks[0] >= 2 * settle);
+        for (size_t k = 2; k < checks.size(); ++k) CHECK(checks[k] - checks[k - 1] >= 4 * settle);
+        // And no longer than needed: the 5 % come within a few frames here.
+        CHECK(checks.back() - checks[checks.size() - 2] < 6 * settle);
+        // A changed topology brings the short wait back: the next check comes as soon as the
+        // settle frames since the last have passed.
+        int last = checks.back(), f = 120;
+        while (f < last + settle) b.scale(1.0f + 0.004f * float(++f)), b.frame();
+        b.density.topology_changed(b.body.rest_positions, b.body.triangles, {});
+        b.scale(1.0f + 0.004f * float(++f));
+        CHECK(b.frame().checked);
     }
 }
