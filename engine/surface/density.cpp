@@ -1,6 +1,7 @@
 #include "surface/density.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -57,21 +58,28 @@ public:
     // of the darts' instructions on balloon_inflate).
     bool near(const Vec3f& p, float r2) const {
 #if defined(__SSE2__)
-        const __m128 px = _mm_set1_ps(p.x()), py = _mm_set1_ps(p.y()), pz = _mm_set1_ps(p.z()), v_r2 = _mm_set1_ps(r2);
+        return near(_mm_setr_ps(p.x(), p.y(), p.z(), 0.0f), r2);
+#else
+        for (const Block& b : blocks_) {
+            const Eigen::Array4f dx = b.x - p.x(), dy = b.y - p.y(), dz = b.z - p.z();
+            if (((dx * dx + dy * dy + dz * dz) < r2).any()) return true;
+        }
+        return false;
+#endif
+    }
+#if defined(__SSE2__)
+    // The same for a point in lanes x, y, z (the fourth ignored).
+    bool near(__m128 p, float r2) const {
+        const __m128 px = _mm_shuffle_ps(p, p, 0x00), py = _mm_shuffle_ps(p, p, 0x55), pz = _mm_shuffle_ps(p, p, 0xAA), v_r2 = _mm_set1_ps(r2);
         for (const Block& b : blocks_) {
             const __m128 dx = _mm_sub_ps(_mm_load_ps(b.x.data()), px), dy = _mm_sub_ps(_mm_load_ps(b.y.data()), py);
             const __m128 dz = _mm_sub_ps(_mm_load_ps(b.z.data()), pz);
             const __m128 d2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
             if (_mm_movemask_ps(_mm_cmplt_ps(d2, v_r2)) != 0) return true;
         }
-#else
-        for (const Block& b : blocks_) {
-            const Eigen::Array4f dx = b.x - p.x(), dy = b.y - p.y(), dz = b.z - p.z();
-            if (((dx * dx + dy * dy + dz * dz) < r2).any()) return true;
-        }
-#endif
         return false;
     }
+#endif
 
 private:
     struct Block {
@@ -237,15 +245,16 @@ public:
         const uint64_t key = uint64_t(rng.next()) << 32 | rng.next();
         const float inv_cells = 1.0f / float(cells);
         const Vec3f &na = in_.normals[tri[0]], &nb = in_.normals[tri[1]], &nc = in_.normals[tri[2]];
+        const uint16_t* rows = cell_rows(cells);
+#if defined(__SSE2__)
+        const __m128 lane_a = _mm_loadu_ps(in_.x[tri[0]].data()), lane_b = _mm_loadu_ps(in_.x[tri[1]].data()),
+                     lane_c = _mm_loadu_ps(in_.x[tri[2]].data());
+#endif
         for (uint32_t k = 0; k < n; ++k) {
-            // Cell m: row i (along b1) holds 2 (cells - i) - 1 sub-triangles, upright and
-            // inverted alternately.
             const uint32_t id = cell;
-            uint32_t m = cell, i = 0;
             cell += stride;
             if (cell >= n) cell -= n;
-            while (m >= 2 * (cells - i) - 1) m -= 2 * (cells - i) - 1, ++i;
-            const uint32_t j = m / 2;
+            const uint32_t i = rows[id] >> 8, m = rows[id] & 0xFFu, j = m / 2;
             float u, v;
             SplitMix::unit_pair(key, id, u, v);
             if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
@@ -255,20 +264,35 @@ public:
             const float b1 = (inverted ? float(i + 1) - u : float(i) + u) * inv_cells;
             const float b2 = (inverted ? float(j + 1) - v : float(j) + v) * inv_cells;
             const float b0 = 1.0f - b1 - b2;
-            Vec3f p = b0 * a + b1 * b + b2 * c;
+            // The one-ring's samples (this frame's new ones included) in a flat list, the rest of
+            // the frame's new ones in a grid: a hash grid rebuilt per triangle cost 27 lookups a
+            // dart and the clearing of its table.
+            Vec3f p;
             // The normal and the offset only where the samples stand off the triangle, or for a
             // dart that stays: most are rejected.
             float d = 0.0f;
             Vec3f local = Vec3f::UnitZ(), interpolated = Vec3f::Zero();
             if (embedded_) {
+                p = b0 * a + b1 * b + b2 * c;
                 interpolate_embedding(neighbours_, Vec2f(b1, b2), d, local);
                 interpolated = b0 * na + b1 * nb + b2 * nc;
                 p += d * interpolated;
+                if (local_.near(p, r2)) continue;
+            } else {
+#if defined(__SSE2__)
+                // In lanes, the same sums in the same order: a rejected dart never leaves them.
+                const __m128 q = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(b0), lane_a), _mm_mul_ps(_mm_set1_ps(b1), lane_b)),
+                                            _mm_mul_ps(_mm_set1_ps(b2), lane_c));
+                if (local_.near(q, r2)) continue;
+                alignas(16) float out[4];
+                _mm_store_ps(out, q);
+                p = Vec3f(out[0], out[1], out[2]);
+#else
+                p = b0 * a + b1 * b + b2 * c;
+                if (local_.near(p, r2)) continue;
+#endif
             }
-            // The one-ring's samples (this frame's new ones included) in a flat list, the rest of
-            // the frame's new ones in a grid: a hash grid rebuilt per triangle cost 27 lookups a
-            // dart and the clearing of its table.
-            if (local_.near(p, r2) || fresh_.near(p)) continue;
+            if (fresh_.near(p)) continue;
             if (in_.max_samples && s_.size() >= in_.max_samples) {
                 stats_.capped = true;
                 break;
@@ -313,6 +337,18 @@ public:
     }
 
 private:
+    // Per cell of a triangle cut into `cells` x `cells`: its row i (along b1) in the high byte
+    // and its place m in the row in the low one. Row i holds 2 (cells - i) - 1 cells, upright
+    // (m even) and inverted alternately. Kept per size: finding the row by walking them was a
+    // tenth of a dart.
+    const uint16_t* cell_rows(uint32_t cells) {
+        std::vector<uint16_t>& rows = cell_rows_[cells];
+        if (rows.empty())
+            for (uint32_t i = 0; i < cells; ++i)
+                for (uint32_t m = 0; m < 2 * (cells - i) - 1; ++m) rows.push_back(uint16_t(i << 8 | m));
+        return rows.data();
+    }
+
     // The triangles sharing a vertex with t (t included), each once per call.
     template <class Visit>
     void around(uint32_t t, Visit&& visit) {
@@ -349,6 +385,7 @@ private:
     float step_;
     bool embedded_;
     std::vector<uint32_t> same_;
+    std::array<std::vector<uint16_t>, 65> cell_rows_;  // by cells (1 to 64)
     EmbeddedNeighbours neighbours_;  // same_'s embeddings, for the darts' interpolation
     LocalPoints local_;  // the samples around the triangle at hand
     PointGrid fresh_;    // every sample inserted this frame
