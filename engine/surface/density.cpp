@@ -17,6 +17,7 @@
 #include "surface/embedding.h"
 #include "surface/point_grid.h"
 #include "surface/rows.h"
+#include "surface/stretch_scan.h"
 
 namespace pbdsplat::surface {
 namespace {
@@ -442,59 +443,26 @@ std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const V
     };
     const size_t n = triangles.size();
     size_t t = 0;
-#if defined(__SSE2__)
-    // Four triangles at a time (mesh::squared_stretches in SSE lanes, the corners transposed as
-    // they load), and the thresholds tested in the same lanes: a block where no triangle changed
-    // by 5 %, none is past a threshold and none was is quiet, and skips the per-triangle logic.
-    // A frame where nothing stretches costs this loop alone.
-    const __m128 v_grow2 = _mm_set1_ps(grow2);
-    const __m128 v_shrink2 = _mm_set1_ps(shrink2), v_squash2 = _mm_set1_ps(squash2), v_unsquash2 = _mm_set1_ps(unsquash2);
-    const __m128 v_tiny = _mm_set1_ps(1e-12f), v_zero = _mm_setzero_ps(), v_half = _mm_set1_ps(0.5f), v_two = _mm_set1_ps(2.0f);
-    for (; t + 4 <= n; t += 4) {
-        __m128 e1[4], e2[4];
-        for (int k = 0; k < 4; ++k) {
-            const mesh::Triangle& tri = triangles[t + size_t(k)];
-            const __m128 o = _mm_loadu_ps(x[tri[0]].data());
-            e1[k] = _mm_sub_ps(_mm_loadu_ps(x[tri[1]].data()), o);
-            e2[k] = _mm_sub_ps(_mm_loadu_ps(x[tri[2]].data()), o);
-        }
-        _MM_TRANSPOSE4_PS(e1[0], e1[1], e1[2], e1[3]);
-        _MM_TRANSPOSE4_PS(e2[0], e2[1], e2[2], e2[3]);
-        const float* rest = inverse_rest_lanes_.data() + 4 * t;  // t is a multiple of 4: its block
-        const __m128 a = _mm_loadu_ps(rest), c = _mm_loadu_ps(rest + 4), b = _mm_loadu_ps(rest + 8), d = _mm_loadu_ps(rest + 12);
-        auto dot = [](const __m128* u, const __m128* v) {
-            return _mm_add_ps(_mm_add_ps(_mm_mul_ps(u[0], v[0]), _mm_mul_ps(u[1], v[1])), _mm_mul_ps(u[2], v[2]));
-        };
-        const __m128 g11 = dot(e1, e1), g12 = dot(e1, e2), g22 = dot(e2, e2);
-        auto form = [&](__m128 p, __m128 q) {  // (p, q) G (p, q)^T
-            return _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(p, p), g11), _mm_mul_ps(_mm_mul_ps(v_two, _mm_mul_ps(p, q)), g12)),
-                              _mm_mul_ps(_mm_mul_ps(q, q), g22));
-        };
-        const __m128 p11 = form(a, c), p22 = form(b, d);
-        const __m128 p12 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(a, b), g11), _mm_mul_ps(_mm_add_ps(_mm_mul_ps(a, d), _mm_mul_ps(b, c)), g12)),
-                                      _mm_mul_ps(_mm_mul_ps(c, d), g22));
-        const __m128 half = _mm_mul_ps(v_half, _mm_add_ps(p11, p22)), diff = _mm_mul_ps(v_half, _mm_sub_ps(p11, p22));
-        const __m128 root = _mm_sqrt_ps(_mm_add_ps(_mm_mul_ps(diff, diff), _mm_mul_ps(p12, p12)));
-        const __m128 l2 = _mm_add_ps(half, root), s2 = _mm_max_ps(_mm_sub_ps(half, root), v_zero);
-        _mm_storeu_ps(stretch2_.data() + t, l2);
-        _mm_storeu_ps(squeeze2_.data() + t, s2);
-        const __m128 ref2 = _mm_loadu_ps(reference2_.data() + t);
-        const __m128 ref_squeeze2 = _mm_max_ps(_mm_loadu_ps(reference_squeeze2_.data() + t), v_tiny);
-        __m128 any = _mm_or_ps(_mm_cmplt_ps(l2, _mm_loadu_ps(shrank_large2_.data() + t)), _mm_cmplt_ps(s2, _mm_loadu_ps(shrank_small2_.data() + t)));
-        any = _mm_or_ps(any, _mm_or_ps(_mm_cmpgt_ps(l2, _mm_loadu_ps(grew_large2_.data() + t)), _mm_cmpgt_ps(s2, _mm_loadu_ps(grew_small2_.data() + t))));
-        any = _mm_or_ps(any, _mm_or_ps(_mm_cmpgt_ps(l2, _mm_mul_ps(v_grow2, ref2)), _mm_cmpgt_ps(s2, _mm_mul_ps(v_unsquash2, ref_squeeze2))));
-        any = _mm_or_ps(any, _mm_or_ps(_mm_cmplt_ps(l2, _mm_mul_ps(v_shrink2, ref2)), _mm_cmplt_ps(s2, _mm_mul_ps(v_squash2, ref_squeeze2))));
-        // NaN (a broken simulation) compares false everywhere: take the per-triangle path too.
-        any = _mm_or_ps(any, _mm_cmpunord_ps(l2, s2));
-        // Only the lanes that changed, crossed a threshold or were counting frames past one: for
-        // any other, the per-triangle logic changes nothing (an inflating body has every block
-        // busy, rarely every lane).
-        uint32_t lanes = uint32_t(_mm_movemask_ps(any));
-        for (uint32_t k = 0; k < 4; ++k)
-            if (beyond_[t + k] != 0) lanes |= 1u << k;
-        for (; lanes != 0; lanes &= lanes - 1) thresholds(uint32_t(t) + uint32_t(std::countr_zero(lanes)));
-    }
-#endif
+    // Most triangles in SIMD lanes (surface/stretch_scan.h): only those that changed, crossed a
+    // threshold or were counting frames past one come back for the per-triangle logic (an
+    // inflating body has most blocks busy, rarely every lane); a frame where nothing stretches
+    // costs the scan alone.
+    busy_.clear();
+    StretchScan scan;
+    scan.x = x;
+    scan.triangles = triangles;
+    scan.rest_lanes = inverse_rest_lanes_.data();
+    scan.stretch2 = stretch2_.data();
+    scan.squeeze2 = squeeze2_.data();
+    scan.shrank_large2 = shrank_large2_.data(), scan.shrank_small2 = shrank_small2_.data();
+    scan.grew_large2 = grew_large2_.data(), scan.grew_small2 = grew_small2_.data();
+    scan.reference2 = reference2_.data(), scan.reference_squeeze2 = reference_squeeze2_.data();
+    scan.beyond = beyond_.data();
+    scan.grow2 = grow2, scan.shrink2 = shrink2, scan.squash2 = squash2, scan.unsquash2 = unsquash2;
+    t = scan_stretches(scan, busy_);
+    // Each triangle's logic reads and writes its own entries only: after the scan, in order, it
+    // does what it did inside it.
+    for (uint32_t b : busy_) thresholds(b);
     for (; t < n; ++t) {
         const auto& tri = triangles[t];
         const Vec3f o = x[tri[0]].head<3>();

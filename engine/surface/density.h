@@ -115,6 +115,7 @@ private:
     // drawing the scan's attention until the next run (with the wait between runs doubling, it
     // did so on every frame of the wait).
     std::vector<float> shrank_large2_, shrank_small2_, grew_large2_, grew_small2_;
+    std::vector<uint32_t> busy_;  // this frame's triangles for the per-triangle logic (the scan's)
     void arm_change_bounds(uint32_t t);      // from this frame's stretches, nothing recorded
     void disarm_change_bounds(uint32_t t);   // for the bits set in changed_[t]
     Rows ring_;
