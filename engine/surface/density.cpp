@@ -268,6 +268,16 @@ public:
             // The one-ring's samples (this frame's new ones included) in a flat list, the rest of
             // the frame's new ones in a grid: a hash grid rebuilt per triangle cost 27 lookups a
             // dart and the clearing of its table.
+#if defined(__SSE2__)
+            // Off the embedding, the dart in lanes first, the same sums in the same order: a
+            // rejected dart (most) never leaves them, nor sets up anything else.
+            __m128 lanes_p = _mm_setzero_ps();
+            if (!embedded_) {
+                lanes_p = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(b0), lane_a), _mm_mul_ps(_mm_set1_ps(b1), lane_b)),
+                                     _mm_mul_ps(_mm_set1_ps(b2), lane_c));
+                if (local_.near(lanes_p, r2)) continue;
+            }
+#endif
             Vec3f p;
             // The normal and the offset only where the samples stand off the triangle, or for a
             // dart that stays: most are rejected.
@@ -281,12 +291,8 @@ public:
                 if (local_.near(p, r2)) continue;
             } else {
 #if defined(__SSE2__)
-                // In lanes, the same sums in the same order: a rejected dart never leaves them.
-                const __m128 q = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(b0), lane_a), _mm_mul_ps(_mm_set1_ps(b1), lane_b)),
-                                            _mm_mul_ps(_mm_set1_ps(b2), lane_c));
-                if (local_.near(q, r2)) continue;
                 alignas(16) float out[4];
-                _mm_store_ps(out, q);
+                _mm_store_ps(out, lanes_p);
                 p = Vec3f(out[0], out[1], out[2]);
 #else
                 p = b0 * a + b1 * b + b2 * c;
