@@ -88,8 +88,10 @@ TEST_SUITE("surface/stretch_scan") {
             else ++quiet;
         }
         CHECK(busy == expected);
+#if defined(__SSE2__)
         CHECK(quiet > 0);  // the bounds leave some lanes quiet, and some busy
         CHECK(!busy.empty());
+#endif
     }
 
     TEST_CASE("the eight-lane scan gives the four-lane scan's bits") {
