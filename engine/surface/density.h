@@ -98,6 +98,8 @@ private:
     // The triangles around each particle (surface/rows.h), rebuilt after a topology change.
     const Rows& ring(size_t particles, std::span<const mesh::Triangle> triangles);
     std::vector<Due> due_triangles(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangles);
+    void arm_change_bounds(uint32_t t);     // from this frame's stretches, nothing recorded
+    void disarm_change_bounds(uint32_t t);  // for the bits set in changed_[t]
     DensityOptions options_;
     std::vector<Eigen::Matrix2f> inverse_rest_;  // per triangle, in its own rest frame; zero for slivers
     // The same, laid out for the stretch scan's four lanes: per block of four triangles, their
@@ -116,8 +118,6 @@ private:
     // did so on every frame of the wait).
     std::vector<float> shrank_large2_, shrank_small2_, grew_large2_, grew_small2_;
     std::vector<uint32_t> busy_;  // this frame's triangles for the per-triangle logic (the scan's)
-    void arm_change_bounds(uint32_t t);      // from this frame's stretches, nothing recorded
-    void disarm_change_bounds(uint32_t t);   // for the bits set in changed_[t]
     Rows ring_;
     uint64_t checked_frame_ = 0;
     bool check_due_ = false;  // some triangle changed shape since (or the topology did)
