@@ -86,4 +86,22 @@ double signed_volume(const TriangleMesh& mesh) {
     return v / 6.0;
 }
 
+void append(TriangleMesh& into, const TriangleMesh& part, const Eigen::Affine3f& transform, const Vec3f& fill_color) {
+    const size_t before = into.positions.size(), added = part.positions.size();
+    const auto pad = [&](auto& mine, const auto& theirs, const auto& fill, auto map) {
+        if (mine.empty() && theirs.empty()) return;
+        mine.resize(before, fill);
+        if (theirs.empty()) mine.resize(before + added, fill);
+        else
+            for (const auto& v : theirs) mine.push_back(map(v));
+    };
+    const Eigen::Matrix3f normal_map = transform.linear().inverse().transpose();
+    pad(into.normals, part.normals, Vec3f::Zero(), [&](const Vec3f& n) { return Vec3f((normal_map * n).normalized()); });
+    pad(into.uvs, part.uvs, Vec2f::Zero(), [](const Vec2f& uv) { return uv; });
+    pad(into.colors, part.colors, fill_color, [](const Vec3f& c) { return c; });
+    for (const Vec3f& p : part.positions) into.positions.push_back(transform * p);
+    const uint32_t base = uint32_t(before);
+    for (const Triangle& t : part.triangles) into.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+}
+
 } // namespace pbdsplat::mesh

@@ -22,6 +22,12 @@ struct TriangleMesh {
     size_t triangle_count() const { return triangles.size(); }
 };
 
+// Appends `part` to `into` as a separate component, its positions (and normals) transformed.
+// An attribute either mesh lacks is filled for its vertices: normals and uvs with zeros,
+// colours with `fill_color` (so a coloured part next to an uncoloured one keeps its colours).
+void append(TriangleMesh& into, const TriangleMesh& part, const Eigen::Affine3f& transform = Eigen::Affine3f::Identity(),
+            const Vec3f& fill_color = Vec3f::Ones());
+
 // Axis-aligned bounds; both zero for an empty mesh.
 struct Bounds {
     Vec3f min = Vec3f::Zero();

@@ -26,6 +26,17 @@ struct ModelDesc {
     bool close_holes = false;  // cap the model's open boundary loops (a balloon needs a closed surface)
 };
 
+// Another model beside [model] ([[bodies]] in a scene file): the pieces of one soft body, so
+// every stage (sampling, density, mapping, cuts, tears, contact, checks, export) takes them as
+// it takes the pieces of a cut. The simulation settings are the scene's.
+struct BodyDesc {
+    ModelDesc model;
+    Vec3f velocity = Vec3f::Zero();  // m/s at the start
+    bool fixed = false;              // static: every particle pinned (a table, a bowl, a ramp)
+    std::optional<Vec3f> color;      // linear rgb; the material's colour without it
+    std::optional<uint32_t> particles;  // its simulation size, as simulation.particles says for [model]
+};
+
 enum class SurfaceMode { boundary, vertices };
 inline constexpr core::EnumName<SurfaceMode> k_surface_mode_names[] = {{SurfaceMode::boundary, "boundary"}, {SurfaceMode::vertices, "vertices"}};
 
@@ -75,7 +86,8 @@ struct SimulationDesc {
     float compliance = 0.0f;         // XPBD stretch compliance, m/N
     float volume_compliance = 0.0f;  // XPBD
     float pressure = 1.0f;           // initial k
-    float friction = 0.4f;
+    float friction = 0.4f;           // kinetic, of every contact (colliders and moving surfaces)
+    float static_friction = 0.4f;    // read as `friction` where the scene file does not set it
     std::vector<uint32_t> pins;      // particle indices of the repaired, reordered mesh
     std::vector<PinRegion> pin_regions;
     sim::Colliders colliders;        // friction copied from `friction`
@@ -179,6 +191,7 @@ struct Scene {
     std::string name;        // file stem, or "default"
     std::string source_dir;  // directory of the scene file (models are looked up there first)
     ModelDesc model;
+    std::vector<BodyDesc> bodies;  // beside `model`
     MaterialDesc material;
     SurfaceDesc surface;
     SimulationDesc simulation;

@@ -5,6 +5,7 @@
 
 #include "passes/coverage.h"
 #include "scene/scene_runtime.h"
+#include "sim/contact.h"
 #include "sim/shape_error.h"
 #include "splat/strays.h"
 #include "surface/density.h"
@@ -20,8 +21,9 @@ double area_of(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangl
 }
 
 // Shape and volume error, strays and sample spacing of the frame the runtime just stepped.
-void sample_body_and_splats(const SceneRuntime& rt, CheckSample& s) {
+void sample_body_and_splats(const SceneRuntime& rt, const sim::ContactSettings& contact, CheckSample& s) {
     const sim::ShapeReport shape = sim::shape_report(rt.body());
+    s.penetration = rt.spacing() > 0.0f ? double(sim::max_penetration(rt.body(), contact)) / double(rt.spacing()) : 0.0;
     s.shape_error = shape.max_error;
     s.pieces = shape.pieces.size();
     for (const sim::PieceShape& p : shape.pieces) s.volume_error = std::max(s.volume_error, p.volume_error);
@@ -101,6 +103,7 @@ void summarise(CheckReport& report, std::vector<double> stage_a) {
         if (s.cuts == 0 && s.tears == 0) report.shape_error_before_topology = std::max(report.shape_error_before_topology, s.shape_error);
         report.strays_max = std::max(report.strays_max, s.strays);
         report.volume_error_max = std::max(report.volume_error_max, s.volume_error);
+        report.penetration_max = std::max(report.penetration_max, s.penetration);
         if (s.hole_ratio >= 0.0) {
             report.hole_ratio_max = std::max(report.hole_ratio_max, s.hole_ratio);
             report.iou_min = report.iou_min < 0.0 ? s.iou : std::min(report.iou_min, s.iou);
@@ -167,7 +170,7 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
         s.tears = st.tears;
         s.particles = st.particles;
         s.gaussians = st.gaussians;
-        sample_body_and_splats(rt, s);
+        sample_body_and_splats(rt, scene.simulation.solver.contact, s);
         if (o.gpu) PBDSPLAT_TRY(sample_coverage(rt, scene, o, rest_area, s));
         report.samples.push_back(s);
     }

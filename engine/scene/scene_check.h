@@ -4,7 +4,7 @@
 // floats away from the surface, that the splats close the surface (hole ratio and silhouette
 // IoU against a raster of the same deformed surface), how many pieces there are, and how far
 // each piece's volume is from its target, how many dark specks show through the front surface,
-// and whether the boundary particles keep their spacing.
+// whether the boundary particles keep their spacing, and whether any piece lies inside another.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -42,6 +42,9 @@ struct CheckSample {
     double area_ratio = -1.0;
     size_t pieces = 0, particles = 0, gaussians = 0;
     double volume_error = 0.0;  // the worst piece with a volume constraint
+    // The deepest simulation particle inside another piece, or behind its own surface away from
+    // its neighbourhood, over the sampling spacing h (sim::max_penetration).
+    double penetration = 0.0;
 };
 
 struct CheckReport {
@@ -52,6 +55,7 @@ struct CheckReport {
     double hole_ratio_max = -1.0, iou_min = -1.0, speck_ratio_max = -1.0, shading_error_max = -1.0;
     double spacing_within_min = -1.0, spacing_within_3d_min = -1.0;
     double volume_error_max = 0.0;
+    double penetration_max = 0.0;
     size_t pieces = 0;  // at the end
     size_t particles = 0, gaussians = 0;  // at the end
     double stage_a_ms = 0.0;  // median of the frames' Stage A (forces, constraints, integrate)

@@ -183,6 +183,19 @@ void read_model(const Reader& r, Reader::Table& t, ModelDesc& m) {
     t.finish();
 }
 
+BodyDesc read_body(const Reader& r, const toml::node& n) {
+    if (!n.is_table()) r.fail(n.source(), "'bodies' holds tables ([[bodies]] with mesh = \"...\" and the [model] keys)");
+    Reader::Table t(r, *n.as_table(), "bodies");
+    BodyDesc b;
+    if (!t.has("mesh")) r.fail(n.source(), "a [[bodies]] entry needs 'mesh' (a model file or a procedural mesh such as \"box:1\")");
+    read_keys<ModelDesc>(t, b.model, k_model_keys);
+    read_keys<BodyDesc>(t, b, k_body_keys);
+    if (t.has("color")) b.color = t.vec<3>("color", Vec3f::Ones(), 0.0, 1.0);
+    if (t.has("particles")) b.particles = t.count("particles", 0, 0, 10'000'000);
+    t.finish();
+    return b;
+}
+
 void read_material(Reader::Table& t, MaterialDesc& m) {
     read_keys<MaterialDesc>(t, m, k_material_keys);
     t.finish();
@@ -243,7 +256,9 @@ void read_simulation(const Reader& r, Reader::Table& t, SimulationDesc& s) {
             }
             c.finish();
         }
-    s.colliders.friction = s.friction;
+    if (!t.has("static_friction")) s.static_friction = s.friction;
+    s.colliders.friction = {s.friction, s.static_friction};
+    s.solver.contact.friction = s.colliders.friction;
     t.finish();
 }
 
@@ -442,6 +457,8 @@ core::Result<Scene> parse_scene(const std::string& text, const std::string& name
             Reader::Table m(r, *t, "model");
             read_model(r, m, scene.model);
         }
+        if (const toml::array* bodies = top.array("bodies"))
+            for (const toml::node& n : *bodies) scene.bodies.push_back(read_body(r, n));
         if (const toml::table* t = top.table("material")) {
             Reader::Table m(r, *t, "material");
             read_material(m, scene.material);

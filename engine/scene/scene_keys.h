@@ -40,6 +40,11 @@ inline const Key<ModelDesc> k_model_keys[] = {
     PBDSPLAT_KEY(ModelDesc, "scale", scale, 1e-6, 1e6),
     PBDSPLAT_KEY(ModelDesc, "close_holes", close_holes),
 };
+// One entry of [[bodies]], after the model keys; `color` and `particles` beside it.
+inline const Key<BodyDesc> k_body_keys[] = {
+    PBDSPLAT_KEY(BodyDesc, "velocity", velocity, -1e4, 1e4),
+    PBDSPLAT_KEY(BodyDesc, "static", fixed),
+};
 inline const Key<MaterialDesc> k_material_keys[] = {
     PBDSPLAT_KEY(MaterialDesc, "color", color, 0.0, 1.0),
     PBDSPLAT_KEY(MaterialDesc, "opacity", opacity, 1e-4, 0.9999),
@@ -82,6 +87,9 @@ inline const Key<SimulationDesc> k_simulation_keys[] = {
     PBDSPLAT_KEY(SimulationDesc, "damping", solver.damping, 0.0, 1000.0),
     PBDSPLAT_KEY(SimulationDesc, "mass", mass, 1e-6, 1e6),
     PBDSPLAT_KEY(SimulationDesc, "friction", friction, 0.0, 10.0),
+    PBDSPLAT_KEY(SimulationDesc, "static_friction", static_friction, 0.0, 10.0),
+    PBDSPLAT_KEY(SimulationDesc, "contact", solver.contact.enabled),
+    PBDSPLAT_KEY(SimulationDesc, "contact_thickness", solver.contact.thickness, 0.0, 10.0),
     PBDSPLAT_KEY(SimulationDesc, "cut_snap", cut.snap, 0.0, 0.45),
     PBDSPLAT_KEY(SimulationDesc, "fade_frames", fade_frames, 1, 600),
 };

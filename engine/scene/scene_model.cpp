@@ -1,8 +1,10 @@
 #include "scene/scene_model.h"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "mesh/mesh_spec.h"
+#include "mesh/reorder.h"
 
 namespace pbdsplat::scene {
 
@@ -11,36 +13,44 @@ uint32_t simulation_particles(const Scene& scene) {
     return mesh::is_procedural_spec(scene.model.mesh) ? 0u : k_default_simulation_particles;
 }
 
-core::Result<SceneModel> load_scene_model(const Scene& scene) {
+namespace {
+
+// One model of the scene as the simulation takes it: its simulation mesh (Morton-ordered, so
+// the parts of a scene sit in index ranges of their own), and the model's own surface when the
+// simulation mesh is a decimated copy of it.
+struct Part {
+    mesh::TriangleMesh coarse;
+    std::optional<mesh::TriangleMesh> fine;
+    mesh::DecimateReport decimation;
+};
+
+core::Result<Part> load_part(const ModelDesc& md, uint32_t target, const std::string& source_dir) {
     mesh::MeshSpecOptions mo;
-    mo.file_fit_diagonal = scene.model.fit;
-    mo.close_holes = scene.model.close_holes;
-    std::string spec = scene.model.mesh;
+    mo.file_fit_diagonal = md.fit;
+    mo.close_holes = md.close_holes;
+    std::string spec = md.mesh;
     // A model file is looked up next to the scene first.
-    if (!scene.source_dir.empty()) {
-        const std::filesystem::path beside = std::filesystem::path(scene.source_dir) / spec;
+    if (!source_dir.empty()) {
+        const std::filesystem::path beside = std::filesystem::path(source_dir) / spec;
         std::error_code ec;
         if (std::filesystem::is_regular_file(beside, ec)) spec = beside.string();
     }
     auto repaired = mesh::load_mesh_spec(spec, mo);
     if (!repaired.ok()) return repaired.error();
     mesh::TriangleMesh m = std::move(repaired).value().mesh;
-    const ModelDesc& md = scene.model;
     const Mat3f r = (Eigen::AngleAxisf(math::radians(md.rotate_degrees.z()), Vec3f::UnitZ()) *
                      Eigen::AngleAxisf(math::radians(md.rotate_degrees.y()), Vec3f::UnitY()) *
                      Eigen::AngleAxisf(math::radians(md.rotate_degrees.x()), Vec3f::UnitX()))
                         .toRotationMatrix();
     for (Vec3f& p : m.positions) p = r * (p * md.scale) + md.translate;
 
-    SceneModel out;
-    const uint32_t target = simulation_particles(scene);
-    mesh::TriangleMesh coarse;
+    Part out;
     if (target > 0 && target < m.vertex_count()) {
         mesh::DecimateOptions d;
         d.target_vertices = target;
-        auto dec = mesh::decimate(m, d, scene.model.mesh);
+        auto dec = mesh::decimate(m, d, md.mesh);
         if (!dec.ok()) return dec.error();
-        coarse = std::move(dec.value().mesh);
+        out.coarse = std::move(dec.value().mesh);
         out.decimation = dec.value().report;
         out.fine = std::move(m);
     } else {
@@ -48,7 +58,59 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
             return core::make_error("simulation.particles = " + std::to_string(target) + ": a body needs at least 4 (0 keeps the model's)");
         out.decimation.input_vertices = out.decimation.output_vertices = m.vertex_count();
         out.decimation.input_triangles = out.decimation.output_triangles = m.triangle_count();
-        coarse = std::move(m);
+        out.coarse = std::move(m);
+    }
+    return out;
+}
+
+uint32_t part_particles(const ModelDesc& md, const std::optional<uint32_t>& asked) {
+    if (asked) return *asked;
+    return mesh::is_procedural_spec(md.mesh) ? 0u : k_default_simulation_particles;
+}
+
+} // namespace
+
+core::Result<SceneModel> load_scene_model(const Scene& scene) {
+    auto first = load_part(scene.model, simulation_particles(scene), scene.source_dir);
+    if (!first.ok()) return first.error();
+    SceneModel out;
+    mesh::TriangleMesh coarse;
+    if (scene.bodies.empty()) {
+        coarse = std::move(first.value().coarse);
+        out.fine = std::move(first.value().fine);
+        out.decimation = first.value().decimation;
+    } else {
+        // Several models: the parts of one body, each in its own range of particles.
+        std::vector<Part> parts;
+        parts.push_back(std::move(first).value());
+        for (size_t k = 0; k < scene.bodies.size(); ++k) {
+            const BodyDesc& b = scene.bodies[k];
+            auto part = load_part(b.model, part_particles(b.model, b.particles), scene.source_dir);
+            if (!part.ok()) return core::make_error("bodies[" + std::to_string(k) + "] (" + b.model.mesh + "): " + part.error().to_string());
+            parts.push_back(std::move(part).value());
+        }
+        bool any_fine = false, any_color = false;
+        for (const Part& p : parts) any_fine = any_fine || p.fine.has_value();
+        for (const BodyDesc& b : scene.bodies) any_color = any_color || b.color.has_value();
+        mesh::TriangleMesh fine;
+        for (size_t k = 0; k < parts.size(); ++k) {
+            Part& p = parts[k];
+            const Vec3f color = k > 0 && scene.bodies[k - 1].color ? *scene.bodies[k - 1].color : scene.material.color;
+            if (any_color) {
+                p.coarse.colors.assign(p.coarse.vertex_count(), color);
+                if (p.fine) p.fine->colors.assign(p.fine->vertex_count(), color);
+            }
+            mesh::reorder_for_locality(p.coarse);
+            out.part_start.push_back(uint32_t(coarse.vertex_count()));
+            if (any_fine) mesh::append(fine, p.fine ? *p.fine : p.coarse, Eigen::Affine3f::Identity(), color);
+            mesh::append(coarse, p.coarse, Eigen::Affine3f::Identity(), color);
+            out.decimation.input_vertices += p.decimation.input_vertices;
+            out.decimation.output_vertices += p.decimation.output_vertices;
+            out.decimation.input_triangles += p.decimation.input_triangles;
+            out.decimation.output_triangles += p.decimation.output_triangles;
+        }
+        out.part_start.push_back(uint32_t(coarse.vertex_count()));
+        if (any_fine) out.fine = std::move(fine);
     }
 
     const SimulationDesc& s = scene.simulation;
@@ -59,9 +121,18 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     desc.pressure = s.pressure;
     desc.volume_compliance = s.volume_compliance;
     desc.shape_matching = s.solver.shape_stiffness > 0.0f;
+    desc.reorder = scene.bodies.empty();  // the parts were ordered one by one, and keep their ranges
     auto body = sim::make_soft_body(std::move(coarse), desc);
     if (!body.ok()) return body.error();
     sim::SoftBody b = std::move(body).value();
+    for (size_t k = 0; k < scene.bodies.size(); ++k) {
+        const BodyDesc& d = scene.bodies[k];
+        for (uint32_t i = out.part_start[k + 1]; i < out.part_start[k + 2]; ++i) {
+            if (d.fixed) b.pin(i);
+            else b.particles.v[i] = sim::to4(d.velocity);
+        }
+    }
+    const bool any_fixed = std::any_of(scene.bodies.begin(), scene.bodies.end(), [](const BodyDesc& d) { return d.fixed; });
     for (uint32_t pin : s.pins) {
         if (pin >= b.particle_count())
             return core::make_error("pinned particle " + std::to_string(pin) + " does not exist: the mesh has " +
@@ -74,7 +145,7 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
             if ((x.array() >= region.min.array()).all() && (x.array() <= region.max.array()).all()) b.pin(i);
         }
     // Pins change the masses the shape clusters weigh the fit with.
-    if (!s.pins.empty() || !s.pin_regions.empty()) sim::rebuild_shape_clusters(b);
+    if (!s.pins.empty() || !s.pin_regions.empty() || any_fixed) sim::rebuild_shape_clusters(b);
     out.body = std::move(b);
     return out;
 }

@@ -2,6 +2,7 @@
 // The model of a scene brought into the simulation: the repaired full-resolution surface, the
 // simulation mesh decimated from it (or the model itself), and the body built on that.
 #include <optional>
+#include <vector>
 
 #include "core/result.h"
 #include "mesh/decimate.h"
@@ -16,7 +17,10 @@ struct SceneModel {
     // The model's own surface, transformed into the scene, when the body is a decimated copy
     // of it; empty when the body simulates the model's vertices.
     std::optional<mesh::TriangleMesh> fine;
-    mesh::DecimateReport decimation;
+    mesh::DecimateReport decimation;  // summed over the models
+    // With [[bodies]]: where each model's particles start ([model] first, then the bodies in
+    // order), and the particle count last. Empty for one model.
+    std::vector<uint32_t> part_start;
 };
 
 // The simulation size a scene asks for: 0 keeps the model's vertices.

@@ -64,6 +64,13 @@ void write_keys(std::ostream& o, const D& section, std::span<const Key<D>> keys,
 void write_model_material_surface(std::ostream& o, const Scene& sc) {
     o << "[model]\n";
     write_keys<ModelDesc>(o, sc.model, k_model_keys);
+    for (const BodyDesc& b : sc.bodies) {
+        o << "\n[[bodies]]\n";
+        write_keys<ModelDesc>(o, b.model, k_model_keys);
+        write_keys<BodyDesc>(o, b, k_body_keys);
+        if (b.color) o << "color = [" << num(b.color->x()) << ", " << num(b.color->y()) << ", " << num(b.color->z()) << "]\n";
+        if (b.particles) o << "particles = " << *b.particles << "\n";
+    }
     o << "\n[material]\n";
     write_keys<MaterialDesc>(o, sc.material, k_material_keys);
     o << "\n[surface]\nmode = \"" << core::name_of<SurfaceMode>(k_surface_mode_names, sc.surface.mode) << "\"\n";

@@ -1,12 +1,20 @@
 #pragma once
 // Static collision shapes of a scene. Particles are pushed out along the surface normal;
-// friction removes tangential motion in proportion to the penetration depth.
+// friction removes tangential motion in proportion to the depth resolved (position-based Coulomb
+// friction: the depth stands for the normal impulse).
 #include <optional>
 #include <vector>
 
 #include "core/math.h"
 
 namespace pbdsplat::sim {
+
+// The friction model of every contact, colliders and moving pieces alike: tangential motion
+// below static_ x depth is removed whole (the particle sticks), above it kinetic x depth of it is.
+struct Friction {
+    float kinetic = 0.4f;
+    float static_ = 0.4f;
+};
 
 struct GroundPlane {
     Vec3f normal{0.0f, 1.0f, 0.0f};  // unit, pointing into free space
@@ -28,7 +36,7 @@ struct Colliders {
     std::optional<GroundPlane> ground;
     std::vector<SphereCollider> spheres;
     std::vector<BoxCollider> boxes;
-    float friction = 0.4f;  // Coulomb-like coefficient
+    Friction friction;
     bool empty() const { return !ground && spheres.empty() && boxes.empty(); }
 };
 

@@ -1,22 +1,22 @@
 #include "sim/collision.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace pbdsplat::sim {
 namespace {
 
 // Moves x out by `depth` along unit `n`, then removes tangential motion: all of it while it is
-// below friction * depth (sticking), else that much of it (sliding).
+// below static x depth (sticking), else kinetic x depth of it (sliding).
 template <class Real>
-void resolve(Vec4<Real>& x, const Vec4<Real>& x_prev, const Vec3f& n, Real depth, Real friction) {
+void resolve(Vec4<Real>& x, const Vec4<Real>& x_prev, const Vec3f& n, Real depth, const Friction& friction) {
     const Vec4<Real> n4 = to4<Real>(n);
     x += depth * n4;
     const Vec4<Real> motion = x - x_prev;
     const Vec4<Real> tangential = motion - motion.dot(n4) * n4;
     const Real t = tangential.norm();
-    const Real limit = friction * depth;
-    if (t <= limit) x -= tangential;
-    else if (t > Real(0)) x -= (limit / t) * tangential;
+    if (t <= Real(friction.static_) * depth) x -= tangential;
+    else if (t > Real(0)) x -= std::min(Real(1), Real(friction.kinetic) * depth / t) * tangential;
 }
 
 } // namespace
@@ -25,7 +25,7 @@ template <class Real>
 void solve_collisions(const Colliders& colliders, ParticlesT<Real>& p, size_t begin, size_t end) {
     if (colliders.empty()) return;
     using V3 = Eigen::Matrix<Real, 3, 1>;
-    const Real mu = Real(colliders.friction);
+    const Friction& mu = colliders.friction;
     for (size_t i = begin; i < end; ++i) {
         if (p.w[i] == Real(0)) continue;
         Vec4<Real>& x = p.x[i];

@@ -12,6 +12,8 @@ const char* stage_name(Stage s) {
     case Stage::shape: return "shape";
     case Stage::drag: return "drag";
     case Stage::collide: return "collide";
+    case Stage::find_contacts: return "contacts";
+    case Stage::contact: return "contact";
     case Stage::velocities: return "velocities";
     case Stage::normals: return "normals";
     }
@@ -21,6 +23,7 @@ const char* stage_name(Stage s) {
 StageGroup stage_group(Stage s) {
     switch (s) {
     case Stage::forces: return StageGroup::apply_forces;
+    case Stage::find_contacts: return StageGroup::constraints;
     case Stage::velocities:
     case Stage::normals: return StageGroup::integrate_normals;
     default: return StageGroup::constraints;
@@ -28,13 +31,16 @@ StageGroup stage_group(Stage s) {
 }
 
 std::vector<ScheduledStage> frame_schedule(const SolverSettings& s) {
-    constexpr Stage k_constraints[] = {Stage::distance, Stage::volume, Stage::shape, Stage::drag, Stage::collide};
+    constexpr Stage k_constraints[] = {Stage::distance, Stage::volume, Stage::shape, Stage::drag, Stage::collide, Stage::contact};
+    const bool contact = s.contact.enabled;
     std::vector<ScheduledStage> out;
-    out.reserve(size_t(s.substeps) * (2 + s.iterations * std::size(k_constraints)) + 1);
+    out.reserve(size_t(s.substeps) * (3 + s.iterations * std::size(k_constraints)) + 1);
     for (uint32_t sub = 0; sub < s.substeps; ++sub) {
         out.push_back({Stage::forces, sub, 0});
+        if (contact) out.push_back({Stage::find_contacts, sub, 0});
         for (uint32_t it = 0; it < s.iterations; ++it)
-            for (Stage c : k_constraints) out.push_back({c, sub, it});
+            for (Stage c : k_constraints)
+                if (c != Stage::contact || contact) out.push_back({c, sub, it});
         out.push_back({Stage::velocities, sub, 0});
     }
     out.push_back({Stage::normals, 0, 0});

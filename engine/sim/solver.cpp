@@ -27,6 +27,11 @@ core::Status validate(const SolverSettings& s) {
         return core::make_error("shape stiffness must be in [0, 1] (0 turns shape matching off)");
     if (!(s.shape_compliance >= 0.0f) || !std::isfinite(s.shape_compliance))
         return core::make_error("shape compliance must be >= 0");
+    if (!(s.contact.thickness >= 0.0f) || !std::isfinite(s.contact.thickness))
+        return core::make_error("contact thickness must be >= 0 (0: a quarter of the mean edge length)");
+    if (!(s.contact.friction.kinetic >= 0.0f && s.contact.friction.static_ >= 0.0f) || !std::isfinite(s.contact.friction.kinetic) ||
+        !std::isfinite(s.contact.friction.static_))
+        return core::make_error("friction coefficients must be finite and >= 0");
     return core::Status::success();
 }
 
@@ -144,6 +149,16 @@ void SolverT<Real>::collide(SoftBodyT<Real>& body, const Colliders& colliders) {
 }
 
 template <class Real>
+void SolverT<Real>::find_contacts(SoftBodyT<Real>& body, const SolverSettings& s) {
+    contact_.find(body, s.contact);
+}
+
+template <class Real>
+void SolverT<Real>::project_contacts(SoftBodyT<Real>& body, const SolverSettings& s) {
+    contact_.project(body, s.contact);
+}
+
+template <class Real>
 void SolverT<Real>::end_substep(SoftBodyT<Real>& body, Real h) {
     for_range(body.particles.size(), k_particle_grain, [&](size_t b, size_t e) { update_velocities<Real>(body.particles, h, b, e); });
 }
@@ -169,6 +184,8 @@ void SolverT<Real>::run(Stage stage, SoftBodyT<Real>& body, const SolverSettings
     case Stage::shape: project_shape(body, s, h); break;
     case Stage::drag: apply_drag(body, drag); break;
     case Stage::collide: collide(body, colliders); break;
+    case Stage::find_contacts: find_contacts(body, s); break;
+    case Stage::contact: project_contacts(body, s); break;
     case Stage::velocities: end_substep(body, h); break;
     case Stage::normals: update_normals(body); break;
     }

@@ -1,12 +1,14 @@
 #pragma once
 // One frame of Stage A, in the paper's order (section 5.2): external forces, prediction,
-// I iterations of [distance constraints, overpressure constraint] (+ collisions and drag),
+// I iterations of [distance constraints, overpressure constraint] (+ collisions, contact between
+// moving surfaces and drag),
 // velocities from positions, normals. Each stage is its own function over compact arrays.
 #include <cstdint>
 
 #include "core/names.h"
 #include "core/thread_pool.h"
 #include "sim/colliders.h"
+#include "sim/contact.h"
 #include "sim/constraints.h"
 #include "sim/schedule.h"
 #include "sim/soft_body.h"
@@ -33,6 +35,7 @@ struct SolverSettings {
     float shape_stiffness = 0.0f;
     float shape_compliance = 0.0f;
     bool volume = true;               // project the body's volume constraints
+    ContactSettings contact;          // between the pieces of the body, and of a piece with itself
 };
 
 // Milliseconds per stage of the last step, named as in the paper's Tables 3 and 4.
@@ -75,6 +78,9 @@ public:
     void project_shape(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
     void apply_drag(SoftBodyT<Real>& body, const DragConstraint& drag);
     void collide(SoftBodyT<Real>& body, const Colliders& colliders);
+    void find_contacts(SoftBodyT<Real>& body, const SolverSettings& s);
+    void project_contacts(SoftBodyT<Real>& body, const SolverSettings& s);
+    const ContactSolverT<Real>& contact() const { return contact_; }
     void end_substep(SoftBodyT<Real>& body, Real h);
     void update_normals(SoftBodyT<Real>& body);
 
@@ -91,6 +97,7 @@ private:
     std::vector<VolumeSums> totals_;  // per slot
     std::vector<Real> steps_;       // per slot
     VolumeSlots slots_;
+    ContactSolverT<Real> contact_;  // this substep's candidates
 };
 using Solver = SolverT<float>;
 

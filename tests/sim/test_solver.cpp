@@ -20,7 +20,8 @@ TEST_SUITE("sim/solver") {
         sim::SolverSettings s;
         s.iterations = 2;
         s.substeps = 2;
-        const auto schedule = sim::frame_schedule(s);
+        s.contact.enabled = false;
+        auto schedule = sim::frame_schedule(s);
         std::string order;
         for (const auto& e : schedule) order += std::string(sim::stage_name(e.stage)) + " ";
         CHECK(order == "forces distance volume shape drag collide distance volume shape drag collide velocities "
@@ -28,6 +29,16 @@ TEST_SUITE("sim/solver") {
         CHECK(schedule[7].substep == 0);
         CHECK(schedule[7].iteration == 1);
         CHECK(schedule[13].substep == 1);
+        // Contact (on by default) searches once a substep after prediction and projects last in
+        // every iteration.
+        s.contact.enabled = true;
+        schedule = sim::frame_schedule(s);
+        order.clear();
+        for (const auto& e : schedule) order += std::string(sim::stage_name(e.stage)) + " ";
+        CHECK(order == "forces contacts distance volume shape drag collide contact distance volume shape drag collide contact velocities "
+                       "forces contacts distance volume shape drag collide contact distance volume shape drag collide contact velocities normals ");
+        CHECK(schedule[8].iteration == 1);
+        CHECK(schedule[15].substep == 1);
         CHECK(sim::stage_group(sim::Stage::collide) == sim::StageGroup::constraints);
         CHECK(sim::stage_group(sim::Stage::normals) == sim::StageGroup::integrate_normals);
     }

@@ -1,0 +1,499 @@
+#include "sim/contact.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <tuple>
+
+#include "mesh/closest_point.h"
+
+namespace pbdsplat::sim {
+
+ContactScale contact_scale(float mean_rest_edge, const ContactSettings& s) {
+    ContactScale c;
+    c.edge = mean_rest_edge;
+    c.thickness = s.thickness > 0.0f ? s.thickness : k_auto_thickness * mean_rest_edge;
+    // As deep as the thickness: deeper than a resting contact's error gets, far shallower than
+    // the far side of a thin part (a particle that deep came through it, and pushing it out would
+    // be wrong). A particle that was outside at the substep's start is pushed out from any depth.
+    c.margin = c.thickness;
+    // Two and a half edges: the particle's ring and the next (its surface's own curvature and
+    // the triangles around it), so a resting surface never pushes itself apart.
+    c.exclusion = 2.5f * mean_rest_edge + c.thickness;
+    return c;
+}
+
+template <class Real>
+float mean_rest_edge(const SoftBodyT<Real>& body) {
+    double sum = 0.0;
+    size_t n = 0;
+    for (const DistanceConstraint& d : body.distance)
+        if (d.alive()) sum += double(d.rest), ++n;
+    return n ? float(sum / double(n)) : 0.0f;
+}
+
+namespace {
+
+// How far beside a triangle (over its mean edge length) a particle still counts as over it: the
+// rounding of a point projected onto an edge two triangles share.
+constexpr float k_over = 0.01f;
+
+// A hash grid cell's key; the table's size is a power of two.
+inline uint32_t cell_hash(int x, int y, int z) {
+    return (uint32_t(x) * 73856093u) ^ (uint32_t(y) * 19349663u) ^ (uint32_t(z) * 83492791u);
+}
+inline Eigen::Vector3i cell_of(const Vec3f& p, float inv_cell) {
+    return {int(std::floor(p.x() * inv_cell)), int(std::floor(p.y() * inv_cell)), int(std::floor(p.z() * inv_cell))};
+}
+
+template <class Real>
+inline Vec3f pos3(const Vec4<Real>& v) { return v.template head<3>().template cast<float>(); }
+
+// Where p lies over triangle (a, b, c): the closest point's weights of a, b, c, the signed
+// distance along the unit normal n, and how far the closest point lies beside p's projection.
+struct Over {
+    float wa, wb, wc;
+    float height;   // (p - q) . n
+    float lateral;  // |(p - q) - height n|
+};
+inline Over over_triangle(const Vec3f& p, const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& n) {
+    const Vec2f w = mesh::closest_point_barycentric(p, a, b, c);
+    const Vec3f q = a + w.x() * (b - a) + w.y() * (c - a);
+    const Vec3f d = p - q;
+    const float height = d.dot(n);
+    return {1.0f - w.x() - w.y(), w.x(), w.y(), height, (d - height * n).norm()};
+}
+inline Vec3f unit_normal(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+    const Vec3f n = (b - a).cross(c - a);
+    const float len = n.norm();
+    return len > 0.0f ? Vec3f(n / len) : Vec3f::Zero();
+}
+
+} // namespace
+
+template <class Real>
+void ContactSolverT<Real>::build_fans(const SoftBodyT<Real>& body) {
+    fans_.clear(), fan_vertices_.clear(), fan_triangles_.clear();
+    fan_chunks_ = 0;
+    closed_.assign(body.pieces, 0);
+    for (const VolumeConstraint& v : body.volumes) {
+        if (v.piece >= body.pieces || v.leaking_done()) continue;
+        closed_[v.piece] = 1;
+        for (const std::vector<uint32_t>& loop : v.cap_loops) {
+            if (loop.size() < 3) continue;
+            Fan f;
+            f.first = uint32_t(fan_vertices_.size()), f.count = uint32_t(loop.size()), f.piece = v.piece;
+            fan_vertices_.insert(fan_vertices_.end(), loop.begin(), loop.end());
+            // In chunks of k_fan_chunk triangles: a wedge of the cap, a group of the broad phase.
+            for (uint32_t k = 0; k < f.count; ++k) {
+                if (k % k_fan_chunk == 0) ++fan_chunks_;
+                fan_triangles_.push_back({uint32_t(fans_.size()), k, fan_chunks_ - 1});
+            }
+            fans_.push_back(f);
+        }
+    }
+}
+
+template <class Real>
+void ContactSolverT<Real>::update_fans(const ParticlesT<Real>& p, bool prev) {
+    for (Fan& f : fans_) {
+        Vec4<Real> c = Vec4<Real>::Zero();
+        for (uint32_t k = 0; k < f.count; ++k) {
+            const uint32_t i = fan_vertices_[f.first + k];
+            c += prev ? p.x_prev[i] : p.x[i];
+        }
+        (prev ? f.centroid_prev : f.centroid) = c / Real(f.count);
+    }
+}
+
+template <class Real>
+typename ContactSolverT<Real>::Corners ContactSolverT<Real>::corners_of(const SoftBodyT<Real>& body, uint32_t t) const {
+    const size_t real = body.triangles.size();
+    if (t < real) {
+        const mesh::Triangle& tri = body.triangles[t];
+        return {tri[0], tri[1], tri[2], nullptr};
+    }
+    // (centroid, loop[k], loop[k + 1]): the orientation the volume constraint closes the piece with.
+    const FanTriangle& ft = fan_triangles_[t - real];
+    const Fan& f = fans_[ft.fan];
+    return {UINT32_MAX, fan_vertices_[f.first + ft.corner], fan_vertices_[f.first + (ft.corner + 1) % f.count], &f};
+}
+
+template <class Real>
+void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch, uint32_t group, float r_ex2) {
+    const bool rest_known = body.rest_positions.size() == body.particles.size();
+    const float reach = scale_.thickness + scale_.margin;
+    const Eigen::AlignedBox3f& patch_box = particle_box_[patch];
+    for (uint32_t q = group_start_[group]; q < group_start_[group + 1]; ++q) {
+        const uint32_t t = group_triangles_[q];
+        if (!triangle_box_[q].intersects(patch_box)) continue;
+        // The triangle's corners now and at the start (a fan's first corner is its centroid).
+        const Corners tk = corners_of(body, t);
+        const uint32_t ia = tk.ia, ib = tk.ib, ic = tk.ic;
+        const Vec3f a = tk.fan ? pos3(tk.fan->centroid) : now_[ia], b = now_[ib], c = now_[ic];
+        const Vec3f a0 = tk.fan ? pos3(tk.fan->centroid_prev) : then_[ia], b0 = then_[ib], c0 = then_[ic];
+        const uint32_t piece = tk.fan ? tk.fan->piece : body.piece_of_particle[ia];
+        if (piece >= body.pieces) continue;
+        const Eigen::AlignedBox3f box(triangle_box_[q].min() - Vec3f::Constant(reach), triangle_box_[q].max() + Vec3f::Constant(reach));
+        Vec3f nrm = Vec3f::Zero(), nrm0 = Vec3f::Zero();
+        float d_now = 0.0f, d_then = 0.0f;
+        bool planes = false;
+        const bool closed = closed_[piece] != 0;
+        for (uint32_t e = patch_start_[patch]; e < patch_start_[patch + 1]; ++e) {
+            const uint32_t i = patch_particles_[e];
+            if (!box.contains(now_[i]) && !box.contains(then_[i])) continue;
+            if (i == ia || i == ib || i == ic) continue;
+            const uint32_t pi = body.piece_of_particle[i];
+            if (pi == k_no_piece) continue;
+            ++pairs_tested_;
+            if (!self_ && pi == piece) continue;
+            if (tk.fan ? pi == piece : origin_[i] == origin_[ia]) {
+                // A particle's own neighbourhood (in rest space) never touches it, on its own
+                // piece or across a seam a cut or tear made (where the two sides start out on
+                // each other: the cut face's cap carries their contact); nor does its own cap,
+                // which closes it along its rim.
+                if (tk.fan || !rest_known) continue;
+                const Vec3f& r = body.rest_positions[i];
+                if ((r - body.rest_positions[ia]).squaredNorm() < r_ex2 || (r - body.rest_positions[ib]).squaredNorm() < r_ex2 ||
+                    (r - body.rest_positions[ic]).squaredNorm() < r_ex2)
+                    continue;
+            }
+            if (!planes) {
+                nrm = unit_normal(a, b, c), nrm0 = unit_normal(a0, b0, c0);
+                d_now = a.dot(nrm), d_then = a0.dot(nrm0);
+                planes = true;
+            }
+            if (nrm.isZero() || nrm0.isZero()) break;
+            // Heights over the planes first (cheap), the closest points after.
+            const float h_then = then_[i].dot(nrm0) - d_then, h_now = now_[i].dot(nrm) - d_now;
+            // Outside a closed piece, or shallowly inside it (pushed out); an open piece keeps a
+            // particle on the side it started on. A particle of the same piece that started
+            // behind is in a fold that was there before: which way is out is not known, so it
+            // is left alone.
+            float side;
+            if (closed && pi != piece) {
+                if (h_then < -scale_.margin) continue;
+                side = 1.0f;
+            } else {
+                side = h_then >= 0.0f ? 1.0f : -1.0f;
+                if (closed && side < 0.0f) continue;
+            }
+            if (side * h_now > reach) continue;  // clear of it at the end of the sweep
+            const Over now = over_triangle(now_[i], a, b, c, nrm), then = over_triangle(then_[i], a0, b0, c0, nrm0);
+            if (now.lateral > scale_.thickness && then.lateral > scale_.thickness) continue;  // beside it
+            contacts_.push_back({i, t, side});
+        }
+    }
+}
+
+template <class Real>
+void ContactSolverT<Real>::update_origins(const SoftBodyT<Real>& body) {
+    const size_t n = body.particles.size(), known = origin_.size();
+    if (known == n) return;
+    if (known > n || known == 0) {  // a body met for the first time: its pieces as they are
+        origin_.assign(body.piece_of_particle.begin(), body.piece_of_particle.end());
+        return;
+    }
+    // Particles a cut or tear added take the origin of a particle they share a triangle with
+    // (every one of them lies on a triangle of the piece it was cut from).
+    origin_.resize(n, k_no_piece);
+    for (int pass = 0; pass < 3; ++pass)
+        for (const mesh::Triangle& t : body.triangles)
+            for (int c = 0; c < 3; ++c)
+                if (origin_[t[size_t(c)]] == k_no_piece)
+                    for (int d = 1; d < 3; ++d)
+                        if (const uint32_t o = origin_[t[size_t((c + d) % 3)]]; o != k_no_piece) {
+                            origin_[t[size_t(c)]] = o;
+                            break;
+                        }
+}
+
+template <class Real>
+void ContactSolverT<Real>::build_patches(const SoftBodyT<Real>& body) {
+    // A patch is one piece's particles in one rest-space cell: the two sides of a cut share
+    // cells but go their own ways. Rest positions only grow (a cut's new particles get theirs),
+    // so the patches are kept until the particle count, the pieces or the edge length change.
+    const size_t n = body.particles.size();
+    if (patch_of_.size() == n && patch_edge_ == scale_.edge && patch_pieces_ == body.pieces && !patch_start_.empty()) return;
+    patch_edge_ = scale_.edge, patch_pieces_ = body.pieces;
+    const bool rest_known = body.rest_positions.size() == n;
+    const float inv_cell = 2.0f / scale_.exclusion;
+    struct Keyed {
+        uint32_t piece;
+        int x, y, z;
+        uint32_t i;
+        bool operator<(const Keyed& o) const { return std::tie(piece, x, y, z, i) < std::tie(o.piece, o.x, o.y, o.z, o.i); }
+        bool same_patch(const Keyed& o) const { return piece == o.piece && x == o.x && y == o.y && z == o.z; }
+    };
+    std::vector<Keyed> keyed(n);
+    for (uint32_t i = 0; i < n; ++i) {
+        const Eigen::Vector3i c = rest_known ? cell_of(body.rest_positions[i], inv_cell) : Eigen::Vector3i(int(i / 16), 0, 0);
+        keyed[i] = {body.piece_of_particle[i], c.x(), c.y(), c.z(), i};
+    }
+    std::sort(keyed.begin(), keyed.end());
+    patch_of_.resize(n), patch_particles_.resize(n);
+    patch_start_.assign(1, 0);
+    for (uint32_t k = 0; k < n; ++k) {
+        if (k > 0 && !keyed[k].same_patch(keyed[k - 1])) patch_start_.push_back(k);
+        patch_particles_[k] = keyed[k].i;
+        patch_of_[keyed[k].i] = uint32_t(patch_start_.size() - 1);
+    }
+    patch_start_.push_back(uint32_t(n));
+}
+
+template <class Real>
+void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettings& s) {
+    contacts_.clear();
+    pairs_tested_ = 0;
+    const ParticlesT<Real>& p = body.particles;
+    const size_t n = p.size();
+    scale_ = contact_scale(mean_rest_edge(body), s);
+    if (!s.enabled || n == 0 || body.triangles.empty() || !(scale_.edge > 0.0f)) return;
+    build_fans(body);
+    update_fans(p, true);
+    update_fans(p, false);
+
+    // Broad phase over patches: the particles of one cell of a rest-space grid (cells half the
+    // exclusion radius wide, so a patch is a compact piece of surface), each with the swept box
+    // of its particles (grown by the reach) and of the triangles whose first corner it holds; a
+    // cap loop's fan is a triangle group of its own. A pair of groups whose boxes meet is tested
+    // particle by triangle, unless both lie in one piece and their rest boxes are within half the
+    // exclusion radius (a surface resting against itself, everywhere on a body at rest: that is
+    // what makes the search cost next to nothing where nothing touches). So the parts of a piece
+    // that never touch are those within 1 to 2.2 exclusion radii of each other at rest.
+    const float reach = scale_.thickness + scale_.margin;
+    now_.resize(n), then_.resize(n);
+    for (size_t i = 0; i < n; ++i) now_[i] = pos3(p.x[i]), then_[i] = pos3(p.x_prev[i]);
+    const size_t real = body.triangles.size();
+    self_ = s.self;
+    update_origins(body);
+    build_patches(body);
+    const uint32_t patches = uint32_t(patch_start_.size() - 1);
+    const uint32_t groups = patches + fan_chunks_;
+    const uint32_t mixed = UINT32_MAX - 1;
+    particle_box_.assign(patches, Eigen::AlignedBox3f());
+    rest_box_.assign(patches, Eigen::AlignedBox3f());
+    group_box_.assign(groups, Eigen::AlignedBox3f());
+    patch_piece_.assign(groups, k_no_piece);
+    patch_origin_.assign(patches, k_no_piece);
+    const bool rest_known = body.rest_positions.size() == n;
+    for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t g = patch_of_[i], pi = body.piece_of_particle[i];
+        if (pi == k_no_piece) continue;
+        particle_box_[g].extend(now_[i]).extend(then_[i]);
+        if (rest_known) rest_box_[g].extend(body.rest_positions[i]);
+        patch_piece_[g] = patch_piece_[g] == k_no_piece || patch_piece_[g] == pi ? pi : mixed;
+        patch_origin_[g] = patch_origin_[g] == k_no_piece || patch_origin_[g] == origin_[i] ? origin_[i] : mixed;
+    }
+    for (Eigen::AlignedBox3f& b : particle_box_)
+        if (!b.isEmpty()) b = Eigen::AlignedBox3f(b.min() - Vec3f::Constant(reach), b.max() + Vec3f::Constant(reach));
+    group_start_.assign(groups + 1, 0);
+    for (size_t t = 0; t < real; ++t) ++group_start_[patch_of_[body.triangles[t][0]] + 1];
+    for (const FanTriangle& ft : fan_triangles_) ++group_start_[patches + ft.chunk + 1];
+    for (uint32_t g = 0; g < groups; ++g) group_start_[g + 1] += group_start_[g];
+    group_triangles_.resize(group_start_.back());
+    {
+        std::vector<uint32_t>& cursor = cell_of_;
+        cursor.assign(group_start_.begin(), group_start_.end() - 1);
+        triangle_box_.resize(group_triangles_.size());
+        const auto swept = [](const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& a0, const Vec3f& b0, const Vec3f& c0) {
+            return Eigen::AlignedBox3f(a.cwiseMin(b).cwiseMin(c).cwiseMin(a0).cwiseMin(b0).cwiseMin(c0),
+                                       a.cwiseMax(b).cwiseMax(c).cwiseMax(a0).cwiseMax(b0).cwiseMax(c0));
+        };
+        for (uint32_t t = 0; t < real; ++t) {
+            const mesh::Triangle& tri = body.triangles[t];
+            const uint32_t g = patch_of_[tri[0]];
+            const uint32_t q = cursor[g]++;
+            group_triangles_[q] = t;
+            triangle_box_[q] = swept(now_[tri[0]], now_[tri[1]], now_[tri[2]], then_[tri[0]], then_[tri[1]], then_[tri[2]]);
+            group_box_[g].extend(triangle_box_[q]);
+        }
+        for (uint32_t k = 0; k < fan_triangles_.size(); ++k) {
+            const Fan& fan = fans_[fan_triangles_[k].fan];
+            const uint32_t g = patches + fan_triangles_[k].chunk;
+            const uint32_t q = cursor[g]++;
+            group_triangles_[q] = uint32_t(real + k);
+            const Corners tk = corners_of(body, uint32_t(real + k));
+            triangle_box_[q] = swept(pos3(fan.centroid), now_[tk.ib], now_[tk.ic], pos3(fan.centroid_prev), then_[tk.ib], then_[tk.ic]);
+            group_box_[g].extend(triangle_box_[q]);
+            patch_piece_[g] = fan.piece;
+        }
+    }
+    // The triangle groups into a hash grid of cells about a patch wide; each particle patch reads
+    // the cells its box meets.
+    float extent = 0.0f;
+    size_t boxes = 0;
+    for (const Eigen::AlignedBox3f& b : particle_box_)
+        if (!b.isEmpty()) extent += b.sizes().maxCoeff(), ++boxes;
+    const float inv_cell = boxes ? float(boxes) / extent : 1.0f;
+    // A box more than k_span cells wide (a cap across the body, a patch stretched along a seam)
+    // stays out of the grid: it is tested against every box of the other kind.
+    constexpr int k_span = 8;
+    const auto cells = [&](const Eigen::AlignedBox3f& b, Eigen::Vector3i& lo, Eigen::Vector3i& hi) {
+        lo = cell_of(b.min(), inv_cell), hi = cell_of(b.max(), inv_cell);
+        return ((hi - lo).array() < k_span).all();
+    };
+    const uint32_t table = std::bit_ceil(std::max(16u, 4 * groups));
+    cell_start_.assign(table + 1, 0);
+    const auto each_cell = [&](const Eigen::Vector3i& lo, const Eigen::Vector3i& hi, const auto& fn) {
+        for (int z = lo.z(); z <= hi.z(); ++z)
+            for (int y = lo.y(); y <= hi.y(); ++y)
+                for (int x = lo.x(); x <= hi.x(); ++x) fn(cell_hash(x, y, z) & (table - 1));
+    };
+    big_groups_.clear();
+    for (uint32_t g = 0; g < groups; ++g) {
+        if (group_box_[g].isEmpty()) continue;
+        Eigen::Vector3i lo, hi;
+        if (cells(group_box_[g], lo, hi)) each_cell(lo, hi, [&](uint32_t key) { ++cell_start_[key + 1]; });
+        else big_groups_.push_back(g);
+    }
+    for (uint32_t k = 0; k < table; ++k) cell_start_[k + 1] += cell_start_[k];
+    cell_particles_.resize(cell_start_.back());
+    cell_of_.assign(cell_start_.begin(), cell_start_.end() - 1);
+    for (uint32_t g = 0; g < groups; ++g) {
+        Eigen::Vector3i lo, hi;
+        if (!group_box_[g].isEmpty() && cells(group_box_[g], lo, hi)) each_cell(lo, hi, [&](uint32_t key) { cell_particles_[cell_of_[key]++] = g; });
+    }
+    seen_.assign(groups, UINT32_MAX);
+
+    const float r_ex2 = scale_.exclusion * scale_.exclusion;
+    for (uint32_t A = 0; A < patches; ++A) {
+        if (particle_box_[A].isEmpty()) continue;
+        const auto visit = [&](uint32_t B) {
+            if (seen_[B] == A) return;
+            seen_[B] = A;
+            if (!particle_box_[A].intersects(group_box_[B])) return;
+            if (patch_piece_[A] == patch_piece_[B] && (B >= patches || !self_)) return;  // a piece's own cap closes it along its rim
+            if (B < patches && patch_origin_[A] != mixed && patch_origin_[A] == patch_origin_[B] && rest_known &&
+                rest_box_[A].exteriorDistance(rest_box_[B]) < 0.5f * scale_.exclusion)
+                return;
+            test_pair(body, A, B, r_ex2);
+        };
+        Eigen::Vector3i lo, hi;
+        if (!brute_force_ && cells(particle_box_[A], lo, hi)) {
+            each_cell(lo, hi, [&](uint32_t key) {
+                for (uint32_t e = cell_start_[key]; e < cell_start_[key + 1]; ++e) visit(cell_particles_[e]);
+            });
+        } else {
+            for (uint32_t B = 0; B < groups; ++B)
+                if (!group_box_[B].isEmpty()) visit(B);
+        }
+        for (uint32_t B : big_groups_) visit(B);
+    }
+    if (std::getenv("PBDSPLAT_CONTACT_DEBUG")) {
+        size_t fan = 0, same_piece = 0, same_origin = 0;
+        for (const Contact& c : contacts_) {
+            const Corners k = corners_of(body, c.triangle);
+            if (k.fan) ++fan;
+            else if (body.piece_of_particle[c.particle] == body.piece_of_particle[k.ia]) ++same_piece;
+            else if (origin_[c.particle] == origin_[k.ia]) ++same_origin;
+        }
+        std::fprintf(stderr, "fan %zu same piece %zu same origin %zu\n", fan, same_piece, same_origin);
+    }
+    if (std::getenv("PBDSPLAT_CONTACT_DEBUG")) std::fprintf(stderr, "contacts %zu pairs %zu fans %zu L %g\n", contacts_.size(), pairs_tested_, fan_triangles_.size(), double(scale_.edge));
+}
+
+template <class Real>
+void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings& s) {
+    if (contacts_.empty()) return;
+    ParticlesT<Real>& p = body.particles;
+    update_fans(p, false);
+    const Real thickness = Real(scale_.thickness);
+    const Real mu_s = Real(s.friction.static_), mu_k = Real(s.friction.kinetic);
+    for (const Contact& ct : contacts_) {
+        const uint32_t i = ct.particle;
+        const Corners ck = corners_of(body, ct.triangle);
+        const uint32_t ia = ck.ia, ib = ck.ib, ic = ck.ic;
+        const Fan* fan = ck.fan;
+        const Vec4<Real> xa = fan ? fan->centroid : p.x[ia];
+
+        const Real wa = fan ? Real(0) : p.w[ia];
+        const Vec3f a = pos3(xa), b = pos3(p.x[ib]), c = pos3(p.x[ic]);
+        const Vec3f nf = unit_normal(a, b, c);
+        if (nf.isZero()) continue;
+        const Over o = over_triangle(pos3(p.x[i]), a, b, c, nf);
+        // Pushed along this triangle's normal only while over it: beside it (over a convex edge
+        // or corner) its neighbour takes over, and pushing along this one's normal there would
+        // shove the particle sideways off a face it rests on.
+        if (o.lateral > k_over * scale_.edge) continue;
+        const Real side = Real(ct.side);
+        const Real C = side * Real(o.height) - thickness;
+        if (C >= Real(0)) continue;
+        // The corners' weights. A fan's centroid is no particle: its weight goes to the two rim
+        // corners of the fan triangle, half each, so the reaction stays on the cap's rim where
+        // the particle presses (and the push costs three particles, not the whole loop).
+        Real ua = Real(o.wa), ub = Real(o.wb), uc = Real(o.wc);
+        if (fan) ub += ua / 2, uc += ua / 2, ua = 0;
+        const Real denom = p.w[i] + ua * ua * wa + ub * ub * p.w[ib] + uc * uc * p.w[ic];
+        if (!(denom > Real(0))) continue;
+        const Vec4<Real> n = side * to4<Real>(nf);
+        // Moves the particle by wp * d and each corner by -w * weight * d.
+        const auto apply = [&](const Vec4<Real>& d) {
+            p.x[i] += p.w[i] * d;
+            if (!fan) p.x[ia] -= wa * ua * d;
+            p.x[ib] -= p.w[ib] * ub * d;
+            p.x[ic] -= p.w[ic] * uc * d;
+        };
+        const Real depth = -C;
+        apply((depth / denom) * n);
+        // Friction on the particle's motion relative to the surface point since the substep began.
+        Vec4<Real> rel = (p.x[i] - p.x_prev[i]) - ub * (p.x[ib] - p.x_prev[ib]) - uc * (p.x[ic] - p.x_prev[ic]);
+        if (!fan) rel -= ua * (p.x[ia] - p.x_prev[ia]);
+        const Vec4<Real> tangential = rel - rel.dot(n) * n;
+        const Real t = tangential.norm();
+        if (!(t > Real(0))) continue;
+        const Real keep = t <= mu_s * depth ? Real(1) : std::min(Real(1), mu_k * depth / t);
+        apply((-keep / denom) * tangential);
+    }
+}
+
+template <class Real>
+float ContactSolverT<Real>::deepest_inside(const SoftBodyT<Real>& body) const {
+    // Per particle, the nearest surface among its candidates that it lies over; inside if
+    // behind it (only a closed piece's candidates may be behind: an open piece's keep their side).
+    const ParticlesT<Real>& p = body.particles;
+    std::vector<float> nearest(p.size(), std::numeric_limits<float>::infinity()), height(p.size(), 0.0f);
+    for (const Contact& ct : contacts_) {
+        const Corners k = corners_of(body, ct.triangle);
+        const Vec3f a = pos3(k.fan ? k.fan->centroid : p.x[k.ia]), b = pos3(p.x[k.ib]), c = pos3(p.x[k.ic]);
+        const Vec3f nrm = unit_normal(a, b, c);
+        if (nrm.isZero()) continue;
+        const Over o = over_triangle(pos3(p.x[ct.particle]), a, b, c, nrm);
+        if (o.lateral > k_over * scale_.edge) continue;
+        const float h = ct.side * o.height;
+        if (std::abs(h) < nearest[ct.particle]) nearest[ct.particle] = std::abs(h), height[ct.particle] = h;
+    }
+    float deepest = 0.0f;
+    for (float h : height) deepest = std::max(deepest, -h);
+    return deepest;
+}
+
+float max_penetration(const SoftBody& body, const ContactSettings& s) {
+    // The solver's own search on the body as it stands (no sweep: the start is now).
+    SoftBody still;
+    still.particles.x = body.particles.x;
+    still.particles.x_prev = body.particles.x;
+    still.particles.w = body.particles.w;
+    still.particles.v.assign(body.particles.size(), Vec4<float>::Zero());
+    still.triangles = body.triangles;
+    still.distance = body.distance;
+    still.volumes = body.volumes;
+    still.piece_of_particle = body.piece_of_particle;
+    still.pieces = body.pieces;
+    still.rest_positions = body.rest_positions;
+    ContactSettings on = s;
+    on.enabled = true;
+    ContactSolver solver;
+    solver.find(still, on);
+    return solver.deepest_inside(still);
+}
+
+template float mean_rest_edge<float>(const SoftBodyT<float>&);
+template float mean_rest_edge<double>(const SoftBodyT<double>&);
+template class ContactSolverT<float>;
+template class ContactSolverT<double>;
+
+} // namespace pbdsplat::sim

@@ -1,0 +1,136 @@
+#pragma once
+// Contact between everything that moves: a particle against the surface of another piece of its
+// body (what a cut or a tear made, or another model of the scene), and against its own piece
+// away from its neighbourhood (a fold, a crumpled balloon). The surface is the piece's triangles
+// plus the virtual fans that close its cap loops (the same fans its volume constraint closes it
+// with), so a piece cut off rests on the cut face of the piece below instead of falling into it.
+//
+// Each substep finds candidate (particle, triangle) pairs once, after prediction, through a hash
+// grid of the particles; each iteration then projects them as one-sided PBD constraints
+//   side * (x_p - q(a, b, c)) . n  >=  thickness
+// with Coulomb friction on the relative motion since the substep began. The side is read at the
+// substep's start, so a particle that was in front of a triangle stays in front however far it
+// moved since (no tunnelling through a surface at any speed the hash's sweep covers); against a
+// closed piece (one with a volume constraint) it is always the outside, so a particle that ended
+// up shallowly inside is pushed out.
+#include <cstdint>
+#include <vector>
+
+#include "sim/colliders.h"
+#include "sim/soft_body.h"
+
+namespace pbdsplat::sim {
+
+// Self-contact is off unless a scene asks for it: against the paper's hard global volume
+// constraint it fights a shell crushed below its folds' room (an icosphere deflated to 5 % of
+// its volume inverts instead of crumpling, a model landing on the ground loses 15 % of its
+// volume), so it is for open sheets and soft balloons that are meant to fold.
+inline constexpr bool k_self_contact_default = false;
+
+struct ContactSettings {
+    bool enabled = true;     // a user expects the pieces of a cut to be solid
+    bool self = k_self_contact_default;  // a piece against itself, away from its neighbourhood (folds)
+    float thickness = 0.0f;  // metres kept between a particle and a surface; 0: auto (see below)
+    Friction friction;
+};
+
+// The lengths contact works with, from the body's mean rest edge length L.
+struct ContactScale {
+    float edge = 0.0f;       // L
+    float thickness = 0.0f;  // the settings' value, or k_auto_thickness x L
+    float margin = 0.0f;     // how deep inside a closed piece a particle may be and still be pushed out
+    float exclusion = 0.0f;  // rest-space radius of a particle's own neighbourhood, never in contact with it
+};
+// A quarter of an edge: far below the splats' size (about half an edge), so pieces resting on
+// each other show no gap, and enough that a resting contact's iteration error stays outside.
+inline constexpr float k_auto_thickness = 0.25f;
+ContactScale contact_scale(float mean_rest_edge, const ContactSettings& s);
+// Mean rest length of the body's live distance constraints (0 without any).
+template <class Real>
+float mean_rest_edge(const SoftBodyT<Real>& body);
+
+// One candidate: particle `particle` against surface triangle `triangle` (an index past the
+// body's triangles names a cap fan triangle), kept on side `side` of it.
+struct Contact {
+    uint32_t particle;
+    uint32_t triangle;
+    float side;
+};
+
+template <class Real>
+class ContactSolverT {
+public:
+    // After prediction (x_prev: the substep's start, x: predicted): the candidates of this substep.
+    void find(const SoftBodyT<Real>& body, const ContactSettings& s);
+    // One Gauss-Seidel sweep over the candidates (call every iteration).
+    void project(SoftBodyT<Real>& body, const ContactSettings& s);
+
+    const std::vector<Contact>& contacts() const { return contacts_; }
+    // Every patch against every triangle group instead of through the hash grid (the same pairs:
+    // what the tests compare the broad phase with).
+    void set_brute_force(bool on) { brute_force_ = on; }
+    const ContactScale& scale() const { return scale_; }
+    // The deepest a particle lies behind the nearest surface it is over among the last find's
+    // candidates (a closed piece's: behind it is inside), in metres; 0 if none is.
+    float deepest_inside(const SoftBodyT<Real>& body) const;
+    // Candidate pairs tested by the last find (pairs in the same cell), for the benches.
+    size_t pairs_tested() const { return pairs_tested_; }
+
+private:
+    struct Fan {  // one cap loop closed at its centroid
+        uint32_t first = 0, count = 0;  // into fan_vertices_
+        uint32_t piece = 0;
+        Vec4<Real> centroid = Vec4<Real>::Zero(), centroid_prev = Vec4<Real>::Zero();
+    };
+    struct FanTriangle {
+        uint32_t fan, corner;  // loop vertices corner, corner + 1 (wrapping), and the centroid
+        uint32_t chunk;        // its broad-phase group, past the patches
+    };
+    static constexpr uint32_t k_fan_chunk = 8;
+    uint32_t fan_chunks_ = 0;
+    struct Corners {
+        uint32_t ia, ib, ic;  // ia: UINT32_MAX for a fan triangle, whose first corner is the centroid
+        const Fan* fan;
+    };
+    Corners corners_of(const SoftBodyT<Real>& body, uint32_t triangle) const;
+    void build_fans(const SoftBodyT<Real>& body);
+    void update_fans(const ParticlesT<Real>& p, bool prev);
+
+    ContactScale scale_;
+    std::vector<Contact> contacts_;
+    std::vector<Fan> fans_;
+    std::vector<uint32_t> fan_vertices_;
+    std::vector<FanTriangle> fan_triangles_;
+    std::vector<uint8_t> closed_;  // per piece
+    void update_origins(const SoftBodyT<Real>& body);
+    void build_patches(const SoftBodyT<Real>& body);
+    void test_pair(const SoftBodyT<Real>& body, uint32_t patch, uint32_t group, float r_ex2);
+
+    std::vector<uint32_t> patch_of_, patch_start_, patch_particles_;  // rest-space patches, CSR
+    float patch_edge_ = 0.0f;
+    size_t patch_pieces_ = 0;
+    std::vector<Vec3f> now_, then_;  // positions in float, predicted and at the substep's start
+    std::vector<Eigen::AlignedBox3f> particle_box_, rest_box_, group_box_;  // per patch; per triangle group
+    std::vector<uint32_t> patch_piece_;  // per group: its one piece, or mixed
+    std::vector<uint32_t> patch_origin_;  // per patch: its particles' one origin, or mixed
+    // Per particle, the piece it was in when the solver first met the body: two models of a
+    // scene are of different origins, the two sides of a cut of one. Particles added later take
+    // a neighbour's.
+    std::vector<uint32_t> origin_;
+    std::vector<Eigen::AlignedBox3f> triangle_box_;  // swept, per entry of group_triangles_
+    std::vector<uint32_t> group_start_, group_triangles_, big_groups_;
+    std::vector<uint32_t> cell_start_, cell_particles_, cell_of_, seen_;
+    size_t pairs_tested_ = 0;
+    bool brute_force_ = false;
+    bool self_ = false;
+};
+using ContactSolver = ContactSolverT<float>;
+
+// The deepest particle inside another piece, or behind its own surface away from its
+// neighbourhood, in metres, as the contact search sees the body now: for each particle the
+// nearest surface (of a closed piece, caps included) it lies over within the search's margin.
+// Deeper penetrations are not seen (half an edge at least: twice check's threshold). What
+// `pbdsplat check` reports as penetration_max, over the sampling spacing.
+float max_penetration(const SoftBody& body, const ContactSettings& s);
+
+} // namespace pbdsplat::sim

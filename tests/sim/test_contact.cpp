@@ -1,0 +1,271 @@
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+#include <tuple>
+
+#include "mesh/procedural.h"
+#include "sim/contact.h"
+#include "sim/sim_fixtures.h"
+#include "sim/solver.h"
+#include "topology/cut.h"
+
+using namespace pbdsplat;
+
+namespace {
+
+Eigen::Affine3f moved(const Vec3f& t) { return Eigen::Affine3f(Eigen::Translation3f(t)); }
+
+// Stiff enough to hold a shape at the solver's default iterations: shape matching over each piece.
+sim::SolverSettings stiff_settings() {
+    sim::SolverSettings s;
+    s.iterations = 10;
+    s.shape_stiffness = 0.8f;
+    return s;
+}
+sim::SoftBodyDesc solid_desc() {
+    sim::SoftBodyDesc d;
+    d.shape_matching = true;
+    return d;
+}
+
+float min_y(const sim::SoftBody& b, uint32_t piece) {
+    float y = INFINITY;
+    for (size_t i = 0; i < b.particle_count(); ++i)
+        if (b.piece_of_particle[i] == piece) y = std::min(y, b.particles.x[i].y());
+    return y;
+}
+float max_y(const sim::SoftBody& b, uint32_t piece) {
+    float y = -INFINITY;
+    for (size_t i = 0; i < b.particle_count(); ++i)
+        if (b.piece_of_particle[i] == piece) y = std::max(y, b.particles.x[i].y());
+    return y;
+}
+Vec3d piece_momentum(const sim::SoftBody& b, uint32_t piece) {
+    Vec3d p = Vec3d::Zero();
+    for (size_t i = 0; i < b.particle_count(); ++i)
+        if (b.piece_of_particle[i] == piece && b.particles.w[i] > 0.0f) p += b.particles.v[i].head<3>().cast<double>() / double(b.particles.w[i]);
+    return p;
+}
+double kinetic_energy(const sim::SoftBody& b) {
+    double e = 0.0;
+    for (size_t i = 0; i < b.particle_count(); ++i)
+        if (b.particles.w[i] > 0.0f) e += 0.5 * double(b.particles.v[i].head<3>().squaredNorm()) / double(b.particles.w[i]);
+    return e;
+}
+void run(sim::SoftBody& b, const sim::SolverSettings& s, const sim::Colliders& c, int frames) {
+    sim::Solver solver;
+    for (int f = 0; f < frames; ++f) solver.step(b, 1.0f / 60.0f, s, c, {});
+}
+
+} // namespace
+
+TEST_SUITE("sim/contact") {
+    TEST_CASE("a particle pressed onto a triangle of another piece stops at the thickness") {
+        // A small ball falls onto a pinned sheet (an open piece) and rests on it.
+        mesh::TriangleMesh m = mesh::grid_sheet(8, 2.0f);
+        mesh::append(m, mesh::icosphere(1, 0.15f), moved({0.1f, 0.5f, 0.05f}));
+        sim::SoftBodyDesc d = solid_desc();
+        d.volume = false;
+        sim::SoftBody b = test::make_body(std::move(m), d);
+        REQUIRE(b.pieces == 2);
+        const uint32_t sheet = b.piece_of_particle[b.extreme_particle(1, false)];
+        for (size_t i = 0; i < b.particle_count(); ++i)
+            if (b.piece_of_particle[i] == sheet) b.pin(uint32_t(i));
+        sim::rebuild_shape_clusters(b);
+        const sim::SolverSettings s = stiff_settings();
+        run(b, s, {}, 120);
+        const float thickness = sim::contact_scale(sim::mean_rest_edge(b), s.contact).thickness;
+        const float gap = min_y(b, 1 - sheet) - max_y(b, sheet);
+        MESSAGE("gap " << gap << ", thickness " << thickness);
+        CHECK(gap >= 0.9f * thickness);
+        CHECK(gap <= 1.5f * thickness);  // resting on it, not bounced off
+    }
+
+    TEST_CASE("without contact the same ball falls through the sheet (the test above can fail)") {
+        mesh::TriangleMesh m = mesh::grid_sheet(8, 2.0f);
+        mesh::append(m, mesh::icosphere(1, 0.15f), moved({0.1f, 0.5f, 0.05f}));
+        sim::SoftBodyDesc d = solid_desc();
+        d.volume = false;
+        sim::SoftBody b = test::make_body(std::move(m), d);
+        const uint32_t sheet = b.piece_of_particle[b.extreme_particle(1, false)];
+        for (size_t i = 0; i < b.particle_count(); ++i)
+            if (b.piece_of_particle[i] == sheet) b.pin(uint32_t(i));
+        sim::rebuild_shape_clusters(b);
+        sim::SolverSettings s = stiff_settings();
+        s.contact.enabled = false;
+        run(b, s, {}, 120);
+        CHECK(max_y(b, 1 - sheet) < 0.0f);
+    }
+
+    TEST_CASE("a box on a slope rests below the friction angle and slides above it (Coulomb)") {
+        for (const float degrees : {15.0f, 20.0f, 30.0f, 35.0f}) {
+            const float mu = 0.5f;  // friction angle 26.6 degrees
+            const float a = degrees * float(M_PI) / 180.0f;
+            sim::SoftBody b = test::make_body(mesh::box(Vec3f(0.4f, 0.4f, 0.4f), 2), solid_desc());
+            // The box placed on the slope, turned with it.
+            const Eigen::Matrix3f turn = Eigen::AngleAxisf(a, Vec3f::UnitZ()).toRotationMatrix();
+            for (size_t i = 0; i < b.particle_count(); ++i) {
+                const Vec3f p = turn * (sim::xyz(b.particles.x[i]) + Vec3f(0.0f, 0.2f, 0.0f));
+                b.particles.x[i] = sim::to4(p), b.particles.x_prev[i] = b.particles.x[i];
+            }
+            sim::rebuild_shape_clusters(b);
+            sim::Colliders c;
+            c.ground = sim::GroundPlane{turn * Vec3f::UnitY(), 0.0f};
+            c.friction = {mu, mu};
+            Vec3f start = Vec3f::Zero();
+            for (size_t i = 0; i < b.particle_count(); ++i) start += sim::xyz(b.particles.x[i]);
+            run(b, stiff_settings(), c, 60);
+            Vec3f end = Vec3f::Zero();
+            for (size_t i = 0; i < b.particle_count(); ++i) end += sim::xyz(b.particles.x[i]);
+            const float slid = (end - start).norm() / float(b.particle_count());
+            MESSAGE(degrees << " degrees: slid " << slid << " m in 1 s");
+            if (std::tan(a) < mu) CHECK(slid < 0.01f);
+            else CHECK(slid > 0.2f);
+        }
+    }
+
+    TEST_CASE("two equal balls meeting head-on conserve momentum and do not pass through each other") {
+        mesh::TriangleMesh m = mesh::icosphere(2, 0.3f);
+        mesh::append(m, mesh::icosphere(2, 0.3f), moved({1.0f, 0.0f, 0.0f}));
+        sim::SoftBody b = test::make_body(std::move(m), solid_desc());
+        REQUIRE(b.pieces == 2);
+        const uint32_t left = b.piece_of_particle[b.extreme_particle(0, false)];
+        for (size_t i = 0; i < b.particle_count(); ++i) b.particles.v[i] = sim::to4(Vec3f(b.piece_of_particle[i] == left ? 3.0f : -3.0f, 0, 0));
+        sim::SolverSettings s = stiff_settings();
+        s.gravity = Vec3f::Zero();
+        const Vec3d before = b.particles.linear_momentum();
+        float closest = INFINITY;
+        sim::Solver solver;
+        for (int f = 0; f < 60; ++f) {
+            solver.step(b, 1.0f / 60.0f, s, {}, {});
+            float right_min = INFINITY, left_max = -INFINITY;
+            for (size_t i = 0; i < b.particle_count(); ++i) {
+                const float x = b.particles.x[i].x();
+                if (b.piece_of_particle[i] == left) left_max = std::max(left_max, x);
+                else right_min = std::min(right_min, x);
+            }
+            closest = std::min(closest, right_min - left_max);
+        }
+        const Vec3d after = b.particles.linear_momentum();
+        MESSAGE("momentum before " << before.transpose() << ", after " << after.transpose() << "; closest gap " << closest);
+        CHECK((after - before).norm() < 1e-3 * piece_momentum(b, left).norm() + 1e-4);
+        CHECK(closest > -0.05f);  // the surfaces never overlap by more than a fraction of an edge
+        CHECK(piece_momentum(b, left).x() < 0.0);  // they bounced apart
+    }
+
+    TEST_CASE("three stacked boxes come to rest without jitter") {
+        mesh::TriangleMesh m;
+        for (int k = 0; k < 3; ++k) mesh::append(m, mesh::box(Vec3f(0.5f, 0.3f, 0.5f), 2), moved({0.02f * float(k), 0.16f + 0.32f * float(k), 0.0f}));
+        sim::SoftBody b = test::make_body(std::move(m), solid_desc());
+        REQUIRE(b.pieces == 3);
+        sim::Colliders c;
+        c.ground = sim::GroundPlane{Vec3f::UnitY(), 0.0f};
+        sim::SolverSettings s = stiff_settings();
+        s.damping = 0.5f;
+        run(b, s, c, 120);
+        const double e = kinetic_energy(b);
+        float top = -INFINITY;
+        for (size_t i = 0; i < b.particle_count(); ++i) top = std::max(top, b.particles.x[i].y());
+        MESSAGE("kinetic energy after 2 s: " << e << " J; top at " << top);
+        for (uint32_t k = 0; k < 3; ++k) MESSAGE("box " << k << ": " << min_y(b, k) << " .. " << max_y(b, k));
+        CHECK(e < 1e-3);
+        CHECK(top > 0.9f * 0.96f);  // the stack stands at least 0.9 of its height
+    }
+
+    TEST_CASE("a stiff ball cut horizontally: the top half stays on the bottom half") {
+        sim::SoftBody b = test::make_body(mesh::icosphere(3, 0.5f), solid_desc());
+        sim::Colliders c;
+        c.ground = sim::GroundPlane{Vec3f::UnitY(), -0.5f};
+        const sim::SolverSettings s = stiff_settings();
+        run(b, s, c, 30);
+        const float height = max_y(b, 0) - (-0.5f);
+        auto plane = topology::plane_cut(Vec3f(0.0f, -0.02f, 0.0f), Vec3f(0.0f, 1.0f, 0.0f));
+        REQUIRE(plane.ok());
+        auto change = topology::cut(b, plane.value());
+        REQUIRE(change.ok());
+        REQUIRE(b.pieces == 2);
+        run(b, s, c, 180);
+        float top = -INFINITY;
+        for (size_t i = 0; i < b.particle_count(); ++i) top = std::max(top, b.particles.x[i].y());
+        MESSAGE("stack height after 3 s: " << (top + 0.5f) / height << " of the uncut ball's");
+        CHECK((top + 0.5f) / height >= 0.9f);
+        CHECK(sim::max_penetration(b, s.contact) < 0.5f * 0.5f * sim::mean_rest_edge(b));
+    }
+
+    TEST_CASE("a folded sheet does not pass through itself") {
+        // A strip bent into a U (rest: flat), its upper arm thrown at the lower one, held.
+        mesh::TriangleMesh strip = mesh::grid_sheet(16, 2.0f);
+        sim::SoftBodyDesc d;
+        d.volume = false;
+        sim::SoftBody b = test::make_body(std::move(strip), d);
+        for (size_t i = 0; i < b.particle_count(); ++i) {
+            const Vec3f r = sim::xyz(b.particles.x[i]);
+            // x in [-1, 1]: x < -0.2 lies flat at y = 0, the rest turns over a half circle onto y = 0.2.
+            Vec3f p = r;
+            const float bend = 0.2f / float(M_PI) * 2.0f;  // radius of the turn: 0.1... 0.13
+            if (r.x() > -0.2f) {
+                const float s = r.x() + 0.2f, turn = bend * float(M_PI) / 2.0f;
+                if (s < turn) {
+                    const float t = s / turn * float(M_PI);
+                    p = Vec3f(-0.2f + 0.1f * std::sin(t), 0.1f - 0.1f * std::cos(t), r.z());
+                } else {
+                    p = Vec3f(-0.2f - (s - turn), 0.2f, r.z());
+                }
+            }
+            b.particles.x[i] = sim::to4(p), b.particles.x_prev[i] = b.particles.x[i];
+            b.particles.v[i] = sim::to4(Vec3f(0.0f, p.y() > 0.15f && p.x() < -0.4f ? -4.0f : 0.0f, 0.0f));
+            if (r.x() < -0.3f) b.pin(uint32_t(i));  // the lower arm held, so going below it is crossing it
+        }
+        sim::SolverSettings s;
+        s.gravity = Vec3f::Zero();
+        s.iterations = 10;
+        s.contact.self = true;
+        sim::Solver solver;
+        int crossed = 0;
+        for (int f = 0; f < 60; ++f) {
+            solver.step(b, 1.0f / 60.0f, s, {}, {});
+            // Every particle that started in the upper arm stays above the lower arm.
+            for (size_t i = 0; i < b.particle_count(); ++i) {
+                const Vec3f r = b.rest_positions[i];
+                if (r.x() > 0.3f && r.x() < 0.6f && std::abs(r.z()) < 0.8f && b.particles.x[i].y() < -0.005f) {
+                    if (crossed == 0) MESSAGE("frame " << f << " particle " << i << " rest " << r.transpose() << " at " << b.particles.x[i].transpose() << " from " << b.particles.x_prev[i].transpose());
+                    ++crossed;
+                }
+            }
+        }
+        CHECK(crossed == 0);
+    }
+
+    TEST_CASE("the broad phase finds every pair a brute-force search finds, on random soups") {
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+        for (int round = 0; round < 5; ++round) {
+            mesh::TriangleMesh m;
+            for (int k = 0; k < 60; ++k) {
+                const Vec3f c(u(rng), u(rng), u(rng));
+                mesh::append(m, mesh::icosphere(0, 0.12f + 0.05f * u(rng)), moved(c));
+            }
+            sim::SoftBody b = test::make_body(std::move(m), {});
+            // A random sweep: every particle moved since the substep began.
+            for (size_t i = 0; i < b.particle_count(); ++i) {
+                b.particles.x_prev[i] = b.particles.x[i];
+                b.particles.x[i] += sim::to4(Vec3f(u(rng), u(rng), u(rng)) * 0.03f);
+            }
+            sim::ContactSettings cs;
+            sim::ContactSolver fast, brute;
+            brute.set_brute_force(true);
+            fast.find(b, cs);
+            brute.find(b, cs);
+            const auto key = [](const sim::Contact& c) { return std::tuple(c.particle, c.triangle, c.side); };
+            std::set<std::tuple<uint32_t, uint32_t, float>> a, e;
+            for (const sim::Contact& c : fast.contacts()) a.insert(key(c));
+            for (const sim::Contact& c : brute.contacts()) e.insert(key(c));
+            MESSAGE("round " << round << ": " << e.size() << " pairs");
+            CHECK(e.size() > 10);  // the soup touches
+            CHECK(a == e);
+        }
+    }
+}
