@@ -23,6 +23,8 @@ ContactScale contact_scale(float mean_rest_edge, const ContactSettings& s) {
     // Two and a half edges: the particle's ring and the next (its surface's own curvature and
     // the triangles around it), so a resting surface never pushes itself apart.
     c.exclusion = 2.5f * mean_rest_edge + c.thickness;
+    // A cap's seam partners: the rim opposite it and one ring more.
+    c.seam = 1.25f * mean_rest_edge;
     return c;
 }
 
@@ -150,6 +152,14 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             if (pi == k_no_piece) continue;
             ++pairs_tested_;
             if (!self_ && pi == piece) continue;
+            if (tk.fan && pi != piece && origin_[i] == origin_[ib] && rest_known) {
+                // The other side of the seam the cap closes (a cut's or a tear's): its rim and
+                // the ring next to it start on the cap's rim, and pushing them off it would pull
+                // the seam's edges apart (a tear would run from it).
+                const Vec3f& r = body.rest_positions[i];
+                const float seam2 = scale_.seam * scale_.seam;
+                if ((r - body.rest_positions[ib]).squaredNorm() < seam2 || (r - body.rest_positions[ic]).squaredNorm() < seam2) continue;
+            }
             if (tk.fan ? pi == piece : origin_[i] == origin_[ia]) {
                 // A particle's own neighbourhood (in rest space) never touches it, on its own
                 // piece or across a seam a cut or tear made (where the two sides start out on

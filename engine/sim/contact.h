@@ -40,6 +40,7 @@ struct ContactScale {
     float thickness = 0.0f;  // the settings' value, or k_auto_thickness x L
     float margin = 0.0f;     // how deep inside a closed piece a particle may be and still be pushed out
     float exclusion = 0.0f;  // rest-space radius of a particle's own neighbourhood, never in contact with it
+    float seam = 0.0f;       // rest-space radius about a cap's rim where the other side of its seam is left alone
 };
 // A quarter of an edge: far below the splats' size (about half an edge), so pieces resting on
 // each other show no gap, and enough that a resting contact's iteration error stays outside.

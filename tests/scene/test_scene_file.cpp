@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "scene/scene_file.h"
+#include "scene/scene_model.h"
 
 using namespace pbdsplat;
 
@@ -281,5 +282,54 @@ TEST_SUITE("scene/scene_file") {
             ++n;
         }
         CHECK(n >= 1);
+    }
+
+    TEST_CASE("[[bodies]]: read, printed and read again field by field; each model its own piece, static ones pinned") {
+        const char* text = R"(
+[model]
+mesh = "box:2"
+[[bodies]]
+mesh = "icosphere:1"
+translate = [0, 2, 0]
+velocity = [1, -2, 0.5]
+color = [0.1, 0.2, 0.3]
+[[bodies]]
+mesh = "icosphere:2"
+translate = [3, 0, 0]
+scale = 0.5
+static = true
+particles = 0
+)";
+        auto first = scene::parse_scene(text, "bodies.toml");
+        REQUIRE_MESSAGE(first.ok(), first.error().to_string());
+        auto again = scene::parse_scene(scene::to_toml(first.value()), "again.toml");
+        REQUIRE_MESSAGE(again.ok(), again.error().to_string());
+        for (const scene::Scene* sc : {&first.value(), &again.value()}) {
+            REQUIRE(sc->bodies.size() == 2);
+            CHECK(sc->bodies[0].model.mesh == "icosphere:1");
+            CHECK(sc->bodies[0].model.translate.isApprox(Vec3f(0, 2, 0)));
+            CHECK(sc->bodies[0].velocity.isApprox(Vec3f(1, -2, 0.5f)));
+            REQUIRE(sc->bodies[0].color);
+            CHECK(sc->bodies[0].color->isApprox(Vec3f(0.1f, 0.2f, 0.3f)));
+            CHECK_FALSE(sc->bodies[0].fixed);
+            CHECK(sc->bodies[1].fixed);
+            CHECK(sc->bodies[1].model.scale == doctest::Approx(0.5));
+            REQUIRE(sc->bodies[1].particles);
+            CHECK(*sc->bodies[1].particles == 0);
+        }
+        auto model = scene::load_scene_model(first.value());
+        REQUIRE_MESSAGE(model.ok(), model.error().to_string());
+        const sim::SoftBody& b = model.value().body;
+        CHECK(b.pieces == 3);
+        const std::vector<uint32_t>& start = model.value().part_start;
+        REQUIRE(start.size() == 4);
+        for (uint32_t i = start[1]; i < start[2]; ++i) {
+            CHECK(b.particles.v[i].head<3>().isApprox(Vec3f(1, -2, 0.5f)));
+            CHECK(b.colors[i].isApprox(Vec3f(0.1f, 0.2f, 0.3f)));
+            CHECK(b.particles.x[i].y() > 0.99f);  // placed where its entry says (a unit ball raised by 2)
+        }
+        for (uint32_t i = start[2]; i < start[3]; ++i) CHECK(b.particles.w[i] == 0.0f);
+        for (uint32_t i = start[0]; i < start[1]; ++i) CHECK(b.particles.w[i] > 0.0f);
+        CHECK_FALSE(scene::parse_scene("[[bodies]]\ntranslate = [0, 1, 0]\n", "nomesh.toml").ok());
     }
 }
