@@ -125,6 +125,10 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     auto body = sim::make_soft_body(std::move(coarse), desc);
     if (!body.ok()) return body.error();
     sim::SoftBody b = std::move(body).value();
+    // Each model's particles, so that contact tells two models apart from two parts of one.
+    b.model_of_particle.assign(b.particle_count(), 0);
+    for (size_t k = 0; k < scene.bodies.size(); ++k)
+        for (uint32_t i = out.part_start[k + 1]; i < out.part_start[k + 2]; ++i) b.model_of_particle[i] = uint32_t(k + 1);
     for (size_t k = 0; k < scene.bodies.size(); ++k) {
         const BodyDesc& d = scene.bodies[k];
         for (uint32_t i = out.part_start[k + 1]; i < out.part_start[k + 2]; ++i) {

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <tuple>
 
@@ -194,7 +192,25 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             if (side * h_now > reach) continue;  // clear of it at the end of the sweep
             const Over now = over_triangle(now_[i], a, b, c, nrm), then = over_triangle(then_[i], a0, b0, c0, nrm0);
             if (now.lateral > scale_.thickness && then.lateral > scale_.thickness) continue;  // beside it
-            contacts_.push_back({i, t, side});
+            // Two parts that start closer than the thickness (a teapot's lid on its body, boxes
+            // stacked with a small gap) keep the gap they had at rest: pushing them apart at
+            // the first step would throw them (or tear a pressurised shell); parts that start
+            // inside each other are left alone.
+            float thickness = scale_.thickness;
+            if (!tk.fan && rest_known && pi != piece) {
+                const Vec3f& ra = body.rest_positions[ia];
+                const Vec3f& rb = body.rest_positions[ib];
+                const Vec3f& rc = body.rest_positions[ic];
+                const Vec3f rn = unit_normal(ra, rb, rc);
+                if (!rn.isZero()) {
+                    const Over rest = over_triangle(body.rest_positions[i], ra, rb, rc, rn);
+                    if (rest.lateral <= scale_.thickness && std::abs(rest.height) < scale_.thickness) {
+                        if (side * rest.height < 0.0f) continue;
+                        thickness = std::min(thickness, side * rest.height);
+                    }
+                }
+            }
+            contacts_.push_back({i, t, side, thickness});
         }
     }
 }
@@ -203,9 +219,13 @@ template <class Real>
 void ContactSolverT<Real>::update_origins(const SoftBodyT<Real>& body) {
     const size_t n = body.particles.size(), known = origin_.size();
     if (known == n) return;
-    if (known > n || known == 0) {  // a body met for the first time: its pieces as they are
-        origin_.assign(body.piece_of_particle.begin(), body.piece_of_particle.end());
-        return;
+    if (known > n || known == 0) {  // a body met for the first time: its models, or its pieces as they are
+        if (body.model_of_particle.empty()) {
+            origin_.assign(body.piece_of_particle.begin(), body.piece_of_particle.end());
+            return;
+        }
+        origin_.assign(body.model_of_particle.begin(), body.model_of_particle.begin() + long(std::min(n, body.model_of_particle.size())));
+        if (origin_.size() == n) return;
     }
     // Particles a cut or tear added take the origin of a particle they share a triangle with
     // (every one of them lies on a triangle of the piece it was cut from).
@@ -393,17 +413,6 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
         }
         for (uint32_t B : big_groups_) visit(B);
     }
-    if (std::getenv("PBDSPLAT_CONTACT_DEBUG")) {
-        size_t fan = 0, same_piece = 0, same_origin = 0;
-        for (const Contact& c : contacts_) {
-            const Corners k = corners_of(body, c.triangle);
-            if (k.fan) ++fan;
-            else if (body.piece_of_particle[c.particle] == body.piece_of_particle[k.ia]) ++same_piece;
-            else if (origin_[c.particle] == origin_[k.ia]) ++same_origin;
-        }
-        std::fprintf(stderr, "fan %zu same piece %zu same origin %zu\n", fan, same_piece, same_origin);
-    }
-    if (std::getenv("PBDSPLAT_CONTACT_DEBUG")) std::fprintf(stderr, "contacts %zu pairs %zu fans %zu L %g\n", contacts_.size(), pairs_tested_, fan_triangles_.size(), double(scale_.edge));
 }
 
 template <class Real>
@@ -411,7 +420,6 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
     if (contacts_.empty()) return;
     ParticlesT<Real>& p = body.particles;
     update_fans(p, false);
-    const Real thickness = Real(scale_.thickness);
     const Real mu_s = Real(s.friction.static_), mu_k = Real(s.friction.kinetic);
     for (const Contact& ct : contacts_) {
         const uint32_t i = ct.particle;
@@ -430,7 +438,7 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
         // shove the particle sideways off a face it rests on.
         if (o.lateral > k_over * scale_.edge) continue;
         const Real side = Real(ct.side);
-        const Real C = side * Real(o.height) - thickness;
+        const Real C = side * Real(o.height) - Real(ct.thickness);
         if (C >= Real(0)) continue;
         // The corners' weights. A fan's centroid is no particle: its weight goes to the two rim
         // corners of the fan triangle, half each, so the reaction stays on the cap's rim where
@@ -494,6 +502,7 @@ float max_penetration(const SoftBody& body, const ContactSettings& s) {
     still.piece_of_particle = body.piece_of_particle;
     still.pieces = body.pieces;
     still.rest_positions = body.rest_positions;
+    still.model_of_particle = body.model_of_particle;
     ContactSettings on = s;
     on.enabled = true;
     ContactSolver solver;

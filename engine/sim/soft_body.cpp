@@ -104,6 +104,7 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     d.shapes = b.shapes;
     d.rest_positions = b.rest_positions;
     d.colors = b.colors;
+    d.model_of_particle = b.model_of_particle;
     return d;
 }
 

@@ -50,6 +50,10 @@ struct SoftBodyT {
     std::vector<ShapeCluster> shapes;
     std::vector<Vec3f> rest_positions;  // rest state (new edges take rest lengths from it)
     std::vector<Vec3f> colors;          // per-particle colours from the mesh file; empty if none
+    // The model each particle was loaded from (a scene's [model] and [[bodies]]), for the
+    // particles the body was built with; topology edits do not extend it (contact gives a new
+    // particle the model of a neighbour). Empty: each connected component at load is a model.
+    std::vector<uint32_t> model_of_particle;
 
     size_t particle_count() const { return particles.size(); }
     // Current volume of a volume constraint (caps included), over the whole body's triangles.

@@ -259,8 +259,8 @@ TEST_SUITE("sim/contact") {
             brute.set_brute_force(true);
             fast.find(b, cs);
             brute.find(b, cs);
-            const auto key = [](const sim::Contact& c) { return std::tuple(c.particle, c.triangle, c.side); };
-            std::set<std::tuple<uint32_t, uint32_t, float>> a, e;
+            const auto key = [](const sim::Contact& c) { return std::tuple(c.particle, c.triangle, c.side, c.thickness); };
+            std::set<std::tuple<uint32_t, uint32_t, float, float>> a, e;
             for (const sim::Contact& c : fast.contacts()) a.insert(key(c));
             for (const sim::Contact& c : brute.contacts()) e.insert(key(c));
             MESSAGE("round " << round << ": " << e.size() << " pairs");
