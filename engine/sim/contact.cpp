@@ -23,6 +23,9 @@ ContactScale contact_scale(float mean_rest_edge, const ContactSettings& s) {
     c.exclusion = 2.5f * mean_rest_edge + c.thickness;
     // A cap's seam partners: the rim opposite it and one ring more.
     c.seam = 1.25f * mean_rest_edge;
+    // A quarter edge: the search reaches this much further, so its candidates last until some
+    // particle has moved half of it (resting contact then searches about once in many frames).
+    c.slack = 0.25f * mean_rest_edge;
     return c;
 }
 
@@ -125,7 +128,7 @@ typename ContactSolverT<Real>::Corners ContactSolverT<Real>::corners_of(const So
 template <class Real>
 void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch, uint32_t group, float r_ex2) {
     const bool rest_known = body.rest_positions.size() == body.particles.size();
-    const float reach = scale_.thickness + scale_.margin;
+    const float reach = scale_.thickness + scale_.margin + scale_.slack;
     const Eigen::AlignedBox3f& patch_box = particle_box_[patch];
     for (uint32_t q = group_start_[group]; q < group_start_[group + 1]; ++q) {
         const uint32_t t = group_triangles_[q];
@@ -191,7 +194,8 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             }
             if (side * h_now > reach) continue;  // clear of it at the end of the sweep
             const Over now = over_triangle(now_[i], a, b, c, nrm), then = over_triangle(then_[i], a0, b0, c0, nrm0);
-            if (now.lateral > scale_.thickness && then.lateral > scale_.thickness) continue;  // beside it
+            const float beside = scale_.thickness + scale_.slack;
+            if (now.lateral > beside && then.lateral > beside) continue;  // beside it
             // Two parts that start closer than the thickness (a teapot's lid on its body, boxes
             // stacked with a small gap) keep the gap they had at rest: pushing them apart at
             // the first step would throw them (or tear a pressurised shell); parts that start
@@ -276,12 +280,24 @@ void ContactSolverT<Real>::build_patches(const SoftBodyT<Real>& body) {
 
 template <class Real>
 void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettings& s) {
-    contacts_.clear();
-    pairs_tested_ = 0;
     const ParticlesT<Real>& p = body.particles;
     const size_t n = p.size();
     scale_ = contact_scale(mean_rest_edge(body), s);
+    // The last search's candidates hold while no particle has moved half the slack since it (and
+    // the topology is the same): every pair that could come within reach is among them. A body
+    // at rest, or pieces resting on each other, search once in many frames.
+    if (s.enabled && n > 0 && n == anchor_.size() && body.triangles.size() == anchor_triangles_ && body.pieces == anchor_pieces_ &&
+        s.self == self_) {
+        const float limit2 = 0.25f * scale_.slack * scale_.slack;
+        bool still = true;
+        for (size_t i = 0; i < n && still; ++i) still = (pos3(p.x[i]) - anchor_[i]).squaredNorm() < limit2;
+        if (still) return;
+    }
+    contacts_.clear();
+    pairs_tested_ = 0;
+    anchor_.clear();
     if (!s.enabled || n == 0 || body.triangles.empty() || !(scale_.edge > 0.0f)) return;
+    ++searches_;
     build_fans(body);
     update_fans(p, true);
     update_fans(p, false);
@@ -294,7 +310,7 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     // exclusion radius (a surface resting against itself, everywhere on a body at rest: that is
     // what makes the search cost next to nothing where nothing touches). So the parts of a piece
     // that never touch are those within 1 to 2.2 exclusion radii of each other at rest.
-    const float reach = scale_.thickness + scale_.margin;
+    const float reach = scale_.thickness + scale_.margin + scale_.slack;
     now_.resize(n), then_.resize(n);
     for (size_t i = 0; i < n; ++i) now_[i] = pos3(p.x[i]), then_[i] = pos3(p.x_prev[i]);
     const size_t real = body.triangles.size();
@@ -373,9 +389,31 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
             for (int y = lo.y(); y <= hi.y(); ++y)
                 for (int x = lo.x(); x <= hi.x(); ++x) fn(cell_hash(x, y, z) & (table - 1));
     };
+    // Without self-contact a box that meets no other piece's box has nothing to meet: with the
+    // pieces resting on each other, only the patches and groups along where they touch take part.
+    // (Past k_piece_boxes pieces the pieces' boxes cost more than they save.)
+    constexpr size_t k_piece_boxes = 64;
+    const bool by_piece = !self_ && body.pieces <= k_piece_boxes;
+    piece_box_.assign(by_piece ? body.pieces : 0, Eigen::AlignedBox3f());
+    if (by_piece) {
+        for (uint32_t g = 0; g < patches; ++g)
+            if (!particle_box_[g].isEmpty() && patch_piece_[g] < body.pieces) piece_box_[patch_piece_[g]].extend(particle_box_[g]);
+        for (uint32_t g = patches; g < groups; ++g)
+            if (!group_box_[g].isEmpty() && patch_piece_[g] < body.pieces) piece_box_[patch_piece_[g]].extend(group_box_[g]);
+    }
+    const auto meets_another = [&](const Eigen::AlignedBox3f& b, uint32_t piece) {
+        if (!by_piece || piece >= body.pieces) return true;
+        for (uint32_t q = 0; q < piece_box_.size(); ++q)
+            if (q != piece && piece_box_[q].intersects(b)) return true;
+        return false;
+    };
+    in_play_.assign(groups, 0);
+    for (uint32_t g = 0; g < groups; ++g)
+        in_play_[g] = !(g < patches ? particle_box_[g] : group_box_[g]).isEmpty() &&
+                      meets_another(g < patches ? particle_box_[g] : group_box_[g], patch_piece_[g]);
     big_groups_.clear();
     for (uint32_t g = 0; g < groups; ++g) {
-        if (group_box_[g].isEmpty()) continue;
+        if (group_box_[g].isEmpty() || (by_piece && !in_play_[g] && !meets_another(group_box_[g], patch_piece_[g]))) continue;
         Eigen::Vector3i lo, hi;
         if (cells(group_box_[g], lo, hi)) each_cell(lo, hi, [&](uint32_t key) { ++cell_start_[key + 1]; });
         else big_groups_.push_back(g);
@@ -385,13 +423,14 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     cell_of_.assign(cell_start_.begin(), cell_start_.end() - 1);
     for (uint32_t g = 0; g < groups; ++g) {
         Eigen::Vector3i lo, hi;
-        if (!group_box_[g].isEmpty() && cells(group_box_[g], lo, hi)) each_cell(lo, hi, [&](uint32_t key) { cell_particles_[cell_of_[key]++] = g; });
+        if (group_box_[g].isEmpty() || (by_piece && !in_play_[g] && !meets_another(group_box_[g], patch_piece_[g]))) continue;
+        if (cells(group_box_[g], lo, hi)) each_cell(lo, hi, [&](uint32_t key) { cell_particles_[cell_of_[key]++] = g; });
     }
     seen_.assign(groups, UINT32_MAX);
 
     const float r_ex2 = scale_.exclusion * scale_.exclusion;
     for (uint32_t A = 0; A < patches; ++A) {
-        if (particle_box_[A].isEmpty()) continue;
+        if (particle_box_[A].isEmpty() || !in_play_[A]) continue;
         const auto visit = [&](uint32_t B) {
             if (seen_[B] == A) return;
             seen_[B] = A;
@@ -413,6 +452,8 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
         }
         for (uint32_t B : big_groups_) visit(B);
     }
+    anchor_ = now_;
+    anchor_triangles_ = body.triangles.size(), anchor_pieces_ = body.pieces;
 }
 
 template <class Real>
@@ -432,7 +473,10 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
         const Vec3f a = pos3(xa), b = pos3(p.x[ib]), c = pos3(p.x[ic]);
         const Vec3f nf = unit_normal(a, b, c);
         if (nf.isZero()) continue;
-        const Over o = over_triangle(pos3(p.x[i]), a, b, c, nf);
+        const Vec3f xi = pos3(p.x[i]);
+        // Clear of the plane: clear of the triangle (most candidates, most iterations).
+        if (ct.side * (xi - a).dot(nf) >= ct.thickness) continue;
+        const Over o = over_triangle(xi, a, b, c, nf);
         // Pushed along this triangle's normal only while over it: beside it (over a convex edge
         // or corner) its neighbour takes over, and pushing along this one's normal there would
         // shove the particle sideways off a face it rests on.

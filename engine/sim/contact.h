@@ -41,6 +41,7 @@ struct ContactScale {
     float margin = 0.0f;     // how deep inside a closed piece a particle may be and still be pushed out
     float exclusion = 0.0f;  // rest-space radius of a particle's own neighbourhood, never in contact with it
     float seam = 0.0f;       // rest-space radius about a cap's rim where the other side of its seam is left alone
+    float slack = 0.0f;      // how much further the search reaches, so its candidates last
 };
 // A quarter of an edge: far below the splats' size (about half an edge), so pieces resting on
 // each other show no gap, and enough that a resting contact's iteration error stays outside.
@@ -75,6 +76,8 @@ public:
     // The deepest a particle lies behind the nearest surface it is over among the last find's
     // candidates (a closed piece's: behind it is inside), in metres; 0 if none is.
     float deepest_inside(const SoftBodyT<Real>& body) const;
+    // Searches run (a find that kept the last candidates runs none).
+    size_t searches() const { return searches_; }
     // Candidate pairs tested by the last find (pairs in the same cell), for the benches.
     size_t pairs_tested() const { return pairs_tested_; }
 
@@ -114,6 +117,8 @@ private:
     std::vector<Vec3f> now_, then_;  // positions in float, predicted and at the substep's start
     std::vector<Eigen::AlignedBox3f> particle_box_, rest_box_, group_box_;  // per patch; per triangle group
     std::vector<uint32_t> patch_piece_;  // per group: its one piece, or mixed
+    std::vector<Eigen::AlignedBox3f> piece_box_;  // per piece: its patches' and groups' boxes
+    std::vector<uint8_t> in_play_;       // per group: its box meets another piece's
     std::vector<uint32_t> patch_origin_;  // per patch: its particles' one origin, or mixed
     // Per particle, the model it came from (SoftBody::model_of_particle; else the piece it was in
     // when the solver first met the body): two models of a scene are of different origins; the
@@ -127,6 +132,9 @@ private:
     std::vector<uint32_t> cell_start_, cell_particles_, cell_of_, seen_;
     size_t pairs_tested_ = 0;
     bool brute_force_ = false;
+    size_t searches_ = 0;
+    std::vector<Vec3f> anchor_;  // positions at the last search
+    size_t anchor_triangles_ = 0, anchor_pieces_ = 0;
     bool self_ = false;
 };
 using ContactSolver = ContactSolverT<float>;

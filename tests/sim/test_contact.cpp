@@ -175,6 +175,29 @@ TEST_SUITE("sim/contact") {
         CHECK(top > 0.9f * 0.96f);  // the stack stands at least 0.9 of its height
     }
 
+    TEST_CASE("a resting stack keeps its candidates: the search runs again only once something moved") {
+        mesh::TriangleMesh m;
+        for (int k = 0; k < 2; ++k) mesh::append(m, mesh::box(Vec3f(0.5f, 0.3f, 0.5f), 2), moved({0.0f, 0.16f + 0.32f * float(k), 0.0f}));
+        sim::SoftBody b = test::make_body(std::move(m), solid_desc());
+        sim::Colliders c;
+        c.ground = sim::GroundPlane{Vec3f::UnitY(), 0.0f};
+        sim::SolverSettings s = stiff_settings();
+        s.damping = 0.5f;
+        sim::Solver solver;
+        for (int f = 0; f < 120; ++f) solver.step(b, 1.0f / 60.0f, s, c, {});
+        const size_t settled = solver.contact().searches();
+        for (int f = 0; f < 120; ++f) solver.step(b, 1.0f / 60.0f, s, c, {});
+        MESSAGE("searches: " << settled << " in the first 2 s, " << solver.contact().searches() - settled << " in the next 2 s");
+        CHECK(solver.contact().searches() - settled < 10);
+        CHECK(!solver.contact().contacts().empty());  // the top box still rests on the other
+        // A push moves the top box: the search runs again.
+        for (size_t i = 0; i < b.particle_count(); ++i)
+            if (b.particles.x[i].y() > 0.45f) b.particles.v[i] += sim::to4(Vec3f(2.0f, 0.0f, 0.0f));
+        const size_t before = solver.contact().searches();
+        for (int f = 0; f < 10; ++f) solver.step(b, 1.0f / 60.0f, s, c, {});
+        CHECK(solver.contact().searches() > before);
+    }
+
     TEST_CASE("a stiff ball cut horizontally: the top half stays on the bottom half") {
         sim::SoftBody b = test::make_body(mesh::icosphere(3, 0.5f), solid_desc());
         sim::Colliders c;
