@@ -16,46 +16,51 @@ using namespace pbdsplat;
 
 namespace {
 
-Eigen::Affine3f moved(const Vec3f& t) { return Eigen::Affine3f(Eigen::Translation3f(t)); }
+Eigen::Affine3f placed_at(const Vec3f& t) { return Eigen::Affine3f(Eigen::Translation3f(t)); }
 
 // Stiff enough to hold a shape at the solver's default iterations: shape matching over each piece.
-sim::SolverSettings stiff_settings() {
+sim::SolverSettings held_shape_settings() {
     sim::SolverSettings s;
     s.iterations = 10;
     s.shape_stiffness = 0.8f;
     return s;
 }
-sim::SoftBodyDesc solid_desc() {
+sim::SoftBodyDesc shape_matched_desc() {
     sim::SoftBodyDesc d;
     d.shape_matching = true;
     return d;
 }
 
-float min_y(const sim::SoftBody& b, uint32_t piece) {
+float lowest_y(const sim::SoftBody& b, uint32_t piece) {
     float y = INFINITY;
     for (size_t i = 0; i < b.particle_count(); ++i)
         if (b.piece_of_particle[i] == piece) y = std::min(y, b.particles.x[i].y());
     return y;
 }
-float max_y(const sim::SoftBody& b, uint32_t piece) {
+float highest_y(const sim::SoftBody& b, uint32_t piece) {
     float y = -INFINITY;
     for (size_t i = 0; i < b.particle_count(); ++i)
         if (b.piece_of_particle[i] == piece) y = std::max(y, b.particles.x[i].y());
     return y;
 }
-Vec3d piece_momentum(const sim::SoftBody& b, uint32_t piece) {
+Vec3d momentum_of(const sim::SoftBody& b, uint32_t piece) {
     Vec3d p = Vec3d::Zero();
     for (size_t i = 0; i < b.particle_count(); ++i)
         if (b.piece_of_particle[i] == piece && b.particles.w[i] > 0.0f) p += b.particles.v[i].head<3>().cast<double>() / double(b.particles.w[i]);
     return p;
 }
-double kinetic_energy(const sim::SoftBody& b) {
+double motion_energy(const sim::SoftBody& b) {
     double e = 0.0;
     for (size_t i = 0; i < b.particle_count(); ++i)
         if (b.particles.w[i] > 0.0f) e += 0.5 * double(b.particles.v[i].head<3>().squaredNorm()) / double(b.particles.w[i]);
     return e;
 }
-void run(sim::SoftBody& b, const sim::SolverSettings& s, const sim::Colliders& c, int frames) {
+// The meshes appended in a test are separate models (as [[bodies]] are), not parts of one.
+sim::SoftBody separate_models(sim::SoftBody b) {
+    b.model_of_particle = b.piece_of_particle;
+    return b;
+}
+void run_frames(sim::SoftBody& b, const sim::SolverSettings& s, const sim::Colliders& c, int frames) {
     sim::Solver solver;
     for (int f = 0; f < frames; ++f) solver.step(b, 1.0f / 60.0f, s, c, {});
 }
@@ -66,19 +71,19 @@ TEST_SUITE("sim/contact") {
     TEST_CASE("a particle pressed onto a triangle of another piece stops at the thickness") {
         // A small ball falls onto a pinned sheet (an open piece) and rests on it.
         mesh::TriangleMesh m = mesh::grid_sheet(8, 2.0f);
-        mesh::append(m, mesh::icosphere(1, 0.15f), moved({0.1f, 0.5f, 0.05f}));
-        sim::SoftBodyDesc d = solid_desc();
+        mesh::append(m, mesh::icosphere(1, 0.15f), placed_at({0.1f, 0.5f, 0.05f}));
+        sim::SoftBodyDesc d = shape_matched_desc();
         d.volume = false;
-        sim::SoftBody b = test::make_body(std::move(m), d);
+        sim::SoftBody b = separate_models(test::make_body(std::move(m), d));
         REQUIRE(b.pieces == 2);
         const uint32_t sheet = b.piece_of_particle[b.extreme_particle(1, false)];
         for (size_t i = 0; i < b.particle_count(); ++i)
             if (b.piece_of_particle[i] == sheet) b.pin(uint32_t(i));
         sim::rebuild_shape_clusters(b);
-        const sim::SolverSettings s = stiff_settings();
-        run(b, s, {}, 120);
+        const sim::SolverSettings s = held_shape_settings();
+        run_frames(b, s, {}, 120);
         const float thickness = sim::contact_scale(sim::mean_rest_edge(b), s.contact).thickness;
-        const float gap = min_y(b, 1 - sheet) - max_y(b, sheet);
+        const float gap = lowest_y(b, 1 - sheet) - highest_y(b, sheet);
         MESSAGE("gap " << gap << ", thickness " << thickness);
         CHECK(gap >= 0.9f * thickness);
         CHECK(gap <= 1.5f * thickness);  // resting on it, not bounced off
@@ -86,25 +91,25 @@ TEST_SUITE("sim/contact") {
 
     TEST_CASE("without contact the same ball falls through the sheet (the test above can fail)") {
         mesh::TriangleMesh m = mesh::grid_sheet(8, 2.0f);
-        mesh::append(m, mesh::icosphere(1, 0.15f), moved({0.1f, 0.5f, 0.05f}));
-        sim::SoftBodyDesc d = solid_desc();
+        mesh::append(m, mesh::icosphere(1, 0.15f), placed_at({0.1f, 0.5f, 0.05f}));
+        sim::SoftBodyDesc d = shape_matched_desc();
         d.volume = false;
-        sim::SoftBody b = test::make_body(std::move(m), d);
+        sim::SoftBody b = separate_models(test::make_body(std::move(m), d));
         const uint32_t sheet = b.piece_of_particle[b.extreme_particle(1, false)];
         for (size_t i = 0; i < b.particle_count(); ++i)
             if (b.piece_of_particle[i] == sheet) b.pin(uint32_t(i));
         sim::rebuild_shape_clusters(b);
-        sim::SolverSettings s = stiff_settings();
+        sim::SolverSettings s = held_shape_settings();
         s.contact.enabled = false;
-        run(b, s, {}, 120);
-        CHECK(max_y(b, 1 - sheet) < 0.0f);
+        run_frames(b, s, {}, 120);
+        CHECK(highest_y(b, 1 - sheet) < 0.0f);
     }
 
     TEST_CASE("a box on a slope rests below the friction angle and slides above it (Coulomb)") {
         for (const float degrees : {15.0f, 20.0f, 30.0f, 35.0f}) {
             const float mu = 0.5f;  // friction angle 26.6 degrees
             const float a = degrees * float(M_PI) / 180.0f;
-            sim::SoftBody b = test::make_body(mesh::box(Vec3f(0.4f, 0.4f, 0.4f), 2), solid_desc());
+            sim::SoftBody b = test::make_body(mesh::box(Vec3f(0.4f, 0.4f, 0.4f), 2), shape_matched_desc());
             // The box placed on the slope, turned with it.
             const Eigen::Matrix3f turn = Eigen::AngleAxisf(a, Vec3f::UnitZ()).toRotationMatrix();
             for (size_t i = 0; i < b.particle_count(); ++i) {
@@ -117,7 +122,7 @@ TEST_SUITE("sim/contact") {
             c.friction = {mu, mu};
             Vec3f start = Vec3f::Zero();
             for (size_t i = 0; i < b.particle_count(); ++i) start += sim::xyz(b.particles.x[i]);
-            run(b, stiff_settings(), c, 60);
+            run_frames(b, held_shape_settings(), c, 60);
             Vec3f end = Vec3f::Zero();
             for (size_t i = 0; i < b.particle_count(); ++i) end += sim::xyz(b.particles.x[i]);
             const float slid = (end - start).norm() / float(b.particle_count());
@@ -129,12 +134,12 @@ TEST_SUITE("sim/contact") {
 
     TEST_CASE("two equal balls meeting head-on conserve momentum and do not pass through each other") {
         mesh::TriangleMesh m = mesh::icosphere(2, 0.3f);
-        mesh::append(m, mesh::icosphere(2, 0.3f), moved({1.0f, 0.0f, 0.0f}));
-        sim::SoftBody b = test::make_body(std::move(m), solid_desc());
+        mesh::append(m, mesh::icosphere(2, 0.3f), placed_at({1.0f, 0.0f, 0.0f}));
+        sim::SoftBody b = separate_models(test::make_body(std::move(m), shape_matched_desc()));
         REQUIRE(b.pieces == 2);
         const uint32_t left = b.piece_of_particle[b.extreme_particle(0, false)];
         for (size_t i = 0; i < b.particle_count(); ++i) b.particles.v[i] = sim::to4(Vec3f(b.piece_of_particle[i] == left ? 3.0f : -3.0f, 0, 0));
-        sim::SolverSettings s = stiff_settings();
+        sim::SolverSettings s = held_shape_settings();
         s.gravity = Vec3f::Zero();
         const Vec3d before = b.particles.linear_momentum();
         float closest = INFINITY;
@@ -151,37 +156,37 @@ TEST_SUITE("sim/contact") {
         }
         const Vec3d after = b.particles.linear_momentum();
         MESSAGE("momentum before " << before.transpose() << ", after " << after.transpose() << "; closest gap " << closest);
-        CHECK((after - before).norm() < 1e-3 * piece_momentum(b, left).norm() + 1e-4);
+        CHECK((after - before).norm() < 1e-3 * momentum_of(b, left).norm() + 1e-4);
         CHECK(closest > -0.05f);  // the surfaces never overlap by more than a fraction of an edge
-        CHECK(piece_momentum(b, left).x() < 0.0);  // they bounced apart
+        CHECK(momentum_of(b, left).x() < 0.0);  // they bounced apart
     }
 
     TEST_CASE("three stacked boxes come to rest without jitter") {
         mesh::TriangleMesh m;
-        for (int k = 0; k < 3; ++k) mesh::append(m, mesh::box(Vec3f(0.5f, 0.3f, 0.5f), 2), moved({0.02f * float(k), 0.16f + 0.32f * float(k), 0.0f}));
-        sim::SoftBody b = test::make_body(std::move(m), solid_desc());
+        for (int k = 0; k < 3; ++k) mesh::append(m, mesh::box(Vec3f(0.5f, 0.3f, 0.5f), 2), placed_at({0.02f * float(k), 0.16f + 0.32f * float(k), 0.0f}));
+        sim::SoftBody b = separate_models(test::make_body(std::move(m), shape_matched_desc()));
         REQUIRE(b.pieces == 3);
         sim::Colliders c;
         c.ground = sim::GroundPlane{Vec3f::UnitY(), 0.0f};
-        sim::SolverSettings s = stiff_settings();
+        sim::SolverSettings s = held_shape_settings();
         s.damping = 0.5f;
-        run(b, s, c, 120);
-        const double e = kinetic_energy(b);
+        run_frames(b, s, c, 120);
+        const double e = motion_energy(b);
         float top = -INFINITY;
         for (size_t i = 0; i < b.particle_count(); ++i) top = std::max(top, b.particles.x[i].y());
         MESSAGE("kinetic energy after 2 s: " << e << " J; top at " << top);
-        for (uint32_t k = 0; k < 3; ++k) MESSAGE("box " << k << ": " << min_y(b, k) << " .. " << max_y(b, k));
+        for (uint32_t k = 0; k < 3; ++k) MESSAGE("box " << k << ": " << lowest_y(b, k) << " .. " << highest_y(b, k));
         CHECK(e < 1e-3);
         CHECK(top > 0.9f * 0.96f);  // the stack stands at least 0.9 of its height
     }
 
     TEST_CASE("a resting stack keeps its candidates: the search runs again only once something moved") {
         mesh::TriangleMesh m;
-        for (int k = 0; k < 2; ++k) mesh::append(m, mesh::box(Vec3f(0.5f, 0.3f, 0.5f), 2), moved({0.0f, 0.16f + 0.32f * float(k), 0.0f}));
-        sim::SoftBody b = test::make_body(std::move(m), solid_desc());
+        for (int k = 0; k < 2; ++k) mesh::append(m, mesh::box(Vec3f(0.5f, 0.3f, 0.5f), 2), placed_at({0.0f, 0.16f + 0.32f * float(k), 0.0f}));
+        sim::SoftBody b = separate_models(test::make_body(std::move(m), shape_matched_desc()));
         sim::Colliders c;
         c.ground = sim::GroundPlane{Vec3f::UnitY(), 0.0f};
-        sim::SolverSettings s = stiff_settings();
+        sim::SolverSettings s = held_shape_settings();
         s.damping = 0.5f;
         sim::Solver solver;
         for (int f = 0; f < 120; ++f) solver.step(b, 1.0f / 60.0f, s, c, {});
@@ -199,18 +204,18 @@ TEST_SUITE("sim/contact") {
     }
 
     TEST_CASE("a stiff ball cut horizontally: the top half stays on the bottom half") {
-        sim::SoftBody b = test::make_body(mesh::icosphere(3, 0.5f), solid_desc());
+        sim::SoftBody b = test::make_body(mesh::icosphere(3, 0.5f), shape_matched_desc());
         sim::Colliders c;
         c.ground = sim::GroundPlane{Vec3f::UnitY(), -0.5f};
-        const sim::SolverSettings s = stiff_settings();
-        run(b, s, c, 30);
-        const float height = max_y(b, 0) - (-0.5f);
+        const sim::SolverSettings s = held_shape_settings();
+        run_frames(b, s, c, 30);
+        const float height = highest_y(b, 0) - (-0.5f);
         auto plane = topology::plane_cut(Vec3f(0.0f, -0.02f, 0.0f), Vec3f(0.0f, 1.0f, 0.0f));
         REQUIRE(plane.ok());
         auto change = topology::cut(b, plane.value());
         REQUIRE(change.ok());
         REQUIRE(b.pieces == 2);
-        run(b, s, c, 180);
+        run_frames(b, s, c, 180);
         float top = -INFINITY;
         for (size_t i = 0; i < b.particle_count(); ++i) top = std::max(top, b.particles.x[i].y());
         MESSAGE("stack height after 3 s: " << (top + 0.5f) / height << " of the uncut ball's");
@@ -269,9 +274,9 @@ TEST_SUITE("sim/contact") {
             mesh::TriangleMesh m;
             for (int k = 0; k < 60; ++k) {
                 const Vec3f c(u(rng), u(rng), u(rng));
-                mesh::append(m, mesh::icosphere(0, 0.12f + 0.05f * u(rng)), moved(c));
+                mesh::append(m, mesh::icosphere(0, 0.12f + 0.05f * u(rng)), placed_at(c));
             }
-            sim::SoftBody b = test::make_body(std::move(m), {});
+            sim::SoftBody b = separate_models(test::make_body(std::move(m), {}));
             // A random sweep: every particle moved since the substep began.
             for (size_t i = 0; i < b.particle_count(); ++i) {
                 b.particles.x_prev[i] = b.particles.x[i];
