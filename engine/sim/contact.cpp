@@ -75,6 +75,21 @@ inline Vec3f unit_normal(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
     return len > 0.0f ? Vec3f(n / len) : Vec3f::Zero();
 }
 
+// Whether a cap loop encloses a face worth resting on: a cut's cross-section does, a tear's
+// slit (its two sides close together) does not, and a fan over a slit has no meaningful normal.
+// Area over perimeter squared: 1 / (4 pi) = 0.08 for a circle, 0.06 for a square.
+template <class Real>
+bool fat_loop(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x) {
+    Vec3f newell = Vec3f::Zero();
+    float perimeter = 0.0f;
+    for (size_t k = 0; k < loop.size(); ++k) {
+        const Vec3f a = pos3(x[loop[k]]), b = pos3(x[loop[(k + 1) % loop.size()]]);
+        newell += a.cross(b);
+        perimeter += (b - a).norm();
+    }
+    return 0.5f * newell.norm() >= 0.02f * perimeter * perimeter;
+}
+
 } // namespace
 
 template <class Real>
@@ -86,9 +101,14 @@ void ContactSolverT<Real>::build_fans(const SoftBodyT<Real>& body) {
         if (v.piece >= body.pieces || v.leaking_done()) continue;
         closed_[v.piece] = 1;
         for (const std::vector<uint32_t>& loop : v.cap_loops) {
-            if (loop.size() < 3) continue;
+            if (loop.size() < 3 || !fat_loop(loop, body.particles.x)) continue;
             Fan f;
             f.first = uint32_t(fan_vertices_.size()), f.count = uint32_t(loop.size()), f.piece = v.piece;
+            if (body.rest_positions.size() == body.particles.size()) {
+                Vec3f c = Vec3f::Zero();
+                for (uint32_t i : loop) c += body.rest_positions[i];
+                f.rest_centroid = c / float(loop.size());
+            }
             fan_vertices_.insert(fan_vertices_.end(), loop.begin(), loop.end());
             // In chunks of k_fan_chunk triangles: a wedge of the cap, a group of the broad phase.
             for (uint32_t k = 0; k < f.count; ++k) {
@@ -153,22 +173,20 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             if (pi == k_no_piece) continue;
             ++pairs_tested_;
             if (!self_ && pi == piece) continue;
-            if (tk.fan && pi != piece && origin_[i] == origin_[ib] && rest_known) {
-                // The other side of the seam the cap closes (a cut's or a tear's): its rim and
-                // the ring next to it start on the cap's rim, and pushing them off it would pull
-                // the seam's edges apart (a tear would run from it).
+            // A particle's own neighbourhood (in rest space) never touches it: on its own piece
+            // (nor does its own cap, which closes it along its rim); across a cut or tear, on the
+            // other side's triangles (the two sides start on each other, and pushed apart the
+            // seam's edges would stretch until a tear ran from it: the cut face's cap carries
+            // their contact); and across two parts of one model that lie on each other at load
+            // (a teapot's lid, suzanne's eyes: their relative place changes with the shell's
+            // pressure, and pushed apart they tear it).
+            const uint32_t corner = tk.fan ? ib : ia;
+            const bool neighbourhood = pi == piece || (model_[i] == model_[corner] && (part_[i] != part_[corner] || !tk.fan));
+            if (neighbourhood) {
+                if (pi == piece && tk.fan) continue;
+                if (!rest_known) continue;
                 const Vec3f& r = body.rest_positions[i];
-                const float seam2 = scale_.seam * scale_.seam;
-                if ((r - body.rest_positions[ib]).squaredNorm() < seam2 || (r - body.rest_positions[ic]).squaredNorm() < seam2) continue;
-            }
-            if (tk.fan ? pi == piece : origin_[i] == origin_[ia]) {
-                // A particle's own neighbourhood (in rest space) never touches it, on its own
-                // piece or across a seam a cut or tear made (where the two sides start out on
-                // each other: the cut face's cap carries their contact); nor does its own cap,
-                // which closes it along its rim.
-                if (tk.fan || !rest_known) continue;
-                const Vec3f& r = body.rest_positions[i];
-                if ((r - body.rest_positions[ia]).squaredNorm() < r_ex2 || (r - body.rest_positions[ib]).squaredNorm() < r_ex2 ||
+                if ((!tk.fan && (r - body.rest_positions[ia]).squaredNorm() < r_ex2) || (r - body.rest_positions[ib]).squaredNorm() < r_ex2 ||
                     (r - body.rest_positions[ic]).squaredNorm() < r_ex2)
                     continue;
             }
@@ -196,13 +214,13 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             const Over now = over_triangle(now_[i], a, b, c, nrm), then = over_triangle(then_[i], a0, b0, c0, nrm0);
             const float beside = scale_.thickness + scale_.slack;
             if (now.lateral > beside && then.lateral > beside) continue;  // beside it
-            // Two parts that start closer than the thickness (a teapot's lid on its body, boxes
-            // stacked with a small gap) keep the gap they had at rest: pushing them apart at
-            // the first step would throw them (or tear a pressurised shell); parts that start
-            // inside each other are left alone.
+            // Pieces that were closer than the thickness at rest (the two sides of a cut, which
+            // start on each other; two models placed with a small gap) keep the gap they had:
+            // pushing them apart at the first step would throw them, or pull a seam's edges
+            // apart until a tear ran from it. Pairs that start inside each other are left alone.
             float thickness = scale_.thickness;
-            if (!tk.fan && rest_known && pi != piece) {
-                const Vec3f& ra = body.rest_positions[ia];
+            if (!neighbourhood && rest_known) {
+                const Vec3f ra = tk.fan ? tk.fan->rest_centroid : body.rest_positions[ia];
                 const Vec3f& rb = body.rest_positions[ib];
                 const Vec3f& rc = body.rest_positions[ic];
                 const Vec3f rn = unit_normal(ra, rb, rc);
@@ -221,28 +239,32 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
 
 template <class Real>
 void ContactSolverT<Real>::update_origins(const SoftBodyT<Real>& body) {
-    const size_t n = body.particles.size(), known = origin_.size();
-    if (known == n) return;
-    if (known > n || known == 0) {  // a body met for the first time: its models, or its pieces as they are
-        if (body.model_of_particle.empty()) {
-            origin_.assign(body.piece_of_particle.begin(), body.piece_of_particle.end());
-            return;
-        }
-        origin_.assign(body.model_of_particle.begin(), body.model_of_particle.begin() + long(std::min(n, body.model_of_particle.size())));
-        if (origin_.size() == n) return;
+    // From the body where it keeps them (make_soft_body and the topology edits do); else the
+    // pieces the solver first met, one model, and particles added since taking a neighbour's.
+    const size_t n = body.particles.size();
+    const bool parts = body.part_of_particle.size() == n, models = body.model_of_particle.size() == n;
+    if (parts) part_ = body.part_of_particle;
+    if (models) model_ = body.model_of_particle;
+    if (parts && models) return;
+    const auto extend = [&](std::vector<uint32_t>& v, const std::vector<uint32_t>& first) {
+        if (v.size() > n || v.empty()) v.assign(first.begin(), first.begin() + long(std::min(n, first.size())));
+        if (v.size() == n) return;
+        v.resize(n, k_no_piece);
+        for (int pass = 0; pass < 3; ++pass)
+            for (const mesh::Triangle& t : body.triangles)
+                for (int c = 0; c < 3; ++c)
+                    if (v[t[size_t(c)]] == k_no_piece)
+                        for (int d = 1; d < 3; ++d)
+                            if (const uint32_t o = v[t[size_t((c + d) % 3)]]; o != k_no_piece) {
+                                v[t[size_t(c)]] = o;
+                                break;
+                            }
+    };
+    if (!parts) extend(part_, body.piece_of_particle);
+    if (!models) {
+        if (model_.size() > n || model_.empty()) model_.assign(n, 0);
+        extend(model_, model_);
     }
-    // Particles a cut or tear added take the origin of a particle they share a triangle with
-    // (every one of them lies on a triangle of the piece it was cut from).
-    origin_.resize(n, k_no_piece);
-    for (int pass = 0; pass < 3; ++pass)
-        for (const mesh::Triangle& t : body.triangles)
-            for (int c = 0; c < 3; ++c)
-                if (origin_[t[size_t(c)]] == k_no_piece)
-                    for (int d = 1; d < 3; ++d)
-                        if (const uint32_t o = origin_[t[size_t((c + d) % 3)]]; o != k_no_piece) {
-                            origin_[t[size_t(c)]] = o;
-                            break;
-                        }
 }
 
 template <class Real>
@@ -324,7 +346,6 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     rest_box_.assign(patches, Eigen::AlignedBox3f());
     group_box_.assign(groups, Eigen::AlignedBox3f());
     patch_piece_.assign(groups, k_no_piece);
-    patch_origin_.assign(patches, k_no_piece);
     const bool rest_known = body.rest_positions.size() == n;
     for (uint32_t i = 0; i < n; ++i) {
         const uint32_t g = patch_of_[i], pi = body.piece_of_particle[i];
@@ -332,7 +353,6 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
         particle_box_[g].extend(now_[i]).extend(then_[i]);
         if (rest_known) rest_box_[g].extend(body.rest_positions[i]);
         patch_piece_[g] = patch_piece_[g] == k_no_piece || patch_piece_[g] == pi ? pi : mixed;
-        patch_origin_[g] = patch_origin_[g] == k_no_piece || patch_origin_[g] == origin_[i] ? origin_[i] : mixed;
     }
     for (Eigen::AlignedBox3f& b : particle_box_)
         if (!b.isEmpty()) b = Eigen::AlignedBox3f(b.min() - Vec3f::Constant(reach), b.max() + Vec3f::Constant(reach));
@@ -436,8 +456,7 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
             seen_[B] = A;
             if (!particle_box_[A].intersects(group_box_[B])) return;
             if (patch_piece_[A] == patch_piece_[B] && (B >= patches || !self_)) return;  // a piece's own cap closes it along its rim
-            if (B < patches && patch_origin_[A] != mixed && patch_origin_[A] == patch_origin_[B] && rest_known &&
-                rest_box_[A].exteriorDistance(rest_box_[B]) < 0.5f * scale_.exclusion)
+            if (B < patches && patch_piece_[A] == patch_piece_[B] && rest_known && rest_box_[A].exteriorDistance(rest_box_[B]) < 0.5f * scale_.exclusion)
                 return;
             test_pair(body, A, B, r_ex2);
         };
@@ -547,6 +566,7 @@ float max_penetration(const SoftBody& body, const ContactSettings& s) {
     still.pieces = body.pieces;
     still.rest_positions = body.rest_positions;
     still.model_of_particle = body.model_of_particle;
+    still.part_of_particle = body.part_of_particle;
     ContactSettings on = s;
     on.enabled = true;
     ContactSolver solver;

@@ -86,6 +86,7 @@ private:
         uint32_t first = 0, count = 0;  // into fan_vertices_
         uint32_t piece = 0;
         Vec4<Real> centroid = Vec4<Real>::Zero(), centroid_prev = Vec4<Real>::Zero();
+        Vec3f rest_centroid = Vec3f::Zero();
     };
     struct FanTriangle {
         uint32_t fan, corner;  // loop vertices corner, corner + 1 (wrapping), and the centroid
@@ -119,14 +120,9 @@ private:
     std::vector<uint32_t> patch_piece_;  // per group: its one piece, or mixed
     std::vector<Eigen::AlignedBox3f> piece_box_;  // per piece: its patches' and groups' boxes
     std::vector<uint8_t> in_play_;       // per group: its box meets another piece's
-    std::vector<uint32_t> patch_origin_;  // per patch: its particles' one origin, or mixed
-    // Per particle, the model it came from (SoftBody::model_of_particle; else the piece it was in
-    // when the solver first met the body): two models of a scene are of different origins; the
-    // two sides of a cut of one are of one, and so are two parts of one model that touch at load
-    // (a teapot's lid on its body, suzanne's eyes in their sockets), which are not pushed apart
-    // where they start out on each other (pushed, they tore the teapot balloon into 118 pieces
-    // and blew suzanne's volume up tenfold). Particles added later take a neighbour's.
-    std::vector<uint32_t> origin_;
+    // Per particle, the part (connected component at load) and the model it came from: the two
+    // sides of a cut are one part, a teapot's lid and body two parts of one model.
+    std::vector<uint32_t> part_, model_;
     std::vector<Eigen::AlignedBox3f> triangle_box_;  // swept, per entry of group_triangles_
     std::vector<uint32_t> group_start_, group_triangles_, big_groups_;
     std::vector<uint32_t> cell_start_, cell_particles_, cell_of_, seen_;

@@ -105,6 +105,7 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     d.rest_positions = b.rest_positions;
     d.colors = b.colors;
     d.model_of_particle = b.model_of_particle;
+    d.part_of_particle = b.part_of_particle;
     return d;
 }
 
@@ -166,6 +167,8 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
     }
     rebuild_derived(b);
     update_normals(b.rings, b.particles.x, b.normals, 0, n);
+    b.part_of_particle = b.piece_of_particle;
+    b.model_of_particle.assign(n, 0);  // one mesh, one model
     return b;
 }
 

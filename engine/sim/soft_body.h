@@ -50,10 +50,12 @@ struct SoftBodyT {
     std::vector<ShapeCluster> shapes;
     std::vector<Vec3f> rest_positions;  // rest state (new edges take rest lengths from it)
     std::vector<Vec3f> colors;          // per-particle colours from the mesh file; empty if none
-    // The model each particle was loaded from (a scene's [model] and [[bodies]]), for the
-    // particles the body was built with; topology edits do not extend it (contact gives a new
-    // particle the model of a neighbour). Empty: each connected component at load is a model.
+    // The model each particle was loaded from (a scene's [model] and [[bodies]]; a particle a
+    // topology edit adds takes its source's). make_soft_body makes the whole mesh one model.
     std::vector<uint32_t> model_of_particle;
+    // The connected component each particle was in when the body was built (a particle a
+    // topology edit adds takes its source's): the two sides of a cut are one part.
+    std::vector<uint32_t> part_of_particle;
 
     size_t particle_count() const { return particles.size(); }
     // Current volume of a volume constraint (caps included), over the whole body's triangles.

@@ -38,6 +38,8 @@ uint32_t Edit::new_particle(uint32_t from) {
     p.w.push_back(p.w[from]);
     b_.rest_positions.push_back(b_.rest_positions[from]);
     if (!b_.colors.empty()) b_.colors.push_back(b_.colors[from]);
+    if (b_.model_of_particle.size() + 1 == p.x.size()) b_.model_of_particle.push_back(b_.model_of_particle[from]);
+    if (b_.part_of_particle.size() + 1 == p.x.size()) b_.part_of_particle.push_back(b_.part_of_particle[from]);
     b_.normals.push_back(from < b_.normals.size() ? b_.normals[from] : Vec3f::UnitY());
     b_.piece_of_particle.push_back(b_.piece_of_particle[from]);  // until the volume policy finds the pieces
     origin_.push_back(origin(from));

@@ -231,12 +231,7 @@ TEST_SUITE("sim/solver") {
             const double v0 = b.volumes.empty() ? 0.0 : b.volume(0);
             sim::Colliders c;
             c.ground = sim::GroundPlane{Vec3f(0, 1, 0), -1.2f};
-            // The paper's solver alone: contact between a model's parts that start on each other
-            // (suzanne's eyes, the teapot's lid) pushes them and costs up to 12 % of the volume
-            // here, with the parts as separate models (docs/BENCHMARKS.md, "Contact").
-            sim::SolverSettings s;
-            s.contact.enabled = false;
-            test::run(b, 120, 1.0f / 60.0f, s, c);
+            test::run(b, 120, 1.0f / 60.0f, sim::SolverSettings{}, c);
             CHECK_MESSAGE(test::all_finite(b), file);
             if (v0 > 0.0) CHECK_MESSAGE(std::abs(b.volume(0) / v0 - 1.0) < 0.05, file << ": volume " << b.volume(0) / v0);
         }
