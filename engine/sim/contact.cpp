@@ -21,8 +21,6 @@ ContactScale contact_scale(float mean_rest_edge, const ContactSettings& s) {
     // Two and a half edges: the particle's ring and the next (its surface's own curvature and
     // the triangles around it), so a resting surface never pushes itself apart.
     c.exclusion = 2.5f * mean_rest_edge + c.thickness;
-    // A cap's seam partners: the rim opposite it and one ring more.
-    c.seam = 1.25f * mean_rest_edge;
     // A quarter edge: the search reaches this much further, so its candidates last until some
     // particle has moved half of it (resting contact then searches about once in many frames).
     c.slack = 0.25f * mean_rest_edge;
@@ -171,7 +169,6 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             if (i == ia || i == ib || i == ic) continue;
             const uint32_t pi = body.piece_of_particle[i];
             if (pi == k_no_piece) continue;
-            ++pairs_tested_;
             if (!self_ && pi == piece) continue;
             // A particle's own neighbourhood (in rest space) never touches it: on its own piece
             // (nor does its own cap, which closes it along its rim); across a cut or tear, on the
@@ -316,7 +313,6 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
         if (still) return;
     }
     contacts_.clear();
-    pairs_tested_ = 0;
     anchor_.clear();
     if (!s.enabled || n == 0 || body.triangles.empty() || !(scale_.edge > 0.0f)) return;
     ++searches_;
@@ -341,7 +337,6 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     build_patches(body);
     const uint32_t patches = uint32_t(patch_start_.size() - 1);
     const uint32_t groups = patches + fan_chunks_;
-    const uint32_t mixed = UINT32_MAX - 1;
     particle_box_.assign(patches, Eigen::AlignedBox3f());
     rest_box_.assign(patches, Eigen::AlignedBox3f());
     group_box_.assign(groups, Eigen::AlignedBox3f());
@@ -352,7 +347,7 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
         if (pi == k_no_piece) continue;
         particle_box_[g].extend(now_[i]).extend(then_[i]);
         if (rest_known) rest_box_[g].extend(body.rest_positions[i]);
-        patch_piece_[g] = patch_piece_[g] == k_no_piece || patch_piece_[g] == pi ? pi : mixed;
+        patch_piece_[g] = pi;  // a patch holds one piece
     }
     for (Eigen::AlignedBox3f& b : particle_box_)
         if (!b.isEmpty()) b = Eigen::AlignedBox3f(b.min() - Vec3f::Constant(reach), b.max() + Vec3f::Constant(reach));
@@ -362,7 +357,7 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     for (uint32_t g = 0; g < groups; ++g) group_start_[g + 1] += group_start_[g];
     group_triangles_.resize(group_start_.back());
     {
-        std::vector<uint32_t>& cursor = cell_of_;
+        std::vector<uint32_t>& cursor = cursor_;
         cursor.assign(group_start_.begin(), group_start_.end() - 1);
         triangle_box_.resize(group_triangles_.size());
         const auto swept = [](const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& a0, const Vec3f& b0, const Vec3f& c0) {
@@ -440,11 +435,11 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     }
     for (uint32_t k = 0; k < table; ++k) cell_start_[k + 1] += cell_start_[k];
     cell_particles_.resize(cell_start_.back());
-    cell_of_.assign(cell_start_.begin(), cell_start_.end() - 1);
+    cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
     for (uint32_t g = 0; g < groups; ++g) {
         Eigen::Vector3i lo, hi;
         if (group_box_[g].isEmpty() || (by_piece && !in_play_[g] && !meets_another(group_box_[g], patch_piece_[g]))) continue;
-        if (cells(group_box_[g], lo, hi)) each_cell(lo, hi, [&](uint32_t key) { cell_particles_[cell_of_[key]++] = g; });
+        if (cells(group_box_[g], lo, hi)) each_cell(lo, hi, [&](uint32_t key) { cell_particles_[cursor_[key]++] = g; });
     }
     seen_.assign(groups, UINT32_MAX);
 
@@ -554,19 +549,8 @@ float ContactSolverT<Real>::deepest_inside(const SoftBodyT<Real>& body) const {
 
 float max_penetration(const SoftBody& body, const ContactSettings& s) {
     // The solver's own search on the body as it stands (no sweep: the start is now).
-    SoftBody still;
-    still.particles.x = body.particles.x;
-    still.particles.x_prev = body.particles.x;
-    still.particles.w = body.particles.w;
-    still.particles.v.assign(body.particles.size(), Vec4<float>::Zero());
-    still.triangles = body.triangles;
-    still.distance = body.distance;
-    still.volumes = body.volumes;
-    still.piece_of_particle = body.piece_of_particle;
-    still.pieces = body.pieces;
-    still.rest_positions = body.rest_positions;
-    still.model_of_particle = body.model_of_particle;
-    still.part_of_particle = body.part_of_particle;
+    SoftBody still = body;
+    still.particles.x_prev = still.particles.x;
     ContactSettings on = s;
     on.enabled = true;
     ContactSolver solver;

@@ -40,7 +40,6 @@ struct ContactScale {
     float thickness = 0.0f;  // the settings' value, or k_auto_thickness x L
     float margin = 0.0f;     // how deep inside a closed piece a particle may be and still be pushed out
     float exclusion = 0.0f;  // rest-space radius of a particle's own neighbourhood, never in contact with it
-    float seam = 0.0f;       // rest-space radius about a cap's rim where the other side of its seam is left alone
     float slack = 0.0f;      // how much further the search reaches, so its candidates last
 };
 // A quarter of an edge: far below the splats' size (about half an edge), so pieces resting on
@@ -78,8 +77,6 @@ public:
     float deepest_inside(const SoftBodyT<Real>& body) const;
     // Searches run (a find that kept the last candidates runs none).
     size_t searches() const { return searches_; }
-    // Candidate pairs tested by the last find (pairs in the same cell), for the benches.
-    size_t pairs_tested() const { return pairs_tested_; }
 
 private:
     struct Fan {  // one cap loop closed at its centroid
@@ -117,7 +114,7 @@ private:
     size_t patch_pieces_ = 0;
     std::vector<Vec3f> now_, then_;  // positions in float, predicted and at the substep's start
     std::vector<Eigen::AlignedBox3f> particle_box_, rest_box_, group_box_;  // per patch; per triangle group
-    std::vector<uint32_t> patch_piece_;  // per group: its one piece, or mixed
+    std::vector<uint32_t> patch_piece_;  // per group: its piece
     std::vector<Eigen::AlignedBox3f> piece_box_;  // per piece: its patches' and groups' boxes
     std::vector<uint8_t> in_play_;       // per group: its box meets another piece's
     // Per particle, the part (connected component at load) and the model it came from: the two
@@ -125,8 +122,8 @@ private:
     std::vector<uint32_t> part_, model_;
     std::vector<Eigen::AlignedBox3f> triangle_box_;  // swept, per entry of group_triangles_
     std::vector<uint32_t> group_start_, group_triangles_, big_groups_;
-    std::vector<uint32_t> cell_start_, cell_particles_, cell_of_, seen_;
-    size_t pairs_tested_ = 0;
+    std::vector<uint32_t> cell_start_, cell_particles_, seen_;
+    std::vector<uint32_t> cursor_;  // fill position per bucket while a counting sort fills it
     bool brute_force_ = false;
     size_t searches_ = 0;
     std::vector<Vec3f> anchor_;  // positions at the last search

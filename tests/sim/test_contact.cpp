@@ -60,6 +60,19 @@ sim::SoftBody separate_models(sim::SoftBody b) {
     b.model_of_particle = b.piece_of_particle;
     return b;
 }
+// A small ball above a pinned square sheet (an open piece, no volume).
+sim::SoftBody ball_over_pinned_sheet() {
+    mesh::TriangleMesh m = mesh::grid_sheet(8, 2.0f);
+    mesh::append(m, mesh::icosphere(1, 0.15f), placed_at({0.1f, 0.5f, 0.05f}));
+    sim::SoftBodyDesc d = shape_matched_desc();
+    d.volume = false;
+    sim::SoftBody b = separate_models(test::make_body(std::move(m), d));
+    const uint32_t sheet = b.piece_of_particle[b.extreme_particle(1, false)];
+    for (size_t i = 0; i < b.particle_count(); ++i)
+        if (b.piece_of_particle[i] == sheet) b.pin(uint32_t(i));
+    sim::rebuild_shape_clusters(b);
+    return b;
+}
 void run_frames(sim::SoftBody& b, const sim::SolverSettings& s, const sim::Colliders& c, int frames) {
     sim::Solver solver;
     for (int f = 0; f < frames; ++f) solver.step(b, 1.0f / 60.0f, s, c, {});
@@ -70,16 +83,9 @@ void run_frames(sim::SoftBody& b, const sim::SolverSettings& s, const sim::Colli
 TEST_SUITE("sim/contact") {
     TEST_CASE("a particle pressed onto a triangle of another piece stops at the thickness") {
         // A small ball falls onto a pinned sheet (an open piece) and rests on it.
-        mesh::TriangleMesh m = mesh::grid_sheet(8, 2.0f);
-        mesh::append(m, mesh::icosphere(1, 0.15f), placed_at({0.1f, 0.5f, 0.05f}));
-        sim::SoftBodyDesc d = shape_matched_desc();
-        d.volume = false;
-        sim::SoftBody b = separate_models(test::make_body(std::move(m), d));
+        sim::SoftBody b = ball_over_pinned_sheet();
         REQUIRE(b.pieces == 2);
         const uint32_t sheet = b.piece_of_particle[b.extreme_particle(1, false)];
-        for (size_t i = 0; i < b.particle_count(); ++i)
-            if (b.piece_of_particle[i] == sheet) b.pin(uint32_t(i));
-        sim::rebuild_shape_clusters(b);
         const sim::SolverSettings s = held_shape_settings();
         run_frames(b, s, {}, 120);
         const float thickness = sim::contact_scale(sim::mean_rest_edge(b), s.contact).thickness;
@@ -90,15 +96,8 @@ TEST_SUITE("sim/contact") {
     }
 
     TEST_CASE("without contact the same ball falls through the sheet (the test above can fail)") {
-        mesh::TriangleMesh m = mesh::grid_sheet(8, 2.0f);
-        mesh::append(m, mesh::icosphere(1, 0.15f), placed_at({0.1f, 0.5f, 0.05f}));
-        sim::SoftBodyDesc d = shape_matched_desc();
-        d.volume = false;
-        sim::SoftBody b = separate_models(test::make_body(std::move(m), d));
+        sim::SoftBody b = ball_over_pinned_sheet();
         const uint32_t sheet = b.piece_of_particle[b.extreme_particle(1, false)];
-        for (size_t i = 0; i < b.particle_count(); ++i)
-            if (b.piece_of_particle[i] == sheet) b.pin(uint32_t(i));
-        sim::rebuild_shape_clusters(b);
         sim::SolverSettings s = held_shape_settings();
         s.contact.enabled = false;
         run_frames(b, s, {}, 120);
