@@ -35,7 +35,7 @@ core::Result<uint32_t> number(const std::string& spec, const std::string& field,
 
 bool is_procedural_spec(const std::string& spec) {
     const std::string kind = split(spec, ':')[0];
-    for (const char* k : {"icosphere", "uvsphere", "torus", "box", "capsule", "grid"})
+    for (const char* k : {"icosphere", "uvsphere", "torus", "box", "capsule", "grid", "quadruped"})
         if (kind == k) return true;
     return false;
 }
@@ -76,6 +76,10 @@ core::Result<RepairedMesh> load_mesh_spec(const std::string& spec, const MeshSpe
         auto a = args(2, {{2, 2048}, {3, 4096}});
         if (!a.ok()) return a.error();
         m = capsule(0.5f, 1.0f, a.value()[0], a.value()[1]);
+    } else if (kind == "quadruped") {
+        auto a = args(1, {{1, 64}});
+        if (!a.ok()) return a.error();
+        m = quadruped(a.value()[0]);
     } else if (kind == "grid") {
         auto a = args(1, {{1, 2048}});
         if (!a.ok()) return a.error();
@@ -89,7 +93,7 @@ core::Result<RepairedMesh> load_mesh_spec(const std::string& spec, const MeshSpe
             std::string where;
             for (const auto& d : model_search_path()) where += (where.empty() ? "" : ", ") + d;
             return core::make_error(spec + ": no such file, and not a procedural mesh (icosphere:L, uvsphere:R:S, "
-                                           "torus:S:T, box:D, capsule:R:S, grid:N); searched " + where);
+                                           "torus:S:T, box:D, capsule:R:S, grid:N, quadruped:D); searched " + where);
         }
         auto raw = load_obj(*path);
         if (!raw.ok()) return raw.error();

@@ -2,7 +2,7 @@
 // A mesh named on a command line or in a scene: a procedural shape with its parameters, or an
 // OBJ file (found along the model search path). Always returned repaired.
 //   icosphere:LEVEL   uvsphere:RINGS:SEGMENTS   torus:SEGMENTS:SIDES   box:DIVISIONS
-//   capsule:RINGS:SEGMENTS   grid:N   path/to/file.obj or a model name like teapot.obj
+//   capsule:RINGS:SEGMENTS   grid:N   quadruped:DIVISIONS   path/to/file.obj or a model name like teapot.obj
 #include <string>
 
 #include "mesh/repair.h"

@@ -155,6 +155,60 @@ TriangleMesh box(const Vec3f& size, uint32_t divisions) {
     return finish(std::move(m));  // welds the shared edges; orients all faces outward
 }
 
+TriangleMesh quadruped(uint32_t d) {
+    PBDSPLAT_ASSERT(d >= 1 && d <= 64, "quadruped: divisions in [1, 64]");
+    // In units of d cells: legs 1 x 4 x 1 at the corners of a body 6 long (x), 2 thick (y), 3 wide
+    // (z); a head 2 x 2 x 3 sticks out in front of the body's top, so the front legs carry more.
+    const int nx = int(8 * d), ny = int(7 * d), nz = int(3 * d), unit = int(d);
+    auto solid = [&](int x, int y, int z) {
+        if (x < 0 || y < 0 || z < 0 || x >= nx || y >= ny || z >= nz) return false;
+        if (x >= 6 * unit) return y >= 5 * unit;                      // head
+        if (y >= 4 * unit) return y < 6 * unit;                        // body
+        const bool leg_x = x < unit || (x >= 5 * unit && x < 6 * unit);  // legs
+        return leg_x && (z < unit || z >= nz - unit);
+    };
+    TriangleMesh m;
+    const float cell = 1.0f / float(ny);
+    auto corner = [&](int x, int y, int z) {
+        return uint32_t((x * (ny + 1) + y) * (nz + 1) + z);
+    };
+    for (int x = 0; x <= nx; ++x)
+        for (int y = 0; y <= ny; ++y)
+            for (int z = 0; z <= nz; ++z)
+                m.positions.push_back(Vec3f(float(x) - 0.5f * float(nx), float(y) - 0.5f * float(ny), float(z) - 0.5f * float(nz)) * cell);
+    // A face wherever a solid cell meets an empty one; the corners of a face in x, y, z order
+    // around its axis, reversed on the negative side so that every face points out of the solid.
+    for (int x = 0; x < nx; ++x)
+        for (int y = 0; y < ny; ++y)
+            for (int z = 0; z < nz; ++z) {
+                if (!solid(x, y, z)) continue;
+                for (int axis = 0; axis < 3; ++axis)
+                    for (int side : {0, 1}) {
+                        int n[3] = {x, y, z};
+                        n[axis] += side ? 1 : -1;
+                        if (solid(n[0], n[1], n[2])) continue;
+                        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+                        int c[4][3];
+                        for (int k = 0; k < 4; ++k) {
+                            c[k][0] = x, c[k][1] = y, c[k][2] = z;
+                            c[k][axis] += side;
+                            c[k][u] += (k == 1 || k == 2) ? 1 : 0;
+                            c[k][v] += (k >= 2) ? 1 : 0;
+                        }
+                        uint32_t q[4];
+                        for (int k = 0; k < 4; ++k) q[k] = corner(c[k][0], c[k][1], c[k][2]);
+                        if (side) {
+                            m.triangles.push_back({q[0], q[1], q[2]});
+                            m.triangles.push_back({q[0], q[2], q[3]});
+                        } else {
+                            m.triangles.push_back({q[0], q[2], q[1]});
+                            m.triangles.push_back({q[0], q[3], q[2]});
+                        }
+                    }
+            }
+    return finish(std::move(m));  // drops the interior grid points; checks orientation
+}
+
 TriangleMesh grid_sheet(uint32_t n, float size) {
     PBDSPLAT_ASSERT(n >= 1 && size > 0.0f, "grid_sheet: need n >= 1 and size > 0");
     TriangleMesh m;

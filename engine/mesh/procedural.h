@@ -24,6 +24,12 @@ TriangleMesh box(const Vec3f& size, uint32_t divisions);
 // Capsule along y: a cylinder of `length` capped by hemispheres of `radius`.
 TriangleMesh capsule(float radius, float length, uint32_t rings, uint32_t segments);
 
+// A four-legged animal-like solid made of cubes: a block body on four thin square legs at its
+// corners, a head sticking out in front; 1 tall, 8/7 long, 3/7 wide, legs 1/7 thick and 4/7 tall,
+// centred on the origin; `divisions` cubes across a leg. Thin parts carrying a front-heavy body:
+// the test of whether a solid stands under its own weight.
+TriangleMesh quadruped(uint32_t divisions);
+
 // Open square sheet in the xz plane, `n` x `n` quads, side `size`, centred at the origin.
 TriangleMesh grid_sheet(uint32_t n, float size = 1.0f);
 

@@ -66,8 +66,9 @@ struct PinRegion {
 // A model file's simulation mesh, when the scene does not say: enough particles for the
 // physics of a whole body, few enough that Stage A stays well under a millisecond or two.
 inline constexpr uint32_t k_default_simulation_particles = 2000;
-// Shape matching on by default: a body resting on the ground keeps its shape.
-inline constexpr float k_default_shape_stiffness = 0.3f;
+// Shape matching on by default: a body resting on the ground keeps its shape and stands on thin
+// legs (at 0.3 a quadruped's legs fold on landing: docs/BENCHMARKS.md, "Solids that stand").
+inline constexpr float k_default_shape_stiffness = 0.9f;
 
 inline sim::SolverSettings default_scene_solver() {
     sim::SolverSettings s;

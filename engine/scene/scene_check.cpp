@@ -6,6 +6,7 @@
 #include "passes/coverage.h"
 #include "scene/scene_runtime.h"
 #include "sim/contact.h"
+#include "sim/pose.h"
 #include "sim/shape_error.h"
 #include "splat/strays.h"
 #include "surface/density.h"
@@ -26,6 +27,10 @@ void sample_body_and_splats(const SceneRuntime& rt, const sim::ContactSettings& 
     s.penetration = rt.spacing() > 0.0f ? double(sim::max_penetration(rt.body(), contact)) / double(rt.spacing()) : 0.0;
     s.shape_error = shape.max_error;
     s.pieces = shape.pieces.size();
+    const sim::PoseReport pose = sim::pose_report(rt.body());
+    s.tilt_degrees = pose.tilt_max_degrees;
+    s.height_ratio = pose.height_ratio_min;
+    s.smallest_piece_triangles = sim::smallest_piece_triangles(rt.body());
     for (const sim::PieceShape& p : shape.pieces) s.volume_error = std::max(s.volume_error, p.volume_error);
     // Every splat drawn (the records), not the particles: strays are what a user sees.
     std::vector<Vec3f> centres;
@@ -104,6 +109,11 @@ void summarise(CheckReport& report, std::vector<double> stage_a) {
         report.strays_max = std::max(report.strays_max, s.strays);
         report.volume_error_max = std::max(report.volume_error_max, s.volume_error);
         report.penetration_max = std::max(report.penetration_max, s.penetration);
+        report.tilt_max = std::max(report.tilt_max, s.tilt_degrees);
+        report.height_ratio_min = std::min(report.height_ratio_min, s.height_ratio);
+        if (s.smallest_piece_triangles > 0)
+            report.smallest_piece_min = report.smallest_piece_min == 0 ? s.smallest_piece_triangles
+                                                                       : std::min(report.smallest_piece_min, s.smallest_piece_triangles);
         if (s.hole_ratio >= 0.0) {
             report.hole_ratio_max = std::max(report.hole_ratio_max, s.hole_ratio);
             report.iou_min = report.iou_min < 0.0 ? s.iou : std::min(report.iou_min, s.iou);
@@ -118,6 +128,7 @@ void summarise(CheckReport& report, std::vector<double> stage_a) {
     }
     if (!report.samples.empty()) {
         report.pieces = report.samples.back().pieces;
+        report.tears = report.samples.back().tears;
         report.particles = report.samples.back().particles;
         report.gaussians = report.samples.back().gaussians;
     }

@@ -4,7 +4,8 @@
 // floats away from the surface, that the splats close the surface (hole ratio and silhouette
 // IoU against a raster of the same deformed surface), how many pieces there are, and how far
 // each piece's volume is from its target, how many dark specks show through the front surface,
-// whether the boundary particles keep their spacing, and whether any piece lies inside another.
+// whether the boundary particles keep their spacing, whether any piece lies inside another, and
+// how each model stands (its tilt and height against the rest pose).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -45,6 +46,10 @@ struct CheckSample {
     // The deepest simulation particle inside another piece, or behind its own surface away from
     // its neighbourhood, over the sampling spacing h (sim::max_penetration).
     double penetration = 0.0;
+    // The pose of each model (sim::pose_report): the most its vertical turned, in degrees, and
+    // the least height over its rest height; the fewest triangles in a piece.
+    double tilt_degrees = 0.0, height_ratio = 1.0;
+    size_t smallest_piece_triangles = 0;
 };
 
 struct CheckReport {
@@ -56,7 +61,9 @@ struct CheckReport {
     double spacing_within_min = -1.0, spacing_within_3d_min = -1.0;
     double volume_error_max = 0.0;
     double penetration_max = 0.0;
-    size_t pieces = 0;  // at the end
+    double tilt_max = 0.0, height_ratio_min = 1.0;  // degrees; over rest height (see CheckSample)
+    size_t smallest_piece_min = 0;  // triangles: the smallest fragment any sample saw
+    size_t pieces = 0, tears = 0;  // at the end
     size_t particles = 0, gaussians = 0;  // at the end
     double stage_a_ms = 0.0;  // median of the frames' Stage A (forces, constraints, integrate)
     // The simulation mesh against the model: the model's vertices, and how exactly the

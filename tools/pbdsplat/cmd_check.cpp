@@ -27,6 +27,9 @@ int cmd_check(const std::vector<std::string>& argv) {
         "                the raster's pixels (0-1): facets, bright discs and specks alike\n"        "  spacing       share of boundary particles whose nearest neighbour lies in [0.7 h, 1.4 h]:\n"
         "                along the surface (a neighbour facing within 60 degrees, so not the far face\n"
         "                of a sharp fold) and, in the JSON's spacing_within_3d, in space\n"
+        "  tilt          per model, degrees its best-fit rotation from the rest pose turns the vertical\n"
+        "  height        per model, its height over its rest height (smallest)\n"
+        "  smallest      the fewest triangles in any piece (a torn-off fleck)\n"
         "The coverage images are the frame as the scene draws it (footprint, shapes, the far side of\n"
         "a closed body culled, the environment about the body) without the ground.\n",
         with_gpu({whole("frames", "N", 120, 1, 100000, "frames to run"),
@@ -38,8 +41,8 @@ int cmd_check(const std::vector<std::string>& argv) {
                       .default_from("none"),
                   json_option("one JSON object: shape_error_max, strays_max, hole_ratio_max, iou_min,\n"
                               "speck_ratio_max, shading_error_max, pieces, volume_error_max, penetration_max\n"
-                              "(the deepest particle inside another piece, over h) and every\n"
-                              "measured frame")})};
+                              "(the deepest particle inside another piece, over h), tilt_max,\n"
+                              "height_ratio_min, tears, smallest_piece_min and every measured frame")})};
     const Parsed parsed = parse_command(command, argv);
     if (!parsed.options) return parsed.exit_code;
     const Options& opt = *parsed.options;
@@ -75,7 +78,8 @@ int cmd_check(const std::vector<std::string>& argv) {
             samples.push_back({{"frame", s.frame}, {"time", s.time}, {"cuts", s.cuts}, {"tears", s.tears},
                                {"shape_error", s.shape_error}, {"strays", s.strays}, {"hole_ratio", s.hole_ratio},
                                {"iou", s.iou}, {"speck_ratio", s.speck_ratio}, {"shading_error", s.shading_error}, {"spacing_within", s.spacing_within}, {"spacing_within_3d", s.spacing_within_3d}, {"spacing_p05", s.spacing_p05}, {"spacing_p95", s.spacing_p95}, {"area_ratio", s.area_ratio}, {"pieces", s.pieces}, {"particles", s.particles},
-                               {"gaussians", s.gaussians}, {"volume_error", s.volume_error}, {"penetration", s.penetration}});
+                               {"gaussians", s.gaussians}, {"volume_error", s.volume_error}, {"penetration", s.penetration},
+                               {"tilt", s.tilt_degrees}, {"height_ratio", s.height_ratio}, {"smallest_piece_triangles", s.smallest_piece_triangles}});
         const nlohmann::json j = {{"scene", sc->name},
                                   {"frames", o.frames},
                                   {"shape_error_max", r.shape_error_max},
@@ -90,6 +94,10 @@ int cmd_check(const std::vector<std::string>& argv) {
                                   {"pieces", r.pieces},
                                   {"volume_error_max", r.volume_error_max},
                                   {"penetration_max", r.penetration_max},
+                                  {"tilt_max", r.tilt_max},
+                                  {"height_ratio_min", r.height_ratio_min},
+                                  {"tears", r.tears},
+                                  {"smallest_piece_min", r.smallest_piece_min},
                                   {"particles", r.particles},
                                   {"gaussians", r.gaussians},
                                   {"stage_a_ms", r.stage_a_ms},
@@ -108,19 +116,22 @@ int cmd_check(const std::vector<std::string>& argv) {
     if (!r.invariants_at_load.empty())
         std::printf("  the mesh as loaded breaks the topology invariants, so cuts and tears ran unchecked: %s\n",
                     r.invariants_at_load.c_str());
-    std::printf("  %6s %6s %5s %5s %8s %6s %8s %6s %8s %7s %8s %6s %8s %6s %6s\n", "frame", "time", "cuts", "tears", "shape", "strays",
-                "holes%", "IoU", "specks%", "shade", "spacing", "pieces", "volume", "area", "pen/h");
+    std::printf("  %6s %6s %5s %5s %8s %6s %8s %6s %8s %7s %8s %6s %8s %6s %6s %5s %6s %5s\n", "frame", "time", "cuts", "tears", "shape", "strays",
+                "holes%", "IoU", "specks%", "shade", "spacing", "pieces", "volume", "area", "pen/h", "tilt", "height", "small");
     auto percent = [](double v) { return v < 0.0 ? -1.0 : 100.0 * v; };
     for (const scene::CheckSample& s : r.samples)
-        std::printf("  %6llu %6.2f %5zu %5zu %8.4f %6zu %8.3f %6.3f %8.3f %7.4f %8.3f %6zu %8.4f %6.3f %6.3f\n", (unsigned long long)s.frame,
+        std::printf("  %6llu %6.2f %5zu %5zu %8.4f %6zu %8.3f %6.3f %8.3f %7.4f %8.3f %6zu %8.4f %6.3f %6.3f %5.1f %6.3f %5zu\n", (unsigned long long)s.frame,
                     s.time, s.cuts, s.tears, s.shape_error, s.strays, percent(s.hole_ratio), s.iou, percent(s.speck_ratio),
-                    s.shading_error, s.spacing_within, s.pieces, s.volume_error, s.area_ratio, s.penetration);
+                    s.shading_error, s.spacing_within, s.pieces, s.volume_error, s.area_ratio, s.penetration,
+                    s.tilt_degrees, s.height_ratio, s.smallest_piece_triangles);
     std::printf("worst: shape %.4f (%.4f before any cut or tear), strays %zu, holes %.3f %%, IoU %.3f, specks %.3f %%,\n"
                 "       shading error %.4f,\n"
                 "       spacing within [0.7 h, 1.4 h] %.3f along the surface, %.3f in space; %zu pieces at the end;\n"
-                "       %zu particles, %zu Gaussians; Stage A %.3f ms a frame (median); penetration %.3f h\n",
+                "       %zu particles, %zu Gaussians; Stage A %.3f ms a frame (median); penetration %.3f h;\n"
+                "       tilt %.1f degrees, height %.3f of rest; %zu tears; smallest piece %zu triangles\n",
                 r.shape_error_max, r.shape_error_before_topology, r.strays_max, percent(r.hole_ratio_max), r.iou_min,
-                percent(r.speck_ratio_max), r.shading_error_max, r.spacing_within_min, r.spacing_within_3d_min, r.pieces, r.particles, r.gaussians, r.stage_a_ms, r.penetration_max);
+                percent(r.speck_ratio_max), r.shading_error_max, r.spacing_within_min, r.spacing_within_3d_min, r.pieces, r.particles, r.gaussians, r.stage_a_ms, r.penetration_max,
+                r.tilt_max, r.height_ratio_min, r.tears, r.smallest_piece_min);
     return 0;
 }
 
