@@ -46,10 +46,7 @@ bool SceneRuntime::begin_drag(const Vec2f& pixel, const Vec2f& view_size) {
     if (!picked) return false;
     const Vec3f forward = (c.target - c.eye).normalized();
     drag_depth_ = (sim::xyz(body_.particles.x[*picked]) - c.eye).dot(forward);
-    control_.user_drag.particle = *picked;
-    control_.user_drag.target = sim::xyz(body_.particles.x[*picked]);
-    control_.user_drag.stiffness = DragEvent{}.stiffness;
-    control_.user_drag.active = true;
+    control_.user_drag = sim::grab_region(body_, *picked, sim::default_grab_radius(body_), DragEvent{}.stiffness);
     return true;
 }
 

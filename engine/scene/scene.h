@@ -87,6 +87,7 @@ struct SimulationDesc {
     float compliance = 0.0f;         // XPBD stretch compliance, m/N
     float volume_compliance = 0.0f;  // XPBD
     float pressure = 1.0f;           // initial k
+    bool weld_parts = true;          // hold together the parts of a model that touch at rest (sim/weld.h)
     float friction = 0.4f;           // kinetic, of every contact (colliders and moving surfaces)
     float static_friction = 0.4f;    // read as `friction` where the scene file does not set it
     std::vector<uint32_t> pins;      // particle indices of the repaired, reordered mesh
@@ -158,9 +159,10 @@ struct PressureEvent {
     float duration = 0.0f;  // linear ramp from the current k; 0 = at once
 };
 struct DragEvent {
-    Vec3f from = Vec3f::Zero(), to = Vec3f::Zero();  // world points: the particle nearest `from` is pulled to `to`
+    Vec3f from = Vec3f::Zero(), to = Vec3f::Zero();  // world points: the region about the particle nearest `from` is moved by to - from
     float duration = 1.0f;  // then released
     float stiffness = 0.5f;
+    float radius = 0.0f;    // of the region held (world units); 0: sim::default_grab_radius
 };
 struct SpinEvent {
     Vec3f axis{0.0f, 1.0f, 0.0f};

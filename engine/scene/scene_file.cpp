@@ -407,6 +407,7 @@ Event read_event(const Reader& r, const toml::node& n) {
         d.to = t.vec<3>("to", d.to);
         d.duration = t.real("duration", d.duration, 0.0, 1e6);
         d.stiffness = t.real("stiffness", d.stiffness, 1e-3, 1.0);
+        d.radius = t.real("radius", d.radius, 0.0, 1e6);
         e.data = d;
     } else if (type == "spin") {
         SpinEvent s;

@@ -5,6 +5,8 @@
 
 #include "mesh/mesh_spec.h"
 #include "mesh/reorder.h"
+#include "sim/contact.h"
+#include "sim/weld.h"
 
 namespace pbdsplat::scene {
 
@@ -136,6 +138,9 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
             else b.particles.v[i] = sim::to4(d.velocity);
         }
     }
+    // A model's parts that touch at rest (a teapot's spout on its body) hold together: within an
+    // edge of each other, the decimated surfaces' vertices no longer coincide where they met.
+    if (s.weld_parts) sim::weld_touching_parts(b, sim::mean_rest_edge(b));
     const bool any_fixed = std::any_of(scene.bodies.begin(), scene.bodies.end(), [](const BodyDesc& d) { return d.fixed; });
     for (uint32_t pin : s.pins) {
         if (pin >= b.particle_count())

@@ -157,7 +157,7 @@ void write_events(std::ostream& o, const Scene& sc) {
         if (auto* p = std::get_if<PressureEvent>(&e.data)) o << "value = " << num(p->value) << "\nduration = " << num(p->duration) << "\n";
         if (auto* dr = std::get_if<DragEvent>(&e.data))
             o << "from = " << vec<3>(dr->from) << "\nto = " << vec<3>(dr->to) << "\nduration = " << num(dr->duration)
-              << "\nstiffness = " << num(dr->stiffness) << "\n";
+              << "\nstiffness = " << num(dr->stiffness) << "\nradius = " << num(dr->radius) << "\n";
         if (auto* sp = std::get_if<SpinEvent>(&e.data))
             o << "axis = " << vec<3>(sp->axis) << "\ndegrees_per_second = " << num(sp->degrees_per_second)
               << "\nduration = " << num(sp->duration) << "\n";

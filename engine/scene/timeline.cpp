@@ -1,5 +1,7 @@
 #include "scene/timeline.h"
 
+#include "sim/drag.h"
+
 #include <algorithm>
 #include <limits>
 
@@ -44,22 +46,26 @@ void Timeline::advance(EventQueue& queue, float t, float dt, sim::SoftBody& body
         for (sim::VolumeConstraint& v : body.volumes)
             if (v.leak == 0.0f) v.pressure = r.from + (r.to - r.from) * u;  // an opened piece holds no pressure
     }
-    // Drags: the particle nearest `from` follows a target moving from `from` to `to`.
+    // Drags: the region about the particle nearest `from` follows a target moving from `from`
+    // to `to` (the grab point starts at that particle, wherever `from` is).
     drag.active = false;
     for (ActiveDrag& d : drags_) {
         if (t < d.start || t > d.start + d.event.duration) continue;
         if (!d.picked) {
             float best = std::numeric_limits<float>::max();
+            uint32_t nearest = 0;
             for (uint32_t i = 0; i < body.particle_count(); ++i) {
                 const float dist = (sim::xyz(body.particles.x[i]) - d.event.from).squaredNorm();
-                if (dist < best) best = dist, drag.particle = i;
+                if (dist < best) best = dist, nearest = i;
             }
+            const float radius = d.event.radius > 0.0f ? d.event.radius : sim::default_grab_radius(body);
+            d.grab = sim::grab_region(body, nearest, radius, d.event.stiffness);
             d.picked = true;
         }
         const float u = d.event.duration > 0.0f ? (t - d.start) / d.event.duration : 1.0f;
-        drag.target = d.event.from + (d.event.to - d.event.from) * u;
-        drag.stiffness = d.event.stiffness;
-        drag.active = true;
+        const Vec3f start = d.grab.target;
+        drag = d.grab;
+        drag.target = start + (d.event.to - d.event.from) * u;
     }
     // Spins: a rigid turn of the whole body about its centre (positions and the previous
     // positions alike, so no velocity is invented).

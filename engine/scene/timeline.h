@@ -34,6 +34,7 @@ private:
         float start;
         DragEvent event;
         bool picked = false;
+        sim::DragConstraint grab;  // the region, once picked
     };
     std::vector<PressureRamp> pressure_;
     std::vector<PressureRamp> opacity_;  // the same shape: from what it is when the ramp starts

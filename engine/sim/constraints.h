@@ -54,11 +54,15 @@ struct VolumeConstraint {
     bool leaking_done() const { return leak > 0.0f && std::abs(pressure - 1.0f) < 0.02f; }
 };
 
-// Pulls one particle toward a moving target: the mouse drag of the interactive demo.
+// Pulls a region of the surface toward a moving target: the demo's mouse drag and the scenes'
+// drag events. The region moves as one (each particle toward the target plus its offset from the
+// grab point when it was taken), at full weight over its inner half and fading to nothing at its
+// rim, so what is held stretches the body around it instead of plucking one particle out.
 struct DragConstraint {
-    uint32_t particle = 0;
-    Vec3f target = Vec3f::Zero();
-    float stiffness = 0.5f;  // fraction of the gap closed per iteration, in (0, 1]
+    std::vector<uint32_t> particles;
+    std::vector<Vec3f> offsets;   // from the grab point, when the region was taken
+    std::vector<float> weights;   // fraction of the gap closed per iteration, in (0, 1]
+    Vec3f target = Vec3f::Zero();  // where the grab point is pulled
     bool active = false;
 };
 

@@ -1,5 +1,9 @@
 #include "sim/drag.h"
 
+#include <algorithm>
+
+#include "sim/contact.h"
+
 namespace pbdsplat::sim {
 
 std::optional<uint32_t> pick_particle(const Particles& p, const Vec3f& origin, const Vec3f& direction, float radius) {
@@ -15,5 +19,28 @@ std::optional<uint32_t> pick_particle(const Particles& p, const Vec3f& origin, c
     }
     return best;
 }
+
+DragConstraint grab_region(const SoftBody& body, uint32_t centre, float radius, float stiffness) {
+    DragConstraint d;
+    if (centre >= body.particle_count()) return d;
+    const Vec3f grab = xyz(body.particles.x[centre]);
+    d.target = grab;
+    d.active = true;
+    const uint32_t piece = centre < body.piece_of_particle.size() ? body.piece_of_particle[centre] : k_no_piece;
+    for (uint32_t i = 0; i < body.particle_count(); ++i) {
+        if (i != centre && (radius <= 0.0f || body.piece_of_particle[i] != piece)) continue;
+        const Vec3f offset = xyz(body.particles.x[i]) - grab;
+        const float u = radius > 0.0f ? offset.norm() / radius : 0.0f;
+        if (u >= 1.0f) continue;
+        // Full weight to half the radius, then a smoothstep down to nothing at the rim.
+        const float t = std::clamp(2.0f * (1.0f - u), 0.0f, 1.0f);
+        d.particles.push_back(i);
+        d.offsets.push_back(offset);
+        d.weights.push_back(stiffness * t * t * (3.0f - 2.0f * t));
+    }
+    return d;
+}
+
+float default_grab_radius(const SoftBody& body) { return 2.0f * mean_rest_edge(body); }
 
 } // namespace pbdsplat::sim

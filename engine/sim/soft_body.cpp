@@ -97,6 +97,7 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     d.distance = b.distance;
     d.distance_groups = b.distance_groups;
     d.distance_lambda.assign(b.distance_lambda.size(), 0.0);
+    d.welds = b.welds;
     d.volumes = b.volumes;
     d.piece_of_particle = b.piece_of_particle;
     d.pieces = b.pieces;

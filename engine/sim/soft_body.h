@@ -39,6 +39,8 @@ struct SoftBodyT {
     std::vector<DistanceConstraint> distance;  // grouped by colour; may hold dead slots (see constraint_order.h)
     DistanceGroups distance_groups;            // colour c holds distance[start[c], start[c + 1])
     std::vector<Real> distance_lambda;  // XPBD multipliers, one per distance constraint
+    // Parts of one model that touch at rest, held together (sim/weld.h); not mesh edges.
+    std::vector<DistanceConstraint> welds;
     std::vector<VolumeConstraint> volumes;  // one per piece that holds air, naming its piece, in piece order
     // The connected piece (of `triangles`, through shared vertices) of every particle, ids
     // 0 .. pieces - 1, k_no_piece for a particle in no triangle. Topology edits keep both: a

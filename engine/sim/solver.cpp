@@ -10,6 +10,7 @@
 #include "sim/drag.h"
 #include "sim/integrate.h"
 #include "sim/shape.h"
+#include "sim/weld.h"
 #include "sim/volume.h"
 
 namespace pbdsplat::sim {
@@ -90,6 +91,7 @@ void SolverT<Real>::project_distance(SoftBodyT<Real>& body, const SolverSettings
             else project_distance_pbd<Real>(distance.subspan(first + b, e - b), p, k);
         });
     }
+    project_welds<Real>(body, p, k);
 }
 
 template <class Real>

@@ -9,7 +9,9 @@
 #include "mesh/obj_loader.h"
 #include "mesh/repair.h"
 #include "sim/drag.h"
+#include "sim/contact.h"
 #include "sim/state_hash.h"
+#include "sim/weld.h"
 #include "sim_fixtures.h"
 
 #include "support/skip.h"
@@ -154,13 +156,78 @@ TEST_SUITE("sim/solver") {
         const auto picked = sim::pick_particle(b.particles, Vec3f(0, 0, 5), Vec3f(0, 0, -1), 0.1f);
         REQUIRE(picked.has_value());
         CHECK(b.particles.x[*picked].z() > 0.9f);  // the front of the sphere, not the back
-        sim::DragConstraint drag{*picked, Vec3f(0, 0, 2), 0.5f, true};
+        sim::DragConstraint drag = sim::grab_region(b, *picked, 0.0f, 0.5f);
+        drag.target = Vec3f(0, 0, 2);
         sim::SolverSettings s;
         s.gravity = Vec3f::Zero();
         sim::Solver solver;
         for (int f = 0; f < 60; ++f) solver.step(b, 1.0f / 60.0f, s, {}, drag);
         CHECK(b.particles.x[*picked].z() > 1.5f);
         CHECK_FALSE(sim::pick_particle(b.particles, Vec3f(5, 5, 5), Vec3f(1, 0, 0), 0.1f).has_value());
+    }
+
+    TEST_CASE("a region grab at full stiffness moves the held cap as one, and the body stretches after it") {
+        auto b = test::make_body(mesh::icosphere(3));
+        for (uint32_t i = 0; i < b.particle_count(); ++i)
+            if (b.particles.x[i].y() < -0.9f) b.pin(i);
+        const uint32_t top = b.extreme_particle(1);
+        const float radius = 0.4f;
+        sim::DragConstraint drag = sim::grab_region(b, top, radius, 1.0f);
+        REQUIRE(drag.particles.size() > 10);  // a patch, not a particle
+        for (size_t k = 0; k < drag.particles.size(); ++k) {
+            CHECK(drag.offsets[k].norm() < radius);
+            CHECK(drag.weights[k] <= 1.0f);
+            if (drag.offsets[k].norm() <= 0.5f * radius) CHECK(drag.weights[k] == 1.0f);
+        }
+        sim::SolverSettings s;
+        s.gravity = Vec3f::Zero();
+        sim::Solver solver;
+        const Vec3f grab = drag.target;
+        for (int f = 0; f < 60; ++f) {
+            drag.target = grab + Vec3f(0.0f, 0.5f * float(f + 1) / 60.0f, 0.0f);
+            solver.step(b, 1.0f / 60.0f, s, {}, drag);
+        }
+        float worst = 0.0f;
+        for (size_t k = 0; k < drag.particles.size(); ++k)
+            if (drag.offsets[k].norm() <= 0.5f * radius)
+                worst = std::max(worst, (sim::xyz(b.particles.x[drag.particles[k]]) - (drag.target + drag.offsets[k])).norm());
+        MESSAGE("the held core's largest distance from its place in the moved cap: " << worst);
+        CHECK(worst < 1e-3f);
+        // The bottom pinned, the cap 0.5 higher: the sphere is drawn out between them.
+        const float height = b.particles.x[top].y() - b.particles.x[b.extreme_particle(1, false)].y();
+        MESSAGE("height after the pull " << height);
+        CHECK(height > 2.4f);
+    }
+
+    TEST_CASE("welds hold an open part where it touches another part of its model; closed parts are not welded") {
+        // A sheet lying on a box's top face (separate surfaces, one model), the box pinned.
+        auto build = [](bool sheet) {
+            mesh::TriangleMesh m = mesh::box(Vec3f(1, 1, 1), 4);
+            if (sheet) mesh::append(m, mesh::grid_sheet(4, 0.5f), Eigen::Affine3f(Eigen::Translation3f(0.0f, 0.5f, 0.0f)));
+            else mesh::append(m, mesh::icosphere(2, 0.25f), Eigen::Affine3f(Eigen::Translation3f(0.0f, 0.75f, 0.0f)));
+            sim::SoftBody b = test::make_body(std::move(m));
+            REQUIRE(b.pieces == 2);
+            for (uint32_t i = 0; i < b.particle_count(); ++i)
+                if (b.part_of_particle[i] == b.part_of_particle[b.extreme_particle(1, false)]) b.pin(i);
+            return b;
+        };
+        sim::SoftBody ball = build(false);
+        CHECK(sim::weld_touching_parts(ball, sim::mean_rest_edge(ball)) == 0);
+        auto run = [](sim::SoftBody b, bool weld) {
+            const size_t welds = weld ? sim::weld_touching_parts(b, sim::mean_rest_edge(b)) : 0;
+            sim::SolverSettings s;
+            s.contact.enabled = false;
+            sim::Solver solver;
+            for (int f = 0; f < 60; ++f) solver.step(b, 1.0f / 60.0f, s, {}, {});
+            float lowest = INFINITY;
+            for (uint32_t i = 0; i < b.particle_count(); ++i)
+                if (b.part_of_particle[i] != b.part_of_particle[b.extreme_particle(1, false)]) lowest = std::min(lowest, b.particles.x[i].y());
+            MESSAGE(std::string(weld ? "welded" : "loose") << " (" << welds << " welds): the sheet's lowest point after 1 s " << lowest);
+            return lowest;
+        };
+        const sim::SoftBody sheet = build(true);
+        CHECK(run(sheet, true) > 0.3f);   // its rim is held on the box (its middle sags 6 cm: contact is off)
+        CHECK(run(sheet, false) < 0.0f);  // nothing holds it: it falls past the box's top
     }
 
     TEST_CASE("determinism: the same scene gives bit-identical state") {

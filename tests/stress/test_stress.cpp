@@ -166,11 +166,8 @@ TEST_SUITE("stress/solver") {
         b.particles.x[1] += Vec4f(3.0f, 0.0f, 0.0f, 0.0f);  // far beyond what the edges allow
         b.particles.x_prev[1] = b.particles.x[1];
         const Vec4f pinned = b.particles.x[1];
-        sim::DragConstraint drag;
-        drag.particle = 2;
+        sim::DragConstraint drag = sim::grab_region(b, 2, 0.0f, 1.0f);
         drag.target = Vec3f(-4.0f, 0.0f, 0.0f);
-        drag.stiffness = 1.0f;
-        drag.active = true;
         sim::SolverSettings s;
         s.gravity = Vec3f::Zero();
         run_checked(b, k_frames, 1.0f / 60.0f, s, {}, drag);

@@ -35,9 +35,11 @@ uint64_t fingerprint(const sim::SoftBody& body) {
 }
 
 uint64_t fingerprint(const sim::DragConstraint& d) {
-    uint64_t h = mix_value(k_basis, d.particle);
+    uint64_t h = mix_span<uint32_t>(k_basis, d.particles);
+    h = mix_span<float>(h, d.weights);
+    for (const Vec3f& o : d.offsets) h = mix(h, o.data(), sizeof(float) * 3);
     h = mix(h, d.target.data(), sizeof(float) * 3);
-    return mix_value(mix_value(h, d.stiffness), d.active);
+    return mix_value(h, d.active);
 }
 
 uint64_t fingerprint(const splat::Appearance& a) {

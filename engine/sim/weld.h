@@ -1,0 +1,24 @@
+#pragma once
+// Welds: the parts of one model that touch at rest but share no vertex (a teapot's spout, handle
+// and lid lie on its body as separate surfaces) held together, so that a model a user loads
+// behaves as the one object it shows instead of shedding its parts. A weld is a distance
+// constraint between two particles of different parts, at their rest distance; welds are not
+// mesh edges, so cuts and tears leave them alone (a tear runs through the skin beside a weld).
+#include <cstddef>
+
+#include "sim/soft_body.h"
+
+namespace pbdsplat::sim {
+
+// Adds a weld from every particle on an open edge of its part to the nearest particle of another
+// part of its model within `reach` (where the particles are at the call), once per pair: a
+// spout's end to the body it stands on, a lid's rim to the pot's. Closed parts that touch (a
+// model's eyeballs in their sockets) are not welded: held to a balloon head that deflates and
+// re-inflates, suzanne's eyes tore its surface apart (volume error 9, measured). Returns how many.
+size_t weld_touching_parts(SoftBody& body, float reach);
+
+// Projects every weld once (PBD, `stiffness` of the error), one after another.
+template <class Real>
+void project_welds(const SoftBodyT<Real>& body, ParticlesT<Real>& p, Real stiffness);
+
+} // namespace pbdsplat::sim
