@@ -107,7 +107,7 @@ void report_stages(Report& report, const Samples& m, const gpu::DeviceCaps& caps
         report.line("GPU Scene: device '" + caps.name + "' has no timestamp queries");
 }
 
-// The density control's cost against its goal (issue 15: at most 0.3 ms a frame per 10k
+// The density control's cost against its goal (the goal: at most 0.3 ms a frame per 10k
 // samples while the surface changes, ~0 when nothing does): per 10k samples, the mean over all
 // frames, over the span from its first to its last working frame, and over the frames between
 // with nothing to do.
