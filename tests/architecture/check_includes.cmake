@@ -1,4 +1,4 @@
-# Checks the include rules of DESIGN.md: a file in engine/<room>/ may include only headers of the
+# Checks the include rules of docs/ARCHITECTURE.md: a file in engine/<room>/ may include only headers of the
 # rooms listed for it. Run as: cmake -DENGINE_DIR=... -P check_includes.cmake
 set(allowed_core "core")
 set(allowed_mesh "core;mesh")
@@ -10,7 +10,7 @@ set(allowed_splat "core;mesh;sim;surface;splat")
 set(allowed_gpu "core;gpu")
 set(allowed_render "core;gpu;splat;render")
 set(allowed_graph "core;gpu;graph")
-# The GPU passes as graph modules: the render half only, never sim (DESIGN.md).
+# The GPU passes as graph modules: the render half only, never sim (docs/ARCHITECTURE.md).
 set(allowed_passes "core;gpu;graph;render;splat;passes")
 set(allowed_scene "core;mesh;sim;topology;surface;splat;gpu;render;graph;passes;scene")
 set(rooms core mesh sim topology surface splat gpu render graph passes scene)
@@ -22,7 +22,7 @@ foreach(src IN LISTS sources)
   string(REGEX MATCH "^[^/]+" room "${rel}")
   if(NOT DEFINED allowed_${room})
     if(rel MATCHES "/")
-      message(SEND_ERROR "${rel}: engine/${room}/ is not a room of DESIGN.md; add it to the table here and there")
+      message(SEND_ERROR "${rel}: engine/${room}/ is not a room of docs/ARCHITECTURE.md; add it to the table here and there")
       math(EXPR violations "${violations} + 1")
     endif()
     continue()
@@ -45,7 +45,7 @@ foreach(src IN LISTS sources)
     endif()
   endforeach()
 endforeach()
-# tools/ (DESIGN.md): the program talks to scene and the render half (core, gpu, graph, render,
+# tools/ (docs/ARCHITECTURE.md): the program talks to scene and the render half (core, gpu, graph, render,
 # passes, splat: the records are the contract); a bench of one stage may also include that
 # stage's rooms, named here per file.
 set(tools_allowed "core;gpu;graph;render;passes;splat;scene")

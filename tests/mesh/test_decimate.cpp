@@ -9,6 +9,7 @@
 #include "mesh/mesh_spec.h"
 #include "mesh/model_path.h"
 #include "mesh/procedural.h"
+#include "support/skip.h"
 
 using namespace pbdsplat;
 
@@ -66,7 +67,7 @@ TEST_SUITE("mesh/decimate") {
 
     TEST_CASE("the bunny decimates to an oriented manifold with its scan holes kept") {
         if (!mesh::find_model("stanford-bunny.obj")) {
-            MESSAGE("skipped: stanford-bunny.obj is not on the model search path");
+            test::skip("stanford-bunny.obj is not on the model search path");
             return;
         }
         auto fine = mesh::load_mesh_spec("stanford-bunny.obj");

@@ -8,6 +8,7 @@
 #include "mesh/deformation.h"
 #include "mesh/procedural.h"
 #include "surface/stretch_scan.h"
+#include "support/skip.h"
 
 using namespace pbdsplat;
 
@@ -96,7 +97,7 @@ TEST_SUITE("surface/stretch_scan") {
 
     TEST_CASE("the eight-lane scan gives the four-lane scan's bits") {
         if (!surface::eight_lanes_available()) {
-            MESSAGE("SKIPPED: this processor has no AVX; the eight-lane scan is not used here");
+            test::skip("this processor has no AVX; the eight-lane scan is not used here");
             return;
         }
         for (uint32_t seed : {1u, 2u, 3u}) {
