@@ -154,8 +154,8 @@ TEST_SUITE("stress/solver") {
             const double error = std::abs(volume_ratio(b) - 0.6);
             MESSAGE(iterations << " iterations: volume error " << error);
             if (iterations == 1) error_at_1 = error;
-            else CHECK(error <= error_at_1 + 1e-4);
-            CHECK(error < 1e-3);  // measured below 1e-7 at every count
+            else CHECK(error <= error_at_1 + 1e-7);  // float rounding of the volume ratio (about 3e-8 measured)
+            CHECK(error < 1e-6);  // measured 2.3e-8 to 3.1e-8 at every count
         }
     }
 

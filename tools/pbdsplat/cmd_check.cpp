@@ -69,8 +69,7 @@ int cmd_check(const std::vector<std::string>& argv) {
     }
     auto report = scene::check_scene(sc.value(), o);
     if (!report.ok()) return fail("check", sc->name + ": " + report.error().to_string());
-    if (ctx)
-        if (auto v = check_validation(*ctx); !v.ok()) return fail("check", v.error().to_string());
+    if (auto v = close_and_check_validation(std::move(ctx)); !v.ok()) return fail("check", v.error().to_string());
     const scene::CheckReport& r = report.value();
     if (opt.flag("json")) {
         nlohmann::json samples = nlohmann::json::array();
