@@ -12,6 +12,7 @@ core::Status validate(const TearOptions& o) {
         return core::make_error("tear threshold must be a stretch ratio above 1 (got " + std::to_string(o.threshold) + ")");
     if (o.max_per_frame == 0) return core::make_error("tear: max_per_frame must be at least 1");
     if (!(o.reach >= 0.5f) || !std::isfinite(o.reach)) return core::make_error("tear: reach must be at least 0.5 edge lengths");
+    if (o.min_fragment_triangles > 1000000) return core::make_error("tear: min_fragment_triangles must be at most 1,000,000");
     return core::Status::success();
 }
 
@@ -119,11 +120,47 @@ std::vector<uint32_t> neighbourhood(const sim::SoftBody& b, uint32_t v, int ring
 }
 } // namespace
 
+namespace {
+// Pieces with fewer than `below` triangles.
+size_t small_pieces(const sim::SoftBody& b, uint32_t below) {
+    if (below == 0) return 0;
+    std::vector<uint32_t> count(b.pieces, 0);
+    for (const mesh::Triangle& t : b.triangles)
+        if (const uint32_t p = b.piece_of_particle[t[0]]; p < count.size()) ++count[p];
+    return size_t(std::count_if(count.begin(), count.end(), [&](uint32_t c) { return c < below; }));
+}
+constexpr int k_refusals_per_call = 2;
+
+// Whether any of `particles` lies on an open edge (a neighbour it shares only one triangle with).
+// A slit can cut a piece off only by reaching an opening (or by closing a loop of its own, which
+// one short slit does not): away from openings a tear needs no copy of the body to go back to.
+bool touches_opening(const sim::SoftBody& b, std::span<const uint32_t> particles) {
+    std::vector<uint32_t> seen;
+    for (uint32_t v : particles) {
+        seen.clear();
+        for (const auto& pair : b.rings.ring.of(v)) seen.insert(seen.end(), pair.begin(), pair.end());
+        std::sort(seen.begin(), seen.end());
+        for (size_t k = 0; k < seen.size();) {
+            size_t run = 1;
+            while (k + run < seen.size() && seen[k + run] == seen[k]) ++run;
+            if (run == 1) return true;
+            k += run;
+        }
+    }
+    return false;
+}
+} // namespace
+
 core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const TearOptions& tear, const CutOptions& cut_options,
                                                       StrainedSet& strained) {
     PBDSPLAT_TRY(validate(tear));
-    // The most strained edges first; the first that can open does.
-    for (const StrainedEdge& e : strained.most_strained(16)) {
+    const size_t small_before = small_pieces(b, tear.min_fragment_triangles);
+    int refusals = 0;
+    // The most strained edges first; the first that can open does. A copy: a refused tear puts
+    // the frame's set back.
+    const std::span<const StrainedEdge> top = strained.most_strained(16);
+    const std::vector<StrainedEdge> candidates(top.begin(), top.end());
+    for (const StrainedEdge& e : candidates) {
         const Vec3f xi = sim::xyz(b.particles.x[e.i]), xj = sim::xyz(b.particles.x[e.j]);
         const Vec3f along = (xj - xi).normalized();
         // Split an end vertex across the edge: the plane through it, normal to the edge. Its fan
@@ -133,8 +170,19 @@ core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const Te
             if (!splits_ring(b, v, along, radius)) continue;
             CutSurface slit = local_cut(sim::xyz(b.particles.x[v]), along, std::max(tear.reach * (xj - xi).norm(), 1.01f * radius));
             slit.particles = neighbourhood(b, v, 2);
+            // Whether the slit cuts off a fleck shows only once it is cut: the body as it was is
+            // kept to go back to. After a few refusals the call gives up until the next frame (each
+            // costs a copy of the body).
+            if (refusals == k_refusals_per_call) return std::optional<TopologyChange>{};
+            std::optional<sim::SoftBody> before;
+            if (tear.min_fragment_triangles > 0 && touches_opening(b, slit.particles)) before.emplace(b);
             auto change = cut(b, slit, cut_options);
             if (!change.ok()) return change.error();
+            if (before && small_pieces(b, tear.min_fragment_triangles) > small_before) {
+                b = std::move(*before);
+                ++refusals;
+                continue;
+            }
             strained.update(b, change.value());
             return std::optional<TopologyChange>(std::move(change).value());
         }

@@ -17,6 +17,9 @@ struct TearOptions {
     float threshold = 1.5f;      // current / rest length beyond which an edge tears (> 1)
     uint32_t max_per_frame = 4;  // tears per frame
     float reach = 1.0f;          // the slit reaches at least this many torn-edge lengths (and the vertex's ring)
+    // A tear that would cut off a piece of fewer triangles is not made (the edge waits, and the
+    // next one is tried): a fleck of a few triangles flying off reads as a speck, not a rip.
+    uint32_t min_fragment_triangles = 8;
 };
 core::Status validate(const TearOptions& options);
 
@@ -50,7 +53,8 @@ private:
 };
 
 // Tears at the most strained edge that can open: one of its end vertices is split by the plane
-// through it normal to the edge (a pinned end never is). Nothing when no edge passes. With
+// through it normal to the edge (a pinned end never is), unless that cuts off a piece smaller
+// than TearOptions::min_fragment_triangles. Nothing when no edge passes. With
 // `strained`, the edges come from (and the tear is recorded in) the frame's set.
 core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& body, const TearOptions& tear, const CutOptions& cut);
 core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& body, const TearOptions& tear, const CutOptions& cut,
