@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "mesh/procedural.h"
+#include "sim/pose.h"
 #include "sim/solver.h"
 #include "topology/invariants.h"
 #include "topology/tear.h"
@@ -76,6 +77,7 @@ TEST_SUITE("topology/tear") {
         const auto counts = topology::count_components_and_loops(b);
         CHECK(counts.components >= 2);
         CHECK(counts.components <= 4);
+        CHECK(sim::smallest_piece_triangles(b) >= tear.min_fragment_triangles);  // no fleck came off
     }
 
     TEST_CASE("the frame's strained set, kept through tears, equals a fresh scan after each") {
