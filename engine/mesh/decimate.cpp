@@ -13,8 +13,12 @@ namespace {
 core::Result<RepairedMesh> simplify(const TriangleMesh& m, const std::vector<uint32_t>& indices, uint32_t target,
                                     bool lock_border, float& error, const std::string& name) {
     // A closed surface has about twice as many triangles as vertices (Euler); an open one a
-    // little fewer, so the vertex target is the better-kept promise of the two.
-    const size_t target_indices = size_t(target) * 2 * 3;
+    // little fewer, so the vertex target is the better-kept promise of the two. Where that asks
+    // for more triangles than the mesh has (an open sheet, a mesh of many loose parts: fewer
+    // than two per vertex), the mesh's own ratio of triangles to vertices is kept instead.
+    size_t target_indices = size_t(target) * 2 * 3;
+    if (target_indices > indices.size())
+        target_indices = std::min(indices.size(), indices.size() * size_t(target) / std::max<size_t>(m.positions.size(), 1));
     std::vector<uint32_t> simplified(indices.size());
     const size_t count = meshopt_simplify(simplified.data(), indices.data(), indices.size(), m.positions[0].data(),
                                           m.positions.size(), sizeof(Vec3f), target_indices, 1.0f,

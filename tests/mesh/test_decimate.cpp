@@ -65,6 +65,20 @@ TEST_SUITE("mesh/decimate") {
         CHECK(bad.error().to_string().find("at least 4") != std::string::npos);
     }
 
+    TEST_CASE("a mesh with fewer than two triangles per vertex decimates instead of aborting") {
+        // An open 10 x 10 sheet: 121 vertices, 200 triangles. Asking for 110 vertices at two
+        // triangles each asked the simplifier for more triangles than there are (it asserted).
+        const mesh::TriangleMesh sheet = mesh::grid_sheet(10, 2.0f);
+        REQUIRE(sheet.vertex_count() == 121);
+        for (uint32_t target : {60u, 110u, 120u}) {
+            CAPTURE(target);
+            auto d = mesh::decimate(sheet, {target, false}, "sheet");
+            REQUIRE_MESSAGE(d.ok(), d.error().to_string());
+            CHECK(d.value().mesh.vertex_count() <= sheet.vertex_count());
+            CHECK(d.value().mesh.triangle_count() >= 4);
+        }
+    }
+
     TEST_CASE("the bunny decimates to an oriented manifold with its scan holes kept") {
         if (!mesh::find_model("stanford-bunny.obj")) {
             test::skip("stanford-bunny.obj is not on the model search path");
