@@ -1,9 +1,9 @@
 #include "scene/timeline.h"
 
-#include "sim/drag.h"
-
 #include <algorithm>
 #include <limits>
+
+#include "sim/drag.h"
 
 namespace pbdsplat::scene {
 

@@ -60,13 +60,8 @@ PoseReport pose_report(const SoftBody& body) {
 }
 
 size_t smallest_piece_triangles(const SoftBody& body) {
-    std::vector<size_t> count(body.pieces, 0);
-    for (const mesh::Triangle& t : body.triangles) {
-        const uint32_t p = body.piece_of_particle[t[0]];
-        if (p < count.size()) ++count[p];
-    }
     size_t smallest = 0;
-    for (size_t c : count)
+    for (size_t c : piece_triangle_counts(body.triangles, body.piece_of_particle, body.pieces))
         if (c > 0 && (smallest == 0 || c < smallest)) smallest = c;
     return smallest;
 }

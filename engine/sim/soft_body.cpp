@@ -20,6 +20,14 @@ uint32_t label_pieces(std::span<const mesh::Triangle> triangles, size_t particle
     return count;
 }
 
+std::vector<size_t> piece_triangle_counts(std::span<const mesh::Triangle> triangles, std::span<const uint32_t> piece_of_particle,
+                                          size_t pieces) {
+    std::vector<size_t> count(pieces, 0);
+    for (const mesh::Triangle& t : triangles)
+        if (const uint32_t p = piece_of_particle[t[0]]; p < pieces) ++count[p];
+    return count;
+}
+
 template <class Real>
 void rebuild_derived(SoftBodyT<Real>& b) {
     const size_t n = b.particle_count();
@@ -152,8 +160,7 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
 
     b.pieces = label_pieces(b.triangles, n, b.piece_of_particle);
     if (desc.volume) {
-        std::vector<size_t> triangle_count(b.pieces, 0);
-        for (const mesh::Triangle& t : b.triangles) ++triangle_count[b.piece_of_particle[t[0]]];
+        const std::vector<size_t> triangle_count = piece_triangle_counts(b.triangles, b.piece_of_particle, b.pieces);
         b.volumes.resize(b.pieces);
         for (uint32_t c = 0; c < b.pieces; ++c) b.volumes[c].piece = c, b.volumes[c].triangle_count = triangle_count[c];
         for (auto& loop : mesh::boundary_loops(m)) b.volumes[b.piece_of_particle[loop[0]]].cap_loops.push_back(std::move(loop));

@@ -109,6 +109,9 @@ void solve_volumes(SoftBodyT<Real>& b, Vec4ArrayT<Real>& scratch, bool xpbd, Rea
 // The pieces of `triangles` (connected through shared vertices), one label per particle
 // (k_no_piece for a particle in no triangle); returns their count.
 uint32_t label_pieces(std::span<const mesh::Triangle> triangles, size_t particle_count, std::vector<uint32_t>& piece_of_particle);
+// How many triangles each piece of `piece_of_particle` holds (`pieces` entries).
+std::vector<size_t> piece_triangle_counts(std::span<const mesh::Triangle> triangles, std::span<const uint32_t> piece_of_particle,
+                                          size_t pieces);
 
 // Builds the body. `mesh` must be repaired (manifold with boundary, outward); the mesh's vertex
 // order may change (reorder), so the body's particles are the reference afterwards.

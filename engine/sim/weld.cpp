@@ -31,7 +31,7 @@ size_t weld_touching_parts(SoftBody& b, float reach) {
         if (used[i]) grid[key(cell(xyz(b.particles.x[i])))].push_back(i);
     std::vector<std::pair<uint32_t, uint32_t>> pairs;
     for (uint32_t i = 0; i < n; ++i) {
-        if (!used[i] || !open_end[i]) continue;
+        if (!open_end[i]) continue;
         const Vec3f xi = xyz(b.particles.x[i]);
         const Eigen::Vector3i c = cell(xi);
         float best = reach * reach;

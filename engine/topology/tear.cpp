@@ -118,16 +118,12 @@ std::vector<uint32_t> neighbourhood(const sim::SoftBody& b, uint32_t v, int ring
     }
     return in;
 }
-} // namespace
 
-namespace {
 // Pieces with fewer than `below` triangles.
 size_t small_pieces(const sim::SoftBody& b, uint32_t below) {
     if (below == 0) return 0;
-    std::vector<uint32_t> count(b.pieces, 0);
-    for (const mesh::Triangle& t : b.triangles)
-        if (const uint32_t p = b.piece_of_particle[t[0]]; p < count.size()) ++count[p];
-    return size_t(std::count_if(count.begin(), count.end(), [&](uint32_t c) { return c < below; }));
+    const std::vector<size_t> count = sim::piece_triangle_counts(b.triangles, b.piece_of_particle, b.pieces);
+    return size_t(std::count_if(count.begin(), count.end(), [&](size_t c) { return c < below; }));
 }
 constexpr int k_refusals_per_call = 2;
 
@@ -171,16 +167,15 @@ core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const Te
             CutSurface slit = local_cut(sim::xyz(b.particles.x[v]), along, std::max(tear.reach * (xj - xi).norm(), 1.01f * radius));
             slit.particles = neighbourhood(b, v, 2);
             // Whether the slit cuts off a fleck shows only once it is cut: the body as it was is
-            // kept to go back to. After a few refusals the call gives up until the next frame (each
-            // costs a copy of the body).
-            if (refusals == k_refusals_per_call) return std::optional<TopologyChange>{};
+            // kept to go back to.
             std::optional<sim::SoftBody> before;
             if (tear.min_fragment_triangles > 0 && touches_opening(b, slit.particles)) before.emplace(b);
             auto change = cut(b, slit, cut_options);
             if (!change.ok()) return change.error();
             if (before && small_pieces(b, tear.min_fragment_triangles) > small_before) {
                 b = std::move(*before);
-                ++refusals;
+                // Each refusal cost a copy of the body: after a few the call waits for the next frame.
+                if (++refusals == k_refusals_per_call) return std::optional<TopologyChange>{};
                 continue;
             }
             strained.update(b, change.value());
