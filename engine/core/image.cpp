@@ -17,7 +17,7 @@ Status write_png(const std::string& path, const ImageRgba8& image) {
     return Status::success();
 }
 
-Result<ImageRgba8> read_png(const std::string& path) {
+Result<ImageRgba8> read_image(const std::string& path) {
     int w = 0, h = 0, n = 0;
     stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 4);
     if (!data) {

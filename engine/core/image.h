@@ -20,7 +20,8 @@ struct ImageRgba8 {
 };
 
 Status write_png(const std::string& path, const ImageRgba8& image);
-Result<ImageRgba8> read_png(const std::string& path);
+// PNG, JPEG, BMP, TGA, GIF or PSD, as 8-bit RGBA (what stb_image decodes).
+Result<ImageRgba8> read_image(const std::string& path);
 
 // How far two images of the same size are apart, as the golden-image tests judge them.
 struct ImageDiff {

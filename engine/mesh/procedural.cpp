@@ -1,10 +1,10 @@
 #include "mesh/procedural.h"
 
 #include <cmath>
-#include <unordered_map>
 
 #include "core/assert.h"
 #include "mesh/repair.h"
+#include "mesh/subdivide.h"
 
 namespace pbdsplat::mesh {
 
@@ -19,25 +19,7 @@ TriangleMesh icosphere(uint32_t level, float radius) {
                    {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
                    {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
 
-    for (uint32_t l = 0; l < level; ++l) {
-        std::unordered_map<uint64_t, uint32_t> midpoint;
-        auto mid = [&](uint32_t a, uint32_t b) {
-            const uint64_t key = (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-            auto [it, inserted] = midpoint.try_emplace(key, uint32_t(m.positions.size()));
-            if (inserted) m.positions.push_back((m.positions[a] + m.positions[b]).normalized());
-            return it->second;
-        };
-        std::vector<Triangle> next;
-        next.reserve(m.triangles.size() * 4);
-        for (const Triangle& tri : m.triangles) {
-            const uint32_t a = mid(tri[0], tri[1]), b = mid(tri[1], tri[2]), c = mid(tri[2], tri[0]);
-            next.push_back({tri[0], a, c});
-            next.push_back({tri[1], b, a});
-            next.push_back({tri[2], c, b});
-            next.push_back({a, b, c});
-        }
-        m.triangles = std::move(next);
-    }
+    for (uint32_t l = 0; l < level; ++l) subdivide(m, [](const Vec3f& a, const Vec3f& b) { return Vec3f((a + b).normalized()); });
     for (Vec3f& p : m.positions) p *= radius;
     return m;
 }

@@ -339,7 +339,7 @@ core::Result<RepairedMesh> repair(TriangleMesh m, const RepairOptions& options, 
 
     if (options.close_holes) cap_holes(m, r);
     count_what_is_left(m, r);
-    return RepairedMesh{std::move(m), r};
+    return RepairedMesh{std::move(m), r, shift, s};
 }
 
 } // namespace pbdsplat::mesh

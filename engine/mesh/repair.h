@@ -40,6 +40,9 @@ struct RepairReport {
 struct RepairedMesh {
     TriangleMesh mesh;
     RepairReport report;
+    // The centring and scaling applied: an input point p is now (p + shift) * scale.
+    Vec3f shift = Vec3f::Zero();
+    float scale = 1.0f;
 };
 
 // `name` is used in error messages (the file the mesh came from). Fails when nothing usable

@@ -5,6 +5,7 @@
 #include "scene/stages/body_view.h"
 #include "scene/stages/fine_surface.h"
 #include "scene/stages/mapping_stage.h"
+#include "scene/stages/paint.h"
 #include "scene/stages/pass_group.h"
 #include "scene/stages/simulation_stage.h"
 #include "scene/stages/surface_stage.h"
@@ -78,6 +79,11 @@ core::Status SceneRuntime::build_graph() {
     add_surface_passes(g, surface, {splat_particles_, h_, scene_.surface.seed, tag(PassGroup::update)});
     h.samples = surface.samples;
     h.stretch = surface.stretch;
+    if (h.boundary && !paint_.empty()) {
+        PaintHandles paint{h.body, g.import("paint", &paint_), h.samples};
+        add_paint_pass(g, paint, tag(PassGroup::update));
+        h.samples = paint.samples;
+    }
     map_settings_.particles = splat_particles_;
     map_settings_.cull_back = scene_.render.cull_back;
     map_settings_.draw_ground = scene_.render.ground;

@@ -18,7 +18,7 @@
 namespace pbdsplat::scene {
 
 struct ModelDesc {
-    std::string mesh = "icosphere:4";  // procedural spec or OBJ path (see mesh/mesh_spec.h)
+    std::string mesh = "icosphere:4";  // procedural spec or OBJ path (see asset/mesh_spec.h)
     float fit = 2.0f;                  // files: bounding-box diagonal after loading; 0 keeps
     Vec3f translate = Vec3f::Zero();
     Vec3f rotate_degrees = Vec3f::Zero();  // applied x, then y, then z

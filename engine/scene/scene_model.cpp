@@ -1,9 +1,10 @@
 #include "scene/scene_model.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
-#include "mesh/mesh_spec.h"
+#include "asset/mesh_spec.h"
 #include "mesh/reorder.h"
 #include "sim/contact.h"
 #include "sim/weld.h"
@@ -12,7 +13,7 @@ namespace pbdsplat::scene {
 
 uint32_t simulation_particles(const Scene& scene) {
     if (scene.simulation.particles) return *scene.simulation.particles;
-    return mesh::is_procedural_spec(scene.model.mesh) ? 0u : k_default_simulation_particles;
+    return asset::is_procedural_spec(scene.model.mesh) ? 0u : k_default_simulation_particles;
 }
 
 namespace {
@@ -24,10 +25,11 @@ struct Part {
     mesh::TriangleMesh coarse;
     std::optional<mesh::TriangleMesh> fine;
     mesh::DecimateReport decimation;
+    std::optional<asset::SurfaceLook> look;  // in scene coordinates
 };
 
 core::Result<Part> load_part(const ModelDesc& md, uint32_t target, const std::string& source_dir) {
-    mesh::MeshSpecOptions mo;
+    asset::MeshSpecOptions mo;
     mo.file_fit_diagonal = md.fit;
     mo.close_holes = md.close_holes;
     std::string spec = md.mesh;
@@ -37,9 +39,10 @@ core::Result<Part> load_part(const ModelDesc& md, uint32_t target, const std::st
         std::error_code ec;
         if (std::filesystem::is_regular_file(beside, ec)) spec = beside.string();
     }
-    auto repaired = mesh::load_mesh_spec(spec, mo);
-    if (!repaired.ok()) return repaired.error();
-    mesh::TriangleMesh m = std::move(repaired).value().mesh;
+    auto loaded = asset::load_model(spec, mo);
+    if (!loaded.ok()) return loaded.error();
+    for (const std::string& w : loaded.value().warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    mesh::TriangleMesh m = std::move(loaded.value().repaired.mesh);
     const Mat3f r = (Eigen::AngleAxisf(math::radians(md.rotate_degrees.z()), Vec3f::UnitZ()) *
                      Eigen::AngleAxisf(math::radians(md.rotate_degrees.y()), Vec3f::UnitY()) *
                      Eigen::AngleAxisf(math::radians(md.rotate_degrees.x()), Vec3f::UnitX()))
@@ -47,6 +50,9 @@ core::Result<Part> load_part(const ModelDesc& md, uint32_t target, const std::st
     for (Vec3f& p : m.positions) p = r * (p * md.scale) + md.translate;
 
     Part out;
+    out.look = std::move(loaded.value().look);
+    if (out.look)
+        for (Vec3f& p : out.look->positions) p = r * (p * md.scale) + md.translate;
     if (target > 0 && target < m.vertex_count()) {
         mesh::DecimateOptions d;
         d.target_vertices = target;
@@ -67,7 +73,7 @@ core::Result<Part> load_part(const ModelDesc& md, uint32_t target, const std::st
 
 uint32_t part_particles(const ModelDesc& md, const std::optional<uint32_t>& asked) {
     if (asked) return *asked;
-    return mesh::is_procedural_spec(md.mesh) ? 0u : k_default_simulation_particles;
+    return asset::is_procedural_spec(md.mesh) ? 0u : k_default_simulation_particles;
 }
 
 } // namespace
@@ -76,6 +82,11 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     auto first = load_part(scene.model, simulation_particles(scene), scene.source_dir);
     if (!first.ok()) return first.error();
     SceneModel out;
+    auto add_look = [&](std::optional<asset::SurfaceLook>& look, const Vec3f& plain) {
+        out.paint.model.push_back(look ? std::make_shared<const asset::SurfaceColors>(std::move(*look)) : nullptr);
+        out.paint.plain.push_back(plain);
+    };
+    add_look(first.value().look, scene.material.color);
     mesh::TriangleMesh coarse;
     if (scene.bodies.empty()) {
         coarse = std::move(first.value().coarse);
@@ -89,6 +100,7 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
             const BodyDesc& b = scene.bodies[k];
             auto part = load_part(b.model, part_particles(b.model, b.particles), scene.source_dir);
             if (!part.ok()) return core::make_error("bodies[" + std::to_string(k) + "] (" + b.model.mesh + "): " + part.error().to_string());
+            add_look(part.value().look, b.color ? *b.color : scene.material.color);
             parts.push_back(std::move(part).value());
         }
         bool any_fine = false, any_color = false;
@@ -141,6 +153,7 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     // A model's parts that touch at rest (a teapot's spout on its body) hold together: within an
     // edge of each other, the decimated surfaces' vertices no longer coincide where they met.
     if (s.weld_parts) sim::weld_touching_parts(b, sim::mean_rest_edge(b));
+    if (!out.paint.empty()) paint_particles(out.paint, b);
     const bool any_fixed = std::any_of(scene.bodies.begin(), scene.bodies.end(), [](const BodyDesc& d) { return d.fixed; });
     for (uint32_t pin : s.pins) {
         if (pin >= b.particle_count())

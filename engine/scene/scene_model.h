@@ -8,6 +8,7 @@
 #include "mesh/decimate.h"
 #include "mesh/triangle_mesh.h"
 #include "scene/scene.h"
+#include "scene/stages/paint.h"
 #include "sim/soft_body.h"
 
 namespace pbdsplat::scene {
@@ -21,6 +22,8 @@ struct SceneModel {
     // With [[bodies]]: where each model's particles start ([model] first, then the bodies in
     // order), and the particle count last. Empty for one model.
     std::vector<uint32_t> part_start;
+    // The models' looks (textures, materials, vertex colours); empty when every model is plain.
+    SurfacePaint paint;
 };
 
 // The simulation size a scene asks for: 0 keeps the model's vertices.

@@ -29,6 +29,7 @@ core::Result<std::unique_ptr<SceneRuntime>> SceneRuntime::create(const Scene& sc
     rt->body_ = std::move(model.value().body);
     rt->fine_ = std::move(model.value().fine);
     rt->decimation_ = model.value().decimation;
+    rt->paint_ = std::move(model.value().paint);
     PBDSPLAT_TRY(rt->build(options));
     return rt;
 }
@@ -52,6 +53,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     if (!surface.ok()) return surface.error();
     h_ = surface->h;
     splat_particles_ = surface->particles_are_splats;
+    if (!paint_.empty()) paint_samples(paint_, body_, boundary_);
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
     mapping_ = std::make_unique<MappingStage>(body_, scene_.simulation.fade_frames, scene_.render.deformed_shapes(),
                                                scene_.render.varying_normals);

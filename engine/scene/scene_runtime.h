@@ -26,6 +26,7 @@
 #include "splat/mapping.h"
 #include "render/mesh_raster.h"
 #include "splat/sort.h"
+#include "scene/stages/paint.h"
 #include "surface/boundary_particles.h"
 #include "surface/density.h"
 #include "surface/embedding.h"
@@ -182,6 +183,7 @@ private:
     sim::SoftBody body_;
     std::optional<mesh::TriangleMesh> fine_;  // the model's surface when the body is decimated
     mesh::DecimateReport decimation_;
+    SurfacePaint paint_;  // the models' looks; empty for plain materials (no paint pass then)
     surface::EmbeddingStats embedding_;
     std::optional<surface::BoundaryParticles> fine_vertices_;  // made on the first deformed_surface()
     // The surface mesh as the mesh occluders draw it (render.visibility = "mesh"): the fine

@@ -71,7 +71,10 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
         r.position[0] = p.x(), r.position[1] = p.y(), r.position[2] = p.z();
         encode_octahedral(samples->normal[k], r.normal_oct);
         const uint32_t t = samples->triangle[k];
-        if (!colors.empty()) {
+        if (k < samples->color.size() && (samples->color[k] >> 24) != 0) {
+            const uint32_t c = samples->color[k];
+            r.color[0] = uint8_t(c), r.color[1] = uint8_t(c >> 8), r.color[2] = uint8_t(c >> 16);
+        } else if (!colors.empty()) {
             const auto& tri = triangles[t];
             const Vec2f b = samples->bary[k];
             color_bytes((1.0f - b.x() - b.y()) * colors[tri[0]] + b.x() * colors[tri[1]] + b.y() * colors[tri[2]], r);

@@ -33,7 +33,8 @@ private:
 };
 
 // Records for the particles (x, normals), then for the boundary particles (may be null).
-// `colors`, when not empty, gives a colour per particle (boundary particles interpolate it).
+// `colors`, when not empty, gives a colour per particle (boundary particles interpolate it,
+// unless the samples carry a painted colour of their own: BoundaryParticles::color).
 // `stretch`, when not null, scales each splat by its stretch factor. `field`, when not null and
 // current, gives each splat how the normal turns across it (the particles' only when it has
 // vertices); else every splat is lit with one normal.

@@ -82,6 +82,7 @@ void BoundaryParticles::clear() {
     fade.clear();
     fade_step.clear();
     size_factor.clear();
+    color.clear();
 }
 
 float spacing(const mesh::TriangleMesh& m, float eta) { return eta * mesh::mean_edge_length(m); }

@@ -39,6 +39,10 @@ struct BoundaryParticles {
     // The splat size of each sample relative to the material's (edge samples are smaller, see
     // surface/edges.h); shorter than the other arrays (or empty) where it is 1, as for fades.
     std::vector<float> size_factor;
+    // The base colour of each sample where the model has a look of its own (a texture, materials,
+    // vertex colours): linear RGB as bytes, alpha 255 once painted (scene/stages/paint.h). Empty
+    // for a plain material; shorter than the other arrays, or 0, where a sample waits for paint.
+    std::vector<uint32_t> color;
 
     size_t size() const { return triangle.size(); }
     bool embedded() const { return !offset.empty(); }
@@ -119,13 +123,14 @@ template <class Keep>
 size_t BoundaryParticles::keep_if(const Keep& keep) {
     if (!fade.empty()) pad_fades();
     if (!size_factor.empty()) size_factor.resize(size(), 1.0f);
+    if (!color.empty()) color.resize(size(), 0u);
     // The kept prefix stays where it is: a local edit drops few samples, late in the arrays.
     size_t first = 0;
     while (first < size() && keep(first)) ++first;
     if (first == size()) return 0;
     size_t out = first;
     const bool off = !offset.empty(), nl = !local_normal.empty(), pos = position.size() == size(), fd = !fade.empty(),
-               sz = !size_factor.empty();
+               sz = !size_factor.empty(), col = !color.empty();
     for (size_t i = first + 1; i < size(); ++i) {
         if (!keep(i)) continue;
         triangle[out] = triangle[i];
@@ -135,6 +140,7 @@ size_t BoundaryParticles::keep_if(const Keep& keep) {
         if (pos) position[out] = position[i], normal[out] = normal[i];
         if (fd) fade[out] = fade[i], fade_step[out] = fade_step[i];
         if (sz) size_factor[out] = size_factor[i];
+        if (col) color[out] = color[i];
         ++out;
     }
     const size_t dropped = size() - out;
@@ -145,6 +151,7 @@ size_t BoundaryParticles::keep_if(const Keep& keep) {
     if (pos) position.resize(out), normal.resize(out);
     if (fd) fade.resize(out), fade_step.resize(out);
     if (sz) size_factor.resize(out);
+    if (col) color.resize(out);
     return dropped;
 }
 

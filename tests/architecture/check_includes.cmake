@@ -2,6 +2,8 @@
 # rooms listed for it. Run as: cmake -DENGINE_DIR=... -P check_includes.cmake
 set(allowed_core "core")
 set(allowed_mesh "core;mesh")
+# Model files as users have them: formats, materials, textures; read into meshes.
+set(allowed_asset "core;mesh;asset")
 set(allowed_sim "core;mesh;sim")
 set(allowed_topology "core;mesh;sim;topology")
 set(allowed_surface "core;mesh;surface")
@@ -12,8 +14,8 @@ set(allowed_render "core;gpu;splat;render")
 set(allowed_graph "core;gpu;graph")
 # The GPU passes as graph modules: the render half only, never sim (docs/ARCHITECTURE.md).
 set(allowed_passes "core;gpu;graph;render;splat;passes")
-set(allowed_scene "core;mesh;sim;topology;surface;splat;gpu;render;graph;passes;scene")
-set(rooms core mesh sim topology surface splat gpu render graph passes scene)
+set(allowed_scene "core;mesh;asset;sim;topology;surface;splat;gpu;render;graph;passes;scene")
+set(rooms core mesh asset sim topology surface splat gpu render graph passes scene)
 
 set(violations 0)
 file(GLOB_RECURSE sources "${ENGINE_DIR}/*.h" "${ENGINE_DIR}/*.cpp")
@@ -49,11 +51,11 @@ endforeach()
 # passes, splat: the records are the contract); a bench of one stage may also include that
 # stage's rooms, named here per file.
 set(tools_allowed "core;gpu;graph;render;passes;splat;scene")
-set(tools_extra_bench_cut "mesh;sim;topology")
-set(tools_extra_bench_sim "mesh;sim")
+set(tools_extra_bench_cut "mesh;asset;sim;topology")
+set(tools_extra_bench_sim "mesh;asset;sim")
 set(tools_extra_sim_baseline "mesh;sim")  # the yardstick loops bench sim --baseline runs (sim/vec4_ops.h)
-set(tools_extra_bench_sim_error "mesh;sim;topology")
-set(tools_extra_bench_surface "mesh;sim;surface")
+set(tools_extra_bench_sim_error "mesh;asset;sim;topology")
+set(tools_extra_bench_surface "mesh;asset;sim;surface")
 set(tools_extra_splat_sphere "mesh")  # the test sphere the render benches draw
 if(DEFINED TOOLS_DIR)
   file(GLOB_RECURSE tool_sources "${TOOLS_DIR}/*.h" "${TOOLS_DIR}/*.cpp")

@@ -13,7 +13,7 @@ TEST_SUITE("core/image") {
         for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = uint8_t(i * 37 % 251);
         const auto path = (std::filesystem::temp_directory_path() / "pbdsplat_test_roundtrip.png").string();
         REQUIRE(core::write_png(path, img).ok());
-        auto back = core::read_png(path);
+        auto back = core::read_image(path);
         REQUIRE(back.ok());
         CHECK(back->width == 7);
         CHECK(back->height == 5);
@@ -22,7 +22,7 @@ TEST_SUITE("core/image") {
     }
 
     TEST_CASE("reading a missing file names the file") {
-        auto r = core::read_png("/nonexistent/pbdsplat.png");
+        auto r = core::read_image("/nonexistent/pbdsplat.png");
         REQUIRE_FALSE(r.ok());
         CHECK(r.error().to_string().find("/nonexistent/pbdsplat.png") != std::string::npos);
     }

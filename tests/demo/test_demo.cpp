@@ -103,7 +103,7 @@ TEST_SUITE("demo/window") {
         CHECK(report->pieces == 2);
         CHECK(report->validation_messages == 0);
         REQUIRE(report->screenshot == o.screenshot_path);
-        auto img = core::read_png(o.screenshot_path);
+        auto img = core::read_image(o.screenshot_path);
         REQUIRE_MESSAGE(img.ok(), img.error().to_string());
         CHECK(img->width == 320);
         CHECK(img->height == 240);

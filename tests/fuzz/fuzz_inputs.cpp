@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "mesh/obj_loader.h"
+#include "asset/obj_loader.h"
 #include "scene/scene_file.h"
 
 namespace pbdsplat::fuzz {
@@ -16,7 +16,7 @@ std::string refusal_without_name(const core::Error& e) {
 } // namespace
 
 std::string check_obj(const std::string& text) {
-    auto r = mesh::parse_obj(text, k_name);
+    auto r = asset::parse_obj(text, k_name);
     if (!r.ok()) return refusal_without_name(r.error());
     const mesh::TriangleMesh& m = r.value();
     for (const Vec3f& p : m.positions)

@@ -6,8 +6,8 @@
 
 #include "mesh/closest_point.h"
 #include "mesh/decimate.h"
-#include "mesh/mesh_spec.h"
-#include "mesh/model_path.h"
+#include "asset/mesh_spec.h"
+#include "asset/model_path.h"
 #include "mesh/procedural.h"
 #include "support/skip.h"
 
@@ -80,11 +80,11 @@ TEST_SUITE("mesh/decimate") {
     }
 
     TEST_CASE("the bunny decimates to an oriented manifold with its scan holes kept") {
-        if (!mesh::find_model("stanford-bunny.obj")) {
+        if (!asset::find_model("stanford-bunny.obj")) {
             test::skip("stanford-bunny.obj is not on the model search path");
             return;
         }
-        auto fine = mesh::load_mesh_spec("stanford-bunny.obj");
+        auto fine = asset::load_mesh_spec("stanford-bunny.obj");
         REQUIRE(fine.ok());
         for (uint32_t target : {1000u, 2000u, 5000u}) {
             CAPTURE(target);

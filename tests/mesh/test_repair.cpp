@@ -3,8 +3,8 @@
 #include <cmath>
 #include <map>
 
-#include "mesh/model_path.h"
-#include "mesh/obj_loader.h"
+#include "asset/model_path.h"
+#include "asset/obj_loader.h"
 #include "mesh/procedural.h"
 #include "mesh/repair.h"
 #include "mesh/topology.h"
@@ -160,12 +160,12 @@ TEST_SUITE("mesh/repair") {
             {"suzanne.obj", 505, 967, 44},
         };
         for (const Expect& e : models) {
-            const auto path = mesh::find_model(e.file);
+            const auto path = asset::find_model(e.file);
             if (!path) {
                 test::skip(std::string(e.file) + " not found on the model search path (../shared/models)");
                 continue;
             }
-            auto raw = mesh::load_obj(*path);
+            auto raw = asset::load_obj(*path);
             REQUIRE_MESSAGE(raw.ok(), raw.error().to_string());
             const auto r = repaired(std::move(raw).value());
             INFO(e.file << ": " << r.report.summary());

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "mesh/mesh_spec.h"
+#include "asset/mesh_spec.h"
 #include "mesh/procedural.h"
-#include "mesh/model_path.h"
+#include "asset/model_path.h"
 #include "passes/coverage.h"
 #include "sim/soft_body.h"
 #include "splat/mapping.h"
@@ -25,7 +25,7 @@ struct Result2 {
 // is sized small enough that the vertices alone cannot close the surface; the paper's disc at
 // the scenes' sizing (s0 = 0.7 h, the closing kappa).
 Result2 coverage_of(gpu::Context& ctx, const std::string& spec, render::Footprint footprint) {
-    auto repaired = mesh::load_mesh_spec(spec);
+    auto repaired = asset::load_mesh_spec(spec);
     REQUIRE_MESSAGE(repaired.ok(), repaired.error().to_string());
     auto body = sim::make_soft_body(repaired->mesh, {});
     REQUIRE(body.ok());
@@ -113,7 +113,7 @@ TEST_SUITE("render/coverage") {
     }
 
     TEST_CASE("boundary particles close the surface where vertices alone leave holes: teapot") {
-        if (!mesh::find_model("teapot.obj")) {
+        if (!asset::find_model("teapot.obj")) {
             test::skip("teapot.obj not found on the model search path (../shared/models)");
             return;
         }

@@ -46,7 +46,7 @@ void check_against_golden(const core::ImageRgba8& actual, const std::string& nam
         MESSAGE("golden rewritten: " << golden.string());
         return;
     }
-    auto expected = core::read_png(golden.string());
+    auto expected = core::read_image(golden.string());
     REQUIRE_MESSAGE(expected.ok(), expected.error().to_string() << " (make it with tools/update-goldens)");
     auto diff = core::compare_images(actual, expected.value(), 2);
     REQUIRE_MESSAGE(diff.ok(), diff.error().to_string());

@@ -5,7 +5,7 @@
 #include <map>
 #include <set>
 
-#include "mesh/model_path.h"
+#include "asset/model_path.h"
 #include "mesh/procedural.h"
 #include "scene/default_scene.h"
 #include "scene/scene_model.h"
@@ -195,7 +195,7 @@ TEST_SUITE("scene/runtime") {
     TEST_CASE("the shipped bunny_cut scene's screen strokes cut with every mesh invariant checked") {
         auto s = scene::load_scene(std::string(PBDSPLAT_PROJECT_SCENES_DIR) + "/bunny_cut.toml");
         REQUIRE_MESSAGE(s.ok(), s.error().to_string());
-        if (!mesh::find_model("stanford-bunny.obj")) {
+        if (!asset::find_model("stanford-bunny.obj")) {
             test::skip("stanford-bunny.obj is not on the model search path (../shared/models)");
             return;
         }
@@ -311,11 +311,12 @@ TEST_SUITE("scene/runtime") {
 }
 
 TEST_SUITE("scene/runtime") {
-    TEST_CASE("vertex colours of an OBJ reach the Gaussians, interpolated on boundary particles") {
+    TEST_CASE("vertex colours of an OBJ reach the Gaussians, painted from the model's own surface") {
         const std::string path = (std::filesystem::temp_directory_path() / "pbdsplat_colored.obj").string();
         {
             std::ofstream obj(path);
-            // A tetrahedron: red, green, blue and white corners.
+            // A tetrahedron: red, green, blue and white corners (refined, being tiny, before it
+            // is simulated: its corners stay particles).
             obj << "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nv 0 0 1 1 1 1\n"
                    "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
         }
@@ -330,15 +331,19 @@ TEST_SUITE("scene/runtime") {
         REQUIRE(rt.value()->step().ok());
         const auto& records = rt.value()->records();
         REQUIRE(records.size() > 4);
-        std::set<std::array<uint8_t, 3>> corner_colours;
-        for (size_t i = 0; i < 4; ++i) corner_colours.insert({records[i].color[0], records[i].color[1], records[i].color[2]});
-        CHECK(corner_colours.count({255, 0, 0}) == 1);
-        CHECK(corner_colours.count({255, 255, 255}) == 1);
-        // A boundary particle inside a face mixes its corners' colours: no pure corner colour.
-        bool mixed = false;
-        for (size_t i = 4; i < records.size(); ++i)
-            if (!corner_colours.count({records[i].color[0], records[i].color[1], records[i].color[2]})) mixed = true;
-        CHECK(mixed);
+        std::set<std::array<uint8_t, 3>> colours;
+        for (const auto& r : records) colours.insert({r.color[0], r.color[1], r.color[2]});
+        CHECK(colours.count({255, 0, 0}) == 1);
+        CHECK(colours.count({255, 255, 255}) == 1);
+        // Inside a face the corners' colours mix: many colours, none of them the material's.
+        CHECK(colours.size() > 100);
+        const Vec3f material = s.material.color;
+        CHECK(colours.count({uint8_t(std::lround(material.x() * 255)), uint8_t(std::lround(material.y() * 255)),
+                             uint8_t(std::lround(material.z() * 255))}) == 0);
+        // Every boundary particle is painted.
+        const auto& samples = rt.value()->boundary_particles();
+        REQUIRE(samples.color.size() == samples.size());
+        for (uint32_t c : samples.color) CHECK((c >> 24) == 255u);
         std::filesystem::remove(path);
     }
 }

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <random>
 
-#include "mesh/model_path.h"
-#include "mesh/obj_loader.h"
+#include "asset/model_path.h"
+#include "asset/obj_loader.h"
 #include "mesh/repair.h"
 #include "sim/drag.h"
 #include "sim/contact.h"
@@ -282,12 +282,12 @@ TEST_SUITE("sim/solver") {
 
     TEST_CASE("every shared model loads and runs 120 frames") {
         for (const char* file : {"suzanne.obj", "teapot.obj", "stanford-bunny.obj", "fandisk.obj"}) {
-            const auto path = mesh::find_model(file);
+            const auto path = asset::find_model(file);
             if (!path) {
                 test::skip(std::string(file) + " not found on the model search path (../shared/models)");
                 continue;
             }
-            auto raw = mesh::load_obj(*path);
+            auto raw = asset::load_obj(*path);
             REQUIRE(raw.ok());
             mesh::RepairOptions o;
             o.center = true;

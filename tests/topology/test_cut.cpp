@@ -6,8 +6,8 @@
 #include <limits>
 #include <random>
 
-#include "mesh/mesh_spec.h"
-#include "mesh/model_path.h"
+#include "asset/mesh_spec.h"
+#include "asset/model_path.h"
 #include "mesh/procedural.h"
 #include "sim/sim_fixtures.h"
 #include "sim/solver.h"
@@ -294,11 +294,11 @@ TEST_SUITE("topology/cut") {
         constexpr int k_cuts = 200;
 #endif
         std::string spec = "stanford-bunny.obj";
-        if (!mesh::find_model(spec)) {
+        if (!asset::find_model(spec)) {
             test::skip("the bunny: stanford-bunny.obj not on the model search path; using icosphere:4");
             spec = "icosphere:4";
         }
-        auto m = mesh::load_mesh_spec(spec);
+        auto m = asset::load_mesh_spec(spec);
         REQUIRE_MESSAGE(m.ok(), m.error().to_string());
         sim::SoftBody b = test::make_body(std::move(m).value().mesh);
         const double mass = total_mass(b);

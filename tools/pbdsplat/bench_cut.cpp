@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/timer.h"
-#include "mesh/mesh_spec.h"
+#include "asset/mesh_spec.h"
 #include "pbdsplat/bench_suites.h"
 #include "sim/solver.h"
 #include "topology/cut.h"
@@ -29,7 +29,7 @@ double stage_a_ms(sim::SoftBody body, int frames) {
 
 // N cuts through the centre of fresh copies of the body made from `spec`: the figures as JSON.
 core::Result<nlohmann::json> measure_cuts(const std::string& spec, uint32_t cuts, uint32_t frames, const topology::CutOptions& options) {
-    auto repaired = mesh::load_mesh_spec(spec);
+    auto repaired = asset::load_mesh_spec(spec);
     if (!repaired.ok()) return repaired.error();
     auto made = sim::make_soft_body(repaired->mesh, {});
     if (!made.ok()) return made.error();
@@ -167,7 +167,7 @@ core::Result<nlohmann::json> probe_alternated(const Prober& prober, const sim::S
 // and after the last: what the accumulated state (grown arrays, dead slots, moved lists, more
 // pieces) adds to one and the same cut.
 core::Result<nlohmann::json> measure_sequence(const std::string& spec, uint32_t count, const topology::CutOptions& options) {
-    auto repaired = mesh::load_mesh_spec(spec);
+    auto repaired = asset::load_mesh_spec(spec);
     if (!repaired.ok()) return repaired.error();
     auto made = sim::make_soft_body(repaired->mesh, {});
     if (!made.ok()) return made.error();

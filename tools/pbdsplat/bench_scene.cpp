@@ -13,7 +13,7 @@ namespace {
 
 const CommandSpec& command_spec() {
     static const CommandSpec command{
-        "bench scene", "[SCENE.toml]",
+        "bench scene", "[SCENE.toml | MODEL]",
         "Runs a scene (default: the built-in one) through its frame graph without writing images and\n"
         "prints the median milliseconds per frame of each stage group and of the whole frame, and the\n"
         "GPU time of each GPU pass from timestamps (the paper's \"GPU Scene\" row).\n",
@@ -24,7 +24,7 @@ const CommandSpec& command_spec() {
                                        "(the paper's Tables 2-4); without --frames it runs until 3 s\n"
                                        "(simulated) after the first one, and fails if none comes within\n"
                                        "10,000 frames"),
-                  json_option()})};
+                  save_scene_option(), json_option()})};
     return command;
 }
 
@@ -195,7 +195,7 @@ Outcome measure(const Options& opt) {
     const uint32_t frames = opt.whole("frames"), threads = opt.whole("threads");
     const bool before_after = opt.flag("before-after");
     const bool until_after = before_after && !opt.given("frames");  // run until enough frames follow the change
-    auto scene = load_scene_arg(opt.operands());
+    auto scene = load_scene_arg(opt);
     if (!scene.ok()) return scene.error();
     auto ctx = open_context(opt);
     if (!ctx.ok()) return ctx.error();

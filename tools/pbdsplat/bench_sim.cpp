@@ -1,5 +1,5 @@
 #include "core/timer.h"
-#include "mesh/mesh_spec.h"
+#include "asset/mesh_spec.h"
 #include "pbdsplat/bench_suites.h"
 #include "pbdsplat/sim_baseline.h"
 #include "sim/solver.h"
@@ -41,7 +41,7 @@ Outcome measure(const Options& opt) {
     const uint32_t warmup = opt.whole("warmup"), threads = opt.whole("threads");
     const std::string& spec = opt.text("mesh");
 
-    auto repaired = mesh::load_mesh_spec(spec);
+    auto repaired = asset::load_mesh_spec(spec);
     if (!repaired.ok()) return repaired.error();
     sim::SoftBodyDesc desc;
     desc.volume = opt.text("volume") == "on";

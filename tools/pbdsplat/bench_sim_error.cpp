@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "core/timer.h"
-#include "mesh/mesh_spec.h"
+#include "asset/mesh_spec.h"
 #include "pbdsplat/bench_suites.h"
 #include "pbdsplat/svg_plot.h"
 #include "sim/error_metrics.h"
@@ -51,7 +51,7 @@ Outcome measure(const Options& opt) {
     const std::vector<std::string> meshes = split_list(opt.text("meshes"));
     std::vector<Run> runs;
     for (const std::string& spec : meshes) {
-        auto repaired = mesh::load_mesh_spec(spec);
+        auto repaired = asset::load_mesh_spec(spec);
         if (!repaired.ok()) return repaired.error();
         const float diagonal = mesh::bounds(repaired->mesh).diagonal();
         auto made = sim::make_soft_body(std::move(repaired).value().mesh, {});

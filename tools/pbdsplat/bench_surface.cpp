@@ -3,7 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/timer.h"
-#include "mesh/mesh_spec.h"
+#include "asset/mesh_spec.h"
 #include "pbdsplat/bench_suites.h"
 #include "pbdsplat/progress.h"
 #include "pbdsplat/gpu_options.h"
@@ -43,7 +43,7 @@ Outcome measure(const Options& opt) {
     }
     if (etas.empty()) return Outcome::usage("--eta names no value");
     const std::string spec = opt.text("mesh");
-    auto repaired = mesh::load_mesh_spec(spec);
+    auto repaired = asset::load_mesh_spec(spec);
     if (!repaired.ok()) return repaired.error();
     auto made = sim::make_soft_body(repaired->mesh, {});
     if (!made.ok()) return made.error();

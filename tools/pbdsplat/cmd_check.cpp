@@ -13,7 +13,7 @@ namespace pbdsplat::cli {
 
 int cmd_check(const std::vector<std::string>& argv) {
     static const CommandSpec command{
-        "check", "[SCENE.toml]",
+        "check", "[SCENE.toml | MODEL]",
         "Runs a scene offscreen (default: the built-in one) and measures every K frames:\n"
         "  shape error   per connected piece, RMS distance of the simulation particles from their rest\n"
         "                shape after the best rigid alignment, over the piece's rest diagonal (worst piece)\n"
@@ -39,14 +39,14 @@ int cmd_check(const std::vector<std::string>& argv) {
                   flag("no-gpu", "skip the coverage images (shape, strays, pieces and volume only)"),
                   text("images", "DIR", "", "write each measured frame's splat image and lit mesh as PNG into DIR")
                       .default_from("none"),
-                  json_option("one JSON object: shape_error_max, strays_max, hole_ratio_max, iou_min,\n"
+                  save_scene_option(), json_option("one JSON object: shape_error_max, strays_max, hole_ratio_max, iou_min,\n"
                               "speck_ratio_max, shading_error_max, pieces, volume_error_max, penetration_max\n"
                               "(the deepest particle inside another piece, over h), tilt_max,\n"
                               "height_ratio_min, tears, smallest_piece_min and every measured frame")})};
     const Parsed parsed = parse_command(command, argv);
     if (!parsed.options) return parsed.exit_code;
     const Options& opt = *parsed.options;
-    auto sc = load_scene_arg(opt.operands());
+    auto sc = load_scene_arg(opt);
     if (!sc.ok()) return fail("check", sc.error().to_string());
     scene::CheckOptions o;
     o.frames = opt.whole("frames");

@@ -15,7 +15,7 @@ namespace pbdsplat::cli {
 
 int cmd_export_ply(const std::vector<std::string>& argv) {
     static const CommandSpec command{
-        "export-ply", "[SCENE.toml] OUT.ply",
+        "export-ply", "[SCENE.toml | MODEL] OUT.ply",
         "Simulates a scene (default: the built-in one) for N frames and writes its Gaussians (the\n"
         "particles and the boundary particles) as the binary PLY that Gaussian-splat viewers read:\n"
         "x y z, nx ny nz, f_dc_0..2, [f_rest_*,] opacity (logit), scale_0..2 (log), rot_0..3.\n"
@@ -35,7 +35,8 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
                               "without the paper's lighting then show what pbdsplat shows"),
          choice("sh-degree", {"0", "3"}, "0",
                 "0: no f_rest columns (pbdsplat has no view-dependent colour, so they would be zeros,\n"
-                "4.4x the file); 3: the 45 zero columns, for tools that insist on them")}};
+                "4.4x the file); 3: the 45 zero columns, for tools that insist on them"),
+         save_scene_option()}};
     const Parsed parsed = parse_command(command, argv);
     if (!parsed.options) return parsed.exit_code;
     const Options& opt = *parsed.options;
@@ -65,7 +66,7 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
         std::filesystem::create_directories(dir, ec);
         if (ec) return fail("export-ply", dir.string() + ": cannot create the folder: " + ec.message());
     }
-    auto scene = load_scene_arg(positionals);
+    auto scene = load_scene_arg(opt, positionals);
     if (!scene.ok()) return fail("export-ply", scene.error().to_string());
     scene::RuntimeOptions options;
     options.keep_records = true;

@@ -17,6 +17,7 @@
 #include "passes/offscreen_renderer.h"
 #include "scene/scene_runtime.h"
 #include "splat/ply.h"
+#include "scene/model_scene.h"
 #include "scene/ply_view.h"
 
 namespace pbdsplat::cli {
@@ -83,7 +84,7 @@ int render_ply(const std::string& file, const Options& opt, uint32_t width, uint
 
 int cmd_render(const std::vector<std::string>& argv) {
     static const CommandSpec command{
-        "render", "[SCENE.toml | GAUSSIANS.ply]",
+        "render", "[SCENE.toml | MODEL | GAUSSIANS.ply]",
         "Runs a scene (default: the built-in scenes/default.toml) offscreen for N frames and writes\n"
         "images. With --out ending in .png, the last frame goes to that file; otherwise PATH is a\n"
         "folder that receives frame_0000.png, frame_0001.png, ..., frames.csv (particle counts,\n"
@@ -103,7 +104,8 @@ int cmd_render(const std::vector<std::string>& argv) {
                   text("target", "X,Y,Z", "", ".ply only: the point looked at").default_from("the file's centre"),
                   real("fov", "DEGREES", 0.0f, 1.0f, 170.0f, ".ply only: vertical field of view").default_from("framing the file"),
                   flag("lit", ".ply only: shade with a scene's default lights and environment, by the file's\n"
-                              "normals (estimated where it has none), instead of as stored")})};
+                              "normals (estimated where it has none), instead of as stored"),
+                  save_scene_option()})};
     const Parsed parsed = parse_command(command, argv);
     if (!parsed.options) return parsed.exit_code;
     const Options& opt = *parsed.options;
@@ -123,17 +125,18 @@ int cmd_render(const std::vector<std::string>& argv) {
     }
     const auto& pos = opt.operands();
     if (pos.size() == 1) {
-        // Dispatched by extension, with what is accepted when it is neither.
-        const std::string ext = std::filesystem::path(pos[0]).extension().string();
-        if (ext == ".ply") return render_ply(pos[0], opt, width, height, out);
-        if (ext != ".toml")
-            return usage_error("render", pos[0] + ": render takes a scene (.toml) or Gaussians (.ply), not a '" +
-                                             (ext.empty() ? std::string("file without extension") : ext) + "'");
+        // Told apart by content: a mesh .ply is a model, a 3DGS .ply Gaussians.
+        auto kind = scene::input_kind(pos[0]);
+        if (!kind.ok()) return fail("render", kind.error().to_string());
+        if (kind.value() == scene::InputKind::gaussians) {
+            if (opt.given("save-scene")) return usage_error("render", "--save-scene applies to a scene or a model, not to Gaussians");
+            return render_ply(pos[0], opt, width, height, out);
+        }
     }
     for (const char* key : {"up", "eye", "target", "fov", "lit"})
         if (opt.given(key)) return usage_error("render", std::string("--") + key + " applies to a .ply; a scene sets its own camera and lighting");
 
-    auto scene = load_scene_arg(opt.operands());
+    auto scene = load_scene_arg(opt);
     if (!scene.ok()) return fail("render", scene.error().to_string());
     if (width) scene->render.width = width;
     if (height) scene->render.height = height;

@@ -11,7 +11,7 @@ namespace pbdsplat::cli {
 
 int cmd_run(const std::vector<std::string>& argv) {
     static const CommandSpec command{
-        "run", "[SCENE.toml]",
+        "run", "[SCENE.toml | MODEL]",
         "Opens a window and runs the scene (default: the built-in one) live: drag the body with the\n"
         "left button, draw a cut with the right one, H lists the keys. Needs a display; without one,\n"
         "use 'pbdsplat render' (or run under Xvfb: xvfb-run -a pbdsplat run ...).\n",
@@ -24,11 +24,11 @@ int cmd_run(const std::vector<std::string>& argv) {
                   flag("no-hud", "no text overlay"),
                   whole("width", "W", 0, 16, 16384, "the window and image width").default_from("the scene's"),
                   whole("height", "H", 0, 16, 16384, "the window and image height").default_from("the scene's"),
-                  json_option("at the end, one JSON object: frames, FPS (before and after a cut)")})};
+                  save_scene_option(), json_option("at the end, one JSON object: frames, FPS (before and after a cut)")})};
     const Parsed parsed = parse_command(command, argv);
     if (!parsed.options) return parsed.exit_code;
     const Options& opt = *parsed.options;
-    auto scene = load_scene_arg(opt.operands());
+    auto scene = load_scene_arg(opt);
     if (!scene.ok()) return fail("run", scene.error().to_string());
     demo::DemoOptions o;
     o.scene = std::move(scene).value();

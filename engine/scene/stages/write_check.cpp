@@ -50,6 +50,7 @@ uint64_t fingerprint(const splat::Appearance& a) {
 uint64_t fingerprint(const surface::BoundaryParticles& s) {
     uint64_t h = mix_span<uint32_t>(k_basis, s.triangle);
     h = mix_span<Vec2f>(h, s.bary);
+    h = mix_span<uint32_t>(h, s.color);
     return mix_span<float>(h, s.fade);
 }
 

@@ -4,21 +4,21 @@
 
 #include <string>
 
-#include "mesh/mesh_spec.h"
-#include "mesh/obj_loader.h"
+#include "asset/mesh_spec.h"
+#include "asset/obj_loader.h"
 
 using namespace pbdsplat;
 
 namespace {
 // The error of a text that must be refused, as "file:line: message".
 std::string refusal(const std::string& text) {
-    auto r = mesh::parse_obj(text, "broken.obj");
+    auto r = asset::parse_obj(text, "broken.obj");
     REQUIRE_FALSE(r.ok());
     return r.error().to_string();
 }
 } // namespace
 
-TEST_SUITE("mesh/obj_loader") {
+TEST_SUITE("asset/obj_loader") {
     TEST_CASE("a quad with normals, UVs and colours loads as two triangles") {
         const std::string text =
             "# quad\n"
@@ -26,7 +26,7 @@ TEST_SUITE("mesh/obj_loader") {
             "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
             "vn 0 0 1\n"
             "f 1/1/1 2/2/1 3/3/1 4/4/1\n";
-        auto m = mesh::parse_obj(text, "quad.obj");
+        auto m = asset::parse_obj(text, "quad.obj");
         REQUIRE(m.ok());
         CHECK(m->positions.size() == 4);
         CHECK(m->triangles.size() == 2);
@@ -39,7 +39,7 @@ TEST_SUITE("mesh/obj_loader") {
     }
 
     TEST_CASE("negative (relative) indices are resolved") {
-        auto m = mesh::parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n", "rel.obj");
+        auto m = asset::parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n", "rel.obj");
         REQUIRE(m.ok());
         CHECK(m->triangles[0] == mesh::Triangle{0, 1, 2});
     }
@@ -59,17 +59,17 @@ TEST_SUITE("mesh/obj_loader") {
     }
 
     TEST_CASE("a missing file names the path") {
-        auto r = mesh::load_obj("/nonexistent/model.obj");
+        auto r = asset::load_obj("/nonexistent/model.obj");
         REQUIRE_FALSE(r.ok());
         CHECK(r.error().to_string().find("/nonexistent/model.obj") == 0);
     }
 
     TEST_CASE("a folder given as a mesh is named as a folder, not as a missing file") {
         const std::string dir = std::filesystem::temp_directory_path().string();
-        auto r = mesh::load_obj(dir);
+        auto r = asset::load_obj(dir);
         REQUIRE_FALSE(r.ok());
         CHECK(r.error().message == "is a folder, not an .obj file");
-        auto spec = mesh::load_mesh_spec(dir);
+        auto spec = asset::load_mesh_spec(dir);
         REQUIRE_FALSE(spec.ok());
         CHECK(spec.error().message.find("is a folder, not a mesh file") != std::string::npos);
     }

@@ -1,4 +1,4 @@
-#include "mesh/obj_loader.h"
+#include "asset/obj_loader.h"
 
 #include <charconv>
 #include <filesystem>
@@ -10,7 +10,10 @@
 
 #include <tiny_obj_loader.h>
 
-namespace pbdsplat::mesh {
+#include "core/image.h"
+#include "mesh/polygon.h"
+
+namespace pbdsplat::asset {
 namespace {
 
 std::vector<std::string_view> split_ws(std::string_view line) {
@@ -122,21 +125,68 @@ core::Result<ObjFacts> check_obj(const std::string& text, const std::string& nam
     return f;
 }
 
-} // namespace
+// A map_Kd path as written (relative to the .mtl's folder, Windows separators, sometimes an
+// absolute path from the author's machine): the first existing file of the candidates.
+std::string find_texture(const std::string& base_dir, std::string name) {
+    for (char& c : name)
+        if (c == '\\') c = '/';
+    const std::filesystem::path dir(base_dir.empty() ? "." : base_dir), given(name);
+    std::error_code ec;
+    for (const std::filesystem::path& p : {given.is_absolute() ? given : dir / given, dir / given.filename()})
+        if (std::filesystem::is_regular_file(p, ec)) return p.lexically_normal().string();
+    return {};
+}
 
-core::Result<TriangleMesh> parse_obj(const std::string& text, const std::string& name) {
+// Materials and textures as SurfaceLook takes them; a texture that cannot be read leaves its
+// material's colour, with a warning.
+void read_materials(const std::vector<tinyobj::material_t>& in, const std::string& base_dir, const std::string& name,
+                    SurfaceLook& look, std::vector<std::string>& warnings) {
+    for (const tinyobj::material_t& m : in) {
+        Material out;
+        out.name = m.name;
+        out.color = Vec3f(m.diffuse[0], m.diffuse[1], m.diffuse[2]).cwiseMax(0.0f).cwiseMin(1.0f);
+        if (!m.diffuse_texname.empty()) {
+            const std::string path = find_texture(base_dir, m.diffuse_texname);
+            auto image = path.empty() ? core::Result<core::ImageRgba8>(core::make_error(m.diffuse_texname + ": not found"))
+                                      : core::read_image(path);
+            if (!image.ok()) {
+                warnings.push_back(name + ": material '" + m.name + "': texture '" + m.diffuse_texname +
+                                   "' not read (" + image.error().to_string() + "); its colour Kd is used");
+            } else {
+                Texture t;
+                t.name = path;
+                t.width = image->width;
+                t.height = image->height;
+                t.rgba = std::move(image->pixels);
+                // A texture multiplies Kd; exporters often leave Kd at 0.8 or 0 beside a map.
+                out.color = Vec3f::Ones();
+                out.texture = int32_t(look.textures.size());
+                look.textures.push_back(std::move(t));
+            }
+        }
+        look.materials.push_back(std::move(out));
+    }
+}
+
+core::Result<ModelAsset> read_obj(const std::string& text, const std::string& name, const std::string& base_dir, bool want_look) {
     auto facts = check_obj(text, name);
     if (!facts.ok()) return facts.error();
 
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
-    config.vertex_color = facts->colors;
-    tinyobj::ObjReader reader;
-    if (!reader.ParseFromString(text, "", config))
-        return core::make_error(name, 0, "tinyobjloader refused the file: " + reader.Error());
-    const tinyobj::attrib_t& a = reader.GetAttrib();
+    tinyobj::attrib_t a;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> materials;
+    std::string warn, error;
+    std::istringstream stream(text);
+    std::string dir = base_dir.empty() ? std::string(".") : base_dir;
+    if (dir.back() != '/') dir += '/';
+    tinyobj::MaterialFileReader mtl_reader(dir);
+    // Polygons are split here (mesh/polygon.h), not by the loader: its fan and ear rules fill
+    // concave outlines.
+    if (!tinyobj::LoadObj(&a, &shapes, &materials, &warn, &error, &stream, want_look ? &mtl_reader : nullptr, false, false))
+        return core::make_error(name, 0, "tinyobjloader refused the file: " + error);
 
-    TriangleMesh m;
+    ModelAsset out;
+    mesh::TriangleMesh& m = out.mesh;
     const size_t n = a.vertices.size() / 3;
     m.positions.resize(n);
     for (size_t i = 0; i < n; ++i) m.positions[i] = Vec3f(a.vertices[3 * i], a.vertices[3 * i + 1], a.vertices[3 * i + 2]);
@@ -144,17 +194,25 @@ core::Result<TriangleMesh> parse_obj(const std::string& text, const std::string&
         m.colors.resize(n);
         for (size_t i = 0; i < n; ++i) m.colors[i] = Vec3f(a.colors[3 * i], a.colors[3 * i + 1], a.colors[3 * i + 2]);
     }
+    SurfaceLook look;
+    if (want_look) {
+        if (warn.find("material") != std::string::npos || warn.find(".mtl") != std::string::npos)
+            out.warnings.push_back(name + ": " + warn.substr(0, warn.find('\n')));
+        read_materials(materials, base_dir, name, look, out.warnings);
+    }
     const bool has_normals = !a.normals.empty(), has_uvs = !a.texcoords.empty();
+    const bool textured = want_look && has_uvs && !look.textures.empty();
+    const bool per_material = want_look && !look.materials.empty();
     std::vector<bool> normal_set(n, false), uv_set(n, false);
     if (has_normals) m.normals.assign(n, Vec3f::Zero());
     if (has_uvs) m.uvs.assign(n, Vec2f::Zero());
-    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    std::vector<Vec3f> corners;
+    for (const tinyobj::shape_t& shape : shapes) {
         const auto& idx = shape.mesh.indices;
         size_t offset = 0;
-        for (const unsigned char fv : shape.mesh.num_face_vertices) {
-            if (fv != 3) return core::make_error(name, 0, "a face did not triangulate (" + std::to_string(fv) + " corners)");
-            Triangle t{};
-            for (size_t k = 0; k < 3; ++k) {
+        for (size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
+            const size_t fv = shape.mesh.num_face_vertices[f];
+            for (size_t k = 0; k < fv; ++k) {
                 const tinyobj::index_t c = idx[offset + k];
                 // The loader passes some indices through unchecked (found by fuzzing: a face's
                 // texture-coordinate index past the vt lines read past the array).
@@ -166,26 +224,60 @@ core::Result<TriangleMesh> parse_obj(const std::string& text, const std::string&
                 if (c.texcoord_index >= 0 && size_t(c.texcoord_index) * 2 + 1 >= a.texcoords.size())
                     return core::make_error(name, 0, "a face refers to texture coordinate " + std::to_string(c.texcoord_index + 1) +
                                                          " of " + std::to_string(a.texcoords.size() / 2));
-                t[k] = uint32_t(c.vertex_index);
-                if (has_normals && c.normal_index >= 0 && !normal_set[t[k]]) {
-                    const size_t q = size_t(c.normal_index) * 3;
-                    m.normals[t[k]] = Vec3f(a.normals[q], a.normals[q + 1], a.normals[q + 2]);
-                    normal_set[t[k]] = true;
-                }
-                if (has_uvs && c.texcoord_index >= 0 && !uv_set[t[k]]) {
-                    const size_t q = size_t(c.texcoord_index) * 2;
-                    m.uvs[t[k]] = Vec2f(a.texcoords[q], a.texcoords[q + 1]);
-                    uv_set[t[k]] = true;
-                }
             }
-            m.triangles.push_back(t);
-            offset += 3;
+            corners.clear();
+            for (size_t k = 0; k < fv; ++k) corners.push_back(m.positions[size_t(idx[offset + k].vertex_index)]);
+            const int material = f < shape.mesh.material_ids.size() ? shape.mesh.material_ids[f] : -1;
+            for (const auto& tri : mesh::triangulate_polygon(corners)) {
+                mesh::Triangle t{};
+                std::array<Vec2f, 3> uv{};
+                for (size_t k = 0; k < 3; ++k) {
+                    const tinyobj::index_t c = idx[offset + tri[k]];
+                    t[k] = uint32_t(c.vertex_index);
+                    if (has_normals && c.normal_index >= 0 && !normal_set[t[k]]) {
+                        const size_t q = size_t(c.normal_index) * 3;
+                        m.normals[t[k]] = Vec3f(a.normals[q], a.normals[q + 1], a.normals[q + 2]);
+                        normal_set[t[k]] = true;
+                    }
+                    if (has_uvs && c.texcoord_index >= 0) {
+                        const size_t q = size_t(c.texcoord_index) * 2;
+                        const Vec2f tc(a.texcoords[q], a.texcoords[q + 1]);
+                        if (!uv_set[t[k]]) m.uvs[t[k]] = tc, uv_set[t[k]] = true;
+                        uv[k] = Vec2f(tc.x(), 1.0f - tc.y());  // OBJ's v runs up, the images' rows down
+                    }
+                }
+                m.triangles.push_back(t);
+                if (textured) look.uv.push_back(uv);
+                if (per_material)
+                    look.material.push_back(material >= 0 && size_t(material) < look.materials.size() ? uint32_t(material)
+                                                                                                       : uint32_t(look.materials.size()));
+            }
+            offset += fv;
         }
     }
-    return m;
+    if (per_material) look.materials.push_back(Material{"(none)", Vec3f::Ones(), -1});  // faces without usemtl
+    if (want_look && !m.colors.empty()) {
+        look.corner_color.resize(m.triangles.size());
+        for (size_t t = 0; t < m.triangles.size(); ++t)
+            for (size_t k = 0; k < 3; ++k) look.corner_color[t][k] = srgb_to_linear(m.colors[m.triangles[t][k]]);
+    }
+    if (want_look && look.has_colour()) {
+        out.look = std::move(look);
+        share_geometry(out);
+    }
+    return out;
 }
 
-core::Result<TriangleMesh> load_obj(const std::string& path) {
+} // namespace
+
+core::Result<mesh::TriangleMesh> parse_obj(const std::string& text, const std::string& name) {
+    auto r = read_obj(text, name, "", false);
+    if (!r.ok()) return r.error();
+    return std::move(r.value().mesh);
+}
+
+namespace {
+core::Result<std::string> read_text(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) return core::make_error(path, 0, "is a folder, not an .obj file");
     std::ifstream file(path, std::ios::binary);
@@ -193,7 +285,22 @@ core::Result<TriangleMesh> load_obj(const std::string& path) {
     std::ostringstream text;
     text << file.rdbuf();
     if (file.bad()) return core::make_error(path, 0, "read error");
-    return parse_obj(text.str(), path);
+    std::string s = text.str();
+    if (s.compare(0, 3, "\xEF\xBB\xBF") == 0) s.erase(0, 3);  // a UTF-8 byte order mark
+    return s;
+}
+} // namespace
+
+core::Result<mesh::TriangleMesh> load_obj(const std::string& path) {
+    auto text = read_text(path);
+    if (!text.ok()) return text.error();
+    return parse_obj(text.value(), path);
 }
 
-} // namespace pbdsplat::mesh
+core::Result<ModelAsset> load_obj_asset(const std::string& path) {
+    auto text = read_text(path);
+    if (!text.ok()) return text.error();
+    return read_obj(text.value(), path, std::filesystem::path(path).parent_path().string(), true);
+}
+
+} // namespace pbdsplat::asset

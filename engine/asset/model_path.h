@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace pbdsplat::mesh {
+namespace pbdsplat::asset {
 
 std::vector<std::string> model_search_path();
 
@@ -14,4 +14,4 @@ std::vector<std::string> model_search_path();
 // exists as given is returned unchanged.
 std::optional<std::string> find_model(const std::string& name);
 
-} // namespace pbdsplat::mesh
+} // namespace pbdsplat::asset

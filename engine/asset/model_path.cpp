@@ -1,9 +1,9 @@
-#include "mesh/model_path.h"
+#include "asset/model_path.h"
 
 #include <cstdlib>
 #include <filesystem>
 
-namespace pbdsplat::mesh {
+namespace pbdsplat::asset {
 
 std::vector<std::string> model_search_path() {
     std::vector<std::string> dirs;
@@ -34,4 +34,4 @@ std::optional<std::string> find_model(const std::string& name) {
     return std::nullopt;
 }
 
-} // namespace pbdsplat::mesh
+} // namespace pbdsplat::asset

@@ -1,14 +1,15 @@
-#include "mesh/mesh_spec.h"
+#include "asset/mesh_spec.h"
 
 #include <charconv>
 #include <filesystem>
 #include <vector>
 
-#include "mesh/model_path.h"
-#include "mesh/obj_loader.h"
+#include "asset/model_path.h"
+#include "asset/model_file.h"
 #include "mesh/procedural.h"
+#include "mesh/subdivide.h"
 
-namespace pbdsplat::mesh {
+namespace pbdsplat::asset {
 namespace {
 
 std::vector<std::string> split(const std::string& s, char sep) {
@@ -40,7 +41,7 @@ bool is_procedural_spec(const std::string& spec) {
     return false;
 }
 
-core::Result<RepairedMesh> load_mesh_spec(const std::string& spec, const MeshSpecOptions& options) {
+core::Result<LoadedModel> load_model(const std::string& spec, const MeshSpecOptions& options) {
     const auto parts = split(spec, ':');
     const std::string& kind = parts[0];
     auto args = [&](size_t n, std::initializer_list<std::pair<uint32_t, uint32_t>> ranges) -> core::Result<std::vector<uint32_t>> {
@@ -55,57 +56,74 @@ core::Result<RepairedMesh> load_mesh_spec(const std::string& spec, const MeshSpe
         }
         return out;
     };
-    TriangleMesh m;
+    mesh::TriangleMesh m;
     if (kind == "icosphere") {
         auto a = args(1, {{0, 8}});
         if (!a.ok()) return a.error();
-        m = icosphere(a.value()[0]);
+        m = mesh::icosphere(a.value()[0]);
     } else if (kind == "uvsphere") {
         auto a = args(2, {{2, 2048}, {3, 4096}});
         if (!a.ok()) return a.error();
-        m = uv_sphere(a.value()[0], a.value()[1]);
+        m = mesh::uv_sphere(a.value()[0], a.value()[1]);
     } else if (kind == "torus") {
         auto a = args(2, {{3, 4096}, {3, 4096}});
         if (!a.ok()) return a.error();
-        m = torus(a.value()[0], a.value()[1]);
+        m = mesh::torus(a.value()[0], a.value()[1]);
     } else if (kind == "box") {
         auto a = args(1, {{1, 512}});
         if (!a.ok()) return a.error();
-        m = box(Vec3f(1, 1, 1), a.value()[0]);
+        m = mesh::box(Vec3f(1, 1, 1), a.value()[0]);
     } else if (kind == "capsule") {
         auto a = args(2, {{2, 2048}, {3, 4096}});
         if (!a.ok()) return a.error();
-        m = capsule(0.5f, 1.0f, a.value()[0], a.value()[1]);
+        m = mesh::capsule(0.5f, 1.0f, a.value()[0], a.value()[1]);
     } else if (kind == "quadruped") {
         auto a = args(1, {{1, 64}});
         if (!a.ok()) return a.error();
-        m = quadruped(a.value()[0]);
+        m = mesh::quadruped(a.value()[0]);
     } else if (kind == "grid") {
         auto a = args(1, {{1, 2048}});
         if (!a.ok()) return a.error();
-        m = grid_sheet(a.value()[0], 2.0f);
+        m = mesh::grid_sheet(a.value()[0], 2.0f);
     } else {
         const auto path = find_model(spec);
         std::error_code ec;
         if (!path && std::filesystem::is_directory(spec, ec))
-            return core::make_error(spec + ": is a folder, not a mesh file (name an .obj inside it, or a procedural mesh)");
+            return core::make_error(spec + ": is a folder, not a mesh file (name a model file inside it, or a procedural mesh)");
         if (!path) {
             std::string where;
             for (const auto& d : model_search_path()) where += (where.empty() ? "" : ", ") + d;
             return core::make_error(spec + ": no such file, and not a procedural mesh (icosphere:L, uvsphere:R:S, "
                                            "torus:S:T, box:D, capsule:R:S, grid:N, quadruped:D); searched " + where);
         }
-        auto raw = load_obj(*path);
+        auto raw = load_model_file(*path);
         if (!raw.ok()) return raw.error();
-        RepairOptions o;
+        mesh::RepairOptions o;
         o.center = options.file_fit_diagonal > 0.0f;
         o.fit_diagonal = options.file_fit_diagonal;
         o.close_holes = options.close_holes;
-        return repair(std::move(raw).value(), o, *path);
+        LoadedModel out;
+        out.look = std::move(raw.value().look);
+        out.warnings = std::move(raw.value().warnings);
+        auto repaired = mesh::repair(std::move(raw.value().mesh), o, *path);
+        if (!repaired.ok()) return repaired.error();
+        out.repaired = std::move(repaired).value();
+        if (out.look)
+            for (Vec3f& p : out.look->positions) p = (p + out.repaired.shift) * out.repaired.scale;
+        out.refined_levels = mesh::refine_to(out.repaired.mesh, k_min_file_vertices);
+        return out;
     }
-    RepairOptions o;
+    mesh::RepairOptions o;
     o.weld_tolerance = 1e-6f;
-    return repair(std::move(m), o, spec);
+    auto repaired = mesh::repair(std::move(m), o, spec);
+    if (!repaired.ok()) return repaired.error();
+    return LoadedModel{std::move(repaired).value(), std::nullopt, {}, 0};
 }
 
-} // namespace pbdsplat::mesh
+core::Result<mesh::RepairedMesh> load_mesh_spec(const std::string& spec, const MeshSpecOptions& options) {
+    auto m = load_model(spec, options);
+    if (!m.ok()) return m.error();
+    return std::move(m.value().repaired);
+}
+
+} // namespace pbdsplat::asset

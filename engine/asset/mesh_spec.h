@@ -1,0 +1,43 @@
+#pragma once
+// A mesh named on a command line or in a scene: a procedural shape with its parameters, or an
+// model file of any kind asset/model_file.h reads (found along the model search path). Always
+// returned repaired.
+//   icosphere:LEVEL   uvsphere:RINGS:SEGMENTS   torus:SEGMENTS:SIDES   box:DIVISIONS
+//   capsule:RINGS:SEGMENTS   grid:N   quadruped:DIVISIONS   path/to/file.obj or a model name like teapot.obj
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "asset/look.h"
+#include "mesh/repair.h"
+
+namespace pbdsplat::asset {
+
+struct MeshSpecOptions {
+    // Files are centred and scaled to this bounding-box diagonal (0 keeps their own scale), so
+    // scenes behave alike whatever units a model was saved in. Procedural shapes keep theirs.
+    float file_fit_diagonal = 2.0f;
+    bool close_holes = false;  // files: cap every boundary loop (RepairOptions::close_holes)
+};
+
+// A model file of fewer vertices than this is subdivided (flat) until it has them: the sampling
+// spacing follows the edge length, and an 8-vertex cube would be drawn as eight huge splats.
+inline constexpr size_t k_min_file_vertices = 200;
+
+// True for the procedural kinds above (whatever their parameters), false for a file.
+bool is_procedural_spec(const std::string& spec);
+
+struct LoadedModel {
+    mesh::RepairedMesh repaired;
+    // A file's look (textures, materials, vertex colours), moved with the repair's centring and
+    // scaling so it lies on the repaired surface; empty when the file gives no colour.
+    std::optional<SurfaceLook> look;
+    std::vector<std::string> warnings;
+    uint32_t refined_levels = 0;  // flat subdivisions of a tiny file
+};
+
+core::Result<LoadedModel> load_model(const std::string& spec, const MeshSpecOptions& options = {});
+// The surface alone.
+core::Result<mesh::RepairedMesh> load_mesh_spec(const std::string& spec, const MeshSpecOptions& options = {});
+
+} // namespace pbdsplat::asset

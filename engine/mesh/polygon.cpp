@@ -1,0 +1,90 @@
+#include "mesh/polygon.h"
+
+#include <cmath>
+
+namespace pbdsplat::mesh {
+namespace {
+
+float cross2(const Vec2f& a, const Vec2f& b, const Vec2f& c) {
+    return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+}
+
+// p inside or on triangle (a, b, c), which is counter-clockwise.
+bool inside(const Vec2f& p, const Vec2f& a, const Vec2f& b, const Vec2f& c) {
+    return cross2(a, b, p) >= 0.0f && cross2(b, c, p) >= 0.0f && cross2(c, a, p) >= 0.0f;
+}
+
+void fan(size_t n, std::vector<std::array<uint32_t, 3>>& out) {
+    for (uint32_t k = 1; k + 1 < n; ++k) out.push_back({0, k, k + 1});
+}
+
+} // namespace
+
+std::vector<std::array<uint32_t, 3>> triangulate_polygon(std::span<const Vec3f> corners) {
+    std::vector<std::array<uint32_t, 3>> out;
+    const size_t n = corners.size();
+    if (n < 3) return out;
+    if (n == 3) return {{0, 1, 2}};
+    // Newell's normal: the plane the outline winds about, robust to concave corners.
+    Vec3f normal = Vec3f::Zero();
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3f& a = corners[i];
+        const Vec3f& b = corners[(i + 1) % n];
+        normal += Vec3f((a.y() - b.y()) * (a.z() + b.z()), (a.z() - b.z()) * (a.x() + b.x()), (a.x() - b.x()) * (a.y() + b.y()));
+    }
+    if (!(normal.norm() > 0.0f) || !std::isfinite(normal.norm())) {
+        fan(n, out);
+        return out;
+    }
+    normal.normalize();
+    const Vec3f u = (std::abs(normal.x()) < 0.9f ? Vec3f::UnitX() : Vec3f::UnitY()).cross(normal).normalized();
+    const Vec3f v = normal.cross(u);
+    std::vector<Vec2f> p(n);
+    for (size_t i = 0; i < n; ++i) p[i] = Vec2f(corners[i].dot(u), corners[i].dot(v));
+    if (n == 4) {
+        // The shorter diagonal (the split most exporters and loaders make), unless the quad is
+        // concave there: then the other one, which is inside.
+        const bool short02 = (corners[2] - corners[0]).squaredNorm() < (corners[3] - corners[1]).squaredNorm();
+        const bool ok02 = cross2(p[0], p[1], p[2]) > 0.0f && cross2(p[0], p[2], p[3]) > 0.0f;
+        const bool ok13 = cross2(p[0], p[1], p[3]) > 0.0f && cross2(p[1], p[2], p[3]) > 0.0f;
+        if ((short02 && ok02) || (!ok13 && !short02 && ok02) || (!ok02 && !ok13 && short02)) return {{0, 1, 2}, {0, 2, 3}};
+        return {{0, 1, 3}, {1, 2, 3}};
+    }
+    // (u, v, normal) is right-handed, so the outline runs counter-clockwise in (u, v).
+    std::vector<uint32_t> ring(n);
+    for (uint32_t i = 0; i < n; ++i) ring[i] = i;
+    size_t guard = 0;
+    while (ring.size() > 3 && guard < n * n) {
+        ++guard;
+        bool clipped = false;
+        const size_t m = ring.size();
+        for (size_t i = 0; i < m && !clipped; ++i) {
+            const uint32_t a = ring[(i + m - 1) % m], b = ring[i], c = ring[(i + 1) % m];
+            if (cross2(p[a], p[b], p[c]) <= 0.0f) continue;  // reflex or flat: not an ear
+            bool empty = true;
+            for (uint32_t k : ring) {
+                if (k == a || k == b || k == c) continue;
+                // A bridge edge repeats positions: a corner on the ear's own corner does not block it.
+                if (p[k] == p[a] || p[k] == p[b] || p[k] == p[c]) continue;
+                if (inside(p[k], p[a], p[b], p[c])) {
+                    empty = false;
+                    break;
+                }
+            }
+            if (!empty) continue;
+            out.push_back({a, b, c});
+            ring.erase(ring.begin() + std::ptrdiff_t(i));
+            clipped = true;
+        }
+        if (!clipped) break;
+    }
+    if (ring.size() == 3) {
+        out.push_back({ring[0], ring[1], ring[2]});
+        return out;
+    }
+    // No ear left (self-intersecting or degenerate outline): the rest as a fan.
+    for (size_t k = 1; k + 1 < ring.size(); ++k) out.push_back({ring[0], ring[k], ring[k + 1]});
+    return out;
+}
+
+} // namespace pbdsplat::mesh

@@ -1,0 +1,71 @@
+#include "scene/stages/paint.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pbdsplat::scene {
+
+bool SurfacePaint::empty() const {
+    return std::none_of(model.begin(), model.end(), [](const auto& m) { return m != nullptr; });
+}
+
+uint32_t pack_color(const Vec3f& c) {
+    uint32_t out = 0xFF000000u;
+    for (int k = 0; k < 3; ++k) out |= uint32_t(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f)) << (8 * k);
+    return out;
+}
+
+namespace {
+
+Vec3f color_of(const SurfacePaint& paint, uint32_t model, const Vec3f& rest) {
+    if (model < paint.model.size() && paint.model[model]) return paint.model[model]->at(rest);
+    return model < paint.plain.size() ? paint.plain[model] : Vec3f::Ones();
+}
+
+uint32_t model_of(const sim::SoftBody& body, uint32_t particle) {
+    return particle < body.model_of_particle.size() ? body.model_of_particle[particle] : 0u;
+}
+
+} // namespace
+
+void paint_particles(const SurfacePaint& paint, sim::SoftBody& body) {
+    body.colors.resize(body.particle_count());
+    for (uint32_t i = 0; i < body.particle_count(); ++i) body.colors[i] = color_of(paint, model_of(body, i), body.rest_positions[i]);
+}
+
+size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& s) {
+    s.color.resize(s.size(), 0u);
+    size_t painted = 0;
+    for (size_t k = 0; k < s.size(); ++k) {
+        if (s.color[k] >> 24) continue;
+        const mesh::Triangle& t = body.triangles[s.triangle[k]];
+        const Vec3f &a = body.rest_positions[t[0]], &b = body.rest_positions[t[1]], &c = body.rest_positions[t[2]];
+        const Vec2f w = s.bary[k];
+        Vec3f rest = a + w.x() * (b - a) + w.y() * (c - a);
+        // An embedded sample stands off its coarse triangle by its offset: along the face normal
+        // is close enough to find the fine surface's spot under it.
+        if (s.embedded()) {
+            const Vec3f n = (b - a).cross(c - a);
+            if (n.squaredNorm() > 0.0f) rest += s.offset[k] * n.normalized();
+        }
+        s.color[k] = pack_color(color_of(paint, model_of(body, t[0]), rest));
+        ++painted;
+    }
+    return painted;
+}
+
+void add_paint_pass(graph::FrameGraph& g, PaintHandles& h, uint32_t tag) {
+    g.add_pass(
+        "paint", graph::PassKind::cpu,
+        [&](graph::PassBuilder& b) {
+            b.read(h.body);
+            b.read(h.paint);
+            h.samples = b.write(h.samples);
+            return [hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
+                paint_samples(r.get(hh.paint), r.get(hh.body), r.get(hh.samples));
+            };
+        },
+        tag);
+}
+
+} // namespace pbdsplat::scene

@@ -1,0 +1,41 @@
+#pragma once
+// A model's own look on its splats: each particle and boundary particle takes the colour of the
+// spot of the model's full-resolution surface where it lies at rest (asset/surface_colors.h).
+// Only scenes whose models have a look (a texture, materials, vertex colours) schedule it.
+#include <memory>
+#include <vector>
+
+#include "asset/surface_colors.h"
+#include "graph/frame_graph.h"
+#include "sim/soft_body.h"
+#include "surface/boundary_particles.h"
+
+namespace pbdsplat::scene {
+
+struct SurfacePaint {
+    // Per model of the scene ([model], then each [[bodies]] entry): its look, or null for a
+    // plain one, drawn in `plain`'s colour.
+    std::vector<std::shared_ptr<const asset::SurfaceColors>> model;
+    std::vector<Vec3f> plain;
+
+    bool empty() const;  // no model has a look
+};
+
+// Linear RGB as the records' bytes, alpha 255 (painted).
+uint32_t pack_color(const Vec3f& c);
+
+// Every particle's colour (SoftBody::colors) from where it lies at rest.
+void paint_particles(const SurfacePaint& paint, sim::SoftBody& body);
+// The samples that have no colour yet (new since the last call, or never painted); returns how
+// many were painted.
+size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& samples);
+
+struct PaintHandles {
+    graph::Handle<sim::SoftBody> body;
+    graph::Handle<SurfacePaint> paint;
+    graph::Handle<surface::BoundaryParticles> samples;
+};
+// The pass that paints what a cut, a tear or the density control added this frame.
+void add_paint_pass(graph::FrameGraph& g, PaintHandles& h, uint32_t tag);
+
+} // namespace pbdsplat::scene
