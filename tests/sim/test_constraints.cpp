@@ -141,3 +141,28 @@ TEST_SUITE("sim/constraints") {
             if (b.piece_of_particle[i] == b.volumes[1].piece) REQUIRE(b.particles.x[i] == before[i]);
     }
 }
+
+#include "mesh/procedural.h"
+#include "sim/soft_body.h"
+
+TEST_SUITE("sim/constraints") {
+    TEST_CASE("an open part holds air only when its openings are small: a pierced ball does, a dish does not") {
+        // The unit icosphere with the triangles above a height removed: a small hole near the
+        // top (opening ratio about 0.01), or everything above the equator (a dish, about 0.5).
+        auto body_with_cut = [](float above) {
+            mesh::TriangleMesh m = mesh::icosphere(3);
+            std::erase_if(m.triangles, [&](const mesh::Triangle& t) {
+                return (m.positions[t[0]].y() + m.positions[t[1]].y() + m.positions[t[2]].y()) / 3.0f > above;
+            });
+            auto b = sim::make_soft_body(std::move(m), {});
+            REQUIRE(b.ok());
+            return std::move(b).value();
+        };
+        const sim::SoftBody pierced = body_with_cut(0.97f);
+        REQUIRE(pierced.volumes.size() == 1);
+        CHECK(pierced.volumes[0].cap_loops.size() == 1);
+        CHECK(pierced.volumes[0].rest_volume == doctest::Approx(4.0 / 3.0 * M_PI).epsilon(0.05));
+        const sim::SoftBody dish = body_with_cut(0.0f);
+        CHECK(dish.volumes.empty());
+    }
+}
