@@ -2,6 +2,8 @@
 
 #include <charconv>
 #include <filesystem>
+#include <mutex>
+#include <optional>
 #include <vector>
 
 #include "asset/model_path.h"
@@ -30,6 +32,41 @@ core::Result<uint32_t> number(const std::string& spec, const std::string& field,
         return core::make_error("mesh '" + spec + "': '" + field + "' must be a whole number from " + std::to_string(min) +
                                 " to " + std::to_string(max));
     return v;
+}
+
+// The last model file loaded, kept for the next load of the same file: a model named on the
+// command line is read once for its scene (where it rests, how to frame it) and once more by
+// the runtime, and reading and repairing a 100k-triangle file is a tenth of its first frame.
+// Keyed by the file's path, size and time of change, and the options.
+struct FileLoad {
+    std::string path;
+    std::filesystem::file_time_type written;
+    uintmax_t size = 0;
+    float fit = 0.0f;
+    bool close_holes = false;
+    LoadedModel model;
+};
+std::mutex g_last_load_mutex;
+std::optional<FileLoad> g_last_load;
+
+bool same_file(const FileLoad& f, const std::string& path, const MeshSpecOptions& o) {
+    std::error_code ec;
+    return f.path == path && f.fit == o.file_fit_diagonal && f.close_holes == o.close_holes &&
+           std::filesystem::last_write_time(path, ec) == f.written && std::filesystem::file_size(path, ec) == f.size && !ec;
+}
+
+std::optional<LoadedModel> last_file_load(const std::string& path, const MeshSpecOptions& o) {
+    std::lock_guard lock(g_last_load_mutex);
+    if (g_last_load && same_file(*g_last_load, path, o)) return g_last_load->model;
+    return std::nullopt;
+}
+
+void remember_file_load(const std::string& path, const MeshSpecOptions& o, const LoadedModel& m) {
+    std::error_code ec;
+    FileLoad f{path, std::filesystem::last_write_time(path, ec), std::filesystem::file_size(path, ec), o.file_fit_diagonal, o.close_holes, m};
+    if (ec) return;
+    std::lock_guard lock(g_last_load_mutex);
+    g_last_load = std::move(f);
 }
 
 } // namespace
@@ -96,6 +133,7 @@ core::Result<LoadedModel> load_model(const std::string& spec, const MeshSpecOpti
             return core::make_error(spec + ": no such file, and not a procedural mesh (icosphere:L, uvsphere:R:S, "
                                            "torus:S:T, box:D, capsule:R:S, grid:N, quadruped:D); searched " + where);
         }
+        if (auto cached = last_file_load(*path, options)) return std::move(*cached);
         auto raw = load_model_file(*path);
         if (!raw.ok()) return raw.error();
         mesh::RepairOptions o;
@@ -111,6 +149,7 @@ core::Result<LoadedModel> load_model(const std::string& spec, const MeshSpecOpti
         if (out.look)
             for (Vec3f& p : out.look->positions) p = (p + out.repaired.shift) * out.repaired.scale;
         out.refined_levels = mesh::refine_to(out.repaired.mesh, k_min_file_vertices);
+        remember_file_load(*path, options, out);
         return out;
     }
     mesh::RepairOptions o;

@@ -3,14 +3,20 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 #include <stb_image.h>
 #include <stb_image_write.h>
 
 namespace pbdsplat::core {
 
-Status write_png(const std::string& path, const ImageRgba8& image) {
+Status write_png(const std::string& path, const ImageRgba8& image, bool fast) {
     if (image.width == 0 || image.height == 0) return make_error(path, 0, "refusing to write an empty image");
+    // stb's level is a global; every caller sets it, so no write inherits another's.
+    static std::mutex level_mutex;
+    std::lock_guard lock(level_mutex);
+    stbi_write_png_compression_level = fast ? 1 : 8;
+    stbi_write_force_png_filter = fast ? 1 : -1;  // "sub" alone: no trial of every filter per row
     if (!stbi_write_png(path.c_str(), int(image.width), int(image.height), 4, image.pixels.data(),
                         int(image.width * 4)))
         return make_error(path, 0, "cannot write PNG (does the directory exist and is it writable?)");

@@ -17,11 +17,16 @@ struct SurfaceView {
     std::span<const mesh::Triangle> triangles;
 };
 
+// Twelve bytes: millions are made and shuffled, so the position is computed again when the
+// candidate is tried (the same expression, so the same float) rather than stored.
 struct Candidate {
     uint32_t triangle;
     Vec2f bary;
-    Vec3f position;
 };
+
+Vec3f candidate_position(const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec2f& r) {
+    return a + r.x() * (b - a) + r.y() * (c - a);
+}
 
 // Uniform random candidates over the triangles, `density` per unit area; shuffled so that the
 // greedy pass below is dart throwing (blue noise) rather than a scan.
@@ -41,7 +46,7 @@ std::vector<Candidate> candidates(const SurfaceView& m, std::span<const uint32_t
         for (uint32_t k = 0; k < n; ++k) {
             float r1 = u(rng), r2 = u(rng);
             if (r1 + r2 > 1.0f) r1 = 1.0f - r1, r2 = 1.0f - r2;  // fold into the triangle: uniform
-            out.push_back({t, Vec2f(r1, r2), a + r1 * (b - a) + r2 * (c - a)});
+            out.push_back({t, Vec2f(r1, r2)});
         }
     }
     std::shuffle(out.begin(), out.end(), rng);
@@ -60,13 +65,15 @@ void accept(const SurfaceView& m, const std::vector<Candidate>& cands, std::span
             BoundaryParticles& out) {
     for (const Candidate& c : cands) {
         const uint32_t tag = piece.empty() ? PointGrid::k_any : piece[c.triangle];
-        if (grid.near(c.position, tag)) continue;
-        grid.add(c.position, tag);
+        const auto& tri = m.triangles[c.triangle];
+        const Vec3f &a = m.positions[tri[0]], &b = m.positions[tri[1]], &d = m.positions[tri[2]];
+        const Vec3f p = candidate_position(a, b, d, c.bary);
+        if (grid.near(p, tag)) continue;
+        grid.add(p, tag);
         out.triangle.push_back(c.triangle);
         out.bary.push_back(c.bary);
-        out.position.push_back(c.position);
-        const auto& tri = m.triangles[c.triangle];
-        out.normal.push_back((m.positions[tri[1]] - m.positions[tri[0]]).cross(m.positions[tri[2]] - m.positions[tri[0]]).normalized());
+        out.position.push_back(p);
+        out.normal.push_back((b - a).cross(d - a).normalized());
     }
 }
 

@@ -167,7 +167,7 @@ int cmd_render(const std::vector<std::string>& argv) {
             char name[32];
             std::snprintf(name, sizeof(name), "frame_%04u.png", f);
             const std::filesystem::path file = single ? out : dir / name;
-            if (auto s = core::write_png(file.string(), image.value()); !s.ok()) return fail("render", s.error().to_string());
+            if (auto s = core::write_png(file.string(), image.value(), true); !s.ok()) return fail("render", s.error().to_string());
         }
         if (csv) {
             const auto& s = runtime.value()->stats();
