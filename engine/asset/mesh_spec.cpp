@@ -71,6 +71,11 @@ void remember_file_load(const std::string& path, const MeshSpecOptions& o, const
 
 } // namespace
 
+void forget_loads() {
+    std::lock_guard lock(g_last_load_mutex);
+    g_last_load.reset();
+}
+
 bool is_procedural_spec(const std::string& spec) {
     const std::string kind = split(spec, ':')[0];
     for (const char* k : {"icosphere", "uvsphere", "torus", "box", "capsule", "grid", "quadruped"})

@@ -37,6 +37,10 @@ struct LoadedModel {
 };
 
 core::Result<LoadedModel> load_model(const std::string& spec, const MeshSpecOptions& options = {});
+// Forgets the last file loaded (kept so that a model's scene and its runtime read it once),
+// so that the next load reads the file again: for benchmarks of a first load.
+void forget_loads();
+
 // The surface alone.
 core::Result<mesh::RepairedMesh> load_mesh_spec(const std::string& spec, const MeshSpecOptions& options = {});
 

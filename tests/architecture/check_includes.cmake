@@ -56,6 +56,7 @@ set(tools_extra_bench_sim "mesh;asset;sim")
 set(tools_extra_sim_baseline "mesh;sim")  # the yardstick loops bench sim --baseline runs (sim/vec4_ops.h)
 set(tools_extra_bench_sim_error "mesh;asset;sim;topology")
 set(tools_extra_bench_surface "mesh;asset;sim;surface")
+set(tools_extra_bench_load "asset")  # the load steps, each timed apart
 set(tools_extra_splat_sphere "mesh")  # the test sphere the render benches draw
 if(DEFINED TOOLS_DIR)
   file(GLOB_RECURSE tool_sources "${TOOLS_DIR}/*.h" "${TOOLS_DIR}/*.cpp")

@@ -9,7 +9,7 @@ namespace {
 // In the order `pbdsplat bench --help` lists them.
 const BenchSuite* const k_suites[] = {&k_bench_sim,    &k_bench_sim_error, &k_bench_graph,        &k_bench_scene,
                                       &k_bench_surface, &k_bench_cut,       &k_bench_render,       &k_bench_render_error,
-                                      &k_bench_temporal, &k_bench_coverage, &k_bench_splat};
+                                      &k_bench_temporal, &k_bench_coverage, &k_bench_splat, &k_bench_load};
 
 std::string bench_help() {
     std::string help = "usage: pbdsplat bench <suite> [options]\n\nsuites:\n";
