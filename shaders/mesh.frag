@@ -12,6 +12,7 @@ layout(push_constant) uniform Push { vec4 albedo; } push;
 
 layout(location = 0) in vec3 v_world;
 layout(location = 1) in vec3 v_normal;
+layout(location = 2) in vec3 v_color;
 layout(location = 0) out vec4 out_color;
 
 void main() {
@@ -24,5 +25,5 @@ void main() {
     }
     // A cut opens the body: its inside faces the camera too, lit from the side that is seen.
     const vec3 n = seen_side(normalize(v_normal), v_world);
-    out_color = vec4(shade(push.albedo.rgb, n, v_world), 1.0);
+    out_color = vec4(shade(push.albedo.rgb * v_color, n, v_world), 1.0);
 }

@@ -6,12 +6,15 @@
 layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(location = 0) in vec4 in_position;
 layout(location = 1) in vec3 in_normal;
+layout(location = 2) in vec3 in_color;  // the model's own colour (ones for a plain material)
 
 layout(location = 0) out vec3 v_world;
 layout(location = 1) out vec3 v_normal;
+layout(location = 2) out vec3 v_color;
 
 void main() {
     v_world = in_position.xyz;
     v_normal = in_normal;
+    v_color = in_color;
     gl_Position = frame.proj * frame.view * vec4(in_position.xyz, 1.0);
 }

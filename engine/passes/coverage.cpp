@@ -12,7 +12,7 @@ namespace {
 
 core::Result<std::unique_ptr<render::MeshRaster>> mesh_raster(gpu::Context& ctx, std::span<const Vec4f> x,
                                                               std::span<const std::array<uint32_t, 3>> triangles,
-                                                              uint32_t width, uint32_t height) {
+                                                              uint32_t width, uint32_t height, std::span<const Vec3f> colors) {
     render::MeshRasterOptions mo;
     mo.width = width;
     mo.height = height;
@@ -27,7 +27,7 @@ core::Result<std::unique_ptr<render::MeshRaster>> mesh_raster(gpu::Context& ctx,
         for (uint32_t v : t) normals[v] += n;
     }
     for (Vec3f& n : normals) n = n.norm() > 0.0f ? Vec3f(n.normalized()) : Vec3f::UnitZ();
-    PBDSPLAT_TRY(raster.value()->set_mesh(x, triangles, normals));
+    PBDSPLAT_TRY(raster.value()->set_mesh(x, triangles, normals, 0, colors));
     return std::move(raster).value();
 }
 
@@ -64,13 +64,24 @@ double shading_error(const core::ImageRgba8& splats, const core::ImageRgba8& sha
     return inside ? sum / (255.0 * double(inside)) : 0.0;
 }
 
+double color_error(const core::ImageRgba8& splats, const core::ImageRgba8& shaded, const core::ImageRgba8& mask) {
+    size_t inside = 0;
+    double sum = 0.0;
+    for (size_t i = 0; i < size_t(mask.width) * mask.height; ++i) {
+        if (mask.pixels[i * 4 + 3] < 128 || mask.pixels[i * 4] < 128) continue;  // as speck_ratio
+        ++inside;
+        for (size_t k = 0; k < 3; ++k) sum += std::abs(int(splats.pixels[i * 4 + k]) - int(shaded.pixels[i * 4 + k]));
+    }
+    return inside ? sum / (3.0 * 255.0 * double(inside)) : 0.0;
+}
+
 core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f> x,
                                         std::span<const std::array<uint32_t, 3>> triangles,
                                         std::span<const splat::GaussianRecord> records, render::FrameInputs frame,
                                         uint32_t width, uint32_t height, std::optional<Vec3f> albedo,
-                                        std::span<const splat::GaussianShape> shapes) {
+                                        std::span<const splat::GaussianShape> shapes, std::span<const Vec3f> colors) {
     Coverage c;
-    auto raster = mesh_raster(ctx, x, triangles, width, height);
+    auto raster = mesh_raster(ctx, x, triangles, width, height, colors);
     if (!raster.ok()) return raster.error();
     auto mask = render_mesh_image(ctx, *raster.value(), frame, render::MeshView::mask);
     if (!mask.ok()) return mask.error();
@@ -78,7 +89,7 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
     if (albedo) {
         render::FrameInputs lit = frame;
         lit.background = Vec4f::Zero();
-        auto shaded = render_mesh_image(ctx, *raster.value(), lit, render::MeshView::shaded, *albedo);
+        auto shaded = render_mesh_image(ctx, *raster.value(), lit, render::MeshView::shaded, colors.empty() ? *albedo : Vec3f::Ones());
         if (!shaded.ok()) return shaded.error();
         c.shaded = std::move(shaded->image);
     }
@@ -115,6 +126,7 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
     if (albedo) {
         c.speck_ratio = speck_ratio(c.splats, c.shaded, c.mesh);
         c.shading_error = shading_error(c.splats, c.shaded, c.mesh);
+        c.color_error = color_error(c.splats, c.shaded, c.mesh);
     }
     return c;
 }

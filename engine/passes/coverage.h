@@ -17,6 +17,7 @@ struct Coverage {
     double silhouette_iou = 0.0;
     double speck_ratio = -1.0;  // -1: not measured (no albedo given)
     double shading_error = -1.0;  // the same
+    double color_error = -1.0;    // the same
     size_t mesh_pixels = 0;
     core::ImageRgba8 splats, mesh;  // the two images, for people to look at
     core::ImageRgba8 shaded;        // the lit mesh (with an albedo only)
@@ -33,11 +34,16 @@ double speck_ratio(const core::ImageRgba8& splats, const core::ImageRgba8& shade
 // luma (0-1) over the mesh's front pixels. The speck ratio counts only pixels darker than half;
 // this also sees a body drawn as facets (each splat lit with one normal) or bright discs.
 double shading_error(const core::ImageRgba8& splats, const core::ImageRgba8& shaded_mesh, const core::ImageRgba8& mesh_mask);
+// The same over the colour: the mean absolute difference of R, G and B (0-1), so a texture
+// drawn in the wrong place or blurred counts where the luma alone might not.
+double color_error(const core::ImageRgba8& splats, const core::ImageRgba8& shaded_mesh, const core::ImageRgba8& mesh_mask);
 
 core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f> x,
                                         std::span<const std::array<uint32_t, 3>> triangles,
                                         std::span<const splat::GaussianRecord> records, render::FrameInputs frame,
                                         uint32_t width, uint32_t height, std::optional<Vec3f> albedo = std::nullopt,
-                                        std::span<const splat::GaussianShape> shapes = {});
+                                        std::span<const splat::GaussianShape> shapes = {}, std::span<const Vec3f> colors = {});
+// `colors`, when given (one per vertex of x, linear), is the model's own look: the lit mesh is
+// drawn in it, as its splats are, instead of in `albedo`.
 
 } // namespace pbdsplat::passes

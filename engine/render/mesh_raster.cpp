@@ -1,5 +1,6 @@
 #include "render/mesh_raster.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "core/assert.h"
@@ -20,12 +21,14 @@ core::Result<std::unique_ptr<MeshRaster>> MeshRaster::create(gpu::Context& ctx, 
         // The positions double as the frame set's storage binding, which no mesh shader reads.
         for (const Want& w : {Want{&slot.vertices, nv * sizeof(Vec4f), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT},
                               Want{&slot.normals, nv * sizeof(Vec3f), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT},
+                              Want{&slot.colors, nv * sizeof(Vec3f), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT},
                               Want{&slot.indices, nt * 3 * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT}}) {
             auto b = gpu::Buffer::create(ctx, w.bytes, w.usage, gpu::MemoryUsage::upload);
             if (!b.ok()) return b.error();
             *w.buffer = std::move(b).value();
         }
         std::memset(slot.normals.mapped(), 0, slot.normals.size());
+        std::fill_n(static_cast<float*>(slot.colors.mapped()), slot.colors.size() / sizeof(float), 1.0f);
     }
     auto environment = make_environment_texture(ctx, options.environment_map, options.sky_sun);
     if (!environment.ok()) return environment.error();
@@ -53,8 +56,12 @@ core::Result<std::unique_ptr<MeshRaster>> MeshRaster::create(gpu::Context& ctx, 
     const VkPipelineLayout layout = m->layout_.get();
     gpu::GraphicsPipelineDesc desc;
     desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "mesh.vert"}, {VK_SHADER_STAGE_FRAGMENT_BIT, "mesh.frag"}};
-    desc.bindings = {{0, sizeof(Vec4f), VK_VERTEX_INPUT_RATE_VERTEX}, {1, sizeof(Vec3f), VK_VERTEX_INPUT_RATE_VERTEX}};
-    desc.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 0}, {1, 1, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    desc.bindings = {{0, sizeof(Vec4f), VK_VERTEX_INPUT_RATE_VERTEX},
+                     {1, sizeof(Vec3f), VK_VERTEX_INPUT_RATE_VERTEX},
+                     {2, sizeof(Vec3f), VK_VERTEX_INPUT_RATE_VERTEX}};
+    desc.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 0},
+                       {1, 1, VK_FORMAT_R32G32B32_SFLOAT, 0},
+                       {2, 2, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     desc.color_format = k_color_format;
     desc.depth_format = k_depth_format;
     desc.layout = layout;
@@ -70,7 +77,7 @@ core::Result<std::unique_ptr<MeshRaster>> MeshRaster::create(gpu::Context& ctx, 
 }
 
 core::Status MeshRaster::set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles,
-                                  std::span<const Vec3f> normals, uint32_t slot_index) {
+                                  std::span<const Vec3f> normals, uint32_t slot_index, std::span<const Vec3f> colors) {
     PBDSPLAT_ASSERT(slot_index < slots_.size(), "MeshRaster: slot out of range; create it with options.slots");
     Slot& slot = slots_[slot_index];
     if (positions.size_bytes() > slot.vertices.size() || triangles.size() * 3 * sizeof(uint32_t) > slot.indices.size())
@@ -78,6 +85,16 @@ core::Status MeshRaster::set_mesh(std::span<const Vec4f> positions, std::span<co
     if (!normals.empty() && normals.size() != positions.size())
         return core::make_error("MeshRaster::set_mesh: " + std::to_string(normals.size()) + " normals for " +
                                 std::to_string(positions.size()) + " positions");
+    if (!colors.empty() && colors.size() != positions.size())
+        return core::make_error("MeshRaster::set_mesh: " + std::to_string(colors.size()) + " colours for " +
+                                std::to_string(positions.size()) + " positions");
+    if (!colors.empty()) {
+        std::memcpy(slot.colors.mapped(), colors.data(), colors.size_bytes());
+        slot.colored = true;
+    } else if (slot.colored) {
+        std::fill_n(static_cast<float*>(slot.colors.mapped()), slot.colors.size() / sizeof(float), 1.0f);
+        slot.colored = false;
+    }
     std::memcpy(slot.vertices.mapped(), positions.data(), positions.size_bytes());
     if (!normals.empty()) std::memcpy(slot.normals.mapped(), normals.data(), normals.size_bytes());
     std::memcpy(slot.indices.mapped(), triangles.data(), triangles.size() * 3 * sizeof(uint32_t));
@@ -97,9 +114,9 @@ void MeshRaster::draw(VkCommandBuffer cmd, const FrameInputs& inputs, MeshView v
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &set, 0, nullptr);
     const float push[4] = {albedo.x(), albedo.y(), albedo.z(), 1.0f};
     vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(push), push);
-    const VkDeviceSize offsets[2] = {0, 0};
-    const VkBuffer vbs[2] = {slot.vertices.handle(), slot.normals.handle()};
-    vkCmdBindVertexBuffers(cmd, 0, 2, vbs, offsets);
+    const VkDeviceSize offsets[3] = {0, 0, 0};
+    const VkBuffer vbs[3] = {slot.vertices.handle(), slot.normals.handle(), slot.colors.handle()};
+    vkCmdBindVertexBuffers(cmd, 0, 3, vbs, offsets);
     vkCmdBindIndexBuffer(cmd, slot.indices.handle(), 0, VK_INDEX_TYPE_UINT32);
     vkCmdDrawIndexed(cmd, slot.index_count, 1, 0, 0, 0);
     target_.end(cmd);

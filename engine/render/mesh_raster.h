@@ -36,9 +36,10 @@ public:
     static core::Result<std::unique_ptr<MeshRaster>> create(gpu::Context& ctx, const MeshRasterOptions& options);
 
     // Copies the mesh into the (host-visible) vertex and index buffers; call while no frame
-    // using them is in flight. `normals` (one per position) are needed for MeshView::shaded.
+    // using them is in flight. `normals` (one per position) are needed for MeshView::shaded;
+    // `colors` (linear, one per position), when given, multiply the albedo: a model's own look.
     core::Status set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles,
-                          std::span<const Vec3f> normals = {}, uint32_t slot = 0);
+                          std::span<const Vec3f> normals = {}, uint32_t slot = 0, std::span<const Vec3f> colors = {});
     // Draws into the target (in attachment layouts); the caller's frame graph places the
     // barriers (uses::color_attachment etc.). A mask clears to transparent black, a shaded view
     // to the frame's background.
@@ -58,8 +59,9 @@ private:
     gpu::Context* ctx_ = nullptr;
     OffscreenTarget target_;
     struct Slot {
-        gpu::Buffer vertices, normals, indices;
+        gpu::Buffer vertices, normals, colors, indices;
         uint32_t index_count = 0;
+        bool colored = false;  // colors holds a mesh's own; else all ones
     };
     std::vector<Slot> slots_;
     EnvironmentTexture environment_;

@@ -179,9 +179,11 @@ void SceneRuntime::add_view_passes(GraphHandles& h) {
                 render::MeshRaster& mesh = r.get(raster);
                 const sim::SoftBody& body = r.get(hh.body);
                 const uint32_t slot = r.get(splats).slot();
-                if (const core::Status s = mesh.set_mesh(body.particles.x, body.triangles, body.normals, slot); !s.ok())
+                if (const core::Status s = mesh.set_mesh(body.particles.x, body.triangles, body.normals, slot, body.colors); !s.ok())
                     r.get(hh.note) = "mesh view: " + s.error().to_string();  // drawn with the last mesh that fitted
-                mesh.draw(c.cmd, r.get(hh.input).frame, render::MeshView::shaded, r.get(hh.appearance).albedo, slot);
+                // Drawn in the body's own colours where it has them, as its splats are.
+                const Vec3f albedo = body.colors.empty() ? r.get(hh.appearance).albedo : Vec3f::Ones();
+                mesh.draw(c.cmd, r.get(hh.input).frame, render::MeshView::shaded, albedo, slot);
             };
         });
         sources.mesh = mesh_color;

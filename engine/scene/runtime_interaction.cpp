@@ -125,8 +125,9 @@ core::Result<core::ImageRgba8> SceneRuntime::mesh_image() {
     if (!renderer_) return core::make_error("mesh_image: this scene runtime has no renderer (created without a GPU context)");
     PBDSPLAT_TRY(ensure_mesh_raster());
     options_.gpu->device().wait_idle();  // no frame in flight uses the raster's buffers now
-    PBDSPLAT_TRY(mesh_raster_->set_mesh(body_.particles.x, body_.triangles, body_.normals));
-    auto image = passes::render_mesh_image(*options_.gpu, *mesh_raster_, frame_input_.frame, render::MeshView::shaded, appearance_.albedo);
+    PBDSPLAT_TRY(mesh_raster_->set_mesh(body_.particles.x, body_.triangles, body_.normals, 0, body_.colors));
+    const Vec3f albedo = body_.colors.empty() ? appearance_.albedo : Vec3f::Ones();
+    auto image = passes::render_mesh_image(*options_.gpu, *mesh_raster_, frame_input_.frame, render::MeshView::shaded, albedo);
     if (!image.ok()) return image.error();
     return std::move(image->image);
 }

@@ -85,12 +85,14 @@ core::Status sample_coverage(SceneRuntime& rt, const Scene& scene, const CheckOp
     render::FrameInputs frame = rt.frame_inputs();
     frame.ground.visible = false;
     frame.style.order = rt.order();  // without a device: the CPU sort, records already in order
-    auto c = passes::measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height, scene.material.color, rt.shapes());
+    auto c = passes::measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height, scene.material.color, rt.shapes(),
+                                      rt.surface_colors());
     if (!c.ok()) return core::make_error("frame " + std::to_string(s.frame) + ": " + c.error().to_string());
     s.hole_ratio = c->hole_ratio;
     s.iou = c->silhouette_iou;
     s.speck_ratio = c->speck_ratio;
     s.shading_error = c->shading_error;
+    s.color_error = c->color_error;
     if (o.images_dir.empty()) return core::Status::success();
     char stem[64];
     std::snprintf(stem, sizeof stem, "/%s_f%04llu_", scene.name.c_str(), (unsigned long long)s.frame);
@@ -119,6 +121,7 @@ void summarise(CheckReport& report, std::vector<double> stage_a) {
             report.iou_min = report.iou_min < 0.0 ? s.iou : std::min(report.iou_min, s.iou);
             report.speck_ratio_max = std::max(report.speck_ratio_max, s.speck_ratio);
             report.shading_error_max = std::max(report.shading_error_max, s.shading_error);
+            report.color_error_max = std::max(report.color_error_max, s.color_error);
         }
         if (s.spacing_within >= 0.0) {
             report.spacing_within_min = report.spacing_within_min < 0.0 ? s.spacing_within : std::min(report.spacing_within_min, s.spacing_within);

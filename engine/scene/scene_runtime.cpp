@@ -109,6 +109,20 @@ void SceneRuntime::update_closed() {
 
 
 
+std::span<const Vec3f> SceneRuntime::surface_colors() {
+    if (paint_.empty()) return {};
+    if (!fine_) return body_.colors;
+    if (fine_colors_.size() != fine_->vertex_count()) {
+        if (!fine_vertices_) {  // the fine surface's embedding, made with its first deformed copy
+            std::vector<Vec4f> x;
+            std::vector<mesh::Triangle> triangles;
+            deformed_surface(x, triangles);
+        }
+        fine_colors_ = paint_vertices(paint_, body_, *fine_, *fine_vertices_);
+    }
+    return fine_colors_;
+}
+
 void SceneRuntime::deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles) {
     if (!fine_) {
         x = body_.particles.x;

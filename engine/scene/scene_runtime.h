@@ -99,6 +99,9 @@ public:
     // The model's full-resolution surface (rest pose, scene space) when the body simulates a
     // decimated copy of it; empty otherwise.
     const std::optional<mesh::TriangleMesh>& fine_surface() const { return fine_; }
+    // Per vertex of the surface deformed_surface() gives, the model's own colour at rest
+    // (linear): its look painted on it. Empty for plain materials.
+    std::span<const Vec3f> surface_colors();
     const mesh::DecimateReport& decimation() const { return decimation_; }
     const surface::EmbeddingStats& embedding() const { return embedding_; }
     // The surface the splats stand for, as it is now: the model's full-resolution mesh carried
@@ -184,6 +187,7 @@ private:
     std::optional<mesh::TriangleMesh> fine_;  // the model's surface when the body is decimated
     mesh::DecimateReport decimation_;
     SurfacePaint paint_;  // the models' looks; empty for plain materials (no paint pass then)
+    std::vector<Vec3f> fine_colors_;  // the look on the fine surface's vertices, made when first asked
     surface::EmbeddingStats embedding_;
     std::optional<surface::BoundaryParticles> fine_vertices_;  // made on the first deformed_surface()
     // The surface mesh as the mesh occluders draw it (render.visibility = "mesh"): the fine

@@ -40,7 +40,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                   text("images", "DIR", "", "write each measured frame's splat image and lit mesh as PNG into DIR")
                       .default_from("none"),
                   save_scene_option(), json_option("one JSON object: shape_error_max, strays_max, hole_ratio_max, iou_min,\n"
-                              "speck_ratio_max, shading_error_max, pieces, volume_error_max, penetration_max\n"
+                              "speck_ratio_max, shading_error_max, color_error_max, pieces, volume_error_max, penetration_max\n"
                               "(the deepest particle inside another piece, over h), tilt_max,\n"
                               "height_ratio_min, tears, smallest_piece_min and every measured frame")})};
     const Parsed parsed = parse_command(command, argv);
@@ -76,7 +76,7 @@ int cmd_check(const std::vector<std::string>& argv) {
         for (const scene::CheckSample& s : r.samples)
             samples.push_back({{"frame", s.frame}, {"time", s.time}, {"cuts", s.cuts}, {"tears", s.tears},
                                {"shape_error", s.shape_error}, {"strays", s.strays}, {"hole_ratio", s.hole_ratio},
-                               {"iou", s.iou}, {"speck_ratio", s.speck_ratio}, {"shading_error", s.shading_error}, {"spacing_within", s.spacing_within}, {"spacing_within_3d", s.spacing_within_3d}, {"spacing_p05", s.spacing_p05}, {"spacing_p95", s.spacing_p95}, {"area_ratio", s.area_ratio}, {"pieces", s.pieces}, {"particles", s.particles},
+                               {"iou", s.iou}, {"speck_ratio", s.speck_ratio}, {"shading_error", s.shading_error}, {"color_error", s.color_error}, {"spacing_within", s.spacing_within}, {"spacing_within_3d", s.spacing_within_3d}, {"spacing_p05", s.spacing_p05}, {"spacing_p95", s.spacing_p95}, {"area_ratio", s.area_ratio}, {"pieces", s.pieces}, {"particles", s.particles},
                                {"gaussians", s.gaussians}, {"volume_error", s.volume_error}, {"penetration", s.penetration},
                                {"tilt", s.tilt_degrees}, {"height_ratio", s.height_ratio}, {"smallest_piece_triangles", s.smallest_piece_triangles}});
         const nlohmann::json j = {{"scene", sc->name},
@@ -87,7 +87,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                                   {"hole_ratio_max", r.hole_ratio_max},
                                   {"iou_min", r.iou_min},
                                   {"speck_ratio_max", r.speck_ratio_max},
-                                  {"shading_error_max", r.shading_error_max},
+                                  {"shading_error_max", r.shading_error_max}, {"color_error_max", r.color_error_max},
                                   {"spacing_within_min", r.spacing_within_min},
                                   {"spacing_within_3d_min", r.spacing_within_3d_min},
                                   {"pieces", r.pieces},
@@ -124,12 +124,12 @@ int cmd_check(const std::vector<std::string>& argv) {
                     s.shading_error, s.spacing_within, s.pieces, s.volume_error, s.area_ratio, s.penetration,
                     s.tilt_degrees, s.height_ratio, s.smallest_piece_triangles);
     std::printf("worst: shape %.4f (%.4f before any cut or tear), strays %zu, holes %.3f %%, IoU %.3f, specks %.3f %%,\n"
-                "       shading error %.4f,\n"
+                "       shading error %.4f, colour error %.4f,\n"
                 "       spacing within [0.7 h, 1.4 h] %.3f along the surface, %.3f in space; %zu pieces at the end;\n"
                 "       %zu particles, %zu Gaussians; Stage A %.3f ms a frame (median); penetration %.3f h;\n"
                 "       tilt %.1f degrees, height %.3f of rest; %zu tears; smallest piece %zu triangles\n",
                 r.shape_error_max, r.shape_error_before_topology, r.strays_max, percent(r.hole_ratio_max), r.iou_min,
-                percent(r.speck_ratio_max), r.shading_error_max, r.spacing_within_min, r.spacing_within_3d_min, r.pieces, r.particles, r.gaussians, r.stage_a_ms, r.penetration_max,
+                percent(r.speck_ratio_max), r.shading_error_max, r.color_error_max, r.spacing_within_min, r.spacing_within_3d_min, r.pieces, r.particles, r.gaussians, r.stage_a_ms, r.penetration_max,
                 r.tilt_max, r.height_ratio_min, r.tears, r.smallest_piece_min);
     return 0;
 }

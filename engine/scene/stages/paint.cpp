@@ -33,6 +33,16 @@ void paint_particles(const SurfacePaint& paint, sim::SoftBody& body) {
     for (uint32_t i = 0; i < body.particle_count(); ++i) body.colors[i] = color_of(paint, model_of(body, i), body.rest_positions[i]);
 }
 
+std::vector<Vec3f> paint_vertices(const SurfacePaint& paint, const sim::SoftBody& body, const mesh::TriangleMesh& surface,
+                                  const surface::BoundaryParticles& embedded) {
+    std::vector<Vec3f> out(surface.vertex_count());
+    for (size_t v = 0; v < out.size(); ++v) {
+        const uint32_t model = v < embedded.size() ? model_of(body, body.triangles[embedded.triangle[v]][0]) : 0u;
+        out[v] = color_of(paint, model, surface.positions[v]);
+    }
+    return out;
+}
+
 size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& s) {
     s.color.resize(s.size(), 0u);
     size_t painted = 0;

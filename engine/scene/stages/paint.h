@@ -26,6 +26,10 @@ uint32_t pack_color(const Vec3f& c);
 
 // Every particle's colour (SoftBody::colors) from where it lies at rest.
 void paint_particles(const SurfacePaint& paint, sim::SoftBody& body);
+// The colour of each vertex of `surface` (the models' fine surface, in the body's rest frame);
+// `embedded` (one sample per vertex, on the body's triangles) tells each vertex's model.
+std::vector<Vec3f> paint_vertices(const SurfacePaint& paint, const sim::SoftBody& body, const mesh::TriangleMesh& surface,
+                                  const surface::BoundaryParticles& embedded);
 // The samples that have no colour yet (new since the last call, or never painted); returns how
 // many were painted.
 size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& samples);
