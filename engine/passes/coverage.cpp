@@ -53,26 +53,33 @@ double speck_ratio(const core::ImageRgba8& splats, const core::ImageRgba8& shade
     return inside ? double(specks) / double(inside) : 0.0;
 }
 
-double shading_error(const core::ImageRgba8& splats, const core::ImageRgba8& shaded, const core::ImageRgba8& mask) {
+namespace {
+// The mean of error(i) over the pixels i where the mesh's outside is seen (as speck_ratio counts).
+template <class PixelError>
+double mean_over_front(const core::ImageRgba8& mask, const PixelError& error) {
     size_t inside = 0;
     double sum = 0.0;
     for (size_t i = 0; i < size_t(mask.width) * mask.height; ++i) {
-        if (mask.pixels[i * 4 + 3] < 128 || mask.pixels[i * 4] < 128) continue;  // as speck_ratio
+        if (mask.pixels[i * 4 + 3] < 128 || mask.pixels[i * 4] < 128) continue;
         ++inside;
-        sum += std::abs(pixel_luminance(&splats.pixels[i * 4]) - pixel_luminance(&shaded.pixels[i * 4]));
+        sum += error(i);
     }
-    return inside ? sum / (255.0 * double(inside)) : 0.0;
+    return inside ? sum / double(inside) : 0.0;
+}
+} // namespace
+
+double shading_error(const core::ImageRgba8& splats, const core::ImageRgba8& shaded, const core::ImageRgba8& mask) {
+    return mean_over_front(mask, [&](size_t i) {
+        return std::abs(pixel_luminance(&splats.pixels[i * 4]) - pixel_luminance(&shaded.pixels[i * 4])) / 255.0;
+    });
 }
 
 double color_error(const core::ImageRgba8& splats, const core::ImageRgba8& shaded, const core::ImageRgba8& mask) {
-    size_t inside = 0;
-    double sum = 0.0;
-    for (size_t i = 0; i < size_t(mask.width) * mask.height; ++i) {
-        if (mask.pixels[i * 4 + 3] < 128 || mask.pixels[i * 4] < 128) continue;  // as speck_ratio
-        ++inside;
+    return mean_over_front(mask, [&](size_t i) {
+        int sum = 0;
         for (size_t k = 0; k < 3; ++k) sum += std::abs(int(splats.pixels[i * 4 + k]) - int(shaded.pixels[i * 4 + k]));
-    }
-    return inside ? sum / (3.0 * 255.0 * double(inside)) : 0.0;
+        return double(sum) / (3.0 * 255.0);
+    });
 }
 
 core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f> x,
