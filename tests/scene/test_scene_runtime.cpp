@@ -450,3 +450,71 @@ TEST_SUITE("scene/runtime") {
         CHECK(bad.error().to_string().find("bad.toml") != std::string::npos);
     }
 }
+
+#include "core/image.h"
+
+TEST_SUITE("scene/runtime") {
+    TEST_CASE("a textured model keeps its texture through a cut: new particles and samples are painted where they stand") {
+        // A box whose texture is red on the left half of its u range and blue on the right,
+        // mapped by x on every face; cut at x = 0.1 (through the red half) at 0.05 s.
+        const std::filesystem::path dir = std::filesystem::temp_directory_path() / "pbdsplat_textured_cut";
+        std::filesystem::create_directories(dir);
+        core::ImageRgba8 tex(2, 1);
+        const uint8_t px[8] = {255, 0, 0, 255, 0, 0, 255, 255};
+        std::copy(px, px + 8, tex.pixels.begin());
+        REQUIRE(core::write_png((dir / "halves.png").string(), tex).ok());
+        {
+            std::ofstream(dir / "box.mtl") << "newmtl m\nKd 1 1 1\nmap_Kd halves.png\n";
+            const mesh::TriangleMesh box = mesh::box(Vec3f(1, 1, 1), 8);
+            std::ofstream obj(dir / "box.obj");
+            obj << "mtllib box.mtl\nusemtl m\n";
+            // u = x + 0.5 (clamped into the texture by the sampler's repeat, x in [-0.5, 0.5]);
+            // the texel boundary is u = 0.5, x = 0.
+            for (const Vec3f& p : box.positions) obj << "v " << p.x() << " " << p.y() << " " << p.z() << "\n";
+            for (const Vec3f& p : box.positions) obj << "vt " << std::clamp(p.x() + 0.5f, 0.001f, 0.999f) << " 0.5\n";
+            for (const auto& t : box.triangles)
+                obj << "f " << t[0] + 1 << "/" << t[0] + 1 << " " << t[1] + 1 << "/" << t[1] + 1 << " " << t[2] + 1 << "/" << t[2] + 1 << "\n";
+        }
+        scene::Scene s = scene::default_scene();
+        s.model.mesh = (dir / "box.obj").string();
+        s.model.fit = 0.0f;  // keep x in [-0.5, 0.5]
+        s.simulation.particles = 0;
+        s.simulation.colliders = {};
+        s.simulation.solver.gravity = Vec3f::Zero();
+        s.events.clear();
+        scene::Event cut;
+        cut.time = 0.05f;
+        scene::CutEvent c;
+        c.plane = std::make_pair(Vec3f(0.1f, 0, 0), Vec3f::UnitX());
+        cut.data = c;
+        s.events.push_back(cut);
+        scene::RuntimeOptions o;
+        o.keep_records = true;
+        auto rt = scene::SceneRuntime::create(s, o);
+        REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+        const size_t before = rt.value()->body().particle_count();
+        for (int f = 0; f < 8; ++f) REQUIRE(rt.value()->step().ok());
+        REQUIRE(rt.value()->stats().cuts == 1);
+        const sim::SoftBody& body = rt.value()->body();
+        REQUIRE(body.particle_count() > before);
+        REQUIRE(body.colors.size() == body.particle_count());
+        // Every particle, old or made by the cut, is red left of the texel boundary and blue
+        // right of it (away from the boundary, where the texels blend).
+        size_t wrong = 0, checked = 0;
+        for (uint32_t i = 0; i < body.particle_count(); ++i) {
+            const float x = body.rest_positions[i].x();
+            if (std::abs(x) < 0.1f) continue;
+            ++checked;
+            const Vec3f& col = body.colors[i];
+            if ((x < 0.0f) != (col.x() > col.z())) ++wrong;
+        }
+        CHECK(checked > 100);
+        CHECK(wrong == 0);
+        const auto& samples = rt.value()->boundary_particles();
+        REQUIRE(samples.color.size() == samples.size());
+        size_t unpainted = 0;
+        for (uint32_t col : samples.color) unpainted += (col >> 24) == 255u ? 0 : 1;
+        CHECK(unpainted == 0);
+        std::filesystem::remove_all(dir);
+    }
+}
