@@ -1,5 +1,6 @@
 #include "asset/obj_loader.h"
 
+#include <cctype>
 #include <charconv>
 #include <filesystem>
 #include <cmath>
@@ -125,15 +126,40 @@ core::Result<ObjFacts> check_obj(const std::string& text, const std::string& nam
     return f;
 }
 
-// A map_Kd path as written (relative to the .mtl's folder, Windows separators, sometimes an
-// absolute path from the author's machine): the first existing file of the candidates.
+std::string lower(std::string s) {
+    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+// A map_Kd path as written: relative to the .mtl's folder, with Windows separators, or an
+// absolute path from the author's machine (C:\Users\...\Textures\skin.jpg). Tried in turn: as
+// written, its last folder and name beside the model (Textures/skin.jpg), its name beside the
+// model, then its name ignoring case beside the model or one folder down (exporters and
+// archive tools change case and folder names).
 std::string find_texture(const std::string& base_dir, std::string name) {
     for (char& c : name)
         if (c == '\\') c = '/';
     const std::filesystem::path dir(base_dir.empty() ? "." : base_dir), given(name);
+    std::vector<std::filesystem::path> tries{given.is_absolute() ? given : dir / given};
+    if (given.has_parent_path()) tries.push_back(dir / given.parent_path().filename() / given.filename());
+    tries.push_back(dir / given.filename());
     std::error_code ec;
-    for (const std::filesystem::path& p : {given.is_absolute() ? given : dir / given, dir / given.filename()})
+    for (const std::filesystem::path& p : tries)
         if (std::filesystem::is_regular_file(p, ec)) return p.lexically_normal().string();
+    const std::string want = lower(given.filename().string());
+    // Iterated with error codes throughout: an unreadable folder is skipped, never thrown from.
+    auto entries = [](const std::filesystem::path& folder) {
+        std::vector<std::filesystem::directory_entry> out;
+        std::error_code e;
+        for (std::filesystem::directory_iterator it(folder, e), end; !e && it != end; it.increment(e)) out.push_back(*it);
+        return out;
+    };
+    std::vector<std::filesystem::path> folders{dir};
+    for (const auto& e : entries(dir))
+        if (e.is_directory(ec)) folders.push_back(e.path());
+    for (const std::filesystem::path& folder : folders)
+        for (const auto& e : entries(folder))
+            if (e.is_regular_file(ec) && lower(e.path().filename().string()) == want) return e.path().lexically_normal().string();
     return {};
 }
 

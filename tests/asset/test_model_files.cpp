@@ -257,3 +257,23 @@ TEST_SUITE("asset/model_files") {
         CHECK(mesh::signed_volume(cube) == doctest::Approx(side * side * side).epsilon(1e-4));
     }
 }
+
+TEST_SUITE("asset/model_files") {
+    TEST_CASE("a texture named by its author's absolute Windows path is found beside the model, whatever its case") {
+        test::Corpus c("authorpath");
+        c.write("Textures/.keep", "");
+        core::ImageRgba8 img(1, 1);
+        img.pixels = {0, 255, 0, 255};
+        REQUIRE(core::write_png(c.path("Textures/skin.png"), img).ok());
+        c.write("cube.mtl", "newmtl side\nKd 1 0 0\nnewmtl top\nKd 1 1 1\nmap_Kd -s 1 1 1 C:\\Users\\artist\\Desktop\\TEXTURES\\Skin.PNG\n");
+        std::string obj = test::cube_obj(true);
+        obj.replace(obj.find("f 3 4 8 7"), 9, "vt 0.5 0.5\nf 3/1 4/1 8/1 7/1");
+        auto a = asset::load_model_file(c.write("cube.obj", obj));
+        REQUIRE(a.ok());
+        CHECK(a->warnings.empty());
+        REQUIRE(a->look.has_value());
+        REQUIRE(a->look->textures.size() == 1);
+        const size_t top = a->mesh.triangle_count() - 1;
+        CHECK(a->look->color_at(uint32_t(top), Vec2f(0.3f, 0.3f)).isApprox(Vec3f(0, 1, 0)));
+    }
+}
