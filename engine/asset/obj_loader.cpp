@@ -233,6 +233,7 @@ core::Result<ModelAsset> read_obj(const std::string& text, const std::string& na
     if (has_normals) m.normals.assign(n, Vec3f::Zero());
     if (has_uvs) m.uvs.assign(n, Vec2f::Zero());
     std::vector<Vec3f> corners;
+    bool unnamed = false;  // a face before any usemtl, or naming a material no .mtl defines
     for (const tinyobj::shape_t& shape : shapes) {
         const auto& idx = shape.mesh.indices;
         size_t offset = 0;
@@ -274,14 +275,16 @@ core::Result<ModelAsset> read_obj(const std::string& text, const std::string& na
                 }
                 m.triangles.push_back(t);
                 if (textured) look.uv.push_back(uv);
-                if (per_material)
-                    look.material.push_back(material >= 0 && size_t(material) < look.materials.size() ? uint32_t(material)
-                                                                                                       : uint32_t(look.materials.size()));
+                if (per_material) {
+                    const bool named = material >= 0 && size_t(material) < look.materials.size();
+                    look.material.push_back(named ? uint32_t(material) : uint32_t(look.materials.size()));
+                    unnamed = unnamed || !named;
+                }
             }
             offset += fv;
         }
     }
-    if (per_material) look.materials.push_back(Material{"(none)", Vec3f::Ones(), -1});  // faces without usemtl
+    if (unnamed) look.materials.push_back(Material{"(none)", Vec3f::Ones(), -1});  // faces without usemtl
     if (want_look && !m.colors.empty()) {
         look.corner_color.resize(m.triangles.size());
         for (size_t t = 0; t < m.triangles.size(); ++t)

@@ -6,6 +6,7 @@
 
 #include "asset/file_kind.h"
 #include "asset/mesh_spec.h"
+#include "asset/model_file.h"
 #include "scene/scene_file.h"
 
 namespace pbdsplat::scene {
@@ -73,6 +74,31 @@ core::Result<Scene> scene_for_model(const std::string& model_path) {
     if (!s.ok()) return s.error();
     s->name = std::filesystem::path(model_path).stem().string();
     s->source_dir.clear();  // the model path is the user's, relative to where they stand
+    return s;
+}
+
+core::Result<ModelSummary> summarize_model(const std::string& path) {
+    auto kind = asset::sniff_file(path);
+    if (!kind.ok()) return kind.error();
+    auto raw = asset::load_model_file(path);
+    if (!raw.ok()) return raw.error();
+    ModelSummary s;
+    s.format = asset::file_kind_name(kind.value());
+    s.vertices = raw->mesh.vertex_count();
+    s.triangles = raw->mesh.triangle_count();
+    if (raw->look) {
+        const asset::SurfaceLook& look = *raw->look;
+        s.materials = look.materials.size();
+        for (const asset::Texture& t : look.textures)
+            s.textures.push_back(t.name + " (" + std::to_string(t.width) + " x " + std::to_string(t.height) + ")");
+        s.vertex_colors = !look.corner_color.empty();
+        s.texture_coordinates = !look.uv.empty();
+    }
+    auto model = asset::load_model(path, {});
+    if (!model.ok()) return model.error();
+    s.repair = model->repaired.report.summary();
+    s.refined_levels = model->refined_levels;
+    s.warnings = std::move(raw->warnings);
     return s;
 }
 

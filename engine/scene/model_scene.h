@@ -20,6 +20,20 @@ core::Result<InputKind> input_kind(const std::string& path);
 core::Result<std::string> model_scene_text(const std::string& model_path, const std::string& mesh_as = "");
 core::Result<Scene> scene_for_model(const std::string& model_path);
 
+// What pbdsplat reads from a model file, for `pbdsplat info FILE`: so that a user sees which
+// materials, textures and colours were found before running it.
+struct ModelSummary {
+    std::string format;
+    size_t vertices = 0, triangles = 0;  // as read (before welding)
+    size_t materials = 0;
+    std::vector<std::string> textures;  // "file (W x H)"
+    bool vertex_colors = false, texture_coordinates = false;
+    std::string repair;                 // mesh::RepairReport::summary() of the repaired surface
+    uint32_t refined_levels = 0;
+    std::vector<std::string> warnings;
+};
+core::Result<ModelSummary> summarize_model(const std::string& path);
+
 // A scene file, or a model file's scene; Gaussians are refused (they are rendered as they are).
 core::Result<Scene> load_scene_or_model(const std::string& path);
 
