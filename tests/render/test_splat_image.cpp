@@ -29,10 +29,14 @@ using namespace pbdsplat;
 
 namespace {
 
-// Goldens are remade only by tools/update-goldens, which sets this; never automatically.
-bool updating_goldens() {
+// Goldens are remade only by tools/update-goldens, which sets this: "1" for every golden, or
+// a comma-separated list of golden names for those alone; never automatically.
+bool updating_golden(const std::string& name) {
     const char* v = std::getenv("PBDSPLAT_UPDATE_GOLDENS");
-    return v && std::string(v) == "1";
+    if (!v) return false;
+    const std::string list = v;
+    if (list == "1") return true;
+    return ("," + list + ",").find("," + name + ",") != std::string::npos;
 }
 
 // The golden tolerance: per-channel difference of at most 2/255 on 99.9 % of the pixels, and a
@@ -41,7 +45,7 @@ void check_against_golden(const core::ImageRgba8& actual, const std::string& nam
     const std::filesystem::path golden = std::filesystem::path(PBDSPLAT_GOLDEN_DIR) / (name + ".png");
     const std::filesystem::path out_dir = PBDSPLAT_TEST_OUTPUT_DIR;
     std::filesystem::create_directories(out_dir);
-    if (updating_goldens()) {
+    if (updating_golden(name)) {
         REQUIRE(core::write_png(golden.string(), actual).ok());
         MESSAGE("golden rewritten: " << golden.string());
         return;
