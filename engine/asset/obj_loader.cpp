@@ -87,6 +87,9 @@ core::Result<ObjFacts> check_obj(const std::string& text, const std::string& nam
             ++f.uvs;
         } else if (kw == "f") {
             if (tok.size() < 4) return err("face 'f' needs at least 3 vertices, found " + std::to_string(tok.size() - 1));
+            // tinyobjloader counts a face's corners in a byte.
+            if (tok.size() - 1 > 255)
+                return err("face 'f' has " + std::to_string(tok.size() - 1) + " corners; at most 255 are read (split the polygon)");
             for (size_t i = 1; i < tok.size(); ++i) {
                 // v, v/vt, v//vn or v/vt/vn
                 const std::string_view corner = tok[i];

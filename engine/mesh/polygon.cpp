@@ -14,6 +14,8 @@ bool inside(const Vec2f& p, const Vec2f& a, const Vec2f& b, const Vec2f& c) {
     return cross2(a, b, p) >= 0.0f && cross2(b, c, p) >= 0.0f && cross2(c, a, p) >= 0.0f;
 }
 
+constexpr size_t k_max_clipped_corners = 4096;
+
 void fan(size_t n, std::vector<std::array<uint32_t, 3>>& out) {
     for (uint32_t k = 1; k + 1 < n; ++k) out.push_back({0, k, k + 1});
 }
@@ -25,6 +27,12 @@ std::vector<std::array<uint32_t, 3>> triangulate_polygon(std::span<const Vec3f> 
     const size_t n = corners.size();
     if (n < 3) return out;
     if (n == 3) return {{0, 1, 2}};
+    // Ear clipping is quadratic in the corners: a face of thousands (a file that writes a whole
+    // outline as one face) is split as a fan rather than stalling the load.
+    if (n > k_max_clipped_corners) {
+        fan(n, out);
+        return out;
+    }
     // Newell's normal: the plane the outline winds about, robust to concave corners.
     Vec3f normal = Vec3f::Zero();
     for (size_t i = 0; i < n; ++i) {

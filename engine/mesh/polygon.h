@@ -12,8 +12,8 @@
 namespace pbdsplat::mesh {
 
 // Corner triples (indices into `corners`), counter-clockwise like the outline. A degenerate
-// outline (collinear, repeated corners) that no ear can be clipped from falls back to a fan,
-// and repair drops what is degenerate.
+// outline (collinear, repeated corners) that no ear can be clipped from, or one of more than
+// 4,096 corners, is split as a fan, and repair drops what is degenerate.
 std::vector<std::array<uint32_t, 3>> triangulate_polygon(std::span<const Vec3f> corners);
 
 } // namespace pbdsplat::mesh

@@ -85,6 +85,9 @@ TEST_SUITE("asset/model_files") {
                                         "end_header\n0 0 0\n"),
                        "point cloud"));
         CHECK(contains(why("lines.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n"), "no faces"));
+        std::string big = "v 0 0 0\nv 1 0 0\nv 1 1 0\nf";
+        for (int i = 0; i < 300; ++i) big += " " + std::to_string(1 + i % 3);
+        CHECK(contains(why("huge_face.obj", big + "\n"), "at most 255"));
         CHECK(contains(why("noise.bin", std::string("\x01\x02\x00\x7f garbage", 12)), "accepted:"));
         CHECK(contains(why("zip.obj", std::string("PK\x03\x04rest", 8)), "zip"));
         CHECK(contains(why("short.stl", test::binary_stl(test::cube_triangles()).substr(0, 200) + "solid"), "accepted"));
