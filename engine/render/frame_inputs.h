@@ -136,6 +136,9 @@ struct SplatStyle {
     // How far the mesh's depth is pushed back for the early test (world units): farther than any
     // of the surface's own splats can lie behind it.
     float occluder_push = 0.0f;
+    // The colour of the surface's inside (rgb, linear) where it shows through an opening, and
+    // how much of it (a: 0 keeps each splat's own colour; 1 replaces it). Shaded splats only.
+    Vec4f interior = Vec4f::Zero();
 };
 
 // The styles mesh occluders serve (with mesh_occluders set): normalised blending, and the

@@ -57,6 +57,9 @@ struct MaterialDesc {
     float diffuse = 1.0f;   // weight of the light's diffuse term
     float specular = 0.35f;
     float splat_scale = 0.7f;  // splat std dev, in units of the sampling spacing h
+    // The inside of the surface, seen through a cut or a tear (an opened shell), drawn in this
+    // colour (linear rgb) instead of the outside's: flesh under a skin. Empty: the outside's.
+    std::optional<Vec3f> interior_color;
 };
 
 struct PinRegion {

@@ -198,6 +198,7 @@ BodyDesc read_body(const Reader& r, const toml::node& n) {
 
 void read_material(Reader::Table& t, MaterialDesc& m) {
     read_keys<MaterialDesc>(t, m, k_material_keys);
+    if (t.has("interior_color")) m.interior_color = t.vec<3>("interior_color", Vec3f::Ones(), 0.0, 1.0);
     t.finish();
 }
 

@@ -71,6 +71,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     frame_input_.frame.lighting.intensity *= mat.diffuse;
     frame_input_.frame.lighting.specular = mat.specular;
     frame_input_.frame.lighting.shininess = mat.shininess;
+    if (mat.interior_color) frame_input_.frame.style.interior = Vec4f(mat.interior_color->x(), mat.interior_color->y(), mat.interior_color->z(), 1.0f);
 
     const SortChoice sort = choose_sort(scene_, options.sort_on, options.gpu ? &options.gpu->caps() : nullptr);
     const render::SplatOrder order = sort.order;

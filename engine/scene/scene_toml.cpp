@@ -73,6 +73,8 @@ void write_model_material_surface(std::ostream& o, const Scene& sc) {
     }
     o << "\n[material]\n";
     write_keys<MaterialDesc>(o, sc.material, k_material_keys);
+    if (const auto& c = sc.material.interior_color)
+        o << "interior_color = [" << num(c->x()) << ", " << num(c->y()) << ", " << num(c->z()) << "]\n";
     o << "\n[surface]\nmode = \"" << core::name_of<SurfaceMode>(k_surface_mode_names, sc.surface.mode) << "\"\n";
     write_keys<SurfaceDesc>(o, sc.surface, k_surface_keys);
     o << "\n";

@@ -66,6 +66,8 @@ struct FrameUniforms {
                        // w: global scale multiplier
     vec4 material;     // x: shininess; y: surfel thickness along the normal over the width
                        // (0: the paper's round splats); zw unused
+    vec4 interior;     // rgb: the colour of the surface's inside seen through an opening;
+                       // a: how much it replaces a splat's own there (0: not at all)
     vec4 visibility;   // x: depth push of the visibility pass, in splat std devs;
                        // y: splats whose normal faces the eye by less than this cosine are
                        // culled (a closed, opaque body); below -1: none;
@@ -82,7 +84,7 @@ struct FrameUniforms {
     vec4 light_spot[PBDSPLAT_MAX_LIGHTS];      // xyz: spot axis, away from the light; w: unused
     vec4 light_cone[PBDSPLAT_MAX_LIGHTS];      // x: cos of the inner angle, y: cos of the outer angle
 };
-PBDSPLAT_GPU_SIZE(FrameUniforms, 2 * 64 + 8 * 16 + 11 * 16 + 4 * PBDSPLAT_MAX_LIGHTS * 16);
+PBDSPLAT_GPU_SIZE(FrameUniforms, 2 * 64 + 9 * 16 + 11 * 16 + 4 * PBDSPLAT_MAX_LIGHTS * 16);
 
 // ---- The ground pass (render/ground.h): push constants ----------------------------------------
 struct GroundPush {

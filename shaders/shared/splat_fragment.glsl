@@ -86,16 +86,18 @@ void main() {
     }
     const vec3 facing = normalize(g_normal);
     const vec3 n = splat_lit_normal(facing, g_world, k_footprint == SPLAT_FOOTPRINT_PAPER, k_opaque_surface);
-    const vec3 color = k_shade_per_corner ? g_color.rgb : shade(g_color.rgb, n, g_world);
+    // Seen from behind (an open body's inside), over the same angles over which
+    // splat_lit_normal turns to the seen side; the inside may have a colour of its own.
+    const float behind = -dot(facing, normalize(frame.camera_pos.xyz - g_world));
+    const float inside = k_opaque_surface ? smoothstep(0.15, 0.45, behind) : 0.0;
+    const vec3 albedo = mix(g_color.rgb, frame.interior.rgb, frame.interior.a * inside);
+    const vec3 color = k_shade_per_corner ? g_color.rgb : shade(albedo, n, g_world);
 #ifdef PBDSPLAT_WEIGHTED_OUTPUT
     // Normalised blending's weight: -ln(1 - alpha) adds up like a log transmittance (the resolve
     // recovers the coverage from the sum), and weighs each splat's colour by how much it covers,
     // falling smoothly to nothing at its rim.
     const float w = -log(1.0 - min(alpha, 0.996));
-    // Seen from behind (an open body's inside), the weight goes to the second layer, shared
-    // between the two across the same angles over which splat_lit_normal turns to the seen side.
-    const float behind = -dot(facing, normalize(frame.camera_pos.xyz - g_world));
-    const float inside = k_opaque_surface ? smoothstep(0.15, 0.45, behind) : 0.0;
+    // Seen from behind, the weight goes to the second layer (shared between the two as above).
     out_color = vec4(color, 1.0) * (w * (1.0 - inside));
     out_inside = vec4(color, 1.0) * (w * inside);
 #else

@@ -28,6 +28,7 @@ scale = 0.5
 [material]
 color = [0.2, 0.6, 0.9]
 opacity = 0.95
+interior_color = [0.9, 0.8, 0.5]
 
 [simulation]
 mode = "xpbd"
@@ -198,6 +199,8 @@ TEST_SUITE("scene/scene_file") {
         CHECK(second->simulation.colliders.spheres[0].radius == first->simulation.colliders.spheres[0].radius);
         // The values that are not the defaults come back as they were set.
         CHECK(second->render.frame.style.footprint == render::Footprint::gaussian);
+        REQUIRE(second->material.interior_color.has_value());
+        CHECK(second->material.interior_color->isApprox(Vec3f(0.9f, 0.8f, 0.5f)));
         CHECK(second->render.frame.style.sharpness == Vec2f(0.8f, 0.9f));
         CHECK(second->render.carrier == render::SplatCarrier::octagon);
         CHECK(second->render.splat_shape == scene::SplatShape::deformed);
