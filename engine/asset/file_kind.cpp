@@ -10,9 +10,12 @@ namespace pbdsplat::asset {
 
 using namespace std::string_view_literals;  // magic bytes with NULs in them
 
+namespace {
+// What pbdsplat opens, for refusals.
 const char* const k_accepted_files =
     "accepted: a scene (.toml), a mesh as OBJ (with its .mtl), STL (ASCII or binary), PLY (ASCII or binary, with "
     "faces), glTF 2.0 (.gltf or .glb), or 3D Gaussians as a 3DGS .ply";
+} // namespace
 
 const char* file_kind_name(FileKind kind) {
     switch (kind) {
@@ -27,8 +30,6 @@ const char* file_kind_name(FileKind kind) {
     }
     return "?";
 }
-
-bool is_model(FileKind kind) { return kind != FileKind::scene && kind != FileKind::ply_gaussians; }
 
 namespace {
 

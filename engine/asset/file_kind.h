@@ -20,7 +20,6 @@ enum class FileKind {
 };
 
 const char* file_kind_name(FileKind kind);
-bool is_model(FileKind kind);  // a surface pbdsplat simulates (not a scene, not Gaussians)
 
 // Reads the start of the file (and its size). Refuses, naming the file: one that cannot be
 // read, an empty one, UTF-16 or UTF-32 text, a PLY point cloud (vertices without faces or
@@ -28,8 +27,5 @@ bool is_model(FileKind kind);  // a surface pbdsplat simulates (not a scene, not
 core::Result<FileKind> sniff_file(const std::string& path);
 // The same on bytes in memory (`size` is the whole file's size; `head` may be its start only).
 core::Result<FileKind> sniff_bytes(const std::string& head, uint64_t size, const std::string& name);
-
-// What pbdsplat opens, for refusals.
-extern const char* const k_accepted_files;
 
 } // namespace pbdsplat::asset

@@ -1,5 +1,4 @@
 #include "asset/look.h"
-#include "asset/model_asset.h"
 
 #include <algorithm>
 #include <cmath>
@@ -98,28 +97,6 @@ Vec3f SurfaceLook::color_at(uint32_t t, const Vec2f& b) const {
         c = c.cwiseProduct(b0 * k[0] + b.x() * k[1] + b.y() * k[2]);
     }
     return c;
-}
-
-Vec3f SurfaceLook::mean_color() const {
-    Vec3d sum = Vec3d::Zero();
-    double area = 0.0;
-    for (uint32_t t = 0; t < triangles.size(); ++t) {
-        const auto& tri = triangles[t];
-        const double a = 0.5 * double((positions[tri[1]] - positions[tri[0]]).cross(positions[tri[2]] - positions[tri[0]]).norm());
-        sum += a * color_at(t, Vec2f(1.0f / 3.0f, 1.0f / 3.0f)).cast<double>();
-        area += a;
-    }
-    return area > 0.0 ? Vec3f((sum / area).cast<float>()) : Vec3f::Ones();
-}
-
-} // namespace pbdsplat::asset
-
-namespace pbdsplat::asset {
-
-void share_geometry(ModelAsset& asset) {
-    if (!asset.look) return;
-    asset.look->positions = asset.mesh.positions;
-    asset.look->triangles = asset.mesh.triangles;
 }
 
 } // namespace pbdsplat::asset

@@ -49,8 +49,6 @@ struct SurfaceLook {
     bool has_colour() const;
     // Linear RGB at barycentric (b1, b2) of triangle t.
     Vec3f color_at(uint32_t t, const Vec2f& bary) const;
-    // The area-weighted mean colour (what the model looks like from afar).
-    Vec3f mean_color() const;
 };
 
 // sRGB-encoded byte to linear [0, 1].

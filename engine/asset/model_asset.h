@@ -19,6 +19,10 @@ struct ModelAsset {
 };
 
 // The look's geometry from the asset's mesh, with its per-triangle attributes left as given.
-void share_geometry(ModelAsset& asset);
+inline void share_geometry(ModelAsset& asset) {
+    if (!asset.look) return;
+    asset.look->positions = asset.mesh.positions;
+    asset.look->triangles = asset.mesh.triangles;
+}
 
 } // namespace pbdsplat::asset

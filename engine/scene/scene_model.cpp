@@ -47,12 +47,14 @@ core::Result<Part> load_part(const ModelDesc& md, uint32_t target, const std::st
                      Eigen::AngleAxisf(math::radians(md.rotate_degrees.y()), Vec3f::UnitY()) *
                      Eigen::AngleAxisf(math::radians(md.rotate_degrees.x()), Vec3f::UnitX()))
                         .toRotationMatrix();
-    for (Vec3f& p : m.positions) p = r * (p * md.scale) + md.translate;
-
+    // The surface and the look it is painted from move together.
+    const auto place = [&](std::vector<Vec3f>& positions) {
+        for (Vec3f& p : positions) p = r * (p * md.scale) + md.translate;
+    };
+    place(m.positions);
     Part out;
     out.look = std::move(loaded.value().look);
-    if (out.look)
-        for (Vec3f& p : out.look->positions) p = r * (p * md.scale) + md.translate;
+    if (out.look) place(out.look->positions);
     if (target > 0 && target < m.vertex_count()) {
         mesh::DecimateOptions d;
         d.target_vertices = target;

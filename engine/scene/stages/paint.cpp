@@ -44,10 +44,13 @@ std::vector<Vec3f> paint_vertices(const SurfacePaint& paint, const sim::SoftBody
 }
 
 size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& s) {
+    // What waits for paint is a suffix: samples are only appended, and keep_if keeps the order
+    // (padding the colours it compacts with zeros at the end). So a frame costs what it added.
+    size_t first = std::min(s.color.size(), s.size());
+    while (first > 0 && !(s.color[first - 1] >> 24)) --first;
     s.color.resize(s.size(), 0u);
     size_t painted = 0;
-    for (size_t k = 0; k < s.size(); ++k) {
-        if (s.color[k] >> 24) continue;
+    for (size_t k = first; k < s.size(); ++k) {
         const mesh::Triangle& t = body.triangles[s.triangle[k]];
         const Vec3f &a = body.rest_positions[t[0]], &b = body.rest_positions[t[1]], &c = body.rest_positions[t[2]];
         const Vec2f w = s.bary[k];

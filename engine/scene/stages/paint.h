@@ -30,8 +30,8 @@ void paint_particles(const SurfacePaint& paint, sim::SoftBody& body);
 // `embedded` (one sample per vertex, on the body's triangles) tells each vertex's model.
 std::vector<Vec3f> paint_vertices(const SurfacePaint& paint, const sim::SoftBody& body, const mesh::TriangleMesh& surface,
                                   const surface::BoundaryParticles& embedded);
-// The samples that have no colour yet (new since the last call, or never painted); returns how
-// many were painted.
+// The samples that have no colour yet (those added since the last call: always the last ones);
+// returns how many were painted.
 size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& samples);
 
 struct PaintHandles {
