@@ -10,7 +10,8 @@ void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, const ColorTarget& 
     begin_rendering(cmd, extent, std::span<const ColorTarget>(&color, 1), depth);
 }
 
-void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, std::span<const ColorTarget> colors, const DepthTarget& depth) {
+void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, std::span<const ColorTarget> colors, const DepthTarget& depth,
+                     std::optional<VkRect2D> area) {
     PBDSPLAT_ASSERT(!colors.empty() && colors.size() <= 4, "begin_rendering: give 1 to 4 colour targets");
     std::array<VkRenderingAttachmentInfo, 4> c{};
     for (size_t i = 0; i < colors.size(); ++i) {
@@ -28,16 +29,16 @@ void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, std::span<const Col
     d.storeOp = depth.store;
     d.clearValue.depthStencil = {depth.clear, 0};
     VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    info.renderArea = {{0, 0}, extent};
+    const VkRect2D rect = area.value_or(VkRect2D{{0, 0}, extent});
+    info.renderArea = rect;
     info.layerCount = 1;
     info.colorAttachmentCount = uint32_t(colors.size());
     info.pColorAttachments = c.data();
     info.pDepthAttachment = depth.view ? &d : nullptr;
     vkCmdBeginRendering(cmd, &info);
     const VkViewport viewport{0.0f, 0.0f, float(extent.width), float(extent.height), 0.0f, 1.0f};
-    const VkRect2D scissor{{0, 0}, extent};
     vkCmdSetViewport(cmd, 0, 1, &viewport);
-    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    vkCmdSetScissor(cmd, 0, 1, &rect);
 }
 
 } // namespace pbdsplat::gpu

@@ -41,17 +41,18 @@ core::Result<NormalisedBlend> NormalisedBlend::create(gpu::Context& ctx, uint32_
     return n;
 }
 
-void NormalisedBlend::begin_accumulation(VkCommandBuffer cmd, VkImageView depth) const {
+void NormalisedBlend::begin_accumulation(VkCommandBuffer cmd, VkImageView depth, VkRect2D area) const {
     // Nothing reads the depth after the accumulation; its store still counts as a write.
     gpu::ColorTarget targets[k_sum_layers];
     for (uint32_t i = 0; i < k_sum_layers; ++i) targets[i] = {layers_[i].view(), VK_ATTACHMENT_LOAD_OP_CLEAR, {}};
-    gpu::begin_rendering(cmd, extent_, targets, {depth, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_DONT_CARE});
+    gpu::begin_rendering(cmd, extent_, targets, {depth, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_DONT_CARE}, area);
 }
 
 void NormalisedBlend::end_accumulation(VkCommandBuffer cmd) const { vkCmdEndRendering(cmd); }
 
-void NormalisedBlend::record_resolve(VkCommandBuffer cmd, VkImageView target) const {
-    gpu::begin_rendering(cmd, extent_, {target});
+void NormalisedBlend::record_resolve(VkCommandBuffer cmd, VkImageView target, VkRect2D area) const {
+    const gpu::ColorTarget color{target};
+    gpu::begin_rendering(cmd, extent_, std::span<const gpu::ColorTarget>(&color, 1), {}, area);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_.get());
     const VkDescriptorSet set = sums_.set();
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &set, 0, nullptr);

@@ -42,11 +42,13 @@ public:
     // Begins rendering into the accumulation images (cleared to zero) with `depth` attached for
     // testing (loaded; the accumulation pipeline does not write it, but an attachment's store
     // counts as a write: the graph sees a depth attachment use). Both in attachment layouts.
-    void begin_accumulation(VkCommandBuffer cmd, VkImageView depth) const;
+    // `area`: the pixels the splats can reach (render/screen_bounds.h); only they are cleared,
+    // summed and, given the same area, resolved.
+    void begin_accumulation(VkCommandBuffer cmd, VkImageView depth, VkRect2D area) const;
     void end_accumulation(VkCommandBuffer cmd) const;
     // Divides the sums and blends them over `target` (COLOR_ATTACHMENT layout); the accumulation
     // images must be in SHADER_READ_ONLY layout.
-    void record_resolve(VkCommandBuffer cmd, VkImageView target) const;
+    void record_resolve(VkCommandBuffer cmd, VkImageView target, VkRect2D area) const;
 
 private:
     gpu::Image layers_[k_sum_layers];

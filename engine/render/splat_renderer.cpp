@@ -162,11 +162,12 @@ core::Status SplatRenderer::create_sets() {
         sorted_uniforms_ = std::move(sorted).value();
     }
     for (uint32_t i = 0; i < n; ++i) {
-        auto timer = gpu::GpuTimer::create(ctx, 8);
+        auto timer = gpu::GpuTimer::create(ctx, 10);
         if (!timer.ok()) return timer.error();
         timers_.push_back(std::move(timer).value());
     }
     slot_pending_.assign(n, false);
+    slot_bounds_.assign(n, SplatBounds{});
     slot_read_back_.assign(n, false);
     slot_cpu_.assign(n, GpuTimings{});
     return core::Status::success();
@@ -185,9 +186,14 @@ core::Status SplatRenderer::collect_timings(uint32_t slot) {
     for (const auto& [label, ms] : marks.value()) {
         if (label == "upload") t.upload_ms = ms;
         else if (label == "sort") t.sort_ms = ms;
-        else if (label == "draw") t.draw_ms = ms;
+        else if (label == "splat") t.splat_ms = ms;
+        else if (label == "occluders") t.occluders_ms = ms;
+        else if (label == "over occluders") t.over_occluders_ms = ms;
+        else if (label == "accumulate") t.accumulate_ms = ms;
+        else if (label == "resolve") t.resolve_ms = ms;
         else if (label == "readback") t.readback_ms = ms;
     }
+    t.draw_ms = t.splat_ms + t.occluders_ms + t.over_occluders_ms + t.accumulate_ms + t.resolve_ms;
     timings_ = t;
     return core::Status::success();
 }
@@ -224,6 +230,7 @@ core::Status SplatRenderer::upload(std::span<const splat::GaussianRecord> record
     const core::Stopwatch clock;
     auto written = records_.write(cmd_, slot, frames_.serial(), ring_, std::as_bytes(records), changed);
     if (!written.ok()) return written.error();
+    if (has_normalised()) slot_bounds_[slot] = splat_bounds(records);
     slot_cpu_[slot].upload_cpu_ms = clock.elapsed_ms();
     slot_cpu_[slot].uploaded_bytes = written.value();
     timers_[slot].mark(cmd_, "upload", VK_PIPELINE_STAGE_2_COPY_BIT);
@@ -270,8 +277,7 @@ void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
     if (inputs.ground.visible) ground_.record(cmd_, sets.set(slot), inputs.ground);
     splat_.record(cmd_, inputs.style, sets.set(slot), splat_source(inputs, count));
     target_.end(cmd_);
-    // Normalised blending's draw ends with its resolve, the occluded disc's with its own pass.
-    if (!normalised && !occluded) timers_[slot].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
+    timers_[slot].mark(cmd_, "splat", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
 
 bool SplatRenderer::gpu_sorted(const SplatStyle& s) { return s.blend == Blend::over && s.order == SplatOrder::gpu; }
@@ -290,7 +296,7 @@ void SplatRenderer::draw_over_occluders(const FrameInputs& inputs, uint32_t coun
     target_.resume(cmd_);
     splat_.record_paper_occluded(cmd_, inputs.style, frame_sets(inputs.style).set(slot), splat_source(inputs, count), occluders_.set());
     target_.end(cmd_);
-    timers_[slot].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
+    timers_[slot].mark(cmd_, "over occluders", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
 
 core::Status SplatRenderer::set_occluders(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles) {
@@ -302,21 +308,25 @@ void SplatRenderer::draw_occluders(const FrameInputs& inputs) {
     if (!render::occluded_style(inputs.style)) return;
     PBDSPLAT_ASSERT(has_occluders(), "SplatStyle::mesh_occluders needs a renderer created with options.occluders");
     occluders_.record(cmd_, inputs.camera, inputs.style.occluder_push, target_.depth().view(), frames_.slot());
+    timers_[frames_.slot()].mark(cmd_, "occluders", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
 
 void SplatRenderer::accumulate(const FrameInputs& inputs, uint32_t count) {
     if (inputs.style.blend != Blend::normalised) return;
     const uint32_t slot = frames_.slot();
-    blend_.begin_accumulation(cmd_, target_.depth().view());
+    const PixelRect r = splat_screen_rect(slot_bounds_[slot], inputs, target_.width(), target_.height());
+    normalised_area_ = {{int32_t(r.x), int32_t(r.y)}, {r.width, r.height}};
+    blend_.begin_accumulation(cmd_, target_.depth().view(), normalised_area_);
     splat_.record_accumulation(cmd_, uniforms_.set(slot), {records_.buffer(slot), count},
                                render::occluded_style(inputs.style) ? occluders_.set() : VK_NULL_HANDLE);
     blend_.end_accumulation(cmd_);
+    timers_[slot].mark(cmd_, "accumulate", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
 
 void SplatRenderer::resolve(const FrameInputs& inputs) {
     if (inputs.style.blend != Blend::normalised) return;
-    blend_.record_resolve(cmd_, target_.color().view());
-    timers_[frames_.slot()].mark(cmd_, "draw", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
+    blend_.record_resolve(cmd_, target_.color().view(), normalised_area_);
+    timers_[frames_.slot()].mark(cmd_, "resolve", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
 
 void SplatRenderer::readback() {

@@ -22,6 +22,7 @@
 #include "render/normalised_blend.h"
 #include "render/occluder_pass.h"
 #include "render/offscreen_target.h"
+#include "render/screen_bounds.h"
 #include "render/splat_pass.h"
 #include "splat/gaussian_record.h"
 
@@ -62,7 +63,11 @@ struct GpuTimings {
     double upload_cpu_ms = 0.0;  // CPU: writing the records (in place, or into the staging ring)
     double upload_ms = 0.0;      // GPU: the staging copy (about 0 on the direct path)
     double sort_ms = 0.0;  // GPU: cull, radix sort and gather (0 without the GPU sort)
-    double draw_ms = 0.0;
+    double draw_ms = 0.0;  // every drawing pass below together
+    // The drawing's parts (0 where they do not run): the splat pass proper (with normalised
+    // blending or mesh occluders, its visibility depth only), the occluder mesh, the paper's
+    // disc over the occluders, and normalised blending's sums and resolve.
+    double splat_ms = 0.0, occluders_ms = 0.0, over_occluders_ms = 0.0, accumulate_ms = 0.0, resolve_ms = 0.0;
     double readback_ms = 0.0;
     uint64_t uploaded_bytes = 0;
 };
@@ -188,6 +193,8 @@ private:
     std::vector<bool> slot_pending_;     // slot has a submitted frame whose timings are unread
     std::vector<bool> slot_read_back_;   // slot's frame copied its image out
     std::vector<GpuTimings> slot_cpu_;   // per slot, CPU-side figures measured while recording
+    std::vector<SplatBounds> slot_bounds_;  // per slot, of the records uploaded for its frame
+    VkRect2D normalised_area_{};            // the frame's sums and resolve: where its splats reach
     VkCommandBuffer cmd_ = VK_NULL_HANDLE;
     uint32_t last_slot_ = 0;
     bool any_frame_ = false;

@@ -181,6 +181,7 @@ core::Status SceneRuntime::step() {
         s.gpu_upload_ms = g.upload_ms;
         s.gpu_sort_ms = g.sort_ms;
         s.gpu_draw_ms = g.draw_ms;
+        s.gpu = g;
     }
     s.graph_ms = frame_clock.elapsed_ms();
     stats_ = s;

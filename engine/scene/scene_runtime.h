@@ -73,6 +73,7 @@ struct FrameStats {
     // GPU time of the newest finished frame, per pass, from timestamps (0 where the device has
     // none or the pass did not run): the paper's "GPU Scene" row, broken down.
     double gpu_upload_ms = 0.0, gpu_sort_ms = 0.0, gpu_draw_ms = 0.0;
+    render::GpuTimings gpu;  // all of the newest finished frame's, the drawing's parts included
     double gpu_scene_ms() const { return gpu_upload_ms + gpu_sort_ms + gpu_draw_ms; }
     surface::DensityStats density;  // this frame's density control
 };

@@ -247,7 +247,7 @@ core::Result<DecodedRow> decode_row(const float* row, const PlyColumns& cols, Pl
 }
 } // namespace
 
-core::Result<PlyGaussians> read_ply_gaussians(const std::string& path, PlyUp up) {
+core::Result<PlyGaussians> read_ply_gaussians(const std::string& path, PlyUp up, MissingNormals missing_normals) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) return core::make_error(path, 0, "is a folder, not a .ply file");
     std::ifstream in(path, std::ios::binary);
@@ -294,7 +294,10 @@ core::Result<PlyGaussians> read_ply_gaussians(const std::string& path, PlyUp up)
         result.shapes.resize(kept);
         for (size_t i = 0; i < kept; ++i) result.shapes[i] = make_shape(axes[i]);
     }
-    if (result.missing_normals) result.estimated = estimate_normals(out, result.shapes, missing);
+    if (result.missing_normals && missing_normals == MissingNormals::estimate) {
+        result.estimated = estimate_normals(out, result.shapes, missing);
+        result.normals_estimated = true;
+    }
     return result;
 }
 

@@ -43,8 +43,14 @@ struct PlyGaussians {
     size_t dropped_nonfinite = 0;  // Gaussians with a NaN or infinite value, left out
     size_t missing_normals = 0;    // no normals in the file, or zero ones: estimated (splat/normal_estimate.h)
     NormalEstimate estimated;      // how they were; the unresolved face +z in the file's frame
+    bool normals_estimated = false;  // false: MissingNormals::leave, or none missing
 };
-core::Result<PlyGaussians> read_ply_gaussians(const std::string& path, PlyUp up = PlyUp::minus_y);
+// Normals a file lacks matter only to lighting: a capture drawn as trained (unlit) skips their
+// estimate, which is most of a large file's load (a neighbour search per Gaussian).
+enum class MissingNormals { estimate, leave };
+// `missing`: leave keeps +z in the file's frame where a normal is missing (still counted).
+core::Result<PlyGaussians> read_ply_gaussians(const std::string& path, PlyUp up = PlyUp::minus_y,
+                                              MissingNormals missing = MissingNormals::estimate);
 
 // The records alone (properties in any order; normals, f_rest and rot optional): an anisotropic
 // Gaussian becomes a round one with its largest scale.

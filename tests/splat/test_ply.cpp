@@ -27,7 +27,37 @@ std::string floats(std::initializer_list<float> values) {
 
 Eigen::Matrix3f covariance(const Eigen::Matrix3f& axes) { return axes * axes.transpose(); }
 
+// The header of `count` Gaussians without normals: position, colour, opacity, scales, rotation.
+std::string header_without_normals(int count) {
+    std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(count) + "\n";
+    for (const char* name : {"x", "y", "z", "f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0", "scale_1", "scale_2", "rot_0", "rot_1",
+                             "rot_2", "rot_3"})
+        header += std::string("property float ") + name + "\n";
+    return header + "end_header\n";
+}
+
 TEST_SUITE("splat/ply") {
+    TEST_CASE("normals a file lacks are estimated for lighting, or left (+z, counted) when nothing lights them") {
+        // One flat Gaussian, thinnest along x: its estimate is its flattest axis.
+        const std::string header = header_without_normals(1);
+        const std::string path = temp("pbdsplat_flat_no_normal.ply");
+        write_text(path, header + floats({0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 2.0f, std::log(0.01f), std::log(0.3f), std::log(0.3f),
+                                          1.0f, 0.0f, 0.0f, 0.0f}));
+        auto estimated = splat::read_ply_gaussians(path, splat::PlyUp::y);
+        REQUIRE_MESSAGE(estimated.ok(), estimated.error().to_string());
+        CHECK(estimated->missing_normals == 1);
+        CHECK(estimated->normals_estimated);
+        CHECK(estimated->estimated.from_shape == 1);
+        CHECK(std::abs(splat::decode_octahedral(estimated->records[0].normal_oct).x()) > 0.999f);
+        auto left = splat::read_ply_gaussians(path, splat::PlyUp::y, splat::MissingNormals::leave);
+        REQUIRE_MESSAGE(left.ok(), left.error().to_string());
+        CHECK(left->missing_normals == 1);
+        CHECK_FALSE(left->normals_estimated);
+        CHECK(left->estimated.from_shape == 0);
+        CHECK(splat::decode_octahedral(left->records[0].normal_oct).z() > 0.9999f);
+        std::filesystem::remove(path);
+    }
+
     TEST_CASE("a file written by hand, properties shuffled and no normals, reads as the 3DGS convention says") {
         // Written here byte by byte, not by our writer: colour = 0.5 + Y_0^0 f_dc with
         // Y_0^0 = 1 / (2 sqrt(pi)), scales are natural logs, rot_0..3 = w x y z, opacity a logit.
@@ -151,11 +181,7 @@ TEST_SUITE("splat/ply") {
         // A sphere of 400 Gaussians without normals, written by hand: the even ones round (only
         // the plane through their neighbours can say), the odd ones flat discs tangent to the
         // sphere at a random spin (their own shortest axis says). Both must come out radial.
-        std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 400\n";
-        for (const char* name : {"x", "y", "z", "f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0", "scale_1", "scale_2", "rot_0",
-                                 "rot_1", "rot_2", "rot_3"})
-            header += std::string("property float ") + name + "\n";
-        header += "end_header\n";
+        const std::string header = header_without_normals(400);
         std::string body;
         std::mt19937 rng(7);
         std::uniform_real_distribution<float> spin(0.0f, 2.0f * k_pi);

@@ -6,6 +6,8 @@
 #include "pbdsplat/splat_sphere.h"
 #include "render/frame_uniforms.h"
 #include "passes/offscreen_renderer.h"
+#include "scene/ply_view.h"
+#include "splat/ply.h"
 #include "splat/sort.h"
 
 namespace pbdsplat::cli {
@@ -20,8 +22,11 @@ const CommandSpec& command_spec() {
         "when --sort cpu, and the whole frame's wall time; medians of R frames. The three splat\n"
         "paths draw the same image, so their figures compare at equal quality. --path meshraster\n"
         "draws a lit icosphere with about as many vertices as N instead: the mesh pipeline the\n"
-        "paper compares against.\n",
+        "paper compares against. --ply FILE measures a capture instead (a 3DGS .ply): an orbit of\n"
+        "R frames about it as `render FILE.ply` draws it (anisotropic, view-dependent colour, unlit,\n"
+        "far to near), with the file's read time and, per frame, the CPU sort and the GPU draw.\n",
         with_gpu({whole("splats", "N", 20000, 1, 1u << 24, "splats on the sphere"),
+                  text("ply", "FILE", "", "a capture (3DGS .ply) to orbit instead of the sphere").default_from("none"),
                   choice("path", {"auto", "gs", "mesh", "vertex", "meshraster"}, "auto",
                          "the splat path (auto: the best the device has), or the lit mesh"),
                   choice("sort", {"off", "cpu", "gpu"}, "off",
@@ -75,7 +80,78 @@ Outcome measure_mesh_raster(gpu::Context& ctx, const Options& opt, const render:
     return report;
 }
 
+// --ply FILE: a trained capture orbited as `render FILE.ply` draws it. Each frame turns the eye
+// about the file's vertical axis, sorts far to near on the CPU (the shape and colour streams
+// travel with the records) and draws.
+Outcome measure_capture(const Options& opt) {
+    for (const char* key : {"splats", "sort", "shading", "footprint", "blend", "kappa", "carrier", "cull-facing", "environment", "scale"})
+        if (opt.given(key)) return Outcome::usage(std::string("--") + key + " applies to the sphere; --ply draws the file as it was trained");
+    const std::string file = opt.text("ply");
+    const uint32_t width = opt.whole("width"), height = opt.whole("height");
+    const uint32_t repeat = opt.whole("repeat"), warmup = opt.whole("warmup");
+    const core::Stopwatch load_clock;
+    auto gaussians = splat::read_ply_gaussians(file, splat::PlyUp::minus_y, splat::MissingNormals::leave);
+    if (!gaussians.ok()) return gaussians.error();
+    const double load_ms = load_clock.elapsed_ms();
+    if (gaussians->records.empty()) return core::make_error(file + ": holds no Gaussians");
+
+    auto ctx = open_context(opt);
+    if (!ctx.ok()) return ctx.error();
+    const gpu::DeviceCaps& caps = ctx.value()->caps();
+    if (!caps.timestamps) return core::make_error("device '" + caps.name + "' has no timestamp queries to measure with");
+    render::RendererOptions options = scene::ply_renderer_options(gaussians.value(), width, height);
+    const std::string& path_arg = opt.text("path");
+    if (path_arg == "meshraster") return Outcome::usage("--path meshraster draws the sphere's mesh, not a capture");
+    if (path_arg == "gs") options.path = render::SplatPath::geometry;
+    else if (path_arg == "mesh") options.path = render::SplatPath::mesh;
+    else if (path_arg == "vertex") options.path = render::SplatPath::vertex;
+    if (options.path) {
+        const std::string why = render::splat_path_unsupported(caps, *options.path);
+        if (!why.empty()) return core::make_error(why);
+    }
+    auto renderer = passes::OffscreenRenderer::create(*ctx.value(), options);
+    if (!renderer.ok()) return renderer.error();
+
+    const render::FrameInputs start = scene::ply_view(gaussians->records);
+    const Vec3f offset = start.camera.eye - start.camera.target;
+    std::vector<double> draw, sort_ms, wall;
+    for (uint32_t i = 0; i < warmup + repeat; ++i) {
+        const core::Stopwatch frame_clock;
+        render::FrameInputs frame = start;
+        const float turn = 2.0f * float(M_PI) * float(i) / float(warmup + repeat);
+        frame.camera.eye = start.camera.target + Vec3f(std::cos(turn) * offset.x() + std::sin(turn) * offset.z(), offset.y(),
+                                                       -std::sin(turn) * offset.x() + std::cos(turn) * offset.z());
+        const core::Stopwatch sort_clock;
+        scene::sort_ply(gaussians.value(), frame);
+        const double sorting = sort_clock.elapsed_ms();
+        PBDSPLAT_TRY(renderer.value()->render(gaussians->records, frame, {}, gaussians->shapes, gaussians->sh));
+        PBDSPLAT_TRY(renderer.value()->finish());
+        if (i < warmup) continue;
+        draw.push_back(renderer.value()->timings().draw_ms);
+        sort_ms.push_back(sorting);
+        wall.push_back(frame_clock.elapsed_ms());
+    }
+    PBDSPLAT_TRY(check_validation(*ctx.value()));
+    const size_t count = gaussians->records.size();
+    const uint32_t degree = gaussians->sh.empty() ? 0 : gaussians->sh_degree;
+    const bool anisotropic = !gaussians->shapes.empty();
+    Report report = device_report(caps);
+    report.json().update({{"ply", file}, {"gaussians", count}, {"anisotropic", anisotropic}, {"sh_degree", degree},
+                          {"path", render::splat_path_name(options.path.value_or(render::best_splat_path(caps)))},
+                          {"width", width}, {"height", height}, {"repeat", repeat}, {"load_ms", load_ms},
+                          {"median_ms", core::median(wall)}, {"draw_ms", core::median(draw)}, {"sort_ms", core::median(sort_ms)},
+                          {"frame_wall_ms", core::median(wall)}});
+    report.line(format("%zu %s Gaussians (colour of degree %u) from %s at %ux%u, an orbit of %u frames, median:", count,
+                       anisotropic ? "anisotropic" : "round", degree, file.c_str(), width, height, repeat));
+    report.figures("", {{"read", load_ms, "ms CPU (once: the file, no normals estimated)"},
+                        {"sort", core::median(sort_ms), "ms CPU (far to near, with the shape and colour streams)"},
+                        {"draw", core::median(draw), "ms GPU (upload excluded)"},
+                        {"frame", core::median(wall), "ms wall (sort, upload, draw, readback)"}});
+    return report;
+}
+
 Outcome measure(const Options& opt) {
+    if (opt.given("ply")) return measure_capture(opt);
     const uint32_t count = opt.whole("splats"), width = opt.whole("width"), height = opt.whole("height");
     const uint32_t repeat = opt.whole("repeat"), warmup = opt.whole("warmup");
     std::optional<render::SplatPath> path;

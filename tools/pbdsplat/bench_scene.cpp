@@ -36,6 +36,8 @@ struct Split {
 };
 struct Samples {
     std::vector<double> events, forces, constraints, integrate, update, gpu_record, frame, gpu_upload, gpu_sort, gpu_draw;
+    // The splat pass's parts (render::GpuTimings).
+    std::vector<double> gpu_splat, gpu_occluders, gpu_over_occluders, gpu_accumulate, gpu_resolve;
     Split before, after;
     std::vector<std::vector<double>> per_pass;  // per kept pass, per frame
     // Frames after the first change, split by whether this frame changed the topology: what a
@@ -56,6 +58,9 @@ struct Samples {
         integrate.push_back(s.integrate_normals_ms), update.push_back(s.update_particles_ms);
         gpu_record.push_back(s.gpu_record_ms), frame.push_back(s.graph_ms);
         gpu_upload.push_back(s.gpu_upload_ms), gpu_sort.push_back(s.gpu_sort_ms), gpu_draw.push_back(s.gpu_draw_ms);
+        gpu_splat.push_back(s.gpu.splat_ms), gpu_occluders.push_back(s.gpu.occluders_ms);
+        gpu_over_occluders.push_back(s.gpu.over_occluders_ms), gpu_accumulate.push_back(s.gpu.accumulate_ms);
+        gpu_resolve.push_back(s.gpu.resolve_ms);
         const auto& pm = runtime.pass_ms();
         if (per_pass.size() < pm.size()) per_pass.resize(pm.size());
         for (size_t k = 0; k < pm.size(); ++k) per_pass[k].push_back(pm[k]);
@@ -90,7 +95,15 @@ void report_stages(Report& report, const Samples& m, const gpu::DeviceCaps& caps
                                          {"integrate_normals", median(m.integrate)},
                                          {"update_particles", median(m.update)},
                                          {"gpu_record", median(m.gpu_record)}};
-    report.json()["gpu_median_ms"] = {{"upload", median(m.gpu_upload)}, {"sort", median(m.gpu_sort)}, {"draw", median(m.gpu_draw)}};
+    report.json()["gpu_median_ms"] = {{"upload", median(m.gpu_upload)},
+                                      {"sort", median(m.gpu_sort)},
+                                      {"draw", median(m.gpu_draw)},
+                                      {"draw_parts",
+                                       {{"splat", median(m.gpu_splat)},
+                                        {"occluders", median(m.gpu_occluders)},
+                                        {"over_occluders", median(m.gpu_over_occluders)},
+                                        {"accumulate", median(m.gpu_accumulate)},
+                                        {"resolve", median(m.gpu_resolve)}}}};
     report.json()["gpu_timestamps"] = caps.timestamps;
     report.figures("", {{"events", median(m.events), "ms"},
                         {"apply forces", median(m.forces), "ms"},
@@ -99,11 +112,18 @@ void report_stages(Report& report, const Samples& m, const gpu::DeviceCaps& caps
                         {"update particles", median(m.update), "ms"},
                         {"GPU recording", median(m.gpu_record), "ms"},
                         {"frame (wall)", median(m.frame), "ms (waits for the GPU when it is the bottleneck)"}});
-    if (caps.timestamps)
-        report.figures("GPU Scene (timestamps):", {{"upload", median(m.gpu_upload), "ms"},
-                                                   {"sort", median(m.gpu_sort), "ms"},
-                                                   {"splat pass", median(m.gpu_draw), "ms"}});
-    else
+    if (caps.timestamps) {
+        std::vector<Figure> gpu = {{"upload", median(m.gpu_upload), "ms"},
+                                   {"sort", median(m.gpu_sort), "ms"},
+                                   {"splat pass", median(m.gpu_draw), "ms, of which:"}};
+        const std::pair<const char*, const std::vector<double>*> parts[] = {
+            {"  splats (or their depth)", &m.gpu_splat}, {"  occluder mesh", &m.gpu_occluders},
+            {"  discs over occluders", &m.gpu_over_occluders}, {"  normalised sums", &m.gpu_accumulate},
+            {"  normalised resolve", &m.gpu_resolve}};
+        for (const auto& [name, samples] : parts)
+            if (median(*samples) > 0.0) gpu.push_back({name, median(*samples), "ms"});
+        report.figures("GPU Scene (timestamps):", gpu);
+    } else
         report.line("GPU Scene: device '" + caps.name + "' has no timestamp queries");
 }
 

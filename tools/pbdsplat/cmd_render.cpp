@@ -39,19 +39,22 @@ core::Result<Vec3f> parse_vec3(const std::string& text) {
 
 // A .ply of Gaussians as a static scene, drawn as it was trained (scene/ply_view.h).
 int render_ply(const std::string& file, const Options& opt, uint32_t width, uint32_t height, const std::filesystem::path& out) {
-    auto gaussians = splat::read_ply_gaussians(file, opt.text("up") == "y" ? splat::PlyUp::y : splat::PlyUp::minus_y);
+    const bool lit = opt.flag("lit");
+    core::Stopwatch clock;
+    auto gaussians = splat::read_ply_gaussians(file, opt.text("up") == "y" ? splat::PlyUp::y : splat::PlyUp::minus_y,
+                                               lit ? splat::MissingNormals::estimate : splat::MissingNormals::leave);
     if (!gaussians.ok()) return fail("render", gaussians.error().to_string());
     if (gaussians->dropped_nonfinite)
         std::fprintf(stderr, "pbdsplat render: warning: %s: %zu Gaussians with NaN or infinite values left out\n", file.c_str(),
                      gaussians->dropped_nonfinite);
-    if (const splat::NormalEstimate& e = gaussians->estimated; gaussians->missing_normals)
+    if (const splat::NormalEstimate& e = gaussians->estimated; gaussians->normals_estimated)
         std::fprintf(stderr,
                      "pbdsplat render: note: %s: %zu Gaussians without a normal: %zu took their flattest axis, %zu the plane of "
-                     "their neighbours, %zu face +z in the file (too few neighbours, or none in a plane)%s\n",
-                     file.c_str(), gaussians->missing_normals, e.from_shape, e.from_neighbours, e.unresolved,
-                     opt.flag("lit") ? "" : "; they matter only with --lit");
+                     "their neighbours, %zu face +z in the file (too few neighbours, or none in a plane)\n",
+                     file.c_str(), gaussians->missing_normals, e.from_shape, e.from_neighbours, e.unresolved);
     if (gaussians->records.empty()) return fail("render", file + ": holds no Gaussians");
-    render::FrameInputs frame = scene::ply_view(gaussians->records, opt.flag("lit"));
+    const double load_ms = clock.elapsed_ms();
+    render::FrameInputs frame = scene::ply_view(gaussians->records, lit);
     // The automatic camera, unless told otherwise.
     for (const char* key : {"eye", "target"}) {
         if (!opt.given(key)) continue;
@@ -74,9 +77,10 @@ int render_ply(const std::string& file, const Options& opt, uint32_t width, uint
     const std::filesystem::path target = out.extension() == ".png" ? out : out / "frame_0000.png";
     if (auto s = core::write_png(target.string(), image.value()); !s.ok()) return fail("render", s.error().to_string());
     if (auto v = check_validation(*ctx.value()); !v.ok()) return fail("render", v.error().to_string());
-    std::printf("wrote %s (%zu %s Gaussians%s from %s)\n", target.string().c_str(), gaussians->records.size(),
-                gaussians->shapes.empty() ? "round" : "anisotropic",
-                gaussians->sh.empty() ? "" : (", colour of degree " + std::to_string(gaussians->sh_degree)).c_str(), file.c_str());
+    std::printf("wrote %s (%zu %s Gaussians%s from %s; read in %.2f s, written %.2f s after the command began)\n",
+                target.string().c_str(), gaussians->records.size(), gaussians->shapes.empty() ? "round" : "anisotropic",
+                gaussians->sh.empty() ? "" : (", colour of degree " + std::to_string(gaussians->sh_degree)).c_str(), file.c_str(),
+                load_ms / 1000.0, clock.elapsed_ms() / 1000.0);
     return 0;
 }
 
