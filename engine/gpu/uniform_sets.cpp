@@ -19,6 +19,7 @@ core::Result<DescriptorSetLayout> create_frame_layout(const Context& ctx, const 
         {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages.storage, nullptr}};
     if (stages.shapes) bindings.push_back({3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages.shapes, nullptr});
     if (stages.sh) bindings.push_back({4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages.sh, nullptr});
+    if (stages.order) bindings.push_back({5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages.order, nullptr});
     VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     info.bindingCount = uint32_t(bindings.size());
     info.pBindings = bindings.data();
@@ -32,7 +33,7 @@ core::Result<UniformSets> UniformSets::create(Context& ctx, VkDescriptorSetLayou
     UniformSets u;
     const VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, count},
                                            {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, count},
-                                           {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * count}};
+                                           {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4 * count}};
     VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool_info.maxSets = count;
     pool_info.poolSizeCount = extra ? 3 : 1;
@@ -59,10 +60,11 @@ core::Result<UniformSets> UniformSets::create(Context& ctx, VkDescriptorSetLayou
         vkUpdateDescriptorSets(ctx.vk(), 1, &write, 0, nullptr);
         if (extra) {
             VkDescriptorImageInfo image{extra->texture_sampler, extra->texture_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-            // Binding 1, then 2-4 (records, shapes, view-dependent colour) where the set has them.
+            // Binding 1, then 2-5 (records, shapes, view-dependent colour, their order) where the
+            // set has them.
             auto pick = [i](const std::vector<VkBuffer>& v) { return v.size() > 1 ? v[i] : v.front(); };
             std::vector<VkDescriptorBufferInfo> infos;
-            infos.reserve(3);
+            infos.reserve(4);
             std::vector<VkWriteDescriptorSet> writes;
             VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
             w.dstSet = set;
@@ -73,7 +75,8 @@ core::Result<UniformSets> UniformSets::create(Context& ctx, VkDescriptorSetLayou
             writes.push_back(w);
             w.pImageInfo = nullptr;
             w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            const std::pair<uint32_t, const std::vector<VkBuffer>*> buffers[3] = {{2, &extra->storage}, {3, &extra->shapes}, {4, &extra->sh}};
+            const std::pair<uint32_t, const std::vector<VkBuffer>*> buffers[4] = {
+                {2, &extra->storage}, {3, &extra->shapes}, {4, &extra->sh}, {5, &extra->order}};
             for (const auto& [binding, list] : buffers) {
                 if (list->empty()) continue;
                 infos.push_back({pick(*list), 0, VK_WHOLE_SIZE});

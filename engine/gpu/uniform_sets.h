@@ -13,21 +13,22 @@ core::Result<DescriptorSetLayout> create_uniform_layout(const Context& ctx, VkSh
 
 // The frame set of the splat passes: the uniforms at 0, a sampled texture at 1 and a storage
 // buffer at 2 (the records, for the paths that pull them), each seen by its own stages; and,
-// where `shapes` and `sh` name stages, more storage buffers at 3 (anisotropic splats' axes) and
-// 4 (view-dependent colour).
+// where `shapes`, `sh` and `order` name stages, more storage buffers at 3 (anisotropic splats'
+// axes), 4 (view-dependent colour) and 5 (where each drawn splat's entries in 3 and 4 are).
 struct FrameSetStages {
-    VkShaderStageFlags uniforms = 0, texture = 0, storage = 0, shapes = 0, sh = 0;
+    VkShaderStageFlags uniforms = 0, texture = 0, storage = 0, shapes = 0, sh = 0, order = 0;
 };
 core::Result<DescriptorSetLayout> create_frame_layout(const Context& ctx, const FrameSetStages& stages);
 
-// What bindings 1, 2 (and 3, 4) of each frame set point at; storage[i] is set i's (one entry: all
-// sets), the same for shapes and sh (empty: the layout has no such binding).
+// What bindings 1, 2 (and 3, 4, 5) of each frame set point at; storage[i] is set i's (one entry:
+// all sets), the same for shapes, sh and order (empty: the layout has no such binding).
 struct FrameSetResources {
     VkImageView texture_view = VK_NULL_HANDLE;
     VkSampler texture_sampler = VK_NULL_HANDLE;
     std::vector<VkBuffer> storage;
     std::vector<VkBuffer> shapes;
     std::vector<VkBuffer> sh;
+    std::vector<VkBuffer> order;
 };
 
 class UniformSets {

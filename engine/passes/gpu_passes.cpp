@@ -31,6 +31,7 @@ void GpuPassResources::refresh(const render::SplatRenderer& r) {
     readback.buffer = r.readback_buffer();
     sorted.buffer = r.sorted_records_buffer();
     sort_control.buffer = r.sort_control_buffer();
+    sort_order.buffer = r.sort_order_buffer();
     color.image = r.color_image();
     depth.image = r.depth_image();
     accumulation.image = r.accumulation_image(render::SumLayer::seen_side);
@@ -67,15 +68,17 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
         };
     }, tag);
     const render::Use records_read = render::uses::records_read(renderer.path());
-    graph::Handle<graph::GpuBufferRef> sorted, control;
+    graph::Handle<graph::GpuBufferRef> sorted, control, order;
     if (gpu_sort) {
         sorted = g.import("sorted records", &res.sorted);
         control = g.import("sort control", &res.sort_control);
+        order = g.import("sort order", &res.sort_order);
         g.add_pass("gpu sort", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
             b.read(input);
             b.read(uploaded, to_graph(render::uses::compute_read));
             sorted = b.write(sorted, to_graph(render::uses::compute_write));
             control = b.write(control, to_graph(render::uses::compute_write));
+            order = b.write(order, to_graph(render::uses::compute_write));
             return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
                 GpuFrameInput& in = r.get(input);
                 renderer.sort(in.frame, uint32_t(in.records.size()));
@@ -88,6 +91,7 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
         if (gpu_sort) {
             b.read(sorted, to_graph(records_read));
             b.read(control, to_graph(render::uses::indirect_read));
+            b.read(order, to_graph(render::uses::streams_read(renderer.path())));
         } else {
             b.read(uploaded, to_graph(records_read));
         }

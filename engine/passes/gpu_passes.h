@@ -31,7 +31,7 @@ struct ImageSink {};
 // the record buffer and the readback buffer change with the frame slot.
 struct GpuPassResources {
     graph::GpuBufferRef records, readback;
-    graph::GpuBufferRef sorted, sort_control;  // with the GPU sort
+    graph::GpuBufferRef sorted, sort_control, sort_order;  // with the GPU sort
     graph::GpuImageRef color{VK_NULL_HANDLE, VK_IMAGE_ASPECT_COLOR_BIT};
     graph::GpuImageRef depth{VK_NULL_HANDLE, VK_IMAGE_ASPECT_DEPTH_BIT};
     // With normalised blending: its sums of the seen side and of the inside.

@@ -61,6 +61,7 @@ core::Status SplatPass::create_layouts(const gpu::Context& ctx, VkDescriptorSetL
     stages.storage = path_ == SplatPath::geometry ? VkShaderStageFlags(VK_SHADER_STAGE_VERTEX_BIT) : front;
     stages.shapes = front;  // every front stage declares the shape stream; anisotropic ones read it
     stages.sh = front;      // the same for view-dependent colour
+    stages.order = front;   // and for where a sorted splat's entries in those two are
     auto set_layout = gpu::create_frame_layout(ctx, stages);
     if (!set_layout.ok()) return set_layout.error();
     set_layout_ = std::move(set_layout).value();

@@ -17,6 +17,15 @@ Use uses::records_read(SplatPath path) {
     return {};
 }
 
+Use uses::streams_read(SplatPath path) {
+    switch (path) {
+    case SplatPath::geometry: return {{VK_PIPELINE_STAGE_2_GEOMETRY_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT}};
+    case SplatPath::mesh: return {{VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT}};
+    case SplatPath::vertex: return {{VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT}};
+    }
+    return {};
+}
+
 namespace {
 // One host-visible storage buffer per frame slot for an optional stream beside the records (a
 // token element when the stream is off, so the frame set's binding always has a buffer).
@@ -58,9 +67,6 @@ core::Status check_options(const gpu::Context& ctx, const RendererOptions& optio
         return core::make_error(std::to_string(options.width) + "x" + std::to_string(options.height) + " is " + std::to_string(pixels / 1000000) +
                                 " million pixels, above the renderer's limit of 67 million (8192x8192): its colour, depth and "
                                 "readback images alone would take " + std::to_string(pixels * 12 * options.frames_in_flight >> 20) + " MiB");
-    if ((options.anisotropic || options.sh_degree > 0) && options.gpu_sort)
-        return core::make_error("anisotropic splats and view-dependent colour cannot be sorted on the GPU yet (its sort reorders only "
-                                "the records): sort on the CPU");
     return core::Status::success();
 }
 } // namespace
@@ -146,6 +152,16 @@ core::Status SplatRenderer::create_sets() {
                                   shapes_, extra.shapes));
     PBDSPLAT_TRY(make_host_stream(ctx, n, VkDeviceSize(options.sh_degree > 0 ? options.max_splats : 1) * sizeof(splat::GaussianSH),
                                   sh_rest_, extra.sh));
+    // Streams drawn in the order they were written: the identity (a token entry without streams).
+    const bool streams = options.anisotropic || options.sh_degree > 0;
+    const uint32_t identity_size = streams ? options.max_splats : 1u;
+    auto identity = gpu::Buffer::create(ctx, VkDeviceSize(identity_size) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                        gpu::MemoryUsage::upload);
+    if (!identity.ok()) return identity.error();
+    stream_identity_ = std::move(identity).value();
+    auto* ids = static_cast<uint32_t*>(stream_identity_.mapped());
+    for (uint32_t i = 0; i < identity_size; ++i) ids[i] = i;
+    extra.order = {stream_identity_.handle()};
     auto uniforms = gpu::UniformSets::create(ctx, splat_.set_layout(), n, sizeof(gpu_types::FrameUniforms), &extra);
     if (!uniforms.ok()) return uniforms.error();
     uniforms_ = std::move(uniforms).value();
@@ -157,6 +173,10 @@ core::Status SplatRenderer::create_sets() {
         sort_ = std::move(sort).value();
         extra.storage.clear();
         for (uint32_t i = 0; i < n; ++i) extra.storage.push_back(sort_.sorted_records(i));
+        // Sorted records are drawn in the sort's order; their streams stay where they were
+        // written, found through the sort's record indices.
+        extra.order.clear();
+        for (uint32_t i = 0; i < n; ++i) extra.order.push_back(sort_.values(i));
         auto sorted = gpu::UniformSets::create(ctx, splat_.set_layout(), n, sizeof(gpu_types::FrameUniforms), &extra);
         if (!sorted.ok()) return sorted.error();
         sorted_uniforms_ = std::move(sorted).value();

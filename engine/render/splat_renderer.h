@@ -92,6 +92,9 @@ inline constexpr Use readback_write{{VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_T
 // How the splat pass reads its records: vertex attributes, or storage reads in the stage that
 // pulls them.
 Use records_read(SplatPath path);
+// The streams beside the records (shapes, view-dependent colour) and their order, as the front
+// stage reads them.
+Use streams_read(SplatPath path);
 } // namespace uses
 
 class SplatRenderer {
@@ -146,6 +149,8 @@ public:
     bool has_gpu_sort() const { return sort_.capacity() > 0; }
     VkBuffer sorted_records_buffer() const { return has_gpu_sort() ? sort_.sorted_records(frames_.slot()) : VK_NULL_HANDLE; }
     VkBuffer sort_control_buffer() const { return has_gpu_sort() ? sort_.control(frames_.slot()) : VK_NULL_HANDLE; }
+    // The sort's record indices in drawing order (the sorted streams' lookup, binding 5).
+    VkBuffer sort_order_buffer() const { return has_gpu_sort() ? sort_.values(frames_.slot()) : VK_NULL_HANDLE; }
 
     GpuTimings timings() const { return timings_; }
     gpu::UploadPath upload_path() const { return records_.path(); }
@@ -179,6 +184,7 @@ private:
     gpu::StreamBuffer records_;
     std::vector<gpu::Buffer> shapes_;  // one per slot; a token one when not anisotropic
     std::vector<gpu::Buffer> sh_rest_;  // one per slot; a token one without view-dependent colour
+    gpu::Buffer stream_identity_;       // 0, 1, 2, ...: where unsorted splats' stream entries are
     OffscreenTarget target_;
     SplatPass splat_;
     GroundPass ground_;

@@ -38,7 +38,9 @@ render::FrameInputs ply_view(std::span<const splat::GaussianRecord> records, boo
     return frame;
 }
 
-render::RendererOptions ply_renderer_options(const splat::PlyGaussians& file, uint32_t width, uint32_t height) {
+bool ply_sort_on_gpu(const std::string& device_type) { return device_type != "cpu"; }
+
+render::RendererOptions ply_renderer_options(const splat::PlyGaussians& file, uint32_t width, uint32_t height, bool gpu_sort) {
     render::RendererOptions o;
     o.width = width;
     o.height = height;
@@ -46,6 +48,7 @@ render::RendererOptions ply_renderer_options(const splat::PlyGaussians& file, ui
     o.frames_in_flight = 1;
     o.anisotropic = !file.shapes.empty();
     o.sh_degree = file.sh.empty() ? 0 : file.sh_degree;
+    o.gpu_sort = gpu_sort;
     return o;
 }
 

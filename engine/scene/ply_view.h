@@ -14,8 +14,14 @@ namespace pbdsplat::scene {
 // Gaussians' centre) with their normals: a relit look at a capture, or a check of its normals.
 render::FrameInputs ply_view(std::span<const splat::GaussianRecord> records, bool lit = false);
 
-// Renderer options that draw `file` as it was trained (at most `file.records.size()` splats).
-render::RendererOptions ply_renderer_options(const splat::PlyGaussians& file, uint32_t width, uint32_t height);
+// Renderer options that draw `file` as it was trained (at most `file.records.size()` splats);
+// `gpu_sort`: ordered far to near on the device (frame.style.order = gpu), not with sort_ply.
+render::RendererOptions ply_renderer_options(const splat::PlyGaussians& file, uint32_t width, uint32_t height, bool gpu_sort = false);
+
+// Where a capture is best sorted on `device_type` (gpu::DeviceCaps::type): its own compute
+// passes on a GPU; on a CPU device (Lavapipe) those run on the same cores as the CPU sort, which
+// was measured faster there (docs/BENCHMARKS.md, "Captures").
+bool ply_sort_on_gpu(const std::string& device_type);
 
 // Sorts the file's streams far to near for the frame's camera.
 void sort_ply(splat::PlyGaussians& file, const render::FrameInputs& frame);

@@ -11,7 +11,10 @@ namespace pbdsplat::splat {
 // Reorders `records` in place, farthest first, for the camera `view` (world to view, looking
 // down -z). `scratch` keeps its allocations between frames.
 struct SortScratch {
-    std::vector<std::pair<float, uint32_t>> keys;
+    // Per record, its depth made an ordered unsigned integer (high half) and its index (low
+    // half): sorted by a radix sort, which on a million captured Gaussians takes a fraction of a
+    // comparison sort's time; the index breaks ties in the original order.
+    std::vector<uint64_t> keys;
     std::vector<GaussianRecord> copy;
     std::vector<GaussianShape> shape_copy;
 };
@@ -25,7 +28,7 @@ template <class T>
 void reorder_like_last_sort(const SortScratch& scratch, std::vector<T>& stream) {
     if (stream.empty()) return;
     const std::vector<T> copy = stream;
-    for (size_t k = 0; k < stream.size(); ++k) stream[k] = copy[scratch.keys[k].second];
+    for (size_t k = 0; k < stream.size(); ++k) stream[k] = copy[uint32_t(scratch.keys[k])];
 }
 
 } // namespace pbdsplat::splat

@@ -7,13 +7,15 @@
 
 layout(constant_id = 6) const uint k_sh_degree = 0u;
 layout(set = 0, binding = 4, std430) readonly buffer ShRest { uint sh_words[]; };
+#include "splat_stream_order.glsl"
 
 float sh_coefficient(uint base, uint j) {
     const vec2 h = unpackHalf2x16(sh_words[base + j / 2u]);
     return (j & 1u) == 0u ? h.x : h.y;
 }
 
-// What degrees 1..k_sh_degree add to the splat's colour, seen along unit direction d.
+// What degrees 1..k_sh_degree add to the splat's colour, seen along unit direction d; `index`:
+// the splat's place in the draw.
 vec3 sh_rest_color(uint index, vec3 d) {
     if (k_sh_degree == 0u) return vec3(0.0);
     const float x = d.x, y = d.y, z = d.z;
@@ -36,7 +38,7 @@ vec3 sh_rest_color(uint index, vec3 d) {
     b[13] = 1.4453057213 * z * (xx - yy);
     b[14] = -0.5900435899 * x * (xx - 3.0 * yy);
     const uint n = k_sh_degree == 1u ? 3u : k_sh_degree == 2u ? 8u : 15u;
-    const uint base = index * (SPLAT_SH_SIZE / 4u);
+    const uint base = stream_entry(index) * (SPLAT_SH_SIZE / 4u);
     vec3 c = vec3(0.0);
     for (uint k = 0u; k < n; ++k)
         c += b[k] * vec3(sh_coefficient(base, k), sh_coefficient(base, 15u + k), sh_coefficient(base, 30u + k));

@@ -5,10 +5,12 @@
 
 layout(constant_id = 5) const bool k_anisotropic = false;
 layout(set = 0, binding = 3, std430) readonly buffer Shapes { uint shape_words[]; };
+#include "splat_stream_order.glsl"
 
-// Columns: the Gaussian's three axes in world units (covariance = A A^T).
+// Columns: the Gaussian's three axes in world units (covariance = A A^T); `i`: the splat's
+// place in the draw.
 mat3 read_shape_axes(uint i) {
-    const uint base = i * (SPLAT_SHAPE_SIZE / 4);
+    const uint base = stream_entry(i) * (SPLAT_SHAPE_SIZE / 4);
     const vec2 h0 = unpackHalf2x16(shape_words[base + 0]);
     const vec2 h1 = unpackHalf2x16(shape_words[base + 1]);
     const vec2 h2 = unpackHalf2x16(shape_words[base + 2]);

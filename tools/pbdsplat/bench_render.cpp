@@ -24,7 +24,8 @@ const CommandSpec& command_spec() {
         "draws a lit icosphere with about as many vertices as N instead: the mesh pipeline the\n"
         "paper compares against. --ply FILE measures a capture instead (a 3DGS .ply): an orbit of\n"
         "R frames about it as `render FILE.ply` draws it (anisotropic, view-dependent colour, unlit,\n"
-        "far to near), with the file's read time and, per frame, the CPU sort and the GPU draw.\n",
+        "far to near), with the file's read time and, per frame, the sort and the GPU draw (--sort\n"
+        "cpu or gpu; by default the GPU's own on a GPU, the CPU's on a CPU device such as Lavapipe).\n",
         with_gpu({whole("splats", "N", 20000, 1, 1u << 24, "splats on the sphere"),
                   text("ply", "FILE", "", "a capture (3DGS .ply) to orbit instead of the sphere").default_from("none"),
                   choice("path", {"auto", "gs", "mesh", "vertex", "meshraster"}, "auto",
@@ -84,7 +85,7 @@ Outcome measure_mesh_raster(gpu::Context& ctx, const Options& opt, const render:
 // about the file's vertical axis, sorts far to near on the CPU (the shape and colour streams
 // travel with the records) and draws.
 Outcome measure_capture(const Options& opt) {
-    for (const char* key : {"splats", "sort", "shading", "footprint", "blend", "kappa", "carrier", "cull-facing", "environment", "scale"})
+    for (const char* key : {"splats", "shading", "footprint", "blend", "kappa", "carrier", "cull-facing", "environment", "scale"})
         if (opt.given(key)) return Outcome::usage(std::string("--") + key + " applies to the sphere; --ply draws the file as it was trained");
     const std::string file = opt.text("ply");
     const uint32_t width = opt.whole("width"), height = opt.whole("height");
@@ -99,7 +100,10 @@ Outcome measure_capture(const Options& opt) {
     if (!ctx.ok()) return ctx.error();
     const gpu::DeviceCaps& caps = ctx.value()->caps();
     if (!caps.timestamps) return core::make_error("device '" + caps.name + "' has no timestamp queries to measure with");
-    render::RendererOptions options = scene::ply_renderer_options(gaussians.value(), width, height);
+    const std::string& sort_arg = opt.text("sort");
+    if (opt.given("sort") && sort_arg == "off") return Outcome::usage("--sort off: a capture is drawn far to near; give cpu or gpu");
+    const bool gpu_sort = opt.given("sort") ? sort_arg == "gpu" : scene::ply_sort_on_gpu(caps.type);
+    render::RendererOptions options = scene::ply_renderer_options(gaussians.value(), width, height, gpu_sort);
     const std::string& path_arg = opt.text("path");
     if (path_arg == "meshraster") return Outcome::usage("--path meshraster draws the sphere's mesh, not a capture");
     if (path_arg == "gs") options.path = render::SplatPath::geometry;
@@ -122,13 +126,14 @@ Outcome measure_capture(const Options& opt) {
         frame.camera.eye = start.camera.target + Vec3f(std::cos(turn) * offset.x() + std::sin(turn) * offset.z(), offset.y(),
                                                        -std::sin(turn) * offset.x() + std::cos(turn) * offset.z());
         const core::Stopwatch sort_clock;
-        scene::sort_ply(gaussians.value(), frame);
+        if (gpu_sort) frame.style.order = render::SplatOrder::gpu;
+        else scene::sort_ply(gaussians.value(), frame);
         const double sorting = sort_clock.elapsed_ms();
         PBDSPLAT_TRY(renderer.value()->render(gaussians->records, frame, {}, gaussians->shapes, gaussians->sh));
         PBDSPLAT_TRY(renderer.value()->finish());
         if (i < warmup) continue;
         draw.push_back(renderer.value()->timings().draw_ms);
-        sort_ms.push_back(sorting);
+        sort_ms.push_back(gpu_sort ? renderer.value()->timings().sort_ms : sorting);
         wall.push_back(frame_clock.elapsed_ms());
     }
     PBDSPLAT_TRY(check_validation(*ctx.value()));
@@ -138,13 +143,15 @@ Outcome measure_capture(const Options& opt) {
     Report report = device_report(caps);
     report.json().update({{"ply", file}, {"gaussians", count}, {"anisotropic", anisotropic}, {"sh_degree", degree},
                           {"path", render::splat_path_name(options.path.value_or(render::best_splat_path(caps)))},
-                          {"width", width}, {"height", height}, {"repeat", repeat}, {"load_ms", load_ms},
+                          {"sort", gpu_sort ? "gpu" : "cpu"}, {"width", width}, {"height", height}, {"repeat", repeat}, {"load_ms", load_ms},
                           {"median_ms", core::median(wall)}, {"draw_ms", core::median(draw)}, {"sort_ms", core::median(sort_ms)},
                           {"frame_wall_ms", core::median(wall)}});
     report.line(format("%zu %s Gaussians (colour of degree %u) from %s at %ux%u, an orbit of %u frames, median:", count,
                        anisotropic ? "anisotropic" : "round", degree, file.c_str(), width, height, repeat));
     report.figures("", {{"read", load_ms, "ms CPU (once: the file, no normals estimated)"},
-                        {"sort", core::median(sort_ms), "ms CPU (far to near, with the shape and colour streams)"},
+                        {"sort", core::median(sort_ms),
+                         gpu_sort ? "ms GPU (cull, radix sort, gather; the streams found through its order)"
+                                  : "ms CPU (far to near, with the shape and colour streams)"},
                         {"draw", core::median(draw), "ms GPU (upload excluded)"},
                         {"frame", core::median(wall), "ms wall (sort, upload, draw, readback)"}});
     return report;

@@ -64,10 +64,13 @@ int render_ply(const std::string& file, const Options& opt, uint32_t width, uint
     }
     if ((frame.camera.eye - frame.camera.target).norm() < 1e-6f) return usage_error("render", "--eye and --target coincide");
     if (opt.given("fov")) frame.camera.fov_y_degrees = opt.real("fov");
-    scene::sort_ply(gaussians.value(), frame);
     auto ctx = open_context(opt);
     if (!ctx.ok()) return fail("render", ctx.error().to_string());
-    const render::RendererOptions ro = scene::ply_renderer_options(gaussians.value(), width ? width : 1280, height ? height : 720);
+    const bool gpu_sort = opt.given("sort") ? opt.text("sort") == "gpu" : scene::ply_sort_on_gpu(ctx.value()->caps().type);
+    if (gpu_sort) frame.style.order = render::SplatOrder::gpu;
+    else scene::sort_ply(gaussians.value(), frame);
+    const render::RendererOptions ro =
+        scene::ply_renderer_options(gaussians.value(), width ? width : 1280, height ? height : 720, gpu_sort);
     auto renderer = passes::OffscreenRenderer::create(*ctx.value(), ro);
     if (!renderer.ok()) return fail("render", renderer.error().to_string());
     if (auto s = renderer.value()->render(gaussians->records, frame, {}, gaussians->shapes, gaussians->sh); !s.ok())
@@ -109,6 +112,8 @@ int cmd_render(const std::vector<std::string>& argv) {
                   real("fov", "DEGREES", 0.0f, 1.0f, 170.0f, ".ply only: vertical field of view").default_from("framing the file"),
                   flag("lit", ".ply only: shade with a scene's default lights and environment, by the file's\n"
                               "normals (estimated where it has none), instead of as stored"),
+                  choice("sort", {"cpu", "gpu"}, "cpu", ".ply only: where the Gaussians are ordered far to near")
+                      .default_from("gpu on a GPU, cpu on a CPU device"),
                   save_scene_option()})};
     const Parsed parsed = parse_command(command, argv);
     if (!parsed.options) return parsed.exit_code;
@@ -137,7 +142,7 @@ int cmd_render(const std::vector<std::string>& argv) {
             return render_ply(pos[0], opt, width, height, out);
         }
     }
-    for (const char* key : {"up", "eye", "target", "fov", "lit"})
+    for (const char* key : {"up", "eye", "target", "fov", "lit", "sort"})
         if (opt.given(key)) return usage_error("render", std::string("--") + key + " applies to a .ply; a scene sets its own camera and lighting");
 
     auto scene = load_scene_arg(opt);
