@@ -2,15 +2,21 @@
 
 namespace pbdsplat::passes {
 
-core::Result<std::unique_ptr<OffscreenRenderer>> OffscreenRenderer::create(gpu::Context& ctx,
-                                                                           const render::RendererOptions& options) {
+core::Result<std::unique_ptr<OffscreenRenderer>> OffscreenRenderer::create(gpu::Context& ctx, const render::RendererOptions& options,
+                                                                           Presenter* presenter) {
     auto r = std::unique_ptr<OffscreenRenderer>(new OffscreenRenderer());
     auto renderer = render::SplatRenderer::create(ctx, options);
     if (!renderer.ok()) return renderer.error();
     r->renderer_ = std::move(renderer).value();
     const auto input = r->graph_.import("frame input", &r->input_);
     const auto sink = r->graph_.import("image", &r->sink_);
-    add_gpu_passes(r->graph_, *r->renderer_, r->resources_, input, sink, options.gpu_sort);
+    const auto drawn = add_gpu_passes(r->graph_, *r->renderer_, r->resources_, input, sink, options.gpu_sort);
+    r->presenter_ = presenter;
+    if (presenter) {
+        const PresentSources sources{drawn, {}, r->renderer_->width(), r->renderer_->height(),
+                                     [renderer = r->renderer_.get()] { return renderer->slot(); }};
+        presenter->add_passes(r->graph_, sources);
+    }
     PBDSPLAT_TRY(r->graph_.compile());
     return r;
 }
@@ -34,7 +40,9 @@ core::Status OffscreenRenderer::render(std::span<const splat::GaussianRecord> re
     resources_.refresh(*renderer_);
     graph::ExecuteContext ctx{cmd.value(), 0};
     graph_.execute(ctx);
-    PBDSPLAT_TRY(renderer_->end_frame());  // submitted even on failure, so the frame ring stays consistent
+    // Submitted even on failure, so the frame ring stays consistent.
+    PBDSPLAT_TRY(renderer_->end_frame(presenter_ ? presenter_->wait_semaphore() : nullptr,
+                                      presenter_ ? presenter_->signal_semaphore() : nullptr));
     return input_.upload_status;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Gaussian records in, image out: the GPU passes alone in a frame graph. For tools and tests
-// that render records they made themselves; scenes use SceneRuntime.
+// that render records they made themselves, and, given a presenter, for a window showing a
+// static capture; scenes use SceneRuntime.
 #include <memory>
 #include <span>
 
@@ -10,7 +11,10 @@ namespace pbdsplat::passes {
 
 class OffscreenRenderer {
 public:
-    static core::Result<std::unique_ptr<OffscreenRenderer>> create(gpu::Context& ctx, const render::RendererOptions& options);
+    // `presenter`: also takes each frame to a window (its passes join the graph, and each
+    // frame's submit waits on and signals its semaphores); it must outlive the renderer.
+    static core::Result<std::unique_ptr<OffscreenRenderer>> create(gpu::Context& ctx, const render::RendererOptions& options,
+                                                                   Presenter* presenter = nullptr);
 
     // Records and submits one frame. `changed` lists the byte ranges of `records` that differ
     // from the previous frame; empty means all of them. `shapes`: one per record for a renderer
@@ -34,6 +38,7 @@ public:
 private:
     OffscreenRenderer() = default;
     std::unique_ptr<render::SplatRenderer> renderer_;
+    Presenter* presenter_ = nullptr;
     GpuPassResources resources_;
     GpuFrameInput input_;
     ImageSink sink_;

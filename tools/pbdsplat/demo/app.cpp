@@ -9,6 +9,7 @@
 #include "demo/presenter.h"
 #include "demo/script.h"
 #include "demo/window.h"
+#include "demo/window_session.h"
 #include "splat/ply.h"
 
 namespace pbdsplat::demo {
@@ -29,22 +30,12 @@ const char* const k_help[] = {
 
 double median_of(std::vector<double> v) { return v.empty() ? 0.0 : core::median(v); }
 
-// Everything with a Vulkan object, in the order it must be destroyed (reverse of declaration).
-struct Session {
-    std::unique_ptr<Window> window;
-    std::unique_ptr<gpu::Context> ctx;
-    VkSurfaceKHR surface = VK_NULL_HANDLE;
-    gpu::Swapchain swapchain;
-    std::unique_ptr<render::OverlayPass> overlay;
-    std::unique_ptr<SwapchainPresenter> presenter;
+// The window's objects, and the scene drawn into it (freed first).
+struct Session : WindowSession {
     std::unique_ptr<scene::SceneRuntime> runtime;
-    ~Session() {
+    ~Session() override {
         if (ctx) (void)vkDeviceWaitIdle(ctx->vk());
         runtime.reset();
-        presenter.reset();
-        overlay.reset();
-        swapchain = gpu::Swapchain();
-        if (surface) vkDestroySurfaceKHR(ctx->instance().handle(), surface, nullptr);
     }
 };
 
@@ -230,13 +221,12 @@ core::Result<DemoReport> Demo::run(const InputScript* script) {
             events.insert(events.end(), scripted.begin(), scripted.end());
         }
         for (const InputEvent& e : events) PBDSPLAT_TRY(handle(e));
-        const VkExtent2D fb = s_.window->framebuffer_size();
-        if (fb.width == 0 || fb.height == 0) {  // minimised: nothing to draw into
+        auto visible = s_.follow_window_size();
+        if (!visible.ok()) return visible.error();
+        if (!visible.value()) {  // minimised: nothing to draw into
             s_.window->wait();
             continue;
         }
-        if (fb.width != s_.swapchain.extent().width || fb.height != s_.swapchain.extent().height)
-            PBDSPLAT_TRY(s_.swapchain.recreate(fb));
         const bool shoot = (options_.screenshot_at && *options_.screenshot_at == frame_) || !pending_screenshot_.empty();
         if (shoot) PBDSPLAT_TRY(s_.runtime->set_readback(true));
         draw_overlay();
@@ -244,14 +234,7 @@ core::Result<DemoReport> Demo::run(const InputScript* script) {
 
         const core::Stopwatch clock;
         PBDSPLAT_TRY(s_.runtime->step());
-        PBDSPLAT_TRY(s_.presenter->status());
-        bool fresh = s_.presenter->acquired();
-        if (fresh) {
-            auto presented = s_.swapchain.present();
-            if (!presented.ok()) return presented.error();
-            fresh = presented.value();
-        }
-        if (!fresh) PBDSPLAT_TRY(s_.swapchain.recreate(s_.window->framebuffer_size()));
+        PBDSPLAT_TRY(s_.present());
         const double ms = clock.elapsed_ms();
 
         if (shoot) {
@@ -300,38 +283,15 @@ core::Result<DemoReport> run_demo(const DemoOptions& options) {
     // while the device and instance are destroyed (leaked objects) count too.
     auto session = std::make_unique<Session>();
     Session& s = *session;
-    auto window = Window::create("pbdsplat - " + options.scene.name, options.scene.render.width, options.scene.render.height);
-    if (!window.ok()) return window.error();
-    s.window = std::move(window).value();
-
-    gpu::ContextOptions co;
-    co.instance.validation = options.validation;
-    co.instance.surface = true;
-    co.instance.extra_extensions = Window::required_extensions();
-    co.device.name_filter = options.device;
-    co.device.swapchain = true;
-    auto ctx = gpu::Context::create(co);
-    if (!ctx.ok()) return ctx.error();
-    s.ctx = std::move(ctx).value();
-    auto surface = s.window->create_surface(s.ctx->instance().handle());
-    if (!surface.ok()) return surface.error();
-    s.surface = surface.value();
-    constexpr uint32_t frames_in_flight = 2;
-    auto swapchain = gpu::Swapchain::create(*s.ctx, s.surface, s.window->framebuffer_size(), options.vsync, frames_in_flight);
-    if (!swapchain.ok()) return swapchain.error();
-    s.swapchain = std::move(swapchain).value();
-    const VkExtent2D ext = s.swapchain.extent();
-    auto overlay = render::OverlayPass::create(*s.ctx, ext.width, ext.height, s.swapchain.format(), frames_in_flight);
-    if (!overlay.ok()) return overlay.error();
-    s.overlay = std::move(overlay).value();
-    s.presenter = std::make_unique<SwapchainPresenter>(s.swapchain, *s.overlay);
+    PBDSPLAT_TRY(s.open("pbdsplat - " + options.scene.name, options.scene.render.width, options.scene.render.height, options.vsync,
+                        options.validation, options.device));
 
     scene::RuntimeOptions ro;
     ro.gpu = s.ctx.get();
     ro.readback = false;
     ro.interactive = true;
     ro.presenter = s.presenter.get();
-    ro.frames_in_flight = frames_in_flight;
+    ro.frames_in_flight = k_window_frames_in_flight;
     auto rt = scene::SceneRuntime::create(options.scene, ro);
     if (!rt.ok()) return rt.error();
     s.runtime = std::move(rt).value();

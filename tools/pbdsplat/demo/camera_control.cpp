@@ -13,7 +13,7 @@ CameraControl::CameraControl(const render::Camera& start) : base_(start), target
 }
 
 void CameraControl::orbit(Vec2f pixels) {
-    constexpr float radians_per_pixel = 0.005f;
+    constexpr float radians_per_pixel = k_orbit_radians_per_pixel;
     yaw_ -= pixels.x() * radians_per_pixel;
     pitch_ = std::clamp(pitch_ + pixels.y() * radians_per_pixel, -1.5f, 1.5f);  // never over the pole
 }

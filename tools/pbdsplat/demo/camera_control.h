@@ -4,6 +4,8 @@
 
 namespace pbdsplat::demo {
 
+inline constexpr float k_orbit_radians_per_pixel = 0.005f;  // how far a pixel of mouse travel turns
+
 class CameraControl {
 public:
     explicit CameraControl(const render::Camera& start);

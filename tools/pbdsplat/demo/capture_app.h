@@ -1,0 +1,32 @@
+#pragma once
+// A trained capture (a 3DGS .ply) in a window: drawn as `render FILE.ply` draws it, turning
+// slowly about its centre until the mouse takes the camera (orbit, pan, zoom). Nothing moves
+// but the eye, so no simulation runs: each frame is a sort (on the GPU on a GPU) and a draw.
+#include <optional>
+#include <string>
+
+#include "demo/app.h"
+#include "splat/ply.h"
+
+namespace pbdsplat::demo {
+
+struct CaptureOptions {
+    std::string path;
+    splat::PlyUp up = splat::PlyUp::minus_y;
+    uint32_t width = 1280, height = 720;
+    uint64_t frames = 0;                    // 0: until the window closes
+    std::optional<uint64_t> screenshot_at;  // frame index (0-based) to save
+    std::string screenshot_path = k_default_screenshot_path;
+    std::optional<bool> gpu_sort;           // unset: the device decides (scene::ply_sort_on_gpu)
+    float orbit_degrees_per_second = 15.0f;
+    bool vsync = true;
+    bool validation = false;
+    std::string device;
+    bool hud = true;
+};
+
+// Errors: an unreadable file, no display, no device; each says what is wrong. The report's
+// particles and cuts stay 0; gaussians is the file's count.
+core::Result<DemoReport> run_capture(const CaptureOptions& options);
+
+} // namespace pbdsplat::demo
