@@ -193,6 +193,20 @@ struct Event {
     EventData data;
 };
 
+// What a scene claims to show (its [expect] table, docs/scene-format.md): `pbdsplat check`
+// runs `frames` frames (the whole timeline the claims are about) and holds each named figure of
+// its report (scene/check_figures.h) to its bound.
+struct ExpectBound {
+    std::string figure;
+    bool at_least = false;  // else at most
+    double limit = 0.0;
+};
+struct ExpectDesc {
+    uint32_t frames = 0;  // 0: the check's default
+    std::vector<ExpectBound> bounds;
+    bool empty() const { return frames == 0 && bounds.empty(); }
+};
+
 struct Scene {
     std::string name;        // file stem, or "default"
     std::string source_dir;  // directory of the scene file (models are looked up there first)
@@ -203,6 +217,7 @@ struct Scene {
     SimulationDesc simulation;
     RenderDesc render;
     std::vector<Event> events;  // sorted by time
+    ExpectDesc expect;
 
     bool has_topology_events() const;
 };

@@ -12,6 +12,7 @@
 
 #include <toml++/toml.h>
 
+#include "scene/check_figures.h"
 #include "scene/scene_keys.h"
 
 #include "render/environment.h"
@@ -194,6 +195,29 @@ BodyDesc read_body(const Reader& r, const toml::node& n) {
     if (t.has("particles")) b.particles = t.count("particles", 0, 0, 10'000'000);
     t.finish();
     return b;
+}
+
+// [expect]: frames, and the figures held at_least / at_most a number.
+void read_expect(const Reader& r, Reader::Table& t, ExpectDesc& e) {
+    e.frames = t.count("frames", 0, 1, 1000000);
+    for (const bool at_least : {true, false}) {
+        const char* side = at_least ? "at_least" : "at_most";
+        const toml::table* bounds = t.table(side);
+        if (!bounds) continue;
+        Reader::Table b(r, *bounds, std::string("expect.") + side);
+        for (const auto& [key, value] : *bounds) {
+            const std::string figure(key.str());
+            if (!is_check_figure(figure)) {
+                std::string all;
+                for (const CheckFigure& f : check_figures()) all += (all.empty() ? "" : ", ") + std::string(f.name);
+                r.fail(key.source().begin.line ? key.source() : value.source(),
+                       "'" + b.where(figure) + "' is not a figure pbdsplat check measures (" + all + ")");
+            }
+            e.bounds.push_back({figure, at_least, b.number(figure, 0.0, -1e9, 1e9)});
+        }
+        b.finish();
+    }
+    t.finish();
 }
 
 void read_material(Reader::Table& t, MaterialDesc& m) {
@@ -479,6 +503,10 @@ core::Result<Scene> parse_scene(const std::string& text, const std::string& name
         }
         if (const toml::array* events = top.array("events"))
             for (const toml::node& n : *events) scene.events.push_back(read_event(r, n));
+        if (const toml::table* t = top.table("expect")) {
+            Reader::Table e(r, *t, "expect");
+            read_expect(r, e, scene.expect);
+        }
         top.finish();
     } catch (const ParseFailure& f) {
         // The location is in `file` ("name:line:column"); keep it as the error's file.

@@ -172,6 +172,18 @@ void write_events(std::ostream& o, const Scene& sc) {
             o << "threshold = " << num(te->threshold) << "\nmax_per_frame = " << te->max_per_frame << "\nduration = " << num(te->duration) << "\n";
     }
 }
+
+void write_expect(std::ostream& o, const ExpectDesc& e) {
+    if (e.empty()) return;
+    o << "\n[expect]\n";
+    if (e.frames) o << "frames = " << e.frames << "\n";
+    for (const bool at_least : {true, false}) {
+        std::string line;
+        for (const ExpectBound& b : e.bounds)
+            if (b.at_least == at_least) line += (line.empty() ? "" : ", ") + b.figure + " = " + num(b.limit);
+        if (!line.empty()) o << (at_least ? "at_least" : "at_most") << " = { " << line << " }\n";
+    }
+}
 } // namespace
 
 std::string to_toml(const Scene& sc) {
@@ -180,6 +192,7 @@ std::string to_toml(const Scene& sc) {
     write_simulation(o, sc);
     write_render(o, sc);
     write_events(o, sc);
+    write_expect(o, sc.expect);
     return o.str();
 }
 

@@ -97,6 +97,11 @@ time = 1.0
 type = "spin"
 axis = [0, 1, 0]
 degrees_per_second = 90
+
+[expect]
+frames = 150
+at_least = { pieces = 2 }
+at_most = { strays_max = 0, shape_error_max = 0.05 }
 )";
 } // namespace
 
@@ -206,6 +211,18 @@ TEST_SUITE("scene/scene_file") {
         CHECK(second->render.splat_shape == scene::SplatShape::deformed);
         CHECK(second->render.surfel_thickness == 0.2f);
         CHECK(second->render.frame.style.surfel_thickness == 0.0f);  // deformed: not surfels
+        CHECK(second->expect.frames == 150);
+        REQUIRE(second->expect.bounds.size() == 3);
+        const auto bound = [&](const char* figure) {
+            for (const scene::ExpectBound& b : second->expect.bounds)
+                if (b.figure == figure) return b;
+            FAIL("no bound on " << figure);
+            return scene::ExpectBound{};
+        };
+        CHECK(bound("pieces").at_least);
+        CHECK(bound("pieces").limit == 2.0);
+        CHECK_FALSE(bound("shape_error_max").at_least);
+        CHECK(bound("shape_error_max").limit == doctest::Approx(0.05));
         CHECK_FALSE(second->render.ground);
         CHECK_FALSE(second->render.cull_back);
         CHECK(second->events.size() == first->events.size());
@@ -276,15 +293,48 @@ TEST_SUITE("scene/scene_file") {
                   .find("bad.toml:2:40: camera path keys must be in increasing time") == 0);
     }
 
-    TEST_CASE("every scene in scenes/ validates") {
+    TEST_CASE("every scene in scenes/ validates, and states what it shows in an [expect] table over a timeline") {
         size_t n = 0;
         for (const auto& entry : std::filesystem::directory_iterator(PBDSPLAT_SCENES_DIR)) {
             if (entry.path().extension() != ".toml") continue;
             auto r = scene::load_scene(entry.path().string());
-            CHECK_MESSAGE(r.ok(), (r.ok() ? "" : r.error().to_string()));
+            REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().to_string()));
+            CHECK_MESSAGE(!r->expect.bounds.empty(), entry.path().string() << ": no [expect] bounds");
+            // The run covers every event and half a second after the last one ends.
+            double end = 0.0;
+            for (const scene::Event& e : r->events) {
+                double duration = 0.0;
+                std::visit([&](const auto& d) {
+                    if constexpr (requires { d.duration; }) duration = d.duration;
+                }, e.data);
+                end = std::max(end, double(e.time) + duration);
+            }
+            const double run = r->expect.frames * double(r->simulation.dt);
+            CHECK_MESSAGE(run >= end + 0.5, entry.path().string() << ": [expect] frames cover " << run << " s, its events end at " << end << " s");
             ++n;
         }
         CHECK(n >= 1);
+    }
+
+    TEST_CASE("[expect]: read, printed and read again bound by bound; a figure check does not measure is refused with its line") {
+        const char* text = "[expect]\nframes = 240\nat_least = { pieces = 3, iou_min = 0.84 }\nat_most = { strays_max = 0, hole_ratio_max = 0.0075 }\n";
+        auto a = scene::parse_scene(text, "e.toml");
+        REQUIRE_MESSAGE(a.ok(), a.error().to_string());
+        CHECK(a->expect.frames == 240);
+        REQUIRE(a->expect.bounds.size() == 4);
+        auto b = scene::parse_scene(scene::to_toml(a.value()), "again.toml");
+        REQUIRE_MESSAGE(b.ok(), b.error().to_string());
+        CHECK(b->expect.frames == 240);
+        REQUIRE(b->expect.bounds.size() == a->expect.bounds.size());
+        for (size_t i = 0; i < a->expect.bounds.size(); ++i) {
+            CHECK(b->expect.bounds[i].figure == a->expect.bounds[i].figure);
+            CHECK(b->expect.bounds[i].at_least == a->expect.bounds[i].at_least);
+            CHECK(b->expect.bounds[i].limit == doctest::Approx(a->expect.bounds[i].limit));
+        }
+        CHECK(refusal("[expect]\nat_least = { pieces = 2, peices = 3 }\n").find("bad.toml:2:26: 'expect.at_least.peices' is not a figure") == 0);
+        CHECK(refusal("[expect]\nframes = 0\n").find("bad.toml:2:10: 'expect.frames' = 0 is out of range") == 0);
+        CHECK(refusal("[expect]\nat_most = { pieces = \"two\" }\n").find("'expect.at_most.pieces' must be a number") != std::string::npos);
+        CHECK(refusal("[expect]\nwithin = { pieces = 2 }\n").find("unknown key 'expect.within'") != std::string::npos);
     }
 
     TEST_CASE("[[bodies]]: read, printed and read again field by field; each model its own piece, static ones pinned") {

@@ -7,6 +7,7 @@
 #include "pbdsplat/commands.h"
 #include "pbdsplat/gpu_options.h"
 #include "pbdsplat/scene_arg.h"
+#include "scene/check_figures.h"
 #include "scene/scene_check.h"
 
 namespace pbdsplat::cli {
@@ -32,7 +33,8 @@ int cmd_check(const std::vector<std::string>& argv) {
         "  smallest      the fewest triangles in any piece (a torn-off fleck)\n"
         "The coverage images are the frame as the scene draws it (footprint, shapes, the far side of\n"
         "a closed body culled, the environment about the body) without the ground.\n",
-        with_gpu({whole("frames", "N", 120, 1, 100000, "frames to run"),
+        with_gpu({whole("frames", "N", 120, 1, 100000, "frames to run").default_from("the scene's [expect] frames, else 120"),
+                  flag("ignore-expect", "measure only: do not hold the figures to the scene's [expect] bounds"),
                   whole("every", "K", 10, 1, 100000, "measure every K frames and at the last"),
                   whole("width", "W", 320, 16, 4096, "coverage image width"),
                   whole("height", "H", 180, 16, 4096, "coverage image height"),
@@ -49,7 +51,7 @@ int cmd_check(const std::vector<std::string>& argv) {
     auto sc = load_scene_arg(opt);
     if (!sc.ok()) return fail("check", sc.error().to_string());
     scene::CheckOptions o;
-    o.frames = opt.whole("frames");
+    o.frames = opt.given("frames") || sc->expect.frames == 0 ? opt.whole("frames") : sc->expect.frames;
     o.every = opt.whole("every");
     o.width = opt.whole("width");
     o.height = opt.whole("height");
@@ -71,7 +73,19 @@ int cmd_check(const std::vector<std::string>& argv) {
     if (!report.ok()) return fail("check", sc->name + ": " + report.error().to_string());
     if (auto v = close_and_check_validation(std::move(ctx)); !v.ok()) return fail("check", v.error().to_string());
     const scene::CheckReport& r = report.value();
+    const std::vector<scene::ExpectOutcome> expect =
+        opt.flag("ignore-expect") ? std::vector<scene::ExpectOutcome>{} : scene::hold_to_expect(sc->expect, r);
+    std::string broken;
+    for (const scene::ExpectOutcome& e : expect)
+        if (!e.met)
+            broken += "\n  " + e.bound.figure + " = " + std::to_string(*e.value) + ", expected " + (e.bound.at_least ? ">= " : "<= ") +
+                      std::to_string(e.bound.limit);
+    const int status = broken.empty() ? 0 : fail("check", sc->name + " does not show what its [expect] table claims:" + broken);
     if (opt.flag("json")) {
+        nlohmann::json claims = nlohmann::json::array();
+        for (const scene::ExpectOutcome& e : expect)
+            claims.push_back({{"figure", e.bound.figure}, {"bound", e.bound.at_least ? "at_least" : "at_most"}, {"limit", e.bound.limit},
+                              {"value", e.value ? nlohmann::json(*e.value) : nlohmann::json()}, {"met", e.met}});
         nlohmann::json samples = nlohmann::json::array();
         for (const scene::CheckSample& s : r.samples)
             samples.push_back({{"frame", s.frame}, {"time", s.time}, {"cuts", s.cuts}, {"tears", s.tears},
@@ -104,9 +118,11 @@ int cmd_check(const std::vector<std::string>& argv) {
                                   {"simulation_particles", r.simulation_particles},
                                   {"embedding_error", r.embedding_error},
                                   {"invariants_at_load", r.invariants_at_load.empty() ? "ok" : r.invariants_at_load},
+                                  {"expect", claims},
+                                  {"expect_met", broken.empty()},
                                   {"samples", samples}};
         std::printf("%s\n", j.dump().c_str());
-        return 0;
+        return status;
     }
     std::printf("%s, %u frames (measured every %u); %zu simulation particles for the model's %zu vertices",
                 sc->name.c_str(), o.frames, o.every, r.simulation_particles, r.model_vertices);
@@ -131,7 +147,16 @@ int cmd_check(const std::vector<std::string>& argv) {
                 r.shape_error_max, r.shape_error_before_topology, r.strays_max, percent(r.hole_ratio_max), r.iou_min,
                 percent(r.speck_ratio_max), r.shading_error_max, r.color_error_max, r.spacing_within_min, r.spacing_within_3d_min, r.pieces, r.particles, r.gaussians, r.stage_a_ms, r.penetration_max,
                 r.tilt_max, r.height_ratio_min, r.tears, r.smallest_piece_min);
-    return 0;
+    if (!expect.empty()) std::printf("what the scene's [expect] table claims:\n");
+    for (const scene::ExpectOutcome& e : expect) {
+        if (e.value)
+            std::printf("  %-28s %10.4f %s %-10g %s\n", e.bound.figure.c_str(), *e.value, e.bound.at_least ? ">=" : "<=", e.bound.limit,
+                        e.met ? "met" : "BROKEN");
+        else
+            std::printf("  %-28s %10s %s %-10g not measured (no device)\n", e.bound.figure.c_str(), "-", e.bound.at_least ? ">=" : "<=",
+                        e.bound.limit);
+    }
+    return status;
 }
 
 } // namespace pbdsplat::cli

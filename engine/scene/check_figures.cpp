@@ -1,0 +1,83 @@
+#include "scene/check_figures.h"
+
+#include <algorithm>
+#include <functional>
+
+#include "scene/scene_check.h"
+
+namespace pbdsplat::scene {
+
+namespace {
+
+struct FigureOf {
+    CheckFigure figure;
+    std::function<double(const CheckReport&)> of;
+    bool needs_device = false;  // -1 in the report when not measured
+};
+
+const std::vector<FigureOf>& table() {
+    static const std::vector<FigureOf> t = {
+        {{"shape_error_max", "the worst piece's shape error, any frame"}, [](const CheckReport& r) { return r.shape_error_max; }},
+        {{"shape_error_before_topology", "the same before the first cut or tear"},
+         [](const CheckReport& r) { return r.shape_error_before_topology; }},
+        {{"strays_max", "splats floating away from the surface, the most in a frame"},
+         [](const CheckReport& r) { return double(r.strays_max); }},
+        {{"hole_ratio_max", "share of the surface's pixels the splats leave open"}, [](const CheckReport& r) { return r.hole_ratio_max; }, true},
+        {{"iou_min", "splat silhouette over the mesh's (intersection over union), the least"},
+         [](const CheckReport& r) { return r.iou_min; }, true},
+        {{"speck_ratio_max", "share of dark specks through the front surface"}, [](const CheckReport& r) { return r.speck_ratio_max; }, true},
+        {{"shading_error_max", "splat shading against the lit mesh"}, [](const CheckReport& r) { return r.shading_error_max; }, true},
+        {{"color_error_max", "splat colour against the model's own look"}, [](const CheckReport& r) { return r.color_error_max; }, true},
+        {{"spacing_within_min", "share of boundary samples spaced within [0.7 h, 1.4 h] along the surface"},
+         [](const CheckReport& r) { return r.spacing_within_min; }},
+        {{"spacing_within_3d_min", "the same, nearest neighbour in space"}, [](const CheckReport& r) { return r.spacing_within_3d_min; }},
+        {{"pieces", "connected pieces at the end"}, [](const CheckReport& r) { return double(r.pieces); }},
+        {{"tears", "tears at the end"}, [](const CheckReport& r) { return double(r.tears); }},
+        {{"volume_error_max", "the worst piece's volume error"}, [](const CheckReport& r) { return r.volume_error_max; }},
+        {{"penetration_max", "the deepest particle inside another piece, over h"}, [](const CheckReport& r) { return r.penetration_max; }},
+        {{"tilt_max", "the most a model's vertical turned, degrees"}, [](const CheckReport& r) { return r.tilt_max; }},
+        {{"height_ratio_min", "the least height over the rest height"}, [](const CheckReport& r) { return r.height_ratio_min; }},
+        {{"smallest_piece_min", "triangles in the smallest piece any sample saw"},
+         [](const CheckReport& r) { return double(r.smallest_piece_min); }},
+        {{"gaussians", "Gaussians at the end"}, [](const CheckReport& r) { return double(r.gaussians); }},
+    };
+    return t;
+}
+
+} // namespace
+
+std::span<const CheckFigure> check_figures() {
+    static const std::vector<CheckFigure> names = [] {
+        std::vector<CheckFigure> n;
+        for (const FigureOf& f : table()) n.push_back(f.figure);
+        return n;
+    }();
+    return names;
+}
+
+bool is_check_figure(std::string_view name) {
+    const auto& t = table();
+    return std::any_of(t.begin(), t.end(), [&](const FigureOf& f) { return name == f.figure.name; });
+}
+
+std::optional<double> check_figure(const CheckReport& report, std::string_view name) {
+    for (const FigureOf& f : table()) {
+        if (name != f.figure.name) continue;
+        const double v = f.of(report);
+        if (f.needs_device && v < 0.0) return std::nullopt;
+        return v;
+    }
+    return std::nullopt;
+}
+
+std::vector<ExpectOutcome> hold_to_expect(const ExpectDesc& expect, const CheckReport& report) {
+    std::vector<ExpectOutcome> out;
+    for (const ExpectBound& b : expect.bounds) {
+        ExpectOutcome o{b, check_figure(report, b.figure), true};
+        if (o.value) o.met = b.at_least ? *o.value >= b.limit : *o.value <= b.limit;
+        out.push_back(o);
+    }
+    return out;
+}
+
+} // namespace pbdsplat::scene
