@@ -15,7 +15,7 @@ struct FigureOf {
     bool needs_device = false;  // -1 in the report when not measured
 };
 
-const std::vector<FigureOf>& table() {
+const std::vector<FigureOf>& figure_table() {
     static const std::vector<FigureOf> t = {
         {{"shape_error_max", "the worst piece's shape error, any frame"}, [](const CheckReport& r) { return r.shape_error_max; }},
         {{"shape_error_before_topology", "the same before the first cut or tear"},
@@ -49,19 +49,19 @@ const std::vector<FigureOf>& table() {
 std::span<const CheckFigure> check_figures() {
     static const std::vector<CheckFigure> names = [] {
         std::vector<CheckFigure> n;
-        for (const FigureOf& f : table()) n.push_back(f.figure);
+        for (const FigureOf& f : figure_table()) n.push_back(f.figure);
         return n;
     }();
     return names;
 }
 
 bool is_check_figure(std::string_view name) {
-    const auto& t = table();
+    const auto& t = figure_table();
     return std::any_of(t.begin(), t.end(), [&](const FigureOf& f) { return name == f.figure.name; });
 }
 
 std::optional<double> check_figure(const CheckReport& report, std::string_view name) {
-    for (const FigureOf& f : table()) {
+    for (const FigureOf& f : figure_table()) {
         if (name != f.figure.name) continue;
         const double v = f.of(report);
         if (f.needs_device && v < 0.0) return std::nullopt;

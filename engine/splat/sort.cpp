@@ -11,7 +11,7 @@ namespace pbdsplat::splat {
 namespace {
 // A float's bits turned so that unsigned order is numeric order (negatives reversed below the
 // positives).
-uint32_t ordered_bits(float v) {
+uint32_t depth_order_bits(float v) {
     uint32_t b;
     std::memcpy(&b, &v, sizeof b);
     return (b & 0x80000000u) ? ~b : (b | 0x80000000u);
@@ -25,7 +25,7 @@ void sort_far_to_near(std::vector<GaussianRecord>& records, const Mat4f& view, S
     for (uint32_t i = 0; i < records.size(); ++i) {
         const GaussianRecord& r = records[i];
         const float z = row.x() * r.position[0] + row.y() * r.position[1] + row.z() * r.position[2] + row.w();
-        s.keys[i] = uint64_t(ordered_bits(z)) << 32 | i;
+        s.keys[i] = uint64_t(depth_order_bits(z)) << 32 | i;
     }
     core::radix_sort(std::span<uint64_t>(s.keys));
     s.copy = records;

@@ -16,7 +16,7 @@ namespace pbdsplat::demo {
 
 namespace {
 
-const char* const k_help[] = {
+const char* const k_capture_help[] = {
     "left-drag  orbit    shift/middle-drag  pan    wheel  zoom",
     "space  turn on its own / hold still    P  save a screenshot (PNG)",
     "H / F1  this help    Esc / Q  quit",
@@ -94,7 +94,7 @@ void CaptureView::draw_overlay(double mean_ms) {
     lines.emplace_back(buf);
     lines.push_back(note_.empty() ? "H: help" : note_ + "    H: help");
     draw_panel(img, 8, 8, lines, {0.95f, 0.95f, 0.9f, 1.0f}, 1);
-    if (show_help_) draw_panel(img, 8, 80, std::vector<std::string>(std::begin(k_help), std::end(k_help)), {1.0f, 0.95f, 0.6f, 1.0f}, 1);
+    if (show_help_) draw_panel(img, 8, 80, std::vector<std::string>(std::begin(k_capture_help), std::end(k_capture_help)), {1.0f, 0.95f, 0.6f, 1.0f}, 1);
 }
 
 core::Result<DemoReport> CaptureView::run() {
