@@ -40,6 +40,13 @@ const std::vector<FigureOf>& figure_table() {
         {{"smallest_piece_min", "triangles in the smallest piece any sample saw"},
          [](const CheckReport& r) { return double(r.smallest_piece_min); }},
         {{"gaussians", "Gaussians at the end"}, [](const CheckReport& r) { return double(r.gaussians); }},
+        // The work a frame draws: bounded near today's count, a change that multiplies the samples fails.
+        {{"gaussians_max", "the most Gaussians any measured frame drew"},
+         [](const CheckReport& r) {
+             size_t most = r.gaussians;
+             for (const CheckSample& s : r.samples) most = std::max(most, s.gaussians);
+             return double(most);
+         }},
     };
     return t;
 }
