@@ -74,6 +74,39 @@ double shading_error(const core::ImageRgba8& splats, const core::ImageRgba8& sha
     });
 }
 
+double edge_excess(const core::ImageRgba8& splats, const core::ImageRgba8& shaded, const core::ImageRgba8& mask) {
+    const int w = int(mask.width), h = int(mask.height);
+    const auto front = [&](int x, int y) {
+        const uint8_t* p = &mask.pixels[(size_t(y) * size_t(w) + size_t(x)) * 4];
+        return p[3] >= 128 && p[0] >= 128;
+    };
+    // The splats' luma less the lit mesh's: smooth where they differ only in tone (another
+    // environment lookup, a softer highlight), rough where the splats add structure.
+    std::vector<double> diff(size_t(w) * size_t(h), 0.0);
+    for (size_t i = 0; i < diff.size(); ++i) diff[i] = pixel_luminance(&splats.pixels[i * 4]) - pixel_luminance(&shaded.pixels[i * 4]);
+    constexpr int k_radius = 2;       // a 5x5 neighbourhood
+    constexpr double k_rough = 4.0;   // luma steps (of 255) off the neighbourhood's mean
+    size_t inside = 0, rough = 0;
+    for (int y = k_radius; y + k_radius < h; ++y)
+        for (int x = k_radius; x + k_radius < w; ++x) {
+            bool all_front = true;
+            double sum = 0.0;
+            for (int dy = -k_radius; dy <= k_radius && all_front; ++dy)
+                for (int dx = -k_radius; dx <= k_radius; ++dx) {
+                    if (!front(x + dx, y + dy)) {
+                        all_front = false;
+                        break;
+                    }
+                    sum += diff[size_t(y + dy) * size_t(w) + size_t(x + dx)];
+                }
+            if (!all_front) continue;  // the silhouette is the IoU's to judge
+            const double mean = sum / double((2 * k_radius + 1) * (2 * k_radius + 1));
+            ++inside;
+            rough += std::abs(diff[size_t(y) * size_t(w) + size_t(x)] - mean) > k_rough ? 1 : 0;
+        }
+    return inside ? double(rough) / double(inside) : 0.0;
+}
+
 double color_error(const core::ImageRgba8& splats, const core::ImageRgba8& shaded, const core::ImageRgba8& mask) {
     return mean_over_front(mask, [&](size_t i) {
         int sum = 0;
@@ -133,6 +166,7 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
     if (albedo) {
         c.speck_ratio = speck_ratio(c.splats, c.shaded, c.mesh);
         c.shading_error = shading_error(c.splats, c.shaded, c.mesh);
+        c.edge_excess = edge_excess(c.splats, c.shaded, c.mesh);
         c.color_error = color_error(c.splats, c.shaded, c.mesh);
     }
     return c;

@@ -18,6 +18,7 @@ struct Coverage {
     double speck_ratio = -1.0;  // -1: not measured (no albedo given)
     double shading_error = -1.0;  // the same
     double color_error = -1.0;    // the same
+    double edge_excess = -1.0;    // the same
     size_t mesh_pixels = 0;
     core::ImageRgba8 splats, mesh;  // the two images, for people to look at
     core::ImageRgba8 shaded;        // the lit mesh (with an albedo only)
@@ -37,6 +38,15 @@ double shading_error(const core::ImageRgba8& splats, const core::ImageRgba8& sha
 // The same over the colour: the mean absolute difference of R, G and B (0-1), so a texture
 // drawn in the wrong place or blurred counts where the luma alone might not.
 double color_error(const core::ImageRgba8& splats, const core::ImageRgba8& shaded_mesh, const core::ImageRgba8& mesh_mask);
+
+// Structure the splats draw that the lit mesh does not: the share of the mesh's front pixels
+// (whole 5x5 neighbourhoods of front: not the silhouette) where the splats' luma less the mesh's
+// departs from that difference's neighbourhood mean by more than 4/255. A smooth surface drawn
+// smoothly scores 0, whatever its tone; the seam of mismatched discs or scales raise it where the
+// mean shading error hardly moves (a thin ragged band is few pixels of a mean). Meant for smooth
+// bodies: on a crumpled one the faceted mesh's own creases, which the splats round, count too
+// (the deflated default balloon: 0.32); and mottling finer than the check's pixels goes unseen.
+double edge_excess(const core::ImageRgba8& splats, const core::ImageRgba8& shaded_mesh, const core::ImageRgba8& mesh_mask);
 
 core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f> x,
                                         std::span<const std::array<uint32_t, 3>> triangles,

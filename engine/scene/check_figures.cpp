@@ -28,6 +28,8 @@ const std::vector<FigureOf>& figure_table() {
         {{"speck_ratio_max", "share of dark specks through the front surface"}, [](const CheckReport& r) { return r.speck_ratio_max; }, true},
         {{"shading_error_max", "splat shading against the lit mesh"}, [](const CheckReport& r) { return r.shading_error_max; }, true},
         {{"color_error_max", "splat colour against the model's own look"}, [](const CheckReport& r) { return r.color_error_max; }, true},
+        {{"edge_excess_max", "share of the front where the splats draw an edge the lit mesh lacks (seams, rims, mottling)"},
+         [](const CheckReport& r) { return r.edge_excess_max; }, true},
         {{"spacing_within_min", "share of boundary samples spaced within [0.7 h, 1.4 h] along the surface"},
          [](const CheckReport& r) { return r.spacing_within_min; }},
         {{"spacing_within_3d_min", "the same, nearest neighbour in space"}, [](const CheckReport& r) { return r.spacing_within_3d_min; }},

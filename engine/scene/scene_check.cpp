@@ -93,6 +93,7 @@ core::Status sample_coverage(SceneRuntime& rt, const Scene& scene, const CheckOp
     s.speck_ratio = c->speck_ratio;
     s.shading_error = c->shading_error;
     s.color_error = c->color_error;
+    s.edge_excess = c->edge_excess;
     if (o.images_dir.empty()) return core::Status::success();
     char stem[64];
     std::snprintf(stem, sizeof stem, "/%s_f%04llu_", scene.name.c_str(), (unsigned long long)s.frame);
@@ -122,6 +123,7 @@ void summarise(CheckReport& report, std::vector<double> stage_a) {
             report.speck_ratio_max = std::max(report.speck_ratio_max, s.speck_ratio);
             report.shading_error_max = std::max(report.shading_error_max, s.shading_error);
             report.color_error_max = std::max(report.color_error_max, s.color_error);
+            report.edge_excess_max = std::max(report.edge_excess_max, s.edge_excess);
         }
         if (s.spacing_within >= 0.0) {
             report.spacing_within_min = report.spacing_within_min < 0.0 ? s.spacing_within : std::min(report.spacing_within_min, s.spacing_within);

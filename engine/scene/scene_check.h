@@ -33,6 +33,7 @@ struct CheckSample {
     double hole_ratio = -1.0, iou = -1.0, speck_ratio = -1.0;  // -1: not measured (no GPU)
     double shading_error = -1.0;  // passes::shading_error; -1 as above
     double color_error = -1.0;    // passes::color_error (against the model's own look); -1 as above
+    double edge_excess = -1.0;    // passes::edge_excess (seams, rims, mottling the lit mesh lacks); -1 as above
     // The boundary particles' nearest-neighbour spacing along the surface (the neighbour on the
     // same side of a fold): share within [0.7 h, 1.4 h] (-1: no boundary particles), and its 5th
     // and 95th percentiles in units of h. `spacing_within_3d`: the nearest neighbour in space,
@@ -59,6 +60,7 @@ struct CheckReport {
     double shape_error_before_topology = 0.0;  // worst before the first cut or tear
     size_t strays_max = 0;
     double hole_ratio_max = -1.0, iou_min = -1.0, speck_ratio_max = -1.0, shading_error_max = -1.0, color_error_max = -1.0;
+    double edge_excess_max = -1.0;
     double spacing_within_min = -1.0, spacing_within_3d_min = -1.0;
     double volume_error_max = 0.0;
     double penetration_max = 0.0;

@@ -56,4 +56,45 @@ TEST_SUITE("scene/speck_ratio") {
         for (size_t i = 0; i < 100; ++i) mask.pixels[i * 4 + 3] = 0;
         CHECK(passes::shading_error(splats, lit, mask) == 0.0);
     }
+
+    TEST_CASE("edge excess: 0 for the mesh's own image or a smooth change of tone; counts a ragged seam and scales") {
+        // A lit mesh with a smooth gradient of its own.
+        const uint32_t w = 60, h = 40;
+        core::ImageRgba8 lit = filled(w, h, 0, 0, 0, 255);
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x) {
+                uint8_t* p = &lit.pixels[(size_t(y) * w + x) * 4];
+                p[0] = p[1] = p[2] = uint8_t(60 + 2 * x);
+            }
+        const core::ImageRgba8 mask = filled(w, h, 255, 255, 255, 255);
+        CHECK(passes::edge_excess(lit, lit, mask) == 0.0);
+        // Another tone everywhere, and a slow ramp on top: no structure added.
+        core::ImageRgba8 toned = lit;
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x) {
+                uint8_t* p = &toned.pixels[(size_t(y) * w + x) * 4];
+                p[0] = p[1] = p[2] = uint8_t(p[0] + 20 + y / 4);
+            }
+        CHECK(passes::edge_excess(toned, lit, mask) == 0.0);
+        // A ragged seam: a row band whose pixels alternate 20 brighter and not.
+        core::ImageRgba8 seam = lit;
+        for (uint32_t y = 18; y < 22; ++y)
+            for (uint32_t x = 0; x < w; x += 2) {
+                uint8_t* p = &seam.pixels[(size_t(y) * w + x) * 4];
+                p[0] = p[1] = p[2] = uint8_t(p[0] + 20);
+            }
+        const double seam_share = passes::edge_excess(seam, lit, mask);
+        CHECK(seam_share > 0.05);
+        CHECK(seam_share < 0.25);  // the band, not the whole front
+        // Scales everywhere: every other pixel of every row.
+        core::ImageRgba8 scales = lit;
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = y % 2; x < w; x += 2) {
+                uint8_t* p = &scales.pixels[(size_t(y) * w + x) * 4];
+                p[0] = p[1] = p[2] = uint8_t(p[0] + 20);
+            }
+        CHECK(passes::edge_excess(scales, lit, mask) > 0.9);
+        // Nothing of the mesh: nothing to judge.
+        CHECK(passes::edge_excess(scales, lit, filled(w, h, 255, 255, 255, 0)) == 0.0);
+    }
 }

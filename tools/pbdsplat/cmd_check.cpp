@@ -90,7 +90,7 @@ int cmd_check(const std::vector<std::string>& argv) {
         for (const scene::CheckSample& s : r.samples)
             samples.push_back({{"frame", s.frame}, {"time", s.time}, {"cuts", s.cuts}, {"tears", s.tears},
                                {"shape_error", s.shape_error}, {"strays", s.strays}, {"hole_ratio", s.hole_ratio},
-                               {"iou", s.iou}, {"speck_ratio", s.speck_ratio}, {"shading_error", s.shading_error}, {"color_error", s.color_error}, {"spacing_within", s.spacing_within}, {"spacing_within_3d", s.spacing_within_3d}, {"spacing_p05", s.spacing_p05}, {"spacing_p95", s.spacing_p95}, {"area_ratio", s.area_ratio}, {"pieces", s.pieces}, {"particles", s.particles},
+                               {"iou", s.iou}, {"speck_ratio", s.speck_ratio}, {"shading_error", s.shading_error}, {"color_error", s.color_error}, {"edge_excess", s.edge_excess}, {"spacing_within", s.spacing_within}, {"spacing_within_3d", s.spacing_within_3d}, {"spacing_p05", s.spacing_p05}, {"spacing_p95", s.spacing_p95}, {"area_ratio", s.area_ratio}, {"pieces", s.pieces}, {"particles", s.particles},
                                {"gaussians", s.gaussians}, {"volume_error", s.volume_error}, {"penetration", s.penetration},
                                {"tilt", s.tilt_degrees}, {"height_ratio", s.height_ratio}, {"smallest_piece_triangles", s.smallest_piece_triangles}});
         const nlohmann::json j = {{"scene", sc->name},
@@ -102,6 +102,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                                   {"iou_min", r.iou_min},
                                   {"speck_ratio_max", r.speck_ratio_max},
                                   {"shading_error_max", r.shading_error_max}, {"color_error_max", r.color_error_max},
+                                  {"edge_excess_max", r.edge_excess_max},
                                   {"spacing_within_min", r.spacing_within_min},
                                   {"spacing_within_3d_min", r.spacing_within_3d_min},
                                   {"pieces", r.pieces},
