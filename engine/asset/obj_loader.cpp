@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <cmath>
 #include <fstream>
+#include <span>
 #include <sstream>
 #include <string_view>
 #include <vector>
@@ -197,6 +198,93 @@ void read_materials(const std::vector<tinyobj::material_t>& in, const std::strin
     }
 }
 
+// The loader passes some indices through unchecked (found by fuzzing: a face's
+// texture-coordinate index past the vt lines read past the array).
+core::Status check_corners(const tinyobj::attrib_t& a, std::span<const tinyobj::index_t> face, size_t n, const std::string& name) {
+    for (const tinyobj::index_t& c : face) {
+        if (c.vertex_index < 0 || size_t(c.vertex_index) >= n)
+            return core::make_error(name, 0, "a face refers to vertex " + std::to_string(c.vertex_index + 1) + " of " + std::to_string(n));
+        if (c.normal_index >= 0 && size_t(c.normal_index) * 3 + 2 >= a.normals.size())
+            return core::make_error(name, 0, "a face refers to normal " + std::to_string(c.normal_index + 1) + " of " +
+                                                 std::to_string(a.normals.size() / 3));
+        if (c.texcoord_index >= 0 && size_t(c.texcoord_index) * 2 + 1 >= a.texcoords.size())
+            return core::make_error(name, 0, "a face refers to texture coordinate " + std::to_string(c.texcoord_index + 1) + " of " +
+                                                 std::to_string(a.texcoords.size() / 2));
+    }
+    return core::Status::success();
+}
+
+// The file's faces as triangles of the mesh, with what each corner carries (the first normal
+// and texture coordinate a vertex is given, per-corner texture coordinates and the face's
+// material for the look).
+class FaceBuilder {
+public:
+    FaceBuilder(const tinyobj::attrib_t& a, mesh::TriangleMesh& m, SurfaceLook& look, bool want_look)
+        : a_(a), m_(m), look_(look), has_normals_(!a.normals.empty()), has_uvs_(!a.texcoords.empty()),
+          textured_(want_look && has_uvs_ && !look.textures.empty()), per_material_(want_look && !look.materials.empty()),
+          normal_set_(m.positions.size(), false), uv_set_(m.positions.size(), false) {
+        if (has_normals_) m.normals.assign(m.positions.size(), Vec3f::Zero());
+        if (has_uvs_) m.uvs.assign(m.positions.size(), Vec2f::Zero());
+    }
+
+    // A checked face (check_corners) of `material` (-1: none), split in its own plane.
+    void add(std::span<const tinyobj::index_t> face, int material) {
+        corners_.clear();
+        for (const tinyobj::index_t& c : face) corners_.push_back(m_.positions[size_t(c.vertex_index)]);
+        for (const auto& tri : mesh::triangulate_polygon(corners_)) {
+            mesh::Triangle t{};
+            std::array<Vec2f, 3> uv{};
+            for (size_t k = 0; k < 3; ++k) t[k] = take_corner(face[tri[k]], uv[k]);
+            m_.triangles.push_back(t);
+            if (textured_) look_.uv.push_back(uv);
+            if (per_material_) {
+                const bool named = material >= 0 && size_t(material) < look_.materials.size();
+                look_.material.push_back(named ? uint32_t(material) : uint32_t(look_.materials.size()));
+                unnamed_ = unnamed_ || !named;
+            }
+        }
+    }
+    // Faces before any usemtl, or naming a material no .mtl defines, get a plain white one.
+    void finish() {
+        if (unnamed_) look_.materials.push_back(Material{"(none)", Vec3f::Ones(), -1});
+    }
+
+private:
+    uint32_t take_corner(const tinyobj::index_t& c, Vec2f& uv) {
+        const auto v = uint32_t(c.vertex_index);
+        if (has_normals_ && c.normal_index >= 0 && !normal_set_[v]) {
+            const size_t q = size_t(c.normal_index) * 3;
+            m_.normals[v] = Vec3f(a_.normals[q], a_.normals[q + 1], a_.normals[q + 2]);
+            normal_set_[v] = true;
+        }
+        if (has_uvs_ && c.texcoord_index >= 0) {
+            const size_t q = size_t(c.texcoord_index) * 2;
+            const Vec2f tc(a_.texcoords[q], a_.texcoords[q + 1]);
+            if (!uv_set_[v]) m_.uvs[v] = tc, uv_set_[v] = true;
+            uv = Vec2f(tc.x(), 1.0f - tc.y());  // OBJ's v runs up, the images' rows down
+        }
+        return v;
+    }
+
+    const tinyobj::attrib_t& a_;
+    mesh::TriangleMesh& m_;
+    SurfaceLook& look_;
+    const bool has_normals_, has_uvs_, textured_, per_material_;
+    std::vector<bool> normal_set_, uv_set_;
+    std::vector<Vec3f> corners_;
+    bool unnamed_ = false;
+};
+
+// Positions, and vertex colours where every vertex has them.
+void copy_vertices(const tinyobj::attrib_t& a, bool colors, mesh::TriangleMesh& m) {
+    const size_t n = a.vertices.size() / 3;
+    m.positions.resize(n);
+    for (size_t i = 0; i < n; ++i) m.positions[i] = Vec3f(a.vertices[3 * i], a.vertices[3 * i + 1], a.vertices[3 * i + 2]);
+    if (!colors || a.colors.size() != a.vertices.size()) return;
+    m.colors.resize(n);
+    for (size_t i = 0; i < n; ++i) m.colors[i] = Vec3f(a.colors[3 * i], a.colors[3 * i + 1], a.colors[3 * i + 2]);
+}
+
 core::Result<ModelAsset> read_obj(const std::string& text, const std::string& name, const std::string& base_dir, bool want_look) {
     auto facts = check_obj(text, name);
     if (!facts.ok()) return facts.error();
@@ -216,78 +304,24 @@ core::Result<ModelAsset> read_obj(const std::string& text, const std::string& na
 
     ModelAsset out;
     mesh::TriangleMesh& m = out.mesh;
-    const size_t n = a.vertices.size() / 3;
-    m.positions.resize(n);
-    for (size_t i = 0; i < n; ++i) m.positions[i] = Vec3f(a.vertices[3 * i], a.vertices[3 * i + 1], a.vertices[3 * i + 2]);
-    if (facts->colors && a.colors.size() == a.vertices.size()) {
-        m.colors.resize(n);
-        for (size_t i = 0; i < n; ++i) m.colors[i] = Vec3f(a.colors[3 * i], a.colors[3 * i + 1], a.colors[3 * i + 2]);
-    }
+    copy_vertices(a, facts->colors, m);
     SurfaceLook look;
     if (want_look) {
         if (warn.find("material") != std::string::npos || warn.find(".mtl") != std::string::npos)
             out.warnings.push_back(name + ": " + warn.substr(0, warn.find('\n')));
         read_materials(materials, base_dir, name, look, out.warnings);
     }
-    const bool has_normals = !a.normals.empty(), has_uvs = !a.texcoords.empty();
-    const bool textured = want_look && has_uvs && !look.textures.empty();
-    const bool per_material = want_look && !look.materials.empty();
-    std::vector<bool> normal_set(n, false), uv_set(n, false);
-    if (has_normals) m.normals.assign(n, Vec3f::Zero());
-    if (has_uvs) m.uvs.assign(n, Vec2f::Zero());
-    std::vector<Vec3f> corners;
-    bool unnamed = false;  // a face before any usemtl, or naming a material no .mtl defines
+    FaceBuilder faces(a, m, look, want_look);
     for (const tinyobj::shape_t& shape : shapes) {
-        const auto& idx = shape.mesh.indices;
         size_t offset = 0;
         for (size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
-            const size_t fv = shape.mesh.num_face_vertices[f];
-            for (size_t k = 0; k < fv; ++k) {
-                const tinyobj::index_t c = idx[offset + k];
-                // The loader passes some indices through unchecked (found by fuzzing: a face's
-                // texture-coordinate index past the vt lines read past the array).
-                if (c.vertex_index < 0 || size_t(c.vertex_index) >= n)
-                    return core::make_error(name, 0, "a face refers to vertex " + std::to_string(c.vertex_index + 1) + " of " + std::to_string(n));
-                if (c.normal_index >= 0 && size_t(c.normal_index) * 3 + 2 >= a.normals.size())
-                    return core::make_error(name, 0, "a face refers to normal " + std::to_string(c.normal_index + 1) + " of " +
-                                                         std::to_string(a.normals.size() / 3));
-                if (c.texcoord_index >= 0 && size_t(c.texcoord_index) * 2 + 1 >= a.texcoords.size())
-                    return core::make_error(name, 0, "a face refers to texture coordinate " + std::to_string(c.texcoord_index + 1) +
-                                                         " of " + std::to_string(a.texcoords.size() / 2));
-            }
-            corners.clear();
-            for (size_t k = 0; k < fv; ++k) corners.push_back(m.positions[size_t(idx[offset + k].vertex_index)]);
-            const int material = f < shape.mesh.material_ids.size() ? shape.mesh.material_ids[f] : -1;
-            for (const auto& tri : mesh::triangulate_polygon(corners)) {
-                mesh::Triangle t{};
-                std::array<Vec2f, 3> uv{};
-                for (size_t k = 0; k < 3; ++k) {
-                    const tinyobj::index_t c = idx[offset + tri[k]];
-                    t[k] = uint32_t(c.vertex_index);
-                    if (has_normals && c.normal_index >= 0 && !normal_set[t[k]]) {
-                        const size_t q = size_t(c.normal_index) * 3;
-                        m.normals[t[k]] = Vec3f(a.normals[q], a.normals[q + 1], a.normals[q + 2]);
-                        normal_set[t[k]] = true;
-                    }
-                    if (has_uvs && c.texcoord_index >= 0) {
-                        const size_t q = size_t(c.texcoord_index) * 2;
-                        const Vec2f tc(a.texcoords[q], a.texcoords[q + 1]);
-                        if (!uv_set[t[k]]) m.uvs[t[k]] = tc, uv_set[t[k]] = true;
-                        uv[k] = Vec2f(tc.x(), 1.0f - tc.y());  // OBJ's v runs up, the images' rows down
-                    }
-                }
-                m.triangles.push_back(t);
-                if (textured) look.uv.push_back(uv);
-                if (per_material) {
-                    const bool named = material >= 0 && size_t(material) < look.materials.size();
-                    look.material.push_back(named ? uint32_t(material) : uint32_t(look.materials.size()));
-                    unnamed = unnamed || !named;
-                }
-            }
-            offset += fv;
+            const std::span<const tinyobj::index_t> face(shape.mesh.indices.data() + offset, shape.mesh.num_face_vertices[f]);
+            PBDSPLAT_TRY(check_corners(a, face, m.positions.size(), name));
+            faces.add(face, f < shape.mesh.material_ids.size() ? shape.mesh.material_ids[f] : -1);
+            offset += face.size();
         }
     }
-    if (unnamed) look.materials.push_back(Material{"(none)", Vec3f::Ones(), -1});  // faces without usemtl
+    faces.finish();
     if (want_look && !m.colors.empty()) {
         look.corner_color.resize(m.triangles.size());
         for (size_t t = 0; t < m.triangles.size(); ++t)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <span>
 #include <sstream>
 
 #include "core/image.h"
@@ -177,6 +178,109 @@ float colour_value(double v, Type t) {
     return float(std::clamp(v / scale, 0.0, 1.0));
 }
 
+// Where an element's properties are (-1: absent), under the names exporters use.
+struct Columns {
+    int x = -1, y = -1, z = -1, r = -1, g = -1, b = -1, u = -1, v = -1, face = -1;
+};
+Columns columns_of(const Element& e) {
+    Columns c;
+    c.x = find_prop(e, {"x"}), c.y = find_prop(e, {"y"}), c.z = find_prop(e, {"z"});
+    c.r = find_prop(e, {"red", "r", "diffuse_red"}), c.g = find_prop(e, {"green", "g", "diffuse_green"});
+    c.b = find_prop(e, {"blue", "b", "diffuse_blue"});
+    c.u = find_prop(e, {"s", "u", "texture_u", "texture_s"}), c.v = find_prop(e, {"t", "v", "texture_v", "texture_t"});
+    c.face = find_prop(e, {"vertex_indices", "vertex_index"});
+    return c;
+}
+
+// One row of an element: its scalars into `row`, and the list at `keep` (-1: none) into `list`
+// (a negative index kept as UINT32_MAX, refused later as out of range).
+core::Status read_row(Reader& r, const Element& e, int keep, std::vector<double>& row, std::vector<uint32_t>& list, const std::string& name) {
+    for (size_t p = 0; p < e.properties.size(); ++p) {
+        const Property& prop = e.properties[p];
+        if (prop.count_type == Type::none) {
+            auto v = r.next(prop.type);
+            if (!v.ok()) return v.error();
+            row[p] = v.value();
+            continue;
+        }
+        auto len = r.next(prop.count_type);
+        if (!len.ok()) return len.error();
+        if (!(len.value() >= 0.0) || len.value() > 1e6) return core::make_error(name, 0, "PLY list of length " + std::to_string(len.value()));
+        const bool kept = int(p) == keep;
+        if (kept) list.clear();
+        for (uint32_t j = 0; j < uint32_t(len.value()); ++j) {
+            auto v = r.next(prop.type);
+            if (!v.ok()) return v.error();
+            if (kept) list.push_back(v.value() < 0.0 ? UINT32_MAX : uint32_t(v.value()));
+        }
+    }
+    return core::Status::success();
+}
+
+// A polygon of the face list, split in its own plane; points and lines are not surface.
+core::Status add_face(std::span<const uint32_t> polygon, uint64_t k, mesh::TriangleMesh& m, std::vector<Vec3f>& corners,
+                      const std::string& name) {
+    if (polygon.size() < 3) return core::Status::success();
+    corners.clear();
+    for (uint32_t v : polygon) {
+        if (v >= m.positions.size())
+            return core::make_error(name, 0, "PLY face " + std::to_string(k) + " refers to vertex " + std::to_string(v) + " of " +
+                                                 std::to_string(m.positions.size()));
+        corners.push_back(m.positions[v]);
+    }
+    for (const auto& t : mesh::triangulate_polygon(corners)) m.triangles.push_back({polygon[t[0]], polygon[t[1]], polygon[t[2]]});
+    return core::Status::success();
+}
+
+// The vertices and faces of every element, in file order; `uvs` gets each vertex's texture
+// coordinate where the file has them.
+core::Status read_elements(const Header& h, Reader& r, mesh::TriangleMesh& m, std::vector<Vec2f>& uvs, const std::string& name) {
+    for (const Element& e : h.elements) {
+        const bool vertex = e.name == "vertex", face = e.name == "face";
+        const Columns c = columns_of(e);
+        if (vertex && (c.x < 0 || c.y < 0 || c.z < 0)) return core::make_error(name, 0, "PLY vertices without x, y and z");
+        if (face && (c.face < 0 || e.properties[size_t(c.face)].count_type == Type::none))
+            return core::make_error(name, 0, "PLY faces without a 'vertex_indices' list");
+        const bool colour = vertex && c.r >= 0 && c.g >= 0 && c.b >= 0;
+        if (e.count > (uint64_t(1) << 31)) return core::make_error(name, 0, "PLY element '" + e.name + "' counts " + std::to_string(e.count) + ": too many");
+        std::vector<double> row(e.properties.size());
+        std::vector<uint32_t> polygon;
+        std::vector<Vec3f> corners;
+        for (uint64_t k = 0; k < e.count; ++k) {
+            PBDSPLAT_TRY(read_row(r, e, face ? c.face : -1, row, polygon, name));
+            if (face) PBDSPLAT_TRY(add_face(polygon, k, m, corners, name));
+            if (!vertex) continue;
+            const Vec3f x{float(row[size_t(c.x)]), float(row[size_t(c.y)]), float(row[size_t(c.z)])};
+            if (!x.allFinite()) return core::make_error(name, 0, "PLY vertex " + std::to_string(k) + " has a non-finite coordinate");
+            m.positions.push_back(x);
+            if (colour)
+                m.colors.emplace_back(colour_value(row[size_t(c.r)], e.properties[size_t(c.r)].type),
+                                      colour_value(row[size_t(c.g)], e.properties[size_t(c.g)].type),
+                                      colour_value(row[size_t(c.b)], e.properties[size_t(c.b)].type));
+            if (c.u >= 0 && c.v >= 0) uvs.emplace_back(float(row[size_t(c.u)]), 1.0f - float(row[size_t(c.v)]));
+        }
+    }
+    return core::Status::success();
+}
+
+// A MeshLab `comment TextureFile` with per-vertex coordinates: the image over every triangle.
+void attach_texture(const Header& h, const std::string& base_dir, const std::string& name, std::span<const Vec2f> uvs,
+                    const mesh::TriangleMesh& m, SurfaceLook& look, std::vector<std::string>& warnings) {
+    if (h.texture_file.empty() || uvs.size() != m.positions.size()) return;
+    std::filesystem::path p = std::filesystem::path(base_dir.empty() ? "." : base_dir) / h.texture_file;
+    auto image = core::read_image(p.string());
+    if (!image.ok()) {
+        warnings.push_back(name + ": texture '" + h.texture_file + "' not read (" + image.error().to_string() + ")");
+        return;
+    }
+    look.textures.push_back(Texture{p.string(), image->width, image->height, std::move(image->pixels)});
+    look.materials.push_back(Material{"texture", Vec3f::Ones(), 0});
+    look.material.assign(m.triangles.size(), 0);
+    look.uv.resize(m.triangles.size());
+    for (size_t t = 0; t < m.triangles.size(); ++t)
+        for (size_t k = 0; k < 3; ++k) look.uv[t][k] = uvs[m.triangles[t][k]];
+}
+
 } // namespace
 
 core::Result<ModelAsset> parse_ply_mesh(const std::string& bytes, const std::string& name, const std::string& base_dir) {
@@ -187,85 +291,17 @@ core::Result<ModelAsset> parse_ply_mesh(const std::string& bytes, const std::str
     ModelAsset out;
     mesh::TriangleMesh& m = out.mesh;
     std::vector<Vec2f> uvs;
-    bool has_colour = false;
-    for (const Element& e : h.elements) {
-        const bool vertex = e.name == "vertex", face = e.name == "face";
-        const int ix = find_prop(e, {"x"}), iy = find_prop(e, {"y"}), iz = find_prop(e, {"z"});
-        const int ir = find_prop(e, {"red", "r", "diffuse_red"}), ig = find_prop(e, {"green", "g", "diffuse_green"}),
-                  ib = find_prop(e, {"blue", "b", "diffuse_blue"});
-        const int iu = find_prop(e, {"s", "u", "texture_u", "texture_s"}), iv = find_prop(e, {"t", "v", "texture_v", "texture_t"});
-        const int iface = find_prop(e, {"vertex_indices", "vertex_index"});
-        if (vertex && (ix < 0 || iy < 0 || iz < 0)) return core::make_error(name, 0, "PLY vertices without x, y and z");
-        if (face && (iface < 0 || e.properties[size_t(iface)].count_type == Type::none))
-            return core::make_error(name, 0, "PLY faces without a 'vertex_indices' list");
-        if (vertex) has_colour = ir >= 0 && ig >= 0 && ib >= 0;
-        if (e.count > (uint64_t(1) << 31)) return core::make_error(name, 0, "PLY element '" + e.name + "' counts " + std::to_string(e.count) + ": too many");
-        std::vector<double> row(e.properties.size());
-        std::vector<uint32_t> polygon;
-        std::vector<Vec3f> corners;
-        for (uint64_t k = 0; k < e.count; ++k) {
-            for (size_t p = 0; p < e.properties.size(); ++p) {
-                const Property& prop = e.properties[p];
-                if (prop.count_type == Type::none) {
-                    auto v = r.next(prop.type);
-                    if (!v.ok()) return v.error();
-                    row[p] = v.value();
-                    continue;
-                }
-                auto len = r.next(prop.count_type);
-                if (!len.ok()) return len.error();
-                if (!(len.value() >= 0.0) || len.value() > 1e6) return core::make_error(name, 0, "PLY list of length " + std::to_string(len.value()));
-                const bool keep = face && int(p) == iface;
-                if (keep) polygon.clear();
-                for (uint32_t j = 0; j < uint32_t(len.value()); ++j) {
-                    auto v = r.next(prop.type);
-                    if (!v.ok()) return v.error();
-                    if (keep) polygon.push_back(v.value() < 0.0 ? UINT32_MAX : uint32_t(v.value()));
-                }
-            }
-            if (vertex) {
-                const Vec3f x{float(row[size_t(ix)]), float(row[size_t(iy)]), float(row[size_t(iz)])};
-                if (!x.allFinite()) return core::make_error(name, 0, "PLY vertex " + std::to_string(k) + " has a non-finite coordinate");
-                m.positions.push_back(x);
-                if (has_colour)
-                    m.colors.emplace_back(colour_value(row[size_t(ir)], e.properties[size_t(ir)].type),
-                                          colour_value(row[size_t(ig)], e.properties[size_t(ig)].type),
-                                          colour_value(row[size_t(ib)], e.properties[size_t(ib)].type));
-                if (iu >= 0 && iv >= 0) uvs.emplace_back(float(row[size_t(iu)]), 1.0f - float(row[size_t(iv)]));
-            } else if (face) {
-                if (polygon.size() < 3) continue;  // points and lines in a face list are not surface
-                corners.clear();
-                for (uint32_t v : polygon) {
-                    if (v >= m.positions.size())
-                        return core::make_error(name, 0, "PLY face " + std::to_string(k) + " refers to vertex " + std::to_string(v) + " of " +
-                                                             std::to_string(m.positions.size()));
-                    corners.push_back(m.positions[v]);
-                }
-                for (const auto& t : mesh::triangulate_polygon(corners)) m.triangles.push_back({polygon[t[0]], polygon[t[1]], polygon[t[2]]});
-            }
-        }
-    }
+    PBDSPLAT_TRY(read_elements(h, r, m, uvs, name));
     if (m.triangles.empty()) return core::make_error(name, 0, "PLY with no faces of three or more vertices: nothing to simulate");
+    // Colours only where every vertex has one.
+    if (m.colors.size() != m.positions.size()) m.colors.clear();
     SurfaceLook look;
-    if (has_colour) {
+    if (!m.colors.empty()) {
         look.corner_color.resize(m.triangles.size());
         for (size_t t = 0; t < m.triangles.size(); ++t)
             for (size_t k = 0; k < 3; ++k) look.corner_color[t][k] = srgb_to_linear(m.colors[m.triangles[t][k]]);
     }
-    if (!h.texture_file.empty() && uvs.size() == m.positions.size()) {
-        std::filesystem::path p = std::filesystem::path(base_dir.empty() ? "." : base_dir) / h.texture_file;
-        auto image = core::read_image(p.string());
-        if (!image.ok()) {
-            out.warnings.push_back(name + ": texture '" + h.texture_file + "' not read (" + image.error().to_string() + ")");
-        } else {
-            look.textures.push_back(Texture{p.string(), image->width, image->height, std::move(image->pixels)});
-            look.materials.push_back(Material{"texture", Vec3f::Ones(), 0});
-            look.material.assign(m.triangles.size(), 0);
-            look.uv.resize(m.triangles.size());
-            for (size_t t = 0; t < m.triangles.size(); ++t)
-                for (size_t k = 0; k < 3; ++k) look.uv[t][k] = uvs[m.triangles[t][k]];
-        }
-    }
+    attach_texture(h, base_dir, name, uvs, m, look, out.warnings);
     if (look.has_colour()) {
         out.look = std::move(look);
         share_geometry(out);
