@@ -69,6 +69,80 @@ void remember_file_load(const std::string& path, const MeshSpecOptions& o, const
     g_last_load = std::move(f);
 }
 
+// The procedural meshes a spec may name: kind, each parameter's range, the maker.
+struct Procedural {
+    const char* kind;
+    std::vector<std::pair<uint32_t, uint32_t>> ranges;
+    mesh::TriangleMesh (*make)(const std::vector<uint32_t>& a);
+};
+const std::vector<Procedural>& procedurals() {
+    static const std::vector<Procedural> p = {
+        {"icosphere", {{0, 8}}, [](const std::vector<uint32_t>& a) { return mesh::icosphere(a[0]); }},
+        {"uvsphere", {{2, 2048}, {3, 4096}}, [](const std::vector<uint32_t>& a) { return mesh::uv_sphere(a[0], a[1]); }},
+        {"torus", {{3, 4096}, {3, 4096}}, [](const std::vector<uint32_t>& a) { return mesh::torus(a[0], a[1]); }},
+        {"box", {{1, 512}}, [](const std::vector<uint32_t>& a) { return mesh::box(Vec3f(1, 1, 1), a[0]); }},
+        {"capsule", {{2, 2048}, {3, 4096}}, [](const std::vector<uint32_t>& a) { return mesh::capsule(0.5f, 1.0f, a[0], a[1]); }},
+        {"grid", {{1, 2048}}, [](const std::vector<uint32_t>& a) { return mesh::grid_sheet(a[0], 2.0f); }},
+        {"quadruped", {{1, 64}}, [](const std::vector<uint32_t>& a) { return mesh::quadruped(a[0]); }},
+    };
+    return p;
+}
+const Procedural* find_procedural(const std::string& kind) {
+    for (const Procedural& p : procedurals())
+        if (kind == p.kind) return &p;
+    return nullptr;
+}
+
+// `parts`: the spec split at ':'; each parameter read against its range.
+core::Result<LoadedModel> load_procedural(const Procedural& p, const std::string& spec, const std::vector<std::string>& parts) {
+    if (parts.size() != p.ranges.size() + 1)
+        return core::make_error("mesh '" + spec + "': " + p.kind + " takes " + std::to_string(p.ranges.size()) + " parameter(s)");
+    std::vector<uint32_t> args;
+    for (size_t i = 0; i < p.ranges.size(); ++i) {
+        auto v = number(spec, parts[i + 1], p.ranges[i].first, p.ranges[i].second);
+        if (!v.ok()) return v.error();
+        args.push_back(v.value());
+    }
+    mesh::RepairOptions o;
+    o.weld_tolerance = 1e-6f;
+    auto repaired = mesh::repair(p.make(args), o, spec);
+    if (!repaired.ok()) return repaired.error();
+    return LoadedModel{std::move(repaired).value(), std::nullopt, {}, 0};
+}
+
+// A model file: found on the search path, read, repaired and fitted, its look moved with it,
+// refined when it has too few vertices to simulate; the last one kept for the next load.
+core::Result<LoadedModel> load_file(const std::string& spec, const MeshSpecOptions& options) {
+    const auto path = find_model(spec);
+    std::error_code ec;
+    if (!path && std::filesystem::is_directory(spec, ec))
+        return core::make_error(spec + ": is a folder, not a mesh file (name a model file inside it, or a procedural mesh)");
+    if (!path) {
+        std::string where;
+        for (const auto& d : model_search_path()) where += (where.empty() ? "" : ", ") + d;
+        return core::make_error(spec + ": no such file, and not a procedural mesh (icosphere:L, uvsphere:R:S, "
+                                       "torus:S:T, box:D, capsule:R:S, grid:N, quadruped:D); searched " + where);
+    }
+    if (auto cached = last_file_load(*path, options)) return std::move(*cached);
+    auto raw = load_model_file(*path);
+    if (!raw.ok()) return raw.error();
+    mesh::RepairOptions o;
+    o.center = options.file_fit_diagonal > 0.0f;
+    o.fit_diagonal = options.file_fit_diagonal;
+    o.close_holes = options.close_holes;
+    LoadedModel out;
+    out.look = std::move(raw.value().look);
+    out.warnings = std::move(raw.value().warnings);
+    auto repaired = mesh::repair(std::move(raw.value().mesh), o, *path);
+    if (!repaired.ok()) return repaired.error();
+    out.repaired = std::move(repaired).value();
+    if (out.look)
+        for (Vec3f& p : out.look->positions) p = (p + out.repaired.shift) * out.repaired.scale;
+    out.refined_levels = mesh::refine_to(out.repaired.mesh, k_min_file_vertices);
+    remember_file_load(*path, options, out);
+    return out;
+}
+
 } // namespace
 
 void forget_loads() {
@@ -76,92 +150,12 @@ void forget_loads() {
     g_last_load.reset();
 }
 
-bool is_procedural_spec(const std::string& spec) {
-    const std::string kind = split(spec, ':')[0];
-    for (const char* k : {"icosphere", "uvsphere", "torus", "box", "capsule", "grid", "quadruped"})
-        if (kind == k) return true;
-    return false;
-}
+bool is_procedural_spec(const std::string& spec) { return find_procedural(split(spec, ':')[0]) != nullptr; }
 
 core::Result<LoadedModel> load_model(const std::string& spec, const MeshSpecOptions& options) {
     const auto parts = split(spec, ':');
-    const std::string& kind = parts[0];
-    auto args = [&](size_t n, std::initializer_list<std::pair<uint32_t, uint32_t>> ranges) -> core::Result<std::vector<uint32_t>> {
-        if (parts.size() != n + 1)
-            return core::make_error("mesh '" + spec + "': " + kind + " takes " + std::to_string(n) + " parameter(s)");
-        std::vector<uint32_t> out;
-        size_t i = 1;
-        for (const auto& [lo, hi] : ranges) {
-            auto v = number(spec, parts[i++], lo, hi);
-            if (!v.ok()) return v.error();
-            out.push_back(v.value());
-        }
-        return out;
-    };
-    mesh::TriangleMesh m;
-    if (kind == "icosphere") {
-        auto a = args(1, {{0, 8}});
-        if (!a.ok()) return a.error();
-        m = mesh::icosphere(a.value()[0]);
-    } else if (kind == "uvsphere") {
-        auto a = args(2, {{2, 2048}, {3, 4096}});
-        if (!a.ok()) return a.error();
-        m = mesh::uv_sphere(a.value()[0], a.value()[1]);
-    } else if (kind == "torus") {
-        auto a = args(2, {{3, 4096}, {3, 4096}});
-        if (!a.ok()) return a.error();
-        m = mesh::torus(a.value()[0], a.value()[1]);
-    } else if (kind == "box") {
-        auto a = args(1, {{1, 512}});
-        if (!a.ok()) return a.error();
-        m = mesh::box(Vec3f(1, 1, 1), a.value()[0]);
-    } else if (kind == "capsule") {
-        auto a = args(2, {{2, 2048}, {3, 4096}});
-        if (!a.ok()) return a.error();
-        m = mesh::capsule(0.5f, 1.0f, a.value()[0], a.value()[1]);
-    } else if (kind == "quadruped") {
-        auto a = args(1, {{1, 64}});
-        if (!a.ok()) return a.error();
-        m = mesh::quadruped(a.value()[0]);
-    } else if (kind == "grid") {
-        auto a = args(1, {{1, 2048}});
-        if (!a.ok()) return a.error();
-        m = mesh::grid_sheet(a.value()[0], 2.0f);
-    } else {
-        const auto path = find_model(spec);
-        std::error_code ec;
-        if (!path && std::filesystem::is_directory(spec, ec))
-            return core::make_error(spec + ": is a folder, not a mesh file (name a model file inside it, or a procedural mesh)");
-        if (!path) {
-            std::string where;
-            for (const auto& d : model_search_path()) where += (where.empty() ? "" : ", ") + d;
-            return core::make_error(spec + ": no such file, and not a procedural mesh (icosphere:L, uvsphere:R:S, "
-                                           "torus:S:T, box:D, capsule:R:S, grid:N, quadruped:D); searched " + where);
-        }
-        if (auto cached = last_file_load(*path, options)) return std::move(*cached);
-        auto raw = load_model_file(*path);
-        if (!raw.ok()) return raw.error();
-        mesh::RepairOptions o;
-        o.center = options.file_fit_diagonal > 0.0f;
-        o.fit_diagonal = options.file_fit_diagonal;
-        o.close_holes = options.close_holes;
-        LoadedModel out;
-        out.look = std::move(raw.value().look);
-        out.warnings = std::move(raw.value().warnings);
-        auto repaired = mesh::repair(std::move(raw.value().mesh), o, *path);
-        if (!repaired.ok()) return repaired.error();
-        out.repaired = std::move(repaired).value();
-        if (out.look)
-            for (Vec3f& p : out.look->positions) p = (p + out.repaired.shift) * out.repaired.scale;
-        out.refined_levels = mesh::refine_to(out.repaired.mesh, k_min_file_vertices);
-        remember_file_load(*path, options, out);
-        return out;
-    }
-    mesh::RepairOptions o;
-    o.weld_tolerance = 1e-6f;
-    auto repaired = mesh::repair(std::move(m), o, spec);
-    if (!repaired.ok()) return repaired.error();
-    return LoadedModel{std::move(repaired).value(), std::nullopt, {}, 0};
+    if (const Procedural* p = find_procedural(parts[0])) return load_procedural(*p, spec, parts);
+    return load_file(spec, options);
 }
 
 core::Result<mesh::RepairedMesh> load_mesh_spec(const std::string& spec, const MeshSpecOptions& options) {
