@@ -6,8 +6,9 @@
 
 namespace pbdsplat::gpu {
 
-void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, const ColorTarget& color, const DepthTarget& depth) {
-    begin_rendering(cmd, extent, std::span<const ColorTarget>(&color, 1), depth);
+void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, const ColorTarget& color, const DepthTarget& depth,
+                     std::optional<VkRect2D> area) {
+    begin_rendering(cmd, extent, std::span<const ColorTarget>(&color, 1), depth, area);
 }
 
 void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, std::span<const ColorTarget> colors, const DepthTarget& depth,

@@ -1,6 +1,7 @@
 #pragma once
 // Dynamic rendering into colour attachments and, optionally, a depth attachment, with the
-// viewport and scissor covering the whole target: how every pass here begins drawing.
+// viewport covering the whole target and the scissor its render area: how every pass here
+// begins drawing.
 #include <optional>
 #include <span>
 
@@ -22,11 +23,12 @@ struct DepthTarget {
 };
 
 // The images must be in COLOR_ATTACHMENT_OPTIMAL and DEPTH_ATTACHMENT_OPTIMAL (the frame
-// graph's barriers put them there). The colour is always stored.
-void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, const ColorTarget& color, const DepthTarget& depth = {});
-// Several colour attachments (locations 0, 1, ... in that order; at most 4). `area`: the render
-// area and scissor (cleared, drawn and stored there alone); the whole extent when left out.
-// The viewport is always the whole extent, so the image maps to the target as ever.
+// graph's barriers put them there). The colour is always stored. `area`: the render area and
+// scissor (cleared, drawn and stored there alone); the whole extent when left out. The viewport
+// is always the whole extent, so the image maps to the target as ever.
+void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, const ColorTarget& color, const DepthTarget& depth = {},
+                     std::optional<VkRect2D> area = {});
+// Several colour attachments (locations 0, 1, ... in that order; at most 4).
 void begin_rendering(VkCommandBuffer cmd, VkExtent2D extent, std::span<const ColorTarget> colors, const DepthTarget& depth = {},
                      std::optional<VkRect2D> area = {});
 

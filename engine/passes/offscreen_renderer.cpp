@@ -8,17 +8,31 @@ core::Result<std::unique_ptr<OffscreenRenderer>> OffscreenRenderer::create(gpu::
     auto renderer = render::SplatRenderer::create(ctx, options);
     if (!renderer.ok()) return renderer.error();
     r->renderer_ = std::move(renderer).value();
-    const auto input = r->graph_.import("frame input", &r->input_);
-    const auto sink = r->graph_.import("image", &r->sink_);
-    const auto drawn = add_gpu_passes(r->graph_, *r->renderer_, r->resources_, input, sink, options.gpu_sort);
     r->presenter_ = presenter;
-    if (presenter) {
-        const PresentSources sources{drawn, {}, r->renderer_->width(), r->renderer_->height(),
-                                     [renderer = r->renderer_.get()] { return renderer->slot(); }};
-        presenter->add_passes(r->graph_, sources);
-    }
-    PBDSPLAT_TRY(r->graph_.compile());
+    r->gpu_sort_ = options.gpu_sort;
+    r->readback_ = presenter == nullptr;
+    PBDSPLAT_TRY(r->build_graph());
     return r;
+}
+
+core::Status OffscreenRenderer::build_graph() {
+    graph_ = graph::FrameGraph();
+    const auto input = graph_.import("frame input", &input_);
+    // Without a sink the readback pass is culled: a window shows frames without copying them out.
+    const auto sink = graph_.import("image", readback_ ? &sink_ : static_cast<ImageSink*>(nullptr));
+    const auto drawn = add_gpu_passes(graph_, *renderer_, resources_, input, sink, gpu_sort_);
+    if (presenter_) {
+        const PresentSources sources{drawn, {}, renderer_->width(), renderer_->height(),
+                                     [renderer = renderer_.get()] { return renderer->slot(); }};
+        presenter_->add_passes(graph_, sources);
+    }
+    return graph_.compile();
+}
+
+core::Status OffscreenRenderer::set_readback(bool readback) {
+    if (readback == readback_) return core::Status::success();
+    readback_ = readback;
+    return build_graph();
 }
 
 core::Status OffscreenRenderer::render(std::span<const splat::GaussianRecord> records, const render::FrameInputs& inputs,

@@ -12,7 +12,8 @@ namespace pbdsplat::passes {
 class OffscreenRenderer {
 public:
     // `presenter`: also takes each frame to a window (its passes join the graph, and each
-    // frame's submit waits on and signals its semaphores); it must outlive the renderer.
+    // frame's submit waits on and signals its semaphores); it must outlive the renderer. A
+    // presenting renderer reads frames back only after set_readback(true).
     static core::Result<std::unique_ptr<OffscreenRenderer>> create(gpu::Context& ctx, const render::RendererOptions& options,
                                                                    Presenter* presenter = nullptr);
 
@@ -28,6 +29,8 @@ public:
         input_.occluder_positions = positions;
         input_.occluder_triangles = triangles;
     }
+    // Whether each frame is copied out for finish() (always, unless presenting).
+    core::Status set_readback(bool readback);
     // Waits for the GPU and returns the last frame's image.
     core::Result<core::ImageRgba8> finish() { return renderer_->finish(); }
     render::GpuTimings timings() const { return renderer_->timings(); }
@@ -37,8 +40,10 @@ public:
 
 private:
     OffscreenRenderer() = default;
+    core::Status build_graph();
     std::unique_ptr<render::SplatRenderer> renderer_;
     Presenter* presenter_ = nullptr;
+    bool gpu_sort_ = false, readback_ = true;
     GpuPassResources resources_;
     GpuFrameInput input_;
     ImageSink sink_;

@@ -51,8 +51,7 @@ void NormalisedBlend::begin_accumulation(VkCommandBuffer cmd, VkImageView depth,
 void NormalisedBlend::end_accumulation(VkCommandBuffer cmd) const { vkCmdEndRendering(cmd); }
 
 void NormalisedBlend::record_resolve(VkCommandBuffer cmd, VkImageView target, VkRect2D area) const {
-    const gpu::ColorTarget color{target};
-    gpu::begin_rendering(cmd, extent_, std::span<const gpu::ColorTarget>(&color, 1), {}, area);
+    gpu::begin_rendering(cmd, extent_, gpu::ColorTarget{target}, {}, area);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_.get());
     const VkDescriptorSet set = sums_.set();
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &set, 0, nullptr);

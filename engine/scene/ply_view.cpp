@@ -59,6 +59,11 @@ void sort_ply(splat::PlyGaussians& file, const render::FrameInputs& frame) {
     splat::reorder_like_last_sort(scratch, file.sh);
 }
 
+void order_ply(splat::PlyGaussians& file, render::FrameInputs& frame, bool gpu_sort) {
+    if (gpu_sort) frame.style.order = render::SplatOrder::gpu;
+    else sort_ply(file, frame);
+}
+
 void bake_shading(const render::FrameInputs& frame, const render::EnvironmentMap& map, std::span<splat::GaussianRecord> records) {
     render::CpuShading shading;
     shading.lighting = &frame.lighting;

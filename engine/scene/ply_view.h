@@ -25,6 +25,9 @@ bool ply_sort_on_gpu(const std::string& device_type);
 
 // Sorts the file's streams far to near for the frame's camera.
 void sort_ply(splat::PlyGaussians& file, const render::FrameInputs& frame);
+// Orders the file far to near for `frame`: on the device (the frame asks for the renderer's
+// sort, created with ply_renderer_options(..., gpu_sort)), or here with sort_ply.
+void order_ply(splat::PlyGaussians& file, render::FrameInputs& frame, bool gpu_sort);
 
 // Replaces each record's base colour by its lit colour as `frame` shades it (render/cpu_shading.h,
 // seen from the frame's eye, `map` the scene's environment): for export to viewers without the

@@ -110,6 +110,7 @@ void summarise(CheckReport& report, std::vector<double> stage_a) {
         report.shape_error_max = std::max(report.shape_error_max, s.shape_error);
         if (s.cuts == 0 && s.tears == 0) report.shape_error_before_topology = std::max(report.shape_error_before_topology, s.shape_error);
         report.strays_max = std::max(report.strays_max, s.strays);
+        report.gaussians_max = std::max(report.gaussians_max, s.gaussians);
         report.volume_error_max = std::max(report.volume_error_max, s.volume_error);
         report.penetration_max = std::max(report.penetration_max, s.penetration);
         report.tilt_max = std::max(report.tilt_max, s.tilt_degrees);

@@ -68,6 +68,7 @@ struct CheckReport {
     size_t smallest_piece_min = 0;  // triangles: the smallest fragment any sample saw
     size_t pieces = 0, tears = 0;  // at the end
     size_t particles = 0, gaussians = 0;  // at the end
+    size_t gaussians_max = 0;             // the most any measured frame drew: the scene's work
     double stage_a_ms = 0.0;  // median of the frames' Stage A (forces, constraints, integrate)
     // The simulation mesh against the model: the model's vertices, and how exactly the
     // embedded samples reproduce its surface at rest (largest error over the diagonal).

@@ -178,9 +178,6 @@ core::Status SceneRuntime::step() {
     if (renderer_) {
         const render::GpuTimings g = renderer_->timings();
         s.uploaded_bytes = g.uploaded_bytes;
-        s.gpu_upload_ms = g.upload_ms;
-        s.gpu_sort_ms = g.sort_ms;
-        s.gpu_draw_ms = g.draw_ms;
         s.gpu = g;
     }
     s.graph_ms = frame_clock.elapsed_ms();

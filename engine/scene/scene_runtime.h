@@ -72,9 +72,8 @@ struct FrameStats {
     uint64_t uploaded_bytes = 0;  // of the newest finished GPU frame
     // GPU time of the newest finished frame, per pass, from timestamps (0 where the device has
     // none or the pass did not run): the paper's "GPU Scene" row, broken down.
-    double gpu_upload_ms = 0.0, gpu_sort_ms = 0.0, gpu_draw_ms = 0.0;
-    render::GpuTimings gpu;  // all of the newest finished frame's, the drawing's parts included
-    double gpu_scene_ms() const { return gpu_upload_ms + gpu_sort_ms + gpu_draw_ms; }
+    render::GpuTimings gpu;
+    double gpu_scene_ms() const { return gpu.upload_ms + gpu.sort_ms + gpu.draw_ms; }
     surface::DensityStats density;  // this frame's density control
 };
 

@@ -207,8 +207,7 @@ TEST_SUITE("render/sort") {
                 o.path = path;
                 render::FrameInputs frame = scene::ply_view(copy.records);
                 frame.camera.eye = Vec3f(0.4f, 0.9f, 2.6f);
-                if (gpu_sort) frame.style.order = render::SplatOrder::gpu;
-                else scene::sort_ply(copy, frame);
+                scene::order_ply(copy, frame, gpu_sort);
                 auto r = passes::OffscreenRenderer::create(*ctx, o);
                 REQUIRE_MESSAGE(r.ok(), r.error().to_string());
                 REQUIRE(r.value()->render(copy.records, frame, {}, copy.shapes, copy.sh).ok());

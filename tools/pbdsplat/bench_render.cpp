@@ -1,5 +1,6 @@
 #include <cmath>
 
+#include "core/names.h"
 #include "core/timer.h"
 #include "pbdsplat/bench_suites.h"
 #include "pbdsplat/gpu_options.h"
@@ -82,8 +83,8 @@ Outcome measure_mesh_raster(gpu::Context& ctx, const Options& opt, const render:
 }
 
 // --ply FILE: a trained capture orbited as `render FILE.ply` draws it. Each frame turns the eye
-// about the file's vertical axis, sorts far to near on the CPU (the shape and colour streams
-// travel with the records) and draws.
+// about the file's vertical axis, sorts far to near (on the device or the CPU, as render does)
+// and draws.
 Outcome measure_capture(const Options& opt) {
     for (const char* key : {"splats", "shading", "footprint", "blend", "kappa", "carrier", "cull-facing", "environment", "scale"})
         if (opt.given(key)) return Outcome::usage(std::string("--") + key + " applies to the sphere; --ply draws the file as it was trained");
@@ -106,9 +107,7 @@ Outcome measure_capture(const Options& opt) {
     render::RendererOptions options = scene::ply_renderer_options(gaussians.value(), width, height, gpu_sort);
     const std::string& path_arg = opt.text("path");
     if (path_arg == "meshraster") return Outcome::usage("--path meshraster draws the sphere's mesh, not a capture");
-    if (path_arg == "gs") options.path = render::SplatPath::geometry;
-    else if (path_arg == "mesh") options.path = render::SplatPath::mesh;
-    else if (path_arg == "vertex") options.path = render::SplatPath::vertex;
+    options.path = core::from_name<render::SplatPath>(render::k_splat_path_names, path_arg);  // none: auto
     if (options.path) {
         const std::string why = render::splat_path_unsupported(caps, *options.path);
         if (!why.empty()) return core::make_error(why);
@@ -126,8 +125,7 @@ Outcome measure_capture(const Options& opt) {
         frame.camera.eye = start.camera.target + Vec3f(std::cos(turn) * offset.x() + std::sin(turn) * offset.z(), offset.y(),
                                                        -std::sin(turn) * offset.x() + std::cos(turn) * offset.z());
         const core::Stopwatch sort_clock;
-        if (gpu_sort) frame.style.order = render::SplatOrder::gpu;
-        else scene::sort_ply(gaussians.value(), frame);
+        scene::order_ply(gaussians.value(), frame, gpu_sort);
         const double sorting = sort_clock.elapsed_ms();
         PBDSPLAT_TRY(renderer.value()->render(gaussians->records, frame, {}, gaussians->shapes, gaussians->sh));
         PBDSPLAT_TRY(renderer.value()->finish());
@@ -161,12 +159,9 @@ Outcome measure(const Options& opt) {
     if (opt.given("ply")) return measure_capture(opt);
     const uint32_t count = opt.whole("splats"), width = opt.whole("width"), height = opt.whole("height");
     const uint32_t repeat = opt.whole("repeat"), warmup = opt.whole("warmup");
-    std::optional<render::SplatPath> path;
     const std::string& path_arg = opt.text("path");
     const bool mesh_raster = path_arg == "meshraster";
-    if (path_arg == "gs") path = render::SplatPath::geometry;
-    else if (path_arg == "mesh") path = render::SplatPath::mesh;
-    else if (path_arg == "vertex") path = render::SplatPath::vertex;
+    const std::optional<render::SplatPath> path = core::from_name<render::SplatPath>(render::k_splat_path_names, path_arg);
     const std::string& sort = opt.text("sort");
     if (mesh_raster && sort != "off") return Outcome::usage("--path meshraster draws opaque triangles: no --sort");
     const std::string& shading_arg = opt.text("shading");

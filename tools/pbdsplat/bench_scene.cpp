@@ -57,7 +57,7 @@ struct Samples {
         events.push_back(s.events_ms), forces.push_back(s.apply_forces_ms), constraints.push_back(s.constraints_ms);
         integrate.push_back(s.integrate_normals_ms), update.push_back(s.update_particles_ms);
         gpu_record.push_back(s.gpu_record_ms), frame.push_back(s.graph_ms);
-        gpu_upload.push_back(s.gpu_upload_ms), gpu_sort.push_back(s.gpu_sort_ms), gpu_draw.push_back(s.gpu_draw_ms);
+        gpu_upload.push_back(s.gpu.upload_ms), gpu_sort.push_back(s.gpu.sort_ms), gpu_draw.push_back(s.gpu.draw_ms);
         gpu_splat.push_back(s.gpu.splat_ms), gpu_occluders.push_back(s.gpu.occluders_ms);
         gpu_over_occluders.push_back(s.gpu.over_occluders_ms), gpu_accumulate.push_back(s.gpu.accumulate_ms);
         gpu_resolve.push_back(s.gpu.resolve_ms);

@@ -114,7 +114,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                                   {"smallest_piece_min", r.smallest_piece_min},
                                   {"particles", r.particles},
                                   {"gaussians", r.gaussians},
-                                  {"gaussians_max", *scene::check_figure(r, "gaussians_max")},
+                                  {"gaussians_max", r.gaussians_max},
                                   {"stage_a_ms", r.stage_a_ms},
                                   {"model_vertices", r.model_vertices},
                                   {"simulation_particles", r.simulation_particles},

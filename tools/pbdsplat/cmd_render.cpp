@@ -67,8 +67,7 @@ int render_ply(const std::string& file, const Options& opt, uint32_t width, uint
     auto ctx = open_context(opt);
     if (!ctx.ok()) return fail("render", ctx.error().to_string());
     const bool gpu_sort = opt.given("sort") ? opt.text("sort") == "gpu" : scene::ply_sort_on_gpu(ctx.value()->caps().type);
-    if (gpu_sort) frame.style.order = render::SplatOrder::gpu;
-    else scene::sort_ply(gaussians.value(), frame);
+    scene::order_ply(gaussians.value(), frame, gpu_sort);
     const render::RendererOptions ro =
         scene::ply_renderer_options(gaussians.value(), width ? width : 1280, height ? height : 720, gpu_sort);
     auto renderer = passes::OffscreenRenderer::create(*ctx.value(), ro);

@@ -13,20 +13,45 @@ namespace pbdsplat::cli {
 
 namespace {
 
-void print_report(const Options& opt, const std::string& name, const demo::DemoReport& r, bool vsync) {
+// The run's outcome: its error, its validation messages, or its figures (text or --json).
+int finish_run(const Options& opt, const std::string& name, const core::Result<demo::DemoReport>& report,
+               const demo::WindowRunOptions& o) {
+    if (!report.ok()) return fail("run", report.error().to_string());
+    const demo::DemoReport& r = report.value();
+    if (o.validation && r.validation_messages > 0)
+        return fail("run", std::to_string(r.validation_messages) + " validation messages (see above)");
     if (opt.flag("json")) {
         const nlohmann::json j = {{"command", "run"}, {"scene", name}, {"device", r.device},
                                   {"frames", r.frames}, {"median_frame_ms", r.median_frame_ms}, {"fps", r.fps},
                                   {"fps_before_cut", r.fps_before_cut}, {"fps_after_cut", r.fps_after_cut},
                                   {"cuts", r.cuts}, {"tears", r.tears}, {"pieces", r.pieces}, {"particles", r.particles},
-                                  {"gaussians", r.gaussians}, {"vsync", vsync}, {"screenshot", r.screenshot}};
+                                  {"gaussians", r.gaussians}, {"vsync", o.vsync}, {"screenshot", r.screenshot}};
         std::printf("%s\n", j.dump().c_str());
-        return;
+        return 0;
     }
     std::printf("%llu frames, median %.2f ms (%.1f FPS)", static_cast<unsigned long long>(r.frames), r.median_frame_ms, r.fps);
     if (r.cuts) std::printf("; %.1f FPS before the first cut, %.1f after", r.fps_before_cut, r.fps_after_cut);
     std::printf("\n");
     if (!r.screenshot.empty()) std::printf("screenshot: %s\n", r.screenshot.c_str());
+    return 0;
+}
+
+// The options every windowed view shares; non-zero: the usage error's exit code.
+int read_window_options(const Options& opt, demo::WindowRunOptions& o) {
+    o.frames = opt.whole("frames");
+    if (opt.given("screenshot-at")) {
+        const uint32_t at = opt.whole("screenshot-at");
+        if (o.frames && at >= o.frames)
+            return usage_error("run", "--screenshot-at " + std::to_string(at) + " is past the last frame (--frames " +
+                                          std::to_string(o.frames) + " runs frames 0 to " + std::to_string(o.frames - 1) + ")");
+        o.screenshot_at = at;
+    }
+    o.screenshot_path = opt.text("screenshot");
+    o.vsync = !opt.flag("no-vsync");
+    o.hud = !opt.flag("no-hud");
+    o.validation = opt.flag("validation");
+    o.device = opt.text("device");
+    return 0;
 }
 
 // A trained capture in the window (demo/capture_app.h).
@@ -38,24 +63,9 @@ int run_capture(const std::string& file, const Options& opt) {
     o.up = opt.text("up") == "y" ? splat::PlyUp::y : splat::PlyUp::minus_y;
     if (opt.given("width")) o.width = opt.whole("width");
     if (opt.given("height")) o.height = opt.whole("height");
-    o.frames = opt.whole("frames");
-    if (opt.given("screenshot-at")) {
-        if (o.frames && opt.whole("screenshot-at") >= o.frames)
-            return usage_error("run", "--screenshot-at is past the last frame (--frames " + std::to_string(o.frames) + ")");
-        o.screenshot_at = opt.whole("screenshot-at");
-    }
-    o.screenshot_path = opt.text("screenshot");
     if (opt.given("sort")) o.gpu_sort = opt.text("sort") == "gpu";
-    o.vsync = !opt.flag("no-vsync");
-    o.hud = !opt.flag("no-hud");
-    o.validation = opt.flag("validation");
-    o.device = opt.text("device");
-    auto report = demo::run_capture(o);
-    if (!report.ok()) return fail("run", report.error().to_string());
-    if (o.validation && report->validation_messages > 0)
-        return fail("run", std::to_string(report->validation_messages) + " validation messages (see above)");
-    print_report(opt, file, report.value(), o.vsync);
-    return 0;
+    if (const int usage = read_window_options(opt, o)) return usage;
+    return finish_run(opt, file, demo::run_capture(o), o);
 }
 
 } // namespace
@@ -98,28 +108,10 @@ int cmd_run(const std::vector<std::string>& argv) {
     o.scene = std::move(scene).value();
     if (opt.given("width")) o.scene.render.width = opt.whole("width");
     if (opt.given("height")) o.scene.render.height = opt.whole("height");
-    o.frames = opt.whole("frames");
-    if (opt.given("screenshot-at")) {
-        const uint32_t at = opt.whole("screenshot-at");
-        if (o.frames && at >= o.frames)
-            return usage_error("run", "--screenshot-at " + std::to_string(at) + " is past the last frame (--frames " +
-                                          std::to_string(o.frames) + " runs frames 0 to " + std::to_string(o.frames - 1) + ")");
-        o.screenshot_at = at;
-    }
-    o.screenshot_path = opt.text("screenshot");
     o.script_path = opt.text("script");
-    o.vsync = !opt.flag("no-vsync");
-    o.hud = !opt.flag("no-hud");
-    o.validation = opt.flag("validation");
-    o.device = opt.text("device");
+    if (const int usage = read_window_options(opt, o)) return usage;
 
-    auto report = demo::run_demo(o);
-    if (!report.ok()) return fail("run", report.error().to_string());
-    const demo::DemoReport& r = report.value();
-    if (o.validation && r.validation_messages > 0)
-        return fail("run", std::to_string(r.validation_messages) + " validation messages (see above)");
-    print_report(opt, o.scene.name, r, o.vsync);
-    return 0;
+    return finish_run(opt, o.scene.name, demo::run_demo(o), o);
 }
 
 } // namespace pbdsplat::cli

@@ -188,8 +188,8 @@ void Demo::draw_overlay() {
                   st.events_ms, st.apply_forces_ms, st.constraints_ms, st.integrate_normals_ms, st.update_particles_ms,
                   st.gpu_record_ms);
     lines.emplace_back(buf);
-    std::snprintf(buf, sizeof(buf), "GPU ms  upload %.2f  sort %.2f  splat %.2f  (GPU scene %.2f)", st.gpu_upload_ms, st.gpu_sort_ms,
-                  st.gpu_draw_ms, st.gpu_scene_ms());
+    std::snprintf(buf, sizeof(buf), "GPU ms  upload %.2f  sort %.2f  splat %.2f  (GPU scene %.2f)", st.gpu.upload_ms, st.gpu.sort_ms,
+                  st.gpu.draw_ms, st.gpu_scene_ms());
     lines.emplace_back(buf);
     std::snprintf(buf, sizeof(buf), "view %s   environment %s   sort %s   pressure %.2f   boundary %s",
                   scene::display_view_name(rt.view()), render::env_sampling_name(rt.environment_sampling()),

@@ -10,16 +10,20 @@ namespace pbdsplat::demo {
 
 inline constexpr const char* k_default_screenshot_path = "pbdsplat-screenshot.png";
 
-struct DemoOptions {
-    scene::Scene scene;
+// What every windowed view takes: how long it runs, what it saves, how it presents.
+struct WindowRunOptions {
     uint64_t frames = 0;                   // 0: until the window closes
     std::optional<uint64_t> screenshot_at; // frame index (0-based) to save
     std::string screenshot_path = k_default_screenshot_path;
-    std::string script_path;               // input script (demo/script.h)
     bool vsync = true;
     bool validation = false;
     std::string device;                    // name filter
     bool hud = true;
+};
+
+struct DemoOptions : WindowRunOptions {
+    scene::Scene scene;
+    std::string script_path;               // input script (demo/script.h)
 };
 
 struct DemoReport {

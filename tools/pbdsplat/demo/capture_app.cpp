@@ -130,16 +130,17 @@ core::Result<DemoReport> CaptureView::run() {
         const core::Stopwatch frame_clock;
         render::FrameInputs frame = start_;
         frame.camera = control_.camera();
-        if (gpu_sort_) frame.style.order = render::SplatOrder::gpu;
-        else scene::sort_ply(file_, frame);
+        scene::order_ply(file_, frame, gpu_sort_);
+        const bool shoot = (options_.screenshot_at && *options_.screenshot_at == frame_) || !pending_screenshot_.empty();
+        if (shoot) PBDSPLAT_TRY(s_.renderer->set_readback(true));  // only this frame is copied out
         PBDSPLAT_TRY(s_.renderer->render(file_.records, frame, {}, file_.shapes, file_.sh));
         PBDSPLAT_TRY(s_.present());
-        const bool shoot = (options_.screenshot_at && *options_.screenshot_at == frame_) || !pending_screenshot_.empty();
         if (shoot) {
             const std::string path = pending_screenshot_.empty() ? options_.screenshot_path : pending_screenshot_;
             auto img = s_.renderer->finish();
             if (!img.ok()) return img.error();
             PBDSPLAT_TRY(core::write_png(path, img.value()));
+            PBDSPLAT_TRY(s_.renderer->set_readback(false));
             if (pending_screenshot_.empty()) report.screenshot = path;
             note_ = "saved " + path;
             pending_screenshot_.clear();

@@ -10,19 +10,12 @@
 
 namespace pbdsplat::demo {
 
-struct CaptureOptions {
+struct CaptureOptions : WindowRunOptions {
     std::string path;
     splat::PlyUp up = splat::PlyUp::minus_y;
     uint32_t width = 1280, height = 720;
-    uint64_t frames = 0;                    // 0: until the window closes
-    std::optional<uint64_t> screenshot_at;  // frame index (0-based) to save
-    std::string screenshot_path = k_default_screenshot_path;
-    std::optional<bool> gpu_sort;           // unset: the device decides (scene::ply_sort_on_gpu)
+    std::optional<bool> gpu_sort;  // unset: the device decides (scene::ply_sort_on_gpu)
     float orbit_degrees_per_second = 15.0f;
-    bool vsync = true;
-    bool validation = false;
-    std::string device;
-    bool hud = true;
 };
 
 // Errors: an unreadable file, no display, no device; each says what is wrong. The report's
