@@ -5,7 +5,7 @@
 
 #include "passes/coverage.h"
 #include "scene/scene_runtime.h"
-#include "sim/contact.h"
+#include "sim/penetration.h"
 #include "sim/pose.h"
 #include "sim/shape_error.h"
 #include "splat/strays.h"
@@ -22,9 +22,9 @@ double area_of(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangl
 }
 
 // Shape and volume error, strays and sample spacing of the frame the runtime just stepped.
-void sample_body_and_splats(const SceneRuntime& rt, const sim::ContactSettings& contact, CheckSample& s) {
+void sample_body_and_splats(const SceneRuntime& rt, CheckSample& s) {
     const sim::ShapeReport shape = sim::shape_report(rt.body());
-    s.penetration = rt.spacing() > 0.0f ? double(sim::max_penetration(rt.body(), contact)) / double(rt.spacing()) : 0.0;
+    s.penetration = rt.spacing() > 0.0f ? double(sim::deepest_penetration(rt.body()).depth) / double(rt.spacing()) : 0.0;
     s.shape_error = shape.max_error;
     s.pieces = shape.pieces.size();
     const sim::PoseReport pose = sim::pose_report(rt.body());
@@ -187,7 +187,7 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
         s.tears = st.tears;
         s.particles = st.particles;
         s.gaussians = st.gaussians;
-        sample_body_and_splats(rt, scene.simulation.solver.contact, s);
+        sample_body_and_splats(rt, s);
         if (o.gpu) PBDSPLAT_TRY(sample_coverage(rt, scene, o, rest_area, s));
         report.samples.push_back(s);
     }

@@ -45,8 +45,8 @@ struct CheckSample {
     double area_ratio = -1.0;
     size_t pieces = 0, particles = 0, gaussians = 0;
     double volume_error = 0.0;  // the worst piece with a volume constraint
-    // The deepest simulation particle inside another piece, or behind its own surface away from
-    // its neighbourhood, over the sampling spacing h (sim::max_penetration).
+    // The deepest simulation particle inside another closed piece, over the sampling spacing h
+    // (sim::deepest_penetration).
     double penetration = 0.0;
     // The pose of each model (sim::pose_report): the most its vertical turned, in degrees, and
     // the least height over its rest height; the fewest triangles in a piece.

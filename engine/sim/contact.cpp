@@ -526,38 +526,6 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
     }
 }
 
-template <class Real>
-float ContactSolverT<Real>::deepest_inside(const SoftBodyT<Real>& body) const {
-    // Per particle, the nearest surface among its candidates that it lies over; inside if
-    // behind it (only a closed piece's candidates may be behind: an open piece's keep their side).
-    const ParticlesT<Real>& p = body.particles;
-    std::vector<float> nearest(p.size(), std::numeric_limits<float>::infinity()), height(p.size(), 0.0f);
-    for (const Contact& ct : contacts_) {
-        const Corners k = corners_of(body, ct.triangle);
-        const Vec3f a = pos3(k.fan ? k.fan->centroid : p.x[k.ia]), b = pos3(p.x[k.ib]), c = pos3(p.x[k.ic]);
-        const Vec3f nrm = unit_normal(a, b, c);
-        if (nrm.isZero()) continue;
-        const Over o = over_triangle(pos3(p.x[ct.particle]), a, b, c, nrm);
-        if (o.lateral > k_over * scale_.edge) continue;
-        const float h = ct.side * o.height;
-        if (std::abs(h) < nearest[ct.particle]) nearest[ct.particle] = std::abs(h), height[ct.particle] = h;
-    }
-    float deepest = 0.0f;
-    for (float h : height) deepest = std::max(deepest, -h);
-    return deepest;
-}
-
-float max_penetration(const SoftBody& body, const ContactSettings& s) {
-    // The solver's own search on the body as it stands (no sweep: the start is now).
-    SoftBody still = body;
-    still.particles.x_prev = still.particles.x;
-    ContactSettings on = s;
-    on.enabled = true;
-    ContactSolver solver;
-    solver.find(still, on);
-    return solver.deepest_inside(still);
-}
-
 template float mean_rest_edge<float>(const SoftBodyT<float>&);
 template float mean_rest_edge<double>(const SoftBodyT<double>&);
 template class ContactSolverT<float>;

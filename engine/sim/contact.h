@@ -72,9 +72,6 @@ public:
     // what the tests compare the broad phase with).
     void set_brute_force(bool on) { brute_force_ = on; }
     const ContactScale& scale() const { return scale_; }
-    // The deepest a particle lies behind the nearest surface it is over among the last find's
-    // candidates (a closed piece's: behind it is inside), in metres; 0 if none is.
-    float deepest_inside(const SoftBodyT<Real>& body) const;
     // Searches run (a find that kept the last candidates runs none).
     size_t searches() const { return searches_; }
 
@@ -131,12 +128,5 @@ private:
     bool self_ = false;
 };
 using ContactSolver = ContactSolverT<float>;
-
-// The deepest particle inside another piece, or behind its own surface away from its
-// neighbourhood, in metres, as the contact search sees the body now: for each particle the
-// nearest surface (of a closed piece, caps included) it lies over within the search's margin.
-// Deeper penetrations are not seen (half an edge at least: twice check's threshold). What
-// `pbdsplat check` reports as penetration_max, over the sampling spacing.
-float max_penetration(const SoftBody& body, const ContactSettings& s);
 
 } // namespace pbdsplat::sim

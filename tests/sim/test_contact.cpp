@@ -8,6 +8,7 @@
 
 #include "mesh/procedural.h"
 #include "sim/contact.h"
+#include "sim/penetration.h"
 #include "sim/sim_fixtures.h"
 #include "sim/solver.h"
 #include "topology/cut.h"
@@ -218,11 +219,11 @@ TEST_SUITE("sim/contact") {
         float top = -INFINITY;
         for (size_t i = 0; i < b.particle_count(); ++i) top = std::max(top, b.particles.x[i].y());
         MESSAGE("stack height after 3 s: " << (top + 0.5f) / height << " of the uncut ball's");
-        // The goal is 0.9. Not robust yet: this build's arithmetic decides it (0.994 in
-        // the release preset, 0.777 in the unity-built CI preset, where the top half slips off
-        // within half a second of the cut).
+        // The goal is 0.9, held here (0.994 in both presets); not held for every cut:
+        // cut 0.1 below the centre, or tilted 8 degrees, the stack rolls as one ball and the top
+        // slides off within 3 s (0.82-0.86).
         CHECK((top + 0.5f) / height >= 0.7f);
-        CHECK(sim::max_penetration(b, s.contact) < 0.5f * 0.5f * sim::mean_rest_edge(b));
+        CHECK(sim::deepest_penetration(b).depth < 0.5f * 0.5f * sim::mean_rest_edge(b));
     }
 
     TEST_CASE("a folded sheet does not pass through itself") {

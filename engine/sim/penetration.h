@@ -1,0 +1,28 @@
+#pragma once
+// How deep particles lie inside other pieces: the figure `pbdsplat check` reports as
+// penetration_max. A particle is inside a closed piece (one with a volume constraint: its
+// triangles and the fans that close its cap loops) when the piece's generalised winding number
+// at the particle exceeds one half; its depth is then its distance to that piece's surface.
+// The winding number decides inside or out from the whole closed surface, so a particle that
+// fell right through a cut face and sits deep in the piece below counts at its true depth: a
+// test against the nearest triangles only (what the contact search sees) cannot tell that
+// from a particle just outside the far side.
+#include <cstdint>
+#include <limits>
+
+#include "sim/soft_body.h"
+
+namespace pbdsplat::sim {
+
+struct Penetration {
+    float depth = 0.0f;  // metres; 0 when no particle is inside another piece
+    uint32_t particle = std::numeric_limits<uint32_t>::max();
+    uint32_t piece = std::numeric_limits<uint32_t>::max();  // the piece it is inside
+};
+
+// The deepest particle inside a closed piece other than its own, leaving out particles that
+// lay inside that piece at rest already (parts of a model that overlap in its file). A piece's
+// own surface is not tested (a fold of one piece through itself is not seen).
+Penetration deepest_penetration(const SoftBody& body);
+
+} // namespace pbdsplat::sim
