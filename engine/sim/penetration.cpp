@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -27,7 +28,9 @@ std::vector<ClosedSurface> closed_surfaces(const SoftBody& body, bool rest) {
     std::vector<int> slot(body.pieces, -1);
     std::vector<ClosedSurface> out;
     for (const VolumeConstraint& v : body.volumes) {
-        if (v.piece >= body.pieces || slot[v.piece] >= 0) continue;
+        // A burst piece whose pressure has leaked away is open, as the contact solver takes it:
+        // what lies inside it may have come in through the rip.
+        if (v.piece >= body.pieces || slot[v.piece] >= 0 || v.leaking_done()) continue;
         slot[v.piece] = int(out.size());
         ClosedSurface& s = out.emplace_back();
         s.piece = v.piece;

@@ -1,8 +1,9 @@
 #pragma once
 // How deep particles lie inside other pieces: the figure `pbdsplat check` reports as
-// penetration_max. A particle is inside a closed piece (one with a volume constraint: its
-// triangles and the fans that close its cap loops) when the piece's generalised winding number
-// at the particle exceeds one half; its depth is then its distance to that piece's surface.
+// penetration_max. A particle is inside a closed piece (one with a volume constraint that has
+// not leaked away after a burst: its triangles and the fans that close its cap loops) when the
+// piece's generalised winding number at the particle exceeds one half; its depth is then its
+// distance to that piece's surface.
 // The winding number decides inside or out from the whole closed surface, so a particle that
 // fell right through a cut face and sits deep in the piece below counts at its true depth: a
 // test against the nearest triangles only (what the contact search sees) cannot tell that
