@@ -10,6 +10,7 @@
 #include "asset/model_file.h"
 #include "core/image.h"
 #include "mesh/repair.h"
+#include "support/why.h"
 
 using namespace pbdsplat;
 
@@ -107,7 +108,7 @@ TEST_SUITE("asset/model_files") {
         for (const std::string& path : {c.write("a.stl", test::ascii_stl(corners)), c.write("b.stl", test::binary_stl(corners))}) {
             CAPTURE(path);
             auto a = asset::load_model_file(path);
-            REQUIRE_MESSAGE(a.ok(), a.error().to_string());
+            REQUIRE_MESSAGE(a.ok(), test::why(a));
             CHECK(a->mesh.triangle_count() == 12);
             CHECK_FALSE(a->look.has_value());
             auto r = mesh::repair(a->mesh, {}, path);
@@ -141,7 +142,7 @@ TEST_SUITE("asset/model_files") {
         for (const std::string& path : {c.write("a.ply", ascii), c.write("b.ply", big)}) {
             CAPTURE(path);
             auto a = asset::load_model_file(path);
-            REQUIRE_MESSAGE(a.ok(), a.error().to_string());
+            REQUIRE_MESSAGE(a.ok(), test::why(a));
             CHECK(a->mesh.vertex_count() == 4);
             CHECK(a->mesh.triangle_count() == 2);
             CHECK(area(a->mesh) == doctest::Approx(1.0));
@@ -156,7 +157,7 @@ TEST_SUITE("asset/model_files") {
     TEST_CASE("a glTF binary: node transform, base colour factor times vertex colour") {
         test::Corpus c("glb");
         auto a = asset::load_model_file(c.write("quad.glb", quad_glb()));
-        REQUIRE_MESSAGE(a.ok(), a.error().to_string());
+        REQUIRE_MESSAGE(a.ok(), test::why(a));
         CHECK(a->mesh.vertex_count() == 4);
         CHECK(a->mesh.triangle_count() == 2);
         for (const Vec3f& p : a->mesh.positions) CHECK(p.z() == doctest::Approx(5.0f));  // the node's translation
@@ -201,7 +202,7 @@ TEST_SUITE("asset/model_files") {
         // The top face gets texture coordinates: u from 0 to 1 across it.
         obj.replace(obj.find("f 3 4 8 7"), 9, "vt 0.75 0.5\nvt 0.25 0.5\nf 3/1 4/2 8/2 7/1");
         auto a = asset::load_model_file(c.write("cube.obj", obj));
-        REQUIRE_MESSAGE(a.ok(), a.error().to_string());
+        REQUIRE_MESSAGE(a.ok(), test::why(a));
         CHECK(a->warnings.empty());
         REQUIRE(a->look.has_value());
         const asset::SurfaceLook& look = *a->look;

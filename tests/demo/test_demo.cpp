@@ -12,6 +12,7 @@
 #include "scene/scene_file.h"
 
 #include "support/skip.h"
+#include "support/why.h"
 using namespace pbdsplat;
 
 namespace {
@@ -63,7 +64,7 @@ bool have_display() {
 TEST_SUITE("demo/script") {
     TEST_CASE("input scripts turn actions into the window's events, and name the line of a mistake") {
         auto s = demo::InputScript::parse("# c\n3 cut 10 20 30 40\n20 key p\n30 drag 0 0 10 0 2\n", "t.script");
-        REQUIRE_MESSAGE(s.ok(), s.error().to_string());
+        REQUIRE_MESSAGE(s.ok(), test::why(s));
         const auto press = s->events_at(3);
         REQUIRE(press.size() == 1);
         CHECK(press[0].kind == demo::InputEvent::Kind::press);
@@ -87,7 +88,7 @@ TEST_SUITE("demo/window") {
             return;
         }
         auto scene = scene::load_scene(std::string(PBDSPLAT_TEST_SCENES_DIR) + "/demo_cut.toml");
-        REQUIRE_MESSAGE(scene.ok(), scene.error().to_string());
+        REQUIRE_MESSAGE(scene.ok(), test::why(scene));
         demo::DemoOptions o;
         o.scene = scene.value();
         o.frames = 60;
@@ -99,14 +100,14 @@ TEST_SUITE("demo/window") {
         o.validation = true;
         o.hud = true;  // drawn over the window, not into the screenshot: exercised all the same
         auto report = demo::run_demo(o);
-        REQUIRE_MESSAGE(report.ok(), report.error().to_string());
+        REQUIRE_MESSAGE(report.ok(), test::why(report));
         CHECK(report->frames == 60);
         CHECK(report->cuts == 1);
         CHECK(report->pieces == 2);
         CHECK(report->validation_messages == 0);
         REQUIRE(report->screenshot == o.screenshot_path);
         auto img = core::read_image(o.screenshot_path);
-        REQUIRE_MESSAGE(img.ok(), img.error().to_string());
+        REQUIRE_MESSAGE(img.ok(), test::why(img));
         CHECK(img->width == 320);
         CHECK(img->height == 240);
         const size_t regions = count_regions(img.value(), 200);
@@ -147,13 +148,13 @@ TEST_SUITE("demo/window") {
         for (const bool gpu_sort : {false, true}) {
             o.gpu_sort = gpu_sort;
             auto report = demo::run_capture(o);
-            REQUIRE_MESSAGE(report.ok(), report.error().to_string());
+            REQUIRE_MESSAGE(report.ok(), test::why(report));
             CHECK(report->frames == 8);
             CHECK(report->gaussians == records.size());
             CHECK(report->particles == 0);
             CHECK(report->validation_messages == 0);
             auto img = core::read_image(o.screenshot_path);
-            REQUIRE_MESSAGE(img.ok(), img.error().to_string());
+            REQUIRE_MESSAGE(img.ok(), test::why(img));
             CHECK(img->width == 320);
             // Both rings show, apart (the camera turns slowly about their common centre).
             const size_t regions = count_regions(img.value(), 100);

@@ -2,6 +2,7 @@
 
 #include "gpu/buffer.h"
 #include "support/gpu_fixture.h"
+#include "support/why.h"
 
 using namespace pbdsplat;
 
@@ -21,7 +22,7 @@ TEST_SUITE("gpu/context") {
         gpu::ContextOptions o;
         o.instance.validation = true;
         auto ctx = gpu::Context::create(o);
-        REQUIRE_MESSAGE(ctx.ok(), ctx.error().to_string());
+        REQUIRE_MESSAGE(ctx.ok(), test::why(ctx));
         const auto log = ctx.value()->instance().shared_validation_log();
         VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
         info.size = 256;

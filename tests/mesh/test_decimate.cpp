@@ -10,6 +10,7 @@
 #include "asset/model_path.h"
 #include "mesh/procedural.h"
 #include "support/skip.h"
+#include "support/why.h"
 
 using namespace pbdsplat;
 
@@ -73,7 +74,7 @@ TEST_SUITE("mesh/decimate") {
         for (uint32_t target : {60u, 110u, 120u}) {
             CAPTURE(target);
             auto d = mesh::decimate(sheet, {target, false}, "sheet");
-            REQUIRE_MESSAGE(d.ok(), d.error().to_string());
+            REQUIRE_MESSAGE(d.ok(), test::why(d));
             CHECK(d.value().mesh.vertex_count() <= sheet.vertex_count());
             CHECK(d.value().mesh.triangle_count() >= 4);
         }

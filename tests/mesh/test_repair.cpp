@@ -10,12 +10,13 @@
 #include "mesh/topology.h"
 
 #include "support/skip.h"
+#include "support/why.h"
 using namespace pbdsplat;
 
 namespace {
 mesh::RepairedMesh repaired(mesh::TriangleMesh m) {
     auto r = mesh::repair(std::move(m), {}, "test");
-    REQUIRE_MESSAGE(r.ok(), r.error().to_string());
+    REQUIRE_MESSAGE(r.ok(), test::why(r));
     return std::move(r).value();
 }
 } // namespace
@@ -166,7 +167,7 @@ TEST_SUITE("mesh/repair") {
                 continue;
             }
             auto raw = asset::load_obj(*path);
-            REQUIRE_MESSAGE(raw.ok(), raw.error().to_string());
+            REQUIRE_MESSAGE(raw.ok(), test::why(raw));
             const auto r = repaired(std::move(raw).value());
             INFO(e.file << ": " << r.report.summary());
             CHECK(r.mesh.vertex_count() - r.report.split_vertices == e.used_vertices);

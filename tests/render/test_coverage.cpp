@@ -13,6 +13,7 @@
 #include "support/gpu_fixture.h"
 
 #include "support/skip.h"
+#include "support/why.h"
 using namespace pbdsplat;
 
 namespace {
@@ -26,7 +27,7 @@ struct Result2 {
 // the scenes' sizing (s0 = 0.7 h, the closing kappa).
 Result2 coverage_of(gpu::Context& ctx, const std::string& spec, render::Footprint footprint) {
     auto repaired = asset::load_mesh_spec(spec);
-    REQUIRE_MESSAGE(repaired.ok(), repaired.error().to_string());
+    REQUIRE_MESSAGE(repaired.ok(), test::why(repaired));
     auto body = sim::make_soft_body(repaired->mesh, {});
     REQUIRE(body.ok());
     const mesh::TriangleMesh rest{body->rest_positions, body->triangles, {}, {}, {}};
@@ -46,8 +47,8 @@ Result2 coverage_of(gpu::Context& ctx, const std::string& spec, render::Footprin
     std::vector<std::array<uint32_t, 3>> tris(body->triangles.begin(), body->triangles.end());
     auto a = passes::measure_coverage(ctx, body->particles.x, tris, with, frame, 256, 256);
     auto v = passes::measure_coverage(ctx, body->particles.x, tris, without, frame, 256, 256);
-    REQUIRE_MESSAGE(a.ok(), a.error().to_string());
-    REQUIRE_MESSAGE(v.ok(), v.error().to_string());
+    REQUIRE_MESSAGE(a.ok(), test::why(a));
+    REQUIRE_MESSAGE(v.ok(), test::why(v));
     MESSAGE(spec << ", " << std::string(render::footprint_name(footprint)) << ": " << with.size() << " splats with boundary particles: hole ratio " << a->hole_ratio * 100.0
                  << " %, IoU " << a->silhouette_iou << "; " << without.size() << " vertex-only: hole ratio "
                  << v->hole_ratio * 100.0 << " %, IoU " << v->silhouette_iou);
@@ -144,9 +145,9 @@ TEST_SUITE("render/coverage") {
         auto blended = s.draw(*ctx, records, normalised, 512);
         const std::vector<splat::GaussianRecord> reversed(records.rbegin(), records.rend());
         auto blended_reversed = s.draw(*ctx, reversed, normalised, 512);
-        REQUIRE_MESSAGE(disc.ok(), disc.error().to_string());
-        REQUIRE_MESSAGE(blended.ok(), blended.error().to_string());
-        REQUIRE_MESSAGE(blended_reversed.ok(), blended_reversed.error().to_string());
+        REQUIRE_MESSAGE(disc.ok(), test::why(disc));
+        REQUIRE_MESSAGE(blended.ok(), test::why(blended));
+        REQUIRE_MESSAGE(blended_reversed.ok(), test::why(blended_reversed));
         MESSAGE("shading error against the lit mesh: paper disc " << disc->shading_error << ", normalised " << blended->shading_error
                 << "; holes " << disc->hole_ratio * 100.0 << " % / " << blended->hole_ratio * 100.0 << " %; specks "
                 << disc->speck_ratio * 100.0 << " % / " << blended->speck_ratio * 100.0 << " %; IoU " << disc->silhouette_iou << " / "
@@ -173,8 +174,8 @@ TEST_SUITE("render/coverage") {
         auto ctx = test::open_validated_context();
         auto a = s.draw(*ctx, flat, s.frame);
         auto b = s.draw(*ctx, turning, s.frame);
-        REQUIRE_MESSAGE(a.ok(), a.error().to_string());
-        REQUIRE_MESSAGE(b.ok(), b.error().to_string());
+        REQUIRE_MESSAGE(a.ok(), test::why(a));
+        REQUIRE_MESSAGE(b.ok(), test::why(b));
         MESSAGE("shading error against the lit mesh: flat " << a->shading_error << ", turning " << b->shading_error);
         CHECK(b->shading_error < 0.5 * a->shading_error);
         // The footprint is the same: only the light changed.

@@ -19,6 +19,7 @@
 #include "support/gpu_fixture.h"
 
 #include "support/skip.h"
+#include "support/why.h"
 using namespace pbdsplat;
 
 namespace {
@@ -31,7 +32,7 @@ const gpu::Access k_host_read{VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_REA
 
 gpu::Buffer host_buffer(gpu::Context& ctx, VkDeviceSize bytes, gpu::MemoryUsage usage, VkBufferUsageFlags flags) {
     auto b = gpu::Buffer::create(ctx, bytes, flags, usage);
-    REQUIRE_MESSAGE(b.ok(), b.error().to_string());
+    REQUIRE_MESSAGE(b.ok(), test::why(b));
     return std::move(b).value();
 }
 
@@ -56,7 +57,7 @@ std::vector<uint32_t> gpu_radix(gpu::Context& ctx, const std::vector<uint32_t>& 
     gpu::Buffer records = host_buffer(ctx, 64, gpu::MemoryUsage::upload, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     const VkBuffer record_buffer = records.handle();
     auto sort = render::GpuSort::create(ctx, n, std::span<const VkBuffer>(&record_buffer, 1));
-    REQUIRE_MESSAGE(sort.ok(), sort.error().to_string());
+    REQUIRE_MESSAGE(sort.ok(), test::why(sort));
     std::vector<uint32_t> values(n), control(SORT_CONTROL_WORDS, 0u);
     std::iota(values.begin(), values.end(), 0u);
     control[SORT_CONTROL_VISIBLE] = n;
@@ -158,7 +159,7 @@ TEST_SUITE("render/sort") {
         o.frames_in_flight = 1;
         o.gpu_sort = true;
         auto renderer = passes::OffscreenRenderer::create(*ctx, o);
-        REQUIRE_MESSAGE(renderer.ok(), renderer.error().to_string());
+        REQUIRE_MESSAGE(renderer.ok(), test::why(renderer));
         REQUIRE(renderer.value()->render(records, frame).ok());
         REQUIRE(renderer.value()->finish().ok());
         const render::SplatRenderer& sr = renderer.value()->splat_renderer();
@@ -209,7 +210,7 @@ TEST_SUITE("render/sort") {
                 frame.camera.eye = Vec3f(0.4f, 0.9f, 2.6f);
                 scene::order_ply(copy, frame, gpu_sort);
                 auto r = passes::OffscreenRenderer::create(*ctx, o);
-                REQUIRE_MESSAGE(r.ok(), r.error().to_string());
+                REQUIRE_MESSAGE(r.ok(), test::why(r));
                 REQUIRE(r.value()->render(copy.records, frame, {}, copy.shapes, copy.sh).ok());
                 auto img = r.value()->finish();
                 REQUIRE(img.ok());
@@ -248,7 +249,7 @@ TEST_SUITE("render/sort") {
                 if (order == render::SplatOrder::cpu)
                     splat::sort_far_to_near(records, math::look_at(frame.camera.eye, frame.camera.target, frame.camera.up), scratch);
                 auto r = passes::OffscreenRenderer::create(*ctx, o);
-                REQUIRE_MESSAGE(r.ok(), r.error().to_string());
+                REQUIRE_MESSAGE(r.ok(), test::why(r));
                 REQUIRE(r.value()->render(records, frame).ok());
                 auto img = r.value()->finish();
                 REQUIRE(img.ok());

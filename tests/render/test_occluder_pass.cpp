@@ -9,6 +9,7 @@
 #include "splat/gaussian_record.h"
 #include "support/gpu_fixture.h"
 #include "support/skip.h"
+#include "support/why.h"
 
 using namespace pbdsplat;
 
@@ -85,8 +86,8 @@ TEST_SUITE("render/occluder_pass") {
         mesh.style.mesh_occluders = true;
         auto a = passes::measure_coverage(*ctx, s.x, s.triangles, s.records, cores, Plates::k_size, Plates::k_size);
         auto b = passes::measure_coverage(*ctx, s.x, s.triangles, s.records, mesh, Plates::k_size, Plates::k_size);
-        REQUIRE_MESSAGE(a.ok(), a.error().to_string());
-        REQUIRE_MESSAGE(b.ok(), b.error().to_string());
+        REQUIRE_MESSAGE(a.ok(), test::why(a));
+        REQUIRE_MESSAGE(b.ok(), test::why(b));
         // Just right of the edge the far plate shows; the near plate's splats reach 2 standard
         // deviations (0.07 world units, about 4 pixels here) past it.
         const BandCount over_cores = count_band(a->splats, 1, 3), over_mesh = count_band(b->splats, 1, 3);
@@ -134,11 +135,11 @@ TEST_SUITE("render/occluder_pass") {
             ro.normalised = ro.occluders = true;
             ro.path = path;
             auto r = passes::OffscreenRenderer::create(*ctx, ro);
-            REQUIRE_MESSAGE(r.ok(), r.error().to_string());
+            REQUIRE_MESSAGE(r.ok(), test::why(r));
             r.value()->set_occluders(s.x, s.triangles);
             REQUIRE(r.value()->render(s.records, frame).ok());
             auto image = r.value()->finish();
-            REQUIRE_MESSAGE(image.ok(), image.error().to_string());
+            REQUIRE_MESSAGE(image.ok(), test::why(image));
             const BandCount band = count_band(image.value(), 1, 3);
             MESSAGE(std::string(render::splat_path_name(path)) << ": three columns right of the near plate's edge " << band.red
                                                                  << " red / " << band.blue << " blue / " << band.holes << " open");
@@ -167,8 +168,8 @@ TEST_SUITE("render/occluder_pass") {
         auto ctx = test::open_validated_context();
         auto a = passes::measure_coverage(*ctx, s.x, s.triangles, s.records, cores, Plates::k_size, Plates::k_size);
         auto b = passes::measure_coverage(*ctx, s.x, s.triangles, s.records, mesh, Plates::k_size, Plates::k_size);
-        REQUIRE_MESSAGE(a.ok(), a.error().to_string());
-        REQUIRE_MESSAGE(b.ok(), b.error().to_string());
+        REQUIRE_MESSAGE(a.ok(), test::why(a));
+        REQUIRE_MESSAGE(b.ok(), test::why(b));
         const BandCount over_depth = count_band(a->splats, 1, 3), over_mesh = count_band(b->splats, 1, 3);
         MESSAGE("paper disc, three columns right of the near plate's edge: own depth " << over_depth.red << " red / "
                 << over_depth.blue << " blue, mesh occluders " << over_mesh.red << " red / " << over_mesh.blue << " blue / "

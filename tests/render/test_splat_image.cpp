@@ -24,6 +24,7 @@
 #include "support/gpu_fixture.h"
 #include "support/render_once.h"
 #include "support/skip.h"
+#include "support/why.h"
 
 using namespace pbdsplat;
 
@@ -51,9 +52,9 @@ void check_against_golden(const core::ImageRgba8& actual, const std::string& nam
         return;
     }
     auto expected = core::read_image(golden.string());
-    REQUIRE_MESSAGE(expected.ok(), expected.error().to_string() << " (make it with tools/update-goldens)");
+    REQUIRE_MESSAGE(expected.ok(), test::why(expected) << " (make it with tools/update-goldens)");
     auto diff = core::compare_images(actual, expected.value(), 2);
-    REQUIRE_MESSAGE(diff.ok(), diff.error().to_string());
+    REQUIRE_MESSAGE(diff.ok(), test::why(diff));
     const bool pass = diff->share_over <= 0.001 && diff->psnr_db >= 45.0;
     if (!pass) {
         const auto actual_path = out_dir / (name + ".actual.png");
@@ -76,11 +77,11 @@ core::ImageRgba8 run_scene(gpu::Context& ctx, const scene::Scene& s, int frames,
     scene::RuntimeOptions o;
     o.gpu = &ctx;
     auto rt = scene::SceneRuntime::create(s, o);
-    REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+    REQUIRE_MESSAGE(rt.ok(), test::why(rt));
     for (int f = 0; f < frames; ++f) REQUIRE(rt.value()->step().ok());
     inspect(*rt.value());
     auto img = rt.value()->finish();
-    REQUIRE_MESSAGE(img.ok(), img.error().to_string());
+    REQUIRE_MESSAGE(img.ok(), test::why(img));
     return std::move(img).value();
 }
 
@@ -406,10 +407,10 @@ TEST_SUITE("render/lighting") {
         o.max_vertices = x.size();
         o.max_triangles = scene.mesh.triangles.size();
         auto raster = render::MeshRaster::create(*ctx, o);
-        REQUIRE_MESSAGE(raster.ok(), raster.error().to_string());
+        REQUIRE_MESSAGE(raster.ok(), test::why(raster));
         REQUIRE(raster.value()->set_mesh(x, scene.mesh.triangles, normals).ok());
         auto lit = passes::render_mesh_image(*ctx, *raster.value(), scene.frame, render::MeshView::shaded, scene.appearance.albedo);
-        REQUIRE_MESSAGE(lit.ok(), lit.error().to_string());
+        REQUIRE_MESSAGE(lit.ok(), test::why(lit));
         check_against_golden(lit->image, "mesh_lit_160x120");
         auto mask = passes::render_mesh_image(*ctx, *raster.value(), scene.frame, render::MeshView::mask);
         REQUIRE(mask.ok());
@@ -500,7 +501,7 @@ TEST_SUITE("render/lighting") {
         std::filesystem::create_directories(PBDSPLAT_TEST_OUTPUT_DIR);
         REQUIRE(splat::write_ply(path, records, shapes).ok());
         auto file = splat::read_ply_gaussians(path);
-        REQUIRE_MESSAGE(file.ok(), file.error().to_string());
+        REQUIRE_MESSAGE(file.ok(), test::why(file));
         REQUIRE(file->shapes.size() == records.size());
 
         auto ctx = test::open_validated_context();
@@ -563,7 +564,7 @@ TEST_SUITE("render/lighting") {
             out.write(reinterpret_cast<const char*>(row.data()), std::streamsize(row.size() * sizeof(float)));
         }
         auto file = splat::read_ply_gaussians(path);
-        REQUIRE_MESSAGE(file.ok(), file.error().to_string());
+        REQUIRE_MESSAGE(file.ok(), test::why(file));
         REQUIRE(file->sh_degree == 3);
         auto ctx = test::open_validated_context();
         for (const float side : {1.0f, -1.0f}) {
@@ -573,7 +574,7 @@ TEST_SUITE("render/lighting") {
             const render::RendererOptions ro = scene::ply_renderer_options(file.value(), 64, 48);
             CHECK(ro.sh_degree == 3);
             auto r = passes::OffscreenRenderer::create(*ctx, ro);
-            REQUIRE_MESSAGE(r.ok(), r.error().to_string());
+            REQUIRE_MESSAGE(r.ok(), test::why(r));
             REQUIRE(r.value()->render(file->records, frame, {}, file->shapes, file->sh).ok());
             auto img = r.value()->finish();
             REQUIRE(img.ok());
@@ -624,7 +625,7 @@ TEST_SUITE("render/scene") {
     TEST_CASE("the shipped shading scene looks different under normal and position lookups") {
         auto ctx = test::open_validated_context();
         auto shipped = scene::load_scene(std::string(PBDSPLAT_PROJECT_SCENES_DIR) + "/shading_normal_vs_position.toml");
-        REQUIRE_MESSAGE(shipped.ok(), shipped.error().to_string());
+        REQUIRE_MESSAGE(shipped.ok(), test::why(shipped));
         auto first_frame = [&](render::EnvSampling mode) {
             scene::Scene s = shipped.value();
             s.render.width = 240;
@@ -633,10 +634,10 @@ TEST_SUITE("render/scene") {
             scene::RuntimeOptions o;
             o.gpu = ctx.get();
             auto rt = scene::SceneRuntime::create(s, o);
-            REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+            REQUIRE_MESSAGE(rt.ok(), test::why(rt));
             REQUIRE(rt.value()->step().ok());
             auto img = rt.value()->finish();
-            REQUIRE_MESSAGE(img.ok(), img.error().to_string());
+            REQUIRE_MESSAGE(img.ok(), test::why(img));
             return std::move(img).value();
         };
         auto diff = core::compare_images(first_frame(render::EnvSampling::normal), first_frame(render::EnvSampling::position), 2);
@@ -654,10 +655,10 @@ TEST_SUITE("render/scene") {
         scene::RuntimeOptions o;
         o.gpu = ctx.get();
         auto rt = scene::SceneRuntime::create(s, o);
-        REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+        REQUIRE_MESSAGE(rt.ok(), test::why(rt));
         for (int f = 0; f < 90; ++f) REQUIRE(rt.value()->step().ok());  // mid-deflation
         auto img = rt.value()->finish();
-        REQUIRE_MESSAGE(img.ok(), img.error().to_string());
+        REQUIRE_MESSAGE(img.ok(), test::why(img));
         check_against_golden(img.value(), "default_scene_f90_320x180");
         test::require_no_validation_messages(*ctx);
     }
@@ -665,7 +666,7 @@ TEST_SUITE("render/scene") {
     TEST_CASE("a scene sorted on the GPU runs its gpu sort pass and draws what the CPU sort draws") {
         auto ctx = test::open_validated_context();
         auto loaded = scene::load_scene(std::string(PBDSPLAT_TEST_SCENES_DIR) + "/sorted.toml");
-        REQUIRE_MESSAGE(loaded.ok(), loaded.error().to_string());
+        REQUIRE_MESSAGE(loaded.ok(), test::why(loaded));
         loaded->render.width = 160;
         loaded->render.height = 120;
         loaded->render.frame.style.footprint = render::Footprint::gaussian;  // sorting matters to the soft blend
@@ -676,14 +677,14 @@ TEST_SUITE("render/scene") {
             o.frames_in_flight = 1;
             o.sort_on = k == 0 ? render::SplatOrder::gpu : render::SplatOrder::cpu;
             auto rt = scene::SceneRuntime::create(loaded.value(), o);
-            REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+            REQUIRE_MESSAGE(rt.ok(), test::why(rt));
             bool gpu_sort_runs = false;
             for (const auto& p : rt.value()->graph().describe())
                 if (p.name == "gpu sort") gpu_sort_runs = !p.culled;
             CHECK(gpu_sort_runs == (k == 0));
             for (int f = 0; f < 5; ++f) REQUIRE(rt.value()->step().ok());
             auto img = rt.value()->finish();
-            REQUIRE_MESSAGE(img.ok(), img.error().to_string());
+            REQUIRE_MESSAGE(img.ok(), test::why(img));
             images[k] = std::move(img).value();
         }
         auto diff = core::compare_images(images[0], images[1], 2);
@@ -738,7 +739,7 @@ TEST_SUITE("render/scene") {
     TEST_CASE("deformed splats on the inflated balloon match their golden, and differ from round ones") {
         auto ctx = test::open_validated_context();
         auto loaded = scene::load_scene(std::string(PBDSPLAT_TEST_SCENES_DIR) + "/balloon_deformed.toml");
-        REQUIRE_MESSAGE(loaded.ok(), loaded.error().to_string());
+        REQUIRE_MESSAGE(loaded.ok(), test::why(loaded));
         core::ImageRgba8 images[2];
         for (int k = 0; k < 2; ++k) {
             scene::Scene s = loaded.value();

@@ -8,6 +8,7 @@
 
 #include "scene/scene_file.h"
 #include "scene/scene_model.h"
+#include "support/why.h"
 
 using namespace pbdsplat;
 
@@ -108,7 +109,7 @@ at_most = { strays_max = 0, shape_error_max = 0.05 }
 TEST_SUITE("scene/scene_file") {
     TEST_CASE("every key is read") {
         auto r = scene::parse_scene(k_full, "full.toml");
-        REQUIRE_MESSAGE(r.ok(), r.error().to_string());
+        REQUIRE_MESSAGE(r.ok(), test::why(r));
         const scene::Scene& s = r.value();
         CHECK(s.name == "full");
         CHECK(s.model.mesh == "torus:32:16");
@@ -131,7 +132,7 @@ TEST_SUITE("scene/scene_file") {
 
     TEST_CASE("surfels: the shape sets the style's thickness, round and deformed leave it 0") {
         auto surfel = scene::parse_scene("[render]\nsplat_shape = \"surfel\"\nsurfel_thickness = 0.05\n", "s.toml");
-        REQUIRE_MESSAGE(surfel.ok(), surfel.error().to_string());
+        REQUIRE_MESSAGE(surfel.ok(), test::why(surfel));
         CHECK(surfel->render.splat_shape == scene::SplatShape::surfel);
         CHECK(surfel->render.frame.style.surfel_thickness == 0.05f);
         auto round = scene::parse_scene("[render]\nsurfel_thickness = 0.05\n", "r.toml");
@@ -147,10 +148,10 @@ TEST_SUITE("scene/scene_file") {
 
     TEST_CASE("normalised blending needs the Gaussian footprint, and says so with the line") {
         auto ok = scene::parse_scene("[render]\nfootprint = \"gaussian\"\nblend = \"normalised\"\n", "n.toml");
-        REQUIRE_MESSAGE(ok.ok(), ok.error().to_string());
+        REQUIRE_MESSAGE(ok.ok(), test::why(ok));
         CHECK(ok->render.frame.style.blend == render::Blend::normalised);
         auto again = scene::parse_scene(scene::to_toml(ok.value()), "printed.toml");
-        REQUIRE_MESSAGE(again.ok(), again.error().to_string());
+        REQUIRE_MESSAGE(again.ok(), test::why(again));
         CHECK(again->render.frame.style.blend == render::Blend::normalised);
         // The paper's disc is the default footprint: it has no falloff to weigh by.
         const std::string why = refusal("[render]\nblend = \"normalised\"\n");
@@ -161,11 +162,11 @@ TEST_SUITE("scene/scene_file") {
     TEST_CASE("mesh occluders serve normalised blending, print back, and say so with the line") {
         auto ok = scene::parse_scene("[render]\nfootprint = \"gaussian\"\nblend = \"normalised\"\nvisibility = \"mesh\"\n"
                                      "occluder_tolerance = 2.5\n", "m.toml");
-        REQUIRE_MESSAGE(ok.ok(), ok.error().to_string());
+        REQUIRE_MESSAGE(ok.ok(), test::why(ok));
         CHECK(ok->render.frame.style.mesh_occluders);
         CHECK(ok->render.occluder_tolerance == doctest::Approx(2.5f));
         auto again = scene::parse_scene(scene::to_toml(ok.value()), "printed.toml");
-        REQUIRE_MESSAGE(again.ok(), again.error().to_string());
+        REQUIRE_MESSAGE(again.ok(), test::why(again));
         CHECK(again->render.frame.style.mesh_occluders);
         CHECK(again->render.occluder_tolerance == doctest::Approx(2.5f));
         // The default: the mesh under normalised blending, the splats' own cores otherwise.
@@ -184,7 +185,7 @@ TEST_SUITE("scene/scene_file") {
         // The paper's disc under "over" (the defaults) takes them too; the Gaussian under "over"
         // and additive blending do not.
         auto paper = scene::parse_scene("[render]\nvisibility = \"mesh\"\n", "d.toml");
-        REQUIRE_MESSAGE(paper.ok(), paper.error().to_string());
+        REQUIRE_MESSAGE(paper.ok(), test::why(paper));
         CHECK(paper->render.frame.style.mesh_occluders);
         const std::string why = refusal("[render]\nfootprint = \"gaussian\"\nvisibility = \"mesh\"\n");
         CHECK(why.find("bad.toml:3:14: 'render.visibility' = \"mesh\"") == 0);
@@ -199,7 +200,7 @@ TEST_SUITE("scene/scene_file") {
         REQUIRE(first.ok());
         const std::string printed = scene::to_toml(first.value());
         auto second = scene::parse_scene(printed, "printed.toml");
-        REQUIRE_MESSAGE(second.ok(), second.error().to_string() << "\n" << printed);
+        REQUIRE_MESSAGE(second.ok(), test::why(second) << "\n" << printed);
         CHECK(scene::to_toml(second.value()) == printed);
         CHECK(second->simulation.colliders.spheres[0].radius == first->simulation.colliders.spheres[0].radius);
         // The values that are not the defaults come back as they were set.
@@ -319,11 +320,11 @@ TEST_SUITE("scene/scene_file") {
     TEST_CASE("[expect]: read, printed and read again bound by bound; a figure check does not measure is refused with its line") {
         const char* text = "[expect]\nframes = 240\nat_least = { pieces = 3, iou_min = 0.84 }\nat_most = { strays_max = 0, hole_ratio_max = 0.0075 }\n";
         auto a = scene::parse_scene(text, "e.toml");
-        REQUIRE_MESSAGE(a.ok(), a.error().to_string());
+        REQUIRE_MESSAGE(a.ok(), test::why(a));
         CHECK(a->expect.frames == 240);
         REQUIRE(a->expect.bounds.size() == 4);
         auto b = scene::parse_scene(scene::to_toml(a.value()), "again.toml");
-        REQUIRE_MESSAGE(b.ok(), b.error().to_string());
+        REQUIRE_MESSAGE(b.ok(), test::why(b));
         CHECK(b->expect.frames == 240);
         REQUIRE(b->expect.bounds.size() == a->expect.bounds.size());
         for (size_t i = 0; i < a->expect.bounds.size(); ++i) {
@@ -354,9 +355,9 @@ static = true
 particles = 0
 )";
         auto first = scene::parse_scene(text, "bodies.toml");
-        REQUIRE_MESSAGE(first.ok(), first.error().to_string());
+        REQUIRE_MESSAGE(first.ok(), test::why(first));
         auto again = scene::parse_scene(scene::to_toml(first.value()), "again.toml");
-        REQUIRE_MESSAGE(again.ok(), again.error().to_string());
+        REQUIRE_MESSAGE(again.ok(), test::why(again));
         for (const scene::Scene* sc : {&first.value(), &again.value()}) {
             REQUIRE(sc->bodies.size() == 2);
             CHECK(sc->bodies[0].model.mesh == "icosphere:1");
@@ -371,7 +372,7 @@ particles = 0
             CHECK(*sc->bodies[1].particles == 0);
         }
         auto model = scene::load_scene_model(first.value());
-        REQUIRE_MESSAGE(model.ok(), model.error().to_string());
+        REQUIRE_MESSAGE(model.ok(), test::why(model));
         const sim::SoftBody& b = model.value().body;
         CHECK(b.pieces == 3);
         const std::vector<uint32_t>& start = model.value().part_start;

@@ -14,20 +14,21 @@
 #include "scene/timeline.h"
 #include "sim/state_hash.h"
 #include "support/skip.h"
+#include "support/why.h"
 
 using namespace pbdsplat;
 
 namespace {
 scene::Scene load(const std::string& file) {
     auto s = scene::load_scene(std::string(PBDSPLAT_TEST_SCENES_DIR) + "/" + file);
-    REQUIRE_MESSAGE(s.ok(), s.error().to_string());
+    REQUIRE_MESSAGE(s.ok(), test::why(s));
     return std::move(s).value();
 }
 
 // Pass name -> culled reason ("" when kept), for a simulation-only runtime.
 std::map<std::string, std::string> culling(const scene::Scene& s) {
     auto rt = scene::SceneRuntime::create(s, {});
-    REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+    REQUIRE_MESSAGE(rt.ok(), test::why(rt));
     std::map<std::string, std::string> out;
     for (const auto& p : rt.value()->graph().describe()) out[p.name] = p.culled ? p.reason : "";
     return out;
@@ -61,9 +62,9 @@ TEST_SUITE("scene/runtime") {
             }
             CAPTURE(variant);
             auto rt = scene::SceneRuntime::create(s, {});
-            REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+            REQUIRE_MESSAGE(rt.ok(), test::why(rt));
             auto body = scene::make_scene_body(s);
-            REQUIRE_MESSAGE(body.ok(), body.error().to_string());
+            REQUIRE_MESSAGE(body.ok(), test::why(body));
             REQUIRE(sim::state_hash(body->particles) == sim::state_hash(rt.value()->body().particles));
             sim::Solver solver;
             for (int f = 0; f < 40; ++f) {
@@ -98,7 +99,7 @@ TEST_SUITE("scene/runtime") {
         const auto passes = culling(s);
         CHECK(passes.at("topology").empty());
         auto rt = scene::SceneRuntime::create(s, {});
-        REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+        REQUIRE_MESSAGE(rt.ok(), test::why(rt));
         const size_t before = rt.value()->body().particle_count();
         for (int f = 0; f < 6; ++f) REQUIRE(rt.value()->step().ok());
         CHECK(rt.value()->stats().cuts == 1);
@@ -158,13 +159,13 @@ TEST_SUITE("scene/runtime") {
         o.check_topology = true;
         o.keep_records = true;
         auto rt = scene::SceneRuntime::create(load("tear.toml"), o);
-        REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+        REQUIRE_MESSAGE(rt.ok(), test::why(rt));
         const size_t particles = rt.value()->body().particle_count();
         const size_t samples = rt.value()->boundary_particles().size();
         bool saw_fading = false;
         for (int f = 0; f < 90; ++f) {
             const core::Status st = rt.value()->step();
-            REQUIRE_MESSAGE(st.ok(), st.error().to_string());
+            REQUIRE_MESSAGE(st.ok(), test::why(st));
             for (const auto& r : rt.value()->records()) saw_fading = saw_fading || r.color[3] < 255;
         }
         const auto& st = rt.value()->stats();
@@ -184,7 +185,7 @@ TEST_SUITE("scene/runtime") {
         std::erase_if(s.events, [](const scene::Event& e) { return std::holds_alternative<scene::TearEvent>(e.data); });
         CHECK(culling(s).at("topology").empty());
         auto rt = scene::SceneRuntime::create(s, {});
-        REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+        REQUIRE_MESSAGE(rt.ok(), test::why(rt));
         const size_t before = rt.value()->body().particle_count();
         for (int f = 0; f < 45; ++f) REQUIRE(rt.value()->step().ok());  // the cut is at 0.5 s
         CHECK(rt.value()->stats().cuts == 1);
@@ -194,7 +195,7 @@ TEST_SUITE("scene/runtime") {
 
     TEST_CASE("the shipped bunny_cut scene's screen strokes cut with every mesh invariant checked") {
         auto s = scene::load_scene(std::string(PBDSPLAT_PROJECT_SCENES_DIR) + "/bunny_cut.toml");
-        REQUIRE_MESSAGE(s.ok(), s.error().to_string());
+        REQUIRE_MESSAGE(s.ok(), test::why(s));
         if (!asset::find_model("stanford-bunny.obj")) {
             test::skip("stanford-bunny.obj is not on the model search path (../shared/models)");
             return;
@@ -202,10 +203,10 @@ TEST_SUITE("scene/runtime") {
         scene::RuntimeOptions o;
         o.check_topology = true;  // a broken invariant fails the step that broke it
         auto rt = scene::SceneRuntime::create(s.value(), o);
-        REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+        REQUIRE_MESSAGE(rt.ok(), test::why(rt));
         for (int f = 0; f < 170; ++f) {  // both strokes: at 1.0 s and 2.5 s
             const core::Status st = rt.value()->step();
-            REQUIRE_MESSAGE(st.ok(), "frame " << f << ": " << st.error().to_string());
+            REQUIRE_MESSAGE(st.ok(), "frame " << f << ": " << test::why(st));
         }
         CHECK(rt.value()->stats().cuts == 2);
         CHECK(rt.value()->body().volumes.size() >= 3);  // the strokes made pieces, each capped
@@ -254,7 +255,7 @@ TEST_SUITE("scene/runtime") {
             o.keep_records = true;
             o.check_writes = true;
             auto rt = scene::SceneRuntime::create(load(file), o);
-            REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+            REQUIRE_MESSAGE(rt.ok(), test::why(rt));
             for (int f = 0; f < 40; ++f) REQUIRE(rt.value()->step().ok());
             CHECK_MESSAGE(rt.value()->graph().write_violations().empty(),
                           std::string(file) << ": " << rt.value()->graph().write_violations().front());
@@ -265,7 +266,7 @@ TEST_SUITE("scene/runtime") {
         o.check_writes = true;
         o.interactive = true;
         auto rt = scene::SceneRuntime::create(scene::default_scene(), o);
-        REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+        REQUIRE_MESSAGE(rt.ok(), test::why(rt));
         scene::SceneRuntime& runtime = *rt.value();
         const Vec2f view(float(runtime.scene().render.width), float(runtime.scene().render.height));
         REQUIRE(runtime.step().ok());
@@ -327,7 +328,7 @@ TEST_SUITE("scene/runtime") {
         scene::RuntimeOptions o;
         o.keep_records = true;
         auto rt = scene::SceneRuntime::create(s, o);
-        REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+        REQUIRE_MESSAGE(rt.ok(), test::why(rt));
         REQUIRE(rt.value()->step().ok());
         const auto& records = rt.value()->records();
         REQUIRE(records.size() > 4);
@@ -442,7 +443,7 @@ TEST_SUITE("scene/runtime") {
         CHECK(opacity == doctest::Approx(0.2f).epsilon(1e-5));
         // Through a scene file too: the event type parses and writes back.
         auto parsed = scene::parse_scene("[[events]]\ntime = 1\ntype = \"opacity\"\nvalue = 0.3\nduration = 2\n", "t.toml");
-        REQUIRE_MESSAGE(parsed.ok(), parsed.error().to_string());
+        REQUIRE_MESSAGE(parsed.ok(), test::why(parsed));
         REQUIRE(parsed->events.size() == 1);
         CHECK(std::get<scene::OpacityEvent>(parsed->events[0].data).value == doctest::Approx(0.3f));
         auto bad = scene::parse_scene("[[events]]\ntime = 1\ntype = \"opacity\"\nvalue = 1.5\n", "bad.toml");
@@ -491,7 +492,7 @@ TEST_SUITE("scene/runtime") {
         scene::RuntimeOptions o;
         o.keep_records = true;
         auto rt = scene::SceneRuntime::create(s, o);
-        REQUIRE_MESSAGE(rt.ok(), rt.error().to_string());
+        REQUIRE_MESSAGE(rt.ok(), test::why(rt));
         const size_t before = rt.value()->body().particle_count();
         for (int f = 0; f < 8; ++f) REQUIRE(rt.value()->step().ok());
         REQUIRE(rt.value()->stats().cuts == 1);

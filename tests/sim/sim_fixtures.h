@@ -4,12 +4,13 @@
 
 #include "mesh/procedural.h"
 #include "sim/solver.h"
+#include "support/why.h"
 
 namespace pbdsplat::test {
 
 inline sim::SoftBody make_body(mesh::TriangleMesh m, sim::SoftBodyDesc desc = {}) {
     auto b = sim::make_soft_body(std::move(m), desc);
-    REQUIRE_MESSAGE(b.ok(), b.error().to_string());
+    REQUIRE_MESSAGE(b.ok(), test::why(b));
     return std::move(b).value();
 }
 

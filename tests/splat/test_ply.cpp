@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "splat/ply.h"
+#include "support/why.h"
 
 using namespace pbdsplat;
 
@@ -44,13 +45,13 @@ TEST_SUITE("splat/ply") {
         write_text(path, header + floats({0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 2.0f, std::log(0.01f), std::log(0.3f), std::log(0.3f),
                                           1.0f, 0.0f, 0.0f, 0.0f}));
         auto estimated = splat::read_ply_gaussians(path, splat::PlyUp::y);
-        REQUIRE_MESSAGE(estimated.ok(), estimated.error().to_string());
+        REQUIRE_MESSAGE(estimated.ok(), test::why(estimated));
         CHECK(estimated->missing_normals == 1);
         CHECK(estimated->normals_estimated);
         CHECK(estimated->estimated.from_shape == 1);
         CHECK(std::abs(splat::decode_octahedral(estimated->records[0].normal_oct).x()) > 0.999f);
         auto left = splat::read_ply_gaussians(path, splat::PlyUp::y, splat::MissingNormals::leave);
-        REQUIRE_MESSAGE(left.ok(), left.error().to_string());
+        REQUIRE_MESSAGE(left.ok(), test::why(left));
         CHECK(left->missing_normals == 1);
         CHECK_FALSE(left->normals_estimated);
         CHECK(left->estimated.from_shape == 0);
@@ -74,7 +75,7 @@ TEST_SUITE("splat/ply") {
         const std::string path = temp("pbdsplat_by_hand.ply");
         write_text(path, header + body);
         auto g = splat::read_ply_gaussians(path, splat::PlyUp::y);  // the file's own frame
-        REQUIRE_MESSAGE(g.ok(), g.error().to_string());
+        REQUIRE_MESSAGE(g.ok(), test::why(g));
         REQUIRE(g->records.size() == 2);
         CHECK(g->missing_normals == 2);
         REQUIRE(g->shapes.size() == 2);  // one needle makes the whole file anisotropic
@@ -119,7 +120,7 @@ TEST_SUITE("splat/ply") {
         const std::string path = temp("pbdsplat_nonfinite.ply");
         write_text(path, header + body);
         auto g = splat::read_ply_gaussians(path);
-        REQUIRE_MESSAGE(g.ok(), g.error().to_string());
+        REQUIRE_MESSAGE(g.ok(), test::why(g));
         CHECK(g->records.size() == 1);
         CHECK(g->dropped_nonfinite == 2);
         // Four billion Gaussians announced, forty bytes present: an error naming both, no allocation.
@@ -155,7 +156,7 @@ TEST_SUITE("splat/ply") {
              Eigen::Quaternionf(Eigen::AngleAxisf(k_pi / 4.0f, Vec3f::UnitZ()))},
             {{2.0f, 2.0f, -2.0f}, {-0.5f, 1.5f, 0.0f}, 0.0f, {0.2f, 0.2f, 0.2f}, Eigen::Quaternionf::Identity()}};
         auto g = splat::read_ply_gaussians(std::string(PBDSPLAT_PLY_FIXTURES_DIR) + "/splat_transform_from_spz.ply", splat::PlyUp::y);
-        REQUIRE_MESSAGE(g.ok(), g.error().to_string());
+        REQUIRE_MESSAGE(g.ok(), test::why(g));
         REQUIRE(g->records.size() == 3);
         CHECK(g->missing_normals == 3);
         REQUIRE(g->shapes.size() == 3);  // the needle makes the file anisotropic
@@ -200,7 +201,7 @@ TEST_SUITE("splat/ply") {
         const std::string path = temp("pbdsplat_no_normals.ply");
         write_text(path, header + body);
         auto g = splat::read_ply_gaussians(path, splat::PlyUp::y);
-        REQUIRE_MESSAGE(g.ok(), g.error().to_string());
+        REQUIRE_MESSAGE(g.ok(), test::why(g));
         REQUIRE(g->records.size() == 400);
         CHECK(g->missing_normals == 400);
         CHECK(g->estimated.from_shape == 200);
@@ -236,7 +237,7 @@ TEST_SUITE("splat/ply") {
             }
         write_text(path, torus_header + torus);
         auto t = splat::read_ply_gaussians(path, splat::PlyUp::y);
-        REQUIRE_MESSAGE(t.ok(), t.error().to_string());
+        REQUIRE_MESSAGE(t.ok(), test::why(t));
         CHECK(t->estimated.from_neighbours == 1440);
         int wrong_side = 0;
         float worst_torus = 0.0f;
@@ -299,7 +300,7 @@ TEST_SUITE("splat/ply") {
         const std::string path = temp("pbdsplat_aniso.ply");
         REQUIRE(splat::write_ply(path, records, shapes).ok());
         auto back = splat::read_ply_gaussians(path);
-        REQUIRE_MESSAGE(back.ok(), back.error().to_string());
+        REQUIRE_MESSAGE(back.ok(), test::why(back));
         REQUIRE(back->shapes.size() == shapes.size());
         for (size_t i = 0; i < shapes.size(); ++i)
             CHECK((covariance(splat::shape_axes(back->shapes[i])) - truth[i]).norm() < 3e-3f * truth[i].norm());
@@ -337,7 +338,7 @@ TEST_SUITE("splat/ply") {
         REQUIRE(splat::write_ply(path, records).ok());
         CHECK(std::filesystem::file_size(path) == splat::ply_header(500).size() + 500 * 17 * sizeof(float));
         auto back = splat::read_ply(path);
-        REQUIRE_MESSAGE(back.ok(), back.error().to_string());
+        REQUIRE_MESSAGE(back.ok(), test::why(back));
         REQUIRE(back->size() == records.size());
         for (size_t i = 0; i < records.size(); ++i) {
             const auto& a = records[i];

@@ -11,6 +11,7 @@
 #include "topology/cut.h"
 #include "topology/invariants.h"
 #include "topology/tear.h"
+#include "support/why.h"
 
 // Numerical stability under settings at and past the sensible range (issue: "fast and
 // accurate, proven"). Each case runs a body and checks, every frame: no NaN or Inf, the
@@ -64,7 +65,7 @@ void run_checked(sim::SoftBody& b, int frames, float dt, const sim::SolverSettin
 
 void require_invariants(const sim::SoftBody& b, const char* when) {
     const core::Status st = topology::check_invariants(b);
-    REQUIRE_MESSAGE(st.ok(), std::string(when) << ": " << st.error().to_string());
+    REQUIRE_MESSAGE(st.ok(), std::string(when) << ": " << test::why(st));
 }
 
 #ifdef PBDSPLAT_LONG_TESTS
@@ -234,7 +235,7 @@ TEST_SUITE("stress/topology") {
             options.volume = k % 3 == 0 ? topology::VolumePolicy::burst : k % 3 == 1 ? topology::VolumePolicy::cap
                                                                                      : topology::VolumePolicy::rebase;
             auto change = topology::cut(b, surface.value(), options);
-            REQUIRE_MESSAGE(change.ok(), "cut " << k << ": " << change.error().to_string());
+            REQUIRE_MESSAGE(change.ok(), "cut " << k << ": " << test::why(change));
             if (k % 10 == 0 || k_random_cuts > 200) {
                 CAPTURE(k);
                 require_invariants(b, "after a random cut");
@@ -264,7 +265,7 @@ TEST_SUITE("stress/topology") {
             REQUIRE_MESSAGE(finite(b), "non-finite at frame " << f);
             for (uint32_t t = 0; t < tear.max_per_frame; ++t) {
                 auto torn = topology::tear_once(b, tear, cut);
-                REQUIRE_MESSAGE(torn.ok(), torn.error().to_string());
+                REQUIRE_MESSAGE(torn.ok(), test::why(torn));
                 if (!torn.value()) break;
                 ++tears;
             }

@@ -9,6 +9,7 @@
 
 #include "core/image.h"
 #include "passes/offscreen_renderer.h"
+#include "support/why.h"
 
 namespace pbdsplat::test {
 
@@ -29,11 +30,11 @@ inline core::ImageRgba8 render_once(gpu::Context& ctx, const std::vector<splat::
     o.max_splats = std::max<uint32_t>(1, uint32_t(records.size()));
     o.frames_in_flight = 1;
     auto r = passes::OffscreenRenderer::create(ctx, o);
-    REQUIRE_MESSAGE(r.ok(), r.error().to_string());
+    REQUIRE_MESSAGE(r.ok(), test::why(r));
     const auto status = r.value()->render(records, frame, {}, shapes);
-    REQUIRE_MESSAGE(status.ok(), status.error().to_string());
+    REQUIRE_MESSAGE(status.ok(), test::why(status));
     auto img = r.value()->finish();
-    REQUIRE_MESSAGE(img.ok(), img.error().to_string());
+    REQUIRE_MESSAGE(img.ok(), test::why(img));
     return std::move(img).value();
 }
 

@@ -16,6 +16,7 @@
 #include "topology/invariants.h"
 
 #include "support/skip.h"
+#include "support/why.h"
 using namespace pbdsplat;
 
 namespace {
@@ -43,7 +44,7 @@ topology::CutSurface plane(const Vec3f& p, const Vec3f& n) {
 }
 void require_invariants(const sim::SoftBody& b) {
     const core::Status st = topology::check_invariants(b);
-    REQUIRE_MESSAGE(st.ok(), st.error().to_string());
+    REQUIRE_MESSAGE(st.ok(), test::why(st));
 }
 } // namespace
 
@@ -299,7 +300,7 @@ TEST_SUITE("topology/cut") {
             spec = "icosphere:4";
         }
         auto m = asset::load_mesh_spec(spec);
-        REQUIRE_MESSAGE(m.ok(), m.error().to_string());
+        REQUIRE_MESSAGE(m.ok(), test::why(m));
         sim::SoftBody b = test::make_body(std::move(m).value().mesh);
         const double mass = total_mass(b);
         std::mt19937 rng(7);
@@ -321,11 +322,11 @@ TEST_SUITE("topology/cut") {
                 s.inside = [c, r](const Vec3f& x) { return (x - c).squaredNorm() < r * r; };
             }
             auto change = topology::cut(b, s);
-            REQUIRE_MESSAGE(change.ok(), change.error().to_string());
+            REQUIRE_MESSAGE(change.ok(), test::why(change));
             opened += change->duplicated_vertices > 0 ? 1 : 0;
             fell_back += change->loops_fell_back ? 1 : 0;
             const core::Status st = topology::check_invariants(b);
-            REQUIRE_MESSAGE(st.ok(), "after cut " << k << ": " << st.error().to_string());
+            REQUIRE_MESSAGE(st.ok(), "after cut " << k << ": " << test::why(st));
             if (k % 20 == 19) solver.step(b, 1.0f / 60.0f, settings, {}, {});
             REQUIRE(std::all_of(b.particles.x.begin(), b.particles.x.end(), [](const Vec4f& x) { return x.allFinite(); }));
         }
@@ -367,9 +368,9 @@ TEST_SUITE("topology/cut") {
             const float r = 1.5f * edge;
             s.inside = [p, r](const Vec3f& x) { return (x - p).squaredNorm() < r * r; };
             auto change = topology::cut(b, s);
-            REQUIRE_MESSAGE(change.ok(), change.error().to_string());
+            REQUIRE_MESSAGE(change.ok(), test::why(change));
             const core::Status st = topology::check_invariants(b);
-            REQUIRE_MESSAGE(st.ok(), "after cut " << k << ": " << st.error().to_string());
+            REQUIRE_MESSAGE(st.ok(), "after cut " << k << ": " << test::why(st));
             double mean = 0.0;
             float least = 1e30f;
             for (const auto& t : b.triangles) {

@@ -7,6 +7,7 @@
 #include "sim/solver.h"
 #include "topology/invariants.h"
 #include "topology/tear.h"
+#include "support/why.h"
 
 using namespace pbdsplat;
 
@@ -55,11 +56,11 @@ TEST_SUITE("topology/tear") {
             size_t this_frame = 0;
             for (uint32_t k = 0; k < tear.max_per_frame; ++k) {
                 auto t = topology::tear_once(b, tear, cut);
-                REQUIRE_MESSAGE(t.ok(), t.error().to_string());
+                REQUIRE_MESSAGE(t.ok(), test::why(t));
                 if (!t.value()) break;
                 ++this_frame;
                 const core::Status st = topology::check_invariants(b);
-                REQUIRE_MESSAGE(st.ok(), "frame " << frame << ": " << st.error().to_string());
+                REQUIRE_MESSAGE(st.ok(), "frame " << frame << ": " << test::why(st));
             }
             torn += this_frame;
             tearing_frames += this_frame > 0 ? 1 : 0;
@@ -101,7 +102,7 @@ TEST_SUITE("topology/tear") {
         size_t torn = 0;
         for (int k = 0; k < 40; ++k) {
             auto t = topology::tear_once(b, tear, cut, strained);
-            REQUIRE_MESSAGE(t.ok(), t.error().to_string());
+            REQUIRE_MESSAGE(t.ok(), test::why(t));
             if (!t.value()) break;
             ++torn;
             const topology::StrainedSet fresh(b, tear.threshold);
@@ -113,7 +114,7 @@ TEST_SUITE("topology/tear") {
                 CHECK(kept[e].ratio == scanned[e].ratio);
             }
             const core::Status st = topology::check_invariants(b);
-            REQUIRE_MESSAGE(st.ok(), st.error().to_string());
+            REQUIRE_MESSAGE(st.ok(), test::why(st));
         }
         CHECK(torn >= 20);
     }
