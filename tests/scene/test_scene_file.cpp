@@ -299,7 +299,7 @@ TEST_SUITE("scene/scene_file") {
         for (const auto& entry : std::filesystem::directory_iterator(PBDSPLAT_SCENES_DIR)) {
             if (entry.path().extension() != ".toml") continue;
             auto r = scene::load_scene(entry.path().string());
-            REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().to_string()));
+            REQUIRE_MESSAGE(r.ok(), test::why(r));
             CHECK_MESSAGE(!r->expect.bounds.empty(), entry.path().string() << ": no [expect] bounds");
             // The run covers every event and half a second after the last one ends.
             double end = 0.0;
