@@ -75,13 +75,17 @@ inline Vec3f unit_normal(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
 
 // Whether a cap loop encloses a face worth resting on: a cut's cross-section does, a tear's
 // slit (its two sides close together) does not, and a fan over a slit has no meaningful normal.
-// Area over perimeter squared: 1 / (4 pi) = 0.08 for a circle, 0.06 for a square.
+// Area over perimeter squared: 1 / (4 pi) = 0.08 for a circle, 0.06 for a square. Judged in
+// rest space where it is known: a cut face crumpled by the pieces' motion would otherwise come
+// and go between searches, and what rested on it fall through while it was gone.
 template <class Real>
-bool fat_loop(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x) {
+bool fat_loop(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x, const std::vector<Vec3f>& rest) {
+    const bool use_rest = rest.size() == x.size();
     Vec3f newell = Vec3f::Zero();
     float perimeter = 0.0f;
     for (size_t k = 0; k < loop.size(); ++k) {
-        const Vec3f a = pos3(x[loop[k]]), b = pos3(x[loop[(k + 1) % loop.size()]]);
+        const uint32_t ia = loop[k], ib = loop[(k + 1) % loop.size()];
+        const Vec3f a = use_rest ? rest[ia] : pos3(x[ia]), b = use_rest ? rest[ib] : pos3(x[ib]);
         newell += a.cross(b);
         perimeter += (b - a).norm();
     }
@@ -99,7 +103,7 @@ void ContactSolverT<Real>::build_fans(const SoftBodyT<Real>& body) {
         if (v.piece >= body.pieces || v.leaking_done()) continue;
         closed_[v.piece] = 1;
         for (const std::vector<uint32_t>& loop : v.cap_loops) {
-            if (loop.size() < 3 || !fat_loop(loop, body.particles.x)) continue;
+            if (loop.size() < 3 || !fat_loop(loop, body.particles.x, body.rest_positions)) continue;
             Fan f;
             f.first = uint32_t(fan_vertices_.size()), f.count = uint32_t(loop.size()), f.piece = v.piece;
             if (body.rest_positions.size() == body.particles.size()) {
@@ -122,11 +126,80 @@ template <class Real>
 void ContactSolverT<Real>::update_fans(const ParticlesT<Real>& p, bool prev) {
     for (Fan& f : fans_) {
         Vec4<Real> c = Vec4<Real>::Zero();
+        Vec3f newell = Vec3f::Zero();
         for (uint32_t k = 0; k < f.count; ++k) {
             const uint32_t i = fan_vertices_[f.first + k];
             c += prev ? p.x_prev[i] : p.x[i];
+            if (!prev) newell += pos3(p.x[i]).cross(pos3(p.x[fan_vertices_[f.first + (k + 1) % f.count]]));
         }
         (prev ? f.centroid_prev : f.centroid) = c / Real(f.count);
+        // The loop winds as its fan (centroid, loop[k], loop[k + 1]) does: out of the piece.
+        if (!prev) f.normal = newell.norm() > 0.0f ? Vec3f(newell.normalized()) : Vec3f::Zero();
+    }
+}
+
+template <class Real>
+void ContactSolverT<Real>::build_seam_pairs(const SoftBodyT<Real>& body) {
+    seam_pairs_.clear();
+    if (body.rest_positions.size() != body.particles.size() || fans_.size() < 2) return;
+    struct Key {
+        Vec3f rest;
+        uint32_t part, particle, fan;
+        bool operator<(const Key& o) const {
+            return std::tie(part, rest.x(), rest.y(), rest.z(), particle) < std::tie(o.part, o.rest.x(), o.rest.y(), o.rest.z(), o.particle);
+        }
+        bool same_place(const Key& o) const { return part == o.part && rest == o.rest; }
+    };
+    std::vector<Key> keys;
+    keys.reserve(fan_vertices_.size());
+    for (uint32_t f = 0; f < fans_.size(); ++f)
+        for (uint32_t k = 0; k < fans_[f].count; ++k) {
+            const uint32_t i = fan_vertices_[fans_[f].first + k];
+            keys.push_back({body.rest_positions[i], part_[i], i, f});
+        }
+    std::sort(keys.begin(), keys.end());
+    for (size_t k = 0; k + 1 < keys.size(); ++k) {
+        const Key &a = keys[k], &b = keys[k + 1];
+        if (!a.same_place(b) || a.particle == b.particle || fans_[a.fan].piece == fans_[b.fan].piece) continue;
+        // Three copies at one place (a vertex two cuts went through): which two face each other
+        // is not known, and the faces' contact holds them.
+        if ((k + 2 < keys.size() && keys[k + 2].same_place(a)) || (k > 0 && keys[k - 1].same_place(a))) continue;
+        seam_pairs_.push_back({a.particle, b.particle, a.fan, b.fan});
+    }
+}
+
+template <class Real>
+void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSettings& s) {
+    ParticlesT<Real>& p = body.particles;
+    const Real mu_s = Real(s.friction.static_), mu_k = Real(s.friction.kinetic);
+    // Slid more than an edge apart along the faces, the two no longer bear on each other: the
+    // faces' contact takes over.
+    const float reach2 = scale_.edge * scale_.edge;
+    for (const SeamPair& sp : seam_pairs_) {
+        // From b's face toward a's: the mean of b's outward normal and a's turned round. Faces
+        // turned more than 120 degrees from each other no longer face each other.
+        const Vec3f nf = fans_[sp.fan_b].normal - fans_[sp.fan_a].normal;
+        const float len = nf.norm();
+        if (!(len > 1.0f)) continue;
+        const Vec4<Real> n = to4<Real>(Vec3f(nf / len));
+        const Vec4<Real> d = p.x[sp.a] - p.x[sp.b];
+        const Real C = d.dot(n);
+        const Real w = p.w[sp.a] + p.w[sp.b];
+        if (C >= Real(0) || !(w > Real(0))) continue;
+        if (float((d - C * n).squaredNorm()) > reach2) continue;
+        const Real depth = -C;
+        const auto apply = [&](const Vec4<Real>& v) {
+            p.x[sp.a] += p.w[sp.a] * v;
+            p.x[sp.b] -= p.w[sp.b] * v;
+        };
+        apply((depth / w) * n);
+        // Coulomb friction on their relative motion since the substep began, as for contacts.
+        const Vec4<Real> rel = (p.x[sp.a] - p.x_prev[sp.a]) - (p.x[sp.b] - p.x_prev[sp.b]);
+        const Vec4<Real> tangential = rel - rel.dot(n) * n;
+        const Real t = tangential.norm();
+        if (!(t > Real(0))) continue;
+        const Real keep = t <= mu_s * depth ? Real(1) : std::min(Real(1), mu_k * depth / t);
+        apply((-keep / w) * tangential);
     }
 }
 
@@ -177,15 +250,22 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             // their contact); and across two parts of one model that lie on each other at load
             // (a teapot's lid, suzanne's eyes: their relative place changes with the shell's
             // pressure, and pushed apart they tear it).
+            // The other side of a cut or tear of a closed piece is the exception: its shell is
+            // met at no thickness (the gap the seam had), from outside only, so that a seam's
+            // rim slipping off the face it rests on cannot come back in through that piece's
+            // wall beside the face, and a seam at rest is not pushed apart.
             const uint32_t corner = tk.fan ? ib : ia;
             const bool neighbourhood = pi == piece || (model_[i] == model_[corner] && (part_[i] != part_[corner] || !tk.fan));
+            bool seam = false;
             if (neighbourhood) {
                 if (pi == piece && tk.fan) continue;
                 if (!rest_known) continue;
                 const Vec3f& r = body.rest_positions[i];
                 if ((!tk.fan && (r - body.rest_positions[ia]).squaredNorm() < r_ex2) || (r - body.rest_positions[ib]).squaredNorm() < r_ex2 ||
-                    (r - body.rest_positions[ic]).squaredNorm() < r_ex2)
-                    continue;
+                    (r - body.rest_positions[ic]).squaredNorm() < r_ex2) {
+                    if (!closed || pi == piece || part_[i] != part_[corner]) continue;
+                    seam = true;
+                }
             }
             if (!planes) {
                 nrm = unit_normal(a, b, c), nrm0 = unit_normal(a0, b0, c0);
@@ -215,7 +295,7 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             // start on each other; two models placed with a small gap) keep the gap they had:
             // pushing them apart at the first step would throw them, or pull a seam's edges
             // apart until a tear ran from it. Pairs that start inside each other are left alone.
-            float thickness = scale_.thickness;
+            float thickness = seam ? 0.0f : scale_.thickness;
             if (!neighbourhood && rest_known) {
                 const Vec3f ra = tk.fan ? tk.fan->rest_centroid : body.rest_positions[ia];
                 const Vec3f& rb = body.rest_positions[ib];
@@ -313,6 +393,7 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
         if (still) return;
     }
     contacts_.clear();
+    seam_pairs_.clear();
     anchor_.clear();
     if (!s.enabled || n == 0 || body.triangles.empty() || !(scale_.edge > 0.0f)) return;
     ++searches_;
@@ -334,6 +415,7 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     const size_t real = body.triangles.size();
     self_ = s.self;
     update_origins(body);
+    build_seam_pairs(body);
     build_patches(body);
     const uint32_t patches = uint32_t(patch_start_.size() - 1);
     const uint32_t groups = patches + fan_chunks_;
@@ -472,9 +554,10 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
 
 template <class Real>
 void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings& s) {
-    if (contacts_.empty()) return;
+    if (contacts_.empty() && seam_pairs_.empty()) return;
     ParticlesT<Real>& p = body.particles;
     update_fans(p, false);
+    project_seams(body, s);
     const Real mu_s = Real(s.friction.static_), mu_k = Real(s.friction.kinetic);
     for (const Contact& ct : contacts_) {
         const uint32_t i = ct.particle;

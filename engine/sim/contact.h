@@ -81,7 +81,19 @@ private:
         uint32_t piece = 0;
         Vec4<Real> centroid = Vec4<Real>::Zero(), centroid_prev = Vec4<Real>::Zero();
         Vec3f rest_centroid = Vec3f::Zero();
+        Vec3f normal = Vec3f::Zero();  // the loop's (Newell's), out of its piece
     };
+    // The two sides of a cut face, matched rim particle by rim particle (the copies a cut made of
+    // one vertex, at one rest place): pressed together along the faces' normal, never pulled.
+    // A piece resting on a cut face bears on its rim, which a face's virtual fan, tilting and
+    // turning over on a concave loop as the rim bends, cannot hold alone.
+    struct SeamPair {
+        uint32_t a, b;          // particles, of two pieces
+        uint32_t fan_a, fan_b;  // their loops' fans
+    };
+    std::vector<SeamPair> seam_pairs_;
+    void build_seam_pairs(const SoftBodyT<Real>& body);
+    void project_seams(SoftBodyT<Real>& body, const ContactSettings& s);
     struct FanTriangle {
         uint32_t fan, corner;  // loop vertices corner, corner + 1 (wrapping), and the centroid
         uint32_t chunk;        // its broad-phase group, past the patches

@@ -4,12 +4,14 @@
 #include <cmath>
 #include <random>
 #include <set>
+#include <string>
 #include <tuple>
 
 #include "mesh/procedural.h"
 #include "sim/contact.h"
 #include "sim/penetration.h"
 #include "sim/sim_fixtures.h"
+#include "support/why.h"
 #include "sim/solver.h"
 #include "topology/cut.h"
 
@@ -203,27 +205,48 @@ TEST_SUITE("sim/contact") {
         CHECK(solver.contact().searches() > before);
     }
 
-    TEST_CASE("a stiff ball cut horizontally: the top half stays on the bottom half") {
-        sim::SoftBody b = test::make_body(mesh::icosphere(3, 0.5f), shape_matched_desc());
-        sim::Colliders c;
-        c.ground = sim::GroundPlane{Vec3f::UnitY(), -0.5f};
-        const sim::SolverSettings s = held_shape_settings();
-        run_frames(b, s, c, 30);
-        const float height = highest_y(b, 0) - (-0.5f);
-        auto plane = topology::plane_cut(Vec3f(0.0f, -0.02f, 0.0f), Vec3f(0.0f, 1.0f, 0.0f));
-        REQUIRE(plane.ok());
-        auto change = topology::cut(b, plane.value());
-        REQUIRE(change.ok());
-        REQUIRE(b.pieces == 2);
-        run_frames(b, s, c, 180);
-        float top = -INFINITY;
-        for (size_t i = 0; i < b.particle_count(); ++i) top = std::max(top, b.particles.x[i].y());
-        MESSAGE("stack height after 3 s: " << (top + 0.5f) / height << " of the uncut ball's");
-        // The goal is 0.9, held here (0.994 in both presets); not held for every cut:
-        // cut 0.1 below the centre, or tilted 8 degrees, the stack rolls as one ball and the top
-        // slides off within 3 s (0.82-0.86).
-        CHECK((top + 0.5f) / height >= 0.7f);
-        CHECK(sim::deepest_penetration(b).depth < 0.5f * 0.5f * sim::mean_rest_edge(b));
+    TEST_CASE("a stiff ball cut through: the top stays on the bottom") {
+        // Through the centre, a tenth below it, a sixth above it, and tilted 8 degrees: each cut
+        // face is a disc of another size and the top another weight, resting on the rim below.
+        struct Cut {
+            const char* name;
+            Vec3f point, normal;
+        };
+        const float tilt = 8.0f * float(M_PI) / 180.0f;
+        const Cut cuts[] = {{"through the centre", {0.0f, -0.02f, 0.0f}, Vec3f::UnitY()},
+                            {"0.1 below the centre", {0.0f, -0.1f, 0.0f}, Vec3f::UnitY()},
+                            {"0.15 above the centre", {0.0f, 0.15f, 0.0f}, Vec3f::UnitY()},
+                            {"tilted 8 degrees", {0.0f, -0.02f, 0.0f}, {std::sin(tilt), std::cos(tilt), 0.0f}}};
+        for (const Cut& cut : cuts) {
+            CAPTURE(std::string(cut.name));
+            sim::SoftBody b = test::make_body(mesh::icosphere(3, 0.5f), shape_matched_desc());
+            sim::Colliders c;
+            c.ground = sim::GroundPlane{Vec3f::UnitY(), -0.5f};
+            const sim::SolverSettings s = held_shape_settings();
+            run_frames(b, s, c, 30);
+            const float height = highest_y(b, 0) - (-0.5f);
+            auto plane = topology::plane_cut(cut.point, cut.normal);
+            REQUIRE(plane.ok());
+            auto change = topology::cut(b, plane.value());
+            REQUIRE_MESSAGE(change.ok(), test::why(change));
+            REQUIRE(b.pieces == 2);
+            float deepest = 0.0f;
+            for (int second = 0; second < 3; ++second) {
+                run_frames(b, s, c, 60);
+                deepest = std::max(deepest, sim::deepest_penetration(b).depth);
+            }
+            float top = -INFINITY;
+            for (size_t i = 0; i < b.particle_count(); ++i) top = std::max(top, b.particles.x[i].y());
+            const float edge = sim::mean_rest_edge(b);
+            MESSAGE(std::string(cut.name) << ": stack height after 3 s " << (top + 0.5f) / height << " of the uncut ball's, deepest " << deepest / edge
+                             << " edges inside");
+            // The goal (0.9). Measured: 0.994, 0.991, 0.998 and 0.963 (tilted, where the
+            // top slides a little before friction holds it); 0.82-0.86 for the lower and tilted
+            // cuts before the seam's rims bore on each other.
+            CHECK((top + 0.5f) / height >= 0.9f);
+            // Measured at most 0.02 edges (tilted); 0.94 edges before.
+            CHECK(deepest < 0.25f * edge);
+        }
     }
 
     TEST_CASE("a folded sheet does not pass through itself") {
