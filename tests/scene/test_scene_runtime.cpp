@@ -11,6 +11,8 @@
 #include "scene/scene_model.h"
 #include "scene/scene_file.h"
 #include "scene/scene_runtime.h"
+#include "scene/stages/topology_stage.h"
+#include "sim/soft_body.h"
 #include "scene/timeline.h"
 #include "sim/state_hash.h"
 #include "support/skip.h"
@@ -210,6 +212,36 @@ TEST_SUITE("scene/runtime") {
         }
         CHECK(rt.value()->stats().cuts == 2);
         CHECK(rt.value()->body().volumes.size() >= 3);  // the strokes made pieces, each capped
+    }
+
+    TEST_CASE("a cut that leaves a mesh invariant broken still runs its follow-up, then stops the stage with the error") {
+        // The passes after the topology pass in that frame read the body (the density control
+        // sizes its state by its triangles): the follow-up must have run when the error is seen.
+        auto made = sim::make_soft_body(mesh::icosphere(2, 0.5f), {});
+        REQUIRE_MESSAGE(made.ok(), test::why(made));
+        sim::SoftBody body = std::move(made).value();
+        // One triangle turned round: its edges now run the same way as its neighbours'.
+        std::swap(body.triangles[0][1], body.triangles[0][2]);
+        scene::CutEvent cut;
+        cut.plane = std::make_pair(Vec3f(0.0f, 0.1f, 0.0f), Vec3f(0.0f, 1.0f, 0.0f));
+        scene::EventQueue queue(std::vector<scene::Event>{{0.0f, cut}});
+        size_t each = 0, settled = 0;
+        scene::TopologyStage::Follow follow;
+        follow.each = [&](const topology::TopologyChange&, const topology::CutSurface*) -> core::Result<std::vector<uint32_t>> {
+            ++each;
+            return std::vector<uint32_t>{};
+        };
+        follow.settle = [&](std::span<const uint32_t>, size_t) {
+            ++settled;
+            return core::Status::success();
+        };
+        scene::TopologyStage stage(true);
+        std::string note;
+        stage.run(queue, body, 0.0f, 1.0f / 60.0f, render::Camera{}, {}, follow, note);
+        REQUIRE_FALSE(stage.status().ok());
+        CHECK(stage.status().error().to_string().find("used twice in one direction") != std::string::npos);
+        CHECK(each == 1);
+        CHECK(settled == 1);
     }
 
     TEST_CASE("a missing model and an impossible pin are clear errors") {

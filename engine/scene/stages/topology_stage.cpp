@@ -74,7 +74,10 @@ core::Status TopologyStage::after(sim::SoftBody& body, const topology::TopologyC
                                   const Follow& follow) {
     last_change_ = change;
     if (!change.changed()) return core::Status::success();
-    if (check_invariants_) PBDSPLAT_TRY(topology::check_invariants(body));
+    // Checked first, reported last: the follow-up runs on a broken mesh too, so that the passes
+    // after this one in the frame (the density control's per-triangle state) match the body
+    // while the error travels to the caller, who stops there.
+    const core::Status broken = check_invariants_ ? topology::check_invariants(body) : core::Status::success();
     // A cut is counted after its follow-up, a tear before it: the seeds of the samples laid
     // since the first scenes were recorded.
     if (frame_seed_offset_ == 0) frame_seed_offset_ = cuts_ + tears_ + 1;
@@ -82,7 +85,7 @@ core::Status TopologyStage::after(sim::SoftBody& body, const topology::TopologyC
     if (!extra.ok()) return extra.error();
     frame_touched_.insert(frame_touched_.end(), change.touched_triangles.begin(), change.touched_triangles.end());
     frame_touched_.insert(frame_touched_.end(), extra->begin(), extra->end());
-    return core::Status::success();
+    return broken;
 }
 
 core::Status TopologyStage::settle(const Follow& follow) {
