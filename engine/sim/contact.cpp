@@ -250,10 +250,12 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             // their contact); and across two parts of one model that lie on each other at load
             // (a teapot's lid, suzanne's eyes: their relative place changes with the shell's
             // pressure, and pushed apart they tear it).
-            // The other side of a cut or tear of a closed piece is the exception: its shell is
-            // met at no thickness (the gap the seam had), from outside only, so that a seam's
-            // rim slipping off the face it rests on cannot come back in through that piece's
-            // wall beside the face, and a seam at rest is not pushed apart.
+            // The other side of a cut of a closed piece is the exception for the particles of a
+            // cut face's rim: its shell is met at no thickness (the gap the seam had), from
+            // outside only, so that a rim slipping off the face it rests on cannot come back in
+            // through that piece's wall beside the face, and a seam at rest is not pushed apart.
+            // (Not for the walls beside the seam: a soft balloon's two halves, wrinkling against
+            // each other there, fought themselves apart.)
             const uint32_t corner = tk.fan ? ib : ia;
             const bool neighbourhood = pi == piece || (model_[i] == model_[corner] && (part_[i] != part_[corner] || !tk.fan));
             bool seam = false;
@@ -263,7 +265,7 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
                 const Vec3f& r = body.rest_positions[i];
                 if ((!tk.fan && (r - body.rest_positions[ia]).squaredNorm() < r_ex2) || (r - body.rest_positions[ib]).squaredNorm() < r_ex2 ||
                     (r - body.rest_positions[ic]).squaredNorm() < r_ex2) {
-                    if (!closed || pi == piece || part_[i] != part_[corner]) continue;
+                    if (!closed || pi == piece || part_[i] != part_[corner] || !on_rim_[i]) continue;
                     seam = true;
                 }
             }
@@ -415,6 +417,8 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     const size_t real = body.triangles.size();
     self_ = s.self;
     update_origins(body);
+    on_rim_.assign(n, 0);
+    for (uint32_t i : fan_vertices_) on_rim_[i] = 1;
     build_seam_pairs(body);
     build_patches(body);
     const uint32_t patches = uint32_t(patch_start_.size() - 1);

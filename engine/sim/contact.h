@@ -92,6 +92,7 @@ private:
         uint32_t fan_a, fan_b;  // their loops' fans
     };
     std::vector<SeamPair> seam_pairs_;
+    std::vector<uint8_t> on_rim_;  // per particle: on a loop of fans_
     void build_seam_pairs(const SoftBodyT<Real>& body);
     void project_seams(SoftBodyT<Real>& body, const ContactSettings& s);
     struct FanTriangle {
