@@ -222,9 +222,9 @@ TEST_SUITE("scene/runtime") {
         sim::SoftBody body = std::move(made).value();
         // One triangle turned round: its edges now run the same way as its neighbours'.
         std::swap(body.triangles[0][1], body.triangles[0][2]);
-        scene::CutEvent cut;
-        cut.plane = std::make_pair(Vec3f(0.0f, 0.1f, 0.0f), Vec3f(0.0f, 1.0f, 0.0f));
-        scene::EventQueue queue(std::vector<scene::Event>{{0.0f, cut}});
+        std::vector<scene::Event> events(1);
+        events[0].data.emplace<scene::CutEvent>().plane = std::make_pair(Vec3f(0.0f, 0.1f, 0.0f), Vec3f(0.0f, 1.0f, 0.0f));
+        scene::EventQueue queue(events);
         size_t each = 0, settled = 0;
         scene::TopologyStage::Follow follow;
         follow.each = [&](const topology::TopologyChange&, const topology::CutSurface*) -> core::Result<std::vector<uint32_t>> {
