@@ -2,6 +2,7 @@
 // Static collision shapes of a scene. Particles are pushed out along the surface normal;
 // friction removes tangential motion in proportion to the depth resolved (position-based Coulomb
 // friction: the depth stands for the normal impulse).
+#include <algorithm>
 #include <optional>
 #include <vector>
 
@@ -15,6 +16,12 @@ struct Friction {
     float kinetic = 0.4f;
     float static_ = 0.4f;
 };
+// The share of tangential motion t that friction removes after a contact resolved `depth`.
+template <class Real>
+Real friction_share(const Friction& f, Real t, Real depth) {
+    if (t <= Real(f.static_) * depth) return Real(1);
+    return t > Real(0) ? std::min(Real(1), Real(f.kinetic) * depth / t) : Real(0);
+}
 
 struct GroundPlane {
     Vec3f normal{0.0f, 1.0f, 0.0f};  // unit, pointing into free space

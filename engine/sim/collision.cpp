@@ -14,9 +14,7 @@ void resolve(Vec4<Real>& x, const Vec4<Real>& x_prev, const Vec3f& n, Real depth
     x += depth * n4;
     const Vec4<Real> motion = x - x_prev;
     const Vec4<Real> tangential = motion - motion.dot(n4) * n4;
-    const Real t = tangential.norm();
-    if (t <= Real(friction.static_) * depth) x -= tangential;
-    else if (t > Real(0)) x -= std::min(Real(1), Real(friction.kinetic) * depth / t) * tangential;
+    x -= friction_share(friction, tangential.norm(), depth) * tangential;
 }
 
 } // namespace

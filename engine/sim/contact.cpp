@@ -171,7 +171,6 @@ void ContactSolverT<Real>::build_seam_pairs(const SoftBodyT<Real>& body) {
 template <class Real>
 void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSettings& s) {
     ParticlesT<Real>& p = body.particles;
-    const Real mu_s = Real(s.friction.static_), mu_k = Real(s.friction.kinetic);
     // Slid more than an edge apart along the faces, the two no longer bear on each other: the
     // faces' contact takes over.
     const float reach2 = scale_.edge * scale_.edge;
@@ -196,10 +195,7 @@ void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSet
         // Coulomb friction on their relative motion since the substep began, as for contacts.
         const Vec4<Real> rel = (p.x[sp.a] - p.x_prev[sp.a]) - (p.x[sp.b] - p.x_prev[sp.b]);
         const Vec4<Real> tangential = rel - rel.dot(n) * n;
-        const Real t = tangential.norm();
-        if (!(t > Real(0))) continue;
-        const Real keep = t <= mu_s * depth ? Real(1) : std::min(Real(1), mu_k * depth / t);
-        apply((-keep / w) * tangential);
+        apply((-friction_share(s.friction, tangential.norm(), depth) / w) * tangential);
     }
 }
 
@@ -254,8 +250,8 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             // cut face's rim: its shell is met at no thickness (the gap the seam had), from
             // outside only, so that a rim slipping off the face it rests on cannot come back in
             // through that piece's wall beside the face, and a seam at rest is not pushed apart.
-            // (Not for the walls beside the seam: a soft balloon's two halves, wrinkling against
-            // each other there, fought themselves apart.)
+            // Only the rim's: a soft balloon's two halves wrinkle against each other beside the
+            // seam, and met there they push themselves apart.
             const uint32_t corner = tk.fan ? ib : ia;
             const bool neighbourhood = pi == piece || (model_[i] == model_[corner] && (part_[i] != part_[corner] || !tk.fan));
             bool seam = false;
@@ -562,7 +558,6 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
     ParticlesT<Real>& p = body.particles;
     update_fans(p, false);
     project_seams(body, s);
-    const Real mu_s = Real(s.friction.static_), mu_k = Real(s.friction.kinetic);
     for (const Contact& ct : contacts_) {
         const uint32_t i = ct.particle;
         const Corners ck = corners_of(body, ct.triangle);
@@ -606,10 +601,7 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
         Vec4<Real> rel = (p.x[i] - p.x_prev[i]) - ub * (p.x[ib] - p.x_prev[ib]) - uc * (p.x[ic] - p.x_prev[ic]);
         if (!fan) rel -= ua * (p.x[ia] - p.x_prev[ia]);
         const Vec4<Real> tangential = rel - rel.dot(n) * n;
-        const Real t = tangential.norm();
-        if (!(t > Real(0))) continue;
-        const Real keep = t <= mu_s * depth ? Real(1) : std::min(Real(1), mu_k * depth / t);
-        apply((-keep / denom) * tangential);
+        apply((-friction_share(s.friction, tangential.norm(), depth) / denom) * tangential);
     }
 }
 

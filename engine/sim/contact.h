@@ -84,7 +84,8 @@ private:
         Vec3f normal = Vec3f::Zero();  // the loop's (Newell's), out of its piece
     };
     // The two sides of a cut face, matched rim particle by rim particle (the copies a cut made of
-    // one vertex, at one rest place): pressed together along the faces' normal, never pulled.
+    // one vertex, at one rest place): kept from passing through each other along the faces'
+    // normal, never pulled together.
     // A piece resting on a cut face bears on its rim, which a face's virtual fan, tilting and
     // turning over on a concave loop as the rim bends, cannot hold alone.
     struct SeamPair {
