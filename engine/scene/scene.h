@@ -179,6 +179,7 @@ struct CutEvent {
 };
 struct TearEvent {
     float threshold = 1.5f;      // stretch ratio beyond which edges tear
+    float tip_threshold = 0.0f;  // the same at a rip's rim (topology::TearOptions); 0: halfway to `threshold`
     uint32_t max_per_frame = 4;  // tears per frame
     float duration = 0.0f;       // tearing stays on this long; 0 = to the end
 };

@@ -5,6 +5,7 @@
 
 #include "passes/coverage.h"
 #include "scene/scene_runtime.h"
+#include "sim/opening.h"
 #include "sim/penetration.h"
 #include "sim/pose.h"
 #include "sim/shape_error.h"
@@ -22,7 +23,10 @@ double area_of(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangl
 }
 
 // Shape and volume error, strays and sample spacing of the frame the runtime just stepped.
-void sample_body_and_splats(const SceneRuntime& rt, CheckSample& s) {
+void sample_body_and_splats(const SceneRuntime& rt, double load_volume, CheckSample& s) {
+    const sim::OpeningReport opening = sim::opening_report(rt.body());
+    s.volume_ratio = load_volume != 0.0 ? opening.volume / load_volume : 1.0;
+    s.open_length = opening.open_length;
     const sim::ShapeReport shape = sim::shape_report(rt.body());
     s.penetration = rt.spacing() > 0.0f ? double(sim::deepest_penetration(rt.body()).depth) / double(rt.spacing()) : 0.0;
     s.shape_error = shape.max_error;
@@ -115,6 +119,7 @@ void summarise(CheckReport& report, std::vector<double> stage_a) {
         report.penetration_max = std::max(report.penetration_max, s.penetration);
         report.tilt_max = std::max(report.tilt_max, s.tilt_degrees);
         report.height_ratio_min = std::min(report.height_ratio_min, s.height_ratio);
+        report.volume_ratio_min = std::min(report.volume_ratio_min, s.volume_ratio);
         if (s.smallest_piece_triangles > 0)
             report.smallest_piece_min = report.smallest_piece_min == 0 ? s.smallest_piece_triangles
                                                                        : std::min(report.smallest_piece_min, s.smallest_piece_triangles);
@@ -167,6 +172,12 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
     if (rt.fine_surface())
         report.embedding_error = rt.embedding().max_rest_error / std::max(mesh::bounds(*rt.fine_surface()).diagonal(), 1e-12f);
     std::vector<double> stage_a;
+    const sim::OpeningReport at_load = sim::opening_report(rt.body());
+    // The burst's figures: from the first frame that tore, every frame for 2 s.
+    struct Burst {
+        float start = -1.0f;
+        double open_length = 0.0, volume = 0.0;
+    } burst;
     // The surface as the coverage images see it, before the first step: the area ratio's 1.
     double rest_area = 0.0;
     if (o.gpu) {
@@ -179,6 +190,17 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
         PBDSPLAT_TRY(rt.step());
         const FrameStats& st = rt.stats();
         stage_a.push_back(st.apply_forces_ms + st.constraints_ms + st.integrate_normals_ms);
+        if (st.tears > 0 && (burst.start < 0.0f || st.time <= burst.start + 2.0f)) {
+            const sim::OpeningReport opening = sim::opening_report(rt.body());
+            if (burst.start < 0.0f) {
+                // Openings made since load: the model's own holes are not a rip.
+                burst = {st.time, opening.open_length - at_load.open_length, opening.volume};
+                report.rip_growth = 1.0;
+            } else {
+                if (burst.open_length > 0.0) report.rip_growth = (opening.open_length - at_load.open_length) / burst.open_length;
+                if (burst.volume != 0.0) report.burst_volume_ratio = std::min(report.burst_volume_ratio, opening.volume / burst.volume);
+            }
+        }
         if ((f + 1) % o.every != 0 && f + 1 != o.frames) continue;
         CheckSample s;
         s.frame = st.frame;
@@ -187,7 +209,7 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
         s.tears = st.tears;
         s.particles = st.particles;
         s.gaussians = st.gaussians;
-        sample_body_and_splats(rt, s);
+        sample_body_and_splats(rt, at_load.volume, s);
         if (o.gpu) PBDSPLAT_TRY(sample_coverage(rt, scene, o, rest_area, s));
         report.samples.push_back(s);
     }

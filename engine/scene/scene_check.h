@@ -52,6 +52,9 @@ struct CheckSample {
     // the least height over its rest height; the fewest triangles in a piece.
     double tilt_degrees = 0.0, height_ratio = 1.0;
     size_t smallest_piece_triangles = 0;
+    // What the body encloses over what it enclosed at load (open loops closed by fans), and the
+    // rest length of its openings in mean rest edges (sim::opening_report).
+    double volume_ratio = 1.0, open_length = 0.0;
 };
 
 struct CheckReport {
@@ -66,6 +69,11 @@ struct CheckReport {
     double penetration_max = 0.0;
     double tilt_max = 0.0, height_ratio_min = 1.0;  // degrees; over rest height (see CheckSample)
     size_t smallest_piece_min = 0;  // triangles: the smallest fragment any sample saw
+    // A burst, read every frame from the first tear on: the openings' length 2 s after the first
+    // tear (or at the end) over their length on that frame, and the least volume in those 2 s over
+    // the volume on that frame. Nothing torn reads as no growth (0) and no fall (1).
+    double rip_growth = 0.0, burst_volume_ratio = 1.0;
+    double volume_ratio_min = 1.0;  // over the samples
     size_t pieces = 0, tears = 0;  // at the end
     size_t particles = 0, gaussians = 0;  // at the end
     size_t gaussians_max = 0;             // the most any measured frame drew: the scene's work

@@ -193,6 +193,7 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
             VolumeConstraint& v = b.volumes[k];
             v.pressure = desc.pressure;
             v.compliance = desc.volume_compliance;
+            v.sealed_below = uint32_t(n);
             v.rest_volume = b.volume(k);
         }
         // A flat or inside-out component has no volume to keep: it gets no constraint.

@@ -91,7 +91,7 @@ VolumeLayout volume_layout(SoftBodyT<Real>& b, VolumeSlots& slots) {
     slots.slot_of_piece.assign(b.pieces, k_no_volume);
     slots.constraints.clear();
     for (VolumeConstraint& v : b.volumes) {
-        if (v.leaking_done() || v.piece >= b.pieces) continue;  // open and at ambient pressure: the shell alone holds it
+        if (v.piece >= b.pieces) continue;
         slots.slot_of_piece[v.piece] = uint32_t(slots.constraints.size());
         slots.constraints.push_back(&v);
     }

@@ -68,7 +68,8 @@ void SolverT<Real>::begin_substep(SoftBodyT<Real>& body, const SolverSettings& s
                     "particles or triangles changed without rebuild_derived(body)");
     for_range(p.size(), k_particle_grain, [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, s.damping, h, b, e); });
     for (VolumeConstraint& v : body.volumes)
-        if (v.leak > 0.0f) v.pressure = 1.0f + (v.pressure - 1.0f) * std::exp(-v.leak * float(h));
+        if (v.leak > 0.0f)
+            v.pressure = VolumeConstraint::k_emptied + (v.pressure - VolumeConstraint::k_emptied) * std::exp(-leak_rate(v, p.x) * float(h));
     if (s.mode == SolverMode::xpbd) {
         std::fill(body.distance_lambda.begin(), body.distance_lambda.end(), Real(0));
         for (VolumeConstraint& v : body.volumes) v.lambda = 0.0;

@@ -35,6 +35,21 @@ double caps_six_volume(const std::vector<std::vector<uint32_t>>& loops, const Ve
     return v;
 }
 
+template <class Real>
+float leak_rate(const VolumeConstraint& c, const Vec4ArrayT<Real>& x) {
+    if (!(c.leak > 0.0f) || !(c.rest_volume > 0.0)) return 0.0f;
+    double area = 0.0;
+    for (const auto& loop : c.cap_loops) {
+        if (!c.is_opening(loop)) continue;
+        Vec3d a = Vec3d::Zero();
+        for (size_t k = 0; k < loop.size(); ++k)
+            a += x[loop[k]].template head<3>().template cast<double>().cross(x[loop[(k + 1) % loop.size()]].template head<3>().template cast<double>());
+        area += 0.5 * a.norm();
+    }
+    const double share = area / (k_open_area * std::cbrt(c.rest_volume * c.rest_volume));
+    return c.leak * float(std::min(1.0, share));
+}
+
 size_t volume_blocks(size_t particles) { return (particles + k_volume_block - 1) / k_volume_block; }
 
 template <class Real>
@@ -158,6 +173,7 @@ void solve_volumes(std::span<VolumeConstraint* const> slot_constraints, const Vo
     template double triangles_six_volume<Real>(std::span<const mesh::Triangle>, std::span<const uint32_t>, uint32_t,         \
                                                const Vec4ArrayT<Real>&);                                                    \
     template double cap_six_volume<Real>(std::span<const uint32_t>, const Vec4ArrayT<Real>&);                                \
+    template float leak_rate<Real>(const VolumeConstraint&, const Vec4ArrayT<Real>&);                                \
     template double caps_six_volume<Real>(const std::vector<std::vector<uint32_t>>&, const Vec4ArrayT<Real>&);               \
     template void volume_gather<Real>(const VolumeLayout&, const ParticlesT<Real>&, Vec4ArrayT<Real>&, size_t, BlockSums&);  \
     template void volume_caps<Real>(const VolumeConstraint&, const ParticlesT<Real>&, Vec4ArrayT<Real>&, VolumeSums&);       \

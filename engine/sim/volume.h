@@ -54,6 +54,14 @@ double cap_six_volume(std::span<const uint32_t> loop, const Vec4ArrayT<Real>& x)
 template <class Real>
 double caps_six_volume(const std::vector<std::vector<uint32_t>>& loops, const Vec4ArrayT<Real>& x);
 
+// How fast a leaking constraint's gas escapes now (1/s): VolumeConstraint::leak once its openings'
+// area (the vector areas of its loops that are not the model's own sealed holes) reaches
+// k_open_area of its rest volume to the power 2/3 (a hole about a fifth of a ball's radius
+// across), in proportion below that. 0 for a sealed constraint.
+template <class Real>
+float leak_rate(const VolumeConstraint& c, const Vec4ArrayT<Real>& x);
+inline constexpr double k_open_area = 0.05;
+
 size_t volume_blocks(size_t particles);
 // Gradient of 6V at the particles of block `b` that a slot projects, into grad; their partial
 // sums into `sums` (cleared first).

@@ -12,6 +12,8 @@ core::Status validate(const TearOptions& o) {
         return core::make_error("tear threshold must be a stretch ratio above 1 (got " + std::to_string(o.threshold) + ")");
     if (o.max_per_frame == 0) return core::make_error("tear: max_per_frame must be at least 1");
     if (!(o.reach >= 0.5f) || !std::isfinite(o.reach)) return core::make_error("tear: reach must be at least 0.5 edge lengths");
+    if (o.tip_threshold != 0.0f && !(o.tip_threshold > 1.0f && o.tip_threshold <= o.threshold))
+        return core::make_error("tear: tip_threshold must be a stretch ratio above 1 and at most the threshold (got " + std::to_string(o.tip_threshold) + ")");
     if (o.min_fragment_triangles > 1000000) return core::make_error("tear: min_fragment_triangles must be at most 1,000,000");
     return core::Status::success();
 }
@@ -22,45 +24,89 @@ namespace {
 // (0.1 %, far above float rounding) passes them over without the square root and the division,
 // and decides nothing the exact test below would not.
 struct RatioTest {
-    explicit RatioTest(float at) : threshold(at), margin2(at * at * 0.999f) {}
-    // The ratio when past the threshold, else 0.
-    float operator()(const sim::SoftBody& b, const sim::DistanceConstraint& c) const {
-        if (!(c.rest > 0.0f)) return 0.0f;
+    RatioTest(float at, float front_at, const CrackFront* on_front)
+        : threshold(at), front_threshold(on_front ? front_at : at), front(on_front), margin2(std::min(at, front_threshold) * std::min(at, front_threshold) * 0.999f) {}
+    // The edge when past its threshold (the front's where an end is on it), else excess 0.
+    StrainedEdge operator()(const sim::SoftBody& b, const sim::DistanceConstraint& c) const {
+        StrainedEdge e{c.i, c.j, 0.0f, 0.0f};
+        if (!(c.rest > 0.0f)) return e;
         const Vec3f d = (b.particles.x[c.i] - b.particles.x[c.j]).head<3>();
         const float d2 = d.squaredNorm();
-        if (d2 < margin2 * (c.rest * c.rest)) return 0.0f;
-        const float ratio = d.norm() / c.rest;
-        return ratio > threshold ? ratio : 0.0f;
+        if (d2 < margin2 * (c.rest * c.rest)) return e;
+        e.ratio = d.norm() / c.rest;
+        const float at = front && (front->on(c.i) || front->on(c.j)) ? front_threshold : threshold;
+        if (e.ratio > at) e.excess = e.ratio / at;
+        return e;
     }
-    float threshold, margin2;
+    float threshold, front_threshold;
+    const CrackFront* front;
+    float margin2;
 };
 
 bool more_strained(const StrainedEdge& x, const StrainedEdge& y) {
+    if (x.excess != y.excess) return x.excess > y.excess;
     if (x.ratio != y.ratio) return x.ratio > y.ratio;
     return x.i != y.i ? x.i < y.i : x.j < y.j;
+}
+
+// Whether any of `particles` lies on an open edge (a neighbour it shares only one triangle with).
+// A slit can cut a piece off only by reaching an opening (or by closing a loop of its own, which
+// one short slit does not): away from openings a tear needs no copy of the body to go back to.
+bool touches_opening(const sim::SoftBody& b, std::span<const uint32_t> particles) {
+    std::vector<uint32_t> seen;
+    for (uint32_t v : particles) {
+        seen.clear();
+        for (const auto& pair : b.rings.ring.of(v)) seen.insert(seen.end(), pair.begin(), pair.end());
+        std::sort(seen.begin(), seen.end());
+        for (size_t k = 0; k < seen.size();) {
+            size_t run = 1;
+            while (k + run < seen.size() && seen[k + run] == seen[k]) ++run;
+            if (run == 1) return true;
+            k += run;
+        }
+    }
+    return false;
+}
+std::vector<StrainedEdge> strained(const sim::SoftBody& b, const RatioTest& test, size_t limit) {
+    std::vector<StrainedEdge> out;
+    for (const sim::DistanceConstraint& c : b.distance)
+        if (const StrainedEdge e = test(b, c); e.excess > 0.0f) out.push_back(e);
+    const size_t n = std::min(out.size(), limit);
+    std::partial_sort(out.begin(), out.begin() + ptrdiff_t(n), out.end(), more_strained);
+    out.resize(n);
+    return out;
 }
 } // namespace
 
 std::vector<StrainedEdge> strained_edges(const sim::SoftBody& b, float threshold, size_t limit) {
-    std::vector<StrainedEdge> strained;
-    const RatioTest test(threshold);
-    for (const sim::DistanceConstraint& c : b.distance)
-        if (const float ratio = test(b, c); ratio > 0.0f) strained.push_back({c.i, c.j, ratio});
-    const size_t n = std::min(strained.size(), limit);
-    std::partial_sort(strained.begin(), strained.begin() + ptrdiff_t(n), strained.end(), more_strained);
-    strained.resize(n);
-    return strained;
+    return strained(b, RatioTest(threshold, threshold, nullptr), limit);
 }
 
-StrainedSet::StrainedSet(const sim::SoftBody& b, float threshold) : threshold_(threshold) {
+std::vector<uint32_t> CrackFront::grow(const sim::SoftBody& b, const TopologyChange& change) {
+    if (flags_.size() < change.particles_after) flags_.resize(change.particles_after, 0);
+    std::fill(flags_.begin() + ptrdiff_t(change.particles_before), flags_.begin() + ptrdiff_t(change.particles_after), uint8_t(1));
+    std::vector<uint32_t> joined;
+    for (uint32_t t : change.touched_triangles)
+        for (uint32_t v : b.triangles[t])
+            if (!flags_[v] && touches_opening(b, std::span(&v, 1))) flags_[v] = 1, joined.push_back(v);
+    return joined;
+}
+
+StrainedSet::StrainedSet(const sim::SoftBody& b, float threshold) : threshold_(threshold), front_threshold_(threshold) {
     edges_ = strained_edges(b, threshold, SIZE_MAX);
+}
+
+StrainedSet::StrainedSet(const sim::SoftBody& b, float threshold, float front_threshold, CrackFront& front)
+    : threshold_(threshold), front_threshold_(front_threshold), front_(&front) {
+    edges_ = strained(b, RatioTest(threshold_, front_threshold_, front_), SIZE_MAX);
 }
 
 void StrainedSet::sort() { std::sort(edges_.begin(), edges_.end(), more_strained); }
 
 void StrainedSet::update(const sim::SoftBody& b, const TopologyChange& change) {
     if (!change.changed()) return;
-    const RatioTest test(threshold_);
+    const std::vector<uint32_t> joined = front_ ? front_->grow(b, change) : std::vector<uint32_t>{};
+    const RatioTest test(threshold_, front_threshold_, front_);
     const sim::DistanceGroups& groups = b.distance_groups;
     // An edge stays while a live constraint joins its ends with the same rest length (its ratio
     // then is what it was: neither end moved).
@@ -68,7 +114,7 @@ void StrainedSet::update(const sim::SoftBody& b, const TopologyChange& change) {
         if (e.i >= b.particle_count()) return true;
         for (uint32_t slot : groups.of_particle.of(e.i)) {
             const sim::DistanceConstraint& c = b.distance[slot];
-            if (c.alive() && ((c.i == e.i && c.j == e.j) || (c.i == e.j && c.j == e.i))) return test(b, c) != e.ratio;
+            if (c.alive() && ((c.i == e.i && c.j == e.j) || (c.i == e.j && c.j == e.i))) return test(b, c).excess != e.excess;
         }
         return true;
     });
@@ -79,9 +125,20 @@ void StrainedSet::update(const sim::SoftBody& b, const TopologyChange& change) {
             const sim::DistanceConstraint& c = b.distance[slot];
             const uint32_t other = c.i == v ? c.j : c.i;
             if (!c.alive() || (other >= first_new && other < v)) continue;  // an edge between two new particles: once
-            if (const float ratio = test(b, c); ratio > 0.0f) edges_.push_back({c.i, c.j, ratio});
+            if (const StrainedEdge s = test(b, c); s.excess > 0.0f) edges_.push_back(s);
+        }
+    // The old particles that joined the front: their edges pass at its threshold now (those with a
+    // new particle at the other end were added above).
+    for (uint32_t v : joined)
+        for (uint32_t slot : groups.of_particle.of(v)) {
+            const sim::DistanceConstraint& c = b.distance[slot];
+            if (c.alive() && (c.i == v ? c.j : c.i) < first_new)
+                if (const StrainedEdge s = test(b, c); s.excess > 0.0f) edges_.push_back(s);
         }
     sort();
+    // An edge between two that joined, or one whose excess the front left as it was, came twice.
+    edges_.erase(std::unique(edges_.begin(), edges_.end(), [](const StrainedEdge& x, const StrainedEdge& y) { return x.i == y.i && x.j == y.j; }),
+                 edges_.end());
 }
 
 namespace {
@@ -127,24 +184,6 @@ size_t small_pieces(const sim::SoftBody& b, uint32_t below) {
 }
 constexpr int k_refusals_per_call = 2;
 
-// Whether any of `particles` lies on an open edge (a neighbour it shares only one triangle with).
-// A slit can cut a piece off only by reaching an opening (or by closing a loop of its own, which
-// one short slit does not): away from openings a tear needs no copy of the body to go back to.
-bool touches_opening(const sim::SoftBody& b, std::span<const uint32_t> particles) {
-    std::vector<uint32_t> seen;
-    for (uint32_t v : particles) {
-        seen.clear();
-        for (const auto& pair : b.rings.ring.of(v)) seen.insert(seen.end(), pair.begin(), pair.end());
-        std::sort(seen.begin(), seen.end());
-        for (size_t k = 0; k < seen.size();) {
-            size_t run = 1;
-            while (k + run < seen.size() && seen[k + run] == seen[k]) ++run;
-            if (run == 1) return true;
-            k += run;
-        }
-    }
-    return false;
-}
 } // namespace
 
 core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const TearOptions& tear, const CutOptions& cut_options,

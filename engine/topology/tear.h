@@ -1,8 +1,11 @@
 #pragma once
 // Tearing: an edge stretched past a threshold opens a short slit across itself through the
-// same machinery as a line cut. One call tears one edge; a tear grows over frames as the
-// strain concentrates at its tips, with a cap on splits per frame so it never shatters the
-// body in one step.
+// same machinery as a line cut. One call tears one edge. A tear runs: the rim it made is its
+// crack front, where the material is weakened (the stress a crack's tip concentrates, which a
+// mesh this coarse does not resolve), so while the strain there stays high the rip grows frame
+// after frame along the most strained direction, with a cap on splits per frame so it never
+// shatters the body in one step.
+#include <algorithm>
 #include <optional>
 #include <span>
 #include <vector>
@@ -20,16 +23,37 @@ struct TearOptions {
     // A tear that would cut off a piece of fewer triangles is not made (the edge waits, and the
     // next one is tried): a fleck of a few triangles flying off reads as a speck, not a rip.
     uint32_t min_fragment_triangles = 8;
+    // An edge with an end on a crack front (a particle a tear made) tears beyond this stretch
+    // instead (1 < tip_threshold <= threshold); 0: halfway between 1 and `threshold`.
+    float tip_threshold = 0.0f;
+    float front_threshold() const { return tip_threshold > 0.0f ? tip_threshold : 1.0f + 0.5f * (threshold - 1.0f); }
 };
 core::Status validate(const TearOptions& options);
 
 struct StrainedEdge {
     uint32_t i = 0, j = 0;
-    float ratio = 1.0f;  // current / rest length
+    float ratio = 1.0f;   // current / rest length
+    float excess = 1.0f;  // ratio over the threshold it passed (the front's or the body's)
 };
 // The distance constraints stretched beyond `threshold`, most strained first (ties: lower i,
 // then lower j), at most `limit`.
 std::vector<StrainedEdge> strained_edges(const sim::SoftBody& body, float threshold, size_t limit);
+
+// The rims tears made, where the rips run on: the particles a tear made and those its slit ended
+// at (the tip, an old vertex now on the opening). Particles are only ever appended, so a flag per
+// particle index stays valid through later changes.
+class CrackFront {
+public:
+    bool on(uint32_t particle) const { return particle < flags_.size() && flags_[particle] != 0; }
+    // Every particle `change` made, and every corner of a triangle it touched that now lies on an
+    // opening, joins the front (`body` as the change left it). Returns the particles older than the
+    // change that joined.
+    std::vector<uint32_t> grow(const sim::SoftBody& body, const TopologyChange& change);
+    size_t size() const { return size_t(std::count(flags_.begin(), flags_.end(), uint8_t(1))); }
+
+private:
+    std::vector<uint8_t> flags_;
+};
 
 // The strained edges of one frame's tearing: every constraint read once, then kept through the
 // frame's tears. A tear moves no particle, so an edge it left constrained keeps its ratio, and
@@ -39,16 +63,20 @@ std::vector<StrainedEdge> strained_edges(const sim::SoftBody& body, float thresh
 class StrainedSet {
 public:
     StrainedSet(const sim::SoftBody& body, float threshold);
+    // With a crack front: edges with an end on it pass at `front_threshold` instead, and the
+    // particles each tear makes join it (the front outlives the set: a rip runs over frames).
+    StrainedSet(const sim::SoftBody& body, float threshold, float front_threshold, CrackFront& front);
     // After `change` to `body`: drops the edges no longer constrained as they were, adds the
     // strained constraints of the new particles. The same set as a new StrainedSet would hold.
     void update(const sim::SoftBody& body, const TopologyChange& change);
-    // The most strained first (as strained_edges), at most `limit`.
+    // The most strained first, by excess over their thresholds, at most `limit`.
     std::span<const StrainedEdge> most_strained(size_t limit) const { return std::span(edges_).first(std::min(limit, edges_.size())); }
     size_t size() const { return edges_.size(); }
 
 private:
     void sort();
-    float threshold_;
+    float threshold_, front_threshold_;
+    CrackFront* front_ = nullptr;
     std::vector<StrainedEdge> edges_;  // sorted
 };
 

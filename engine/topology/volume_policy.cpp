@@ -86,6 +86,7 @@ void set_target(sim::VolumeConstraint& v, const sim::VolumeConstraint& parent, b
     v.pressure = parent.pressure;
     v.compliance = parent.compliance;
     v.leak = parent.leak;
+    v.sealed_below = parent.sealed_below;
     if (unchanged) {
         v.rest_volume = parent.rest_volume;
     } else if (policy == VolumePolicy::rebase) {
@@ -93,7 +94,7 @@ void set_target(sim::VolumeConstraint& v, const sim::VolumeConstraint& parent, b
     } else {
         v.rest_volume = parent_now > 0.0 ? parent.rest_volume * now / parent_now : 0.0;
         // Opened: the pressure escapes through the opening, over a few frames.
-        if (policy == VolumePolicy::burst && !v.cap_loops.empty()) v.leak = std::max(v.leak, leak);
+        if (policy == VolumePolicy::burst && v.opened()) v.leak = std::max(v.leak, leak);
     }
 }
 
@@ -289,6 +290,7 @@ bool remake_constraints(const sim::SoftBody& b, sim::VolumeConstraint& c, std::v
     parent_now /= 6.0;
     sim::VolumeConstraint parent;  // the targets' source, without the loops
     parent.rest_volume = c.rest_volume, parent.pressure = c.pressure, parent.compliance = c.compliance, parent.leak = c.leak;
+    parent.sealed_below = c.sealed_below;
     const size_t parent_triangles = c.triangle_count;
     bool drop = false;
     for (size_t k = 0; k < parts.size(); ++k) {

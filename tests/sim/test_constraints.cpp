@@ -113,6 +113,42 @@ TEST_SUITE("sim/constraints") {
         CHECK(b.volume(0) / b.volumes[0].rest_volume == doctest::Approx(0.5).epsilon(1e-4));
     }
 
+    TEST_CASE("a burst piece's gas escapes as fast as its openings are wide; the model's own holes hold it") {
+        sim::SoftBody b = test::make_body(mesh::icosphere(3));
+        sim::VolumeConstraint& v = b.volumes[0];
+        const uint32_t n = uint32_t(b.particle_count());
+        REQUIRE(v.sealed_below == n);
+        v.leak = 4.0f;
+        const auto x = [&](uint32_t i) { return sim::xyz(b.particles.x[i]); };
+        // Loops over the ball's own particles, taken as openings (as if a cut had made them).
+        v.sealed_below = 0;
+        const mesh::Triangle t = b.triangles[0];
+        // A slit: out along two edges and back, its sides on each other. No area, no leak.
+        v.cap_loops = {{t[0], t[1], t[2], t[1]}};
+        CHECK(sim::leak_rate(v, b.particles.x) == 0.0f);
+        // A small hole (one triangle's size): in proportion to its area.
+        v.cap_loops = {{t[0], t[1], t[2]}};
+        const double area = 0.5 * double((x(t[1]) - x(t[0])).cross(x(t[2]) - x(t[0])).norm());
+        const double full = sim::k_open_area * std::cbrt(v.rest_volume * v.rest_volume);
+        REQUIRE(area < full);
+        CHECK(sim::leak_rate(v, b.particles.x) == doctest::Approx(4.0 * area / full).epsilon(1e-4));
+        // A hole the width of the ball: the full rate.
+        std::vector<uint32_t> rim;
+        for (int k = 0; k < 12; ++k) {
+            const Vec3f at(std::cos(0.5236f * float(k)), 0.0f, std::sin(0.5236f * float(k)));
+            uint32_t best = 0;
+            for (uint32_t i = 0; i < n; ++i)
+                if ((x(i) - at).squaredNorm() < (x(best) - at).squaredNorm()) best = i;
+            rim.push_back(best);
+        }
+        v.cap_loops = {rim};
+        CHECK(sim::leak_rate(v, b.particles.x) == 4.0f);
+        // The same loop as one of the model's own holes (all its particles there at load): sealed.
+        v.sealed_below = n;
+        CHECK_FALSE(v.opened());
+        CHECK(sim::leak_rate(v, b.particles.x) == 0.0f);
+    }
+
     TEST_CASE("the volume pass projects every piece at once, as if one after another") {
         // Two spheres apart in one body, each with its own target: one pass over the particles
         // serves both, and each piece's constraint moves only its own particles.
@@ -132,13 +168,14 @@ TEST_SUITE("sim/constraints") {
         for (int k = 0; k < 6; ++k) sim::solve_volumes(b, scratch, false, 1.0f, 0.0f);
         CHECK(b.volume(0) / b.volumes[0].rest_volume == doctest::Approx(0.7).epsilon(1e-4));
         CHECK(b.volume(1) / b.volumes[1].rest_volume == doctest::Approx(1.3).epsilon(1e-4));
-        // A piece that is done leaking is left out: its particles do not move.
+        // A piece emptied by a burst is still held, at its crumpled skin's bulk: left out, a
+        // skin crumpling inward kept folding on the speed it had.
         b.particles.x = before;
-        b.volumes[1].pressure = 1.01f;
+        b.volumes[1].pressure = sim::VolumeConstraint::k_emptied;
         b.volumes[1].leak = 1.0f;
-        sim::solve_volumes(b, scratch, false, 1.0f, 0.0f);
-        for (size_t i = 0; i < b.particle_count(); ++i)
-            if (b.piece_of_particle[i] == b.volumes[1].piece) REQUIRE(b.particles.x[i] == before[i]);
+        REQUIRE(b.volumes[1].leaking_done());
+        for (int k = 0; k < 6; ++k) sim::solve_volumes(b, scratch, false, 1.0f, 0.0f);
+        CHECK(b.volume(1) / b.volumes[1].rest_volume == doctest::Approx(sim::VolumeConstraint::k_emptied).epsilon(1e-3));
     }
 }
 

@@ -94,7 +94,8 @@ TEST_SUITE("topology/cut") {
             REQUIRE(change.ok());
             require_invariants(b);
             if (policy == topology::VolumePolicy::burst) {
-                // Opened pieces leak: their overpressure decays to nothing over a few frames.
+                // Opened pieces leak: a cut across the ball opens them wide, so their gas escapes at
+                // the full rate and within 2 s they are empty.
                 REQUIRE(b.volumes.size() == 2);
                 for (const auto& v : b.volumes) CHECK(v.leak == doctest::Approx(o.burst_leak));
                 sim::Solver solver;

@@ -3,7 +3,9 @@
 #include <algorithm>
 
 #include "mesh/procedural.h"
+#include "sim/opening.h"
 #include "sim/pose.h"
+#include "sim/sim_fixtures.h"
 #include "sim/solver.h"
 #include "topology/invariants.h"
 #include "topology/tear.h"
@@ -16,6 +18,13 @@ sim::SoftBody sheet() {
     auto b = sim::make_soft_body(mesh::grid_sheet(20, 2.0f), {.volume = false});
     REQUIRE(b.ok());
     return std::move(b).value();
+}
+// No gravity and no volume to keep: a sheet moved only by its pins.
+sim::SolverSettings floating() {
+    sim::SolverSettings s;
+    s.gravity = Vec3f::Zero();
+    s.volume = false;
+    return s;
 }
 } // namespace
 
@@ -42,9 +51,7 @@ TEST_SUITE("topology/tear") {
         REQUIRE(b.particles.x[grab].z() > 0.99f);
         b.pin(grab);
         sim::Solver solver;
-        sim::SolverSettings s;
-        s.gravity = Vec3f::Zero();
-        s.volume = false;
+        const sim::SolverSettings s = floating();
         topology::TearOptions tear;
         tear.threshold = 1.6f;
         tear.max_per_frame = 2;
@@ -119,6 +126,123 @@ TEST_SUITE("topology/tear") {
         CHECK(torn >= 20);
     }
 
+    TEST_CASE("a slit in a ball under pressure runs into a rip, and the ball bursts and empties") {
+        // The ball is inflated to 1.5 times its volume and slit across at its top (a cut through
+        // one vertex's ring). Fresh edges tear only past 3 (never, here), the slit's rim past
+        // 1.1: a rip grows only from the rim. Without the weakened rim the slit stays a slit.
+        struct Outcome {
+            double growth, volume_fall;
+            size_t tears, smallest;
+        };
+        auto run = [](bool front_weakened) {
+            sim::SoftBody b = test::make_body(mesh::icosphere(4));
+            sim::Solver solver;
+            sim::SolverSettings s;
+            s.gravity = Vec3f::Zero();
+            b.volumes[0].pressure = 1.5f;
+            for (int f = 0; f < 60; ++f) solver.step(b, 1.0f / 60.0f, s, {}, {});
+            const double inflated = sim::opening_report(b).volume;
+            REQUIRE(inflated > 1.3 * b.volumes[0].rest_volume);
+            topology::CutOptions cut;
+            cut.volume = topology::VolumePolicy::burst;
+            cut.reference_edge_length = float(b.distance_groups.mean_rest());
+            uint32_t top = 0;
+            for (uint32_t i = 0; i < b.particle_count(); ++i)
+                if (b.particles.x[i].y() > b.particles.x[top].y()) top = i;
+            auto slit = topology::cut(b, topology::local_cut_on(b, top, Vec3f::UnitX(), 1.5f * cut.reference_edge_length), cut);
+            REQUIRE_MESSAGE(slit.ok(), test::why(slit));
+            REQUIRE(slit.value().changed());
+            REQUIRE(b.volumes.size() == 1);
+            CHECK(b.volumes[0].leak > 0.0f);
+            topology::CrackFront front;
+            front.grow(b, slit.value());
+            const double first = sim::opening_report(b).open_length;
+            REQUIRE(first > 0.0);
+            topology::TearOptions tear;
+            tear.threshold = 3.0f;
+            tear.tip_threshold = front_weakened ? 1.1f : 3.0f;
+            tear.max_per_frame = 2;
+            Outcome out{0.0, 1.0, 0, 0};
+            for (int f = 0; f < 120; ++f) {
+                topology::StrainedSet strained(b, tear.threshold, tear.front_threshold(), front);
+                for (uint32_t k = 0; k < tear.max_per_frame; ++k) {
+                    auto t = topology::tear_once(b, tear, cut, strained);
+                    REQUIRE_MESSAGE(t.ok(), test::why(t));
+                    if (!t.value()) break;
+                    ++out.tears;
+                    const core::Status st = topology::check_invariants(b);
+                    REQUIRE_MESSAGE(st.ok(), "frame " << f << ": " << test::why(st));
+                }
+                solver.step(b, 1.0f / 60.0f, s, {}, {});
+                REQUIRE(std::all_of(b.particles.x.begin(), b.particles.x.end(), [](const Vec4f& x) { return x.allFinite(); }));
+                out.volume_fall = std::min(out.volume_fall, sim::opening_report(b).volume / inflated);
+            }
+            out.growth = sim::opening_report(b).open_length / first;
+            out.smallest = sim::smallest_piece_triangles(b);
+            return out;
+        };
+        const Outcome runs = run(true), stays = run(false);
+        INFO("rip: growth " << runs.growth << ", volume " << runs.volume_fall << ", tears " << runs.tears);
+        INFO("slit alone: growth " << stays.growth << ", volume " << stays.volume_fall << ", tears " << stays.tears);
+        CHECK(runs.growth >= 3.0);
+        CHECK(runs.volume_fall < 0.5);
+        CHECK(runs.smallest >= 8);
+        CHECK(stays.tears == 0);
+        // A slit whose sides still touch lets little out: the ball stays more than half full.
+        CHECK(stays.volume_fall > 0.5);
+    }
+
+    TEST_CASE("a strip pulled apart tears from the tip of its notch across, not anywhere") {
+        sim::SoftBody b = sheet();
+        const float edge = 2.0f / 20.0f;
+        // Held along both ends (rows, not corners: the strain is even across the strip but for
+        // the notch); one end is pulled away.
+        std::vector<uint32_t> pulled;
+        for (uint32_t i = 0; i < b.particle_count(); ++i) {
+            const float z = b.particles.x[i].z();
+            if (z < -0.99f) b.pin(i);
+            if (z > 0.99f) b.pin(i), pulled.push_back(i);
+        }
+        topology::CutOptions cut;
+        cut.reference_edge_length = edge;
+        // The notch: three edges deep into one long side, between two rows of vertices.
+        const float notch_z = 0.5f * edge;
+        auto notch = topology::cut(b, topology::local_cut(Vec3f(-1.0f, 0.0f, notch_z), Vec3f::UnitZ(), 3.2f * edge), cut);
+        REQUIRE_MESSAGE(notch.ok(), test::why(notch));
+        REQUIRE(notch.value().changed());
+        REQUIRE(topology::count_components_and_loops(b).components == 1);
+        topology::CrackFront front;
+        front.grow(b, notch.value());
+        const uint32_t before_tears = uint32_t(b.particle_count());
+        sim::Solver solver;
+        const sim::SolverSettings s = floating();
+        topology::TearOptions tear;
+        tear.threshold = 1.6f;
+        tear.tip_threshold = 1.2f;
+        tear.max_per_frame = 2;
+        size_t tears = 0;
+        for (int frame = 0; frame < 240 && topology::count_components_and_loops(b).components < 2; ++frame) {
+            for (uint32_t i : pulled) b.particles.x[i].z() += 0.3f / 60.0f;
+            topology::StrainedSet strained(b, tear.threshold, tear.front_threshold(), front);
+            for (uint32_t k = 0; k < tear.max_per_frame; ++k) {
+                auto t = topology::tear_once(b, tear, cut, strained);
+                REQUIRE_MESSAGE(t.ok(), test::why(t));
+                if (!t.value()) break;
+                ++tears;
+            }
+            solver.step(b, 1.0f / 60.0f, s, {}, {});
+        }
+        CHECK(topology::count_components_and_loops(b).components == 2);
+        REQUIRE(tears > 0);
+        // Every particle the tears made lies on the notch's line (rest space: where the material
+        // was), within the ring a slit crosses on either side: a crack across the strip, not edges
+        // torn here and there (8.5 edges away when the slit's end did not join the front).
+        float worst = 0.0f;
+        for (uint32_t i = before_tears; i < b.particle_count(); ++i) worst = std::max(worst, std::abs(b.rest_positions[i].z() - notch_z));
+        INFO("tears " << tears << ", farthest from the notch's line " << worst / edge << " edges");
+        CHECK(worst <= 3.0f * edge);
+    }
+
     TEST_CASE("tear options are checked") {
         topology::TearOptions o;
         o.threshold = 0.9f;
@@ -127,5 +251,12 @@ TEST_SUITE("topology/tear") {
         o.max_per_frame = 0;
         CHECK_FALSE(topology::validate(o).ok());
         CHECK(topology::validate(topology::TearOptions{}).ok());
+        o = {};
+        o.tip_threshold = 1.6f;  // above the threshold: the rim would be stronger than the rest
+        CHECK_FALSE(topology::validate(o).ok());
+        o.tip_threshold = 1.0f;
+        CHECK_FALSE(topology::validate(o).ok());
+        o.tip_threshold = 1.2f;
+        CHECK(topology::validate(o).ok());
     }
 }

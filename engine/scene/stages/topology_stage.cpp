@@ -58,8 +58,10 @@ core::Status TopologyStage::apply_tears(sim::SoftBody& body, const topology::Cut
     topology::TearOptions options;
     options.threshold = tearing_->threshold;
     options.max_per_frame = tearing_->max_per_frame;
+    options.tip_threshold = tearing_->tip_threshold;
     PBDSPLAT_TRY(topology::validate(options));
-    topology::StrainedSet strained(body, options.threshold);  // one pass a frame, kept through its tears
+    // One pass a frame, kept through its tears; the front is kept through the run.
+    topology::StrainedSet strained(body, options.threshold, options.front_threshold(), front_);
     for (uint32_t k = 0; k < options.max_per_frame; ++k) {
         auto change = topology::tear_once(body, options, cut_options, strained);
         if (!change.ok()) return change.error();

@@ -17,6 +17,7 @@
 #include "scene/scene.h"
 #include "sim/soft_body.h"
 #include "topology/cut.h"
+#include "topology/tear.h"
 #include "topology/topology_change.h"
 
 namespace pbdsplat::scene {
@@ -54,6 +55,7 @@ private:
     core::Status settle(const Follow& follow);
 
     std::optional<TearEvent> tearing_;
+    topology::CrackFront front_;  // the rims tears made, where they run on
     float tearing_until_ = 0.0f;
     bool check_invariants_ = false;
     core::Status status_;
