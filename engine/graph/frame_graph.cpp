@@ -66,6 +66,7 @@ struct FrameGraph::Impl {
     std::string build_error;  // first error seen while declaring, reported by compile()
     bool check_writes = false;
     std::vector<std::string> violations;
+    std::vector<std::string> access_violations;
     bool compiled = false;
 
     // The fingerprinted, present resources that `pass` does not declare a write to.
@@ -156,11 +157,24 @@ uint32_t PassBuilder::produce_version(uint32_t version, GpuUse use) {
     return version;
 }
 
-void* PassResources::lookup(uint32_t version, const std::type_info& type) const {
-    const auto& g = *graph_.impl_;
-    PBDSPLAT_ASSERT(version < g.versions.size(), "PassResources::get: invalid handle");
+void* PassResources::lookup(uint32_t version, const std::type_info& type, bool write) const {
+    auto& g = *graph_.impl_;
+    PBDSPLAT_ASSERT(version < g.versions.size(), "PassResources: invalid handle");
     const auto& r = g.resources[g.versions[version].resource];
-    PBDSPLAT_ASSERT(r.type == std::type_index(type), "PassResources::get: '" + r.name + "' has another type");
+    PBDSPLAT_ASSERT(r.type == std::type_index(type), "PassResources: '" + r.name + "' has another type");
+    const auto& pass = g.passes[pass_];
+    const bool declared = std::any_of(pass.accesses.begin(), pass.accesses.end(), [&](const FrameGraph::Impl::Access& a) {
+        return a.out == version || (!write && a.reads && a.version == version);
+    });
+    if (!declared) {
+        const bool read_only = std::any_of(pass.accesses.begin(), pass.accesses.end(),
+                                           [&](const FrameGraph::Impl::Access& a) { return a.version == version; });
+        std::string what = "pass '" + pass.name + "' " + (write ? "writes '" : "reads '") + r.name + "'" +
+                           (write && read_only ? " through a read" : ", which it did not declare");
+        PBDSPLAT_DEBUG_ASSERT(false, what);
+        if (std::find(g.access_violations.begin(), g.access_violations.end(), what) == g.access_violations.end())
+            g.access_violations.push_back(std::move(what));
+    }
     return r.data;
 }
 
@@ -325,9 +339,9 @@ core::Status FrameGraph::compile() {
 const std::vector<double>& FrameGraph::execute(ExecuteContext& ctx) {
     Impl& g = *impl_;
     PBDSPLAT_ASSERT(g.compiled, "FrameGraph::execute before a successful compile()");
-    PassResources resources(*this);
     for (size_t k = 0; k < g.kept.size(); ++k) {
         Impl::Pass& pass = g.passes[g.kept[k]];
+        const PassResources resources(*this, g.kept[k]);
         const core::Stopwatch clock;
         if (ctx.cmd != VK_NULL_HANDLE)
             for (const auto& b : pass.barriers) {
@@ -365,6 +379,8 @@ void FrameGraph::check_writes(bool on) {
 }
 
 const std::vector<std::string>& FrameGraph::write_violations() const { return impl_->violations; }
+
+const std::vector<std::string>& FrameGraph::access_violations() const { return impl_->access_violations; }
 
 std::vector<PassInfo> FrameGraph::describe() const {
     std::vector<PassInfo> out;

@@ -80,17 +80,23 @@ private:
     uint32_t pass_;
 };
 
-// The resources a pass declared, resolved to their data at execution.
+// The resources a pass declared, resolved to their data at execution: what it reads as const,
+// what it writes (through the handle its write or produce returned) as mutable. Any other
+// access is a violation (FrameGraph::access_violations; in a debug build it also asserts): the
+// data is still handed over, so a release build behaves as before and the tests see the list.
 class PassResources {
 public:
     template <class T>
-    T& get(Handle<T> h) const { return *static_cast<T*>(lookup(h.version, typeid(T))); }
+    const T& read(Handle<T> h) const { return *static_cast<const T*>(lookup(h.version, typeid(T), false)); }
+    template <class T>
+    T& write(Handle<T> h) const { return *static_cast<T*>(lookup(h.version, typeid(T), true)); }
 
 private:
     friend class FrameGraph;
-    explicit PassResources(const FrameGraph& g) : graph_(g) {}
-    void* lookup(uint32_t version, const std::type_info& type) const;
+    PassResources(const FrameGraph& g, uint32_t pass) : graph_(g), pass_(pass) {}
+    void* lookup(uint32_t version, const std::type_info& type, bool write) const;
     const FrameGraph& graph_;
+    uint32_t pass_;
 };
 
 struct PassInfo {
@@ -153,6 +159,10 @@ public:
     void check_writes(bool on);
     // "pass 'events' changed 'appearance' without declaring a write", in the order met.
     const std::vector<std::string>& write_violations() const;
+    // Accesses through PassResources that the pass did not declare, always checked: "pass
+    // 'sort' writes 'sort' through a read", "pass 'x' reads 'y', which it did not declare";
+    // each once, in the order met.
+    const std::vector<std::string>& access_violations() const;
 
 private:
     friend class PassBuilder;

@@ -43,7 +43,8 @@ graph::GpuUse to_graph(const render::Use& u) { return {u.access.stage, u.access.
 
 graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer,
                                                  GpuPassResources& res, graph::Handle<GpuFrameInput> input,
-                                                 graph::Handle<ImageSink> sink, bool gpu_sort, uint32_t tag) {
+                                                 graph::Handle<core::Status> status, graph::Handle<ImageSink> sink, bool gpu_sort,
+                                                 uint32_t tag) {
     const auto records = g.import("gpu records", &res.records);
     const auto color = g.import("colour target", &res.color);
     const auto depth = g.import("depth target", &res.depth);
@@ -55,16 +56,18 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
     graph::Handle<graph::GpuBufferRef> uploaded;
     g.add_pass("upload", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
         b.read(input);
+        status = b.write(status);
         uploaded = b.write(records, upload_use);
-        return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-            GpuFrameInput& in = r.get(input);
+        return [&renderer, input, status](const graph::PassResources& r, graph::ExecuteContext&) {
+            const GpuFrameInput& in = r.read(input);
+            core::Status& out = r.write(status);
             const gpu::ByteRange all{0, in.records.size_bytes()};
             const std::span<const gpu::ByteRange> ranges =
                 in.changed.empty() ? std::span<const gpu::ByteRange>(&all, 1) : std::span<const gpu::ByteRange>(in.changed);
-            in.upload_status = renderer.upload(in.records, ranges);
+            out = renderer.upload(in.records, ranges);
             // Anisotropic bodies' axes go straight into host-visible memory (no GPU copy).
-            if (in.upload_status.ok() && !in.shapes.empty()) in.upload_status = renderer.upload_shapes(in.shapes);
-            if (in.upload_status.ok() && !in.sh.empty()) in.upload_status = renderer.upload_sh(in.sh);
+            if (out.ok() && !in.shapes.empty()) out = renderer.upload_shapes(in.shapes);
+            if (out.ok() && !in.sh.empty()) out = renderer.upload_sh(in.sh);
         };
     }, tag);
     const render::Use records_read = render::uses::records_read(renderer.path());
@@ -80,7 +83,7 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             control = b.write(control, to_graph(render::uses::compute_write));
             order = b.write(order, to_graph(render::uses::compute_write));
             return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-                GpuFrameInput& in = r.get(input);
+                const GpuFrameInput& in = r.read(input);
                 renderer.sort(in.frame, uint32_t(in.records.size()));
             };
         }, tag);
@@ -103,7 +106,7 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
         depth_drawn = b.write(depth, to_graph(render::uses::depth_attachment));
         b.side_effect();  // the colour target is what a frame is for (presented or read back)
         return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-            GpuFrameInput& in = r.get(input);
+            const GpuFrameInput& in = r.read(input);
             renderer.draw(in.frame, uint32_t(in.records.size()));
         };
     }, tag);
@@ -113,11 +116,12 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
         const auto occluders = g.import("occluder image", &res.occluders);
         g.add_pass("occluders", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
             b.read(input);
+            status = b.write(status);
             depth_drawn = b.write(depth_drawn, to_graph(render::uses::depth_attachment));
             occluded = b.write(occluders, to_graph(render::uses::color_attachment));
-            return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-                GpuFrameInput& in = r.get(input);
-                if (in.upload_status.ok()) in.upload_status = renderer.set_occluders(in.occluder_positions, in.occluder_triangles);
+            return [&renderer, input, status](const graph::PassResources& r, graph::ExecuteContext&) {
+                const GpuFrameInput& in = r.read(input);
+                if (core::Status& out = r.write(status); out.ok()) out = renderer.set_occluders(in.occluder_positions, in.occluder_triangles);
                 renderer.draw_occluders(in.frame);
             };
         }, tag);
@@ -131,7 +135,7 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             depth_drawn = b.write(depth_drawn, to_graph(render::uses::depth_attachment));
             b.side_effect();
             return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-                GpuFrameInput& in = r.get(input);
+                const GpuFrameInput& in = r.read(input);
                 renderer.draw_over_occluders(in.frame, uint32_t(in.records.size()));
             };
         }, tag);
@@ -151,7 +155,7 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             summed = b.write(accumulation, to_graph(render::uses::color_attachment));
             summed_inside = b.write(accumulation_inside, to_graph(render::uses::color_attachment));
             return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-                GpuFrameInput& in = r.get(input);
+                const GpuFrameInput& in = r.read(input);
                 renderer.accumulate(in.frame, uint32_t(in.records.size()));
             };
         }, tag);
@@ -162,7 +166,7 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             drawn = b.write(drawn, to_graph(render::uses::color_attachment));
             b.side_effect();  // as the splat pass: the colour target is what a frame is for
             return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-                renderer.resolve(r.get(input).frame);
+                renderer.resolve(r.read(input).frame);
             };
         }, tag);
     }

@@ -21,7 +21,6 @@ struct GpuFrameInput {
     // The surface mesh, with frame.style.mesh_occluders (render/occluder_pass.h).
     std::span<const Vec4f> occluder_positions;
     std::span<const std::array<uint32_t, 3>> occluder_triangles;
-    core::Status upload_status;  // set by the upload pass; the frame's owner reports a failure
 };
 
 // Where a rendered image leaves the frame (a PNG, a test); absent when presenting to a window.
@@ -66,11 +65,13 @@ public:
 // resolve" (when the renderer has normalised blending), or else "splat over occluders" (the
 // paper's disc, when it has mesh occluders)
 // and "readback". The readback pass needs `sink`; without one it is culled. `input` is
-// the version of the frame input the passes read (after the mapping).
+// the version of the frame input the passes read (after the mapping); `upload_status` what the
+// upload and occluder passes leave there (the frame's owner reports a failure; import it
+// persistent).
 // Returns the colour target as the splat pass leaves it.
 graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer,
                                                  GpuPassResources& resources, graph::Handle<GpuFrameInput> input,
-                                                 graph::Handle<ImageSink> sink, bool gpu_sort = false,
+                                                 graph::Handle<core::Status> upload_status, graph::Handle<ImageSink> sink, bool gpu_sort = false,
                                                  uint32_t tag = 0);
 
 // The byte ranges of `after` that differ from `before` (all of it when the counts differ), so

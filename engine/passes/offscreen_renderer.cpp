@@ -20,7 +20,8 @@ core::Status OffscreenRenderer::build_graph() {
     const auto input = graph_.import("frame input", &input_);
     // Without a sink the readback pass is culled: a window shows frames without copying them out.
     const auto sink = graph_.import("image", readback_ ? &sink_ : static_cast<ImageSink*>(nullptr));
-    const auto drawn = add_gpu_passes(graph_, *renderer_, resources_, input, sink, gpu_sort_);
+    const auto status = graph_.import("upload status", &upload_status_, true);
+    const auto drawn = add_gpu_passes(graph_, *renderer_, resources_, input, status, sink, gpu_sort_);
     if (presenter_) {
         const PresentSources sources{drawn, {}, renderer_->width(), renderer_->height(),
                                      [renderer = renderer_.get()] { return renderer->slot(); }};
@@ -57,7 +58,7 @@ core::Status OffscreenRenderer::render(std::span<const splat::GaussianRecord> re
     // Submitted even on failure, so the frame ring stays consistent.
     PBDSPLAT_TRY(renderer_->end_frame(presenter_ ? presenter_->wait_semaphore() : nullptr,
                                       presenter_ ? presenter_->signal_semaphore() : nullptr));
-    return input_.upload_status;
+    return upload_status_;
 }
 
 } // namespace pbdsplat::passes

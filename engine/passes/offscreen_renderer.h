@@ -46,6 +46,7 @@ private:
     bool gpu_sort_ = false, readback_ = true;
     GpuPassResources resources_;
     GpuFrameInput input_;
+    core::Status upload_status_;  // what the frame's upload left
     ImageSink sink_;
     graph::FrameGraph graph_;
 };

@@ -140,16 +140,24 @@ void SceneRuntime::add_view_passes(GraphHandles& h) {
     graph::FrameGraph& g = graph_;
     if (renderer_->has_occluders()) {
         // The surface the splats stand for, as it is this frame, for the occluders' pass.
+        auto mesh = g.import("occluder mesh", &occluder_mesh_);
+        // The fine surface's embedding, made on the first frame it is drawn (absent, and not
+        // declared, without a fine surface).
+        auto embedding = g.import("fine surface embedding", fine_ ? &fine_vertices_ : nullptr);
         g.add_pass("occluder mesh", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
             b.read(h.body);
+            mesh = b.write(mesh);
+            if (fine_) embedding = b.write(embedding);
             h.input = b.write(h.input);
-            return [this, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
-                const sim::SoftBody& body = r.get(hh.body);
-                passes::GpuFrameInput& in = r.get(hh.input);
-                if (fine_) {
-                    deformed_fine_surface(body, *fine_, fine_vertices_, occluder_x_, occluder_triangles_);
-                    in.occluder_positions = occluder_x_;
-                    in.occluder_triangles = occluder_triangles_;
+            const mesh::TriangleMesh* fine = fine_ ? &*fine_ : nullptr;  // the model's surface: fixed at load
+            return [fine, mesh, embedding, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
+                const sim::SoftBody& body = r.read(hh.body);
+                passes::GpuFrameInput& in = r.write(hh.input);
+                if (fine) {
+                    OccluderMesh& m = r.write(mesh);
+                    deformed_fine_surface(body, *fine, r.write(embedding), m.x, m.triangles);
+                    in.occluder_positions = m.x;
+                    in.occluder_triangles = m.triangles;
                 } else {
                     in.occluder_positions = body.particles.x;
                     in.occluder_triangles = body.triangles;
@@ -157,7 +165,8 @@ void SceneRuntime::add_view_passes(GraphHandles& h) {
             };
         }, tag(PassGroup::update));
     }
-    const auto drawn = passes::add_gpu_passes(g, *renderer_, gpu_resources_, h.input, h.sink, order_ == render::SplatOrder::gpu,
+    const auto status = g.import("upload status", &upload_status_, true);
+    const auto drawn = passes::add_gpu_passes(g, *renderer_, gpu_resources_, h.input, status, h.sink, order_ == render::SplatOrder::gpu,
                                               tag(PassGroup::gpu_record));
     passes::PresentSources sources{drawn, {}, renderer_->width(), renderer_->height(),
                                    [renderer = renderer_.get()] { return renderer->slot(); }};
@@ -176,14 +185,14 @@ void SceneRuntime::add_view_passes(GraphHandles& h) {
             mesh_color = b.write(mesh_color, passes::to_graph(render::uses::color_attachment));
             b.write(mesh_depth, passes::to_graph(render::uses::depth_attachment));
             return [hh = h, raster, splats](const graph::PassResources& r, graph::ExecuteContext& c) {
-                render::MeshRaster& mesh = r.get(raster);
-                const sim::SoftBody& body = r.get(hh.body);
-                const uint32_t slot = r.get(splats).slot();
+                render::MeshRaster& mesh = r.write(raster);
+                const sim::SoftBody& body = r.read(hh.body);
+                const uint32_t slot = r.read(splats).slot();
                 if (const core::Status s = mesh.set_mesh(body.particles.x, body.triangles, body.normals, slot, body.colors); !s.ok())
-                    r.get(hh.note) = "mesh view: " + s.error().to_string();  // drawn with the last mesh that fitted
+                    r.write(hh.note) = "mesh view: " + s.error().to_string();  // drawn with the last mesh that fitted
                 // Drawn in the body's own colours where it has them, as its splats are.
-                const Vec3f albedo = body.colors.empty() ? r.get(hh.appearance).albedo : Vec3f::Ones();
-                mesh.draw(c.cmd, r.get(hh.input).frame, render::MeshView::shaded, albedo, slot);
+                const Vec3f albedo = body.colors.empty() ? r.read(hh.appearance).albedo : Vec3f::Ones();
+                mesh.draw(c.cmd, r.read(hh.input).frame, render::MeshView::shaded, albedo, slot);
             };
         });
         sources.mesh = mesh_color;

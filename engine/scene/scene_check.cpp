@@ -214,6 +214,11 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
         report.samples.push_back(s);
     }
     summarise(report, std::move(stage_a));
+    // A pass that reached data it did not declare is a bug the graph's order and culling cannot
+    // see: the check fails on it.
+    if (!rt.graph().access_violations().empty())
+        return core::make_error("frame graph: " + rt.graph().access_violations().front() + " (" +
+                                std::to_string(rt.graph().access_violations().size()) + " undeclared accesses)");
     return report;
 }
 

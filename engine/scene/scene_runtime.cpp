@@ -149,7 +149,7 @@ core::Status SceneRuntime::step() {
         PBDSPLAT_TRY(renderer_->end_frame(p ? p->wait_semaphore() : nullptr, p ? p->signal_semaphore() : nullptr));
     }
     if (!topology_->status().ok()) return topology_->status();
-    if (renderer_) PBDSPLAT_TRY(frame_input_.upload_status);
+    if (renderer_) PBDSPLAT_TRY(upload_status_);
     if (!paused_) control_.time += scene_.simulation.dt;
     ++frame_;
 

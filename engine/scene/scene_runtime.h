@@ -192,8 +192,11 @@ private:
     std::optional<surface::BoundaryParticles> fine_vertices_;  // made on the first deformed_surface()
     // The surface mesh as the mesh occluders draw it (render.visibility = "mesh"): the fine
     // surface where the body carries one, else the body's own triangles (not copied).
-    std::vector<Vec4f> occluder_x_;
-    std::vector<mesh::Triangle> occluder_triangles_;
+    struct OccluderMesh {
+        std::vector<Vec4f> x;
+        std::vector<mesh::Triangle> triangles;
+    } occluder_mesh_;
+    core::Status upload_status_;  // what the frame's upload and occluder passes left
     std::unique_ptr<core::ThreadPool> pool_;
     std::unique_ptr<sim::Solver> solver_;
     std::unique_ptr<EventQueue> queue_;  // the scene's timed events and the user's strokes, in time order

@@ -1,6 +1,8 @@
 #include <doctest/doctest.h>
 
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "graph/frame_graph.h"
@@ -190,13 +192,13 @@ TEST_SUITE("graph/frame_graph") {
         g.set_fingerprint<int>(o, [](const int& v) { return uint64_t(v); });
         g.add_pass("honest", PassKind::cpu, [&](PassBuilder& b) {
             c = b.write(c);
-            return [c](const graph::PassResources& r, graph::ExecuteContext&) { ++r.get(c); };
+            return [c](const graph::PassResources& r, graph::ExecuteContext&) { ++r.write(c); };
         });
         g.add_pass("sneaky", PassKind::cpu, [&](PassBuilder& b) {
             b.read(c);
             o = b.write(o);
             // Declares a write of `other` only, and changes `counter` too.
-            return [&counter, o](const graph::PassResources& r, graph::ExecuteContext&) { ++r.get(o), ++counter; };
+            return [&counter, o](const graph::PassResources& r, graph::ExecuteContext&) { ++r.write(o), ++counter; };
         });
         REQUIRE(g.compile().ok());
         g.check_writes(true);
@@ -209,5 +211,50 @@ TEST_SUITE("graph/frame_graph") {
         CHECK(g.write_violations().empty());
         CHECK(counter == 4);
         CHECK(other == 2);
+    }
+
+    TEST_CASE("a pass reaches only what it declared: reads as const, writes through the handle its write returned") {
+        FrameGraph g;
+        int a = 1, b = 2, c = 3;
+        auto ha = g.import("a", &a, true);
+        auto hb = g.import("b", &b, true);
+        auto hc = g.import("c", &c, true);
+        // Reads `a` as declared; writes `b` through the version its write returned.
+        g.add_pass("honest", PassKind::cpu, [&](PassBuilder& p) {
+            p.read(ha);
+            hb = p.write(hb);
+            static_assert(std::is_same_v<decltype(std::declval<const graph::PassResources&>().read(ha)), const int&>,
+                          "a read hands out const data");
+            return [ha, hb](const graph::PassResources& r, graph::ExecuteContext&) { r.write(hb) += r.read(ha); };
+        });
+        REQUIRE(g.compile().ok());
+        graph::ExecuteContext ctx;
+        g.execute(ctx);
+        CHECK(b == 3);
+        CHECK(g.access_violations().empty());
+
+        // Writes through a handle it declared only as a read, and reads one it never declared.
+        FrameGraph bad;
+        ha = bad.import("a", &a, true);
+        hb = bad.import("b", &b, true);
+        hc = bad.import("c", &c, true);
+        bad.add_pass("sneaky", PassKind::cpu, [&](PassBuilder& p) {
+            p.read(ha);
+            hb = p.write(hb);
+            return [ha, hb, hc](const graph::PassResources& r, graph::ExecuteContext&) {
+                r.write(ha) = r.read(hc) + r.read(hb);
+            };
+        });
+        REQUIRE(bad.compile().ok());
+#ifdef NDEBUG
+        bad.execute(ctx);
+        REQUIRE(bad.access_violations().size() == 2);
+        CHECK(bad.access_violations()[0] == "pass 'sneaky' reads 'c', which it did not declare");
+        CHECK(bad.access_violations()[1] == "pass 'sneaky' writes 'a' through a read");
+        bad.execute(ctx);  // each once
+        CHECK(bad.access_violations().size() == 2);
+#else
+        CHECK_THROWS(bad.execute(ctx));  // a debug build stops at the first
+#endif
     }
 }

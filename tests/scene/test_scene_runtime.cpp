@@ -281,7 +281,7 @@ TEST_SUITE("scene/runtime") {
         CHECK(ranges[0].size == b.size() * sizeof(splat::GaussianRecord));
     }
 
-    TEST_CASE("every pass declares what it writes: scripted and interactive scenes run with no undeclared write") {
+    TEST_CASE("every pass declares what it reads and writes: scripted and interactive scenes run with no undeclared access") {
         for (const char* file : {"tear.toml", "cut.toml", "drag_spin.toml"}) {
             scene::RuntimeOptions o;
             o.keep_records = true;
@@ -291,6 +291,8 @@ TEST_SUITE("scene/runtime") {
             for (int f = 0; f < 40; ++f) REQUIRE(rt.value()->step().ok());
             CHECK_MESSAGE(rt.value()->graph().write_violations().empty(),
                           std::string(file) << ": " << rt.value()->graph().write_violations().front());
+            CHECK_MESSAGE(rt.value()->graph().access_violations().empty(),
+                          std::string(file) << ": " << rt.value()->graph().access_violations().front());
         }
         // The default scene driven by hand: a stroke, a drag, the boundary splats hidden.
         scene::RuntimeOptions o;
@@ -313,6 +315,7 @@ TEST_SUITE("scene/runtime") {
         CHECK(runtime.stats().cuts == 1);
         CHECK(grabbed);
         CHECK_MESSAGE(runtime.graph().write_violations().empty(), runtime.graph().write_violations().front());
+        CHECK_MESSAGE(runtime.graph().access_violations().empty(), runtime.graph().access_violations().front());
     }
 
     TEST_CASE("a frame that moved the body uploads every record without comparing; a paused one only what changed") {

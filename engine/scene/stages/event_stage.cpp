@@ -6,8 +6,9 @@ namespace {
 
 void add_timeline_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOptions& o) {
     g.add_pass("events", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
-        // An interactive run keeps the pass for the user's drag, with or without a timeline.
-        if (!o.interactive) b.read(h.timeline);
+        // An interactive run keeps the pass for the user's drag, with or without a timeline; a
+        // script without one has nothing to do (the absent timeline culls it).
+        if (!o.interactive || o.timeline) h.timeline = b.write(h.timeline);
         b.read(h.control);
         h.queue = b.write(h.queue);
         h.body = b.write(h.body);
@@ -16,18 +17,18 @@ void add_timeline_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
         h.input = b.write(h.input);
         const bool has_timeline = o.timeline;
         return [o, has_timeline, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
-            const FrameControl& control = r.get(hh.control);
-            passes::GpuFrameInput& input = r.get(hh.input);
-            splat::Appearance& look = r.get(hh.appearance);
+            const FrameControl& control = r.read(hh.control);
+            passes::GpuFrameInput& input = r.write(hh.input);
+            splat::Appearance& look = r.write(hh.appearance);
             sim::DragConstraint no_drag;
-            sim::DragConstraint& drag = o.drags ? r.get(hh.drag) : no_drag;
+            sim::DragConstraint& drag = o.drags ? r.write(hh.drag) : no_drag;
             // A camera the user took over is not the script's to move: it moves a copy.
             render::Camera scripted = input.frame.camera;
             float opacity = math::sigmoid(look.opacity_logit);
             const float before = opacity;
             if (has_timeline)
-                r.get(hh.timeline).advance(r.get(hh.queue), control.time, o.dt, r.get(hh.body), drag, control.camera_override ? scripted : input.frame.camera,
-                                           opacity);
+                r.write(hh.timeline).advance(r.write(hh.queue), control.time, o.dt, r.write(hh.body), drag,
+                                             control.camera_override ? scripted : input.frame.camera, opacity);
             if (opacity != before) look.opacity_logit = math::logit(opacity);
             if (control.user_drag.active) drag = control.user_drag;  // the hand wins over the script
         };
@@ -49,9 +50,10 @@ void add_topology_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
         if (o.boundary) h.samples = b.write(h.samples), h.density = b.write(h.density);
         if (o.stretch) h.stretch = b.write(h.stretch);
         return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
-            sim::SoftBody& body = r.get(hh.body);
-            const TopologyStage::Follow follow = r.get(hh.followers).follow(body);
-            r.get(hh.topology).run(r.get(hh.queue), body, r.get(hh.control).time, o.dt, r.get(hh.input).frame.camera, o.cut, follow, r.get(hh.note));
+            sim::SoftBody& body = r.write(hh.body);
+            const TopologyStage::Follow follow = r.write(hh.followers).follow(body);
+            r.write(hh.topology).run(r.write(hh.queue), body, r.read(hh.control).time, o.dt, r.read(hh.input).frame.camera, o.cut, follow,
+                                     r.write(hh.note));
         };
     }, o.tag);
 }

@@ -57,16 +57,16 @@ void add_mapping_passes(graph::FrameGraph& g, MapHandles& h, const MapPassOption
         h.input = b.write(h.input);
         if (o.keep_records) b.side_effect();
         return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
-            const sim::SoftBody& body = r.get(hh.body);
-            const MapSettings& settings = r.get(hh.settings);
-            const splat::Appearance& look = r.get(hh.appearance);
-            MappingStage& mapping = r.get(hh.mapping);
-            passes::GpuFrameInput& input = r.get(hh.input);
+            const sim::SoftBody& body = r.read(hh.body);
+            const MapSettings& settings = r.read(hh.settings);
+            const splat::Appearance& look = r.read(hh.appearance);
+            MappingStage& mapping = r.write(hh.mapping);
+            passes::GpuFrameInput& input = r.write(hh.input);
             MappingStage::Sources sources;
             sources.body = &body;
             sources.particles = settings.particles;
-            sources.samples = o.boundary && settings.show_boundary ? &r.get(hh.samples) : nullptr;
-            const splat::StretchScale* stretch = o.stretch ? &r.get(hh.stretch) : nullptr;
+            sources.samples = o.boundary && settings.show_boundary ? &r.read(hh.samples) : nullptr;
+            const splat::StretchScale* stretch = o.stretch ? &r.read(hh.stretch) : nullptr;
             sources.stretch = stretch && !stretch->empty() ? stretch : nullptr;
             mapping.map(sources, look);
             BodyViewOptions view;
@@ -84,8 +84,8 @@ void add_mapping_passes(graph::FrameGraph& g, MapHandles& h, const MapPassOption
         h.input = b.write(h.input);
         if (o.keep_records) b.side_effect();
         return [moved = o.moved, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
-            MappingStage& mapping = r.get(hh.mapping);
-            passes::GpuFrameInput& input = r.get(hh.input);
+            MappingStage& mapping = r.write(hh.mapping);
+            passes::GpuFrameInput& input = r.write(hh.input);
             mapping.sort(input.frame.camera);
             mapping.publish(input, moved);
         };

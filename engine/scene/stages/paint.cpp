@@ -75,7 +75,7 @@ void add_paint_pass(graph::FrameGraph& g, PaintHandles& h, uint32_t tag) {
             b.read(h.paint);
             h.samples = b.write(h.samples);
             return [hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
-                paint_samples(r.get(hh.paint), r.get(hh.body), r.get(hh.samples));
+                paint_samples(r.read(hh.paint), r.read(hh.body), r.write(hh.samples));
             };
         },
         tag);

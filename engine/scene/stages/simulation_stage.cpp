@@ -28,9 +28,9 @@ void add_simulation_passes(graph::FrameGraph& g, SimulationHandles& h, sim::Solv
                 return [&solver, &settings, stage, substep, handles = h](const graph::PassResources& r, graph::ExecuteContext&) {
                     static const sim::Colliders k_no_colliders;
                     static const sim::DragConstraint k_no_drag;
-                    const sim::Colliders& colliders = stage == sim::Stage::collide ? r.get(handles.colliders) : k_no_colliders;
-                    const sim::DragConstraint& drag = stage == sim::Stage::drag ? r.get(handles.drag) : k_no_drag;
-                    solver.run(stage, r.get(handles.body), settings, substep, colliders, drag);
+                    const sim::Colliders& colliders = stage == sim::Stage::collide ? r.read(handles.colliders) : k_no_colliders;
+                    const sim::DragConstraint& drag = stage == sim::Stage::drag ? r.read(handles.drag) : k_no_drag;
+                    solver.run(stage, r.write(handles.body), settings, substep, colliders, drag);
                 };
             },
             tag(pass_group(sim::stage_group(stage))));

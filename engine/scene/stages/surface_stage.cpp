@@ -47,8 +47,8 @@ void add_surface_passes(graph::FrameGraph& g, SurfaceHandles& h, const SurfacePa
             b.read(h.body);
             h.samples = b.write(h.samples);
             return [body = h.body, samples = h.samples](const graph::PassResources& r, graph::ExecuteContext&) {
-                const sim::SoftBody& bd = r.get(body);
-                surface::update_boundary_particles(bd.triangles, bd.particles.x, bd.normals, r.get(samples));
+                const sim::SoftBody& bd = r.read(body);
+                surface::update_boundary_particles(bd.triangles, bd.particles.x, bd.normals, r.write(samples));
             };
         },
         config.tag);
@@ -57,21 +57,21 @@ void add_surface_passes(graph::FrameGraph& g, SurfaceHandles& h, const SurfacePa
         "density", graph::PassKind::cpu,
         [&](graph::PassBuilder& b) {
             b.read(h.body);
-            b.read(h.density);
+            h.density = b.write(h.density);  // its trigger state and fades advance
             h.samples = b.write(h.samples);
             h.density_stats = b.write(h.density_stats);
             return [config, body = h.body, samples = h.samples, density = h.density, stats = h.density_stats](
                        const graph::PassResources& r, graph::ExecuteContext&) {
-                const sim::SoftBody& bd = r.get(body);
-                surface::DensityStats& out = r.get(stats);
-                surface::DensityControl& control = r.get(density);
+                const sim::SoftBody& bd = r.read(body);
+                surface::DensityStats& out = r.write(stats);
+                surface::DensityControl& control = r.write(density);
                 if (control.empty()) {
                     out = {};
-                    out.removed = uint32_t(surface::advance_fades(r.get(samples), &out.fading));
+                    out.removed = uint32_t(surface::advance_fades(r.write(samples), &out.fading));
                     return;
                 }
                 out = control.update(bd.particles.x, bd.normals, bd.triangles, config.particles_are_splats, config.h, config.seed,
-                                     r.get(samples));
+                                     r.write(samples));
             };
         },
         config.tag);
@@ -81,8 +81,8 @@ void add_surface_passes(graph::FrameGraph& g, SurfaceHandles& h, const SurfacePa
             b.read(h.body);
             h.stretch = b.write(h.stretch);
             return [body = h.body, stretch = h.stretch](const graph::PassResources& r, graph::ExecuteContext&) {
-                const sim::SoftBody& bd = r.get(body);
-                r.get(stretch).update(bd.particles.x, bd.triangles);
+                const sim::SoftBody& bd = r.read(body);
+                r.write(stretch).update(bd.particles.x, bd.triangles);
             };
         },
         config.tag);

@@ -82,8 +82,8 @@ void SwapchainPresenter::add_passes(graph::FrameGraph& g, const passes::PresentS
         return [this, s, view, with_mesh](const graph::PassResources& r, graph::ExecuteContext& c) {
             if (!target_.image) return;
             const Letterbox box = fit(s.width, s.height, swapchain_.extent());
-            const VkImage splats = r.get(s.splats).image;
-            const VkImage mesh = with_mesh ? r.get(s.mesh).image : VK_NULL_HANDLE;
+            const VkImage splats = r.read(s.splats).image;
+            const VkImage mesh = with_mesh ? r.read(s.mesh).image : VK_NULL_HANDLE;
             if (view == scene::DisplayView::side_by_side && with_mesh) {
                 // The middle half of each image, side by side, at the full image's scale.
                 const uint32_t half = box.width / 2;
