@@ -109,12 +109,25 @@ double signed_volume_of(const TriangleMesh& m, const std::vector<uint32_t>& face
     return v / 6.0;
 }
 
-// Degenerate (repeated corners, zero area) and duplicate triangles out.
+// Whether two triangles over the same corners run the same way round.
+bool same_turn(const Triangle& a, const Triangle& b) {
+    for (int k = 0; k < 3; ++k)
+        if (a[0] == b[size_t(k)]) return a[1] == b[size_t((k + 1) % 3)];
+    return false;
+}
+
+// Degenerate (repeated corners, zero area) and duplicate triangles out. A triangle repeated the
+// same way round is one triangle written twice: one copy stays. A triangle repeated the other
+// way round is a fin, a two-sided flap of no volume (suzanne has one at its ear): both copies go,
+// since the one left would be a third face on the edge it hangs from and pair there with a face
+// of the surface, breaking the sheet it belongs to.
 void drop_bad_triangles(TriangleMesh& m, float diag, RepairReport& r) {
     const double min_area2 = double(diag) * diag * 1e-14;  // (twice the area)^2 below this is zero
     std::vector<Triangle> kept;
     kept.reserve(m.triangles.size());
-    std::unordered_map<uint64_t, std::vector<std::array<uint32_t, 3>>> by_hash;  // sorted corners, compared exactly
+    std::vector<uint8_t> fin;  // per kept triangle: its reverse came later
+    // sorted corners (compared exactly) -> the kept triangle's index
+    std::unordered_map<uint64_t, std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>>> by_hash;
     for (const Triangle& t : m.triangles) {
         if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) { ++r.degenerate_triangles; continue; }
         const Vec3d a = m.positions[t[0]].cast<double>();
@@ -124,10 +137,22 @@ void drop_bad_triangles(TriangleMesh& m, float diag, RepairReport& r) {
         std::sort(s.begin(), s.end());
         const uint64_t h = (uint64_t(s[0]) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(s[1]) << 21) ^ (uint64_t(s[2]) << 42);
         auto& bucket = by_hash[h];
-        if (std::find(bucket.begin(), bucket.end(), s) != bucket.end()) { ++r.duplicate_triangles; continue; }
-        bucket.push_back(s);
+        const auto seen = std::find_if(bucket.begin(), bucket.end(), [&](const auto& e) { return e.first == s; });
+        if (seen != bucket.end()) {
+            ++r.duplicate_triangles;
+            if (!same_turn(kept[seen->second], t)) fin[seen->second] = 1;
+            continue;
+        }
+        bucket.push_back({s, uint32_t(kept.size())});
         kept.push_back(t);
+        fin.push_back(0);
     }
+    size_t out = 0;
+    for (size_t k = 0; k < kept.size(); ++k) {
+        if (fin[k]) { ++r.duplicate_triangles; continue; }
+        kept[out++] = kept[k];
+    }
+    kept.resize(out);
     m.triangles = std::move(kept);
 }
 
@@ -321,6 +346,7 @@ core::Result<RepairedMesh> repair(TriangleMesh m, const RepairOptions& options, 
     if (!(diag > 0.0f)) return core::make_error(name, 0, "all vertices coincide: the mesh has no extent");
     r.welded_vertices = weld(m, options.weld_tolerance * diag);
     drop_bad_triangles(m, diag, r);
+    r.unreferenced_vertices += drop_unreferenced(m);  // a fin's tip belongs to nothing now
     if (m.triangles.empty())
         return core::make_error(name, 0, "all " + std::to_string(r.input_triangles) + " triangles are degenerate (repeated corners or zero area)");
 

@@ -271,6 +271,11 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
                 planes = true;
             }
             if (nrm.isZero() || nrm0.isZero()) break;
+            // A centroid fan over a concave loop turns over where the loop bends: such a triangle
+            // faces into its piece and would push a particle the wrong way. Left out, the soft
+            // halves of a cut balloon (suzanne cut through its ears) no longer fight each other
+            // apart through their caps (volume error 0.5 within 2 s of the cut).
+            if (tk.fan && nrm.dot(tk.fan->normal) < 0.0f) break;
             // Heights over the planes first (cheap), the closest points after.
             const float h_then = then_[i].dot(nrm0) - d_then, h_now = now_[i].dot(nrm) - d_now;
             // Outside a closed piece, or shallowly inside it (pushed out); an open piece keeps a
