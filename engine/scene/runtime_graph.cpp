@@ -130,7 +130,7 @@ void SceneRuntime::add_frame_event_passes(GraphHandles& h, bool has_events) {
     o.dt = sd.dt, o.interactive = options_.interactive, o.timeline = has_events;
     o.drags = h.drags, o.boundary = h.boundary, o.stretch = scene_.surface.stretch_scale;
     o.cut = sd.cut;
-    o.tag = tag(PassGroup::events);
+    o.tag = tag(PassGroup::events), o.topology_tag = tag(PassGroup::topology);
     add_event_passes(g, events, o);
     h.body = events.body, h.drag = events.drag, h.input = events.input, h.samples = events.samples;
     h.density = events.density, h.stretch = events.stretch, h.appearance = events.appearance, h.note = events.note;

@@ -148,17 +148,54 @@ void summarise(CheckReport& report, std::vector<double> stage_a) {
         report.stage_a_ms = stage_a[stage_a.size() / 2];
     }
 }
+
+// What the mesh as loaded breaks of the topology invariants (empty: nothing), so that every cut
+// and tear can be checked against them where it meets them (a model the repair could not make
+// fully manifold is reported, and run unchecked).
+core::Result<std::string> invariants_at_load(const Scene& scene) {
+    auto probe = load_scene_model(scene);
+    if (!probe.ok()) return probe.error();
+    if (auto s = topology::check_invariants(probe.value().body); !s.ok()) return s.error().to_string();
+    return std::string();
+}
+
+// A burst's figures, read every frame from the first frame that tore, for 2 s.
+class BurstWatch {
+public:
+    explicit BurstWatch(const sim::OpeningReport& at_load) : at_load_(at_load) {}
+    void frame(const SceneRuntime& rt, const FrameStats& st, CheckReport& report) {
+        if (st.tears == 0 || (start_ >= 0.0f && st.time > start_ + 2.0f)) return;
+        const sim::OpeningReport opening = sim::opening_report(rt.body());
+        // Openings made since load: the model's own holes are not a rip.
+        const double opened = opening.open_length - at_load_.open_length;
+        if (start_ < 0.0f) {
+            start_ = st.time, open_length_ = opened, volume_ = opening.volume;
+            report.rip_growth = 1.0;
+            return;
+        }
+        if (open_length_ > 0.0) report.rip_growth = opened / open_length_;
+        if (volume_ != 0.0) report.burst_volume_ratio = std::min(report.burst_volume_ratio, opening.volume / volume_);
+    }
+
+private:
+    sim::OpeningReport at_load_;
+    float start_ = -1.0f;
+    double open_length_ = 0.0, volume_ = 0.0;
+};
+
+// The surface as the coverage images see it, before the first step: the area ratio's 1.
+double rest_area_of(SceneRuntime& rt) {
+    std::vector<Vec4f> x;
+    std::vector<mesh::Triangle> triangles;
+    rt.deformed_surface(x, triangles);
+    return area_of(x, triangles);
+}
 } // namespace
 
 core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o) {
-    // Every cut and tear is checked against the mesh invariants, when the mesh as loaded meets
-    // them (a model the repair could not make fully manifold is reported, and run unchecked).
-    std::string invariants;
-    {
-        auto probe = load_scene_model(scene);
-        if (!probe.ok()) return probe.error();
-        if (auto s = topology::check_invariants(probe.value().body); !s.ok()) invariants = s.error().to_string();
-    }
+    auto loaded_invariants = invariants_at_load(scene);
+    if (!loaded_invariants.ok()) return loaded_invariants.error();
+    const std::string& invariants = loaded_invariants.value();
     RuntimeOptions ro;  // simulation and mapping only: coverage renders its own pair of images
     ro.keep_records = true;
     ro.check_topology = invariants.empty();
@@ -173,34 +210,13 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
         report.embedding_error = rt.embedding().max_rest_error / std::max(mesh::bounds(*rt.fine_surface()).diagonal(), 1e-12f);
     std::vector<double> stage_a;
     const sim::OpeningReport at_load = sim::opening_report(rt.body());
-    // The burst's figures: from the first frame that tore, every frame for 2 s.
-    struct Burst {
-        float start = -1.0f;
-        double open_length = 0.0, volume = 0.0;
-    } burst;
-    // The surface as the coverage images see it, before the first step: the area ratio's 1.
-    double rest_area = 0.0;
-    if (o.gpu) {
-        std::vector<Vec4f> x;
-        std::vector<mesh::Triangle> triangles;
-        rt.deformed_surface(x, triangles);
-        rest_area = area_of(x, triangles);
-    }
+    BurstWatch burst(at_load);
+    const double rest_area = o.gpu ? rest_area_of(rt) : 0.0;
     for (uint32_t f = 0; f < o.frames; ++f) {
         PBDSPLAT_TRY(rt.step());
         const FrameStats& st = rt.stats();
         stage_a.push_back(st.apply_forces_ms + st.constraints_ms + st.integrate_normals_ms);
-        if (st.tears > 0 && (burst.start < 0.0f || st.time <= burst.start + 2.0f)) {
-            const sim::OpeningReport opening = sim::opening_report(rt.body());
-            if (burst.start < 0.0f) {
-                // Openings made since load: the model's own holes are not a rip.
-                burst = {st.time, opening.open_length - at_load.open_length, opening.volume};
-                report.rip_growth = 1.0;
-            } else {
-                if (burst.open_length > 0.0) report.rip_growth = (opening.open_length - at_load.open_length) / burst.open_length;
-                if (burst.volume != 0.0) report.burst_volume_ratio = std::min(report.burst_volume_ratio, opening.volume / burst.volume);
-            }
-        }
+        burst.frame(rt, st, report);
         if ((f + 1) % o.every != 0 && f + 1 != o.frames) continue;
         CheckSample s;
         s.frame = st.frame;

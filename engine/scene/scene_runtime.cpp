@@ -167,6 +167,7 @@ core::Status SceneRuntime::step() {
         const double t = ms[k];
         switch (group_of_kept_pass_[k]) {
             case PassGroup::events: s.events_ms += t; break;
+            case PassGroup::topology: break;  // timed by the stage itself, follow-up included (topology_ms)
             case PassGroup::forces: s.apply_forces_ms += t; break;
             case PassGroup::constraints: s.constraints_ms += t; break;
             case PassGroup::integrate: s.integrate_normals_ms += t; break;

@@ -67,7 +67,8 @@ struct FrameStats {
     size_t cuts = 0;   // cut events applied so far
     size_t tears = 0;  // edges torn so far
     double topology_ms = 0.0;  // this frame's cuts and tears, with the boundary particles' refill
-    double events_ms = 0.0, apply_forces_ms = 0.0, constraints_ms = 0.0, integrate_normals_ms = 0.0,
+    double events_ms = 0.0,  // the timeline (pressure, drags, spins, opacity)
+           apply_forces_ms = 0.0, constraints_ms = 0.0, integrate_normals_ms = 0.0,
            update_particles_ms = 0.0, gpu_record_ms = 0.0, graph_ms = 0.0;
     uint64_t uploaded_bytes = 0;  // of the newest finished GPU frame
     // GPU time of the newest finished frame, per pass, from timestamps (0 where the device has

@@ -35,7 +35,7 @@ struct Split {
     size_t particles = 0, gaussians = 0, frames = 0;
 };
 struct Samples {
-    std::vector<double> events, forces, constraints, integrate, update, gpu_record, frame, gpu_upload, gpu_sort, gpu_draw;
+    std::vector<double> events, topology, forces, constraints, integrate, update, gpu_record, frame, gpu_upload, gpu_sort, gpu_draw;
     // The splat pass's parts (render::GpuTimings).
     std::vector<double> gpu_splat, gpu_occluders, gpu_over_occluders, gpu_accumulate, gpu_resolve;
     Split before, after;
@@ -54,7 +54,7 @@ struct Samples {
 
     void add(const scene::SceneRuntime& runtime) {
         const auto& s = runtime.stats();
-        events.push_back(s.events_ms), forces.push_back(s.apply_forces_ms), constraints.push_back(s.constraints_ms);
+        events.push_back(s.events_ms), topology.push_back(s.topology_ms), forces.push_back(s.apply_forces_ms), constraints.push_back(s.constraints_ms);
         integrate.push_back(s.integrate_normals_ms), update.push_back(s.update_particles_ms);
         gpu_record.push_back(s.gpu_record_ms), frame.push_back(s.graph_ms);
         gpu_upload.push_back(s.gpu.upload_ms), gpu_sort.push_back(s.gpu.sort_ms), gpu_draw.push_back(s.gpu.draw_ms);
@@ -69,9 +69,7 @@ struct Samples {
             density_working.push_back(s.density.resampled + s.density.retired > 0);
         }
         Split& part = s.cuts + s.tears == 0 ? before : after;
-        // The events group holds the topology pass (cuts, tears and their follow-up): adding
-        // topology_ms as well counted it twice.
-        part.cpu_frame.push_back(s.events_ms + s.apply_forces_ms + s.constraints_ms + s.integrate_normals_ms + s.update_particles_ms +
+        part.cpu_frame.push_back(s.events_ms + s.topology_ms + s.apply_forces_ms + s.constraints_ms + s.integrate_normals_ms + s.update_particles_ms +
                                  s.gpu_record_ms);
         part.gpu_scene.push_back(s.gpu_scene_ms());
         const bool changed = s.cuts + s.tears > changes_so_far;
@@ -90,6 +88,7 @@ struct Samples {
 void report_stages(Report& report, const Samples& m, const gpu::DeviceCaps& caps) {
     using core::median;
     report.json()["stages_median_ms"] = {{"events", median(m.events)},
+                                         {"topology", median(m.topology)},
                                          {"apply_forces", median(m.forces)},
                                          {"constraint_projection", median(m.constraints)},
                                          {"integrate_normals", median(m.integrate)},
@@ -106,6 +105,7 @@ void report_stages(Report& report, const Samples& m, const gpu::DeviceCaps& caps
                                         {"resolve", median(m.gpu_resolve)}}}};
     report.json()["gpu_timestamps"] = caps.timestamps;
     report.figures("", {{"events", median(m.events), "ms"},
+                        {"topology (cuts, tears)", median(m.topology), "ms"},
                         {"apply forces", median(m.forces), "ms"},
                         {"constraint projection", median(m.constraints), "ms"},
                         {"integrate + normals", median(m.integrate), "ms"},

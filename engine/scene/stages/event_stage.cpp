@@ -55,7 +55,7 @@ void add_topology_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
             r.write(hh.topology).run(r.write(hh.queue), body, r.read(hh.control).time, o.dt, r.read(hh.input).frame.camera, o.cut, follow,
                                      r.write(hh.note));
         };
-    }, o.tag);
+    }, o.topology_tag);
 }
 
 } // namespace

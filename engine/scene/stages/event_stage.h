@@ -47,7 +47,7 @@ struct EventPassOptions {
     bool timeline = false;  // the scene has timed events (else the handle is absent)
     bool drags = false, boundary = false, stretch = false;
     topology::CutOptions cut;
-    uint32_t tag = 0;
+    uint32_t tag = 0, topology_tag = 0;  // what the timeline's and the topology pass's times count towards
 };
 
 void add_event_passes(graph::FrameGraph& g, EventHandles& h, const EventPassOptions& o);

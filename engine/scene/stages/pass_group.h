@@ -8,7 +8,7 @@
 
 namespace pbdsplat::scene {
 
-enum class PassGroup : uint32_t { other, events, forces, constraints, integrate, update, gpu_record };
+enum class PassGroup : uint32_t { other, events, topology, forces, constraints, integrate, update, gpu_record };
 
 inline uint32_t tag(PassGroup g) { return uint32_t(g); }
 
