@@ -35,22 +35,23 @@ struct SceneRuntime::GraphHandles {
     bool boundary = false, drags = false, sorted = false;
 };
 
-core::Status SceneRuntime::build_graph() {
+bool SceneRuntime::has_timed_events() const {
+    return !scene_.events.empty() || scene_.render.orbit.degrees_per_second != 0.0f || !scene_.render.path.empty();
+}
+
+void SceneRuntime::import_resources(GraphHandles& h) {
     const SurfaceDesc& sd_surface = scene_.surface;
     const SimulationDesc& sd = scene_.simulation;
-    graph_ = graph::FrameGraph();
     graph::FrameGraph& g = graph_;
-    GraphHandles h;
     h.boundary = sd_surface.mode == SurfaceMode::boundary;
     h.drags = timeline_->has_drag(*queue_) || options_.interactive;
     // Sorting only matters when splats are composited with "over" and the scene asks for it.
     h.sorted = order_ == render::SplatOrder::cpu;  // the GPU sort is a GPU pass
     const bool has_volume = sd.solver.volume && !body_.volumes.empty();
-    const bool has_events = !scene_.events.empty() || scene_.render.orbit.degrees_per_second != 0.0f || !scene_.render.path.empty();
     const bool has_shape = sd.solver.shape_stiffness > 0.0f && body_.shape_matching;
     const bool topology_events = queue_->any(is_topology_event) || options_.interactive;
     h.body = g.import("body", &body_, true);
-    h.timeline = g.import("timeline", has_events ? timeline_.get() : static_cast<Timeline*>(nullptr));
+    h.timeline = g.import("timeline", has_timed_events() ? timeline_.get() : static_cast<Timeline*>(nullptr));
     h.volumes = g.import("volume constraints", has_volume ? &body_.volumes : static_cast<std::vector<sim::VolumeConstraint>*>(nullptr));
     h.shapes = g.import("shape clusters", has_shape ? &body_.shapes : static_cast<std::vector<sim::ShapeCluster>*>(nullptr));
     h.colliders = g.import("colliders", sd.colliders.empty() ? nullptr : &scene_.simulation.colliders);
@@ -67,13 +68,10 @@ core::Status SceneRuntime::build_graph() {
     // The queue again, as a marker read by the topology pass: absent when no cut or tear can come,
     // so that the pass is culled (it is never written through this handle).
     h.cuts = g.import("topology events", topology_events ? queue_.get() : static_cast<EventQueue*>(nullptr));
-    // Paused: nothing moves, so no simulation stage runs; the frame is drawn again as it was.
-    if (!paused_) {
-        add_frame_event_passes(h, has_events);
-        SimulationHandles sim_handles{h.body, h.volumes, h.shapes, h.drag, h.colliders};
-        add_simulation_passes(g, sim_handles, *solver_, sd.solver, sd.dt);
-        h.body = sim_handles.body;
-    }
+}
+
+void SceneRuntime::add_surface_and_map_passes(GraphHandles& h) {
+    graph::FrameGraph& g = graph_;
     auto density_stats = g.import("density stats", &density_stats_);
     SurfaceHandles surface{h.body, h.samples, h.density, density_stats, h.stretch};
     add_surface_passes(g, surface, {splat_particles_, h_, scene_.surface.seed, tag(PassGroup::update)});
@@ -90,22 +88,39 @@ core::Status SceneRuntime::build_graph() {
     map_settings_.ground = scene_.simulation.colliders.ground;
     MapHandles map{h.body, h.samples, h.stretch, h.sort, h.appearance, g.import("map settings", &map_settings_),
                    g.import("mapping", mapping_.get()), h.input};
-    add_mapping_passes(g, map, {h.boundary, sd_surface.stretch_scale, h.sorted, options_.keep_records, !paused_, tag(PassGroup::update)});
+    add_mapping_passes(g, map, {h.boundary, scene_.surface.stretch_scale, h.sorted, options_.keep_records, !paused_, tag(PassGroup::update)});
     h.input = map.input;
-    if (renderer_) add_view_passes(h);
-    if (options_.check_writes) {
-        const auto print = [](const auto& resource) { return fingerprint(resource); };
-        g.set_fingerprint<sim::SoftBody>(h.body, print);
-        g.set_fingerprint<splat::Appearance>(h.appearance, print);
-        g.set_fingerprint<passes::GpuFrameInput>(h.input, print);
-        g.set_fingerprint<std::string>(h.note, print);
-        if (h.drags) g.set_fingerprint<sim::DragConstraint>(h.drag, print);
-        if (h.boundary) g.set_fingerprint<surface::BoundaryParticles>(h.samples, print);
-        g.check_writes(true);
+}
+
+void SceneRuntime::fingerprint_resources(const GraphHandles& h) {
+    graph::FrameGraph& g = graph_;
+    const auto print = [](const auto& resource) { return fingerprint(resource); };
+    g.set_fingerprint<sim::SoftBody>(h.body, print);
+    g.set_fingerprint<splat::Appearance>(h.appearance, print);
+    g.set_fingerprint<passes::GpuFrameInput>(h.input, print);
+    g.set_fingerprint<std::string>(h.note, print);
+    if (h.drags) g.set_fingerprint<sim::DragConstraint>(h.drag, print);
+    if (h.boundary) g.set_fingerprint<surface::BoundaryParticles>(h.samples, print);
+    g.check_writes(true);
+}
+
+core::Status SceneRuntime::build_graph() {
+    graph_ = graph::FrameGraph();
+    GraphHandles h;
+    import_resources(h);
+    // Paused: nothing moves, so no simulation stage runs; the frame is drawn again as it was.
+    if (!paused_) {
+        add_frame_event_passes(h, has_timed_events());
+        SimulationHandles sim_handles{h.body, h.volumes, h.shapes, h.drag, h.colliders};
+        add_simulation_passes(graph_, sim_handles, *solver_, scene_.simulation.solver, scene_.simulation.dt);
+        h.body = sim_handles.body;
     }
-    PBDSPLAT_TRY(g.compile());
+    add_surface_and_map_passes(h);
+    if (renderer_) add_view_passes(h);
+    if (options_.check_writes) fingerprint_resources(h);
+    PBDSPLAT_TRY(graph_.compile());
     group_of_kept_pass_.clear();
-    for (const graph::PassInfo& p : g.describe())
+    for (const graph::PassInfo& p : graph_.describe())
         if (!p.culled) group_of_kept_pass_.push_back(PassGroup(p.tag));
     return core::Status::success();
 }
@@ -136,67 +151,73 @@ void SceneRuntime::add_frame_event_passes(GraphHandles& h, bool has_events) {
     h.density = events.density, h.stretch = events.stretch, h.appearance = events.appearance, h.note = events.note;
 }
 
+void SceneRuntime::add_occluder_mesh_pass(GraphHandles& h) {
+    graph::FrameGraph& g = graph_;
+    // The surface the splats stand for, as it is this frame, for the occluders' pass.
+    auto mesh = g.import("occluder mesh", &occluder_mesh_);
+    // The fine surface's embedding, made on the first frame it is drawn (absent, and not
+    // declared, without a fine surface).
+    auto embedding = g.import("fine surface embedding", fine_ ? &fine_vertices_ : nullptr);
+    g.add_pass("occluder mesh", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
+        b.read(h.body);
+        mesh = b.write(mesh);
+        if (fine_) embedding = b.write(embedding);
+        h.input = b.write(h.input);
+        const mesh::TriangleMesh* fine = fine_ ? &*fine_ : nullptr;  // the model's surface: fixed at load
+        return [fine, mesh, embedding, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
+            const sim::SoftBody& body = r.read(hh.body);
+            passes::GpuFrameInput& in = r.write(hh.input);
+            if (fine) {
+                OccluderMesh& m = r.write(mesh);
+                deformed_fine_surface(body, *fine, r.write(embedding), m.x, m.triangles);
+                in.occluder_positions = m.x;
+                in.occluder_triangles = m.triangles;
+            } else {
+                in.occluder_positions = body.particles.x;
+                in.occluder_triangles = body.triangles;
+            }
+        };
+    }, tag(PassGroup::update));
+}
+
+graph::Handle<graph::GpuImageRef> SceneRuntime::add_mesh_view_pass(GraphHandles& h) {
+    graph::FrameGraph& g = graph_;
+    auto mesh_color = g.import("mesh colour", &mesh_color_);
+    auto mesh_depth = g.import("mesh depth", &mesh_depth_);
+    auto raster = g.import("mesh raster", mesh_raster_.get());
+    auto splats = g.import("splat renderer", renderer_.get());
+    g.add_pass("mesh", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+        b.read(h.body);
+        b.read(h.input);
+        b.read(h.appearance);
+        b.read(splats);
+        raster = b.write(raster);
+        h.note = b.write(h.note);
+        mesh_color = b.write(mesh_color, passes::to_graph(render::uses::color_attachment));
+        b.write(mesh_depth, passes::to_graph(render::uses::depth_attachment));
+        return [hh = h, raster, splats](const graph::PassResources& r, graph::ExecuteContext& c) {
+            render::MeshRaster& mesh = r.write(raster);
+            const sim::SoftBody& body = r.read(hh.body);
+            const uint32_t slot = r.read(splats).slot();
+            if (const core::Status s = mesh.set_mesh(body.particles.x, body.triangles, body.normals, slot, body.colors); !s.ok())
+                r.write(hh.note) = "mesh view: " + s.error().to_string();  // drawn with the last mesh that fitted
+            // Drawn in the body's own colours where it has them, as its splats are.
+            const Vec3f albedo = body.colors.empty() ? r.read(hh.appearance).albedo : Vec3f::Ones();
+            mesh.draw(c.cmd, r.read(hh.input).frame, render::MeshView::shaded, albedo, slot);
+        };
+    });
+    return mesh_color;
+}
+
 void SceneRuntime::add_view_passes(GraphHandles& h) {
     graph::FrameGraph& g = graph_;
-    if (renderer_->has_occluders()) {
-        // The surface the splats stand for, as it is this frame, for the occluders' pass.
-        auto mesh = g.import("occluder mesh", &occluder_mesh_);
-        // The fine surface's embedding, made on the first frame it is drawn (absent, and not
-        // declared, without a fine surface).
-        auto embedding = g.import("fine surface embedding", fine_ ? &fine_vertices_ : nullptr);
-        g.add_pass("occluder mesh", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
-            b.read(h.body);
-            mesh = b.write(mesh);
-            if (fine_) embedding = b.write(embedding);
-            h.input = b.write(h.input);
-            const mesh::TriangleMesh* fine = fine_ ? &*fine_ : nullptr;  // the model's surface: fixed at load
-            return [fine, mesh, embedding, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
-                const sim::SoftBody& body = r.read(hh.body);
-                passes::GpuFrameInput& in = r.write(hh.input);
-                if (fine) {
-                    OccluderMesh& m = r.write(mesh);
-                    deformed_fine_surface(body, *fine, r.write(embedding), m.x, m.triangles);
-                    in.occluder_positions = m.x;
-                    in.occluder_triangles = m.triangles;
-                } else {
-                    in.occluder_positions = body.particles.x;
-                    in.occluder_triangles = body.triangles;
-                }
-            };
-        }, tag(PassGroup::update));
-    }
+    if (renderer_->has_occluders()) add_occluder_mesh_pass(h);
     const auto status = g.import("upload status", &upload_status_, true);
     const auto drawn = passes::add_gpu_passes(g, *renderer_, gpu_resources_, h.input, status, h.sink, order_ == render::SplatOrder::gpu,
                                               tag(PassGroup::gpu_record));
     passes::PresentSources sources{drawn, {}, renderer_->width(), renderer_->height(),
                                    [renderer = renderer_.get()] { return renderer->slot(); }};
-    if (mesh_raster_ && (view_ == DisplayView::mesh || view_ == DisplayView::side_by_side)) {
-        auto mesh_color = g.import("mesh colour", &mesh_color_);
-        auto mesh_depth = g.import("mesh depth", &mesh_depth_);
-        auto raster = g.import("mesh raster", mesh_raster_.get());
-        auto splats = g.import("splat renderer", renderer_.get());
-        g.add_pass("mesh", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-            b.read(h.body);
-            b.read(h.input);
-            b.read(h.appearance);
-            b.read(splats);
-            raster = b.write(raster);
-            h.note = b.write(h.note);
-            mesh_color = b.write(mesh_color, passes::to_graph(render::uses::color_attachment));
-            b.write(mesh_depth, passes::to_graph(render::uses::depth_attachment));
-            return [hh = h, raster, splats](const graph::PassResources& r, graph::ExecuteContext& c) {
-                render::MeshRaster& mesh = r.write(raster);
-                const sim::SoftBody& body = r.read(hh.body);
-                const uint32_t slot = r.read(splats).slot();
-                if (const core::Status s = mesh.set_mesh(body.particles.x, body.triangles, body.normals, slot, body.colors); !s.ok())
-                    r.write(hh.note) = "mesh view: " + s.error().to_string();  // drawn with the last mesh that fitted
-                // Drawn in the body's own colours where it has them, as its splats are.
-                const Vec3f albedo = body.colors.empty() ? r.read(hh.appearance).albedo : Vec3f::Ones();
-                mesh.draw(c.cmd, r.read(hh.input).frame, render::MeshView::shaded, albedo, slot);
-            };
-        });
-        sources.mesh = mesh_color;
-    }
+    if (mesh_raster_ && (view_ == DisplayView::mesh || view_ == DisplayView::side_by_side)) sources.mesh = add_mesh_view_pass(h);
     if (options_.presenter) options_.presenter->add_passes(g, sources);
 }
 

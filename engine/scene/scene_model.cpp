@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 
 #include "asset/mesh_spec.h"
 #include "mesh/reorder.h"
@@ -78,6 +79,92 @@ uint32_t part_particles(const ModelDesc& md, const std::optional<uint32_t>& aske
     return asset::is_procedural_spec(md.mesh) ? 0u : k_default_simulation_particles;
 }
 
+
+
+// Several models: the parts of one body, each in its own range of particles, laid end to end
+// into `coarse` (and the fine surfaces into out.fine where any part has one).
+core::Status merge_parts(const Scene& scene, Part first, mesh::TriangleMesh& coarse, SceneModel& out,
+                         const std::function<void(std::optional<asset::SurfaceLook>&, const Vec3f&)>& add_look) {
+    std::vector<Part> parts;
+    parts.push_back(std::move(first));
+    for (size_t k = 0; k < scene.bodies.size(); ++k) {
+        const BodyDesc& b = scene.bodies[k];
+        auto part = load_part(b.model, part_particles(b.model, b.particles), scene.source_dir);
+        if (!part.ok()) return core::make_error("bodies[" + std::to_string(k) + "] (" + b.model.mesh + "): " + part.error().to_string());
+        add_look(part.value().look, b.color ? *b.color : scene.material.color);
+        parts.push_back(std::move(part).value());
+    }
+    bool any_fine = false, any_color = false;
+    for (const Part& p : parts) any_fine = any_fine || p.fine.has_value();
+    for (const BodyDesc& b : scene.bodies) any_color = any_color || b.color.has_value();
+    mesh::TriangleMesh fine;
+    for (size_t k = 0; k < parts.size(); ++k) {
+        Part& p = parts[k];
+        const Vec3f color = k > 0 && scene.bodies[k - 1].color ? *scene.bodies[k - 1].color : scene.material.color;
+        if (any_color) {
+            p.coarse.colors.assign(p.coarse.vertex_count(), color);
+            if (p.fine) p.fine->colors.assign(p.fine->vertex_count(), color);
+        }
+        mesh::reorder_for_locality(p.coarse);
+        out.part_start.push_back(uint32_t(coarse.vertex_count()));
+        if (any_fine) mesh::append(fine, p.fine ? *p.fine : p.coarse, Eigen::Affine3f::Identity(), color);
+        mesh::append(coarse, p.coarse, Eigen::Affine3f::Identity(), color);
+        out.decimation.input_vertices += p.decimation.input_vertices;
+        out.decimation.output_vertices += p.decimation.output_vertices;
+        out.decimation.input_triangles += p.decimation.input_triangles;
+        out.decimation.output_triangles += p.decimation.output_triangles;
+    }
+    out.part_start.push_back(uint32_t(coarse.vertex_count()));
+    if (any_fine) out.fine = std::move(fine);
+    return core::Status::success();
+}
+
+core::Result<sim::SoftBody> make_body(const Scene& scene, mesh::TriangleMesh coarse) {
+    const SimulationDesc& s = scene.simulation;
+    sim::SoftBodyDesc desc;
+    desc.total_mass = s.mass;
+    desc.stretch_compliance = s.compliance;
+    desc.volume = s.solver.volume;
+    desc.pressure = s.pressure;
+    desc.volume_compliance = s.volume_compliance;
+    desc.shape_matching = s.solver.shape_stiffness > 0.0f;
+    desc.reorder = scene.bodies.empty();  // the parts were ordered one by one, and keep their ranges
+    return sim::make_soft_body(std::move(coarse), desc);
+}
+
+// Each model's particles, so that contact tells two models apart from two parts of one; the
+// [[bodies]] held still or thrown.
+void place_bodies(const Scene& scene, const std::vector<uint32_t>& part_start, sim::SoftBody& b) {
+    b.model_of_particle.assign(b.particle_count(), 0);
+    for (size_t k = 0; k < scene.bodies.size(); ++k) {
+        const BodyDesc& d = scene.bodies[k];
+        for (uint32_t i = part_start[k + 1]; i < part_start[k + 2]; ++i) {
+            b.model_of_particle[i] = uint32_t(k + 1);
+            if (d.fixed) b.pin(i);
+            else b.particles.v[i] = sim::to4(d.velocity);
+        }
+    }
+}
+
+core::Status pin_particles(const Scene& scene, sim::SoftBody& b) {
+    const SimulationDesc& s = scene.simulation;
+    for (uint32_t pin : s.pins) {
+        if (pin >= b.particle_count())
+            return core::make_error("pinned particle " + std::to_string(pin) + " does not exist: the mesh has " +
+                                    std::to_string(b.particle_count()) + " particles");
+        b.pin(pin);
+    }
+    for (const PinRegion& region : s.pin_regions)
+        for (uint32_t i = 0; i < b.particle_count(); ++i) {
+            const Vec3f x = sim::xyz(b.particles.x[i]);
+            if ((x.array() >= region.min.array()).all() && (x.array() <= region.max.array()).all()) b.pin(i);
+        }
+    // Pins change the masses the shape clusters weigh the fit with.
+    const bool any_fixed = std::any_of(scene.bodies.begin(), scene.bodies.end(), [](const BodyDesc& d) { return d.fixed; });
+    if (!s.pins.empty() || !s.pin_regions.empty() || any_fixed) sim::rebuild_shape_clusters(b);
+    return core::Status::success();
+}
+
 } // namespace
 
 core::Result<SceneModel> load_scene_model(const Scene& scene) {
@@ -95,81 +182,17 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
         out.fine = std::move(first.value().fine);
         out.decimation = first.value().decimation;
     } else {
-        // Several models: the parts of one body, each in its own range of particles.
-        std::vector<Part> parts;
-        parts.push_back(std::move(first).value());
-        for (size_t k = 0; k < scene.bodies.size(); ++k) {
-            const BodyDesc& b = scene.bodies[k];
-            auto part = load_part(b.model, part_particles(b.model, b.particles), scene.source_dir);
-            if (!part.ok()) return core::make_error("bodies[" + std::to_string(k) + "] (" + b.model.mesh + "): " + part.error().to_string());
-            add_look(part.value().look, b.color ? *b.color : scene.material.color);
-            parts.push_back(std::move(part).value());
-        }
-        bool any_fine = false, any_color = false;
-        for (const Part& p : parts) any_fine = any_fine || p.fine.has_value();
-        for (const BodyDesc& b : scene.bodies) any_color = any_color || b.color.has_value();
-        mesh::TriangleMesh fine;
-        for (size_t k = 0; k < parts.size(); ++k) {
-            Part& p = parts[k];
-            const Vec3f color = k > 0 && scene.bodies[k - 1].color ? *scene.bodies[k - 1].color : scene.material.color;
-            if (any_color) {
-                p.coarse.colors.assign(p.coarse.vertex_count(), color);
-                if (p.fine) p.fine->colors.assign(p.fine->vertex_count(), color);
-            }
-            mesh::reorder_for_locality(p.coarse);
-            out.part_start.push_back(uint32_t(coarse.vertex_count()));
-            if (any_fine) mesh::append(fine, p.fine ? *p.fine : p.coarse, Eigen::Affine3f::Identity(), color);
-            mesh::append(coarse, p.coarse, Eigen::Affine3f::Identity(), color);
-            out.decimation.input_vertices += p.decimation.input_vertices;
-            out.decimation.output_vertices += p.decimation.output_vertices;
-            out.decimation.input_triangles += p.decimation.input_triangles;
-            out.decimation.output_triangles += p.decimation.output_triangles;
-        }
-        out.part_start.push_back(uint32_t(coarse.vertex_count()));
-        if (any_fine) out.fine = std::move(fine);
+        PBDSPLAT_TRY(merge_parts(scene, std::move(first).value(), coarse, out, add_look));
     }
-
-    const SimulationDesc& s = scene.simulation;
-    sim::SoftBodyDesc desc;
-    desc.total_mass = s.mass;
-    desc.stretch_compliance = s.compliance;
-    desc.volume = s.solver.volume;
-    desc.pressure = s.pressure;
-    desc.volume_compliance = s.volume_compliance;
-    desc.shape_matching = s.solver.shape_stiffness > 0.0f;
-    desc.reorder = scene.bodies.empty();  // the parts were ordered one by one, and keep their ranges
-    auto body = sim::make_soft_body(std::move(coarse), desc);
+    auto body = make_body(scene, std::move(coarse));
     if (!body.ok()) return body.error();
     sim::SoftBody b = std::move(body).value();
-    // Each model's particles, so that contact tells two models apart from two parts of one.
-    b.model_of_particle.assign(b.particle_count(), 0);
-    for (size_t k = 0; k < scene.bodies.size(); ++k)
-        for (uint32_t i = out.part_start[k + 1]; i < out.part_start[k + 2]; ++i) b.model_of_particle[i] = uint32_t(k + 1);
-    for (size_t k = 0; k < scene.bodies.size(); ++k) {
-        const BodyDesc& d = scene.bodies[k];
-        for (uint32_t i = out.part_start[k + 1]; i < out.part_start[k + 2]; ++i) {
-            if (d.fixed) b.pin(i);
-            else b.particles.v[i] = sim::to4(d.velocity);
-        }
-    }
+    place_bodies(scene, out.part_start, b);
     // A model's parts that touch at rest (a teapot's spout on its body) hold together: within an
     // edge of each other, the decimated surfaces' vertices no longer coincide where they met.
-    if (s.weld_parts) sim::weld_touching_parts(b, sim::mean_rest_edge(b));
+    if (scene.simulation.weld_parts) sim::weld_touching_parts(b, sim::mean_rest_edge(b));
     if (!out.paint.empty()) paint_particles(out.paint, b);
-    const bool any_fixed = std::any_of(scene.bodies.begin(), scene.bodies.end(), [](const BodyDesc& d) { return d.fixed; });
-    for (uint32_t pin : s.pins) {
-        if (pin >= b.particle_count())
-            return core::make_error("pinned particle " + std::to_string(pin) + " does not exist: the mesh has " +
-                                    std::to_string(b.particle_count()) + " particles");
-        b.pin(pin);
-    }
-    for (const PinRegion& region : s.pin_regions)
-        for (uint32_t i = 0; i < b.particle_count(); ++i) {
-            const Vec3f x = sim::xyz(b.particles.x[i]);
-            if ((x.array() >= region.min.array()).all() && (x.array() <= region.max.array()).all()) b.pin(i);
-        }
-    // Pins change the masses the shape clusters weigh the fit with.
-    if (!s.pins.empty() || !s.pin_regions.empty() || any_fixed) sim::rebuild_shape_clusters(b);
+    PBDSPLAT_TRY(pin_particles(scene, b));
     out.body = std::move(b);
     return out;
 }

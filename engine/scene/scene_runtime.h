@@ -168,8 +168,14 @@ private:
     // The frame graph for the current settings; run again when one that changes it does.
     core::Status build_graph();  // runtime_graph.cpp, with the stages' passes below
     struct GraphHandles;
+    bool has_timed_events() const;
+    void import_resources(GraphHandles& h);  // absent where the scene does not need them
     void add_frame_event_passes(GraphHandles& h, bool has_events);
+    void add_surface_and_map_passes(GraphHandles& h);
     void add_view_passes(GraphHandles& h);
+    void add_occluder_mesh_pass(GraphHandles& h);
+    graph::Handle<graph::GpuImageRef> add_mesh_view_pass(GraphHandles& h);
+    void fingerprint_resources(const GraphHandles& h);
     RuntimeOptions options_;
     render::SplatOrder order_ = render::SplatOrder::unsorted;
     render::SplatOrder sorted_order_ = render::SplatOrder::cpu;  // what set_sorted(true) picks
