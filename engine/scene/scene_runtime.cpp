@@ -57,6 +57,27 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
     mapping_ = std::make_unique<MappingStage>(body_, scene_.simulation.fade_frames, scene_.render.deformed_shapes(),
                                                scene_.render.varying_normals);
+    set_up_look();
+    update_closed();
+
+    const SortChoice sort = choose_sort(scene_, options.sort_on, options.gpu ? &options.gpu->caps() : nullptr);
+    const render::SplatOrder order = sort.order;
+    frame_input_.frame.style.order = order;
+    sorted_order_ = sort.when_sorted;
+    base_scale_multiplier_ = frame_input_.frame.style.scale_multiplier;
+    if (options.gpu) PBDSPLAT_TRY(create_renderer(sort));
+
+    bool check_topology = options.check_topology;
+#ifndef NDEBUG
+    check_topology = true;
+#endif
+    topology_ = std::make_unique<TopologyStage>(check_topology);
+    order_ = order;
+    return build_graph();
+}
+
+void SceneRuntime::set_up_look() {
+    const MaterialDesc& mat = scene_.material;
     appearance_.scale = mat.splat_scale * h_;
     if (scene_.render.frame.style.mesh_occluders) {
         render::SplatStyle& style = frame_input_.frame.style;
@@ -67,39 +88,25 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
         // bright dot against the ground, and the frame was no faster.)
         style.occluder_push = std::max(4.0f * appearance_.scale, 2.0f * style.occluder_tolerance);
     }
-    update_closed();
     frame_input_.frame.lighting.intensity *= mat.diffuse;
     frame_input_.frame.lighting.specular = mat.specular;
     frame_input_.frame.lighting.shininess = mat.shininess;
     if (mat.interior_color) frame_input_.frame.style.interior = Vec4f(mat.interior_color->x(), mat.interior_color->y(), mat.interior_color->z(), 1.0f);
+}
 
-    const SortChoice sort = choose_sort(scene_, options.sort_on, options.gpu ? &options.gpu->caps() : nullptr);
-    const render::SplatOrder order = sort.order;
-    frame_input_.frame.style.order = order;
-    sorted_order_ = sort.when_sorted;
-    base_scale_multiplier_ = frame_input_.frame.style.scale_multiplier;
-
-    if (options.gpu) {
-        RendererNeeds needs{body_.particle_count() + boundary_.size(), options.interactive, !density_.empty()};
-        size_t max_samples = 0;
-        render::RendererOptions ro = renderer_options(scene_, sort, needs, &max_samples);
-        // What the density control may fill: the renderer's capacity less the cuts' room.
-        if (!density_.empty()) density_.set_max_samples(max_samples - (splat_particles_ ? body_.particle_count() : 0));
-        ro.frames_in_flight = options.frames_in_flight;
-        ro.upload_path = options.upload_path;
-        if (options.splat_path) ro.path = options.splat_path;
-        auto r = render::SplatRenderer::create(*options.gpu, ro);
-        if (!r.ok()) return r.error();
-        renderer_ = std::move(r).value();
-    }
-
-    bool check_topology = options.check_topology;
-#ifndef NDEBUG
-    check_topology = true;
-#endif
-    topology_ = std::make_unique<TopologyStage>(check_topology);
-    order_ = order;
-    return build_graph();
+core::Status SceneRuntime::create_renderer(const SortChoice& sort) {
+    RendererNeeds needs{body_.particle_count() + boundary_.size(), options_.interactive, !density_.empty()};
+    size_t max_samples = 0;
+    render::RendererOptions ro = renderer_options(scene_, sort, needs, &max_samples);
+    // What the density control may fill: the renderer's capacity less the cuts' room.
+    if (!density_.empty()) density_.set_max_samples(max_samples - (splat_particles_ ? body_.particle_count() : 0));
+    ro.frames_in_flight = options_.frames_in_flight;
+    ro.upload_path = options_.upload_path;
+    if (options_.splat_path) ro.path = options_.splat_path;
+    auto r = render::SplatRenderer::create(*options_.gpu, ro);
+    if (!r.ok()) return r.error();
+    renderer_ = std::move(r).value();
+    return core::Status::success();
 }
 
 size_t SceneRuntime::pieces() const { return body_.pieces; }

@@ -78,6 +78,8 @@ struct FrameStats {
     surface::DensityStats density;  // this frame's density control
 };
 
+struct SortChoice;  // scene/stages/render_setup.h
+
 class SceneRuntime {
 public:
     static core::Result<std::unique_ptr<SceneRuntime>> create(const Scene& scene, const RuntimeOptions& options);
@@ -164,6 +166,8 @@ public:
 private:
     SceneRuntime() = default;
     core::Status build(const RuntimeOptions& options);
+    void set_up_look();  // the splats' size, the occluders' tolerances, the lights from the material
+    core::Status create_renderer(const SortChoice& sort);
     core::Status ensure_mesh_raster();  // made on first need (a mesh view, mesh_image())
     // The frame graph for the current settings; run again when one that changes it does.
     core::Status build_graph();  // runtime_graph.cpp, with the stages' passes below

@@ -143,22 +143,10 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     return d;
 }
 
-core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& desc) {
-    if (m.triangles.empty()) return core::make_error("a soft body needs at least one triangle");
-    if (!(desc.total_mass > 0.0f) || !std::isfinite(desc.total_mass)) return core::make_error("total mass must be positive");
-    if (!(desc.pressure > 0.0f) || !std::isfinite(desc.pressure)) return core::make_error("pressure factor must be positive");
-    if (desc.reorder) mesh::reorder_for_locality(m);
-
-    SoftBody b;
+namespace {
+// Masses: lumped from a third of each incident triangle's area, or uniform; into inverse masses.
+core::Status set_masses(const mesh::TriangleMesh& m, const SoftBodyDesc& desc, SoftBody& b) {
     const size_t n = m.positions.size();
-    b.particles.resize(n);
-    for (size_t i = 0; i < n; ++i) b.particles.x[i] = b.particles.x_prev[i] = to4(m.positions[i]);
-    b.rest_positions = m.positions;
-    b.colors = m.colors;
-    b.triangles = m.triangles;
-    b.shape_matching = desc.shape_matching;
-
-    // Masses: lumped from a third of each incident triangle's area, or uniform.
     std::vector<double> mass(n, 0.0);
     if (desc.mass_mode == MassMode::area) {
         for (const auto& t : m.triangles) {
@@ -176,7 +164,47 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
         const double mi = std::max(mass[i], 0.01 * total / double(n)) * double(desc.total_mass) / total;
         b.particles.w[i] = float(1.0 / mi);
     }
+    return core::Status::success();
+}
 
+// One volume constraint per closed (or virtually capped) piece, its loops capped at load.
+void add_volume_constraints(const mesh::TriangleMesh& m, const SoftBodyDesc& desc, SoftBody& b) {
+    const std::vector<size_t> triangle_count = piece_triangle_counts(b.triangles, b.piece_of_particle, b.pieces);
+    b.volumes.resize(b.pieces);
+    for (uint32_t c = 0; c < b.pieces; ++c) b.volumes[c].piece = c, b.volumes[c].triangle_count = triangle_count[c];
+    for (auto& loop : mesh::boundary_loops(m)) b.volumes[b.piece_of_particle[loop[0]]].cap_loops.push_back(std::move(loop));
+    for (size_t k = 0; k < b.volumes.size(); ++k) {
+        VolumeConstraint& v = b.volumes[k];
+        v.pressure = desc.pressure;
+        v.compliance = desc.volume_compliance;
+        v.sealed_below = uint32_t(m.positions.size());
+        v.rest_volume = b.volume(k);
+    }
+    // A flat or inside-out component has no volume to keep: it gets no constraint.
+    std::erase_if(b.volumes, [](const VolumeConstraint& v) { return !(v.rest_volume > 0.0); });
+    // An open part whose openings are a large share of its surface (a dish, a lid, a
+    // hemispherical eye) is a shell, not a balloon: its virtual caps would span the openings
+    // and hold air the part cannot hold.
+    std::erase_if(b.volumes, [&](const VolumeConstraint& v) { return opening_ratio(m, b.piece_of_particle, v) > k_shell_opening_ratio; });
+}
+} // namespace
+
+core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& desc) {
+    if (m.triangles.empty()) return core::make_error("a soft body needs at least one triangle");
+    if (!(desc.total_mass > 0.0f) || !std::isfinite(desc.total_mass)) return core::make_error("total mass must be positive");
+    if (!(desc.pressure > 0.0f) || !std::isfinite(desc.pressure)) return core::make_error("pressure factor must be positive");
+    if (desc.reorder) mesh::reorder_for_locality(m);
+
+    SoftBody b;
+    const size_t n = m.positions.size();
+    b.particles.resize(n);
+    for (size_t i = 0; i < n; ++i) b.particles.x[i] = b.particles.x_prev[i] = to4(m.positions[i]);
+    b.rest_positions = m.positions;
+    b.colors = m.colors;
+    b.triangles = m.triangles;
+    b.shape_matching = desc.shape_matching;
+
+    PBDSPLAT_TRY(set_masses(m, desc, b));
     for (const mesh::Edge& e : mesh::unique_edges(m)) {
         const float rest = (m.positions[e.a] - m.positions[e.b]).norm();
         b.distance.push_back({e.a, e.b, rest, desc.stretch_compliance});
@@ -184,25 +212,7 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
 
 
     b.pieces = label_pieces(b.triangles, n, b.piece_of_particle);
-    if (desc.volume) {
-        const std::vector<size_t> triangle_count = piece_triangle_counts(b.triangles, b.piece_of_particle, b.pieces);
-        b.volumes.resize(b.pieces);
-        for (uint32_t c = 0; c < b.pieces; ++c) b.volumes[c].piece = c, b.volumes[c].triangle_count = triangle_count[c];
-        for (auto& loop : mesh::boundary_loops(m)) b.volumes[b.piece_of_particle[loop[0]]].cap_loops.push_back(std::move(loop));
-        for (size_t k = 0; k < b.volumes.size(); ++k) {
-            VolumeConstraint& v = b.volumes[k];
-            v.pressure = desc.pressure;
-            v.compliance = desc.volume_compliance;
-            v.sealed_below = uint32_t(n);
-            v.rest_volume = b.volume(k);
-        }
-        // A flat or inside-out component has no volume to keep: it gets no constraint.
-        std::erase_if(b.volumes, [](const VolumeConstraint& v) { return !(v.rest_volume > 0.0); });
-        // An open part whose openings are a large share of its surface (a dish, a lid, a
-        // hemispherical eye) is a shell, not a balloon: its virtual caps would span the openings
-        // and hold air the part cannot hold.
-        std::erase_if(b.volumes, [&](const VolumeConstraint& v) { return opening_ratio(m, b.piece_of_particle, v) > k_shell_opening_ratio; });
-    }
+    if (desc.volume) add_volume_constraints(m, desc, b);
     rebuild_derived(b);
     update_normals(b.rings, b.particles.x, b.normals, 0, n);
     b.part_of_particle = b.piece_of_particle;
