@@ -381,20 +381,27 @@ void ContactSolverT<Real>::build_patches(const SoftBodyT<Real>& body) {
 }
 
 template <class Real>
+bool ContactSolverT<Real>::candidates_hold(const SoftBodyT<Real>& body, const ContactSettings& s) const {
+    // The last search's candidates hold while no particle has moved half the slack since it (and
+    // the topology is the same): every pair that could come within reach is among them. A body
+    // at rest, or pieces resting on each other, search once in many frames.
+    const ParticlesT<Real>& p = body.particles;
+    const size_t n = p.size();
+    if (!s.enabled || n == 0 || n != anchor_.size() || body.triangles.size() != anchor_triangles_ || body.pieces != anchor_pieces_ ||
+        s.self != self_)
+        return false;
+    const float limit2 = 0.25f * scale_.slack * scale_.slack;
+    for (size_t i = 0; i < n; ++i)
+        if (!((pos3(p.x[i]) - anchor_[i]).squaredNorm() < limit2)) return false;
+    return true;
+}
+
+template <class Real>
 void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettings& s) {
     const ParticlesT<Real>& p = body.particles;
     const size_t n = p.size();
     scale_ = contact_scale(mean_rest_edge(body), s);
-    // The last search's candidates hold while no particle has moved half the slack since it (and
-    // the topology is the same): every pair that could come within reach is among them. A body
-    // at rest, or pieces resting on each other, search once in many frames.
-    if (s.enabled && n > 0 && n == anchor_.size() && body.triangles.size() == anchor_triangles_ && body.pieces == anchor_pieces_ &&
-        s.self == self_) {
-        const float limit2 = 0.25f * scale_.slack * scale_.slack;
-        bool still = true;
-        for (size_t i = 0; i < n && still; ++i) still = (pos3(p.x[i]) - anchor_[i]).squaredNorm() < limit2;
-        if (still) return;
-    }
+    if (candidates_hold(body, s)) return;
     contacts_.clear();
     seam_pairs_.clear();
     anchor_.clear();
@@ -415,13 +422,23 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     const float reach = scale_.thickness + scale_.margin + scale_.slack;
     now_.resize(n), then_.resize(n);
     for (size_t i = 0; i < n; ++i) now_[i] = pos3(p.x[i]), then_[i] = pos3(p.x_prev[i]);
-    const size_t real = body.triangles.size();
     self_ = s.self;
     update_origins(body);
     on_rim_.assign(n, 0);
     for (uint32_t i : fan_vertices_) on_rim_[i] = 1;
     build_seam_pairs(body);
     build_patches(body);
+    box_patches(body, reach);
+    group_triangles(body);
+    build_grid(body);
+    search_pairs(body);
+    anchor_ = now_;
+    anchor_triangles_ = body.triangles.size(), anchor_pieces_ = body.pieces;
+}
+
+template <class Real>
+void ContactSolverT<Real>::box_patches(const SoftBodyT<Real>& body, float reach) {
+    const size_t n = body.particles.size();
     const uint32_t patches = uint32_t(patch_start_.size() - 1);
     const uint32_t groups = patches + fan_chunks_;
     particle_box_.assign(patches, Eigen::AlignedBox3f());
@@ -438,98 +455,123 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     }
     for (Eigen::AlignedBox3f& b : particle_box_)
         if (!b.isEmpty()) b = Eigen::AlignedBox3f(b.min() - Vec3f::Constant(reach), b.max() + Vec3f::Constant(reach));
+}
+
+template <class Real>
+void ContactSolverT<Real>::group_triangles(const SoftBodyT<Real>& body) {
+    const size_t real = body.triangles.size();
+    const uint32_t patches = uint32_t(patch_start_.size() - 1);
+    const uint32_t groups = patches + fan_chunks_;
     group_start_.assign(groups + 1, 0);
     for (size_t t = 0; t < real; ++t) ++group_start_[patch_of_[body.triangles[t][0]] + 1];
     for (const FanTriangle& ft : fan_triangles_) ++group_start_[patches + ft.chunk + 1];
     for (uint32_t g = 0; g < groups; ++g) group_start_[g + 1] += group_start_[g];
     group_triangles_.resize(group_start_.back());
-    {
-        std::vector<uint32_t>& cursor = cursor_;
-        cursor.assign(group_start_.begin(), group_start_.end() - 1);
-        triangle_box_.resize(group_triangles_.size());
-        const auto swept = [](const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& a0, const Vec3f& b0, const Vec3f& c0) {
-            return Eigen::AlignedBox3f(a.cwiseMin(b).cwiseMin(c).cwiseMin(a0).cwiseMin(b0).cwiseMin(c0),
-                                       a.cwiseMax(b).cwiseMax(c).cwiseMax(a0).cwiseMax(b0).cwiseMax(c0));
-        };
-        for (uint32_t t = 0; t < real; ++t) {
-            const mesh::Triangle& tri = body.triangles[t];
-            const uint32_t g = patch_of_[tri[0]];
-            const uint32_t q = cursor[g]++;
-            group_triangles_[q] = t;
-            triangle_box_[q] = swept(now_[tri[0]], now_[tri[1]], now_[tri[2]], then_[tri[0]], then_[tri[1]], then_[tri[2]]);
-            group_box_[g].extend(triangle_box_[q]);
-        }
-        for (uint32_t k = 0; k < fan_triangles_.size(); ++k) {
-            const Fan& fan = fans_[fan_triangles_[k].fan];
-            const uint32_t g = patches + fan_triangles_[k].chunk;
-            const uint32_t q = cursor[g]++;
-            group_triangles_[q] = uint32_t(real + k);
-            const Corners tk = corners_of(body, uint32_t(real + k));
-            triangle_box_[q] = swept(pos3(fan.centroid), now_[tk.ib], now_[tk.ic], pos3(fan.centroid_prev), then_[tk.ib], then_[tk.ic]);
-            group_box_[g].extend(triangle_box_[q]);
-            patch_piece_[g] = fan.piece;
-        }
+    std::vector<uint32_t>& cursor = cursor_;
+    cursor.assign(group_start_.begin(), group_start_.end() - 1);
+    triangle_box_.resize(group_triangles_.size());
+    const auto swept = [](const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& a0, const Vec3f& b0, const Vec3f& c0) {
+        return Eigen::AlignedBox3f(a.cwiseMin(b).cwiseMin(c).cwiseMin(a0).cwiseMin(b0).cwiseMin(c0),
+                                   a.cwiseMax(b).cwiseMax(c).cwiseMax(a0).cwiseMax(b0).cwiseMax(c0));
+    };
+    for (uint32_t t = 0; t < real; ++t) {
+        const mesh::Triangle& tri = body.triangles[t];
+        const uint32_t g = patch_of_[tri[0]];
+        const uint32_t q = cursor[g]++;
+        group_triangles_[q] = t;
+        triangle_box_[q] = swept(now_[tri[0]], now_[tri[1]], now_[tri[2]], then_[tri[0]], then_[tri[1]], then_[tri[2]]);
+        group_box_[g].extend(triangle_box_[q]);
     }
-    // The triangle groups into a hash grid of cells about a patch wide; each particle patch reads
-    // the cells its box meets.
+    for (uint32_t k = 0; k < fan_triangles_.size(); ++k) {
+        const Fan& fan = fans_[fan_triangles_[k].fan];
+        const uint32_t g = patches + fan_triangles_[k].chunk;
+        const uint32_t q = cursor[g]++;
+        group_triangles_[q] = uint32_t(real + k);
+        const Corners tk = corners_of(body, uint32_t(real + k));
+        triangle_box_[q] = swept(pos3(fan.centroid), now_[tk.ib], now_[tk.ic], pos3(fan.centroid_prev), then_[tk.ib], then_[tk.ic]);
+        group_box_[g].extend(triangle_box_[q]);
+        patch_piece_[g] = fan.piece;
+    }
+}
+
+template <class Real>
+bool ContactSolverT<Real>::cell_range(const Eigen::AlignedBox3f& b, Eigen::Vector3i& lo, Eigen::Vector3i& hi) const {
+    lo = cell_of(b.min(), inv_cell_), hi = cell_of(b.max(), inv_cell_);
+    return ((hi - lo).array() < k_span).all();
+}
+
+template <class Real>
+template <class Fn>
+void ContactSolverT<Real>::each_cell(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi, const Fn& fn) const {
+    for (int z = lo.z(); z <= hi.z(); ++z)
+        for (int y = lo.y(); y <= hi.y(); ++y)
+            for (int x = lo.x(); x <= hi.x(); ++x) fn(cell_hash(x, y, z) & (table_ - 1));
+}
+
+template <class Real>
+bool ContactSolverT<Real>::meets_another(const Eigen::AlignedBox3f& b, uint32_t piece, size_t pieces) const {
+    if (!by_piece_ || piece >= pieces) return true;
+    for (uint32_t q = 0; q < piece_box_.size(); ++q)
+        if (q != piece && piece_box_[q].intersects(b)) return true;
+    return false;
+}
+
+// The triangle groups into a hash grid of cells about a patch wide; each particle patch reads
+// the cells its box meets. A box more than k_span cells wide (a cap across the body, a patch
+// stretched along a seam) stays out of the grid: it is tested against every box of the other kind.
+template <class Real>
+void ContactSolverT<Real>::build_grid(const SoftBodyT<Real>& body) {
+    const uint32_t patches = uint32_t(patch_start_.size() - 1);
+    const uint32_t groups = patches + fan_chunks_;
     float extent = 0.0f;
     size_t boxes = 0;
     for (const Eigen::AlignedBox3f& b : particle_box_)
         if (!b.isEmpty()) extent += b.sizes().maxCoeff(), ++boxes;
-    const float inv_cell = boxes ? float(boxes) / extent : 1.0f;
-    // A box more than k_span cells wide (a cap across the body, a patch stretched along a seam)
-    // stays out of the grid: it is tested against every box of the other kind.
-    constexpr int k_span = 8;
-    const auto cells = [&](const Eigen::AlignedBox3f& b, Eigen::Vector3i& lo, Eigen::Vector3i& hi) {
-        lo = cell_of(b.min(), inv_cell), hi = cell_of(b.max(), inv_cell);
-        return ((hi - lo).array() < k_span).all();
-    };
-    const uint32_t table = std::bit_ceil(std::max(16u, 4 * groups));
-    cell_start_.assign(table + 1, 0);
-    const auto each_cell = [&](const Eigen::Vector3i& lo, const Eigen::Vector3i& hi, const auto& fn) {
-        for (int z = lo.z(); z <= hi.z(); ++z)
-            for (int y = lo.y(); y <= hi.y(); ++y)
-                for (int x = lo.x(); x <= hi.x(); ++x) fn(cell_hash(x, y, z) & (table - 1));
-    };
+    inv_cell_ = boxes ? float(boxes) / extent : 1.0f;
+    table_ = std::bit_ceil(std::max(16u, 4 * groups));
+    cell_start_.assign(table_ + 1, 0);
     // Without self-contact a box that meets no other piece's box has nothing to meet: with the
     // pieces resting on each other, only the patches and groups along where they touch take part.
     // (Past k_piece_boxes pieces the pieces' boxes cost more than they save.)
     constexpr size_t k_piece_boxes = 64;
-    const bool by_piece = !self_ && body.pieces <= k_piece_boxes;
-    piece_box_.assign(by_piece ? body.pieces : 0, Eigen::AlignedBox3f());
-    if (by_piece) {
+    by_piece_ = !self_ && body.pieces <= k_piece_boxes;
+    piece_box_.assign(by_piece_ ? body.pieces : 0, Eigen::AlignedBox3f());
+    if (by_piece_) {
         for (uint32_t g = 0; g < patches; ++g)
             if (!particle_box_[g].isEmpty() && patch_piece_[g] < body.pieces) piece_box_[patch_piece_[g]].extend(particle_box_[g]);
         for (uint32_t g = patches; g < groups; ++g)
             if (!group_box_[g].isEmpty() && patch_piece_[g] < body.pieces) piece_box_[patch_piece_[g]].extend(group_box_[g]);
     }
-    const auto meets_another = [&](const Eigen::AlignedBox3f& b, uint32_t piece) {
-        if (!by_piece || piece >= body.pieces) return true;
-        for (uint32_t q = 0; q < piece_box_.size(); ++q)
-            if (q != piece && piece_box_[q].intersects(b)) return true;
-        return false;
-    };
     in_play_.assign(groups, 0);
     for (uint32_t g = 0; g < groups; ++g)
         in_play_[g] = !(g < patches ? particle_box_[g] : group_box_[g]).isEmpty() &&
-                      meets_another(g < patches ? particle_box_[g] : group_box_[g], patch_piece_[g]);
+                      meets_another(g < patches ? particle_box_[g] : group_box_[g], patch_piece_[g], body.pieces);
+    const auto left_out = [&](uint32_t g) {
+        return group_box_[g].isEmpty() || (by_piece_ && !in_play_[g] && !meets_another(group_box_[g], patch_piece_[g], body.pieces));
+    };
     big_groups_.clear();
     for (uint32_t g = 0; g < groups; ++g) {
-        if (group_box_[g].isEmpty() || (by_piece && !in_play_[g] && !meets_another(group_box_[g], patch_piece_[g]))) continue;
+        if (left_out(g)) continue;
         Eigen::Vector3i lo, hi;
-        if (cells(group_box_[g], lo, hi)) each_cell(lo, hi, [&](uint32_t key) { ++cell_start_[key + 1]; });
+        if (cell_range(group_box_[g], lo, hi)) each_cell(lo, hi, [&](uint32_t key) { ++cell_start_[key + 1]; });
         else big_groups_.push_back(g);
     }
-    for (uint32_t k = 0; k < table; ++k) cell_start_[k + 1] += cell_start_[k];
+    for (uint32_t k = 0; k < table_; ++k) cell_start_[k + 1] += cell_start_[k];
     cell_particles_.resize(cell_start_.back());
     cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
     for (uint32_t g = 0; g < groups; ++g) {
         Eigen::Vector3i lo, hi;
-        if (group_box_[g].isEmpty() || (by_piece && !in_play_[g] && !meets_another(group_box_[g], patch_piece_[g]))) continue;
-        if (cells(group_box_[g], lo, hi)) each_cell(lo, hi, [&](uint32_t key) { cell_particles_[cursor_[key]++] = g; });
+        if (left_out(g)) continue;
+        if (cell_range(group_box_[g], lo, hi)) each_cell(lo, hi, [&](uint32_t key) { cell_particles_[cursor_[key]++] = g; });
     }
-    seen_.assign(groups, UINT32_MAX);
+}
 
+template <class Real>
+void ContactSolverT<Real>::search_pairs(const SoftBodyT<Real>& body) {
+    const uint32_t patches = uint32_t(patch_start_.size() - 1);
+    const uint32_t groups = patches + fan_chunks_;
+    const bool rest_known = body.rest_positions.size() == body.particles.size();
+    seen_.assign(groups, UINT32_MAX);
     const float r_ex2 = scale_.exclusion * scale_.exclusion;
     for (uint32_t A = 0; A < patches; ++A) {
         if (particle_box_[A].isEmpty() || !in_play_[A]) continue;
@@ -543,7 +585,7 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
             test_pair(body, A, B, r_ex2);
         };
         Eigen::Vector3i lo, hi;
-        if (!brute_force_ && cells(particle_box_[A], lo, hi)) {
+        if (!brute_force_ && cell_range(particle_box_[A], lo, hi)) {
             each_cell(lo, hi, [&](uint32_t key) {
                 for (uint32_t e = cell_start_[key]; e < cell_start_[key + 1]; ++e) visit(cell_particles_[e]);
             });
@@ -553,8 +595,6 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
         }
         for (uint32_t B : big_groups_) visit(B);
     }
-    anchor_ = now_;
-    anchor_triangles_ = body.triangles.size(), anchor_pieces_ = body.pieces;
 }
 
 template <class Real>

@@ -119,6 +119,22 @@ private:
     void update_origins(const SoftBodyT<Real>& body);
     void build_patches(const SoftBodyT<Real>& body);
     void test_pair(const SoftBodyT<Real>& body, uint32_t patch, uint32_t group, float r_ex2);
+    // The steps of find(), in order.
+    bool candidates_hold(const SoftBodyT<Real>& body, const ContactSettings& s) const;
+    void box_patches(const SoftBodyT<Real>& body, float reach);
+    void group_triangles(const SoftBodyT<Real>& body);
+    void build_grid(const SoftBodyT<Real>& body);
+    void search_pairs(const SoftBodyT<Real>& body);
+    // The hash grid's cells a box meets (false: it is wider than k_span cells, and stays out of
+    // the grid), and a visit of each of them.
+    static constexpr int k_span = 8;
+    bool cell_range(const Eigen::AlignedBox3f& b, Eigen::Vector3i& lo, Eigen::Vector3i& hi) const;
+    template <class Fn>
+    void each_cell(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi, const Fn& fn) const;
+    bool meets_another(const Eigen::AlignedBox3f& b, uint32_t piece, size_t pieces) const;
+    float inv_cell_ = 1.0f;
+    uint32_t table_ = 16;
+    bool by_piece_ = false;
 
     std::vector<uint32_t> patch_of_, patch_start_, patch_particles_;  // rest-space patches, CSR
     float patch_edge_ = 0.0f;
