@@ -456,7 +456,7 @@ Event read_event(const Reader& r, const toml::node& n) {
     } else {
         TearEvent te;
         te.threshold = t.real("threshold", te.threshold, 1.01, 100.0);
-        te.tip_threshold = t.real("tip_threshold", 1.0f + 0.5f * (te.threshold - 1.0f), 1.005, double(te.threshold));
+        if (t.has("tip_threshold")) te.tip_threshold = t.real("tip_threshold", te.threshold, 1.005, double(te.threshold));
         te.max_per_frame = t.count("max_per_frame", te.max_per_frame, 1, 1000);
         te.duration = t.real("duration", te.duration, 0.0, 1e6);
         e.data = te;

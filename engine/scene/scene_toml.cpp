@@ -168,8 +168,10 @@ void write_events(std::ostream& o, const Scene& sc) {
             if (cu->plane) o << "point = " << vec<3>(cu->plane->first) << "\nnormal = " << vec<3>(cu->plane->second) << "\n";
         }
         if (auto* op = std::get_if<OpacityEvent>(&e.data)) o << "value = " << num(op->value) << "\nduration = " << num(op->duration) << "\n";
-        if (auto* te = std::get_if<TearEvent>(&e.data))
+        if (auto* te = std::get_if<TearEvent>(&e.data)) {
             o << "threshold = " << num(te->threshold) << "\nmax_per_frame = " << te->max_per_frame << "\nduration = " << num(te->duration) << "\n";
+            if (te->tip_threshold > 0.0f) o << "tip_threshold = " << num(te->tip_threshold) << "\n";
+        }
     }
 }
 

@@ -21,13 +21,9 @@ constexpr double k_shell_opening_ratio = 0.4;
 
 double opening_ratio(const mesh::TriangleMesh& m, std::span<const uint32_t> piece_of_particle, const VolumeConstraint& v) {
     if (v.cap_loops.empty()) return 0.0;
+    const auto position = [&](uint32_t i) -> Vec3d { return m.positions[i].cast<double>(); };
     double openings = 0.0, area = 0.0;
-    for (const auto& loop : v.cap_loops) {
-        Vec3d a = Vec3d::Zero();
-        for (size_t i = 0; i < loop.size(); ++i)
-            a += m.positions[loop[i]].cast<double>().cross(m.positions[loop[(i + 1) % loop.size()]].cast<double>());
-        openings += 0.5 * a.norm();
-    }
+    for (const auto& loop : v.cap_loops) openings += loop_area(loop, position);
     for (const mesh::Triangle& t : m.triangles)
         if (piece_of_particle[t[0]] == v.piece)
             area += 0.5 * (m.positions[t[1]] - m.positions[t[0]]).cast<double>().cross((m.positions[t[2]] - m.positions[t[0]]).cast<double>()).norm();

@@ -38,14 +38,10 @@ double caps_six_volume(const std::vector<std::vector<uint32_t>>& loops, const Ve
 template <class Real>
 float leak_rate(const VolumeConstraint& c, const Vec4ArrayT<Real>& x) {
     if (!(c.leak > 0.0f) || !(c.rest_volume > 0.0)) return 0.0f;
+    const auto position = [&](uint32_t i) -> Vec3d { return x[i].template head<3>().template cast<double>(); };
     double area = 0.0;
-    for (const auto& loop : c.cap_loops) {
-        if (!c.is_opening(loop)) continue;
-        Vec3d a = Vec3d::Zero();
-        for (size_t k = 0; k < loop.size(); ++k)
-            a += x[loop[k]].template head<3>().template cast<double>().cross(x[loop[(k + 1) % loop.size()]].template head<3>().template cast<double>());
-        area += 0.5 * a.norm();
-    }
+    for (const auto& loop : c.cap_loops)
+        if (c.is_opening(loop)) area += loop_area(loop, position);
     const double share = area / (k_open_area * std::cbrt(c.rest_volume * c.rest_volume));
     return c.leak * float(std::min(1.0, share));
 }

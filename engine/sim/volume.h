@@ -54,6 +54,15 @@ double cap_six_volume(std::span<const uint32_t> loop, const Vec4ArrayT<Real>& x)
 template <class Real>
 double caps_six_volume(const std::vector<std::vector<uint32_t>>& loops, const Vec4ArrayT<Real>& x);
 
+// The area a closed loop spans (half its vector area's length): 0 for a slit whose two sides lie
+// on each other. `position(i)` gives particle i's place as a Vec3d.
+template <class Position>
+double loop_area(std::span<const uint32_t> loop, const Position& position) {
+    Vec3d a = Vec3d::Zero();
+    for (size_t k = 0; k < loop.size(); ++k) a += position(loop[k]).cross(position(loop[(k + 1) % loop.size()]));
+    return 0.5 * a.norm();
+}
+
 // How fast a leaking constraint's gas escapes now (1/s): VolumeConstraint::leak once its openings'
 // area (the vector areas of its loops that are not the model's own sealed holes) reaches
 // k_open_area of its rest volume to the power 2/3 (a hole about a fifth of a ball's radius

@@ -5,7 +5,6 @@
 // mesh this coarse does not resolve), so while the strain there stays high the rip grows frame
 // after frame along the most strained direction, with a cap on splits per frame so it never
 // shatters the body in one step.
-#include <algorithm>
 #include <optional>
 #include <span>
 #include <vector>
@@ -23,7 +22,7 @@ struct TearOptions {
     // A tear that would cut off a piece of fewer triangles is not made (the edge waits, and the
     // next one is tried): a fleck of a few triangles flying off reads as a speck, not a rip.
     uint32_t min_fragment_triangles = 8;
-    // An edge with an end on a crack front (a particle a tear made) tears beyond this stretch
+    // An edge with an end on a crack front (the rim a tear made: CrackFront) tears beyond this stretch
     // instead (1 < tip_threshold <= threshold); 0: halfway between 1 and `threshold`.
     float tip_threshold = 0.0f;
     float front_threshold() const { return tip_threshold > 0.0f ? tip_threshold : 1.0f + 0.5f * (threshold - 1.0f); }
@@ -49,7 +48,6 @@ public:
     // opening, joins the front (`body` as the change left it). Returns the particles older than the
     // change that joined.
     std::vector<uint32_t> grow(const sim::SoftBody& body, const TopologyChange& change);
-    size_t size() const { return size_t(std::count(flags_.begin(), flags_.end(), uint8_t(1))); }
 
 private:
     std::vector<uint8_t> flags_;

@@ -1,10 +1,12 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
+#include <variant>
 
 #include "scene/scene_file.h"
 #include "scene/scene_model.h"
@@ -92,6 +94,7 @@ normal = [1, 0, 0]
 time = 5.0
 type = "tear"
 threshold = 1.8
+tip_threshold = 1.3
 
 [[events]]
 time = 1.0
@@ -213,6 +216,10 @@ TEST_SUITE("scene/scene_file") {
         CHECK(second->render.surfel_thickness == 0.2f);
         CHECK(second->render.frame.style.surfel_thickness == 0.0f);  // deformed: not surfels
         CHECK(second->expect.frames == 150);
+        const auto tear = std::find_if(second->events.begin(), second->events.end(),
+                                       [](const scene::Event& e) { return std::holds_alternative<scene::TearEvent>(e.data); });
+        REQUIRE(tear != second->events.end());
+        CHECK(std::get<scene::TearEvent>(tear->data).tip_threshold == 1.3f);
         REQUIRE(second->expect.bounds.size() == 3);
         const auto bound = [&](const char* figure) {
             for (const scene::ExpectBound& b : second->expect.bounds)
