@@ -1,6 +1,7 @@
 #include "mesh/polygon.h"
 
 #include <cmath>
+#include <limits>
 
 namespace pbdsplat::mesh {
 namespace {
@@ -92,6 +93,43 @@ std::vector<std::array<uint32_t, 3>> triangulate_polygon(std::span<const Vec3f> 
     }
     // No ear left (self-intersecting or degenerate outline): the rest as a fan.
     for (size_t k = 1; k + 1 < ring.size(); ++k) out.push_back({ring[0], ring[k], ring[k + 1]});
+    return out;
+}
+
+std::vector<std::array<uint32_t, 3>> triangulate_least_area(std::span<const Vec3f> corners) {
+    const size_t n = corners.size();
+    if (n < 3) return {};
+    if (n == 3) return {{0, 1, 2}};
+    if (n > k_max_least_area_corners) return triangulate_polygon(corners);
+    // area[i * n + j]: the least area spanning corners i..j closed by the chord (i, j); split: the
+    // third corner of the triangle on that chord.
+    std::vector<double> area(n * n, 0.0);
+    std::vector<uint16_t> split(n * n, 0);
+    for (size_t len = 2; len < n; ++len)
+        for (size_t i = 0; i + len < n; ++i) {
+            const size_t j = i + len;
+            double best = std::numeric_limits<double>::infinity();
+            size_t best_k = i + 1;
+            const Vec3d a = corners[i].cast<double>(), c = corners[j].cast<double>();
+            for (size_t k = i + 1; k < j; ++k) {
+                const double t = 0.5 * (corners[k].cast<double>() - a).cross(c - a).norm();
+                const double sum = area[i * n + k] + area[k * n + j] + t;
+                if (sum < best) best = sum, best_k = k;
+            }
+            area[i * n + j] = best;
+            split[i * n + j] = uint16_t(best_k);
+        }
+    std::vector<std::array<uint32_t, 3>> out;
+    out.reserve(n - 2);
+    std::vector<std::pair<size_t, size_t>> todo{{0, n - 1}};
+    while (!todo.empty()) {
+        const auto [i, j] = todo.back();
+        todo.pop_back();
+        if (j - i < 2) continue;
+        const size_t k = split[i * n + j];
+        out.push_back({uint32_t(i), uint32_t(k), uint32_t(j)});
+        todo.push_back({i, k}), todo.push_back({k, j});
+    }
     return out;
 }
 

@@ -104,6 +104,12 @@ void SceneRuntime::fingerprint_resources(const GraphHandles& h) {
     g.check_writes(true);
 }
 
+uint32_t SceneRuntime::frame_substeps() const {
+    const sim::SolverSettings& s = scene_.simulation.solver;
+    if (!s.contact.enabled || !solver_->contact().stacked()) return s.substeps;
+    return std::max(s.substeps, std::min(s.contact.substeps, k_max_sweeps / s.iterations));
+}
+
 core::Status SceneRuntime::build_graph() {
     graph_ = graph::FrameGraph();
     GraphHandles h;
@@ -112,7 +118,9 @@ core::Status SceneRuntime::build_graph() {
     if (!paused_) {
         add_frame_event_passes(h, has_timed_events());
         SimulationHandles sim_handles{h.body, h.volumes, h.shapes, h.drag, h.colliders};
-        add_simulation_passes(graph_, sim_handles, *solver_, scene_.simulation.solver, scene_.simulation.dt);
+        step_settings_ = scene_.simulation.solver;
+        step_settings_.substeps = frame_substeps();
+        add_simulation_passes(graph_, sim_handles, *solver_, step_settings_, scene_.simulation.dt);
         h.body = sim_handles.body;
     }
     add_surface_and_map_passes(h);

@@ -19,9 +19,9 @@ namespace pbdsplat::scene {
 core::Result<std::unique_ptr<SceneRuntime>> SceneRuntime::create(const Scene& scene, const RuntimeOptions& options) {
     if (auto v = sim::validate(scene.simulation.solver); !v.ok()) return v.error();
     const uint32_t projections = scene.simulation.solver.iterations * scene.simulation.solver.substeps;
-    if (projections > 256)
-        return core::make_error("iterations x substeps = " + std::to_string(projections) +
-                                " constraint sweeps a frame; a scene may ask for at most 256");
+    if (projections > k_max_sweeps)
+        return core::make_error("iterations x substeps = " + std::to_string(projections) + " constraint sweeps a frame; a scene may ask for at most " +
+                                std::to_string(k_max_sweeps));
     auto rt = std::unique_ptr<SceneRuntime>(new SceneRuntime());
     rt->scene_ = scene;
     auto model = load_scene_model(scene);
@@ -142,6 +142,9 @@ void SceneRuntime::deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Tri
 
 core::Status SceneRuntime::step() {
     const core::Stopwatch frame_clock;
+    // Pieces came to rest on each other or parted at the last frame's contact search: this
+    // frame steps in the substeps that suit it.
+    if (!paused_ && frame_substeps() != step_settings_.substeps) PBDSPLAT_TRY(build_graph());
     graph::ExecuteContext ctx{VK_NULL_HANDLE, frame_};
     if (renderer_) {
         auto cmd = renderer_->begin_frame();

@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "mesh/closest_point.h"
+#include "mesh/polygon.h"
 
 namespace pbdsplat::sim {
 
@@ -41,6 +42,9 @@ namespace {
 // How far beside a triangle (over its mean edge length) a particle still counts as over it: the
 // rounding of a point projected onto an edge two triangles share.
 constexpr float k_over = 0.01f;
+// How far behind a surface (over the mean edge) a particle may lie at rest and still count as on
+// it: the copies a cut made of one vertex lie on each other's cut faces, behind them by rounding.
+constexpr float k_on_surface = 1e-3f;
 
 // A hash grid cell's key; the table's size is a power of two.
 inline uint32_t cell_hash(int x, int y, int z) {
@@ -95,10 +99,28 @@ bool fat_loop(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x, cons
 } // namespace
 
 template <class Real>
+const typename ContactSolverT<Real>::CapFace& ContactSolverT<Real>::cap_face(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x) {
+    for (CapFace& f : cap_faces_)
+        if (f.loop == loop) {
+            f.used = true;
+            return f;
+        }
+    CapFace& f = cap_faces_.emplace_back();
+    f.loop = loop;
+    f.used = true;
+    std::vector<Vec3f> outline;
+    outline.reserve(loop.size());
+    for (uint32_t i : loop) outline.push_back(pos3(x[i]));
+    f.triangles = mesh::triangulate_least_area(outline);
+    return f;
+}
+
+template <class Real>
 void ContactSolverT<Real>::build_fans(const SoftBodyT<Real>& body) {
     fans_.clear(), fan_vertices_.clear(), fan_triangles_.clear();
     fan_chunks_ = 0;
     closed_.assign(body.pieces, 0);
+    for (CapFace& f : cap_faces_) f.used = false;
     for (const VolumeConstraint& v : body.volumes) {
         if (v.piece >= body.pieces || v.leaking_done()) continue;
         closed_[v.piece] = 1;
@@ -106,35 +128,28 @@ void ContactSolverT<Real>::build_fans(const SoftBodyT<Real>& body) {
             if (loop.size() < 3 || !fat_loop(loop, body.particles.x, body.rest_positions)) continue;
             Fan f;
             f.first = uint32_t(fan_vertices_.size()), f.count = uint32_t(loop.size()), f.piece = v.piece;
-            if (body.rest_positions.size() == body.particles.size()) {
-                Vec3f c = Vec3f::Zero();
-                for (uint32_t i : loop) c += body.rest_positions[i];
-                f.rest_centroid = c / float(loop.size());
-            }
+            f.cut = v.is_opening(loop) && !(v.leak > 0.0f);  // a burst's rip is no face to rest on
             fan_vertices_.insert(fan_vertices_.end(), loop.begin(), loop.end());
-            // In chunks of k_fan_chunk triangles: a wedge of the cap, a group of the broad phase.
-            for (uint32_t k = 0; k < f.count; ++k) {
-                if (k % k_fan_chunk == 0) ++fan_chunks_;
-                fan_triangles_.push_back({uint32_t(fans_.size()), k, fan_chunks_ - 1});
+            uint32_t k = 0;
+            for (const std::array<uint32_t, 3>& t : cap_face(loop, body.particles.x).triangles) {
+                // In chunks of k_fan_chunk triangles: a part of the face, a group of the broad phase.
+                if (k++ % k_fan_chunk == 0) ++fan_chunks_;
+                fan_triangles_.push_back({uint32_t(fans_.size()), loop[t[0]], loop[t[1]], loop[t[2]], fan_chunks_ - 1});
             }
             fans_.push_back(f);
         }
     }
+    std::erase_if(cap_faces_, [](const CapFace& f) { return !f.used; });
 }
 
 template <class Real>
-void ContactSolverT<Real>::update_fans(const ParticlesT<Real>& p, bool prev) {
+void ContactSolverT<Real>::update_fans(const ParticlesT<Real>& p) {
     for (Fan& f : fans_) {
-        Vec4<Real> c = Vec4<Real>::Zero();
         Vec3f newell = Vec3f::Zero();
-        for (uint32_t k = 0; k < f.count; ++k) {
-            const uint32_t i = fan_vertices_[f.first + k];
-            c += prev ? p.x_prev[i] : p.x[i];
-            if (!prev) newell += pos3(p.x[i]).cross(pos3(p.x[fan_vertices_[f.first + (k + 1) % f.count]]));
-        }
-        (prev ? f.centroid_prev : f.centroid) = c / Real(f.count);
-        // The loop winds as its fan (centroid, loop[k], loop[k + 1]) does: out of the piece.
-        if (!prev) f.normal = newell.norm() > 0.0f ? Vec3f(newell.normalized()) : Vec3f::Zero();
+        for (uint32_t k = 0; k < f.count; ++k)
+            newell += pos3(p.x[fan_vertices_[f.first + k]]).cross(pos3(p.x[fan_vertices_[f.first + (k + 1) % f.count]]));
+        // The loop winds out of the piece, as the volume constraint closes it.
+        f.normal = newell.norm() > 0.0f ? Vec3f(newell.normalized()) : Vec3f::Zero();
     }
 }
 
@@ -206,10 +221,8 @@ typename ContactSolverT<Real>::Corners ContactSolverT<Real>::corners_of(const So
         const mesh::Triangle& tri = body.triangles[t];
         return {tri[0], tri[1], tri[2], nullptr};
     }
-    // (centroid, loop[k], loop[k + 1]): the orientation the volume constraint closes the piece with.
     const FanTriangle& ft = fan_triangles_[t - real];
-    const Fan& f = fans_[ft.fan];
-    return {UINT32_MAX, fan_vertices_[f.first + ft.corner], fan_vertices_[f.first + (ft.corner + 1) % f.count], &f};
+    return {ft.a, ft.b, ft.c, &fans_[ft.fan]};
 }
 
 template <class Real>
@@ -220,11 +233,11 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
     for (uint32_t q = group_start_[group]; q < group_start_[group + 1]; ++q) {
         const uint32_t t = group_triangles_[q];
         if (!triangle_box_[q].intersects(patch_box)) continue;
-        // The triangle's corners now and at the start (a fan's first corner is its centroid).
+        // The triangle's corners now and at the start.
         const Corners tk = corners_of(body, t);
         const uint32_t ia = tk.ia, ib = tk.ib, ic = tk.ic;
-        const Vec3f a = tk.fan ? pos3(tk.fan->centroid) : now_[ia], b = now_[ib], c = now_[ic];
-        const Vec3f a0 = tk.fan ? pos3(tk.fan->centroid_prev) : then_[ia], b0 = then_[ib], c0 = then_[ic];
+        const Vec3f a = now_[ia], b = now_[ib], c = now_[ic];
+        const Vec3f a0 = then_[ia], b0 = then_[ib], c0 = then_[ic];
         const uint32_t piece = tk.fan ? tk.fan->piece : body.piece_of_particle[ia];
         if (piece >= body.pieces) continue;
         const Eigen::AlignedBox3f box(triangle_box_[q].min() - Vec3f::Constant(reach), triangle_box_[q].max() + Vec3f::Constant(reach));
@@ -252,14 +265,14 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             // through that piece's wall beside the face, and a seam at rest is not pushed apart.
             // Only the rim's: a soft balloon's two halves wrinkle against each other beside the
             // seam, and met there they push themselves apart.
-            const uint32_t corner = tk.fan ? ib : ia;
+            const uint32_t corner = ia;
             const bool neighbourhood = pi == piece || (model_[i] == model_[corner] && (part_[i] != part_[corner] || !tk.fan));
             bool seam = false;
             if (neighbourhood) {
                 if (pi == piece && tk.fan) continue;
                 if (!rest_known) continue;
                 const Vec3f& r = body.rest_positions[i];
-                if ((!tk.fan && (r - body.rest_positions[ia]).squaredNorm() < r_ex2) || (r - body.rest_positions[ib]).squaredNorm() < r_ex2 ||
+                if ((r - body.rest_positions[ia]).squaredNorm() < r_ex2 || (r - body.rest_positions[ib]).squaredNorm() < r_ex2 ||
                     (r - body.rest_positions[ic]).squaredNorm() < r_ex2) {
                     if (!closed || pi == piece || part_[i] != part_[corner] || !on_rim_[i]) continue;
                     seam = true;
@@ -271,10 +284,9 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
                 planes = true;
             }
             if (nrm.isZero() || nrm0.isZero()) break;
-            // A centroid fan over a concave loop turns over where the loop bends: such a triangle
-            // faces into its piece and would push a particle the wrong way. Left out, the soft
-            // halves of a cut balloon (suzanne cut through its ears) no longer fight each other
-            // apart through their caps (volume error 0.5 within 2 s of the cut).
+            // A cut face's triangle turned over since the last search (its outline bent back
+            // across it) faces into its piece and would push a particle the wrong way: left out
+            // until the next search triangulates the face afresh.
             if (tk.fan && nrm.dot(tk.fan->normal) < 0.0f) break;
             // Heights over the planes first (cheap), the closest points after.
             const float h_then = then_[i].dot(nrm0) - d_then, h_now = now_[i].dot(nrm) - d_now;
@@ -300,15 +312,15 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             // apart until a tear ran from it. Pairs that start inside each other are left alone.
             float thickness = seam ? 0.0f : scale_.thickness;
             if (!neighbourhood && rest_known) {
-                const Vec3f ra = tk.fan ? tk.fan->rest_centroid : body.rest_positions[ia];
+                const Vec3f& ra = body.rest_positions[ia];
                 const Vec3f& rb = body.rest_positions[ib];
                 const Vec3f& rc = body.rest_positions[ic];
                 const Vec3f rn = unit_normal(ra, rb, rc);
                 if (!rn.isZero()) {
                     const Over rest = over_triangle(body.rest_positions[i], ra, rb, rc, rn);
                     if (rest.lateral <= scale_.thickness && std::abs(rest.height) < scale_.thickness) {
-                        if (side * rest.height < 0.0f) continue;
-                        thickness = std::min(thickness, side * rest.height);
+                        if (side * rest.height < -k_on_surface * scale_.edge) continue;
+                        thickness = std::max(0.0f, std::min(thickness, side * rest.height));
                     }
                 }
             }
@@ -405,11 +417,11 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     contacts_.clear();
     seam_pairs_.clear();
     anchor_.clear();
+    stacked_ = false;
     if (!s.enabled || n == 0 || body.triangles.empty() || !(scale_.edge > 0.0f)) return;
     ++searches_;
     build_fans(body);
-    update_fans(p, true);
-    update_fans(p, false);
+    update_fans(p);
 
     // Broad phase over patches: the particles of one cell of a rest-space grid (cells half the
     // exclusion radius wide, so a patch is a compact piece of surface), each with the swept box
@@ -432,6 +444,14 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     group_triangles(body);
     build_grid(body);
     search_pairs(body);
+    // Stacked: a piece on another's cut face, or one model on another. Not the fragments of a
+    // tear (one model, no cut face), whose rips run at the scene's own steps, nor the parts of
+    // one model (a teapot's lid) on each other's own capped holes.
+    stacked_ = std::any_of(seam_pairs_.begin(), seam_pairs_.end(), [&](const SeamPair& sp) { return fans_[sp.fan_a].cut; }) ||
+               std::any_of(contacts_.begin(), contacts_.end(), [&](const Contact& c) {
+                   const Corners k = corners_of(body, c.triangle);
+                   return k.fan ? k.fan->cut && k.fan->piece != body.piece_of_particle[c.particle] : model_[c.particle] != model_[k.ia];
+               });
     anchor_ = now_;
     anchor_triangles_ = body.triangles.size(), anchor_pieces_ = body.pieces;
 }
@@ -488,7 +508,7 @@ void ContactSolverT<Real>::group_triangles(const SoftBodyT<Real>& body) {
         const uint32_t q = cursor[g]++;
         group_triangles_[q] = uint32_t(real + k);
         const Corners tk = corners_of(body, uint32_t(real + k));
-        triangle_box_[q] = swept(pos3(fan.centroid), now_[tk.ib], now_[tk.ic], pos3(fan.centroid_prev), then_[tk.ib], then_[tk.ic]);
+        triangle_box_[q] = swept(now_[tk.ia], now_[tk.ib], now_[tk.ic], then_[tk.ia], then_[tk.ib], then_[tk.ic]);
         group_box_[g].extend(triangle_box_[q]);
         patch_piece_[g] = fan.piece;
     }
@@ -601,16 +621,15 @@ template <class Real>
 void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings& s) {
     if (contacts_.empty() && seam_pairs_.empty()) return;
     ParticlesT<Real>& p = body.particles;
-    update_fans(p, false);
+    update_fans(p);
     project_seams(body, s);
     for (const Contact& ct : contacts_) {
         const uint32_t i = ct.particle;
         const Corners ck = corners_of(body, ct.triangle);
         const uint32_t ia = ck.ia, ib = ck.ib, ic = ck.ic;
-        const Fan* fan = ck.fan;
-        const Vec4<Real> xa = fan ? fan->centroid : p.x[ia];
+        const Vec4<Real>& xa = p.x[ia];
 
-        const Real wa = fan ? Real(0) : p.w[ia];
+        const Real wa = p.w[ia];
         const Vec3f a = pos3(xa), b = pos3(p.x[ib]), c = pos3(p.x[ic]);
         const Vec3f nf = unit_normal(a, b, c);
         if (nf.isZero()) continue;
@@ -625,18 +644,14 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
         const Real side = Real(ct.side);
         const Real C = side * Real(o.height) - Real(ct.thickness);
         if (C >= Real(0)) continue;
-        // The corners' weights. A fan's centroid is no particle: its weight goes to the two rim
-        // corners of the fan triangle, half each, so the reaction stays on the cap's rim where
-        // the particle presses (and the push costs three particles, not the whole loop).
-        Real ua = Real(o.wa), ub = Real(o.wb), uc = Real(o.wc);
-        if (fan) ub += ua / 2, uc += ua / 2, ua = 0;
+        const Real ua = Real(o.wa), ub = Real(o.wb), uc = Real(o.wc);
         const Real denom = p.w[i] + ua * ua * wa + ub * ub * p.w[ib] + uc * uc * p.w[ic];
         if (!(denom > Real(0))) continue;
         const Vec4<Real> n = side * to4<Real>(nf);
         // Moves the particle by wp * d and each corner by -w * weight * d.
         const auto apply = [&](const Vec4<Real>& d) {
             p.x[i] += p.w[i] * d;
-            if (!fan) p.x[ia] -= wa * ua * d;
+            p.x[ia] -= wa * ua * d;
             p.x[ib] -= p.w[ib] * ub * d;
             p.x[ic] -= p.w[ic] * uc * d;
         };
@@ -644,7 +659,7 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
         apply((depth / denom) * n);
         // Friction on the particle's motion relative to the surface point since the substep began.
         Vec4<Real> rel = (p.x[i] - p.x_prev[i]) - ub * (p.x[ib] - p.x_prev[ib]) - uc * (p.x[ic] - p.x_prev[ic]);
-        if (!fan) rel -= ua * (p.x[ia] - p.x_prev[ia]);
+        rel -= ua * (p.x[ia] - p.x_prev[ia]);
         const Vec4<Real> tangential = rel - rel.dot(n) * n;
         apply((-friction_share(s.friction, tangential.norm(), depth) / denom) * tangential);
     }

@@ -2,8 +2,10 @@
 // Contact between everything that moves: a particle against the surface of another piece of its
 // body (what a cut or a tear made, or another model of the scene), and against its own piece
 // away from its neighbourhood (a fold, a crumpled balloon). The surface is the piece's triangles
-// plus the virtual fans that close its cap loops (the same fans its volume constraint closes it
-// with), so a piece cut off rests on the cut face of the piece below instead of falling into it.
+// plus the cut faces that close its cap loops (each loop spanned by its least-area triangles as
+// it lay when first seen: a concave cross-section is covered where it is solid and nowhere else,
+// and a face cut again is two faces folded along the new cut), so a piece cut off rests on the
+// cut face of the piece below instead of falling into it.
 //
 // Each substep finds candidate (particle, triangle) pairs once, after prediction, through a hash
 // grid of the particles; each iteration then projects them as one-sided PBD constraints
@@ -13,6 +15,7 @@
 // moved since (no tunnelling through a surface at any speed the hash's sweep covers); against a
 // closed piece (one with a volume constraint) it is always the outside, so a particle that ended
 // up shallowly inside is pushed out.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -27,9 +30,18 @@ namespace pbdsplat::sim {
 // volume), so it is for open sheets and soft balloons that are meant to fold.
 inline constexpr bool k_self_contact_default = false;
 
+// Substeps a frame runs while pieces are stacked (a piece on another's cut face, a model on
+// another). PBD's error per step grows with the step
+// squared: a cut bunny's top half, resting on its bottom half at 5 iterations, sank 34 edges
+// into it within 2 s at one step a frame (10 iterations: the same; 20: 3 edges), 3.4 edges at 2
+// substeps, 0.09 at 4, where its height held at 0.98 of the uncut bunny's (docs/BENCHMARKS.md,
+// "Contact"). Material stiffness is per frame, so it does not change with the substeps.
+inline constexpr uint32_t k_contact_substeps_default = 4;
+
 struct ContactSettings {
     bool enabled = true;     // a user expects the pieces of a cut to be solid
     bool self = k_self_contact_default;  // a piece against itself, away from its neighbourhood (folds)
+    uint32_t substeps = k_contact_substeps_default;  // a frame's substeps while pieces are stacked (at least the solver's)
     float thickness = 0.0f;  // metres kept between a particle and a surface; 0: auto (see below)
     Friction friction;
 };
@@ -74,20 +86,22 @@ public:
     const ContactScale& scale() const { return scale_; }
     // Searches run (a find that kept the last candidates runs none).
     size_t searches() const { return searches_; }
+    // Whether the last search found a piece within reach of another's cut face, or one model
+    // within reach of another: what stacks, and needs the contact substeps.
+    bool stacked() const { return stacked_; }
 
 private:
-    struct Fan {  // one cap loop closed at its centroid
+    struct Fan {  // one cap loop: its cut face
         uint32_t first = 0, count = 0;  // into fan_vertices_
         uint32_t piece = 0;
-        Vec4<Real> centroid = Vec4<Real>::Zero(), centroid_prev = Vec4<Real>::Zero();
-        Vec3f rest_centroid = Vec3f::Zero();
         Vec3f normal = Vec3f::Zero();  // the loop's (Newell's), out of its piece
+        bool cut = false;              // a cut's face (not one of the model's own holes, nor a burst's rip)
     };
     // The two sides of a cut face, matched rim particle by rim particle (the copies a cut made of
     // one vertex, at one rest place): kept from passing through each other along the faces'
     // normal, never pulled together.
-    // A piece resting on a cut face bears on its rim, which a face's virtual fan, tilting and
-    // turning over on a concave loop as the rim bends, cannot hold alone.
+    // A piece resting on a cut face bears on its rim, which the face's triangles, tilting as the
+    // rim bends, cannot hold alone.
     struct SeamPair {
         uint32_t a, b;          // particles, of two pieces
         uint32_t fan_a, fan_b;  // their loops' fans
@@ -97,18 +111,28 @@ private:
     void build_seam_pairs(const SoftBodyT<Real>& body);
     void project_seams(SoftBodyT<Real>& body, const ContactSettings& s);
     struct FanTriangle {
-        uint32_t fan, corner;  // loop vertices corner, corner + 1 (wrapping), and the centroid
-        uint32_t chunk;        // its broad-phase group, past the patches
+        uint32_t fan;
+        uint32_t a, b, c;  // particles of its loop, wound as the loop (out of the piece)
+        uint32_t chunk;    // its broad-phase group, past the patches
     };
     static constexpr uint32_t k_fan_chunk = 8;
     uint32_t fan_chunks_ = 0;
     struct Corners {
-        uint32_t ia, ib, ic;  // ia: UINT32_MAX for a fan triangle, whose first corner is the centroid
-        const Fan* fan;
+        uint32_t ia, ib, ic;
+        const Fan* fan;  // the cut face a cap triangle belongs to; null for the body's triangles
     };
     Corners corners_of(const SoftBodyT<Real>& body, uint32_t triangle) const;
+    // Each cap loop's triangles (loop positions), made when the loop first appears: a loop keeps
+    // its face while it lives, as a cut made it, however the piece deforms since.
+    struct CapFace {
+        std::vector<uint32_t> loop;
+        std::vector<std::array<uint32_t, 3>> triangles;
+        bool used = false;
+    };
+    std::vector<CapFace> cap_faces_;
+    const CapFace& cap_face(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x);
     void build_fans(const SoftBodyT<Real>& body);
-    void update_fans(const ParticlesT<Real>& p, bool prev);
+    void update_fans(const ParticlesT<Real>& p);
 
     ContactScale scale_;
     std::vector<Contact> contacts_;
@@ -156,6 +180,7 @@ private:
     std::vector<Vec3f> anchor_;  // positions at the last search
     size_t anchor_triangles_ = 0, anchor_pieces_ = 0;
     bool self_ = false;
+    bool stacked_ = false;
 };
 using ContactSolver = ContactSolverT<float>;
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mesh/closest_point.h"
+#include "mesh/polygon.h"
 
 namespace pbdsplat::sim {
 namespace {
@@ -34,13 +35,13 @@ std::vector<ClosedSurface> closed_surfaces(const SoftBody& body, bool rest) {
         slot[v.piece] = int(out.size());
         ClosedSurface& s = out.emplace_back();
         s.piece = v.piece;
+        // Each cap as contact closes it (sim/contact.h): the least-area surface spanning its loop.
+        std::vector<Vec3f> outline;
         for (const std::vector<uint32_t>& loop : v.cap_loops) {
             if (loop.size() < 3) continue;
-            Vec3f centroid = Vec3f::Zero();
-            for (uint32_t i : loop) centroid += at(i);
-            centroid /= float(loop.size());
-            // Wound as the volume sum winds them: (loop[k], loop[k + 1], centroid).
-            for (size_t k = 0; k < loop.size(); ++k) s.triangles.push_back({at(loop[k]), at(loop[(k + 1) % loop.size()]), centroid});
+            outline.clear();
+            for (uint32_t i : loop) outline.push_back(at(i));
+            for (const std::array<uint32_t, 3>& t : mesh::triangulate_least_area(outline)) s.triangles.push_back({outline[t[0]], outline[t[1]], outline[t[2]]});
         }
     }
     for (const mesh::Triangle& t : body.triangles) {

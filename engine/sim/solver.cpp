@@ -18,6 +18,7 @@ namespace pbdsplat::sim {
 core::Status validate(const SolverSettings& s) {
     if (s.iterations < 1 || s.iterations > 1000) return core::make_error("iterations must be 1 to 1000");
     if (s.substeps < 1 || s.substeps > 1000) return core::make_error("substeps must be 1 to 1000");
+    if (s.contact.substeps < 1 || s.contact.substeps > 1000) return core::make_error("contact substeps must be 1 to 1000");
     if (!s.gravity.allFinite()) return core::make_error("gravity must be finite");
     if (!(s.damping >= 0.0f) || !std::isfinite(s.damping)) return core::make_error("damping must be >= 0");
     if (!(s.stretch_stiffness > 0.0f && s.stretch_stiffness <= 1.0f))
@@ -195,8 +196,12 @@ void SolverT<Real>::run(Stage stage, SoftBodyT<Real>& body, const SolverSettings
 }
 
 template <class Real>
-StageTimings SolverT<Real>::step(SoftBodyT<Real>& body, float dt, const SolverSettings& s, const Colliders& colliders,
+StageTimings SolverT<Real>::step(SoftBodyT<Real>& body, float dt, const SolverSettings& settings, const Colliders& colliders,
                                  const DragConstraint& drag) {
+    // Pieces stacked at the last search step this frame in the contact's substeps: resting on
+    // each other they sink in at one step a frame (sim/contact.h). A body alone pays nothing.
+    SolverSettings s = settings;
+    if (s.contact.enabled && contact_.stacked()) s.substeps = std::max(s.substeps, s.contact.substeps);
     if (schedule_.empty() || schedule_iterations_ != s.iterations || schedule_substeps_ != s.substeps) {
         schedule_ = frame_schedule(s);
         schedule_iterations_ = s.iterations, schedule_substeps_ = s.substeps;

@@ -38,6 +38,7 @@ mode = "xpbd"
 dt = 0.01
 iterations = 2
 substeps = 4
+contact_substeps = 6
 compliance = 1e-4
 pressure = 1.2
 pins = [0, 3]
@@ -216,6 +217,7 @@ TEST_SUITE("scene/scene_file") {
         CHECK(second->render.surfel_thickness == 0.2f);
         CHECK(second->render.frame.style.surfel_thickness == 0.0f);  // deformed: not surfels
         CHECK(second->expect.frames == 150);
+        CHECK(second->simulation.solver.contact.substeps == 6);
         const auto tear = std::find_if(second->events.begin(), second->events.end(),
                                        [](const scene::Event& e) { return std::holds_alternative<scene::TearEvent>(e.data); });
         REQUIRE(tear != second->events.end());

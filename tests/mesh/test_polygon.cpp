@@ -1,0 +1,74 @@
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "mesh/polygon.h"
+
+using namespace pbdsplat;
+
+namespace {
+
+double total_area(const std::vector<Vec3f>& p, const std::vector<std::array<uint32_t, 3>>& tris) {
+    double a = 0.0;
+    for (const auto& t : tris) a += 0.5 * double((p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]).norm());
+    return a;
+}
+Vec3f summed_normal(const std::vector<Vec3f>& p, const std::vector<std::array<uint32_t, 3>>& tris) {
+    Vec3f n = Vec3f::Zero();
+    for (const auto& t : tris) n += (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]);
+    return n;
+}
+
+} // namespace
+
+TEST_SUITE("mesh/polygon") {
+    TEST_CASE("least area: a concave planar outline gets triangles inside it, wound like the outline") {
+        // A C: 3 x 3 square without its middle right 1 x 1 notch reaching in 2 (area 9 - 2 = 7).
+        const std::vector<Vec3f> c = {{0, 0, 0}, {3, 0, 0}, {3, 1, 0}, {1, 1, 0}, {1, 2, 0}, {3, 2, 0}, {3, 3, 0}, {0, 3, 0}};
+        const auto tris = mesh::triangulate_least_area(c);
+        CHECK(tris.size() == c.size() - 2);
+        CHECK(total_area(c, tris) == doctest::Approx(7.0));
+        // Counter-clockwise outline: every triangle faces +z (none turned over across the notch).
+        for (const auto& t : tris) CHECK((c[t[1]] - c[t[0]]).cross(c[t[2]] - c[t[0]]).z() > 0.0f);
+    }
+
+    TEST_CASE("least area: a loop over two planes folds along their chord") {
+        // Two unit squares meeting at a right angle along the x axis (a face cut again across
+        // an earlier cut's face): the loop runs over both. Spanning the wedge between them flat
+        // would take 2.41; the two faces take 2.
+        const std::vector<Vec3f> c = {{0, 0, 1}, {1, 0, 1}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 0}};
+        const auto tris = mesh::triangulate_least_area(c);
+        CHECK(tris.size() == 4);
+        CHECK(total_area(c, tris) == doctest::Approx(2.0).epsilon(1e-5));
+        for (const auto& t : tris) {
+            // Each triangle lies in one of the two faces: y = 0 or z = 0.
+            const bool floor = c[t[0]].y() == 0.0f && c[t[1]].y() == 0.0f && c[t[2]].y() == 0.0f;
+            const bool wall = c[t[0]].z() == 0.0f && c[t[1]].z() == 0.0f && c[t[2]].z() == 0.0f;
+            CHECK((floor || wall));
+        }
+    }
+
+    TEST_CASE("least area: the winding follows the loop, so a reversed loop faces the other way") {
+        std::vector<Vec3f> c;
+        for (int k = 0; k < 12; ++k) c.push_back({std::cos(0.5236f * float(k)), std::sin(0.5236f * float(k)), 0.0f});
+        const Vec3f up = summed_normal(c, mesh::triangulate_least_area(c));
+        std::reverse(c.begin(), c.end());
+        const Vec3f down = summed_normal(c, mesh::triangulate_least_area(c));
+        CHECK(up.z() > 0.0f);
+        CHECK(down.z() < 0.0f);
+        CHECK(up.z() == doctest::Approx(-down.z()));
+    }
+
+    TEST_CASE("least area: fewer than three corners give nothing; past the limit the ear clipper takes over") {
+        CHECK(mesh::triangulate_least_area(std::vector<Vec3f>{{0, 0, 0}, {1, 0, 0}}).empty());
+        std::vector<Vec3f> big;
+        for (size_t k = 0; k <= mesh::k_max_least_area_corners; ++k) {
+            const float a = 6.2831853f * float(k) / float(mesh::k_max_least_area_corners + 1);
+            big.push_back({std::cos(a), std::sin(a), 0.0f});
+        }
+        const auto tris = mesh::triangulate_least_area(big);
+        CHECK(tris.size() == big.size() - 2);
+    }
+}
