@@ -22,7 +22,8 @@ struct Penetration {
 };
 
 // The deepest particle inside a closed piece other than its own, leaving out particles that
-// lay inside that piece at rest already (parts of a model that overlap in its file). A piece's
+// lay inside that piece at rest already, and the parts of a model that lay partly inside it
+// (an eye in its socket, a lid in its pot: contact leaves them to their own shells). A piece's
 // own surface is not tested (a fold of one piece through itself is not seen).
 Penetration deepest_penetration(const SoftBody& body);
 
