@@ -121,14 +121,14 @@ std::vector<std::array<uint32_t, 3>> triangulate_least_area(std::span<const Vec3
         }
     std::vector<std::array<uint32_t, 3>> out;
     out.reserve(n - 2);
-    std::vector<std::pair<size_t, size_t>> todo{{0, n - 1}};
-    while (!todo.empty()) {
-        const auto [i, j] = todo.back();
-        todo.pop_back();
+    std::vector<std::pair<size_t, size_t>> pending{{0, n - 1}};
+    while (!pending.empty()) {
+        const auto [i, j] = pending.back();
+        pending.pop_back();
         if (j - i < 2) continue;
         const size_t k = split[i * n + j];
         out.push_back({uint32_t(i), uint32_t(k), uint32_t(j)});
-        todo.push_back({i, k}), todo.push_back({k, j});
+        pending.push_back({i, k}), pending.push_back({k, j});
     }
     return out;
 }

@@ -173,11 +173,11 @@ private:
     core::Status create_renderer(const SortChoice& sort);
     core::Status ensure_mesh_raster();  // made on first need (a mesh view, mesh_image())
     // The frame graph for the current settings; run again when one that changes it does.
-    core::Status build_graph();
+    core::Status build_graph();  // runtime_graph.cpp, with the stages' passes below
     // Substeps this frame: the scene's, raised to its contact substeps while pieces are stacked
     // (sim/contact.h), within the 256 sweeps a frame may take.
     uint32_t frame_substeps() const;
-    sim::SolverSettings step_settings_;  // what the graph's simulation passes run with  // runtime_graph.cpp, with the stages' passes below
+    sim::SolverSettings step_settings_;  // what the graph's simulation passes run with
     struct GraphHandles;
     bool has_timed_events() const;
     void import_resources(GraphHandles& h);  // absent where the scene does not need them

@@ -265,8 +265,7 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             // through that piece's wall beside the face, and a seam at rest is not pushed apart.
             // Only the rim's: a soft balloon's two halves wrinkle against each other beside the
             // seam, and met there they push themselves apart.
-            const uint32_t corner = ia;
-            const bool neighbourhood = pi == piece || (model_[i] == model_[corner] && (part_[i] != part_[corner] || !tk.fan));
+            const bool neighbourhood = pi == piece || (model_[i] == model_[ia] && (part_[i] != part_[ia] || !tk.fan));
             bool seam = false;
             if (neighbourhood) {
                 if (pi == piece && tk.fan) continue;
@@ -274,7 +273,7 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
                 const Vec3f& r = body.rest_positions[i];
                 if ((r - body.rest_positions[ia]).squaredNorm() < r_ex2 || (r - body.rest_positions[ib]).squaredNorm() < r_ex2 ||
                     (r - body.rest_positions[ic]).squaredNorm() < r_ex2) {
-                    if (!closed || pi == piece || part_[i] != part_[corner] || !on_rim_[i]) continue;
+                    if (!closed || pi == piece || part_[i] != part_[ia] || !on_rim_[i]) continue;
                     seam = true;
                 }
             }
@@ -284,9 +283,9 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
                 planes = true;
             }
             if (nrm.isZero() || nrm0.isZero()) break;
-            // A cut face's triangle turned over since the last search (its outline bent back
+            // A cut face's triangle turned over since the face was made (its outline bent back
             // across it) faces into its piece and would push a particle the wrong way: left out
-            // until the next search triangulates the face afresh.
+            // while it stays turned.
             if (tk.fan && nrm.dot(tk.fan->normal) < 0.0f) break;
             // Heights over the planes first (cheap), the closest points after.
             const float h_then = then_[i].dot(nrm0) - d_then, h_now = now_[i].dot(nrm) - d_now;

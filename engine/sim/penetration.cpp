@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <vector>
 
@@ -92,7 +93,7 @@ Penetration deepest_penetration(const SoftBody& body) {
     // Per (part, surface): whether some particle of the part lay inside that piece at rest (the
     // part sits in another in the file: suzanne's eyes, a teapot's lid). Contact leaves such parts
     // to their own shells (sim/contact.h), so how they settle into each other is not measured.
-    std::vector<std::pair<uint32_t, size_t>> overlapping, apart;
+    std::map<std::pair<uint32_t, size_t>, bool> overlapped;  // (part, surface) -> decided
     std::vector<uint32_t> part_of_piece(body.pieces, UINT32_MAX);
     if (parts_known)
         for (size_t j = 0; j < body.particle_count(); ++j)
@@ -100,16 +101,12 @@ Penetration deepest_penetration(const SoftBody& body) {
     // The other side of a cut is the same part: never left out, however its rim lies on the face.
     const auto overlapped_at_rest = [&](uint32_t part, size_t k) {
         if (part == part_of_piece[at_rest[k].piece]) return false;
-        const std::pair<uint32_t, size_t> key{part, k};
-        if (std::find(overlapping.begin(), overlapping.end(), key) != overlapping.end()) return true;
-        if (std::find(apart.begin(), apart.end(), key) != apart.end()) return false;
-        for (size_t j = 0; j < body.particle_count(); ++j)
-            if (body.part_of_particle[j] == part && body.piece_of_particle[j] != at_rest[k].piece && inside(at_rest[k], body.rest_positions[j])) {
-                overlapping.push_back(key);
-                return true;
-            }
-        apart.push_back(key);
-        return false;
+        const auto [it, fresh] = overlapped.try_emplace({part, k}, false);
+        if (fresh)
+            for (size_t j = 0; j < body.particle_count() && !it->second; ++j)
+                it->second = body.part_of_particle[j] == part && body.piece_of_particle[j] != at_rest[k].piece &&
+                             inside(at_rest[k], body.rest_positions[j]);
+        return it->second;
     };
     for (size_t k = 0; k < surfaces.size(); ++k) {
         const ClosedSurface& s = surfaces[k];
