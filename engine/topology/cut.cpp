@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_set>
 
 #include "core/timer.h"
 #include "mesh/topology.h"
@@ -76,7 +77,150 @@ void measure_sides(const sim::SoftBody& b, const CutSurface& s, Sides& out) {
     out.crossed.erase(std::unique(out.crossed.begin(), out.crossed.end()), out.crossed.end());
 }
 
-void classify(const sim::SoftBody& b, const CutSurface& s, float snap, float reference, Sides& out) {
+// What the cut will make of the surface, seen before it is made: a node per triangle and side
+// (a triangle the cut crosses is split, one node each), joined across an edge where both
+// triangles keep part of it on that side. An edge along the cut (both ends on it) joins only
+// triangles of one side, as the vertex duplication does. A triangle with corners on both sides
+// that the cut does not cross through (where a slit ends) keeps its sides joined.
+class SideGraph {
+public:
+    SideGraph(const sim::SoftBody& b, const CutSurface& s, std::span<const float> d, std::span<const int8_t> sign, float snap)
+        : b_(b), s_(s), d_(d), sign_(sign), snap_(snap) {}
+
+    using Node = std::pair<uint32_t, int8_t>;  // triangle, side
+
+    bool has_side(uint32_t t, int8_t s) const {
+        for (uint32_t v : b_.triangles[t])
+            if (sign_[v] == s) return true;
+        return false;
+    }
+
+    // The nodes reachable from `start`, in `seen`, stopping once `limit` are found; `cut` false
+    // ignores the cut (the surface as it is now). Returns whether the search closed under the limit.
+    bool reach(Node start, size_t limit, bool cut, std::vector<Node>& seen) const {
+        seen.assign(1, start);
+        auto visit = [&](Node n) {
+            if (std::ranges::find(seen, n) != seen.end()) return true;
+            seen.push_back(n);
+            return seen.size() < limit;
+        };
+        for (size_t i = 0; i < seen.size(); ++i) {
+            const auto [t, s] = seen[i];
+            if (cut && has_side(t, int8_t(-s)) && !split(t) && !visit({t, int8_t(-s)})) return false;
+            const mesh::Triangle& f = b_.triangles[t];
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t a = f[size_t(k)], c = f[size_t((k + 1) % 3)];
+                const bool along = sign_[a] == 0 && sign_[c] == 0;
+                if (cut && !along && sign_[a] != s && sign_[c] != s) continue;  // the edge lies across
+                for (uint32_t u : b_.rings.triangles.of(a)) {
+                    if (u == t || std::ranges::find(b_.triangles[u], c) == b_.triangles[u].end()) continue;
+                    if (cut && along && !has_side(u, s)) continue;
+                    if (!visit({u, cut ? s : int8_t(1)})) return false;
+                }
+            }
+        }
+        return true;
+    }
+
+private:
+    // Whether the cut crosses every edge of `t` whose ends lie on opposite sides.
+    bool split(uint32_t t) const {
+        const mesh::Triangle& f = b_.triangles[t];
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t i = f[size_t(k)], j = f[size_t((k + 1) % 3)];
+            if (sign_[i] * sign_[j] >= 0) continue;
+            if (!s_.may_touch(i) || !s_.may_touch(j)) return false;
+            const float u = std::clamp(d_[i] / (d_[i] - d_[j]), snap_, 1.0f - snap_);
+            if (!s_.reaches(crossing_point(b_, i, j, u))) return false;
+        }
+        return true;
+    }
+
+    const sim::SoftBody& b_;
+    const CutSurface& s_;
+    std::span<const float> d_;
+    std::span<const int8_t> sign_;
+    float snap_;
+};
+
+// The smallest child the re-triangulation makes of triangle `t` at these sides, in rest area
+// (crossings clamped to [snap, 1 - snap] as add_crossings does); the triangle's own when the
+// sides do not cross it.
+float smallest_child(const sim::SoftBody& b, const mesh::Triangle& t, std::span<const float> d, std::span<const int8_t> sign, float snap) {
+    const Vec3f& r0 = b.rest_positions[t[0]];
+    const float area = 0.5f * (b.rest_positions[t[1]] - r0).cross(b.rest_positions[t[2]] - r0).norm();
+    auto u = [&](uint32_t from, uint32_t to) { return std::clamp(d[from] / (d[from] - d[to]), snap, 1.0f - snap); };
+    for (int k = 0; k < 3; ++k) {
+        const uint32_t a = t[size_t(k)], p = t[size_t((k + 1) % 3)], q = t[size_t((k + 2) % 3)];
+        if (sign[a] == 0 && sign[p] * sign[q] < 0) {  // through a corner: two children
+            const float f = u(p, q);
+            return std::min(f, 1.0f - f) * area;
+        }
+        if (sign[a] != 0 && sign[p] == -sign[a] && sign[q] == -sign[a]) {  // a lone corner: three
+            const float fp = u(a, p), fq = u(a, q);
+            // The corner, then the quad beyond it split along either diagonal.
+            return std::min({fp * fq, 1.0f - fp, fp * (1.0f - fq), 1.0f - fq, fq * (1.0f - fp)}) * area;
+        }
+    }
+    return area;
+}
+
+// A snap can close off a few triangles: an ear at an opening whose two inner corners both snap
+// onto the cut leaves as a piece of one triangle, since the cut then runs along its inner edge.
+// Such a fragment is a fleck no user drew: its snapped corners go back to their sides (the cut
+// crosses the edges beside them instead), unless that would make a child below `min_child`
+// (the snaps exist to keep cuts repeated through one region from whittling triangles down).
+// A piece that was small before the cut is left alone.
+void keep_fragments(const sim::SoftBody& b, const CutSurface& cut, std::span<const float> d, std::span<int8_t> sign,
+                    std::span<const uint8_t> snapped, const std::vector<uint32_t>& on_cut, uint32_t min_fragment, float snap,
+                    float min_child) {
+    const SideGraph graph(b, cut, d, sign, snap);
+    std::vector<SideGraph::Node> fragment, whole;
+    std::vector<uint32_t> corners;
+    std::unordered_set<uint64_t> large;  // (triangle, side) nodes known to lie in a large piece
+    auto unsnap = [&] {
+        for (uint32_t w : corners) sign[w] = d[w] < 0.0f ? int8_t(-1) : int8_t(1);
+        for (uint32_t w : corners)
+            for (uint32_t t : b.rings.triangles.of(w))
+                if (smallest_child(b, b.triangles[t], d, sign, snap) < min_child) {
+                    for (uint32_t x : corners) sign[x] = 0;
+                    return false;
+                }
+        return true;
+    };
+    for (int round = 0; round < 4; ++round) {
+        bool changed = false;
+        for (uint32_t v : on_cut) {
+            if (!snapped[v] || sign[v] != 0) continue;
+            for (uint32_t t : b.rings.triangles.of(v)) {
+                // A snap closes a fragment off along an edge of the cut: seeded there only.
+                const mesh::Triangle& f = b.triangles[t];
+                if ((sign[f[0]] == 0) + (sign[f[1]] == 0) + (sign[f[2]] == 0) != 2) continue;
+                for (int8_t s : {int8_t(-1), int8_t(1)}) {
+                    if (sign[v] != 0 || !graph.has_side(t, s)) continue;
+                    const uint64_t key = uint64_t(t) << 1 | uint64_t(s > 0);
+                    if (large.contains(key)) continue;
+                    if (!graph.reach({t, s}, min_fragment, true, fragment)) {
+                        // Everything the search met lies in one piece of at least the limit.
+                        for (const auto& [u, side] : fragment) large.insert(uint64_t(u) << 1 | uint64_t(side > 0));
+                        continue;
+                    }
+                    if (graph.reach({t, s}, min_fragment, false, whole)) continue;  // small already
+
+                    corners.clear();
+                    for (const auto& [u, side] : fragment)
+                        for (uint32_t w : b.triangles[u])
+                            if (snapped[w] && sign[w] == 0 && std::ranges::find(corners, w) == corners.end()) corners.push_back(w);
+                    changed = unsnap() || changed;
+                }
+            }
+        }
+        if (!changed) break;
+        large.clear();  // the sides moved
+    }
+}
+
+void classify(const sim::SoftBody& b, const CutSurface& s, float snap, float reference, uint32_t min_fragment, Sides& out) {
     const size_t n = b.particle_count();
     measure_sides(b, s, out);
     const std::span<const float> d = out.distance;
@@ -139,7 +283,11 @@ void classify(const sim::SoftBody& b, const CutSurface& s, float snap, float ref
         }
     }
     for (uint32_t v : on_cut) sign[v] = 0;
+    // A tear's slit (a listed cut) has its own rule: tear_once takes back a slit that leaves a
+    // small piece and tries the next edge.
+    if (min_fragment > 0 && out.all) keep_fragments(b, s, d, sign, snapped, on_cut, min_fragment, snap, 0.1f * min_corner_area);
     snaps.give_back(on_cut);
+    std::erase_if(on_cut, [&](uint32_t v) { return sign[v] != 0; });
     if (on_plane) {
         on_cut.clear();
         each_looked_at([&](uint32_t v) {
@@ -249,7 +397,7 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
     lap("prepare");
     SidesLease lease(b.particle_count());
     Sides& sides = lease.sides;
-    classify(b, s, o.snap, o.reference_edge_length, sides);
+    classify(b, s, o.snap, o.reference_edge_length, o.min_fragment_triangles, sides);
     e.sign = sides.sign;
     e.on_cut_vertices = std::move(sides.on_cut);
     lap("classify");

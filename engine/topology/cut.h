@@ -31,6 +31,9 @@ struct CutOptions {
     // rest state, snaps too). Give the original mesh's mean edge length, so repeated cuts in
     // one region cannot whittle triangles down; 0 takes the current mean.
     float reference_edge_length = 0.0f;
+    // A snap that would cut off fewer triangles than this (a fleck) is undone where the cut's
+    // children stay above a sliver; 0 allows any. Whole-body cuts only (tears have their own).
+    uint32_t min_fragment_triangles = 8;
     VolumePolicy volume = VolumePolicy::cap;
     float burst_leak = 4.0f;  // 1/s: how fast a burst component's overpressure escapes
 };

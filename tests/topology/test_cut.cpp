@@ -276,6 +276,51 @@ TEST_SUITE("topology/cut") {
         CHECK(b.volumes.empty());
     }
 
+    TEST_CASE("a cut beside an ear at an opening leaves the ear on its strip, not as a one-triangle fleck") {
+        // A sheet of 8 x 4 quads (x right, z up) with one ear (a triangle whose third corner has
+        // no other triangle) hanging below the bottom row. The plane just above the bottom row
+        // snaps the row onto the cut; left alone, both of the ear's inner corners snap and the
+        // cut runs along its inner edge, taking the ear away as a piece of one triangle.
+        mesh::TriangleMesh m;
+        const uint32_t cols = 8, rows = 4;
+        for (uint32_t r = 0; r <= rows; ++r)
+            for (uint32_t c = 0; c <= cols; ++c) m.positions.push_back(Vec3f(float(c), 0.0f, float(r)));
+        auto at = [&](uint32_t r, uint32_t c) { return r * (cols + 1) + c; };
+        for (uint32_t r = 0; r < rows; ++r)
+            for (uint32_t c = 0; c < cols; ++c) {
+                m.triangles.push_back({at(r, c), at(r, c + 1), at(r + 1, c + 1)});
+                m.triangles.push_back({at(r, c), at(r + 1, c + 1), at(r + 1, c)});
+            }
+        const Vec3f tip(3.5f, 0.0f, -0.8f), far_corner(0.0f, 0.0f, float(rows));
+        m.positions.push_back(tip);
+        m.triangles.push_back({at(0, 3), uint32_t(m.positions.size() - 1), at(0, 4)});
+        // The body orders its particles its own way: the piece is found from a position.
+        auto piece_triangles = [](const sim::SoftBody& b, const Vec3f& x) {
+            uint32_t v = 0;
+            for (uint32_t i = 0; i < b.particle_count(); ++i)
+                if ((b.rest_positions[i] - x).norm() < (b.rest_positions[v] - x).norm()) v = i;
+            return std::ranges::count_if(b.triangles, [&](const mesh::Triangle& t) { return b.piece_of_particle[t[0]] == b.piece_of_particle[v]; });
+        };
+        const topology::CutSurface above_row = plane(Vec3f(0.0f, 0.0f, 0.03f), Vec3f::UnitZ());
+        {
+            sim::SoftBody b = test::make_body(m, {.volume = false});
+            topology::CutOptions o;
+            o.min_fragment_triangles = 0;  // the snaps as they were: the fleck this guards against
+            REQUIRE(topology::cut(b, above_row, o).ok());
+            require_invariants(b);
+            CHECK(piece_triangles(b, tip) == 1);
+        }
+        sim::SoftBody b = test::make_body(m, {.volume = false});
+        auto change = topology::cut(b, above_row);
+        REQUIRE(change.ok());
+        require_invariants(b);
+        CHECK(change->components_after == 2);
+        // The ear keeps the strip the cut leaves below the row: its own triangle and a child of
+        // every triangle of the first row that the cut crosses beside it.
+        CHECK(piece_triangles(b, tip) >= 4);
+        CHECK(piece_triangles(b, far_corner) >= std::ptrdiff_t(2 * cols * (rows - 1)));
+    }
+
     TEST_CASE("bad input is refused with a reason") {
         sim::SoftBody b = test::make_body(mesh::icosphere(1));
         topology::CutSurface s;
