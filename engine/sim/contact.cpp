@@ -78,7 +78,7 @@ inline Vec3f unit_normal(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
 }
 
 // Whether a cap loop encloses a face worth resting on: a cut's cross-section does, a tear's
-// slit (its two sides close together) does not, and a fan over a slit has no meaningful normal.
+// slit (its two sides close together) does not, and a face over a slit has no meaningful normal.
 // Area over perimeter squared: 1 / (4 pi) = 0.08 for a circle, 0.06 for a square. Judged in
 // rest space where it is known: a cut face crumpled by the pieces' motion would otherwise come
 // and go between searches, and what rested on it fall through while it was gone.
@@ -116,9 +116,9 @@ const typename ContactSolverT<Real>::CapFace& ContactSolverT<Real>::cap_face(con
 }
 
 template <class Real>
-void ContactSolverT<Real>::build_fans(const SoftBodyT<Real>& body) {
-    fans_.clear(), fan_vertices_.clear(), fan_triangles_.clear();
-    fan_chunks_ = 0;
+void ContactSolverT<Real>::build_faces(const SoftBodyT<Real>& body) {
+    faces_.clear(), face_vertices_.clear(), face_triangles_.clear();
+    face_chunks_ = 0;
     closed_.assign(body.pieces, 0);
     for (CapFace& f : cap_faces_) f.used = false;
     for (const VolumeConstraint& v : body.volumes) {
@@ -126,28 +126,28 @@ void ContactSolverT<Real>::build_fans(const SoftBodyT<Real>& body) {
         closed_[v.piece] = 1;
         for (const std::vector<uint32_t>& loop : v.cap_loops) {
             if (loop.size() < 3 || !fat_loop(loop, body.particles.x, body.rest_positions)) continue;
-            Fan f;
-            f.first = uint32_t(fan_vertices_.size()), f.count = uint32_t(loop.size()), f.piece = v.piece;
+            CutFace f;
+            f.first = uint32_t(face_vertices_.size()), f.count = uint32_t(loop.size()), f.piece = v.piece;
             f.cut = v.is_opening(loop) && !(v.leak > 0.0f);  // a burst's opening is no face to rest on
-            fan_vertices_.insert(fan_vertices_.end(), loop.begin(), loop.end());
+            face_vertices_.insert(face_vertices_.end(), loop.begin(), loop.end());
             uint32_t k = 0;
             for (const std::array<uint32_t, 3>& t : cap_face(loop, body.particles.x).triangles) {
                 // In chunks of k_fan_chunk triangles: a part of the face, a group of the broad phase.
-                if (k++ % k_fan_chunk == 0) ++fan_chunks_;
-                fan_triangles_.push_back({uint32_t(fans_.size()), loop[t[0]], loop[t[1]], loop[t[2]], fan_chunks_ - 1});
+                if (k++ % k_fan_chunk == 0) ++face_chunks_;
+                face_triangles_.push_back({uint32_t(faces_.size()), loop[t[0]], loop[t[1]], loop[t[2]], face_chunks_ - 1});
             }
-            fans_.push_back(f);
+            faces_.push_back(f);
         }
     }
     std::erase_if(cap_faces_, [](const CapFace& f) { return !f.used; });
 }
 
 template <class Real>
-void ContactSolverT<Real>::update_fans(const ParticlesT<Real>& p) {
-    for (Fan& f : fans_) {
+void ContactSolverT<Real>::update_faces(const ParticlesT<Real>& p) {
+    for (CutFace& f : faces_) {
         Vec3f newell = Vec3f::Zero();
         for (uint32_t k = 0; k < f.count; ++k)
-            newell += pos3(p.x[fan_vertices_[f.first + k]]).cross(pos3(p.x[fan_vertices_[f.first + (k + 1) % f.count]]));
+            newell += pos3(p.x[face_vertices_[f.first + k]]).cross(pos3(p.x[face_vertices_[f.first + (k + 1) % f.count]]));
         // The loop winds out of the piece, as the volume constraint closes it.
         f.normal = newell.norm() > 0.0f ? Vec3f(newell.normalized()) : Vec3f::Zero();
     }
@@ -156,30 +156,30 @@ void ContactSolverT<Real>::update_fans(const ParticlesT<Real>& p) {
 template <class Real>
 void ContactSolverT<Real>::build_seam_pairs(const SoftBodyT<Real>& body) {
     seam_pairs_.clear();
-    if (body.rest_positions.size() != body.particles.size() || fans_.size() < 2) return;
+    if (body.rest_positions.size() != body.particles.size() || faces_.size() < 2) return;
     struct Key {
         Vec3f rest;
-        uint32_t part, particle, fan;
+        uint32_t part, particle, face;
         bool operator<(const Key& o) const {
             return std::tie(part, rest.x(), rest.y(), rest.z(), particle) < std::tie(o.part, o.rest.x(), o.rest.y(), o.rest.z(), o.particle);
         }
         bool same_place(const Key& o) const { return part == o.part && rest == o.rest; }
     };
     std::vector<Key> keys;
-    keys.reserve(fan_vertices_.size());
-    for (uint32_t f = 0; f < fans_.size(); ++f)
-        for (uint32_t k = 0; k < fans_[f].count; ++k) {
-            const uint32_t i = fan_vertices_[fans_[f].first + k];
+    keys.reserve(face_vertices_.size());
+    for (uint32_t f = 0; f < faces_.size(); ++f)
+        for (uint32_t k = 0; k < faces_[f].count; ++k) {
+            const uint32_t i = face_vertices_[faces_[f].first + k];
             keys.push_back({body.rest_positions[i], part_[i], i, f});
         }
     std::sort(keys.begin(), keys.end());
     for (size_t k = 0; k + 1 < keys.size(); ++k) {
         const Key &a = keys[k], &b = keys[k + 1];
-        if (!a.same_place(b) || a.particle == b.particle || fans_[a.fan].piece == fans_[b.fan].piece) continue;
+        if (!a.same_place(b) || a.particle == b.particle || faces_[a.face].piece == faces_[b.face].piece) continue;
         // Three copies at one place (a vertex two cuts went through): which two face each other
         // is not known, and the faces' contact holds them.
         if ((k + 2 < keys.size() && keys[k + 2].same_place(a)) || (k > 0 && keys[k - 1].same_place(a))) continue;
-        seam_pairs_.push_back({a.particle, b.particle, a.fan, b.fan});
+        seam_pairs_.push_back({a.particle, b.particle, a.face, b.face});
     }
 }
 
@@ -192,7 +192,7 @@ void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSet
     for (const SeamPair& sp : seam_pairs_) {
         // From b's face toward a's: the mean of b's outward normal and a's turned round. Faces
         // turned more than 120 degrees from each other no longer face each other.
-        const Vec3f nf = fans_[sp.fan_b].normal - fans_[sp.fan_a].normal;
+        const Vec3f nf = faces_[sp.face_b].normal - faces_[sp.face_a].normal;
         const float len = nf.norm();
         if (!(len > 1.0f)) continue;
         const Vec4<Real> n = to4<Real>(Vec3f(nf / len));
@@ -221,8 +221,8 @@ typename ContactSolverT<Real>::Corners ContactSolverT<Real>::corners_of(const So
         const mesh::Triangle& tri = body.triangles[t];
         return {tri[0], tri[1], tri[2], nullptr};
     }
-    const FanTriangle& ft = fan_triangles_[t - real];
-    return {ft.a, ft.b, ft.c, &fans_[ft.fan]};
+    const FaceTriangle& ft = face_triangles_[t - real];
+    return {ft.a, ft.b, ft.c, &faces_[ft.face]};
 }
 
 template <class Real>
@@ -238,7 +238,7 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
         const uint32_t ia = tk.ia, ib = tk.ib, ic = tk.ic;
         const Vec3f a = now_[ia], b = now_[ib], c = now_[ic];
         const Vec3f a0 = then_[ia], b0 = then_[ib], c0 = then_[ic];
-        const uint32_t piece = tk.fan ? tk.fan->piece : body.piece_of_particle[ia];
+        const uint32_t piece = tk.face ? tk.face->piece : body.piece_of_particle[ia];
         if (piece >= body.pieces) continue;
         const Eigen::AlignedBox3f box(triangle_box_[q].min() - Vec3f::Constant(reach), triangle_box_[q].max() + Vec3f::Constant(reach));
         Vec3f nrm = Vec3f::Zero(), nrm0 = Vec3f::Zero();
@@ -265,10 +265,10 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             // through that piece's wall beside the face, and a seam at rest is not pushed apart.
             // Only the rim's: a soft balloon's two halves wrinkle against each other beside the
             // seam, and met there they push themselves apart.
-            const bool neighbourhood = pi == piece || (model_[i] == model_[ia] && (part_[i] != part_[ia] || !tk.fan));
+            const bool neighbourhood = pi == piece || (model_[i] == model_[ia] && (part_[i] != part_[ia] || !tk.face));
             bool seam = false;
             if (neighbourhood) {
-                if (pi == piece && tk.fan) continue;
+                if (pi == piece && tk.face) continue;
                 if (!rest_known) continue;
                 const Vec3f& r = body.rest_positions[i];
                 if ((r - body.rest_positions[ia]).squaredNorm() < r_ex2 || (r - body.rest_positions[ib]).squaredNorm() < r_ex2 ||
@@ -286,7 +286,7 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             // A cut face's triangle turned over since the face was made (its outline bent back
             // across it) faces into its piece and would push a particle the wrong way: left out
             // while it stays turned.
-            if (tk.fan && nrm.dot(tk.fan->normal) < 0.0f) break;
+            if (tk.face && nrm.dot(tk.face->normal) < 0.0f) break;
             // Heights over the planes first (cheap), the closest points after.
             const float h_then = then_[i].dot(nrm0) - d_then, h_now = now_[i].dot(nrm) - d_now;
             // Outside a closed piece, or shallowly inside it (pushed out); an open piece keeps a
@@ -419,13 +419,13 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     stacked_ = false;
     if (!s.enabled || n == 0 || body.triangles.empty() || !(scale_.edge > 0.0f)) return;
     ++searches_;
-    build_fans(body);
-    update_fans(p);
+    build_faces(body);
+    update_faces(p);
 
     // Broad phase over patches: the particles of one cell of a rest-space grid (cells half the
     // exclusion radius wide, so a patch is a compact piece of surface), each with the swept box
     // of its particles (grown by the reach) and of the triangles whose first corner it holds; a
-    // cap loop's fan is a triangle group of its own. A pair of groups whose boxes meet is tested
+    // cap loop's face is a triangle group of its own. A pair of groups whose boxes meet is tested
     // particle by triangle, unless both lie in one piece and their rest boxes are within half the
     // exclusion radius (a surface resting against itself, everywhere on a body at rest: that is
     // what makes the search cost next to nothing where nothing touches). So the parts of a piece
@@ -436,7 +436,7 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     self_ = s.self;
     update_origins(body);
     on_rim_.assign(n, 0);
-    for (uint32_t i : fan_vertices_) on_rim_[i] = 1;
+    for (uint32_t i : face_vertices_) on_rim_[i] = 1;
     build_seam_pairs(body);
     build_patches(body);
     box_patches(body, reach);
@@ -446,10 +446,10 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     // Stacked: a piece on another's cut face, or one model on another. Not a burst piece's
     // openings (counted, the random-cut stress test's heap of burst flakes ran 150 times slower),
     // nor the parts of one model on each other's own capped holes (a teapot's lid in its pot).
-    stacked_ = std::any_of(seam_pairs_.begin(), seam_pairs_.end(), [&](const SeamPair& sp) { return fans_[sp.fan_a].cut; }) ||
+    stacked_ = std::any_of(seam_pairs_.begin(), seam_pairs_.end(), [&](const SeamPair& sp) { return faces_[sp.face_a].cut; }) ||
                std::any_of(contacts_.begin(), contacts_.end(), [&](const Contact& c) {
                    const Corners k = corners_of(body, c.triangle);
-                   return k.fan ? k.fan->cut && k.fan->piece != body.piece_of_particle[c.particle] : model_[c.particle] != model_[k.ia];
+                   return k.face ? k.face->cut && k.face->piece != body.piece_of_particle[c.particle] : model_[c.particle] != model_[k.ia];
                });
     anchor_ = now_;
     anchor_triangles_ = body.triangles.size(), anchor_pieces_ = body.pieces;
@@ -459,7 +459,7 @@ template <class Real>
 void ContactSolverT<Real>::box_patches(const SoftBodyT<Real>& body, float reach) {
     const size_t n = body.particles.size();
     const uint32_t patches = uint32_t(patch_start_.size() - 1);
-    const uint32_t groups = patches + fan_chunks_;
+    const uint32_t groups = patches + face_chunks_;
     particle_box_.assign(patches, Eigen::AlignedBox3f());
     rest_box_.assign(patches, Eigen::AlignedBox3f());
     group_box_.assign(groups, Eigen::AlignedBox3f());
@@ -480,10 +480,10 @@ template <class Real>
 void ContactSolverT<Real>::group_triangles(const SoftBodyT<Real>& body) {
     const size_t real = body.triangles.size();
     const uint32_t patches = uint32_t(patch_start_.size() - 1);
-    const uint32_t groups = patches + fan_chunks_;
+    const uint32_t groups = patches + face_chunks_;
     group_start_.assign(groups + 1, 0);
     for (size_t t = 0; t < real; ++t) ++group_start_[patch_of_[body.triangles[t][0]] + 1];
-    for (const FanTriangle& ft : fan_triangles_) ++group_start_[patches + ft.chunk + 1];
+    for (const FaceTriangle& ft : face_triangles_) ++group_start_[patches + ft.chunk + 1];
     for (uint32_t g = 0; g < groups; ++g) group_start_[g + 1] += group_start_[g];
     group_triangles_.resize(group_start_.back());
     std::vector<uint32_t>& cursor = cursor_;
@@ -501,15 +501,15 @@ void ContactSolverT<Real>::group_triangles(const SoftBodyT<Real>& body) {
         triangle_box_[q] = swept(now_[tri[0]], now_[tri[1]], now_[tri[2]], then_[tri[0]], then_[tri[1]], then_[tri[2]]);
         group_box_[g].extend(triangle_box_[q]);
     }
-    for (uint32_t k = 0; k < fan_triangles_.size(); ++k) {
-        const Fan& fan = fans_[fan_triangles_[k].fan];
-        const uint32_t g = patches + fan_triangles_[k].chunk;
+    for (uint32_t k = 0; k < face_triangles_.size(); ++k) {
+        const CutFace& face = faces_[face_triangles_[k].face];
+        const uint32_t g = patches + face_triangles_[k].chunk;
         const uint32_t q = cursor[g]++;
         group_triangles_[q] = uint32_t(real + k);
         const Corners tk = corners_of(body, uint32_t(real + k));
         triangle_box_[q] = swept(now_[tk.ia], now_[tk.ib], now_[tk.ic], then_[tk.ia], then_[tk.ib], then_[tk.ic]);
         group_box_[g].extend(triangle_box_[q]);
-        patch_piece_[g] = fan.piece;
+        patch_piece_[g] = face.piece;
     }
 }
 
@@ -541,7 +541,7 @@ bool ContactSolverT<Real>::meets_another(const Eigen::AlignedBox3f& b, uint32_t 
 template <class Real>
 void ContactSolverT<Real>::build_grid(const SoftBodyT<Real>& body) {
     const uint32_t patches = uint32_t(patch_start_.size() - 1);
-    const uint32_t groups = patches + fan_chunks_;
+    const uint32_t groups = patches + face_chunks_;
     float extent = 0.0f;
     size_t boxes = 0;
     for (const Eigen::AlignedBox3f& b : particle_box_)
@@ -588,7 +588,7 @@ void ContactSolverT<Real>::build_grid(const SoftBodyT<Real>& body) {
 template <class Real>
 void ContactSolverT<Real>::search_pairs(const SoftBodyT<Real>& body) {
     const uint32_t patches = uint32_t(patch_start_.size() - 1);
-    const uint32_t groups = patches + fan_chunks_;
+    const uint32_t groups = patches + face_chunks_;
     const bool rest_known = body.rest_positions.size() == body.particles.size();
     seen_.assign(groups, UINT32_MAX);
     const float r_ex2 = scale_.exclusion * scale_.exclusion;
@@ -620,7 +620,7 @@ template <class Real>
 void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings& s) {
     if (contacts_.empty() && seam_pairs_.empty()) return;
     ParticlesT<Real>& p = body.particles;
-    update_fans(p);
+    update_faces(p);
     project_seams(body, s);
     for (const Contact& ct : contacts_) {
         const uint32_t i = ct.particle;

@@ -63,7 +63,7 @@ template <class Real>
 float mean_rest_edge(const SoftBodyT<Real>& body);
 
 // One candidate: particle `particle` against surface triangle `triangle` (an index past the
-// body's triangles names a cap fan triangle), kept on side `side` of it.
+// body's triangles names a cut face's triangle), kept on side `side` of it.
 struct Contact {
     uint32_t particle;
     uint32_t triangle;
@@ -91,8 +91,8 @@ public:
     bool stacked() const { return stacked_; }
 
 private:
-    struct Fan {  // one cap loop: its cut face
-        uint32_t first = 0, count = 0;  // into fan_vertices_
+    struct CutFace {  // one cap loop: its cut face
+        uint32_t first = 0, count = 0;  // into face_vertices_
         uint32_t piece = 0;
         Vec3f normal = Vec3f::Zero();  // the loop's (Newell's), out of its piece
         bool cut = false;              // a cut's face (not one of the model's own holes, nor a burst's opening)
@@ -104,22 +104,22 @@ private:
     // rim bends, cannot hold alone.
     struct SeamPair {
         uint32_t a, b;          // particles, of two pieces
-        uint32_t fan_a, fan_b;  // their loops' fans
+        uint32_t face_a, face_b;  // their loops' faces
     };
     std::vector<SeamPair> seam_pairs_;
-    std::vector<uint8_t> on_rim_;  // per particle: on a loop of fans_
+    std::vector<uint8_t> on_rim_;  // per particle: on a loop of faces_
     void build_seam_pairs(const SoftBodyT<Real>& body);
     void project_seams(SoftBodyT<Real>& body, const ContactSettings& s);
-    struct FanTriangle {
-        uint32_t fan;
+    struct FaceTriangle {
+        uint32_t face;
         uint32_t a, b, c;  // particles of its loop, wound as the loop (out of the piece)
         uint32_t chunk;    // its broad-phase group, past the patches
     };
     static constexpr uint32_t k_fan_chunk = 8;
-    uint32_t fan_chunks_ = 0;
+    uint32_t face_chunks_ = 0;
     struct Corners {
         uint32_t ia, ib, ic;
-        const Fan* fan;  // the cut face a cap triangle belongs to; null for the body's triangles
+        const CutFace* face;  // the cut face a cap triangle belongs to; null for the body's triangles
     };
     Corners corners_of(const SoftBodyT<Real>& body, uint32_t triangle) const;
     // Each cap loop's triangles (loop positions), made when the loop first appears: a loop keeps
@@ -131,14 +131,14 @@ private:
     };
     std::vector<CapFace> cap_faces_;
     const CapFace& cap_face(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x);
-    void build_fans(const SoftBodyT<Real>& body);
-    void update_fans(const ParticlesT<Real>& p);
+    void build_faces(const SoftBodyT<Real>& body);
+    void update_faces(const ParticlesT<Real>& p);
 
     ContactScale scale_;
     std::vector<Contact> contacts_;
-    std::vector<Fan> fans_;
-    std::vector<uint32_t> fan_vertices_;
-    std::vector<FanTriangle> fan_triangles_;
+    std::vector<CutFace> faces_;
+    std::vector<uint32_t> face_vertices_;
+    std::vector<FaceTriangle> face_triangles_;
     std::vector<uint8_t> closed_;  // per piece
     void update_origins(const SoftBodyT<Real>& body);
     void build_patches(const SoftBodyT<Real>& body);
