@@ -220,6 +220,66 @@ void keep_fragments(const sim::SoftBody& b, const CutSurface& cut, std::span<con
     }
 }
 
+// The vertices a cut moves onto itself: a byte per particle, and the list of those set.
+struct Snaps {
+    std::vector<uint8_t>& flag;
+    std::vector<uint32_t> on_cut;
+    void add(uint32_t v) {
+        if (!flag[v]) flag[v] = 1, on_cut.push_back(v);
+    }
+};
+
+// A corner piece below this share of an equilateral triangle of the reference edge is a sliver.
+constexpr float k_min_corner_share = 0.05f;
+constexpr float k_equilateral_area = 0.433f;  // sqrt(3) / 4, of a unit edge
+// Undoing a snap to keep a fragment whole may make children down to this share of the corner
+// bound (0.5 % of the equilateral triangle): at 2.5 % bunny_cut's ear stayed a fleck, at 0.25 %
+// cuts repeated through one region whittled triangles to 1.2e-4 of the mean area (2.4e-4 without).
+constexpr float k_fragment_child_share = 0.1f;
+
+// Snap: a crossing near an end moves onto that vertex. Near means within `snap` of the edge, or
+// within `reach` of rest distance (snap mean edge lengths), so repeated cuts through one region
+// cannot make ever smaller triangles. Decided from the unsnapped distances, so the result does
+// not depend on the order edges are visited.
+void snap_near_crossings(const sim::SoftBody& b, const CutSurface& s, std::span<const float> d, float snap, float reach,
+                         const std::vector<uint32_t>& crossed, Snaps& out) {
+    for (uint32_t f : crossed) {
+        const mesh::Triangle& t = b.triangles[f];
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t i = std::min(t[size_t(k)], t[size_t((k + 1) % 3)]);
+            const uint32_t j = std::max(t[size_t(k)], t[size_t((k + 1) % 3)]);
+            if (!((d[i] < 0.0f && d[j] > 0.0f) || (d[i] > 0.0f && d[j] < 0.0f))) continue;
+            if (!s.may_touch(i) || !s.may_touch(j)) continue;
+            const float u = d[i] / (d[i] - d[j]);
+            const float rest = (b.rest_positions[j] - b.rest_positions[i]).norm();
+            const bool near_i = u < snap || u * rest < reach, near_j = u > 1.0f - snap || (1.0f - u) * rest < reach;
+            if (!near_i && !near_j) continue;
+            if (s.reaches(crossing_point(b, i, j, u))) out.add(near_i && (!near_j || u < 0.5f) ? i : j);
+        }
+    }
+}
+
+// A crossed triangle's corner piece (the lone vertex and the two crossings) has u_ab * u_ac of
+// its area: where that is below `min_corner_area`, the cut goes through the lone vertex instead.
+// Without this, cuts repeated through one region shrink corners generation after generation
+// (u <= 1 - snap keeps each child above a tenth of its parent, not above any absolute size).
+void snap_sliver_corners(const sim::SoftBody& b, const CutSurface& s, std::span<const float> d, float min_corner_area,
+                         const std::vector<uint32_t>& crossed, Snaps& out) {
+    for (uint32_t f : crossed) {
+        const mesh::Triangle& t = b.triangles[f];
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = t[size_t(k)], p = t[size_t((k + 1) % 3)], q = t[size_t((k + 2) % 3)];
+            const bool lone = (d[a] < 0.0f && d[p] > 0.0f && d[q] > 0.0f) || (d[a] > 0.0f && d[p] < 0.0f && d[q] < 0.0f);
+            if (!lone || out.flag[a] || out.flag[p] || out.flag[q]) continue;
+            if (!s.may_touch(a) || !s.may_touch(p) || !s.may_touch(q)) continue;
+            const float u_p = d[a] / (d[a] - d[p]), u_q = d[a] / (d[a] - d[q]);
+            const Vec3f& ra = b.rest_positions[a];
+            const float area = 0.5f * (b.rest_positions[p] - ra).cross(b.rest_positions[q] - ra).norm();
+            if (u_p * u_q * area < min_corner_area && s.reaches(sim::xyz(b.particles.x[a]))) out.add(a);
+        }
+    }
+}
+
 void classify(const sim::SoftBody& b, const CutSurface& s, float snap, float reference, uint32_t min_fragment, Sides& out) {
     const size_t n = b.particle_count();
     measure_sides(b, s, out);
@@ -237,55 +297,17 @@ void classify(const sim::SoftBody& b, const CutSurface& s, float snap, float ref
         each_looked_at([&](uint32_t v) {
             if (d[v] == 0.0f && s.may_touch(v) && s.reaches(sim::xyz(b.particles.x[v]))) sign[v] = 0;
         });
-    // Snap: a crossing near an end moves onto that vertex. Near means within `snap` of the edge,
-    // or within `snap` mean edge lengths of rest distance, so repeated cuts through one region
-    // cannot make ever smaller triangles. Decided from the unsnapped distances, so the result
-    // does not depend on the order edges are visited.
     if (!(reference > 0.0f)) reference = mean_rest_length(b);
-    const float reach = snap * reference;
     thread_local ParticleScratch<uint8_t> snaps(0);
-    std::vector<uint8_t>& snapped = snaps.take(n);  // a byte per particle: cheaper than a search
-    std::vector<uint32_t> on_cut;
-    auto snap_to = [&](uint32_t v) {
-        if (!snapped[v]) snapped[v] = 1, on_cut.push_back(v);
-    };
-    for (uint32_t f : out.crossed) {
-        const mesh::Triangle& t = b.triangles[f];
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t i = std::min(t[size_t(k)], t[size_t((k + 1) % 3)]);
-            const uint32_t j = std::max(t[size_t(k)], t[size_t((k + 1) % 3)]);
-            if (!((d[i] < 0.0f && d[j] > 0.0f) || (d[i] > 0.0f && d[j] < 0.0f))) continue;
-            if (!s.may_touch(i) || !s.may_touch(j)) continue;
-            const float u = d[i] / (d[i] - d[j]);
-            const float rest = (b.rest_positions[j] - b.rest_positions[i]).norm();
-            const bool near_i = u < snap || u * rest < reach, near_j = u > 1.0f - snap || (1.0f - u) * rest < reach;
-            if (!near_i && !near_j) continue;
-            if (s.reaches(crossing_point(b, i, j, u))) snap_to(near_i && (!near_j || u < 0.5f) ? i : j);
-        }
-    }
-    // A crossed triangle's corner piece (the lone vertex and the two crossings) has u_ab * u_ac
-    // of its area: where that is a sliver next to the reference triangle, the cut goes through
-    // the lone vertex instead. Without this, cuts repeated through one region shrink corners
-    // generation after generation (u <= 1 - snap keeps each child above a tenth of its parent,
-    // not above any absolute size).
-    const float min_corner_area = 0.05f * 0.433f * reference * reference;  // 5 % of an equilateral triangle
-    for (uint32_t f : out.crossed) {
-        const mesh::Triangle& t = b.triangles[f];
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t a = t[size_t(k)], p = t[size_t((k + 1) % 3)], q = t[size_t((k + 2) % 3)];
-            const bool lone = (d[a] < 0.0f && d[p] > 0.0f && d[q] > 0.0f) || (d[a] > 0.0f && d[p] < 0.0f && d[q] < 0.0f);
-            if (!lone || snapped[a] || snapped[p] || snapped[q]) continue;
-            if (!s.may_touch(a) || !s.may_touch(p) || !s.may_touch(q)) continue;
-            const float u_p = d[a] / (d[a] - d[p]), u_q = d[a] / (d[a] - d[q]);
-            const Vec3f& ra = b.rest_positions[a];
-            const float area = 0.5f * (b.rest_positions[p] - ra).cross(b.rest_positions[q] - ra).norm();
-            if (u_p * u_q * area < min_corner_area && s.reaches(sim::xyz(b.particles.x[a]))) snap_to(a);
-        }
-    }
+    Snaps snapped{snaps.take(n), {}};  // a byte per particle: cheaper than a search
+    snap_near_crossings(b, s, d, snap, snap * reference, out.crossed, snapped);
+    const float min_corner_area = k_min_corner_share * k_equilateral_area * reference * reference;
+    snap_sliver_corners(b, s, d, min_corner_area, out.crossed, snapped);
+    std::vector<uint32_t>& on_cut = snapped.on_cut;
     for (uint32_t v : on_cut) sign[v] = 0;
     // A tear's slit (a listed cut) has its own rule: tear_once takes back a slit that leaves a
     // small piece and tries the next edge.
-    if (min_fragment > 0 && out.all) keep_fragments(b, s, d, sign, snapped, on_cut, min_fragment, snap, 0.1f * min_corner_area);
+    if (min_fragment > 0 && out.all) keep_fragments(b, s, d, sign, snapped.flag, on_cut, min_fragment, snap, k_fragment_child_share * min_corner_area);
     snaps.give_back(on_cut);
     std::erase_if(on_cut, [&](uint32_t v) { return sign[v] != 0; });
     if (on_plane) {
