@@ -42,9 +42,6 @@ namespace {
 // How far beside a triangle (over its mean edge length) a particle still counts as over it: the
 // rounding of a point projected onto an edge two triangles share.
 constexpr float k_over = 0.01f;
-// How far past the thickness (over it) a particle pushed earlier in the substep still rests on
-// the surface and keeps its static friction: the other constraints lift it by their rounding.
-constexpr float k_resting = 0.1f;
 // How far behind a surface (over the mean edge) a particle may lie at rest and still count as on
 // it: the copies a cut made of one vertex lie on each other's cut faces, behind them by rounding.
 constexpr float k_on_surface = 1e-3f;
@@ -625,7 +622,7 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
     ParticlesT<Real>& p = body.particles;
     update_faces(p);
     project_seams(body, s);
-    for (Contact& ct : contacts_) {
+    for (const Contact& ct : contacts_) {
         const uint32_t i = ct.particle;
         const Corners ck = corners_of(body, ct.triangle);
         const uint32_t ia = ck.ia, ib = ck.ib, ic = ck.ic;
@@ -636,10 +633,8 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
         const Vec3f nf = unit_normal(a, b, c);
         if (nf.isZero()) continue;
         const Vec3f xi = pos3(p.x[i]);
-        // Clear of the plane: clear of the triangle (most candidates, most iterations). A contact
-        // pushed earlier in the substep and still resting on the surface keeps its friction.
-        const float resting = ct.pushed > 0.0f ? k_resting * ct.thickness : 0.0f;
-        if (ct.side * (xi - a).dot(nf) >= ct.thickness + resting) continue;
+        // Clear of the plane: clear of the triangle (most candidates, most iterations).
+        if (ct.side * (xi - a).dot(nf) >= ct.thickness) continue;
         const Over o = over_triangle(xi, a, b, c, nf);
         // Pushed along this triangle's normal only while over it: beside it (over a convex edge
         // or corner) its neighbour takes over, and pushing along this one's normal there would
@@ -647,7 +642,7 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
         if (o.lateral > k_over * scale_.edge) continue;
         const Real side = Real(ct.side);
         const Real C = side * Real(o.height) - Real(ct.thickness);
-        if (C >= Real(resting)) continue;
+        if (C >= Real(0)) continue;
         const Real ua = Real(o.wa), ub = Real(o.wb), uc = Real(o.wc);
         const Real denom = p.w[i] + ua * ua * wa + ub * ub * p.w[ib] + uc * uc * p.w[ic];
         if (!(denom > Real(0))) continue;
@@ -659,21 +654,13 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
             p.x[ib] -= p.w[ib] * ub * d;
             p.x[ic] -= p.w[ic] * uc * d;
         };
-        const Real depth = std::max(-C, Real(0));
-        if (depth > Real(0)) apply((depth / denom) * n);
-        ct.pushed += float(depth);
-        // Friction on the particle's motion relative to the surface point since the substep
-        // began. Static friction is bounded by the whole push of the substep, not this
-        // iteration's: the first iteration resolves most of the depth, and bounded by what is
-        // left a resting contact's grip shrank with every further iteration and substep (a cut
-        // ball's top slid further off its bottom at 8 substeps than at 4). Kinetic friction takes
-        // this iteration's share only, so that it is not applied again and again.
+        const Real depth = -C;
+        apply((depth / denom) * n);
+        // Friction on the particle's motion relative to the surface point since the substep began.
         Vec4<Real> rel = (p.x[i] - p.x_prev[i]) - ub * (p.x[ib] - p.x_prev[ib]) - uc * (p.x[ic] - p.x_prev[ic]);
         rel -= ua * (p.x[ia] - p.x_prev[ia]);
         const Vec4<Real> tangential = rel - rel.dot(n) * n;
-        const Real t = tangential.norm();
-        const Real share = t <= Real(s.friction.static_) * Real(ct.pushed) ? Real(1) : friction_share(s.friction, t, depth);
-        if (share > Real(0)) apply((-share / denom) * tangential);
+        apply((-friction_share(s.friction, tangential.norm(), depth) / denom) * tangential);
     }
 }
 

@@ -10,12 +10,11 @@
 // Each substep finds candidate (particle, triangle) pairs once, after prediction, through a hash
 // grid of the particles; each iteration then projects them as one-sided PBD constraints
 //   side * (x_p - q(a, b, c)) . n  >=  thickness
-// with Coulomb friction on the relative motion since the substep began (static friction bounded
-// by how far all the substep's iterations pushed the pair apart, kinetic by this iteration's).
-// The side is read at the substep's start, so a particle that was in front of a triangle stays
-// in front however far it moved since (no tunnelling through a surface at any speed the hash's
-// sweep covers); against a closed piece (one with a volume constraint) it is always the outside,
-// so a particle that ended up shallowly inside is pushed out.
+// with Coulomb friction on the relative motion since the substep began. The side is read at the
+// substep's start, so a particle that was in front of a triangle stays in front however far it
+// moved since (no tunnelling through a surface at any speed the hash's sweep covers); against a
+// closed piece (one with a volume constraint) it is always the outside, so a particle that ended
+// up shallowly inside is pushed out.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -70,7 +69,6 @@ struct Contact {
     uint32_t triangle;
     float side;
     float thickness;  // the scale's, or less where the two started closer at rest
-    float pushed = 0.0f;  // how far the substep's iterations have pushed it out so far (friction's bound)
 };
 
 template <class Real>
