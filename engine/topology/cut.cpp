@@ -18,6 +18,17 @@ Vec3f crossing_point(const sim::SoftBody& b, uint32_t i, uint32_t j, float u) {
     return sim::xyz(b.particles.x[i]) + u * (sim::xyz(b.particles.x[j]) - sim::xyz(b.particles.x[i]));
 }
 
+float rest_area(const sim::SoftBody& b, const mesh::Triangle& t) {
+    const Vec3f& p = b.rest_positions[t[0]];
+    return 0.5f * (b.rest_positions[t[1]] - p).cross(b.rest_positions[t[2]] - p).norm();
+}
+
+// Where the cut crosses edge (from, to), as a fraction from `from`, kept `snap` off either end
+// (the same fraction eq. 26 places the new particle at).
+float crossing_fraction(std::span<const float> d, uint32_t from, uint32_t to, float snap) {
+    return std::clamp(d[from] / (d[from] - d[to]), snap, 1.0f - snap);
+}
+
 // Each vertex's signed distance to the cut plane, and its side: -1, +1, or 0 for "on the cut"
 // (within its reach, exactly on the plane or snapped there). The triangles the plane crosses
 // are found in one lean pass; everything after looks at those only.
@@ -130,8 +141,7 @@ private:
             const uint32_t i = f[size_t(k)], j = f[size_t((k + 1) % 3)];
             if (sign_[i] * sign_[j] >= 0) continue;
             if (!s_.may_touch(i) || !s_.may_touch(j)) return false;
-            const float u = std::clamp(d_[i] / (d_[i] - d_[j]), snap_, 1.0f - snap_);
-            if (!s_.reaches(crossing_point(b_, i, j, u))) return false;
+            if (!s_.reaches(crossing_point(b_, i, j, crossing_fraction(d_, i, j, snap_)))) return false;
         }
         return true;
     }
@@ -147,9 +157,8 @@ private:
 // (crossings clamped to [snap, 1 - snap] as add_crossings does); the triangle's own when the
 // sides do not cross it.
 float smallest_child(const sim::SoftBody& b, const mesh::Triangle& t, std::span<const float> d, std::span<const int8_t> sign, float snap) {
-    const Vec3f& r0 = b.rest_positions[t[0]];
-    const float area = 0.5f * (b.rest_positions[t[1]] - r0).cross(b.rest_positions[t[2]] - r0).norm();
-    auto u = [&](uint32_t from, uint32_t to) { return std::clamp(d[from] / (d[from] - d[to]), snap, 1.0f - snap); };
+    const float area = rest_area(b, t);
+    auto u = [&](uint32_t from, uint32_t to) { return crossing_fraction(d, from, to, snap); };
     for (int k = 0; k < 3; ++k) {
         const uint32_t a = t[size_t(k)], p = t[size_t((k + 1) % 3)], q = t[size_t((k + 2) % 3)];
         if (sign[a] == 0 && sign[p] * sign[q] < 0) {  // through a corner: two children
@@ -206,7 +215,6 @@ void keep_fragments(const sim::SoftBody& b, const CutSurface& cut, std::span<con
                         continue;
                     }
                     if (graph.reach({t, s}, min_fragment, false, whole)) continue;  // small already
-
                     corners.clear();
                     for (const auto& [u, side] : fragment)
                         for (uint32_t w : b.triangles[u])
@@ -347,11 +355,6 @@ private:
     }
 };
 
-float rest_area(const sim::SoftBody& b, const mesh::Triangle& t) {
-    const Vec3f& p = b.rest_positions[t[0]];
-    return 0.5f * (b.rest_positions[t[1]] - p).cross(b.rest_positions[t[2]] - p).norm();
-}
-
 core::Status validate(const sim::SoftBody& b, const CutSurface& s, const CutOptions& o) {
     if (!(o.snap >= 0.0f && o.snap < 0.5f)) return core::make_error("cut: snap must be in [0, 0.5)");
     if (!(o.reference_edge_length >= 0.0f) || !std::isfinite(o.reference_edge_length))
@@ -391,8 +394,7 @@ std::vector<uint32_t> add_crossings(sim::SoftBody& b, const CutSurface& s, const
                 crossed = true;
                 continue;
             }
-            const float di = sides.distance[i], dj = sides.distance[j];
-            const float u = std::clamp(di / (di - dj), o.snap, 1.0f - o.snap);
+            const float u = crossing_fraction(sides.distance, i, j, o.snap);
             if (!s.reaches(crossing_point(b, i, j, u))) continue;
             e.add_edge_point(i, j, u);
             crossed = true;
