@@ -302,6 +302,7 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
                 if (closed && side < 0.0f) continue;
             }
             if (side * h_now > reach) continue;  // clear of it at the end of the sweep
+            if (std::abs(h_now) >= farthest_kept(i)) continue;
             const Over now = over_triangle(now_[i], a, b, c, nrm), then = over_triangle(then_[i], a0, b0, c0, nrm0);
             const float beside = scale_.thickness + scale_.slack;
             if (now.lateral > beside && then.lateral > beside) continue;  // beside it
@@ -323,9 +324,36 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
                     }
                 }
             }
-            contacts_.push_back({i, t, side, thickness});
+            keep({i, t, side, thickness}, std::abs(h_now) + std::min(now.lateral, then.lateral));
         }
     }
+}
+
+template <class Real>
+float ContactSolverT<Real>::farthest_kept(uint32_t i) const {
+    if (kept_[i] < k_max_candidates) return std::numeric_limits<float>::infinity();
+    const float* key = &slot_key_[size_t(i) * k_max_candidates];
+    return *std::max_element(key, key + k_max_candidates);
+}
+
+template <class Real>
+void ContactSolverT<Real>::keep(const Contact& c, float distance) {
+    const size_t base = size_t(c.particle) * k_max_candidates;
+    uint32_t& kept = kept_[c.particle];
+    if (kept < k_max_candidates) {
+        slot_[base + kept] = uint32_t(contacts_.size());
+        slot_key_[base + kept] = distance;
+        ++kept;
+        contacts_.push_back(c);
+        return;
+    }
+    // Full: the new one takes the farthest's place (in contacts_ too, so the order of every
+    // particle under the limit is the search's).
+    float* key = &slot_key_[base];
+    const size_t far = size_t(std::max_element(key, key + k_max_candidates) - key);
+    if (!(distance < key[far])) return;
+    contacts_[slot_[base + far]] = c;
+    key[far] = distance;
 }
 
 template <class Real>
@@ -591,6 +619,9 @@ void ContactSolverT<Real>::search_pairs(const SoftBodyT<Real>& body) {
     const uint32_t groups = patches + face_chunks_;
     const bool rest_known = body.rest_positions.size() == body.particles.size();
     seen_.assign(groups, UINT32_MAX);
+    kept_.assign(body.particles.size(), 0);
+    slot_.resize(body.particles.size() * k_max_candidates);
+    slot_key_.resize(slot_.size());
     const float r_ex2 = scale_.exclusion * scale_.exclusion;
     for (uint32_t A = 0; A < patches; ++A) {
         if (particle_box_[A].isEmpty() || !in_play_[A]) continue;

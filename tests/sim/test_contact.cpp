@@ -410,6 +410,43 @@ TEST_SUITE("sim/contact") {
         CHECK(crossed == 0);
     }
 
+    TEST_CASE("in a heap a particle keeps its nearest candidates, at most k_max_candidates") {
+        // Forty sheets a hundredth of an edge apart, each a model of its own: all within reach.
+        constexpr int k_sheets = 40;
+        const float edge = 0.25f;
+        mesh::TriangleMesh m;
+        for (int k = 0; k < k_sheets; ++k) mesh::append(m, mesh::grid_sheet(4, 4 * edge), placed_at({0.0f, 0.01f * edge * float(k), 0.0f}));
+        sim::SoftBodyDesc d;
+        d.volume = false;
+        sim::SoftBody b = separate_models(test::make_body(std::move(m), d));
+        REQUIRE(b.pieces == uint32_t(k_sheets));
+        b.particles.x_prev = b.particles.x;
+        sim::ContactSolver contact;
+        contact.find(b, {});
+        const auto sheet_of = [&](uint32_t particle) { return int(std::lround(b.particles.x[particle].y() / (0.01f * edge))); };
+        std::vector<uint32_t> count(b.particle_count(), 0);
+        std::vector<std::set<int>> sheets_met(b.particle_count());  // sheets above (+) and below (-)
+        for (const sim::Contact& c : contact.contacts()) {
+            ++count[c.particle];
+            sheets_met[c.particle].insert(sheet_of(b.triangles[c.triangle][0]) - sheet_of(c.particle));
+        }
+        const uint32_t most = *std::max_element(count.begin(), count.end());
+        MESSAGE(contact.contacts().size() << " candidates, at most " << most << " a particle");
+        CHECK(most == sim::k_max_candidates);  // more were within reach: the limit holds
+        // A middle-sheet particle at the limit keeps the sheets nearest it, as many above as
+        // below and with no gap, whatever order the search met them in.
+        uint32_t middle_full = 0;
+        for (size_t i = 0; i < b.particle_count(); ++i) {
+            if (sheet_of(uint32_t(i)) != k_sheets / 2 || count[i] != sim::k_max_candidates) continue;
+            ++middle_full;
+            const std::set<int>& met = sheets_met[i];
+            const int below = -*met.begin(), above = *met.rbegin();
+            CHECK(int(met.size()) == below + above);
+            CHECK(std::abs(above - below) <= 1);
+        }
+        CHECK(middle_full > 0);
+    }
+
     TEST_CASE("the broad phase finds every pair a brute-force search finds, on random soups") {
         std::mt19937 rng(7);
         std::uniform_real_distribution<float> u(-1.0f, 1.0f);
