@@ -1,5 +1,7 @@
 // SceneRuntime's frame graph: the resources a scene has (an absent one culls the passes that
 // need it) and each stage's passes in frame order, and what follows a topology change.
+#include <algorithm>
+
 #include "scene/scene_runtime.h"
 
 #include "scene/stages/body_view.h"
@@ -32,7 +34,8 @@ struct SceneRuntime::GraphHandles {
     graph::Handle<EventQueue> cuts;
     graph::Handle<splat::Appearance> appearance;
     graph::Handle<std::string> note;
-    bool boundary = false, drags = false, sorted = false;
+    graph::Handle<splat::CutFaces> cut_faces;
+    bool boundary = false, drags = false, sorted = false, cut_faces_on = false;
 };
 
 bool SceneRuntime::has_timed_events() const {
@@ -68,6 +71,11 @@ void SceneRuntime::import_resources(GraphHandles& h) {
     // The queue again, as a marker read by the topology pass: absent when no cut or tear can come,
     // so that the pass is culled (it is never written through this handle).
     h.cuts = g.import("topology events", topology_events ? queue_.get() : static_cast<EventQueue*>(nullptr));
+    // The faces a cut makes, drawn where surfaces are sampled: once cuts can come, and for as long
+    // as the body has openings (the graph is rebuilt after the last cut).
+    const bool opened = std::any_of(body_.volumes.begin(), body_.volumes.end(), [](const sim::VolumeConstraint& v) { return v.opened(); });
+    h.cut_faces_on = (topology_events || opened) && h_ > 0.0f;
+    h.cut_faces = g.import("cut faces", h.cut_faces_on ? &cut_faces_ : static_cast<splat::CutFaces*>(nullptr));
 }
 
 void SceneRuntime::add_surface_and_map_passes(GraphHandles& h) {
@@ -87,9 +95,12 @@ void SceneRuntime::add_surface_and_map_passes(GraphHandles& h) {
     map_settings_.draw_ground = scene_.render.ground;
     map_settings_.ground = scene_.simulation.colliders.ground;
     MapHandles map{h.body, h.samples, h.stretch, h.sort, h.appearance, g.import("map settings", &map_settings_),
-                   g.import("mapping", mapping_.get()), h.input};
-    add_mapping_passes(g, map, {h.boundary, scene_.surface.stretch_scale, h.sorted, options_.keep_records, !paused_, tag(PassGroup::update)});
+                   g.import("mapping", mapping_.get()), h.input, h.cut_faces};
+    MapPassOptions mo{h.boundary, scene_.surface.stretch_scale, h.sorted, options_.keep_records, !paused_, tag(PassGroup::update)};
+    mo.cut_faces = h.cut_faces_on;
+    add_mapping_passes(g, map, mo);
     h.input = map.input;
+    h.cut_faces = map.cut_faces;
 }
 
 void SceneRuntime::fingerprint_resources(const GraphHandles& h) {
@@ -170,14 +181,23 @@ void SceneRuntime::add_occluder_mesh_pass(GraphHandles& h) {
         b.read(h.body);
         mesh = b.write(mesh);
         if (fine_) embedding = b.write(embedding);
+        if (h.cut_faces_on) b.read(h.cut_faces);
         h.input = b.write(h.input);
         const mesh::TriangleMesh* fine = fine_ ? &*fine_ : nullptr;  // the model's surface: fixed at load
         return [fine, mesh, embedding, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
             const sim::SoftBody& body = r.read(hh.body);
             passes::GpuFrameInput& in = r.write(hh.input);
-            if (fine) {
+            // A cut face hides what lies behind it as the shell does.
+            const splat::CutFaces* faces = hh.cut_faces_on ? &r.read(hh.cut_faces) : nullptr;
+            if (fine || (faces && faces->faces() > 0)) {
                 OccluderMesh& m = r.write(mesh);
-                deformed_fine_surface(body, *fine, r.write(embedding), m.x, m.triangles);
+                if (fine) {
+                    deformed_fine_surface(body, *fine, r.write(embedding), m.x, m.triangles);
+                } else {
+                    m.x = body.particles.x;
+                    m.triangles = body.triangles;
+                }
+                if (faces) faces->append_surface(body.particles.x, m.x, m.triangles);
                 in.occluder_positions = m.x;
                 in.occluder_triangles = m.triangles;
             } else {

@@ -55,6 +55,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     splat_particles_ = surface->particles_are_splats;
     if (!paint_.empty()) paint_samples(paint_, body_, boundary_);
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
+    cut_faces_ = splat::CutFaces(h_, mat.interior_color, mat.color, scene_.simulation.fade_frames, sd_surface.seed);
     mapping_ = std::make_unique<MappingStage>(body_, scene_.simulation.fade_frames, scene_.render.deformed_shapes(),
                                                scene_.render.varying_normals);
     set_up_look();

@@ -115,6 +115,13 @@ public:
     // itself. Triangles that a cut or tear tore across (corners on different pieces, or an
     // edge stretched past 3x) are left out. For coverage against a mesh raster.
     void deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles);
+    // The faces cuts made, as drawn (splat/cut_faces.h): their triangles appended to `triangles`
+    // on corners of their own appended to `x` (`sources`: the particle each copies). Nothing
+    // before a cut.
+    void append_cut_faces(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, std::vector<uint32_t>* sources = nullptr) const {
+        cut_faces_.append_surface(body_.particles.x, x, triangles, sources);
+    }
+    size_t cut_face_count() const { return cut_faces_.faces(); }
     const surface::BoundaryParticles& boundary_particles() const { return boundary_; }
     bool particles_are_splats() const { return splat_particles_; }
     // The splats of the last frame: the particles' first, then the boundary particles'; with an
@@ -209,7 +216,8 @@ private:
     surface::EmbeddingStats embedding_;
     std::optional<surface::BoundaryParticles> fine_vertices_;  // made on the first deformed_surface()
     // The surface mesh as the mesh occluders draw it (render.visibility = "mesh"): the fine
-    // surface where the body carries one, else the body's own triangles (not copied).
+    // surface where the body carries one, else the body's own triangles (not copied unless cut
+    // faces are added to them).
     struct OccluderMesh {
         std::vector<Vec4f> x;
         std::vector<mesh::Triangle> triangles;
@@ -222,6 +230,7 @@ private:
     sim::DragConstraint drag_;
     splat::Appearance appearance_;
     surface::BoundaryParticles boundary_;
+    splat::CutFaces cut_faces_;  // followed and drawn where cuts can come
     splat::StretchScale stretch_;
     surface::DensityControl density_;  // empty when the scene turns it off
     surface::DensityStats density_stats_;

@@ -37,6 +37,20 @@ float mean_rest_edge(const SoftBodyT<Real>& body) {
     return n ? float(sum / double(n)) : 0.0f;
 }
 
+template <class Real>
+bool encloses_face(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x, const std::vector<Vec3f>& rest) {
+    const bool use_rest = rest.size() == x.size();
+    std::vector<Vec3f> outline;
+    outline.reserve(loop.size());
+    for (uint32_t i : loop) outline.push_back(use_rest ? rest[i] : Vec3f(x[i].template head<3>().template cast<float>()));
+    float perimeter = 0.0f;
+    for (size_t k = 0; k < outline.size(); ++k) perimeter += (outline[(k + 1) % outline.size()] - outline[k]).norm();
+    double area = 0.0;
+    for (const std::array<uint32_t, 3>& t : mesh::triangulate_least_area(outline))
+        area += 0.5 * double((outline[t[1]] - outline[t[0]]).cross(outline[t[2]] - outline[t[0]]).norm());
+    return area >= 0.02 * double(perimeter) * double(perimeter);
+}
+
 namespace {
 
 // How far beside a triangle (over its mean edge length) a particle still counts as over it: the
@@ -77,29 +91,11 @@ inline Vec3f unit_normal(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
     return len > 0.0f ? Vec3f(n / len) : Vec3f::Zero();
 }
 
-// Whether a cap loop encloses a face worth resting on: a cut's cross-section does, a tear's
-// slit (its two sides close together) does not, and a face over a slit has no meaningful normal.
-// Area over perimeter squared: 1 / (4 pi) = 0.08 for a circle, 0.06 for a square. Judged in
-// rest space where it is known: a cut face crumpled by the pieces' motion would otherwise come
-// and go between searches, and what rested on it fall through while it was gone.
-template <class Real>
-bool fat_loop(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x, const std::vector<Vec3f>& rest) {
-    const bool use_rest = rest.size() == x.size();
-    Vec3f newell = Vec3f::Zero();
-    float perimeter = 0.0f;
-    for (size_t k = 0; k < loop.size(); ++k) {
-        const uint32_t ia = loop[k], ib = loop[(k + 1) % loop.size()];
-        const Vec3f a = use_rest ? rest[ia] : pos3(x[ia]), b = use_rest ? rest[ib] : pos3(x[ib]);
-        newell += a.cross(b);
-        perimeter += (b - a).norm();
-    }
-    return 0.5f * newell.norm() >= 0.02f * perimeter * perimeter;
-}
-
 } // namespace
 
 template <class Real>
-const typename ContactSolverT<Real>::CapFace& ContactSolverT<Real>::cap_face(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x) {
+const typename ContactSolverT<Real>::CapFace& ContactSolverT<Real>::cap_face(const std::vector<uint32_t>& loop, const SoftBodyT<Real>& body) {
+    const Vec4ArrayT<Real>& x = body.particles.x;
     for (CapFace& f : cap_faces_)
         if (f.loop == loop) {
             f.used = true;
@@ -111,7 +107,8 @@ const typename ContactSolverT<Real>::CapFace& ContactSolverT<Real>::cap_face(con
     std::vector<Vec3f> outline;
     outline.reserve(loop.size());
     for (uint32_t i : loop) outline.push_back(pos3(x[i]));
-    f.triangles = mesh::triangulate_least_area(outline);
+    f.encloses = encloses_face(loop, x, body.rest_positions);
+    if (f.encloses) f.triangles = mesh::triangulate_least_area(outline);
     return f;
 }
 
@@ -125,13 +122,15 @@ void ContactSolverT<Real>::build_faces(const SoftBodyT<Real>& body) {
         if (v.piece >= body.pieces || v.leaking_done()) continue;
         closed_[v.piece] = 1;
         for (const std::vector<uint32_t>& loop : v.cap_loops) {
-            if (loop.size() < 3 || !fat_loop(loop, body.particles.x, body.rest_positions)) continue;
+            if (loop.size() < 3) continue;
+            const CapFace& cap = cap_face(loop, body);
+            if (!cap.encloses) continue;
             CutFace f;
             f.first = uint32_t(face_vertices_.size()), f.count = uint32_t(loop.size()), f.piece = v.piece;
             f.cut = v.is_opening(loop) && !(v.leak > 0.0f);  // a burst's opening is no face to rest on
             face_vertices_.insert(face_vertices_.end(), loop.begin(), loop.end());
             uint32_t k = 0;
-            for (const std::array<uint32_t, 3>& t : cap_face(loop, body.particles.x).triangles) {
+            for (const std::array<uint32_t, 3>& t : cap.triangles) {
                 // In chunks of k_fan_chunk triangles: a part of the face, a group of the broad phase.
                 if (k++ % k_fan_chunk == 0) ++face_chunks_;
                 face_triangles_.push_back({uint32_t(faces_.size()), loop[t[0]], loop[t[1]], loop[t[2]], face_chunks_ - 1});
@@ -697,6 +696,8 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
 
 template float mean_rest_edge<float>(const SoftBodyT<float>&);
 template float mean_rest_edge<double>(const SoftBodyT<double>&);
+template bool encloses_face<float>(const std::vector<uint32_t>&, const Vec4ArrayT<float>&, const std::vector<Vec3f>&);
+template bool encloses_face<double>(const std::vector<uint32_t>&, const Vec4ArrayT<double>&, const std::vector<Vec3f>&);
 template class ContactSolverT<float>;
 template class ContactSolverT<double>;
 

@@ -62,6 +62,17 @@ ContactScale contact_scale(float mean_rest_edge, const ContactSettings& s);
 template <class Real>
 float mean_rest_edge(const SoftBodyT<Real>& body);
 
+// Whether a cap loop encloses a face worth resting on (a cut's cross-section), not a slit (a
+// tear's, whose two sides lie on each other at rest): the least area spanning the loop against
+// its perimeter squared, at least 0.02 (a circle's 1 / (4 pi) = 0.08, a square's 0.06, a 10:1
+// rectangle's 0.02). A loop that runs over two planes (a cut across the face an earlier cut
+// left) counts both planes' area; its projected (Newell) area alone made such a face a slit.
+// Judged in rest space where `rest` holds every particle's rest position: a face crumpled by the
+// pieces' motion would otherwise come and go, and what rested on it fall through while it was
+// gone. Cubic in the loop's corners (mesh::triangulate_least_area): callers keep the answer.
+template <class Real>
+bool encloses_face(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x, const std::vector<Vec3f>& rest);
+
 // A particle keeps at most this many candidates, its nearest (by height over the triangle's plane
 // plus distance beside it). In the random-cut stress test's heap of a thousand crushed flakes a
 // particle had up to 900 triangles within reach, and the search and every iteration paid for each
@@ -135,10 +146,11 @@ private:
     struct CapFace {
         std::vector<uint32_t> loop;
         std::vector<std::array<uint32_t, 3>> triangles;
+        bool encloses = false;  // a face, not a slit (encloses_face)
         bool used = false;
     };
     std::vector<CapFace> cap_faces_;
-    const CapFace& cap_face(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x);
+    const CapFace& cap_face(const std::vector<uint32_t>& loop, const SoftBodyT<Real>& body);
     void build_faces(const SoftBodyT<Real>& body);
     void update_faces(const ParticlesT<Real>& p);
 

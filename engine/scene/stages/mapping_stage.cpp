@@ -21,6 +21,7 @@ void MappingStage::map(const Sources& s, const splat::Appearance& look) {
         deformed_.map(s.particles ? body.particle_count() : 0, s.samples, records_, shapes_);
     }
     fade_.apply(records_);
+    if (s.cut_faces) s.cut_faces->append_records(body.particles.x, body.colors, look, records_, deformed_.empty() ? nullptr : &shapes_);
 }
 
 void MappingStage::sort(const render::Camera& c) {
@@ -55,6 +56,7 @@ void add_mapping_passes(graph::FrameGraph& g, MapHandles& h, const MapPassOption
         b.read(h.settings);
         h.mapping = b.write(h.mapping);
         h.input = b.write(h.input);
+        if (o.cut_faces) h.cut_faces = b.write(h.cut_faces);
         if (o.keep_records) b.side_effect();
         return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
             const sim::SoftBody& body = r.read(hh.body);
@@ -68,6 +70,11 @@ void add_mapping_passes(graph::FrameGraph& g, MapHandles& h, const MapPassOption
             sources.samples = o.boundary && settings.show_boundary ? &r.read(hh.samples) : nullptr;
             const splat::StretchScale* stretch = o.stretch ? &r.read(hh.stretch) : nullptr;
             sources.stretch = stretch && !stretch->empty() ? stretch : nullptr;
+            if (o.cut_faces) {
+                splat::CutFaces& faces = r.write(hh.cut_faces);
+                faces.update(body);
+                sources.cut_faces = &faces;
+            }
             mapping.map(sources, look);
             BodyViewOptions view;
             view.cull_back = settings.cull_back;

@@ -11,6 +11,7 @@
 #include "passes/gpu_passes.h"
 #include "sim/colliders.h"
 #include "sim/soft_body.h"
+#include "splat/cut_faces.h"
 #include "splat/deformed_shape.h"
 #include "splat/fade_in.h"
 #include "splat/mapping.h"
@@ -32,6 +33,7 @@ public:
         bool particles = true;  // the particles are splats (not under an embedded surface)
         const surface::BoundaryParticles* samples = nullptr;  // shown boundary particles, or null
         const splat::StretchScale* stretch = nullptr;         // stretch-scaled splats, or null
+        const splat::CutFaces* cut_faces = nullptr;           // the faces cuts made, drawn after the rest, or null
     };
     void map(const Sources& s, const splat::Appearance& look);
     void sort(const render::Camera& camera);
@@ -82,14 +84,17 @@ struct MapHandles {
     graph::Handle<MapSettings> settings;
     graph::Handle<MappingStage> mapping;
     graph::Handle<passes::GpuFrameInput> input;
+    graph::Handle<splat::CutFaces> cut_faces;
 };
 struct MapPassOptions {
     bool boundary = false, stretch = false, sorted = false;
     bool keep_records = false;  // the caller reads the records every frame: the passes always run
     bool moved = true;          // the frame simulates the body (not paused)
     uint32_t tag = 0;
+    bool cut_faces = false;     // cuts can come: the faces they make are followed and drawn
 };
-// "map" (body -> records, the view follows the body, the records handed over unless sorted) and
+// "map" (body -> records, the cut faces follow the body's cap loops, the view follows the body,
+// the records handed over unless sorted) and
 // "sort" (far to near on the CPU, then handed over); they reach their data through `h` only.
 void add_mapping_passes(graph::FrameGraph& g, MapHandles& h, const MapPassOptions& o);
 

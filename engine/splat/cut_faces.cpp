@@ -1,0 +1,141 @@
+#include "splat/cut_faces.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mesh/polygon.h"
+#include "sim/contact.h"
+#include "splat/deformed_shape.h"
+#include "surface/boundary_particles.h"
+
+namespace pbdsplat::splat {
+
+CutFaces::CutFaces(float h, const std::optional<Vec3f>& interior, const Vec3f& albedo, uint32_t fade_frames, uint32_t seed)
+    : h_(h), interior_(interior), albedo_(albedo), fade_frames_(std::max(1u, fade_frames)), seed_(seed) {}
+
+size_t CutFaces::faces() const {
+    return size_t(std::count_if(faces_.begin(), faces_.end(), [](const Face& f) { return !f.triangles.empty(); }));
+}
+
+size_t CutFaces::samples() const {
+    size_t n = 0;
+    for (const Face& f : faces_) n += f.bary.size();
+    return n;
+}
+
+CutFaces::Face CutFaces::make_face(const std::vector<uint32_t>& loop, const sim::SoftBody& body) const {
+    Face f;
+    f.loop = loop;
+    // A slit is kept, undrawn, so that it is judged once.
+    if (!sim::encloses_face(loop, body.particles.x, body.rest_positions)) return f;
+    std::vector<Vec3f> outline;
+    outline.reserve(loop.size());
+    for (uint32_t i : loop) outline.push_back(sim::xyz(body.particles.x[i]));
+    const std::vector<mesh::Triangle> local = mesh::triangulate_least_area(outline);
+    f.triangles.reserve(local.size());
+    for (const mesh::Triangle& t : local) f.triangles.push_back({loop[t[0]], loop[t[1]], loop[t[2]]});
+    // The rim's particles count as samples already placed: the shell draws them.
+    std::vector<uint32_t> all(local.size());
+    for (uint32_t t = 0; t < all.size(); ++t) all[t] = t;
+    surface::SamplingOptions options;
+    options.h = h_;
+    options.seed = seed_ + uint32_t(loop.front());
+    surface::BoundaryParticles s;
+    surface::fill_triangles(outline, local, all, options, s);
+    const auto [newell, perimeter] = measure(loop, body.particles.x);
+    f.first_area = 0.5f * newell.norm(), f.first_perimeter = perimeter;
+    f.sample_triangle = std::move(s.triangle);
+    f.bary = std::move(s.bary);
+    return f;
+}
+
+void CutFaces::update(const sim::SoftBody& body) {
+    if (!(h_ > 0.0f)) return;
+    for (Face& f : faces_) f.seen = false;
+    const size_t before = faces_.size();
+    for (const sim::VolumeConstraint& v : body.volumes) {
+        // A burst piece is open: its openings are where its air went, not faces.
+        if (v.piece >= body.pieces || v.leak > 0.0f) continue;
+        for (const std::vector<uint32_t>& loop : v.cap_loops) {
+            if (loop.size() < 3 || !v.is_opening(loop)) continue;
+            const auto known = std::find_if(faces_.begin(), faces_.begin() + long(before), [&](const Face& f) { return f.loop == loop; });
+            if (known != faces_.begin() + long(before)) {
+                known->seen = true;
+                known->age = std::min(known->age + 1, fade_frames_);
+                continue;
+            }
+            faces_.push_back(make_face(loop, body));
+            faces_.back().seen = true;
+        }
+    }
+    std::erase_if(faces_, [](const Face& f) { return !f.seen; });
+}
+
+std::pair<Vec3f, float> CutFaces::measure(const std::vector<uint32_t>& loop, std::span<const Vec4f> x) {
+    // The loop winds out of its piece (as the volume constraint closes it): so does the normal.
+    Vec3f newell = Vec3f::Zero();
+    float perimeter = 0.0f;
+    for (size_t k = 0; k < loop.size(); ++k) {
+        const Vec3f a = x[loop[k]].head<3>(), b = x[loop[(k + 1) % loop.size()]].head<3>();
+        newell += a.cross(b);
+        perimeter += (b - a).norm();
+    }
+    return {newell, perimeter};
+}
+
+void CutFaces::append_records(std::span<const Vec4f> x, std::span<const Vec3f> colors, const Appearance& look,
+                              std::vector<GaussianRecord>& out, std::vector<GaussianShape>* shapes) const {
+    Appearance inside = look;
+    for (const Face& f : faces_) {
+        if (interior_) {
+            inside.albedo = *interior_;
+        } else if (colors.size() == x.size()) {
+            inside.albedo = Vec3f::Zero();
+            for (uint32_t i : f.loop) inside.albedo += colors[i];
+            inside.albedo /= float(std::max<size_t>(1, f.loop.size()));
+        } else {
+            inside.albedo = albedo_;
+        }
+        if (f.bary.empty()) continue;
+        const auto [newell, perimeter] = measure(f.loop, x);
+        const float area = 0.5f * newell.norm();
+        if (!(area > 0.0f)) continue;
+        const Vec3f n = newell.normalized();
+        const float fade = float(f.age + 1) / float(fade_frames_);
+        // The samples were spaced on the face as first seen: where the piece has stretched it
+        // since (a deflating half's rim pulled wide), they stand farther apart and their splats
+        // grow to match (at most 3x, as the shell's stretch-scaled splats), or the face shows
+        // holes between them.
+        const float stretch = std::clamp(std::max(perimeter / f.first_perimeter, std::sqrt(area / f.first_area)), 1.0f, 3.0f);
+        const float scale = look.scale * stretch;
+        Eigen::Matrix3f axes;
+        if (shapes) {
+            const Vec3f t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+            axes.col(0) = scale * t1, axes.col(1) = scale * t2, axes.col(2) = scale * DeformedShapes::k_flatness * n;
+        }
+        for (size_t k = 0; k < f.bary.size(); ++k) {
+            const mesh::Triangle& t = f.triangles[f.sample_triangle[k]];
+            const Vec2f b = f.bary[k];
+            const Vec3f p = (1.0f - b.x() - b.y()) * x[t[0]].head<3>() + b.x() * x[t[1]].head<3>() + b.y() * x[t[2]].head<3>();
+            out.push_back(make_record(p, n, inside, std::min(1.0f, fade)));
+            out.back().scale_half = float_to_half(scale);
+            if (shapes) {
+                shapes->push_back(make_shape(axes));
+                out.back().scale_half = float_to_half(shape_reach(axes));
+            }
+        }
+    }
+}
+
+void CutFaces::append_surface(std::span<const Vec4f> x, std::vector<Vec4f>& out_x, std::vector<mesh::Triangle>& triangles,
+                              std::vector<uint32_t>* sources) const {
+    for (const Face& f : faces_)
+        for (const mesh::Triangle& t : f.triangles) {
+            const uint32_t first = uint32_t(out_x.size());
+            for (uint32_t c : t) out_x.push_back(x[c]);
+            if (sources) sources->insert(sources->end(), t.begin(), t.end());
+            triangles.push_back({first, first + 1, first + 2});
+        }
+}
+
+} // namespace pbdsplat::splat

@@ -1,0 +1,73 @@
+#pragma once
+// The faces a cut made, drawn. The body is a shell (the paper's surface mesh under a volume
+// constraint), and a cut that keeps its pieces closed ("cap" or "rebase") closes each with a cap
+// loop that the volume and contact span with a face; drawn as the shell alone, a piece seen from
+// its cut side was hollow, its far wall's inside and the background showing through. Each such
+// loop is spanned as contact spans it (least-area triangles over the loop as it lay when first
+// seen, sim/contact.h) and sampled at the boundary particles' spacing h; the samples ride on the
+// loop's particles (barycentric in the face's triangles) and are drawn as splats of the interior
+// colour, lit by the face's normal, fading in as the cut's own new splats do. A burst's openings
+// (a popped balloon) and a tear's slits stay open; a model's own capped holes are not cut faces.
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "mesh/triangle_mesh.h"
+#include "sim/soft_body.h"
+#include "splat/gaussian_record.h"
+
+namespace pbdsplat::splat {
+
+class CutFaces {
+public:
+    // `h`: the samples' spacing (no samples, and no faces drawn, at 0); `interior`: the faces'
+    // colour (linear rgb) where the scene gives one, else each face takes its rim's (a body's
+    // particle colours: each model of a scene its own) or `albedo`; `fade_frames`: the frames a
+    // new face takes to fade in; `seed`: the sampler's.
+    CutFaces() = default;
+    CutFaces(float h, const std::optional<Vec3f>& interior, const Vec3f& albedo, uint32_t fade_frames, uint32_t seed = 1);
+
+    // Follows the body's cap loops, once a frame: a cut loop seen for the first time gets its
+    // face and samples, a loop gone (cut again, or its piece burst) loses its face.
+    void update(const sim::SoftBody& body);
+
+    // One record per sample for positions `x` (the body's particles), appended to `out`; with
+    // `shapes`, a flat disc in the face's plane appended for each too.
+    // `colors`: the particles' colours, or empty.
+    void append_records(std::span<const Vec4f> x, std::span<const Vec3f> colors, const Appearance& look, std::vector<GaussianRecord>& out,
+                        std::vector<GaussianShape>* shapes) const;
+
+    // The faces as a surface: their triangles appended to `triangles`, each on corners of its
+    // own appended to `out_x` (so a mesh drawn from them is lit flat across the face, not with
+    // the shell's normals at the rim). `sources`, when not null, gets the particle each appended
+    // corner copies.
+    void append_surface(std::span<const Vec4f> x, std::vector<Vec4f>& out_x, std::vector<mesh::Triangle>& triangles,
+                        std::vector<uint32_t>* sources = nullptr) const;
+
+    size_t faces() const;  // drawn
+    size_t samples() const;
+
+private:
+    struct Face {
+        std::vector<uint32_t> loop;
+        std::vector<mesh::Triangle> triangles;  // over the body's particles; none for a slit
+        std::vector<uint32_t> sample_triangle;  // per sample: its triangle in `triangles`
+        std::vector<Vec2f> bary;                // per sample: (b1, b2) in that triangle
+        float first_perimeter = 0.0f, first_area = 0.0f;  // the loop's as first seen
+        uint32_t age = 0;                       // frames since it appeared
+        bool seen = false;
+    };
+    Face make_face(const std::vector<uint32_t>& loop, const sim::SoftBody& body) const;
+    // The face's Newell vector (its normal times twice its area) and its loop's length, now.
+    static std::pair<Vec3f, float> measure(const std::vector<uint32_t>& loop, std::span<const Vec4f> x);
+
+    std::vector<Face> faces_;
+    float h_ = 0.0f;
+    std::optional<Vec3f> interior_;
+    Vec3f albedo_ = Vec3f::Ones();
+    uint32_t fade_frames_ = 8;
+    uint32_t seed_ = 1;
+};
+
+} // namespace pbdsplat::splat

@@ -1,0 +1,154 @@
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "mesh/procedural.h"
+#include "sim/contact.h"
+#include "sim/sim_fixtures.h"
+#include "splat/cut_faces.h"
+#include "support/why.h"
+#include "topology/cut.h"
+#include "topology/cut_surface.h"
+
+using namespace pbdsplat;
+
+namespace {
+
+// A unit ball cut through its centre by the plane y = 0, its pieces kept closed ("cap") or
+// opened ("burst").
+sim::SoftBody cut_ball(topology::VolumePolicy policy) {
+    sim::SoftBody b = test::make_body(mesh::icosphere(3));
+    auto plane = topology::plane_cut(Vec3f::Zero(), Vec3f::UnitY());
+    REQUIRE(plane.ok());
+    topology::CutOptions options;
+    options.volume = policy;
+    auto change = topology::cut(b, plane.value(), options);
+    REQUIRE_MESSAGE(change.ok(), test::why(change));
+    REQUIRE(b.pieces == 2);
+    return b;
+}
+
+Vec3f position_of(const splat::GaussianRecord& r) { return {r.position[0], r.position[1], r.position[2]}; }
+
+} // namespace
+
+TEST_SUITE("splat/cut_faces") {
+    TEST_CASE("a capped cut through a ball draws both halves' faces: on the plane, covering the disc, facing out of each half") {
+        const sim::SoftBody b = cut_ball(topology::VolumePolicy::cap);
+        const float h = 0.05f;
+        splat::CutFaces faces(h, Vec3f(0.9f, 0.5f, 0.4f), Vec3f::Ones(), 1);
+        faces.update(b);
+        CHECK(faces.faces() == 2);
+        splat::Appearance look;
+        look.scale = 0.5f * h;
+        std::vector<splat::GaussianRecord> records;
+        faces.append_records(b.particles.x, {}, look, records, nullptr);
+        REQUIRE(records.size() == faces.samples());
+        // The disc's area over the samples' spacing squared, for each of the two faces, within a
+        // factor of two (a maximal sampling at spacing h puts one sample per 1-2 h^2).
+        const double disc = M_PI * 1.0 * 1.0, per_face = double(records.size()) / 2.0;
+        MESSAGE(records.size() << " samples on two faces");
+        CHECK(per_face > 0.4 * disc / double(h * h));
+        CHECK(per_face < 1.2 * disc / double(h * h));
+        size_t up = 0, down = 0;
+        for (const splat::GaussianRecord& r : records) {
+            const Vec3f p = position_of(r);
+            CHECK(std::abs(p.y()) < 1e-4f);
+            CHECK(std::hypot(p.x(), p.z()) <= 1.0f + 1e-4f);
+            const Vec3f n = splat::decode_octahedral(r.normal_oct);
+            if (n.y() > 0.99f) ++up;
+            else if (n.y() < -0.99f) ++down;
+            CHECK(r.color[0] == 230);  // the faces' own colour (0.9 of 255)
+        }
+        CHECK(up + down == records.size());
+        CHECK(up > 0);
+        CHECK(down > 0);
+        // No point of the disc farther than about h from a sample or a rim particle.
+        std::vector<Vec3f> points;
+        for (const splat::GaussianRecord& r : records) points.push_back(position_of(r));
+        for (const Vec4f& x : b.particles.x)
+            if (std::abs(x.y()) < 1e-4f) points.push_back(x.head<3>());
+        float worst = 0.0f;
+        for (float u = -0.9f; u <= 0.9f; u += 0.07f)
+            for (float v = -0.9f; v <= 0.9f; v += 0.07f) {
+                if (u * u + v * v > 0.8f) continue;
+                const Vec3f q(u, 0.0f, v);
+                float nearest = INFINITY;
+                for (const Vec3f& p : points) nearest = std::min(nearest, (p - q).norm());
+                worst = std::max(worst, nearest);
+            }
+        MESSAGE("farthest point of the disc from a sample: " << worst / h << " h");
+        CHECK(worst < 1.5f * h);
+    }
+
+    TEST_CASE("the faces ride on their rims: moved with the body, stretched splats grow") {
+        sim::SoftBody b = cut_ball(topology::VolumePolicy::cap);
+        const float h = 0.05f;
+        splat::CutFaces faces(h, std::nullopt, Vec3f::Ones(), 1);
+        faces.update(b);
+        splat::Appearance look;
+        look.scale = 0.5f * h;
+        std::vector<splat::GaussianRecord> before, after;
+        faces.append_records(b.particles.x, {}, look, before, nullptr);
+        // The whole body moved up by 2 and stretched twice as wide along x and z.
+        for (Vec4f& x : b.particles.x) x = Vec4f(2.0f * x.x(), x.y() + 2.0f, 2.0f * x.z(), x.w());
+        faces.update(b);
+        faces.append_records(b.particles.x, {}, look, after, nullptr);
+        REQUIRE(after.size() == before.size());
+        for (size_t k = 0; k < after.size(); ++k) {
+            const Vec3f p = position_of(before[k]), q = position_of(after[k]);
+            CHECK(q.isApprox(Vec3f(2.0f * p.x(), p.y() + 2.0f, 2.0f * p.z()), 1e-4f));
+            CHECK(splat::half_to_float(after[k].scale_half) == doctest::Approx(2.0f * look.scale).epsilon(0.01));
+        }
+    }
+
+    TEST_CASE("without an interior colour a face takes its rim's colour") {
+        sim::SoftBody b = cut_ball(topology::VolumePolicy::cap);
+        b.colors.assign(b.particle_count(), Vec3f(0.2f, 0.4f, 0.6f));
+        splat::CutFaces faces(0.1f, std::nullopt, Vec3f::Ones(), 1);
+        faces.update(b);
+        std::vector<splat::GaussianRecord> records;
+        faces.append_records(b.particles.x, b.colors, {}, records, nullptr);
+        REQUIRE(!records.empty());
+        for (const splat::GaussianRecord& r : records) {
+            CHECK(r.color[0] == 51);
+            CHECK(r.color[1] == 102);
+            CHECK(r.color[2] == 153);
+        }
+    }
+
+    TEST_CASE("a burst's openings are not faces, and a face goes with its loop") {
+        const sim::SoftBody burst = cut_ball(topology::VolumePolicy::burst);
+        splat::CutFaces faces(0.05f, std::nullopt, Vec3f::Ones(), 1);
+        faces.update(burst);
+        CHECK(faces.faces() == 0);
+        const sim::SoftBody capped = cut_ball(topology::VolumePolicy::cap);
+        faces.update(capped);
+        CHECK(faces.faces() == 2);
+        sim::SoftBody whole = test::make_body(mesh::icosphere(3));
+        faces.update(whole);
+        CHECK(faces.faces() == 0);
+        CHECK(faces.samples() == 0);
+    }
+
+    TEST_CASE("a loop encloses a face unless it is a slit; a loop that runs up and down encloses its spanning area") {
+        const auto loop_of = [](const std::vector<Vec3f>& corners, std::vector<uint32_t>& loop, sim::Vec4Array& x) {
+            loop.clear(), x.clear();
+            for (uint32_t k = 0; k < corners.size(); ++k) loop.push_back(k), x.push_back(Vec4f(corners[k].x(), corners[k].y(), corners[k].z(), 1.0f));
+            return corners;
+        };
+        std::vector<uint32_t> loop;
+        sim::Vec4Array x;
+        std::vector<Vec3f> rest = loop_of({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, loop, x);
+        CHECK(sim::encloses_face(loop, x, rest));
+        // A saddle: round a unit square, its edges' midpoints raised and lowered by 1 in turn (what
+        // a second cut across a first cut's face leaves, bent over both). Its projected area over
+        // its perimeter squared is 0.0125, below a face's 0.02; the least area spanning it, 0.0375.
+        rest = loop_of({{0, 0, 0}, {0.5f, 0, 1}, {1, 0, 0}, {1, 0.5f, -1}, {1, 1, 0}, {0.5f, 1, 1}, {0, 1, 0}, {0, 0.5f, -1}}, loop, x);
+        CHECK(sim::encloses_face(loop, x, rest));
+        // A slit: out and back along one line, its two sides at the same rest places (a tear's).
+        rest = loop_of({{0, 0, 0}, {0.5f, 0, 0}, {1, 0, 0}, {0.5f, 0, 0}}, loop, x);
+        CHECK_FALSE(sim::encloses_face(loop, x, rest));
+    }
+}
