@@ -7,10 +7,14 @@
 namespace pbdsplat::math {
 
 Mat4f look_at(const Vec3f& eye, const Vec3f& target, const Vec3f& up) {
-    const Vec3f f = (target - eye).normalized();
-    PBDSPLAT_ASSERT(std::abs(f.dot(up.normalized())) < 0.9999f,
-                    "look_at: the up vector is parallel to the view direction; pick another up");
-    const Vec3f s = f.cross(up).normalized();
+    const Vec3f view = target - eye;
+    PBDSPLAT_ASSERT(view.squaredNorm() > 0.0f && view.allFinite(), "look_at: the eye and the target coincide");
+    const Vec3f f = view.normalized();
+    // Looking straight along `up` (a camera right above what it looks at) leaves the image's up
+    // undefined: any axis across the view serves; this one is what a view slightly off it gives.
+    Vec3f up_used = up;
+    if (!(std::abs(f.dot(up.normalized())) < 0.9999f)) up_used = (std::abs(f.x()) < 0.9f ? Vec3f::UnitX() : Vec3f::UnitZ()).cross(f);
+    const Vec3f s = f.cross(up_used).normalized();
     const Vec3f u = s.cross(f);
     Mat4f m = Mat4f::Identity();
     m.block<1, 3>(0, 0) = s.transpose();

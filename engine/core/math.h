@@ -25,7 +25,8 @@ constexpr float k_pi = 3.14159265358979323846f;
 
 namespace math {
 
-// World-to-view transform of a camera at `eye` looking at `target`.
+// World-to-view transform of a camera at `eye` looking at `target` (not at `eye`), `up` on the
+// image's upward side (any axis across the view where `up` lies along it).
 Mat4f look_at(const Vec3f& eye, const Vec3f& target, const Vec3f& up);
 
 // Perspective projection to Vulkan clip space; `fov_y` in radians, reversed nothing, z in [0,1].

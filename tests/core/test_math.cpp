@@ -23,8 +23,20 @@ TEST_SUITE("core/math") {
         CHECK((r * r.transpose() - Mat3f::Identity()).norm() < 1e-5f);
     }
 
-    TEST_CASE("look_at refuses an up vector parallel to the view") {
-        CHECK_THROWS_AS(math::look_at(Vec3f(0, 5, 0), Vec3f::Zero(), Vec3f(0, 1, 0)), std::logic_error);
+    TEST_CASE("look_at straight along the up vector (a camera above its target) picks an up across the view") {
+        for (const Vec3f& eye : {Vec3f(0, 5, 0), Vec3f(0, -5, 0), Vec3f(5, 0, 0)}) {
+            const Mat4f v = math::look_at(eye, Vec3f::Zero(), eye.normalized());
+            REQUIRE(v.allFinite());
+            CHECK((v * eye.homogeneous()).head<3>().norm() < 1e-5f);
+            const Vec4f t = v * Vec4f(0, 0, 0, 1);
+            CHECK(std::abs(t.x()) < 1e-5f);
+            CHECK(std::abs(t.y()) < 1e-5f);
+            CHECK(t.z() == doctest::Approx(-5.0f));
+            const Mat3f r = v.block<3, 3>(0, 0);
+            CHECK((r * r.transpose() - Mat3f::Identity()).norm() < 1e-5f);
+        }
+        // The eye on the target has no view direction at all: refused.
+        CHECK_THROWS_AS(math::look_at(Vec3f::Zero(), Vec3f::Zero(), Vec3f(0, 1, 0)), std::logic_error);
     }
 
     TEST_CASE("perspective maps near to depth 0, far to 1, and flips y for Vulkan") {
