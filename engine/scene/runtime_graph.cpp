@@ -154,6 +154,7 @@ void SceneRuntime::add_frame_event_passes(GraphHandles& h, bool has_events) {
     targets.mapping = mapping_.get();
     targets.map_settings = &map_settings_;
     targets.stretch = &stretch_;
+    targets.cut_faces = &cut_faces_;
     targets.h = h_, targets.seed = scene_.surface.seed, targets.fade_frames = sd.fade_frames;
     targets.edge_samples = scene_.surface.edge_samples;
     followers_ = std::make_unique<ChangeFollowers>(targets);

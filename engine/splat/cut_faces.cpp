@@ -64,10 +64,15 @@ void CutFaces::update(const sim::SoftBody& body) {
                 known->age = std::min(known->age + 1, fade_frames_);
                 continue;
             }
-            faces_.push_back(make_face(loop, body));
+            if (cut_pending_) {
+                faces_.push_back(make_face(loop, body));
+            } else {  // not a cut's: kept undrawn, so that it is judged once
+                faces_.emplace_back().loop = loop;
+            }
             faces_.back().seen = true;
         }
     }
+    cut_pending_ = false;
     std::erase_if(faces_, [](const Face& f) { return !f.seen; });
 }
 

@@ -28,8 +28,11 @@ public:
     CutFaces() = default;
     CutFaces(float h, const std::optional<Vec3f>& interior, const Vec3f& albedo, uint32_t fade_frames, uint32_t seed = 1);
 
-    // Follows the body's cap loops, once a frame: a cut loop seen for the first time gets its
-    // face and samples, a loop gone (cut again, or its piece burst) loses its face.
+    // A cut was made since the last update: the loops that update finds new are its faces. New
+    // loops without a cut (a tear's openings, which a user sees open) are not drawn.
+    void cut_made() { cut_pending_ = true; }
+    // Follows the body's cap loops, once a frame: a loop a cut made gets its face and samples
+    // when first seen, a loop gone (cut again, or its piece burst) loses its face.
     void update(const sim::SoftBody& body);
 
     // One record per sample for positions `x` (the body's particles), appended to `out`; with
@@ -68,6 +71,7 @@ private:
     Vec3f albedo_ = Vec3f::Ones();
     uint32_t fade_frames_ = 8;
     uint32_t seed_ = 1;
+    bool cut_pending_ = false;
 };
 
 } // namespace pbdsplat::splat

@@ -38,6 +38,7 @@ TEST_SUITE("splat/cut_faces") {
         const sim::SoftBody b = cut_ball(topology::VolumePolicy::cap);
         const float h = 0.05f;
         splat::CutFaces faces(h, Vec3f(0.9f, 0.5f, 0.4f), Vec3f::Ones(), 1);
+        faces.cut_made();
         faces.update(b);
         CHECK(faces.faces() == 2);
         splat::Appearance look;
@@ -86,6 +87,7 @@ TEST_SUITE("splat/cut_faces") {
         sim::SoftBody b = cut_ball(topology::VolumePolicy::cap);
         const float h = 0.05f;
         splat::CutFaces faces(h, std::nullopt, Vec3f::Ones(), 1);
+        faces.cut_made();
         faces.update(b);
         splat::Appearance look;
         look.scale = 0.5f * h;
@@ -107,6 +109,7 @@ TEST_SUITE("splat/cut_faces") {
         sim::SoftBody b = cut_ball(topology::VolumePolicy::cap);
         b.colors.assign(b.particle_count(), Vec3f(0.2f, 0.4f, 0.6f));
         splat::CutFaces faces(0.1f, std::nullopt, Vec3f::Ones(), 1);
+        faces.cut_made();
         faces.update(b);
         std::vector<splat::GaussianRecord> records;
         faces.append_records(b.particles.x, b.colors, {}, records, nullptr);
@@ -118,14 +121,20 @@ TEST_SUITE("splat/cut_faces") {
         }
     }
 
-    TEST_CASE("a burst's openings are not faces, and a face goes with its loop") {
+    TEST_CASE("a burst's openings and a tear's are not faces, and a face goes with its loop") {
         const sim::SoftBody burst = cut_ball(topology::VolumePolicy::burst);
         splat::CutFaces faces(0.05f, std::nullopt, Vec3f::Ones(), 1);
+        faces.cut_made();
         faces.update(burst);
         CHECK(faces.faces() == 0);
         const sim::SoftBody capped = cut_ball(topology::VolumePolicy::cap);
+        faces.cut_made();
         faces.update(capped);
         CHECK(faces.faces() == 2);
+        // Loops that appear without a cut (a tear's openings) stay open, however fat.
+        splat::CutFaces torn(0.05f, std::nullopt, Vec3f::Ones(), 1);
+        torn.update(capped);
+        CHECK(torn.faces() == 0);
         sim::SoftBody whole = test::make_body(mesh::icosphere(3));
         faces.update(whole);
         CHECK(faces.faces() == 0);

@@ -21,6 +21,7 @@ core::Result<std::vector<uint32_t>> ChangeFollowers::after_each(const sim::SoftB
     // Only a cut or tear can open the boundary, and only where it touched.
     MapSettings& view = *t_.map_settings;
     if (view.closed) view.closed = !opens_boundary(body, change.touched_triangles);
+    if (cut && t_.cut_faces) t_.cut_faces->cut_made();
     t_.mapping->topology_changed(body, change, view.particles);
     if (!t_.samples) return std::vector<uint32_t>{};
     return carry_samples_across(surface_follow(), body, change, cut);

@@ -1,7 +1,8 @@
 #pragma once
 // What follows a topology change downstream of the mesh (the topology pass hands it to
 // TopologyStage as its Follow): after each change, the new particles' fade-in and the deformed
-// shapes (mapping), the body's openness (culling), the samples carried across the split; once
+// shapes (mapping), the body's openness (culling), the cut faces told of a cut, the samples
+// carried across the split; once
 // after the frame's last change, the refill of every touched triangle and the stretch data.
 #include <optional>
 #include <span>
@@ -23,6 +24,7 @@ public:
         MappingStage* mapping = nullptr;
         MapSettings* map_settings = nullptr;
         splat::StretchScale* stretch = nullptr;  // empty unless the scene scales splats by stretch
+        splat::CutFaces* cut_faces = nullptr;    // told of each cut (a tear's openings stay open)
         float h = 0.0f;
         uint32_t seed = 0;
         uint32_t fade_frames = 0;
