@@ -91,6 +91,7 @@ std::pair<Vec3f, float> CutFaces::measure(const std::vector<uint32_t>& loop, std
 void CutFaces::append_records(std::span<const Vec4f> x, std::span<const Vec3f> colors, const Appearance& look,
                               std::vector<GaussianRecord>& out, std::vector<GaussianShape>* shapes) const {
     Appearance inside = look;
+    std::vector<Vec3f> normals;  // one face's triangles'
     for (const Face& f : faces_) {
         if (interior_) {
             inside.albedo = *interior_;
@@ -113,18 +114,27 @@ void CutFaces::append_records(std::span<const Vec4f> x, std::span<const Vec3f> c
         // holes between them.
         const float stretch = std::clamp(std::max(perimeter / f.first_perimeter, std::sqrt(area / f.first_area)), 1.0f, 3.0f);
         const float scale = look.scale * stretch;
-        Eigen::Matrix3f axes;
-        if (shapes) {
-            const Vec3f t1 = n.unitOrthogonal(), t2 = n.cross(t1);
-            axes.col(0) = scale * t1, axes.col(1) = scale * t2, axes.col(2) = scale * DeformedShapes::k_flatness * n;
+        // Each sample is lit by its own triangle's normal: a face a second cut bent over two
+        // planes is lit as two planes, not as their average. A sliver's normal (under 1e-4 of
+        // the face's area) or one turned over against the face's says nothing: the face's then.
+        normals.resize(f.triangles.size());
+        for (size_t t = 0; t < f.triangles.size(); ++t) {
+            const mesh::Triangle& c = f.triangles[t];
+            const Vec3f a = x[c[0]].head<3>();
+            const Vec3f m = (x[c[1]].head<3>() - a).cross(x[c[2]].head<3>() - a);
+            normals[t] = m.norm() > 2e-4f * area && m.dot(n) > 0.0f ? Vec3f(m.normalized()) : n;
         }
         for (size_t k = 0; k < f.bary.size(); ++k) {
             const mesh::Triangle& t = f.triangles[f.sample_triangle[k]];
+            const Vec3f& nt = normals[f.sample_triangle[k]];
             const Vec2f b = f.bary[k];
             const Vec3f p = (1.0f - b.x() - b.y()) * x[t[0]].head<3>() + b.x() * x[t[1]].head<3>() + b.y() * x[t[2]].head<3>();
-            out.push_back(make_record(p, n, inside, std::min(1.0f, fade)));
+            out.push_back(make_record(p, nt, inside, std::min(1.0f, fade)));
             out.back().scale_half = float_to_half(scale);
             if (shapes) {
+                const Vec3f t1 = nt.unitOrthogonal(), t2 = nt.cross(t1);
+                Eigen::Matrix3f axes;
+                axes.col(0) = scale * t1, axes.col(1) = scale * t2, axes.col(2) = scale * DeformedShapes::k_flatness * nt;
                 shapes->push_back(make_shape(axes));
                 out.back().scale_half = float_to_half(shape_reach(axes));
             }
