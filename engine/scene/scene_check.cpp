@@ -87,19 +87,10 @@ core::Status sample_coverage(SceneRuntime& rt, const Scene& scene, const CheckOp
     rt.deformed_surface(x, triangles);
     s.area_ratio = rest_area > 0.0 ? area_of(x, triangles) / rest_area : -1.0;
     // The mesh drawn against the splats closes the pieces with the cut faces, as the splats do.
-    std::vector<uint32_t> sources;
-    rt.append_cut_faces(x, triangles, &sources);
     std::span<const Vec3f> colors = rt.surface_colors();
-    std::vector<Vec3f> with_faces;
-    if (!colors.empty() && !sources.empty()) {
-        // In the colours the faces' splats take: the scene's interior colour, else their rims'.
-        const std::span<const Vec3f> particle_colors = rt.body().colors;
-        with_faces.assign(colors.begin(), colors.end());
-        for (uint32_t i : sources)
-            with_faces.push_back(scene.material.interior_color ? *scene.material.interior_color
-                                 : i < particle_colors.size() ? particle_colors[i] : scene.material.color);
-        colors = with_faces;
-    }
+    std::vector<Vec3f> with_faces(colors.begin(), colors.end());
+    rt.append_cut_faces(x, triangles, colors.empty() ? nullptr : &with_faces);
+    if (!colors.empty()) colors = with_faces;
     render::FrameInputs frame = rt.frame_inputs();
     frame.ground.visible = false;
     frame.style.order = rt.order();  // without a device: the CPU sort, records already in order

@@ -116,12 +116,11 @@ public:
     // edge stretched past 3x) are left out. For coverage against a mesh raster.
     void deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles);
     // The faces cuts made, as drawn (splat/cut_faces.h): their triangles appended to `triangles`
-    // on corners of their own appended to `x` (`sources`: the particle each copies). Nothing
+    // on corners of their own appended to `x`, and with `colors`, each corner's colour. Nothing
     // before a cut.
-    void append_cut_faces(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, std::vector<uint32_t>* sources = nullptr) const {
-        cut_faces_.append_surface(body_.particles.x, x, triangles, sources);
+    void append_cut_faces(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, std::vector<Vec3f>* colors = nullptr) const {
+        cut_faces_.append_surface(body_.particles.x, x, triangles, body_.colors, colors);
     }
-    size_t cut_face_count() const { return cut_faces_.faces(); }
     const surface::BoundaryParticles& boundary_particles() const { return boundary_; }
     bool particles_are_splats() const { return splat_particles_; }
     // The splats of the last frame: the particles' first, then the boundary particles'; with an

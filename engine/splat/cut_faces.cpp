@@ -93,16 +93,8 @@ void CutFaces::append_records(std::span<const Vec4f> x, std::span<const Vec3f> c
     Appearance inside = look;
     std::vector<Vec3f> normals;  // one face's triangles'
     for (const Face& f : faces_) {
-        if (interior_) {
-            inside.albedo = *interior_;
-        } else if (colors.size() == x.size()) {
-            inside.albedo = Vec3f::Zero();
-            for (uint32_t i : f.loop) inside.albedo += colors[i];
-            inside.albedo /= float(std::max<size_t>(1, f.loop.size()));
-        } else {
-            inside.albedo = albedo_;
-        }
         if (f.bary.empty()) continue;
+        inside.albedo = albedo_of(f, colors, x.size());
         const auto [newell, perimeter] = measure(f.loop, x);
         const float area = 0.5f * newell.norm();
         if (!(area > 0.0f)) continue;
@@ -142,15 +134,25 @@ void CutFaces::append_records(std::span<const Vec4f> x, std::span<const Vec3f> c
     }
 }
 
+Vec3f CutFaces::albedo_of(const Face& f, std::span<const Vec3f> colors, size_t particles) const {
+    if (interior_) return *interior_;
+    if (colors.size() != particles || f.loop.empty()) return albedo_;
+    Vec3f sum = Vec3f::Zero();
+    for (uint32_t i : f.loop) sum += colors[i];
+    return sum / float(f.loop.size());
+}
+
 void CutFaces::append_surface(std::span<const Vec4f> x, std::vector<Vec4f>& out_x, std::vector<mesh::Triangle>& triangles,
-                              std::vector<uint32_t>* sources) const {
-    for (const Face& f : faces_)
+                              std::span<const Vec3f> colors, std::vector<Vec3f>* out_colors) const {
+    for (const Face& f : faces_) {
+        const Vec3f albedo = out_colors ? albedo_of(f, colors, x.size()) : Vec3f::Zero();
         for (const mesh::Triangle& t : f.triangles) {
             const uint32_t first = uint32_t(out_x.size());
             for (uint32_t c : t) out_x.push_back(x[c]);
-            if (sources) sources->insert(sources->end(), t.begin(), t.end());
+            if (out_colors) out_colors->insert(out_colors->end(), 3, albedo);
             triangles.push_back({first, first + 1, first + 2});
         }
+    }
 }
 
 } // namespace pbdsplat::splat

@@ -43,10 +43,10 @@ public:
 
     // The faces as a surface: their triangles appended to `triangles`, each on corners of its
     // own appended to `out_x` (so a mesh drawn from them is lit flat across the face, not with
-    // the shell's normals at the rim). `sources`, when not null, gets the particle each appended
-    // corner copies.
+    // the shell's normals at the rim). `out_colors`, when not null, gets each appended corner's
+    // colour, the one its face's splats take (`colors`: the particles' colours, or empty).
     void append_surface(std::span<const Vec4f> x, std::vector<Vec4f>& out_x, std::vector<mesh::Triangle>& triangles,
-                        std::vector<uint32_t>* sources = nullptr) const;
+                        std::span<const Vec3f> colors = {}, std::vector<Vec3f>* out_colors = nullptr) const;
 
     size_t faces() const;  // drawn
     size_t samples() const;
@@ -62,6 +62,9 @@ private:
         bool seen = false;
     };
     Face make_face(const std::vector<uint32_t>& loop, const sim::SoftBody& body) const;
+    // The face's colour: the interior colour, else the mean of its rim's (`colors` one per
+    // particle), else the albedo.
+    Vec3f albedo_of(const Face& f, std::span<const Vec3f> colors, size_t particles) const;
     // The face's Newell vector (its normal times twice its area) and its loop's length, now.
     static std::pair<Vec3f, float> measure(const std::vector<uint32_t>& loop, std::span<const Vec4f> x);
 
