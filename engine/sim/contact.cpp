@@ -119,7 +119,10 @@ void ContactSolverT<Real>::build_faces(const SoftBodyT<Real>& body) {
     closed_.assign(body.pieces, 0);
     for (CapFace& f : cap_faces_) f.used = false;
     for (const VolumeConstraint& v : body.volumes) {
-        if (v.piece >= body.pieces || v.leaking_done()) continue;
+        // A burst piece is open from the moment it bursts, not once its gas has leaked: what
+        // comes in through its openings (the other half of a cut balloon rolling into its bowl)
+        // has not come through a wall.
+        if (v.piece >= body.pieces || v.leak > 0.0f) continue;
         closed_[v.piece] = 1;
         for (const std::vector<uint32_t>& loop : v.cap_loops) {
             if (loop.size() < 3) continue;
@@ -127,7 +130,7 @@ void ContactSolverT<Real>::build_faces(const SoftBodyT<Real>& body) {
             if (!cap.encloses) continue;
             CutFace f;
             f.first = uint32_t(face_vertices_.size()), f.count = uint32_t(loop.size()), f.piece = v.piece;
-            f.cut = v.is_opening(loop) && !(v.leak > 0.0f);  // a burst's opening is no face to rest on
+            f.cut = v.is_opening(loop);
             face_vertices_.insert(face_vertices_.end(), loop.begin(), loop.end());
             uint32_t k = 0;
             for (const std::array<uint32_t, 3>& t : cap.triangles) {
@@ -470,9 +473,9 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     group_triangles(body);
     build_grid(body);
     search_pairs(body);
-    // Stacked: a piece on another's cut face, or one model on another. Not a burst piece's
-    // openings (counted, the random-cut stress test's heap of burst flakes ran 150 times slower),
-    // nor the parts of one model on each other's own capped holes (a teapot's lid in its pot).
+    // Stacked: a piece on another's cut face, or one model on another. Not the parts of one
+    // model on each other's own capped holes (a teapot's lid in its pot). A burst piece has no
+    // faces (counted, the random-cut stress test's heap of burst flakes ran 150 times slower).
     stacked_ = std::any_of(seam_pairs_.begin(), seam_pairs_.end(), [&](const SeamPair& sp) { return faces_[sp.face_a].cut; }) ||
                std::any_of(contacts_.begin(), contacts_.end(), [&](const Contact& c) {
                    const Corners k = corners_of(body, c.triangle);

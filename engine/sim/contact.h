@@ -114,7 +114,7 @@ private:
         uint32_t first = 0, count = 0;  // into face_vertices_
         uint32_t piece = 0;
         Vec3f normal = Vec3f::Zero();  // the loop's (Newell's), out of its piece
-        bool cut = false;              // a cut's face (not one of the model's own holes, nor a burst's opening)
+        bool cut = false;              // a cut's face (not one of the model's own holes)
     };
     // The two sides of a cut face, matched rim particle by rim particle (the copies a cut made of
     // one vertex, at one rest place): kept from passing through each other along the faces'

@@ -30,9 +30,9 @@ std::vector<ClosedSurface> closed_surfaces(const SoftBody& body, bool rest) {
     std::vector<int> slot(body.pieces, -1);
     std::vector<ClosedSurface> out;
     for (const VolumeConstraint& v : body.volumes) {
-        // A burst piece whose pressure has leaked away is open, as the contact solver takes it:
-        // what lies inside it may have come in through the rip.
-        if (v.piece >= body.pieces || slot[v.piece] >= 0 || v.leaking_done()) continue;
+        // A burst piece is open, as the contact solver takes it: what lies inside it may have
+        // come in through the rip.
+        if (v.piece >= body.pieces || slot[v.piece] >= 0 || v.leak > 0.0f) continue;
         slot[v.piece] = int(out.size());
         ClosedSurface& s = out.emplace_back();
         s.piece = v.piece;

@@ -1,7 +1,7 @@
 #pragma once
 // How deep particles lie inside other pieces: the figure `pbdsplat check` reports as
-// penetration_max. A particle is inside a closed piece (one with a volume constraint that has
-// not leaked away after a burst: its triangles and the fans that close its cap loops) when the
+// penetration_max. A particle is inside a closed piece (one with a volume constraint that no
+// burst opened: its triangles and the fans that close its cap loops) when the
 // piece's generalised winding number at the particle exceeds one half; its depth is then its
 // distance to that piece's surface.
 // The winding number decides inside or out from the whole closed surface, so a particle that
