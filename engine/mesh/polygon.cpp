@@ -1,5 +1,6 @@
 #include "mesh/polygon.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -130,6 +131,67 @@ std::vector<std::array<uint32_t, 3>> triangulate_least_area(std::span<const Vec3
         out.push_back({uint32_t(i), uint32_t(k), uint32_t(j)});
         pending.push_back({i, k}), pending.push_back({k, j});
     }
+    return out;
+}
+
+std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Vec3f> corners, std::span<const uint8_t> older) {
+    const size_t n = corners.size();
+    const auto fresh = std::find(older.begin(), older.end(), uint8_t(0));
+    if (older.size() != n || fresh == older.end() || std::find(older.begin(), older.end(), uint8_t(1)) == older.end())
+        return triangulate_least_area(corners);
+    std::vector<std::array<uint32_t, 3>> out;
+    std::vector<uint32_t> part;  // corners of one part, as indices into `corners`
+    std::vector<Vec3f> outline;
+    const auto span_part = [&] {
+        if (part.size() < 3) return;
+        outline.clear();
+        for (uint32_t k : part) outline.push_back(corners[k]);
+        for (const std::array<uint32_t, 3>& t : triangulate_least_area(outline)) out.push_back({part[t[0]], part[t[1]], part[t[2]]});
+    };
+    std::vector<uint8_t> inside_run(n, 0);  // strictly between a run's chord ends
+    // Walk from a new corner. A run of older corners spans the older face's part, closed by the
+    // chord between the corners where the cut crossed the older rim: the new corners at the run's
+    // ends, or, where the cut went through a corner of the older rim (whose index the older side
+    // kept), that corner: the new corner beyond it then lies off the older face's plane.
+    const size_t start = size_t(fresh - older.begin());
+    for (size_t step = 0; step < n; ++step) {
+        const size_t k = (start + step) % n;
+        if (!older[k] || older[(k + n - 1) % n]) continue;
+        size_t j = k;
+        part.clear();
+        while (older[j]) part.push_back(uint32_t(j)), j = (j + 1) % n;
+        size_t first = (k + n - 1) % n, last = j;
+        if (part.size() >= 3) {
+            Vec3f normal = Vec3f::Zero(), centre = Vec3f::Zero();
+            for (size_t q = 0; q < part.size(); ++q) {
+                normal += corners[part[q]].cross(corners[part[(q + 1) % part.size()]]);
+                centre += corners[part[q]];
+            }
+            centre /= float(part.size());
+            if (normal.norm() > 0.0f) {
+                normal.normalize();
+                const auto off_plane = [&](size_t c, size_t inner) {
+                    return std::abs((corners[c] - centre).dot(normal)) > 0.25f * (corners[c] - corners[inner]).norm();
+                };
+                if (off_plane(first, part.front())) first = part.front();
+                if (off_plane(last, part.back())) last = part.back();
+            }
+        }
+        part.clear();
+        for (size_t q = first;; q = (q + 1) % n) {
+            part.push_back(uint32_t(q));
+            if (q == last) break;
+            if (q != first) inside_run[q] = 1;
+        }
+        span_part();
+    }
+    // The rest (the new corners and the chords' ends) spans the cut's part.
+    part.clear();
+    for (size_t step = 0; step < n; ++step) {
+        const size_t k = (start + step) % n;
+        if (!inside_run[k]) part.push_back(uint32_t(k));
+    }
+    span_part();
     return out;
 }
 

@@ -19,11 +19,19 @@ std::vector<std::array<uint32_t, 3>> triangulate_polygon(std::span<const Vec3f> 
 
 // Corner triples wound like the loop, spanning it with the least total area (dynamic programming
 // over its chords, cubic in the corners). A planar outline gets triangles inside it only (one
-// crossing the outline would add area); a loop that runs over two planes (a cut across the face
-// an earlier cut left, whose outline goes down one face and back along the other) folds along
-// their common chord instead of spanning the wedge between them. More than
-// k_max_least_area_corners corners: triangulate_polygon's.
+// crossing the outline would add area). More than k_max_least_area_corners corners:
+// triangulate_polygon's.
 inline constexpr size_t k_max_least_area_corners = 400;
 std::vector<std::array<uint32_t, 3>> triangulate_least_area(std::span<const Vec3f> corners);
+
+// The face of a loop a cut made across an older face: `older[k]` says corner k lay on the older
+// face's loop. Each run of older corners, closed by the chord between the new corners at its
+// ends, spans the older face's part; the new corners, those chords in place of the runs, span the
+// cut's part; each part with the least area. The face folds along the chords, where the cut
+// crossed the older face. The least area over the whole loop does not: where the piece is the
+// wedge between the two planes, a surface cutting across the wedge has less area than its two
+// faces, and it would leave the wedge's shell open to the eye and to contact. No older corner,
+// or no new one: triangulate_least_area's.
+std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Vec3f> corners, std::span<const uint8_t> older);
 
 } // namespace pbdsplat::mesh

@@ -28,7 +28,9 @@ void sample_body_and_splats(const SceneRuntime& rt, double load_volume, CheckSam
     s.volume_ratio = load_volume != 0.0 ? opening.volume / load_volume : 1.0;
     s.open_length = opening.open_length;
     const sim::ShapeReport shape = sim::shape_report(rt.body());
-    s.penetration = rt.spacing() > 0.0f ? double(sim::deepest_penetration(rt.body()).depth) / double(rt.spacing()) : 0.0;
+    // Each cut face as drawn and met (folded where a second cut crossed it).
+    const auto faces = [&rt](const std::vector<uint32_t>& loop) { return rt.cut_faces().triangles_of(loop); };
+    s.penetration = rt.spacing() > 0.0f ? double(sim::deepest_penetration(rt.body(), faces).depth) / double(rt.spacing()) : 0.0;
     s.shape_error = shape.max_error;
     s.pieces = shape.pieces.size();
     const sim::PoseReport pose = sim::pose_report(rt.body());

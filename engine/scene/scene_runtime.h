@@ -118,6 +118,7 @@ public:
     // The faces cuts made, as drawn (splat/cut_faces.h): their triangles appended to `triangles`
     // on corners of their own appended to `x`, and with `colors`, each corner's colour. Nothing
     // before a cut.
+    const splat::CutFaces& cut_faces() const { return cut_faces_; }
     void append_cut_faces(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, std::vector<Vec3f>* colors = nullptr) const {
         cut_faces_.append_surface(body_.particles.x, x, triangles, body_.colors, colors);
     }

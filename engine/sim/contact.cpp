@@ -51,6 +51,27 @@ bool encloses_face(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x,
     return area >= 0.02 * double(perimeter) * double(perimeter);
 }
 
+template <class Real>
+std::vector<std::array<uint32_t, 3>> face_triangles(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x,
+                                                    std::span<const uint32_t> older) {
+    std::vector<Vec3f> outline;
+    std::vector<uint8_t> on_older;
+    outline.reserve(loop.size()), on_older.reserve(loop.size());
+    for (uint32_t i : loop) {
+        outline.push_back(Vec3f(x[i].template head<3>().template cast<float>()));
+        on_older.push_back(std::binary_search(older.begin(), older.end(), i) ? 1 : 0);
+    }
+    return mesh::triangulate_across_older(outline, on_older);
+}
+
+std::vector<uint32_t> loop_particles(std::span<const std::vector<uint32_t>* const> loops) {
+    std::vector<uint32_t> out;
+    for (const std::vector<uint32_t>* loop : loops) out.insert(out.end(), loop->begin(), loop->end());
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
 namespace {
 
 // How far beside a triangle (over its mean edge length) a particle still counts as over it: the
@@ -101,14 +122,16 @@ const typename ContactSolverT<Real>::CapFace& ContactSolverT<Real>::cap_face(con
             f.used = true;
             return f;
         }
+    // The loops known before this one: a cut across one of their faces folds the new face there.
+    std::vector<const std::vector<uint32_t>*> known;
+    known.reserve(cap_faces_.size());
+    for (const CapFace& k : cap_faces_) known.push_back(&k.loop);
+    const std::vector<uint32_t> older = loop_particles(known);
     CapFace& f = cap_faces_.emplace_back();
     f.loop = loop;
     f.used = true;
-    std::vector<Vec3f> outline;
-    outline.reserve(loop.size());
-    for (uint32_t i : loop) outline.push_back(pos3(x[i]));
     f.encloses = encloses_face(loop, x, body.rest_positions);
-    if (f.encloses) f.triangles = mesh::triangulate_least_area(outline);
+    if (f.encloses) f.triangles = face_triangles(loop, x, older);
     return f;
 }
 
@@ -701,6 +724,8 @@ template float mean_rest_edge<float>(const SoftBodyT<float>&);
 template float mean_rest_edge<double>(const SoftBodyT<double>&);
 template bool encloses_face<float>(const std::vector<uint32_t>&, const Vec4ArrayT<float>&, const std::vector<Vec3f>&);
 template bool encloses_face<double>(const std::vector<uint32_t>&, const Vec4ArrayT<double>&, const std::vector<Vec3f>&);
+template std::vector<std::array<uint32_t, 3>> face_triangles<float>(const std::vector<uint32_t>&, const Vec4ArrayT<float>&, std::span<const uint32_t>);
+template std::vector<std::array<uint32_t, 3>> face_triangles<double>(const std::vector<uint32_t>&, const Vec4ArrayT<double>&, std::span<const uint32_t>);
 template class ContactSolverT<float>;
 template class ContactSolverT<double>;
 

@@ -17,6 +17,7 @@
 // up shallowly inside is pushed out.
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "sim/colliders.h"
@@ -72,6 +73,16 @@ float mean_rest_edge(const SoftBodyT<Real>& body);
 // gone. Cubic in the loop's corners (mesh::triangulate_least_area): callers keep the answer.
 template <class Real>
 bool encloses_face(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x, const std::vector<Vec3f>& rest);
+
+// The triangles spanning a face's loop (corner triples into `loop`, wound like it), as it lies in
+// `x`: mesh::triangulate_across_older, the loop's particles found in `older` (sorted: the
+// particles of every loop known before the change that made this one) taken as the older face's
+// corners, so a face a second cut crossed folds along the cut.
+template <class Real>
+std::vector<std::array<uint32_t, 3>> face_triangles(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x,
+                                                    std::span<const uint32_t> older);
+// The sorted particles of these loops, for face_triangles.
+std::vector<uint32_t> loop_particles(std::span<const std::vector<uint32_t>* const> loops);
 
 // A particle keeps at most this many candidates, its nearest (by height over the triangle's plane
 // plus distance beside it). In the random-cut stress test's heap of a thousand crushed flakes a

@@ -25,7 +25,7 @@ struct ClosedSurface {
 };
 
 // `rest`: the surfaces as they lay at rest (where the body keeps rest positions).
-std::vector<ClosedSurface> closed_surfaces(const SoftBody& body, bool rest) {
+std::vector<ClosedSurface> closed_surfaces(const SoftBody& body, bool rest, const FaceLookup& faces) {
     const auto at = [&](uint32_t i) { return rest ? body.rest_positions[i] : xyz(body.particles.x[i]); };
     std::vector<int> slot(body.pieces, -1);
     std::vector<ClosedSurface> out;
@@ -40,6 +40,10 @@ std::vector<ClosedSurface> closed_surfaces(const SoftBody& body, bool rest) {
         std::vector<Vec3f> outline;
         for (const std::vector<uint32_t>& loop : v.cap_loops) {
             if (loop.size() < 3) continue;
+            if (const std::vector<mesh::Triangle>* known = faces ? faces(loop) : nullptr) {
+                for (const mesh::Triangle& t : *known) s.triangles.push_back({at(t[0]), at(t[1]), at(t[2])});
+                continue;
+            }
             outline.clear();
             for (uint32_t i : loop) outline.push_back(at(i));
             for (const std::array<uint32_t, 3>& t : mesh::triangulate_least_area(outline)) s.triangles.push_back({outline[t[0]], outline[t[1]], outline[t[2]]});
@@ -84,11 +88,11 @@ float distance_to(const ClosedSurface& s, const Vec3f& p) {
 
 } // namespace
 
-Penetration deepest_penetration(const SoftBody& body) {
+Penetration deepest_penetration(const SoftBody& body, const FaceLookup& faces) {
     Penetration deepest;
-    const std::vector<ClosedSurface> surfaces = closed_surfaces(body, false);
+    const std::vector<ClosedSurface> surfaces = closed_surfaces(body, false, faces);
     const bool rest_known = body.rest_positions.size() == body.particle_count();
-    const std::vector<ClosedSurface> at_rest = rest_known ? closed_surfaces(body, true) : std::vector<ClosedSurface>{};
+    const std::vector<ClosedSurface> at_rest = rest_known ? closed_surfaces(body, true, faces) : std::vector<ClosedSurface>{};
     const bool parts_known = body.part_of_particle.size() == body.particle_count();
     // Per (part, surface): whether some particle of the part lay inside that piece at rest (the
     // part sits in another in the file: suzanne's eyes, a teapot's lid). Contact leaves such parts

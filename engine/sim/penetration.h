@@ -9,6 +9,7 @@
 // test against the nearest triangles only (what the contact search sees) cannot tell that
 // from a particle just outside the far side.
 #include <cstdint>
+#include <functional>
 #include <limits>
 
 #include "sim/soft_body.h"
@@ -25,6 +26,10 @@ struct Penetration {
 // lay inside that piece at rest already, and the parts of a model that lay partly inside it
 // (an eye in its socket, a lid in its pot: contact leaves them to their own shells). A piece's
 // own surface is not tested (a fold of one piece through itself is not seen).
-Penetration deepest_penetration(const SoftBody& body);
+// `faces`, where given, spans a cap loop as it is drawn and met (the triangles over the body's
+// particles, or null: the loop's least-area span), so a face a second cut folded is measured
+// folded.
+using FaceLookup = std::function<const std::vector<mesh::Triangle>*(const std::vector<uint32_t>& loop)>;
+Penetration deepest_penetration(const SoftBody& body, const FaceLookup& faces = {});
 
 } // namespace pbdsplat::sim

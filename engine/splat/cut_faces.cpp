@@ -17,13 +17,19 @@ size_t CutFaces::faces() const {
     return size_t(std::count_if(faces_.begin(), faces_.end(), [](const Face& f) { return !f.triangles.empty(); }));
 }
 
+const std::vector<mesh::Triangle>* CutFaces::triangles_of(const std::vector<uint32_t>& loop) const {
+    for (const Face& f : faces_)
+        if (!f.triangles.empty() && f.loop == loop) return &f.triangles;
+    return nullptr;
+}
+
 size_t CutFaces::samples() const {
     size_t n = 0;
     for (const Face& f : faces_) n += f.bary.size();
     return n;
 }
 
-CutFaces::Face CutFaces::make_face(const std::vector<uint32_t>& loop, const sim::SoftBody& body) const {
+CutFaces::Face CutFaces::make_face(const std::vector<uint32_t>& loop, const sim::SoftBody& body, std::span<const uint32_t> older) const {
     Face f;
     f.loop = loop;
     // A slit is kept, undrawn, so that it is judged once.
@@ -31,7 +37,8 @@ CutFaces::Face CutFaces::make_face(const std::vector<uint32_t>& loop, const sim:
     std::vector<Vec3f> outline;
     outline.reserve(loop.size());
     for (uint32_t i : loop) outline.push_back(sim::xyz(body.particles.x[i]));
-    const std::vector<mesh::Triangle> local = mesh::triangulate_least_area(outline);
+    // Spanned as contact spans it, folded where a cut crossed an older face.
+    const std::vector<mesh::Triangle> local = sim::face_triangles(loop, body.particles.x, older);
     f.triangles.reserve(local.size());
     for (const mesh::Triangle& t : local) f.triangles.push_back({loop[t[0]], loop[t[1]], loop[t[2]]});
     // The rim's particles count as samples already placed: the shell draws them.
@@ -53,6 +60,8 @@ void CutFaces::update(const sim::SoftBody& body) {
     if (!(h_ > 0.0f)) return;
     for (Face& f : faces_) f.seen = false;
     const size_t before = faces_.size();
+    std::vector<uint32_t> older;  // made when a new loop needs it
+    bool older_made = false;
     for (const sim::VolumeConstraint& v : body.volumes) {
         // A burst piece is open: its openings are where its air went, not faces.
         if (v.piece >= body.pieces || v.leak > 0.0f) continue;
@@ -65,7 +74,12 @@ void CutFaces::update(const sim::SoftBody& body) {
                 continue;
             }
             if (cut_pending_) {
-                faces_.push_back(make_face(loop, body));
+                if (!older_made) {
+                    std::vector<const std::vector<uint32_t>*> loops;
+                    for (size_t k = 0; k < before; ++k) loops.push_back(&faces_[k].loop);
+                    older = sim::loop_particles(loops), older_made = true;
+                }
+                faces_.push_back(make_face(loop, body, older));
             } else {  // not a cut's: kept undrawn, so that it is judged once
                 faces_.emplace_back().loop = loop;
             }

@@ -48,6 +48,8 @@ public:
     void append_surface(std::span<const Vec4f> x, std::vector<Vec4f>& out_x, std::vector<mesh::Triangle>& triangles,
                         std::span<const Vec3f> colors = {}, std::vector<Vec3f>* out_colors = nullptr) const;
 
+    // The triangles (over the body's particles) of the face drawn over `loop`; null if none is.
+    const std::vector<mesh::Triangle>* triangles_of(const std::vector<uint32_t>& loop) const;
     size_t faces() const;  // drawn
     size_t samples() const;
 
@@ -61,7 +63,8 @@ private:
         uint32_t age = 0;                       // frames since it appeared
         bool seen = false;
     };
-    Face make_face(const std::vector<uint32_t>& loop, const sim::SoftBody& body) const;
+    // `older`: the sorted particles of the loops known before (sim::face_triangles).
+    Face make_face(const std::vector<uint32_t>& loop, const sim::SoftBody& body, std::span<const uint32_t> older) const;
     // The face's colour: the interior colour, else the mean of its rim's (`colors` one per
     // particle), else the albedo.
     Vec3f albedo_of(const Face& f, std::span<const Vec3f> colors, size_t particles) const;

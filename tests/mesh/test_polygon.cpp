@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "mesh/polygon.h"
@@ -70,5 +71,49 @@ TEST_SUITE("mesh/polygon") {
         }
         const auto tris = mesh::triangulate_least_area(big);
         CHECK(tris.size() == big.size() - 2);
+    }
+
+    TEST_CASE("across an older face: each part spans its own plane, where the least area cuts across the wedge") {
+        // A unit ball cut by x = 0 (a disc face), then its x > 0 half cut by y = 0: the quarter
+        // y > 0 keeps the upper half of the older disc (corners on x = 0) and gets the new half disc
+        // on y = 0, meeting it along the chord from (0, 0, -1) to (0, 0, 1), the two corners the
+        // second cut made on the older rim. Its face is the two half discs (area pi at the limit).
+        constexpr int k = 24;
+        std::vector<Vec3f> c;
+        std::vector<uint8_t> older;
+        const float pi = std::numbers::pi_v<float>;
+        c.emplace_back(0.0f, 0.0f, 1.0f), older.push_back(0);  // the chord's ends are new corners
+        for (int i = 1; i < k; ++i) {                         // over the top, on x = 0
+            const float t = pi * float(i) / float(k);
+            c.emplace_back(0.0f, std::sin(t), std::cos(t)), older.push_back(1);
+        }
+        c.emplace_back(0.0f, 0.0f, -1.0f), older.push_back(0);
+        for (int i = 1; i < k; ++i) {  // back round the side, on y = 0
+            const float t = pi * float(i) / float(k);
+            c.emplace_back(std::sin(t), 0.0f, -std::cos(t)), older.push_back(0);
+        }
+        const auto on_a_plane = [&](const std::array<uint32_t, 3>& t) {
+            const auto all = [&](auto coord) { return std::abs(coord(c[t[0]])) < 1e-6f && std::abs(coord(c[t[1]])) < 1e-6f && std::abs(coord(c[t[2]])) < 1e-6f; };
+            return all([](const Vec3f& p) { return p.x(); }) || all([](const Vec3f& p) { return p.y(); });
+        };
+        const double two_half_discs = double(k) * std::sin(pi / float(k));  // two k-gon halves
+        const auto folded = mesh::triangulate_across_older(c, older);
+        CHECK(folded.size() == c.size() - 2);
+        CHECK(total_area(c, folded) == doctest::Approx(two_half_discs).epsilon(1e-4));
+        for (const auto& t : folded) CHECK(on_a_plane(t));
+        // Wound like the loop: the x = 0 part faces -x and the y = 0 part faces -y, out of the
+        // quarter, as the loop runs.
+        for (const auto& t : folded) {
+            const Vec3f n = (c[t[1]] - c[t[0]]).cross(c[t[2]] - c[t[0]]);
+            CHECK(n.x() + n.y() < 0.0f);
+        }
+        // The least area over the whole loop cuts across the wedge, through the quarter: less
+        // area, off both planes (what left a piece's shell open to the eye).
+        const auto least = mesh::triangulate_least_area(c);
+        CHECK(total_area(c, least) < 0.95 * two_half_discs);
+        CHECK(std::count_if(least.begin(), least.end(), on_a_plane) < long(least.size()));
+        // No older corner, or no new one: the least area.
+        CHECK(mesh::triangulate_across_older(c, std::vector<uint8_t>(c.size(), 0)) == least);
+        CHECK(mesh::triangulate_across_older(c, std::vector<uint8_t>(c.size(), 1)) == least);
     }
 }

@@ -83,6 +83,43 @@ TEST_SUITE("splat/cut_faces") {
         CHECK(worst < 1.5f * h);
     }
 
+    TEST_CASE("a face a second cut crossed folds along the cut: the quarter's samples lie on its two planes") {
+        // The halves cut again by x = 0: each quarter's loop runs over its half's older face
+        // (y = 0) and the new one (x = 0). Spanned by the least area over the whole loop, the
+        // face cut across the quarter and left its shell open to the eye.
+        sim::SoftBody b = cut_ball(topology::VolumePolicy::cap);
+        const float h = 0.05f;
+        splat::CutFaces faces(h, Vec3f(0.9f, 0.5f, 0.4f), Vec3f::Ones(), 1);
+        faces.cut_made();
+        faces.update(b);
+        auto second = topology::plane_cut(Vec3f(0.0f, 0.5f, 0.0f), Vec3f::UnitX());
+        REQUIRE(second.ok());
+        topology::CutOptions options;
+        options.volume = topology::VolumePolicy::cap;
+        auto change = topology::cut(b, second.value(), options);
+        REQUIRE_MESSAGE(change.ok(), test::why(change));
+        REQUIRE(b.pieces == 4);
+        faces.cut_made();
+        faces.update(b);
+        CHECK(faces.faces() == 4);  // one folded face per quarter
+        splat::Appearance look;
+        look.scale = 0.5f * h;
+        std::vector<splat::GaussianRecord> records;
+        faces.append_records(b.particles.x, {}, look, records, nullptr);
+        size_t on_x = 0;
+        for (const splat::GaussianRecord& r : records) {
+            const Vec3f p = position_of(r);
+            const bool on_a_plane = std::abs(p.y()) < 1e-3f || std::abs(p.x()) < 1e-3f;
+            CHECK_MESSAGE(on_a_plane, "a sample off both cut planes at " << p.transpose());
+            on_x += std::abs(p.x()) < 1e-3f && std::abs(p.y()) > 1e-3f;
+        }
+        // The new cut's faces (a half disc of radius 1 on each quarter) are sampled like the
+        // older one: within a factor of two of their area over h^2.
+        const double half_discs = 4.0 * 0.5 * M_PI;
+        MESSAGE(on_x << " samples on the second cut's plane");
+        CHECK(double(on_x) > 0.4 * half_discs / double(h * h));
+    }
+
     TEST_CASE("the faces ride on their rims: moved with the body, stretched splats grow") {
         sim::SoftBody b = cut_ball(topology::VolumePolicy::cap);
         const float h = 0.05f;

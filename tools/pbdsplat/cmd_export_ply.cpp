@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -101,11 +102,13 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
             return fail("export-ply", s.error().to_string());
         if (!sequence) {
             // A scene may draw its boundary particles alone (a coarse simulation under a fine
-            // surface): the particles drawn are what the records hold beyond those.
+            // surface): the particles drawn are what the records hold beyond those and the cut
+            // faces' samples.
             const scene::FrameStats& st = runtime.value()->stats();
-            const size_t drawn_particles = st.gaussians > st.boundary_particles ? st.gaussians - st.boundary_particles : 0;
-            std::printf("wrote %s (%zu Gaussians: %zu boundary particles + %zu of the %zu simulation particles, frame %u, %s up)\n",
-                        file.c_str(), st.gaussians, st.boundary_particles, drawn_particles, st.particles, f,
+            const size_t faces = std::min(runtime.value()->cut_faces().samples(), st.gaussians - std::min(st.gaussians, st.boundary_particles));
+            const size_t drawn_particles = st.gaussians - std::min(st.gaussians, st.boundary_particles + faces);
+            std::printf("wrote %s (%zu Gaussians: %zu boundary particles + %zu of the %zu simulation particles + %zu on cut faces, frame %u, %s up)\n",
+                        file.c_str(), st.gaussians, st.boundary_particles, drawn_particles, st.particles, faces, f,
                         opt.text("up") == "y" ? "+y" : "-y");
         }
     }
