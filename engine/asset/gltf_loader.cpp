@@ -143,6 +143,31 @@ struct Builder {
         return texture_slot[size_t(index)];
     }
 
+    // The primitive's material: its base colour, and its base colour texture where it has UVs.
+    Material material_of(int index, bool has_uv) {
+        Material mat;
+        if (index < 0 || size_t(index) >= g.materials.size()) return mat;
+        const tinygltf::Material& gm = g.materials[size_t(index)];
+        mat.name = gm.name;
+        const auto& f = gm.pbrMetallicRoughness.baseColorFactor;
+        if (f.size() >= 3) mat.color = Vec3f(float(f[0]), float(f[1]), float(f[2])).cwiseMax(0.0f).cwiseMin(1.0f);
+        if (has_uv && gm.pbrMetallicRoughness.baseColorTexture.texCoord == 0) mat.texture = texture(gm.pbrMetallicRoughness.baseColorTexture.index);
+        return mat;
+    }
+
+    // Triangles from a list, a strip (every other one turned to keep the winding) or a fan.
+    static std::vector<mesh::Triangle> triangles_of(int mode, const std::vector<uint32_t>& ix) {
+        std::vector<mesh::Triangle> tris;
+        if (mode == TINYGLTF_MODE_TRIANGLES)
+            for (size_t k = 0; k + 2 < ix.size(); k += 3) tris.push_back({ix[k], ix[k + 1], ix[k + 2]});
+        else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+            for (size_t k = 0; k + 2 < ix.size(); ++k)
+                tris.push_back(k % 2 ? mesh::Triangle{ix[k + 1], ix[k], ix[k + 2]} : mesh::Triangle{ix[k], ix[k + 1], ix[k + 2]});
+        else
+            for (size_t k = 1; k + 1 < ix.size(); ++k) tris.push_back({ix[0], ix[k], ix[k + 1]});
+        return tris;
+    }
+
     core::Status primitive(const tinygltf::Primitive& p, const Eigen::Matrix4f& world) {
         if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != TINYGLTF_MODE_TRIANGLE_STRIP && p.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
             out.warnings.push_back(name + ": a primitive of points or lines was skipped (only triangles make a surface)");
@@ -167,15 +192,7 @@ struct Builder {
         }
         if ((!uv.empty() && uv.size() != pos->size()) || (!col.empty() && col.size() != pos->size()))
             return core::make_error(name, 0, "a primitive's attributes differ in length");
-        Material mat;
-        if (p.material >= 0 && size_t(p.material) < g.materials.size()) {
-            const tinygltf::Material& gm = g.materials[size_t(p.material)];
-            mat.name = gm.name;
-            const auto& f = gm.pbrMetallicRoughness.baseColorFactor;
-            if (f.size() >= 3) mat.color = Vec3f(float(f[0]), float(f[1]), float(f[2])).cwiseMax(0.0f).cwiseMin(1.0f);
-            if (!uv.empty() && gm.pbrMetallicRoughness.baseColorTexture.texCoord == 0)
-                mat.texture = texture(gm.pbrMetallicRoughness.baseColorTexture.index);
-        }
+        const Material mat = material_of(p.material, !uv.empty());
         const uint32_t base = uint32_t(out.mesh.positions.size());
         for (const Eigen::Vector4f& x : pos.value()) {
             const Eigen::Vector4f w = world * Eigen::Vector4f(x.x(), x.y(), x.z(), 1.0f);
@@ -183,15 +200,7 @@ struct Builder {
             out.mesh.positions.emplace_back(w.x(), w.y(), w.z());
         }
         // A mirroring transform turns the winding inside out; repair orients it outward anyway.
-        const std::vector<uint32_t>& ix = idx.value();
-        std::vector<mesh::Triangle> tris;
-        if (p.mode == TINYGLTF_MODE_TRIANGLES)
-            for (size_t k = 0; k + 2 < ix.size(); k += 3) tris.push_back({ix[k], ix[k + 1], ix[k + 2]});
-        else if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP)
-            for (size_t k = 0; k + 2 < ix.size(); ++k)
-                tris.push_back(k % 2 ? mesh::Triangle{ix[k + 1], ix[k], ix[k + 2]} : mesh::Triangle{ix[k], ix[k + 1], ix[k + 2]});
-        else
-            for (size_t k = 1; k + 1 < ix.size(); ++k) tris.push_back({ix[0], ix[k], ix[k + 1]});
+        const std::vector<mesh::Triangle> tris = triangles_of(p.mode, idx.value());
         const uint32_t material = uint32_t(look.materials.size());
         look.materials.push_back(mat);
         for (const mesh::Triangle& t : tris) {

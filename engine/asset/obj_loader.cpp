@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <span>
 #include <sstream>
 #include <string_view>
@@ -47,6 +48,56 @@ struct ObjFacts {
     bool colors = false;
 };
 
+// A v/vn/vt line's numbers (after the keyword): between `min` and `max` of them, each a finite
+// number. `what` names the statement in the message.
+std::optional<std::string> check_numbers(std::span<const std::string_view> tok, size_t min, size_t max, const char* what) {
+    const size_t n = tok.size() - 1;
+    if (n < min || n > max) {
+        std::string range = std::to_string(min);
+        if (min != max) range.append(" to ").append(std::to_string(max));
+        return std::string(what) + " needs " + range + " numbers, found " + std::to_string(n);
+    }
+    for (size_t i = 1; i < tok.size(); ++i) {
+        float v = 0.0f;
+        if (!parse_float(tok[i], v)) return "'" + std::string(tok[i]) + "' is not a number";
+        if (!std::isfinite(v)) return std::string(what) + " has a non-finite value '" + std::string(tok[i]) + "'";
+    }
+    return std::nullopt;
+}
+
+// An 'f' line's corners (v, v/vt, v//vn or v/vt/vn), each index referring to an element
+// defined above it (negative: counted back from the last).
+std::optional<std::string> check_face(std::span<const std::string_view> tok, const ObjFacts& f) {
+    if (tok.size() < 4) return "face 'f' needs at least 3 vertices, found " + std::to_string(tok.size() - 1);
+    // tinyobjloader counts a face's corners in a byte.
+    if (tok.size() - 1 > 255) return "face 'f' has " + std::to_string(tok.size() - 1) + " corners; at most 255 are read (split the polygon)";
+    for (size_t i = 1; i < tok.size(); ++i) {
+        const std::string_view corner = tok[i];
+        size_t part = 0, start = 0;
+        for (size_t k = 0; k <= corner.size(); ++k) {
+            if (k < corner.size() && corner[k] != '/') continue;
+            const std::string_view field = corner.substr(start, k - start);
+            start = k + 1;
+            const size_t count = part == 0 ? f.positions : part == 1 ? f.uvs : f.normals;
+            const char* what = part == 0 ? "vertex" : part == 1 ? "texture coordinate" : "normal";
+            ++part;
+            if (field.empty()) {
+                if (part == 1) return "face corner '" + std::string(corner) + "' has no vertex index";
+                continue;
+            }
+            if (part > 3) return "face corner '" + std::string(corner) + "' has more than three indices";
+            long idx = 0;
+            if (!parse_int(field, idx)) return "face index '" + std::string(field) + "' is not an integer";
+            if (idx == 0) return std::string("face index 0 is invalid (OBJ indices start at 1)");
+            const long resolved = idx > 0 ? idx : long(count) + idx + 1;
+            if (resolved < 1 || resolved > long(count))
+                return "face refers to " + std::string(what) + " " + std::to_string(idx) + ", but only " + std::to_string(count) +
+                       " are defined above this line";
+        }
+    }
+    return std::nullopt;
+}
+
 // Checks every v/vn/vt/f line: numbers that parse and are finite, enough of them, face indices
 // that refer to elements defined before the face (OBJ allows nothing else).
 core::Result<ObjFacts> check_obj(const std::string& text, const std::string& name) {
@@ -63,62 +114,23 @@ core::Result<ObjFacts> check_obj(const std::string& text, const std::string& nam
         const auto tok = split_ws(hash == std::string_view::npos ? line : line.substr(0, hash));
         if (tok.empty()) continue;
         const std::string_view kw = tok[0];
-        auto numbers = [&](size_t min, size_t max, const char* what) -> core::Status {
-            if (tok.size() - 1 < min || tok.size() - 1 > max) {
-                std::string range = std::to_string(min);
-                if (min != max) range.append(" to ").append(std::to_string(max));
-                return err(std::string(what) + " needs " + range + " numbers, found " + std::to_string(tok.size() - 1));
-            }
-            for (size_t i = 1; i < tok.size(); ++i) {
-                float v = 0.0f;
-                if (!parse_float(tok[i], v)) return err("'" + std::string(tok[i]) + "' is not a number");
-                if (!std::isfinite(v)) return err(std::string(what) + " has a non-finite value '" + std::string(tok[i]) + "'");
-            }
-            return core::Status::success();
-        };
+        std::optional<std::string> wrong;
         if (kw == "v") {
-            PBDSPLAT_TRY(numbers(3, 7, "vertex 'v'"));
+            wrong = check_numbers(tok, 3, 7, "vertex 'v'");
             if (tok.size() == 7 || tok.size() == 8) ++colored;
             ++f.positions;
         } else if (kw == "vn") {
-            PBDSPLAT_TRY(numbers(3, 3, "normal 'vn'"));
+            wrong = check_numbers(tok, 3, 3, "normal 'vn'");
             ++f.normals;
         } else if (kw == "vt") {
-            PBDSPLAT_TRY(numbers(1, 3, "texture coordinate 'vt'"));
+            wrong = check_numbers(tok, 1, 3, "texture coordinate 'vt'");
             ++f.uvs;
         } else if (kw == "f") {
-            if (tok.size() < 4) return err("face 'f' needs at least 3 vertices, found " + std::to_string(tok.size() - 1));
-            // tinyobjloader counts a face's corners in a byte.
-            if (tok.size() - 1 > 255)
-                return err("face 'f' has " + std::to_string(tok.size() - 1) + " corners; at most 255 are read (split the polygon)");
-            for (size_t i = 1; i < tok.size(); ++i) {
-                // v, v/vt, v//vn or v/vt/vn
-                const std::string_view corner = tok[i];
-                size_t part = 0, start = 0;
-                for (size_t k = 0; k <= corner.size(); ++k) {
-                    if (k < corner.size() && corner[k] != '/') continue;
-                    const std::string_view field = corner.substr(start, k - start);
-                    start = k + 1;
-                    const size_t count = part == 0 ? f.positions : part == 1 ? f.uvs : f.normals;
-                    const char* what = part == 0 ? "vertex" : part == 1 ? "texture coordinate" : "normal";
-                    ++part;
-                    if (field.empty()) {
-                        if (part == 1) return err("face corner '" + std::string(corner) + "' has no vertex index");
-                        continue;
-                    }
-                    if (part > 3) return err("face corner '" + std::string(corner) + "' has more than three indices");
-                    long idx = 0;
-                    if (!parse_int(field, idx)) return err("face index '" + std::string(field) + "' is not an integer");
-                    if (idx == 0) return err("face index 0 is invalid (OBJ indices start at 1)");
-                    const long resolved = idx > 0 ? idx : long(count) + idx + 1;
-                    if (resolved < 1 || resolved > long(count))
-                        return err("face refers to " + std::string(what) + " " + std::to_string(idx) + ", but only " +
-                                   std::to_string(count) + " are defined above this line");
-                }
-            }
+            wrong = check_face(tok, f);
             ++f.faces;
         }
         // Other statements (o, g, s, usemtl, mtllib, l, p, ...) do not affect the surface.
+        if (wrong) return err(*wrong);
     }
     line_no = 0;
     if (f.positions == 0) return err("no vertices ('v' lines)");

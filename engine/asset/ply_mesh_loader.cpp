@@ -59,6 +59,26 @@ struct Header {
     size_t data_start = 0;
 };
 
+// The rest of a 'property' line: a type and a name, or 'list', its count and item types and a name.
+core::Result<Property> read_property(std::istringstream& w) {
+    Property p;
+    std::string t;
+    w >> t;
+    if (t == "list") {
+        std::string ct, it;
+        w >> ct >> it >> p.name;
+        p.count_type = type_of(ct);
+        p.type = type_of(it);
+        if (p.count_type == Type::none || p.type == Type::none || p.count_type == Type::f32 || p.count_type == Type::f64)
+            return core::make_error("list property '" + p.name + "' has an unknown or non-integer type");
+    } else {
+        p.type = type_of(t);
+        w >> p.name;
+        if (p.type == Type::none) return core::make_error("property '" + p.name + "' has unknown type '" + t + "'");
+    }
+    return p;
+}
+
 core::Result<Header> read_header(const std::string& bytes, const std::string& name) {
     Header h;
     const size_t end = bytes.find("end_header");
@@ -93,22 +113,9 @@ core::Result<Header> read_header(const std::string& bytes, const std::string& na
             h.elements.push_back(std::move(e));
         } else if (kw == "property") {
             if (h.elements.empty()) return err("a property before any element");
-            Property p;
-            std::string t;
-            w >> t;
-            if (t == "list") {
-                std::string ct, it;
-                w >> ct >> it >> p.name;
-                p.count_type = type_of(ct);
-                p.type = type_of(it);
-                if (p.count_type == Type::none || p.type == Type::none || p.count_type == Type::f32 || p.count_type == Type::f64)
-                    return err("list property '" + p.name + "' has an unknown or non-integer type");
-            } else {
-                p.type = type_of(t);
-                w >> p.name;
-                if (p.type == Type::none) return err("property '" + p.name + "' has unknown type '" + t + "'");
-            }
-            h.elements.back().properties.push_back(std::move(p));
+            auto p = read_property(w);
+            if (!p.ok()) return err(p.error().message);
+            h.elements.back().properties.push_back(std::move(p.value()));
         } else if (kw == "comment" || kw == "obj_info") {
             std::string what, file;
             w >> what;

@@ -54,37 +54,45 @@ bool has_extension(const std::vector<VkExtensionProperties>& all, const char* na
     return false;
 }
 
-} // namespace
-
-core::Result<std::unique_ptr<Instance>> Instance::create(const InstanceOptions& options) {
+// The layers and instance extensions the options ask for, each checked to be present.
+struct Wanted {
+    std::vector<const char*> layers, extensions;
+};
+core::Result<Wanted> wanted_for(const InstanceOptions& options) {
     constexpr const char* k_layer = "VK_LAYER_KHRONOS_validation";
-    uint32_t api = 0;
-    if (vkEnumerateInstanceVersion(&api) != VK_SUCCESS || api < VK_API_VERSION_1_3)
-        return core::make_error("the Vulkan loader is older than 1.3; install Debian's libvulkan1 (tools/setup)");
-
     uint32_t n = 0;
     vkEnumerateInstanceExtensionProperties(nullptr, &n, nullptr);
     std::vector<VkExtensionProperties> available(n);
     vkEnumerateInstanceExtensionProperties(nullptr, &n, available.data());
-
-    std::vector<const char*> extensions;
-    std::vector<const char*> layers;
+    Wanted w;
     if (options.validation) {
         if (!has_layer(k_layer))
             return core::make_error("validation was requested but VK_LAYER_KHRONOS_validation is not installed "
                                     "(apt-get install vulkan-validationlayers, or run tools/setup)");
-        layers.push_back(k_layer);
-        extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+        w.layers.push_back(k_layer);
+        w.extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     }
     if (options.surface) {
         for (const char* e : {"VK_KHR_surface", "VK_KHR_xlib_surface", "VK_KHR_xcb_surface", "VK_KHR_wayland_surface"})
-            if (has_extension(available, e)) extensions.push_back(e);
+            if (has_extension(available, e)) w.extensions.push_back(e);
     }
     for (const auto& e : options.extra_extensions) {
-        if (!has_extension(available, e.c_str()))
-            return core::make_error("the Vulkan instance lacks the extension " + e);
-        extensions.push_back(e.c_str());
+        if (!has_extension(available, e.c_str())) return core::make_error("the Vulkan instance lacks the extension " + e);
+        w.extensions.push_back(e.c_str());
     }
+    return w;
+}
+
+} // namespace
+
+core::Result<std::unique_ptr<Instance>> Instance::create(const InstanceOptions& options) {
+    uint32_t api = 0;
+    if (vkEnumerateInstanceVersion(&api) != VK_SUCCESS || api < VK_API_VERSION_1_3)
+        return core::make_error("the Vulkan loader is older than 1.3; install Debian's libvulkan1 (tools/setup)");
+    auto wanted = wanted_for(options);
+    if (!wanted.ok()) return wanted.error();
+    const std::vector<const char*>& layers = wanted->layers;
+    const std::vector<const char*>& extensions = wanted->extensions;
 
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
     app.pApplicationName = "pbdsplat";

@@ -28,6 +28,40 @@ core::Result<DescriptorSetLayout> create_frame_layout(const Context& ctx, const 
     return DescriptorSetLayout(ctx.vk(), layout);
 }
 
+namespace {
+
+// Set `set`'s bindings past its uniform buffer: 1, the texture, then 2-5 (records, shapes,
+// view-dependent colour, their order) where the set has them; a list of one buffer serves every
+// set, a longer one gives set `index` its own.
+void write_extra(Context& ctx, VkDescriptorSet set, const FrameSetResources& extra, uint32_t index) {
+    VkDescriptorImageInfo image{extra.texture_sampler, extra.texture_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    auto pick = [index](const std::vector<VkBuffer>& v) { return v.size() > 1 ? v[index] : v.front(); };
+    std::vector<VkDescriptorBufferInfo> infos;
+    infos.reserve(4);
+    std::vector<VkWriteDescriptorSet> writes;
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = set;
+    w.descriptorCount = 1;
+    w.dstBinding = 1;
+    w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    w.pImageInfo = &image;
+    writes.push_back(w);
+    w.pImageInfo = nullptr;
+    w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    const std::pair<uint32_t, const std::vector<VkBuffer>*> buffers[4] = {
+        {2, &extra.storage}, {3, &extra.shapes}, {4, &extra.sh}, {5, &extra.order}};
+    for (const auto& [binding, list] : buffers) {
+        if (list->empty()) continue;
+        infos.push_back({pick(*list), 0, VK_WHOLE_SIZE});
+        w.dstBinding = binding;
+        w.pBufferInfo = &infos.back();
+        writes.push_back(w);
+    }
+    vkUpdateDescriptorSets(ctx.vk(), uint32_t(writes.size()), writes.data(), 0, nullptr);
+}
+
+} // namespace
+
 core::Result<UniformSets> UniformSets::create(Context& ctx, VkDescriptorSetLayout layout, uint32_t count, VkDeviceSize bytes,
                                               const FrameSetResources* extra) {
     UniformSets u;
@@ -58,34 +92,7 @@ core::Result<UniformSets> UniformSets::create(Context& ctx, VkDescriptorSetLayou
         write.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
         write.pBufferInfo = &info;
         vkUpdateDescriptorSets(ctx.vk(), 1, &write, 0, nullptr);
-        if (extra) {
-            VkDescriptorImageInfo image{extra->texture_sampler, extra->texture_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-            // Binding 1, then 2-5 (records, shapes, view-dependent colour, their order) where the
-            // set has them.
-            auto pick = [i](const std::vector<VkBuffer>& v) { return v.size() > 1 ? v[i] : v.front(); };
-            std::vector<VkDescriptorBufferInfo> infos;
-            infos.reserve(4);
-            std::vector<VkWriteDescriptorSet> writes;
-            VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-            w.dstSet = set;
-            w.descriptorCount = 1;
-            w.dstBinding = 1;
-            w.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-            w.pImageInfo = &image;
-            writes.push_back(w);
-            w.pImageInfo = nullptr;
-            w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            const std::pair<uint32_t, const std::vector<VkBuffer>*> buffers[4] = {
-                {2, &extra->storage}, {3, &extra->shapes}, {4, &extra->sh}, {5, &extra->order}};
-            for (const auto& [binding, list] : buffers) {
-                if (list->empty()) continue;
-                infos.push_back({pick(*list), 0, VK_WHOLE_SIZE});
-                w.dstBinding = binding;
-                w.pBufferInfo = &infos.back();
-                writes.push_back(w);
-            }
-            vkUpdateDescriptorSets(ctx.vk(), uint32_t(writes.size()), writes.data(), 0, nullptr);
-        }
+        if (extra) write_extra(ctx, set, *extra, i);
         u.sets_.push_back(set);
     }
     return u;

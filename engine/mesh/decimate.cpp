@@ -114,6 +114,23 @@ size_t flip_slivers(TriangleMesh& m) {
     }
     return flipped;
 }
+// The mesh without the triangles on a directed edge used twice (both of them).
+TriangleMesh without_folds(const TriangleMesh& m) {
+    std::unordered_map<uint64_t, uint32_t> first;
+    std::vector<uint8_t> drop(m.triangles.size(), 0);
+    for (uint32_t t = 0; t < m.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const auto& tri = m.triangles[t];
+            const auto [it, fresh] = first.emplace((uint64_t(tri[k]) << 32) | tri[(k + 1) % 3], t);
+            if (!fresh) drop[t] = drop[it->second] = 1;
+        }
+    TriangleMesh kept;
+    kept.positions = m.positions;
+    kept.colors = m.colors;
+    for (uint32_t t = 0; t < m.triangles.size(); ++t)
+        if (!drop[t]) kept.triangles.push_back(m.triangles[t]);
+    return kept;
+}
 } // namespace
 
 core::Result<DecimatedMesh> decimate(const TriangleMesh& m, const DecimateOptions& o, const std::string& name) {
@@ -159,22 +176,7 @@ core::Result<DecimatedMesh> decimate(const TriangleMesh& m, const DecimateOption
     // Still folded: drop the triangles on each doubled directed edge (a sliver folded over its
     // neighbour) and repair again; the hole is a few triangles wide and the volume caps it.
     for (int pass = 0; pass < 4 && !oriented_manifold(best->mesh); ++pass) {
-        std::unordered_map<uint64_t, uint32_t> first;
-        std::vector<uint8_t> drop(best->mesh.triangles.size(), 0);
-        for (uint32_t t = 0; t < best->mesh.triangles.size(); ++t)
-            for (int k = 0; k < 3; ++k) {
-                const auto& tri = best->mesh.triangles[t];
-                const auto [it, fresh] = first.emplace((uint64_t(tri[k]) << 32) | tri[(k + 1) % 3], t);
-                if (!fresh) drop[t] = drop[it->second] = 1;
-            }
-        TriangleMesh kept;
-        kept.positions = best->mesh.positions;
-        kept.colors = best->mesh.colors;
-        for (uint32_t t = 0; t < best->mesh.triangles.size(); ++t)
-            if (!drop[t]) kept.triangles.push_back(best->mesh.triangles[t]);
-        RepairOptions ro;
-        ro.weld_tolerance = 0.0f;
-        auto again = repair(std::move(kept), ro, name + " (decimated)");
+        auto again = repair(without_folds(best->mesh), RepairOptions{.weld_tolerance = 0.0f}, name + " (decimated)");
         if (!again.ok()) return again.error();
         best = std::move(again.value());
     }

@@ -22,45 +22,20 @@ void fan(size_t n, std::vector<std::array<uint32_t, 3>>& out) {
     for (uint32_t k = 1; k + 1 < n; ++k) out.push_back({0, k, k + 1});
 }
 
-} // namespace
+// A quad: the shorter diagonal (the split most exporters and loaders make), unless the quad is
+// concave there: then the other one, which is inside. `p`: the corners in the plane.
+std::vector<std::array<uint32_t, 3>> split_quad(std::span<const Vec3f> corners, const std::vector<Vec2f>& p) {
+    const bool short02 = (corners[2] - corners[0]).squaredNorm() < (corners[3] - corners[1]).squaredNorm();
+    const bool ok02 = cross2(p[0], p[1], p[2]) > 0.0f && cross2(p[0], p[2], p[3]) > 0.0f;
+    const bool ok13 = cross2(p[0], p[1], p[3]) > 0.0f && cross2(p[1], p[2], p[3]) > 0.0f;
+    if ((short02 && ok02) || (!ok13 && !short02 && ok02) || (!ok02 && !ok13 && short02)) return {{0, 1, 2}, {0, 2, 3}};
+    return {{0, 1, 3}, {1, 2, 3}};
+}
 
-std::vector<std::array<uint32_t, 3>> triangulate_polygon(std::span<const Vec3f> corners) {
-    std::vector<std::array<uint32_t, 3>> out;
-    const size_t n = corners.size();
-    if (n < 3) return out;
-    if (n == 3) return {{0, 1, 2}};
-    // Ear clipping is quadratic in the corners: a face of thousands (a file that writes a whole
-    // outline as one face) is split as a fan rather than stalling the load.
-    if (n > k_max_clipped_corners) {
-        fan(n, out);
-        return out;
-    }
-    // Newell's normal: the plane the outline winds about, robust to concave corners.
-    Vec3f normal = Vec3f::Zero();
-    for (size_t i = 0; i < n; ++i) {
-        const Vec3f& a = corners[i];
-        const Vec3f& b = corners[(i + 1) % n];
-        normal += Vec3f((a.y() - b.y()) * (a.z() + b.z()), (a.z() - b.z()) * (a.x() + b.x()), (a.x() - b.x()) * (a.y() + b.y()));
-    }
-    if (!(normal.norm() > 0.0f) || !std::isfinite(normal.norm())) {
-        fan(n, out);
-        return out;
-    }
-    normal.normalize();
-    const Vec3f u = (std::abs(normal.x()) < 0.9f ? Vec3f::UnitX() : Vec3f::UnitY()).cross(normal).normalized();
-    const Vec3f v = normal.cross(u);
-    std::vector<Vec2f> p(n);
-    for (size_t i = 0; i < n; ++i) p[i] = Vec2f(corners[i].dot(u), corners[i].dot(v));
-    if (n == 4) {
-        // The shorter diagonal (the split most exporters and loaders make), unless the quad is
-        // concave there: then the other one, which is inside.
-        const bool short02 = (corners[2] - corners[0]).squaredNorm() < (corners[3] - corners[1]).squaredNorm();
-        const bool ok02 = cross2(p[0], p[1], p[2]) > 0.0f && cross2(p[0], p[2], p[3]) > 0.0f;
-        const bool ok13 = cross2(p[0], p[1], p[3]) > 0.0f && cross2(p[1], p[2], p[3]) > 0.0f;
-        if ((short02 && ok02) || (!ok13 && !short02 && ok02) || (!ok02 && !ok13 && short02)) return {{0, 1, 2}, {0, 2, 3}};
-        return {{0, 1, 3}, {1, 2, 3}};
-    }
-    // (u, v, normal) is right-handed, so the outline runs counter-clockwise in (u, v).
+// Ear clipping of a counter-clockwise outline in the plane; what no ear can be clipped from
+// (a self-intersecting or degenerate rest) is closed as a fan.
+void clip_ears(const std::vector<Vec2f>& p, std::vector<std::array<uint32_t, 3>>& out) {
+    const size_t n = p.size();
     std::vector<uint32_t> ring(n);
     for (uint32_t i = 0; i < n; ++i) ring[i] = i;
     size_t guard = 0;
@@ -90,10 +65,43 @@ std::vector<std::array<uint32_t, 3>> triangulate_polygon(std::span<const Vec3f> 
     }
     if (ring.size() == 3) {
         out.push_back({ring[0], ring[1], ring[2]});
+        return;
+    }
+    for (size_t k = 1; k + 1 < ring.size(); ++k) out.push_back({ring[0], ring[k], ring[k + 1]});
+}
+
+} // namespace
+
+std::vector<std::array<uint32_t, 3>> triangulate_polygon(std::span<const Vec3f> corners) {
+    std::vector<std::array<uint32_t, 3>> out;
+    const size_t n = corners.size();
+    if (n < 3) return out;
+    if (n == 3) return {{0, 1, 2}};
+    // Ear clipping is quadratic in the corners: a face of thousands (a file that writes a whole
+    // outline as one face) is split as a fan rather than stalling the load.
+    if (n > k_max_clipped_corners) {
+        fan(n, out);
         return out;
     }
-    // No ear left (self-intersecting or degenerate outline): the rest as a fan.
-    for (size_t k = 1; k + 1 < ring.size(); ++k) out.push_back({ring[0], ring[k], ring[k + 1]});
+    // Newell's normal: the plane the outline winds about, robust to concave corners.
+    Vec3f normal = Vec3f::Zero();
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3f& a = corners[i];
+        const Vec3f& b = corners[(i + 1) % n];
+        normal += Vec3f((a.y() - b.y()) * (a.z() + b.z()), (a.z() - b.z()) * (a.x() + b.x()), (a.x() - b.x()) * (a.y() + b.y()));
+    }
+    if (!(normal.norm() > 0.0f) || !std::isfinite(normal.norm())) {
+        fan(n, out);
+        return out;
+    }
+    normal.normalize();
+    const Vec3f u = (std::abs(normal.x()) < 0.9f ? Vec3f::UnitX() : Vec3f::UnitY()).cross(normal).normalized();
+    const Vec3f v = normal.cross(u);
+    std::vector<Vec2f> p(n);
+    for (size_t i = 0; i < n; ++i) p[i] = Vec2f(corners[i].dot(u), corners[i].dot(v));
+    if (n == 4) return split_quad(corners, p);
+    // (u, v, normal) is right-handed, so the outline runs counter-clockwise in (u, v).
+    clip_ears(p, out);
     return out;
 }
 

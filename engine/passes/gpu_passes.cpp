@@ -41,38 +41,49 @@ void GpuPassResources::refresh(const render::SplatRenderer& r) {
 
 graph::GpuUse to_graph(const render::Use& u) { return {u.access.stage, u.access.access, u.layout}; }
 
-graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer,
-                                                 GpuPassResources& res, graph::Handle<GpuFrameInput> input,
-                                                 graph::Handle<core::Status> status, graph::Handle<ImageSink> sink, bool gpu_sort,
-                                                 uint32_t tag) {
-    const auto records = g.import("gpu records", &res.records);
-    const auto color = g.import("colour target", &res.color);
-    const auto depth = g.import("depth target", &res.depth);
-    const auto readback = g.import("readback buffer", &res.readback);
-    // On the direct path the CPU writes the records in place before the submit: no GPU access.
-    const graph::GpuUse upload_use =
-        renderer.upload_path() == gpu::UploadPath::staged ? to_graph(render::uses::upload_write) : graph::GpuUse{};
+namespace {
 
-    graph::Handle<graph::GpuBufferRef> uploaded;
-    g.add_pass("upload", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-        b.read(input);
-        status = b.write(status);
-        uploaded = b.write(records, upload_use);
-        return [&renderer, input, status](const graph::PassResources& r, graph::ExecuteContext&) {
-            const GpuFrameInput& in = r.read(input);
-            core::Status& out = r.write(status);
-            const gpu::ByteRange all{0, in.records.size_bytes()};
-            const std::span<const gpu::ByteRange> ranges =
-                in.changed.empty() ? std::span<const gpu::ByteRange>(&all, 1) : std::span<const gpu::ByteRange>(in.changed);
-            out = renderer.upload(in.records, ranges);
-            // Anisotropic bodies' axes go straight into host-visible memory (no GPU copy).
-            if (out.ok() && !in.shapes.empty()) out = renderer.upload_shapes(in.shapes);
-            if (out.ok() && !in.sh.empty()) out = renderer.upload_sh(in.sh);
-        };
-    }, tag);
-    const render::Use records_read = render::uses::records_read(renderer.path());
-    graph::Handle<graph::GpuBufferRef> sorted, control, order;
-    if (gpu_sort) {
+// The GPU passes of one frame, added in order: each adds its pass and hands on the handles the
+// next ones read (what the upload wrote, what the splats drew).
+struct GpuChain {
+    graph::FrameGraph& g;
+    render::SplatRenderer& renderer;
+    GpuPassResources& res;
+    graph::Handle<GpuFrameInput> input;
+    graph::Handle<core::Status> status;
+    bool gpu_sort;
+    uint32_t tag;
+    render::Use records_read = render::uses::records_read(renderer.path());
+    // Imported first, in this order.
+    graph::Handle<graph::GpuBufferRef> records = g.import("gpu records", &res.records);
+    graph::Handle<graph::GpuImageRef> color = g.import("colour target", &res.color);
+    graph::Handle<graph::GpuImageRef> depth = g.import("depth target", &res.depth);
+    graph::Handle<graph::GpuBufferRef> readback = g.import("readback buffer", &res.readback);
+    graph::Handle<graph::GpuBufferRef> uploaded, sorted, control, order;
+    graph::Handle<graph::GpuImageRef> drawn, depth_drawn, occluded;
+
+    void add_upload() {
+        // On the direct path the CPU writes the records in place before the submit: no GPU access.
+        const graph::GpuUse use = renderer.upload_path() == gpu::UploadPath::staged ? to_graph(render::uses::upload_write) : graph::GpuUse{};
+        g.add_pass("upload", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+            b.read(input);
+            status = b.write(status);
+            uploaded = b.write(records, use);
+            return [&gpu = renderer, in_h = input, st = status](const graph::PassResources& r, graph::ExecuteContext&) {
+                const GpuFrameInput& in = r.read(in_h);
+                core::Status& out = r.write(st);
+                const gpu::ByteRange all{0, in.records.size_bytes()};
+                const std::span<const gpu::ByteRange> ranges =
+                    in.changed.empty() ? std::span<const gpu::ByteRange>(&all, 1) : std::span<const gpu::ByteRange>(in.changed);
+                out = gpu.upload(in.records, ranges);
+                // Anisotropic bodies' axes go straight into host-visible memory (no GPU copy).
+                if (out.ok() && !in.shapes.empty()) out = gpu.upload_shapes(in.shapes);
+                if (out.ok() && !in.sh.empty()) out = gpu.upload_sh(in.sh);
+            };
+        }, tag);
+    }
+
+    void add_sort() {
         sorted = g.import("sorted records", &res.sorted);
         control = g.import("sort control", &res.sort_control);
         order = g.import("sort order", &res.sort_order);
@@ -82,14 +93,15 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             sorted = b.write(sorted, to_graph(render::uses::compute_write));
             control = b.write(control, to_graph(render::uses::compute_write));
             order = b.write(order, to_graph(render::uses::compute_write));
-            return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-                const GpuFrameInput& in = r.read(input);
-                renderer.sort(in.frame, uint32_t(in.records.size()));
+            return [&gpu = renderer, in_h = input](const graph::PassResources& r, graph::ExecuteContext&) {
+                const GpuFrameInput& in = r.read(in_h);
+                gpu.sort(in.frame, uint32_t(in.records.size()));
             };
         }, tag);
     }
+
     // What a pass that draws the splats reads: the frame, and the uploaded records or the sort's.
-    const auto read_draw_records = [&](graph::PassBuilder& b) {
+    void read_draw_records(graph::PassBuilder& b) const {
         b.read(input);
         if (gpu_sort) {
             b.read(sorted, to_graph(records_read));
@@ -98,52 +110,56 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
         } else {
             b.read(uploaded, to_graph(records_read));
         }
-    };
-    graph::Handle<graph::GpuImageRef> drawn, depth_drawn;
-    g.add_pass("splat", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-        read_draw_records(b);
-        drawn = b.write(color, to_graph(render::uses::color_attachment));
-        depth_drawn = b.write(depth, to_graph(render::uses::depth_attachment));
-        b.side_effect();  // the colour target is what a frame is for (presented or read back)
-        return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-            const GpuFrameInput& in = r.read(input);
-            renderer.draw(in.frame, uint32_t(in.records.size()));
-        };
-    }, tag);
-    graph::Handle<graph::GpuImageRef> occluded;
-    if (renderer.has_occluders()) {
-        // The surface mesh's depth over the ground's, and its distance image.
+    }
+
+    void add_splat() {
+        g.add_pass("splat", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+            read_draw_records(b);
+            drawn = b.write(color, to_graph(render::uses::color_attachment));
+            depth_drawn = b.write(depth, to_graph(render::uses::depth_attachment));
+            b.side_effect();  // the colour target is what a frame is for (presented or read back)
+            return [&gpu = renderer, in_h = input](const graph::PassResources& r, graph::ExecuteContext&) {
+                const GpuFrameInput& in = r.read(in_h);
+                gpu.draw(in.frame, uint32_t(in.records.size()));
+            };
+        }, tag);
+    }
+
+    // The surface mesh's depth over the ground's, and its distance image.
+    void add_occluders() {
         const auto occluders = g.import("occluder image", &res.occluders);
         g.add_pass("occluders", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
             b.read(input);
             status = b.write(status);
             depth_drawn = b.write(depth_drawn, to_graph(render::uses::depth_attachment));
             occluded = b.write(occluders, to_graph(render::uses::color_attachment));
-            return [&renderer, input, status](const graph::PassResources& r, graph::ExecuteContext&) {
-                const GpuFrameInput& in = r.read(input);
-                if (core::Status& out = r.write(status); out.ok()) out = renderer.set_occluders(in.occluder_positions, in.occluder_triangles);
-                renderer.draw_occluders(in.frame);
+            return [&gpu = renderer, in_h = input, st = status](const graph::PassResources& r, graph::ExecuteContext&) {
+                const GpuFrameInput& in = r.read(in_h);
+                if (core::Status& out = r.write(st); out.ok()) out = gpu.set_occluders(in.occluder_positions, in.occluder_triangles);
+                gpu.draw_occluders(in.frame);
             };
         }, tag);
     }
-    if (renderer.has_occluders() && !renderer.has_normalised()) {
-        // The paper's disc, drawn against them.
+
+    // The paper's disc, drawn against the occluders.
+    void add_splat_over_occluders() {
         g.add_pass("splat over occluders", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
             read_draw_records(b);
             b.read(occluded, to_graph(render::uses::accumulation_sampled));
             drawn = b.write(drawn, to_graph(render::uses::color_attachment));
             depth_drawn = b.write(depth_drawn, to_graph(render::uses::depth_attachment));
             b.side_effect();
-            return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-                const GpuFrameInput& in = r.read(input);
-                renderer.draw_over_occluders(in.frame, uint32_t(in.records.size()));
+            return [&gpu = renderer, in_h = input](const graph::PassResources& r, graph::ExecuteContext&) {
+                const GpuFrameInput& in = r.read(in_h);
+                gpu.draw_over_occluders(in.frame, uint32_t(in.records.size()));
             };
         }, tag);
     }
-    if (renderer.has_normalised()) {
-        // Normalised blending: the front fragments summed against the visibility depth the splat
-        // pass left, then divided and blended over the colour target. Normalised frames are never
-        // sorted (the sums do not depend on order), so the records are the uploaded ones.
+
+    // Normalised blending: the front fragments summed against the visibility depth the splat pass
+    // left, then divided and blended over the colour target. Normalised frames are never sorted
+    // (the sums do not depend on order), so the records are the uploaded ones.
+    void add_normalised() {
         const auto accumulation = g.import("accumulation image", &res.accumulation);
         const auto accumulation_inside = g.import("accumulation image, inside", &res.accumulation_inside);
         graph::Handle<graph::GpuImageRef> summed, summed_inside;
@@ -154,9 +170,9 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             b.write(depth_drawn, to_graph(render::uses::depth_attachment));
             summed = b.write(accumulation, to_graph(render::uses::color_attachment));
             summed_inside = b.write(accumulation_inside, to_graph(render::uses::color_attachment));
-            return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-                const GpuFrameInput& in = r.read(input);
-                renderer.accumulate(in.frame, uint32_t(in.records.size()));
+            return [&gpu = renderer, in_h = input](const graph::PassResources& r, graph::ExecuteContext&) {
+                const GpuFrameInput& in = r.read(in_h);
+                gpu.accumulate(in.frame, uint32_t(in.records.size()));
             };
         }, tag);
         g.add_pass("splat resolve", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
@@ -165,19 +181,36 @@ graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::S
             b.read(summed_inside, to_graph(render::uses::accumulation_sampled));
             drawn = b.write(drawn, to_graph(render::uses::color_attachment));
             b.side_effect();  // as the splat pass: the colour target is what a frame is for
-            return [&renderer, input](const graph::PassResources& r, graph::ExecuteContext&) {
-                renderer.resolve(r.read(input).frame);
-            };
+            return [&gpu = renderer, in_h = input](const graph::PassResources& r, graph::ExecuteContext&) { gpu.resolve(r.read(in_h).frame); };
         }, tag);
     }
-    g.add_pass("readback", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-        b.read(drawn, to_graph(render::uses::color_copy_source));
-        b.write(readback, to_graph(render::uses::readback_write));
-        b.write(sink);
-        b.side_effect();
-        return [&renderer](const graph::PassResources&, graph::ExecuteContext&) { renderer.readback(); };
-    }, tag);
-    return drawn;
+
+    void add_readback(graph::Handle<ImageSink> sink) {
+        g.add_pass("readback", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
+            b.read(drawn, to_graph(render::uses::color_copy_source));
+            b.write(readback, to_graph(render::uses::readback_write));
+            b.write(sink);
+            b.side_effect();
+            return [&gpu = renderer](const graph::PassResources&, graph::ExecuteContext&) { gpu.readback(); };
+        }, tag);
+    }
+};
+
+} // namespace
+
+graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer,
+                                                 GpuPassResources& res, graph::Handle<GpuFrameInput> input,
+                                                 graph::Handle<core::Status> status, graph::Handle<ImageSink> sink, bool gpu_sort,
+                                                 uint32_t tag) {
+    GpuChain chain{g, renderer, res, input, status, gpu_sort, tag};
+    chain.add_upload();
+    if (gpu_sort) chain.add_sort();
+    chain.add_splat();
+    if (renderer.has_occluders()) chain.add_occluders();
+    if (renderer.has_occluders() && !renderer.has_normalised()) chain.add_splat_over_occluders();
+    if (renderer.has_normalised()) chain.add_normalised();
+    chain.add_readback(sink);
+    return chain.drawn;
 }
 
 } // namespace pbdsplat::passes

@@ -58,45 +58,52 @@ core::Result<GpuSort> GpuSort::create(gpu::Context& ctx, uint32_t capacity, std:
     PBDSPLAT_VK_TRY(vkCreateDescriptorPool(ctx.vk(), &pool_info, nullptr, &pool));
     s.pool_ = gpu::DescriptorPool(ctx.vk(), pool);
 
+    for (uint32_t i = 0; i < n; ++i) {
+        auto slot = create_slot(ctx, capacity, records[i], pool, set_layout);
+        if (!slot.ok()) return slot.error();
+        s.slots_.push_back(std::move(slot).value());
+    }
+    return s;
+}
+
+core::Result<GpuSort::Slot> GpuSort::create_slot(gpu::Context& ctx, uint32_t capacity, VkBuffer records, VkDescriptorPool pool,
+                                                VkDescriptorSetLayout set_layout) {
     // The sorted buffer holds whole mesh-shader workgroups (the gather pads the last one).
     const VkDeviceSize padded = (VkDeviceSize(capacity) + 31) / 32 * 32;
     const VkBufferUsageFlags transfer = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    for (uint32_t i = 0; i < n; ++i) {
-        Slot slot;
-        struct Want { gpu::Buffer* buffer; VkDeviceSize bytes; VkBufferUsageFlags usage; };
-        const Want wants[] = {
-            {&slot.keys, 2 * VkDeviceSize(capacity) * 4, transfer},
-            {&slot.values, 2 * VkDeviceSize(capacity) * 4, transfer},
-            {&slot.counts, VkDeviceSize(k_bins) * tiles_for(capacity) * 4, 0},
-            {&slot.control, SORT_CONTROL_WORDS * 4, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | transfer},
-            {&slot.sorted, padded * sizeof(splat::GaussianRecord), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | transfer}};
-        for (const Want& w : wants) {
-            auto b = gpu::Buffer::create(ctx, w.bytes, w.usage | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::device_local);
-            if (!b.ok()) return b.error();
-            *w.buffer = std::move(b).value();
-        }
-        VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-        alloc.descriptorPool = pool;
-        alloc.descriptorSetCount = 1;
-        alloc.pSetLayouts = &set_layout;
-        PBDSPLAT_VK_TRY(vkAllocateDescriptorSets(ctx.vk(), &alloc, &slot.set));
-        const VkBuffer targets[k_binding_count] = {slot.keys.handle(), slot.values.handle(), records[i],
-                                                   slot.counts.handle(), slot.control.handle(), slot.sorted.handle()};
-        VkDescriptorBufferInfo infos[k_binding_count];
-        VkWriteDescriptorSet writes[k_binding_count];
-        for (uint32_t b = 0; b < k_binding_count; ++b) {
-            infos[b] = {targets[b], 0, VK_WHOLE_SIZE};
-            writes[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-            writes[b].dstSet = slot.set;
-            writes[b].dstBinding = b;
-            writes[b].descriptorCount = 1;
-            writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            writes[b].pBufferInfo = &infos[b];
-        }
-        vkUpdateDescriptorSets(ctx.vk(), k_binding_count, writes, 0, nullptr);
-        s.slots_.push_back(std::move(slot));
+    Slot slot;
+    struct Want { gpu::Buffer* buffer; VkDeviceSize bytes; VkBufferUsageFlags usage; };
+    const Want wants[] = {
+        {&slot.keys, 2 * VkDeviceSize(capacity) * 4, transfer},
+        {&slot.values, 2 * VkDeviceSize(capacity) * 4, transfer},
+        {&slot.counts, VkDeviceSize(k_bins) * tiles_for(capacity) * 4, 0},
+        {&slot.control, SORT_CONTROL_WORDS * 4, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | transfer},
+        {&slot.sorted, padded * sizeof(splat::GaussianRecord), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | transfer}};
+    for (const Want& w : wants) {
+        auto b = gpu::Buffer::create(ctx, w.bytes, w.usage | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::device_local);
+        if (!b.ok()) return b.error();
+        *w.buffer = std::move(b).value();
     }
-    return s;
+    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    alloc.descriptorPool = pool;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &set_layout;
+    PBDSPLAT_VK_TRY(vkAllocateDescriptorSets(ctx.vk(), &alloc, &slot.set));
+    const VkBuffer targets[k_binding_count] = {slot.keys.handle(), slot.values.handle(), records,
+                                               slot.counts.handle(), slot.control.handle(), slot.sorted.handle()};
+    VkDescriptorBufferInfo infos[k_binding_count];
+    VkWriteDescriptorSet writes[k_binding_count];
+    for (uint32_t b = 0; b < k_binding_count; ++b) {
+        infos[b] = {targets[b], 0, VK_WHOLE_SIZE};
+        writes[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        writes[b].dstSet = slot.set;
+        writes[b].dstBinding = b;
+        writes[b].descriptorCount = 1;
+        writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        writes[b].pBufferInfo = &infos[b];
+    }
+    vkUpdateDescriptorSets(ctx.vk(), k_binding_count, writes, 0, nullptr);
+    return slot;
 }
 
 void GpuSort::dispatch(VkCommandBuffer cmd, const gpu::Pipeline& p, uint32_t slot, const gpu_types::SortPush& push,

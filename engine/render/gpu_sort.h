@@ -47,6 +47,9 @@ private:
         gpu::Buffer keys, values, counts, control, sorted;
         VkDescriptorSet set = VK_NULL_HANDLE;
     };
+    // One frame's buffers and descriptor set over `records`.
+    static core::Result<Slot> create_slot(gpu::Context& ctx, uint32_t capacity, VkBuffer records, VkDescriptorPool pool,
+                                          VkDescriptorSetLayout set_layout);
     void dispatch(VkCommandBuffer cmd, const gpu::Pipeline& p, uint32_t slot, const gpu_types::SortPush& push,
                   uint32_t groups) const;
     void radix_passes(VkCommandBuffer cmd, uint32_t slot, gpu_types::SortPush push) const;

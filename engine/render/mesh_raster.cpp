@@ -14,10 +14,20 @@ core::Result<std::unique_ptr<MeshRaster>> MeshRaster::create(gpu::Context& ctx, 
     auto target = OffscreenTarget::create(ctx, options.width, options.height, 1);
     if (!target.ok()) return target.error();
     m->target_ = std::move(target).value();
+    PBDSPLAT_TRY(m->create_slots(ctx, options));
+    auto environment = make_environment_texture(ctx, options.environment_map, options.sky_sun);
+    if (!environment.ok()) return environment.error();
+    m->environment_ = std::move(environment).value();
+    PBDSPLAT_TRY(m->create_frame_set(ctx));
+    PBDSPLAT_TRY(m->create_pipelines(ctx));
+    return m;
+}
+
+core::Status MeshRaster::create_slots(gpu::Context& ctx, const MeshRasterOptions& options) {
     const size_t nv = std::max<size_t>(1, options.max_vertices), nt = std::max<size_t>(1, options.max_triangles);
     struct Want { gpu::Buffer* buffer; VkDeviceSize bytes; VkBufferUsageFlags usage; };
-    m->slots_.resize(std::max(1u, options.slots));
-    for (Slot& slot : m->slots_) {
+    slots_.resize(std::max(1u, options.slots));
+    for (Slot& slot : slots_) {
         // The positions double as the frame set's storage binding, which no mesh shader reads.
         for (const Want& w : {Want{&slot.vertices, nv * sizeof(Vec4f), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT},
                               Want{&slot.normals, nv * sizeof(Vec3f), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT},
@@ -30,30 +40,31 @@ core::Result<std::unique_ptr<MeshRaster>> MeshRaster::create(gpu::Context& ctx, 
         std::memset(slot.normals.mapped(), 0, slot.normals.size());
         std::fill_n(static_cast<float*>(slot.colors.mapped()), slot.colors.size() / sizeof(float), 1.0f);
     }
-    auto environment = make_environment_texture(ctx, options.environment_map, options.sky_sun);
-    if (!environment.ok()) return environment.error();
-    m->environment_ = std::move(environment).value();
+    return core::Status::success();
+}
 
+core::Status MeshRaster::create_frame_set(gpu::Context& ctx) {
     gpu::FrameSetStages stages;
     stages.uniforms = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     stages.texture = VK_SHADER_STAGE_FRAGMENT_BIT;
     stages.storage = VK_SHADER_STAGE_VERTEX_BIT;
     auto set_layout = gpu::create_frame_layout(ctx, stages);
     if (!set_layout.ok()) return set_layout.error();
-    m->set_layout_ = std::move(set_layout).value();
-    const VkDescriptorSetLayout set_layout_handle = m->set_layout_.get();
+    set_layout_ = std::move(set_layout).value();
     gpu::FrameSetResources extra;
-    extra.texture_view = m->environment_.texture.view();
-    extra.texture_sampler = m->environment_.texture.sampler();
-    for (const Slot& slot : m->slots_) extra.storage.push_back(slot.vertices.handle());
-    auto uniforms = gpu::UniformSets::create(ctx, set_layout_handle, uint32_t(m->slots_.size()), sizeof(gpu_types::FrameUniforms), &extra);
+    extra.texture_view = environment_.texture.view();
+    extra.texture_sampler = environment_.texture.sampler();
+    for (const Slot& slot : slots_) extra.storage.push_back(slot.vertices.handle());
+    auto uniforms = gpu::UniformSets::create(ctx, set_layout_.get(), uint32_t(slots_.size()), sizeof(gpu_types::FrameUniforms), &extra);
     if (!uniforms.ok()) return uniforms.error();
-    m->uniforms_ = std::move(uniforms).value();
+    uniforms_ = std::move(uniforms).value();
+    return core::Status::success();
+}
 
-    auto pipeline_layout = gpu::create_pipeline_layout(ctx, set_layout_handle, {VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(float) * 4});
+core::Status MeshRaster::create_pipelines(gpu::Context& ctx) {
+    auto pipeline_layout = gpu::create_pipeline_layout(ctx, set_layout_.get(), {VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(float) * 4});
     if (!pipeline_layout.ok()) return pipeline_layout.error();
-    m->layout_ = std::move(pipeline_layout).value();
-    const VkPipelineLayout layout = m->layout_.get();
+    layout_ = std::move(pipeline_layout).value();
     gpu::GraphicsPipelineDesc desc;
     desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "mesh.vert"}, {VK_SHADER_STAGE_FRAGMENT_BIT, "mesh.frag"}};
     desc.bindings = {{0, sizeof(Vec4f), VK_VERTEX_INPUT_RATE_VERTEX},
@@ -64,16 +75,16 @@ core::Result<std::unique_ptr<MeshRaster>> MeshRaster::create(gpu::Context& ctx, 
                        {2, 2, VK_FORMAT_R32G32B32_SFLOAT, 0}};
     desc.color_format = k_color_format;
     desc.depth_format = k_depth_format;
-    desc.layout = layout;
+    desc.layout = layout_.get();
     desc.specialization = {1u};  // k_mask
     auto mask = gpu::create_graphics_pipeline(ctx, desc);
     if (!mask.ok()) return mask.error();
-    m->mask_ = std::move(mask).value();
+    mask_ = std::move(mask).value();
     desc.specialization = {0u};
     auto shaded = gpu::create_graphics_pipeline(ctx, desc);
     if (!shaded.ok()) return shaded.error();
-    m->shaded_ = std::move(shaded).value();
-    return m;
+    shaded_ = std::move(shaded).value();
+    return core::Status::success();
 }
 
 core::Status MeshRaster::set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles,

@@ -56,6 +56,10 @@ public:
 
 private:
     MeshRaster() = default;
+    // The steps of create(), in order.
+    core::Status create_slots(gpu::Context& ctx, const MeshRasterOptions& options);
+    core::Status create_frame_set(gpu::Context& ctx);
+    core::Status create_pipelines(gpu::Context& ctx);
     gpu::Context* ctx_ = nullptr;
     OffscreenTarget target_;
     struct Slot {

@@ -106,17 +106,37 @@ core::Status SplatPass::describe_front(const gpu::Context& ctx, gpu::GraphicsPip
     return core::Status::success();
 }
 
+namespace {
+
+core::Status make_pipeline(const gpu::Context& ctx, const gpu::GraphicsPipelineDesc& desc, gpu::Pipeline& into) {
+    auto made = gpu::create_graphics_pipeline(ctx, desc);
+    if (!made.ok()) return made.error();
+    into = std::move(made).value();
+    return core::Status::success();
+}
+
+} // namespace
+
+core::Status SplatPass::create_sum_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc sums, VkFormat accumulation) {
+    // The same fragments as the Gaussian's, summed as weights and weighted colours into the float image.
+    sums.stages.back().second = "splat_accumulate.frag";
+    sums.color_format = accumulation;
+    sums.color_count = k_sum_layers;
+    sums.specialization.resize(8, 0u);
+    sums.specialization[7] = 1u;  // k_opaque_surface: what shows is the surface, lit from the seen side
+    PBDSPLAT_TRY(make_pipeline(ctx, sums, accumulate_));
+    if (!occluded_layout_) return core::Status::success();
+    sums.stages.back().second = "splat_accumulate_occluded.frag";
+    sums.layout = occluded_layout_.get();
+    return make_pipeline(ctx, sums, accumulate_occluded_);
+}
+
 core::Status SplatPass::create_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc desc, uint32_t sh_degree,
                                         VkFormat accumulation) {
     const uint32_t per_corner = shading_ == SplatShading::corner ? 1u : 0u;
     const uint32_t octagon = carrier_ == SplatCarrier::octagon ? 1u : 0u;
     const uint32_t aniso = anisotropic_ ? 1u : 0u;
-    auto make_from = [&](const gpu::GraphicsPipelineDesc& d, gpu::Pipeline& into) -> core::Status {
-        auto made = gpu::create_graphics_pipeline(ctx, d);
-        if (!made.ok()) return made.error();
-        into = std::move(made).value();
-        return core::Status::success();
-    };
+    auto make_from = [&](const gpu::GraphicsPipelineDesc& d, gpu::Pipeline& into) { return make_pipeline(ctx, d, into); };
     auto make = [&](gpu::Pipeline& into) { return make_from(desc, into); };
     desc.color_write = false;
     // k_visibility_pass, k_shade_per_corner, k_footprint, k_octagon, k_footprint_dither, k_anisotropic,
@@ -133,21 +153,7 @@ core::Status SplatPass::create_pipelines(const gpu::Context& ctx, gpu::GraphicsP
     // Additive splats do not occlude one another: order does not matter, no visibility pass.
     desc.blend = gpu::BlendMode::additive;
     PBDSPLAT_TRY(make(additive_));
-    if (accumulation != VK_FORMAT_UNDEFINED) {
-        // The same fragments, summed as weights and weighted colours into the float image.
-        gpu::GraphicsPipelineDesc sums = desc;
-        sums.stages.back().second = "splat_accumulate.frag";
-        sums.color_format = accumulation;
-        sums.color_count = k_sum_layers;
-        sums.specialization.resize(8, 0u);
-        sums.specialization[7] = 1u;  // k_opaque_surface: what shows is the surface, lit from the seen side
-        PBDSPLAT_TRY(make_from(sums, accumulate_));
-        if (occluded_layout_) {
-            sums.stages.back().second = "splat_accumulate_occluded.frag";
-            sums.layout = occluded_layout_.get();
-            PBDSPLAT_TRY(make_from(sums, accumulate_occluded_));
-        }
-    }
+    if (accumulation != VK_FORMAT_UNDEFINED) PBDSPLAT_TRY(create_sum_pipelines(ctx, desc, accumulation));
 
     // The paper's disc: additive blending needs no depth; "over" writes it, so the nearest disc
     // wins each pixel whatever the draw order (its mask must run before the test).

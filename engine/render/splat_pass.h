@@ -95,6 +95,8 @@ private:
     core::Status create_layouts(const gpu::Context& ctx, VkDescriptorSetLayout occluders);
     core::Status describe_front(const gpu::Context& ctx, gpu::GraphicsPipelineDesc& desc);
     core::Status create_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc desc, uint32_t sh_degree, VkFormat accumulation);
+    // The normalised blend's sums, from the Gaussian's "over" pipeline description.
+    core::Status create_sum_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc sums, VkFormat accumulation);
 };
 
 } // namespace pbdsplat::render

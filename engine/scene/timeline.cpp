@@ -26,6 +26,14 @@ void Timeline::advance(EventQueue& queue, float t, float dt, sim::SoftBody& body
     // An event joins its kind's list when it falls due; the lists then behave as if it had
     // been there from the start (each ramp waits for its start time).
     for (const QueuedEvent& q : queue.take_due(t + dt, takes)) start(q.event);
+    advance_opacity(t, dt, opacity);
+    advance_pressure(t, dt, body);
+    advance_drags(t, body, drag);
+    advance_spins(t, dt, body);
+    advance_camera(t, dt, camera);
+}
+
+void Timeline::advance_opacity(float t, float dt, float& opacity) {
     for (PressureRamp& r : opacity_) {
         if (t < r.start) continue;
         if (r.from < 0.0f) r.from = opacity;
@@ -37,7 +45,10 @@ void Timeline::advance(EventQueue& queue, float t, float dt, sim::SoftBody& body
         const float u = r.duration > 0.0f ? std::min(1.0f, (t - r.start) / r.duration) : 1.0f;
         opacity = r.from + (r.to - r.from) * u;
     }
-    // Pressure: each ramp starts from whatever k is when it begins.
+}
+
+void Timeline::advance_pressure(float t, float dt, sim::SoftBody& body) {
+    // Each ramp starts from whatever k is when it begins.
     for (PressureRamp& r : pressure_) {
         if (t < r.start || body.volumes.empty()) continue;
         if (r.from < 0.0f) r.from = body.volumes[0].pressure;
@@ -46,7 +57,10 @@ void Timeline::advance(EventQueue& queue, float t, float dt, sim::SoftBody& body
         for (sim::VolumeConstraint& v : body.volumes)
             if (v.leak == 0.0f) v.pressure = r.from + (r.to - r.from) * u;  // an opened piece holds no pressure
     }
-    // Drags: the region about the particle nearest `from` follows a target moving from `from`
+}
+
+void Timeline::advance_drags(float t, const sim::SoftBody& body, sim::DragConstraint& drag) {
+    // The region about the particle nearest `from` follows a target moving from `from`
     // to `to` (the grab point starts at that particle, wherever `from` is).
     drag.active = false;
     for (ActiveDrag& d : drags_) {
@@ -67,7 +81,10 @@ void Timeline::advance(EventQueue& queue, float t, float dt, sim::SoftBody& body
         drag = d.grab;
         drag.target = start + (d.event.to - d.event.from) * u;
     }
-    // Spins: a rigid turn of the whole body about its centre (positions and the previous
+}
+
+void Timeline::advance_spins(float t, float dt, sim::SoftBody& body) {
+    // A rigid turn of the whole body about its centre (positions and the previous
     // positions alike, so no velocity is invented).
     for (const auto& [start, spin] : spins_) {
         if (t < start || t >= start + spin.duration) continue;
@@ -80,7 +97,10 @@ void Timeline::advance(EventQueue& queue, float t, float dt, sim::SoftBody& body
             body.particles.v[i] = sim::to4(Vec3f(r * sim::xyz(body.particles.v[i])));
         }
     }
-    // Camera path: eye and target between the keys around t + dt, held outside them.
+}
+
+void Timeline::advance_camera(float t, float dt, render::Camera& camera) {
+    // The path: eye and target between the keys around t + dt, held outside them.
     if (!path_.empty()) {
         const float at = t + dt;
         size_t k = 0;

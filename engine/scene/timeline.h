@@ -26,6 +26,12 @@ public:
 
 private:
     void start(const Event& e);
+    // One kind of event each, for the frame from t to t + dt.
+    void advance_opacity(float t, float dt, float& opacity);
+    void advance_pressure(float t, float dt, sim::SoftBody& body);
+    void advance_drags(float t, const sim::SoftBody& body, sim::DragConstraint& drag);
+    void advance_spins(float t, float dt, sim::SoftBody& body);
+    void advance_camera(float t, float dt, render::Camera& camera);
     struct PressureRamp {
         float start, duration, from = -1.0f, to;
         bool finished = false;

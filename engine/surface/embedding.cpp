@@ -41,6 +41,46 @@ Solve solve(const Vec3f& p, const std::array<Vec3f, 3>& x, const std::array<Vec3
     return s;
 }
 
+// Of the candidates, the nearest triangle that faces the same way as the sample and reproduces
+// it with coordinates inside (or just outside) the triangle: the sample's own part of the coarse
+// surface, not the far side of a thin ear. UINT32_MAX: none reproduces it within `exact`.
+std::pair<Solve, uint32_t> best_candidate(const SurfacePoint& sp, std::span<const mesh::ClosestPoint> cands, std::span<const Vec3f> rest,
+                                          std::span<const mesh::Triangle> triangles, std::span<const Vec3f> rest_normals,
+                                          const std::vector<Mat3f>& frames, float exact, float cell) {
+    const Vec3f& p = sp.position;
+    Solve best;
+    uint32_t best_t = UINT32_MAX;
+    float best_score = 1e30f;
+    for (const mesh::ClosestPoint& c : cands) {
+        const auto& tri = triangles[c.triangle];
+        if (frames[c.triangle].col(2).dot(sp.normal) < -0.2f) continue;
+        const std::array<Vec3f, 3> x{rest[tri[0]], rest[tri[1]], rest[tri[2]]};
+        const std::array<Vec3f, 3> n{rest_normals[tri[0]], rest_normals[tri[1]], rest_normals[tri[2]]};
+        const Vec3f nb = n[0] + c.bary.x() * (n[1] - n[0]) + c.bary.y() * (n[2] - n[0]);
+        const Vec3f q = x[0] + c.bary.x() * (x[1] - x[0]) + c.bary.y() * (x[2] - x[0]);
+        const float d0 = nb.squaredNorm() > 0.0f ? (p - q).dot(nb) / nb.squaredNorm() : 0.0f;
+        const Solve s = solve(p, x, n, c.bary, d0);
+        if (!(s.residual <= exact)) continue;
+        const float outside = std::max({0.0f, -s.bary.x(), -s.bary.y(), s.bary.x() + s.bary.y() - 1.0f});
+        const float score = outside * 10.0f + std::abs(s.offset) / std::max(cell, 1e-12f);
+        if (score < best_score) best_score = score, best = s, best_t = c.triangle;
+        if (outside == 0.0f) break;  // the nearest containing one: good enough
+    }
+    return {best, best_t};
+}
+
+// p as the closest point of candidate c, offset along the interpolated normal there.
+Solve along_normal(const Vec3f& p, const mesh::ClosestPoint& c, std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles,
+                   std::span<const Vec3f> rest_normals) {
+    const auto& tri = triangles[c.triangle];
+    const Vec3f nb = rest_normals[tri[0]] + c.bary.x() * (rest_normals[tri[1]] - rest_normals[tri[0]]) +
+                     c.bary.y() * (rest_normals[tri[2]] - rest_normals[tri[0]]);
+    const Vec3f q = rest[tri[0]] + c.bary.x() * (rest[tri[1]] - rest[tri[0]]) + c.bary.y() * (rest[tri[2]] - rest[tri[0]]);
+    Solve s{c.bary, nb.squaredNorm() > 0.0f ? (p - q).dot(nb) / nb.squaredNorm() : 0.0f, 0.0f};
+    s.residual = (q + s.offset * nb - p).norm();
+    return s;
+}
+
 } // namespace
 
 void embed_points(std::span<const SurfacePoint> points, std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles,
@@ -64,40 +104,15 @@ void embed_points(std::span<const SurfacePoint> points, std::span<const Vec3f> r
         // The nearest triangle and its rivals up to half as far again: on a thin part the
         // nearest may be the far side's.
         grid.closest(p, 1.5f, 0.25f * grid.cell_size(), cands);
-        // The nearest triangle that faces the same way as the sample and reproduces it with
-        // coordinates inside (or just outside) the triangle: the sample's own part of the
-        // coarse surface, not the far side of a thin ear.
-        Solve best;
-        uint32_t best_t = UINT32_MAX;
-        float best_score = 1e30f;
-        for (const mesh::ClosestPoint& c : cands) {
-            const auto& tri = triangles[c.triangle];
-            if (frames[c.triangle].col(2).dot(sp.normal) < -0.2f) continue;
-            const std::array<Vec3f, 3> x{rest[tri[0]], rest[tri[1]], rest[tri[2]]};
-            const std::array<Vec3f, 3> n{rest_normals[tri[0]], rest_normals[tri[1]], rest_normals[tri[2]]};
-            const Vec3f nb = n[0] + c.bary.x() * (n[1] - n[0]) + c.bary.y() * (n[2] - n[0]);
-            const Vec3f q = x[0] + c.bary.x() * (x[1] - x[0]) + c.bary.y() * (x[2] - x[0]);
-            const float d0 = nb.squaredNorm() > 0.0f ? (p - q).dot(nb) / nb.squaredNorm() : 0.0f;
-            const Solve s = solve(p, x, n, c.bary, d0);
-            if (!(s.residual <= exact)) continue;
-            const float outside = std::max({0.0f, -s.bary.x(), -s.bary.y(), s.bary.x() + s.bary.y() - 1.0f});
-            const float score = outside * 10.0f + std::abs(s.offset) / std::max(grid.cell_size(), 1e-12f);
-            if (score < best_score) best_score = score, best = s, best_t = c.triangle;
-            if (outside == 0.0f) break;  // the nearest containing one: good enough
-        }
+        const auto [found, found_t] = best_candidate(sp, cands, rest, triangles, rest_normals, frames, exact, grid.cell_size());
+        Solve best = found;
+        uint32_t best_t = found_t;
         if (best_t == UINT32_MAX) {
             // Nothing reproduces it (a sample beyond every triangle's normal field): the closest
             // point, offset along the face normal.
             ++st.fallback;
-            const mesh::ClosestPoint& c = cands.front();
-            const auto& tri = triangles[c.triangle];
-            const Vec3f nb = rest_normals[tri[0]] + c.bary.x() * (rest_normals[tri[1]] - rest_normals[tri[0]]) +
-                             c.bary.y() * (rest_normals[tri[2]] - rest_normals[tri[0]]);
-            const Vec3f q = rest[tri[0]] + c.bary.x() * (rest[tri[1]] - rest[tri[0]]) + c.bary.y() * (rest[tri[2]] - rest[tri[0]]);
-            best = {c.bary, nb.squaredNorm() > 0.0f ? (p - q).dot(nb) / nb.squaredNorm() : 0.0f, 0.0f};
-            best_t = c.triangle;
-            const Vec3f e = q + best.offset * nb - p;
-            best.residual = e.norm();
+            best = along_normal(p, cands.front(), rest, triangles, rest_normals);
+            best_t = cands.front().triangle;
         }
         const bool outside = best.bary.minCoeff() < 0.0f || best.bary.sum() > 1.0f;
         st.outside += outside ? 1 : 0;

@@ -404,6 +404,37 @@ std::vector<uint32_t> add_crossings(sim::SoftBody& b, const CutSurface& s, const
     return parents;
 }
 
+// Eq. 27: re-triangulate every crossed triangle around its new particles.
+void retriangulate(const sim::SoftBody& b, Edit& e, std::span<const uint32_t> parents) {
+    for (uint32_t t : parents) e.retriangulate(t);
+    for (const mesh::TriangleSplit& sp : e.change.splits) {
+        const float parent = rest_area(b, e.parent_triangle(sp.parent));
+        if (parent > 0.0f) e.change.min_child_area_ratio = std::min(e.change.min_child_area_ratio, rest_area(b, b.triangles[sp.triangle]) / parent);
+    }
+}
+
+// After the vertices are split: rings, masses and distance constraints follow the new lists,
+// then the pieces and their volumes. `lap(name)` times each phase.
+template <class Lap>
+void follow_split(sim::SoftBody& b, Edit& e, const CutOptions& o, const Sides& sides, Lap& lap) {
+    e.update_rings();
+    lap("rings");
+    e.redistribute_mass();
+    lap("mass");
+    e.update_distance_constraints();
+    lap("distance constraints");
+    // Which side of the cut each original particle was on steers the search for the pieces
+    // toward the smaller side; only where every particle was classified (not a tear's slit).
+    const std::span<const int8_t> side = sides.all ? std::span<const int8_t>(sides.sign).first(e.change.particles_before) : std::span<const int8_t>{};
+    const VolumeOutcome volumes = apply_volume_policy(b, o.volume, o.burst_leak, e.local_triangles(), e.change.triangles_before, side);
+    b.pieces = volumes.pieces;
+    e.change.components_after = b.pieces;
+    e.change.loops_fell_back = volumes.loops_fell_back;
+    e.change.particles_searched = volumes.particles_searched;
+    e.change.searched_whole = volumes.searched_whole;
+    e.change.summed_whole = volumes.summed_whole;
+}
+
 } // namespace
 
 core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const CutOptions& o) {
@@ -437,12 +468,7 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
     }
     e.change.components_before = b.pieces;
 
-    // Eq. 27: re-triangulate every crossed triangle around its new particles.
-    for (uint32_t t : parents) e.retriangulate(t);
-    for (const mesh::TriangleSplit& sp : e.change.splits) {
-        const float parent = rest_area(b, e.parent_triangle(sp.parent));
-        if (parent > 0.0f) e.change.min_child_area_ratio = std::min(e.change.min_child_area_ratio, rest_area(b, b.triangles[sp.triangle]) / parent);
-    }
+    retriangulate(b, e, parents);
 
     lap("retriangulate");
     // Eq. 28: duplicate the vertices on the cut per fan of triangles, then masses, distance
@@ -454,22 +480,7 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
         e.change.ms = clock.elapsed_ms();
         return std::move(e.change);
     }
-    e.update_rings();
-    lap("rings");
-    e.redistribute_mass();
-    lap("mass");
-    e.update_distance_constraints();
-    lap("distance constraints");
-    // Which side of the cut each original particle was on steers the search for the pieces
-    // toward the smaller side; only where every particle was classified (not a tear's slit).
-    const std::span<const int8_t> side = sides.all ? std::span<const int8_t>(sides.sign).first(e.change.particles_before) : std::span<const int8_t>{};
-    const VolumeOutcome volumes = apply_volume_policy(b, o.volume, o.burst_leak, e.local_triangles(), e.change.triangles_before, side);
-    b.pieces = volumes.pieces;
-    e.change.components_after = b.pieces;
-    e.change.loops_fell_back = volumes.loops_fell_back;
-    e.change.particles_searched = volumes.particles_searched;
-    e.change.searched_whole = volumes.searched_whole;
-    e.change.summed_whole = volumes.summed_whole;
+    follow_split(b, e, o, sides, lap);
     lap("pieces and volumes");
     const core::Stopwatch rebuild;
     sim::rebuild_shape_clusters(b);

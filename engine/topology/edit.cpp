@@ -127,6 +127,45 @@ void Edit::retriangulate(uint32_t t) {
     }
 }
 
+bool Edit::split_fan(uint32_t v, const std::vector<uint32_t>& fan, std::vector<uint32_t>& root) {
+    const size_t m = fan.size();
+    root.resize(m);
+    std::iota(root.begin(), root.end(), 0u);
+    auto find = [&](uint32_t x) {
+        while (root[x] != x) x = root[x] = root[root[x]];
+        return x;
+    };
+    for (size_t a = 0; a < m; ++a)
+        for (size_t c = a + 1; c < m; ++c) {
+            const mesh::Triangle& ta = b_.triangles[fan[a]];
+            const mesh::Triangle& tc = b_.triangles[fan[c]];
+            for (uint32_t w : ta) {
+                if (w == v || std::find(tc.begin(), tc.end(), w) == tc.end()) continue;
+                // They share edge (v, w): joined unless it is a cut edge.
+                if (!(on_cut(w) && side(ta) != side(tc))) root[find(uint32_t(a))] = find(uint32_t(c));
+            }
+        }
+    // Fans ordered by their lowest triangle; the first keeps v.
+    std::vector<std::pair<uint32_t, uint32_t>> fan_of;  // (root, lowest triangle)
+    for (size_t a = 0; a < m; ++a) {
+        const uint32_t r = find(uint32_t(a));
+        auto it = std::find_if(fan_of.begin(), fan_of.end(), [r](const auto& f) { return f.first == r; });
+        if (it == fan_of.end()) fan_of.push_back({r, fan[a]});
+        else it->second = std::min(it->second, fan[a]);
+    }
+    if (fan_of.size() < 2) return false;
+    std::sort(fan_of.begin(), fan_of.end(), [](const auto& x, const auto& y) { return x.second < y.second; });
+    for (size_t g = 1; g < fan_of.size(); ++g) {
+        const uint32_t copy = new_particle(v);
+        ++change.duplicated_vertices;
+        for (size_t a = 0; a < m; ++a)
+            if (find(uint32_t(a)) == fan_of[g].first)
+                for (uint32_t& corner : b_.triangles[fan[a]])
+                    if (corner == v) corner = copy;
+    }
+    return true;
+}
+
 void Edit::split_vertices_along_cut() {
     // Triangles around every vertex on the cut: an original vertex's from its ring (before the
     // edit; a re-used parent index may have lost it), and the children of the split triangles.
@@ -151,41 +190,7 @@ void Edit::split_vertices_along_cut() {
         core::insertion_sort(fan.begin(), fan.end());  // a fan is a handful of triangles
         fan.erase(std::unique(fan.begin(), fan.end()), fan.end());
         if (fan.empty()) continue;
-        const size_t m = fan.size();
-        root.resize(m);
-        std::iota(root.begin(), root.end(), 0u);
-        auto find = [&](uint32_t x) {
-            while (root[x] != x) x = root[x] = root[root[x]];
-            return x;
-        };
-        for (size_t a = 0; a < m; ++a)
-            for (size_t c = a + 1; c < m; ++c) {
-                const mesh::Triangle& ta = b_.triangles[fan[a]];
-                const mesh::Triangle& tc = b_.triangles[fan[c]];
-                for (uint32_t w : ta) {
-                    if (w == v || std::find(tc.begin(), tc.end(), w) == tc.end()) continue;
-                    // They share edge (v, w): joined unless it is a cut edge.
-                    if (!(on_cut(w) && side(ta) != side(tc))) root[find(uint32_t(a))] = find(uint32_t(c));
-                }
-            }
-        // Fans ordered by their lowest triangle; the first keeps v.
-        std::vector<std::pair<uint32_t, uint32_t>> fan_of;  // (root, lowest triangle)
-        for (size_t a = 0; a < m; ++a) {
-            const uint32_t r = find(uint32_t(a));
-            auto it = std::find_if(fan_of.begin(), fan_of.end(), [r](const auto& f) { return f.first == r; });
-            if (it == fan_of.end()) fan_of.push_back({r, fan[a]});
-            else it->second = std::min(it->second, fan[a]);
-        }
-        if (fan_of.size() < 2) continue;
-        std::sort(fan_of.begin(), fan_of.end(), [](const auto& x, const auto& y) { return x.second < y.second; });
-        for (size_t g = 1; g < fan_of.size(); ++g) {
-            const uint32_t copy = new_particle(v);
-            ++change.duplicated_vertices;
-            for (size_t a = 0; a < m; ++a)
-                if (find(uint32_t(a)) == fan_of[g].first)
-                    for (uint32_t& corner : b_.triangles[fan[a]])
-                        if (corner == v) corner = copy;
-        }
+        if (!split_fan(v, fan, root)) continue;
         local_triangles_.insert(local_triangles_.end(), fan.begin(), fan.end());
     }
     // The local triangles: the children and those around duplicated vertices.

@@ -43,6 +43,10 @@ public:
     void finish();
 
 private:
+    // v's triangles `fan` grouped by the edges they share that are not cut edges; each group but
+    // the first (by its lowest triangle) gets a copy of v; false: one group, nothing split.
+    // `root`: scratch.
+    bool split_fan(uint32_t v, const std::vector<uint32_t>& fan, std::vector<uint32_t>& root);
     struct EdgePoint {
         uint32_t i, j;  // i < j
         float t;        // from i

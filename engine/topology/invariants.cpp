@@ -62,38 +62,36 @@ core::Status check_volumes(const sim::SoftBody& b) {
 }
 } // namespace
 
-core::Status check_invariants(const sim::SoftBody& b, const InvariantOptions& o) {
+namespace {
+
+// Corners that exist and differ, and no sliver (rest area under min_area_ratio of the mean).
+core::Status check_triangles(const sim::SoftBody& b, const InvariantOptions& o) {
     const size_t n = b.particle_count();
-    PBDSPLAT_TRY(check_particles(b));
+    const auto rest_area = [&](const mesh::Triangle& t) {
+        return 0.5 * double((b.rest_positions[t[1]] - b.rest_positions[t[0]]).cross(b.rest_positions[t[2]] - b.rest_positions[t[0]]).norm());
+    };
     double mean_area = 0.0;
     for (const auto& t : b.triangles) {
         for (uint32_t v : t)
             if (v >= n) return broken("a triangle refers to particle " + std::to_string(v) + " of " + std::to_string(n));
         if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return broken("a triangle repeats a corner");
-        mean_area += 0.5 * double((b.rest_positions[t[1]] - b.rest_positions[t[0]]).cross(b.rest_positions[t[2]] - b.rest_positions[t[0]]).norm());
+        mean_area += rest_area(t);
     }
     mean_area /= double(std::max<size_t>(1, b.triangles.size()));
     for (size_t f = 0; f < b.triangles.size(); ++f) {
-        const auto& t = b.triangles[f];
-        const double a = 0.5 * double((b.rest_positions[t[1]] - b.rest_positions[t[0]]).cross(b.rest_positions[t[2]] - b.rest_positions[t[0]]).norm());
-        if (a < double(o.min_area_ratio) * mean_area)
-            {
-                char buf[160];
-                std::snprintf(buf, sizeof(buf), "triangle %zu is a sliver (rest area %.3g, %.3g of the mean %.3g)", f, a, a / mean_area, mean_area);
-                return broken(buf);
-            }
+        const double a = rest_area(b.triangles[f]);
+        if (a < double(o.min_area_ratio) * mean_area) {
+            char buf[160];
+            std::snprintf(buf, sizeof(buf), "triangle %zu is a sliver (rest area %.3g, %.3g of the mean %.3g)", f, a, a / mean_area, mean_area);
+            return broken(buf);
+        }
     }
+    return core::Status::success();
+}
 
-    // Orientation and manifoldness from the directed edges.
-    std::unordered_set<uint64_t> directed;
-    directed.reserve(b.triangles.size() * 3);
-    for (const auto& t : b.triangles)
-        for (int k = 0; k < 3; ++k)
-            if (!directed.insert((uint64_t(t[size_t(k)]) << 32) | t[size_t((k + 1) % 3)]).second)
-                return broken("edge " + std::to_string(t[size_t(k)]) + "-" + std::to_string(t[size_t((k + 1) % 3)]) +
-                              " is used twice in one direction (orientation or manifoldness broken)");
-
-    // One fan per vertex: around v, the triangles joined through shared edges form one group.
+// One fan per vertex: around v, the triangles joined through shared edges form one group.
+core::Status check_fans(const sim::SoftBody& b) {
+    const size_t n = b.particle_count();
     std::vector<uint32_t> start(n + 1, 0), ring(b.triangles.size() * 3);
     for (const auto& t : b.triangles)
         for (uint32_t v : t) ++start[v + 1];
@@ -124,7 +122,24 @@ core::Status check_invariants(const sim::SoftBody& b, const InvariantOptions& o)
             }
         if (groups != 1) return broken("vertex " + std::to_string(v) + " is a bow-tie (" + std::to_string(groups) + " fans)");
     }
+    return core::Status::success();
+}
 
+} // namespace
+
+core::Status check_invariants(const sim::SoftBody& b, const InvariantOptions& o) {
+    const size_t n = b.particle_count();
+    PBDSPLAT_TRY(check_particles(b));
+    PBDSPLAT_TRY(check_triangles(b, o));
+    // Orientation and manifoldness from the directed edges.
+    std::unordered_set<uint64_t> directed;
+    directed.reserve(b.triangles.size() * 3);
+    for (const auto& t : b.triangles)
+        for (int k = 0; k < 3; ++k)
+            if (!directed.insert((uint64_t(t[size_t(k)]) << 32) | t[size_t((k + 1) % 3)]).second)
+                return broken("edge " + std::to_string(t[size_t(k)]) + "-" + std::to_string(t[size_t((k + 1) % 3)]) +
+                              " is used twice in one direction (orientation or manifoldness broken)");
+    PBDSPLAT_TRY(check_fans(b));
     for (const auto& c : b.distance) {
         if (!c.alive()) continue;  // a slot emptied by an edit
         if (c.i >= n || c.j >= n || c.i == c.j) return broken("a distance constraint refers to a missing particle");

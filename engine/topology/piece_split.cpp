@@ -48,6 +48,43 @@ void add_triangles_at(const sim::SoftBody& b, uint32_t v, Part& part) {
         if (j > v && k > v) add_triangle(part, b.particles.x[v], b.particles.x[j], b.particles.x[k]);
 }
 
+// sweep_parts' union-find over a piece's particles, in `up`: a root holds k_sweep_root and its
+// part's size; once the particle pass has met it, k_sweep_part and the part's index instead.
+constexpr uint32_t k_sweep_root = 0x80000000u, k_sweep_part = 0x40000000u, k_sweep_value = k_sweep_part - 1;
+
+uint32_t sweep_root(std::vector<uint32_t>& up, uint32_t s) {
+    while (!(up[s] & k_sweep_root)) {
+        const uint32_t parent = up[s];
+        if (up[parent] & k_sweep_root) return parent;
+        s = up[s] = up[parent];  // halving: point at the grandparent and go there
+    }
+    return s;
+}
+
+// Every particle of the piece joined with its triangles' corners. Union by size keeps the trees
+// shallow.
+void sweep_union(const sim::SoftBody& b, uint32_t piece, std::vector<uint32_t>& up) {
+    const std::vector<uint32_t>& label = b.piece_of_particle;
+    up.resize(b.particle_count());
+    std::fill(up.begin(), up.end(), k_sweep_root | 1u);
+    auto link = [&](uint32_t a, uint32_t c) {
+        if (a == c) return a;
+        if ((up[a] & k_sweep_value) < (up[c] & k_sweep_value)) std::swap(a, c);
+        up[a] += up[c] & k_sweep_value;
+        up[c] = a;
+        return a;
+    };
+    // Triangles come sorted by their first corner, so consecutive ones mostly share it: its root
+    // is the last link's result (still a root: only these links change roots).
+    uint32_t last = UINT32_MAX, last_root = 0;
+    for (const mesh::Triangle& t : b.triangles) {
+        if (label[t[0]] != piece) continue;
+        const uint32_t r0 = t[0] == last ? last_root : sweep_root(up, t[0]);
+        const uint32_t r01 = link(r0, sweep_root(up, t[1]));  // before the next find: link takes roots
+        last = t[0], last_root = link(r01, sweep_root(up, t[2]));
+    }
+}
+
 // A piece's parts by one union-find pass over its triangles in memory order, for an edit whose
 // searches outgrew their budget (two large parts, as a cut through the middle makes). A search
 // hops across memory and waits on a cache miss per particle; this pass streams the triangle
@@ -58,46 +95,19 @@ void add_triangles_at(const sim::SoftBody& b, uint32_t v, Part& part) {
 std::vector<Part> sweep_parts(const sim::SoftBody& b, uint32_t piece, bool sum_rest, std::vector<uint32_t>& up, size_t& searched) {
     const std::vector<uint32_t>& label = b.piece_of_particle;
     const uint32_t n = uint32_t(b.particle_count());
-    // A root holds k_root and its part's size; once the particle pass has met it, k_part and the
-    // part's index instead. Union by size keeps the trees shallow.
-    constexpr uint32_t k_root = 0x80000000u, k_part = 0x40000000u, k_value = k_part - 1;
-    PBDSPLAT_ASSERT(n <= k_value, "a body of more than 2^30 particles: sweep_parts packs flags into the particle index");
-    up.resize(n);
-    std::fill(up.begin(), up.end(), k_root | 1u);
-    auto find = [&](uint32_t s) {
-        while (!(up[s] & k_root)) {
-            const uint32_t parent = up[s];
-            if (up[parent] & k_root) return parent;
-            s = up[s] = up[parent];  // halving: point at the grandparent and go there
-        }
-        return s;
-    };
-    auto link = [&](uint32_t a, uint32_t c) {
-        if (a == c) return a;
-        if ((up[a] & k_value) < (up[c] & k_value)) std::swap(a, c);
-        up[a] += up[c] & k_value;
-        up[c] = a;
-        return a;
-    };
-    // Triangles come sorted by their first corner, so consecutive ones mostly share it: its root
-    // is the last link's result (still a root: only these links change roots).
-    uint32_t last = UINT32_MAX, last_root = 0;
-    for (const mesh::Triangle& t : b.triangles) {
-        if (label[t[0]] != piece) continue;
-        const uint32_t r0 = t[0] == last ? last_root : find(t[0]);
-        const uint32_t r01 = link(r0, find(t[1]));  // before the next find: link takes roots
-        last = t[0], last_root = link(r01, find(t[2]));
-    }
+    PBDSPLAT_ASSERT(n <= k_sweep_value, "a body of more than 2^30 particles: sweep_parts packs flags into the particle index");
+    sweep_union(b, piece, up);
+    auto find = [&](uint32_t s) { return sweep_root(up, s); };
     // Parts numbered in the order of their lowest particle; every particle pointed at its root.
     std::vector<size_t> counts;
     for (uint32_t v = 0; v < n; ++v) {
         if (label[v] != piece) continue;
         const uint32_t r = find(v);
         if (r != v) up[v] = r;
-        if (!(up[r] & k_part)) counts.push_back(up[r] & k_value), up[r] = k_root | k_part | uint32_t(counts.size() - 1);
+        if (!(up[r] & k_sweep_part)) counts.push_back(up[r] & k_sweep_value), up[r] = k_sweep_root | k_sweep_part | uint32_t(counts.size() - 1);
         ++searched;
     }
-    auto part_of = [&](uint32_t v) { return size_t(up[up[v] & k_root ? v : up[v]] & k_value); };
+    auto part_of = [&](uint32_t v) { return size_t(up[up[v] & k_sweep_root ? v : up[v]] & k_sweep_value); };
     std::vector<Part> parts(counts.size());
     if (parts.size() < 2) {  // the searches all met, beyond the region they saw
         parts.front().complete = false;
@@ -174,38 +184,47 @@ public:
 private:
     static constexpr uint32_t k_unseen = UINT32_MAX;
     static constexpr size_t k_first_rings = 256;
-    // Floods the open search on the side with fewer of the piece's particles until it closes
-    // (true: a part cut off, all its particles expanded) or meets a search from the other side
-    // (false: the cut did not separate them; the caller sweeps). Searches from its own side that
-    // it meets join it.
-    bool flood_one(uint32_t piece, std::span<const int8_t> side) {
+    // The open search to flood: on the side with fewer of the piece's particles, the smallest
+    // there. `votes`: each search's sum of its particles' sides (its side is the sign).
+    std::pair<uint32_t, int> pick_flood(uint32_t piece, std::span<const int8_t> side, std::vector<int32_t>& votes) {
         if (side_count_[0] < 0) {
             side_count_[0] = side_count_[1] = 0;
             for (uint32_t v = 0; v < side.size(); ++v)
                 if (side[v] != 0 && b_.piece_of_particle[v] == piece) ++side_count_[side[v] > 0];
         }
         const int smaller = side_count_[1] < side_count_[0] ? 1 : -1;
-        // Each search's side: the sign most of its particles had (0: none had one).
-        std::vector<int32_t> votes(parent_.size(), 0);
+        votes.assign(parent_.size(), 0);
         for (uint32_t v : visited_)
             if (v < side.size()) votes[find(owner_[v])] += side[v];
-        auto side_of = [&](uint32_t root) { return (votes[root] > 0) - (votes[root] < 0); };
         uint32_t g = UINT32_MAX;
         int g_side = 0;
         for (uint32_t r = 0; r < parent_.size(); ++r) {
             if (find(r) != r || queued_[r] == 0) continue;
-            const int s = side_of(r);
+            const int s = (votes[r] > 0) - (votes[r] < 0);
             const bool better = g == UINT32_MAX || (s == smaller && g_side != smaller) || (s == g_side && members_[r] < members_[g]);
             if (better) g = r, g_side = s;
         }
-        // Breadth first, so the particles to expand next are known and their rings are fetched
-        // a few steps ahead: a flood through half a large body otherwise waits on a cache miss
-        // at every step (without it the flood at icosphere:7 took 1.6x as long; fetching the
-        // neighbours' labels and positions too gained nothing: those arrays stay in cache).
-        // Each particle's triangles at their lowest corner are summed as it is expanded (its
-        // ring is in cache then); parts() sums only those the first rings expanded.
-        // Both lists sized for every particle of the body up front and written by index: a
-        // push_back that the compiler leaves out of line costs more than the rest of a step.
+        return {g, g_side};
+    }
+
+    // Floods the open search on the side with fewer of the piece's particles until it closes
+    // (true: a part cut off, all its particles expanded) or meets a search from the other side
+    // (false: the cut did not separate them; the caller sweeps). Searches from its own side that
+    // it meets join it.
+    // Breadth first, so the particles to expand next are known and their rings are fetched
+    // a few steps ahead: a flood through half a large body otherwise waits on a cache miss
+    // at every step (without it the flood at icosphere:7 took 1.6x as long; fetching the
+    // neighbours' labels and positions too gained nothing: those arrays stay in cache).
+    // Each particle's triangles at their lowest corner are summed as it is expanded (its
+    // ring is in cache then); parts() sums only those the first rings expanded.
+    // Both lists sized for every particle of the body up front and written by index: a
+    // push_back that the compiler leaves out of line costs more than the rest of a step.
+    bool flood_one(uint32_t piece, std::span<const int8_t> side) {
+        std::vector<int32_t> votes;
+        const std::pair<uint32_t, int> picked = pick_flood(piece, side, votes);
+        const uint32_t g = picked.first;
+        const int g_side = picked.second;
+        auto side_of = [&](uint32_t root) { return (votes[root] > 0) - (votes[root] < 0); };
         std::vector<uint32_t>& queue = flood_queue_;
         const size_t n = b_.particle_count();
         queue.resize(n);
