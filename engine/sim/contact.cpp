@@ -251,6 +251,52 @@ typename ContactSolverT<Real>::Corners ContactSolverT<Real>::corners_of(const So
 }
 
 template <class Real>
+typename ContactSolverT<Real>::Neighbourhood ContactSolverT<Real>::neighbourhood_of(const SoftBodyT<Real>& body, uint32_t i, uint32_t pi,
+                                                                                  uint32_t piece, const Corners& tk, bool closed,
+                                                                                  float r_ex2) const {
+    const bool near = pi == piece || (model_[i] == model_[tk.ia] && (part_[i] != part_[tk.ia] || !tk.face));
+    if (!near) return {};
+    if (pi == piece && tk.face) return {true, true, false};
+    if (body.rest_positions.size() != body.particles.size()) return {true, true, false};
+    const Vec3f& r = body.rest_positions[i];
+    if ((r - body.rest_positions[tk.ia]).squaredNorm() < r_ex2 || (r - body.rest_positions[tk.ib]).squaredNorm() < r_ex2 ||
+        (r - body.rest_positions[tk.ic]).squaredNorm() < r_ex2) {
+        if (!closed || pi == piece || part_[i] != part_[tk.ia] || !on_rim_[i]) return {true, true, false};
+        return {false, true, true};
+    }
+    return {false, true, false};
+}
+
+template <class Real>
+bool ContactSolverT<Real>::rest_gap(const SoftBodyT<Real>& body, uint32_t i, const Corners& tk, float side, float& thickness) const {
+    const Vec3f& ra = body.rest_positions[tk.ia];
+    const Vec3f& rb = body.rest_positions[tk.ib];
+    const Vec3f& rc = body.rest_positions[tk.ic];
+    const Vec3f rn = unit_normal(ra, rb, rc);
+    if (rn.isZero()) return true;
+    const Over rest = over_triangle(body.rest_positions[i], ra, rb, rc, rn);
+    if (rest.lateral <= scale_.thickness && std::abs(rest.height) < scale_.thickness) {
+        if (side * rest.height < -k_on_surface * scale_.edge) return false;
+        thickness = std::max(0.0f, std::min(thickness, side * rest.height));
+    }
+    return true;
+}
+
+namespace {
+
+// The side of a triangle a particle is kept on, from its height over the triangle's plane at the
+// substep's start: outside a closed piece, or shallowly inside it (pushed out); an open piece
+// keeps a particle on the side it started on. A particle of the same piece that started behind
+// is in a fold that was there before: which way is out is not known, so it is left alone (0).
+float side_kept(bool closed, bool same_piece, float h_then, float margin) {
+    if (closed && !same_piece) return h_then < -margin ? 0.0f : 1.0f;
+    const float side = h_then >= 0.0f ? 1.0f : -1.0f;
+    return closed && side < 0.0f ? 0.0f : side;
+}
+
+} // namespace
+
+template <class Real>
 void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch, uint32_t group, float r_ex2) {
     const bool rest_known = body.rest_positions.size() == body.particles.size();
     const float reach = scale_.thickness + scale_.margin + scale_.slack;
@@ -258,7 +304,6 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
     for (uint32_t q = group_start_[group]; q < group_start_[group + 1]; ++q) {
         const uint32_t t = group_triangles_[q];
         if (!triangle_box_[q].intersects(patch_box)) continue;
-        // The triangle's corners now and at the start.
         const Corners tk = corners_of(body, t);
         const uint32_t ia = tk.ia, ib = tk.ib, ic = tk.ic;
         const Vec3f a = now_[ia], b = now_[ib], c = now_[ic];
@@ -277,31 +322,8 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             const uint32_t pi = body.piece_of_particle[i];
             if (pi == k_no_piece) continue;
             if (!self_ && pi == piece) continue;
-            // A particle's own neighbourhood (in rest space) never touches it: on its own piece
-            // (nor does its own cap, which closes it along its rim); across a cut or tear, on the
-            // other side's triangles (the two sides start on each other, and pushed apart the
-            // seam's edges would stretch until a tear ran from it: the cut face's cap carries
-            // their contact); and across two parts of one model that lie on each other at load
-            // (a teapot's lid, suzanne's eyes: their relative place changes with the shell's
-            // pressure, and pushed apart they tear it).
-            // The other side of a cut of a closed piece is the exception for the particles of a
-            // cut face's rim: its shell is met at no thickness (the gap the seam had), from
-            // outside only, so that a rim slipping off the face it rests on cannot come back in
-            // through that piece's wall beside the face, and a seam at rest is not pushed apart.
-            // Only the rim's: a soft balloon's two halves wrinkle against each other beside the
-            // seam, and met there they push themselves apart.
-            const bool neighbourhood = pi == piece || (model_[i] == model_[ia] && (part_[i] != part_[ia] || !tk.face));
-            bool seam = false;
-            if (neighbourhood) {
-                if (pi == piece && tk.face) continue;
-                if (!rest_known) continue;
-                const Vec3f& r = body.rest_positions[i];
-                if ((r - body.rest_positions[ia]).squaredNorm() < r_ex2 || (r - body.rest_positions[ib]).squaredNorm() < r_ex2 ||
-                    (r - body.rest_positions[ic]).squaredNorm() < r_ex2) {
-                    if (!closed || pi == piece || part_[i] != part_[ia] || !on_rim_[i]) continue;
-                    seam = true;
-                }
-            }
+            const Neighbourhood nb = neighbourhood_of(body, i, pi, piece, tk, closed, r_ex2);
+            if (nb.skip) continue;
             if (!planes) {
                 nrm = unit_normal(a, b, c), nrm0 = unit_normal(a0, b0, c0);
                 d_now = a.dot(nrm), d_then = a0.dot(nrm0);
@@ -314,41 +336,15 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             if (tk.face && nrm.dot(tk.face->normal) < 0.0f) break;
             // Heights over the planes first (cheap), the closest points after.
             const float h_then = then_[i].dot(nrm0) - d_then, h_now = now_[i].dot(nrm) - d_now;
-            // Outside a closed piece, or shallowly inside it (pushed out); an open piece keeps a
-            // particle on the side it started on. A particle of the same piece that started
-            // behind is in a fold that was there before: which way is out is not known, so it
-            // is left alone.
-            float side;
-            if (closed && pi != piece) {
-                if (h_then < -scale_.margin) continue;
-                side = 1.0f;
-            } else {
-                side = h_then >= 0.0f ? 1.0f : -1.0f;
-                if (closed && side < 0.0f) continue;
-            }
+            const float side = side_kept(closed, pi == piece, h_then, scale_.margin);
+            if (side == 0.0f) continue;
             if (side * h_now > reach) continue;  // clear of it at the end of the sweep
             if (std::abs(h_now) >= farthest_kept(i)) continue;
             const Over now = over_triangle(now_[i], a, b, c, nrm), then = over_triangle(then_[i], a0, b0, c0, nrm0);
             const float beside = scale_.thickness + scale_.slack;
             if (now.lateral > beside && then.lateral > beside) continue;  // beside it
-            // Pieces that were closer than the thickness at rest (the two sides of a cut, which
-            // start on each other; two models placed with a small gap) keep the gap they had:
-            // pushing them apart at the first step would throw them, or pull a seam's edges
-            // apart until a tear ran from it. Pairs that start inside each other are left alone.
-            float thickness = seam ? 0.0f : scale_.thickness;
-            if (!neighbourhood && rest_known) {
-                const Vec3f& ra = body.rest_positions[ia];
-                const Vec3f& rb = body.rest_positions[ib];
-                const Vec3f& rc = body.rest_positions[ic];
-                const Vec3f rn = unit_normal(ra, rb, rc);
-                if (!rn.isZero()) {
-                    const Over rest = over_triangle(body.rest_positions[i], ra, rb, rc, rn);
-                    if (rest.lateral <= scale_.thickness && std::abs(rest.height) < scale_.thickness) {
-                        if (side * rest.height < -k_on_surface * scale_.edge) continue;
-                        thickness = std::max(0.0f, std::min(thickness, side * rest.height));
-                    }
-                }
-            }
+            float thickness = nb.seam ? 0.0f : scale_.thickness;
+            if (!nb.near && rest_known && !rest_gap(body, i, tk, side, thickness)) continue;
             keep({i, t, side, thickness}, std::abs(h_now) + std::min(now.lateral, then.lateral));
         }
     }

@@ -174,6 +174,30 @@ private:
     void update_origins(const SoftBodyT<Real>& body);
     void build_patches(const SoftBodyT<Real>& body);
     void test_pair(const SoftBodyT<Real>& body, uint32_t patch, uint32_t group, float r_ex2);
+    // A particle's own neighbourhood (in rest space) never touches it: on its own piece (nor does
+    // its own cap, which closes it along its rim); across a cut or tear, on the other side's
+    // triangles (the two sides start on each other, and pushed apart the seam's edges would
+    // stretch until a tear ran from it: the cut face's cap carries their contact); and across two
+    // parts of one model that lie on each other at load (a teapot's lid, suzanne's eyes: their
+    // relative place changes with the shell's pressure, and pushed apart they tear it).
+    // The other side of a cut of a closed piece is the exception for the particles of a cut
+    // face's rim: its shell is met at no thickness (the gap the seam had), from outside only, so
+    // that a rim slipping off the face it rests on cannot come back in through that piece's wall
+    // beside the face, and a seam at rest is not pushed apart. Only the rim's: a soft balloon's
+    // two halves wrinkle against each other beside the seam, and met there they push themselves
+    // apart.
+    struct Neighbourhood {
+        bool skip = false;  // never in contact
+        bool near = false;  // of its piece, the other side of its cut or another part of its model
+        bool seam = false;  // a rim particle against the other side's shell: met at no thickness
+    };
+    Neighbourhood neighbourhood_of(const SoftBodyT<Real>& body, uint32_t i, uint32_t pi, uint32_t piece, const Corners& tk, bool closed,
+                                   float r_ex2) const;
+    // Pieces that were closer than the thickness at rest (the two sides of a cut, which start on
+    // each other; two models placed with a small gap) keep the gap they had: pushing them apart
+    // at the first step would throw them, or pull a seam's edges apart until a tear ran from it.
+    // False: the pair started inside each other, and is left alone.
+    bool rest_gap(const SoftBodyT<Real>& body, uint32_t i, const Corners& tk, float side, float& thickness) const;
     // The steps of find(), in order.
     bool candidates_hold(const SoftBodyT<Real>& body, const ContactSettings& s) const;
     void box_patches(const SoftBodyT<Real>& body, float reach);
