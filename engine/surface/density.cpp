@@ -410,6 +410,36 @@ const Rows& DensityControl::ring(size_t particles, std::span<const mesh::Triangl
     return ring_;
 }
 
+void DensityControl::judge(uint32_t t, const Thresholds& th, std::vector<Due>& work) {
+    // A sliver (zero inverse: zero stretches) keeps its reference: never due, never changed.
+    if (stretch2_[t] == 0.0f && inverse_rest_[t].isZero()) return;
+    const float l2 = stretch2_[t], s2 = squeeze2_[t];
+    const uint8_t was = changed_[t];
+    uint8_t now = was;
+    if (l2 < shrank_large2_[t] || s2 < shrank_small2_[t]) now |= k_shrank;
+    if (l2 > grew_large2_[t] || s2 > grew_small2_[t]) now |= k_grew;
+    if (now != was) changed_[t] = now, check_due_ = true, disarm_change_bounds(t);
+    const float ref2 = reference2_[t], ref_squeeze2 = std::max(reference_squeeze2_[t], 1e-12f);
+    // Along its least stretched direction as well: a triangle squashed one way keeps its
+    // largest stretch while its samples crowd along the other (a body landing), and when it
+    // springs back the gaps open along that direction only.
+    const bool grow = l2 > th.grow2 * ref2 || s2 > th.unsquash2 * ref_squeeze2;
+    const bool thin = (l2 < th.shrink2 * ref2 || s2 < th.squash2 * ref_squeeze2) && s2 > 0.0f;
+    int8_t& run = beyond_[t];
+    if (!grow && !thin) {
+        run = 0;
+        return;
+    }
+    const int8_t side = grow ? 1 : -1;
+    // Frames in a row on this side, counted up to 120 (the settle limit is at most 60).
+    run = run * side > 0 ? int8_t(side * std::min(std::abs(int(run)) + 1, 120)) : side;
+    if (uint32_t(std::abs(run)) < th.settle) return;
+    // max(|log a|, |log b|) orders as max(a, 1/a, b, 1/b): no logarithm for each due triangle.
+    const float a = l2 / ref2, b = std::max(s2 / ref_squeeze2, 1e-12f);
+    const float priority = std::max({a, 1.0f / a, b, 1.0f / b});
+    work.push_back({priority, t, grow, thin});
+}
+
 std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangles) {
     std::vector<Due> work;
     // Squared stretches throughout (one square root a triangle instead of three, no division):
@@ -418,35 +448,7 @@ std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const V
     const float grow2 = options_.grow * options_.grow, shrink2 = options_.shrink * options_.shrink;
     const float squash2 = options_.squash * options_.squash, unsquash2 = 1.0f / squash2;
     const uint32_t settle = std::max(1u, options_.settle_frames);
-    auto thresholds = [&](uint32_t t) {
-        // A sliver (zero inverse: zero stretches) keeps its reference: never due, never changed.
-        if (stretch2_[t] == 0.0f && inverse_rest_[t].isZero()) return;
-        const float l2 = stretch2_[t], s2 = squeeze2_[t];
-        const uint8_t was = changed_[t];
-        uint8_t now = was;
-        if (l2 < shrank_large2_[t] || s2 < shrank_small2_[t]) now |= k_shrank;
-        if (l2 > grew_large2_[t] || s2 > grew_small2_[t]) now |= k_grew;
-        if (now != was) changed_[t] = now, check_due_ = true, disarm_change_bounds(t);
-        const float ref2 = reference2_[t], ref_squeeze2 = std::max(reference_squeeze2_[t], 1e-12f);
-        // Along its least stretched direction as well: a triangle squashed one way keeps its
-        // largest stretch while its samples crowd along the other (a body landing), and when it
-        // springs back the gaps open along that direction only.
-        const bool grow = l2 > grow2 * ref2 || s2 > unsquash2 * ref_squeeze2;
-        const bool thin = (l2 < shrink2 * ref2 || s2 < squash2 * ref_squeeze2) && s2 > 0.0f;
-        int8_t& run = beyond_[t];
-        if (!grow && !thin) {
-            run = 0;
-            return;
-        }
-        const int8_t side = grow ? 1 : -1;
-        // Frames in a row on this side, counted up to 120 (the settle limit is at most 60).
-        run = run * side > 0 ? int8_t(side * std::min(std::abs(int(run)) + 1, 120)) : side;
-        if (uint32_t(std::abs(run)) < settle) return;
-        // max(|log a|, |log b|) orders as max(a, 1/a, b, 1/b): no logarithm for each due triangle.
-        const float a = l2 / ref2, b = std::max(s2 / ref_squeeze2, 1e-12f);
-        const float priority = std::max({a, 1.0f / a, b, 1.0f / b});
-        work.push_back({priority, t, grow, thin});
-    };
+    const Thresholds th{grow2, shrink2, squash2, unsquash2, settle};
     const size_t n = triangles.size();
     size_t t = 0;
     // Most triangles in SIMD lanes (surface/stretch_scan.h): only those that changed, crossed a
@@ -468,16 +470,57 @@ std::vector<DensityControl::Due> DensityControl::due_triangles(std::span<const V
     t = scan_stretches(scan, busy_);
     // Each triangle's logic reads and writes its own entries only: after the scan, in order, it
     // does what it did inside it.
-    for (uint32_t b : busy_) thresholds(b);
+    for (uint32_t b : busy_) judge(b, th, work);
     for (; t < n; ++t) {
         const auto& tri = triangles[t];
         const Vec3f o = x[tri[0]].head<3>();
         const mesh::Stretch sigma2 = mesh::squared_stretches(inverse_rest_[t], x[tri[1]].head<3>() - o, x[tri[2]].head<3>() - o);
         stretch2_[t] = sigma2.largest;
         squeeze2_[t] = sigma2.smallest;
-        thresholds(uint32_t(t));
+        judge(uint32_t(t), th, work);
     }
     return work;
+}
+
+void DensityControl::check_crowds(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const mesh::Triangle> triangles,
+                                  bool anchors_drawn, float h, BoundaryParticles& s, size_t room, DensityStats& stats,
+                                  const std::function<void(uint32_t)>& refill) {
+    const uint32_t settle = std::max(1u, options_.settle_frames);
+    CrowdingQuery q;
+    q.h = h;
+    q.crowd = options_.crowd_spacing;
+    // Embedded samples stand off the simulation triangles by their offsets: a triangle's
+    // centre is no point of the surface they cover.
+    q.gap = s.embedded() ? 0.0f : options_.gap_spacing;
+    q.anchors_drawn = anchors_drawn;
+    q.fade_step = 1.0f / float(std::max(1u, options_.fade_frames));
+    q.max_retired = 4 * options_.budget;
+    q.changed = changed_;
+    q.ring = &ring(x.size(), triangles);
+    CrowdingResult c = thin_crowds(x, normals, triangles, q, s);
+    stats.checked = true;
+    stats.crowded = c.retired;
+    stats.retired += c.retired;
+    // Refill wherever no sample reaches. Not the crowded samples' own triangles: on a surface
+    // still folding, samples thrown there crowd again a few frames later (the teapot deflating:
+    // 80-100 retired every 4 frames for 200 frames, against 1,300 in all without).
+    for (size_t k = 0; k < c.gaps.size() && k < room; ++k) {
+        if (inverse_rest_[c.gaps[k]].isZero()) continue;
+        refill(c.gaps[k]);
+        ++stats.gaps;
+        ++stats.resampled;
+    }
+    for (size_t t = 0; t < changed_.size(); ++t)
+        if (changed_[t]) changed_[t] = 0, arm_change_bounds(uint32_t(t));
+    checked_frame_ = frame_;
+    check_due_ = false;
+    // A check that found nothing doubles the wait for the next, up to k_check_backoff times
+    // the settle frames; one that found anything brings it back. The changes keep adding up
+    // in between (changed_), so a later check still sees all of them. balloon_inflate's 42
+    // checks in 240 frames found nothing (the triangles' own trigger keeps up with an even
+    // inflation), a quarter of its density pass; a crumpling surface finds crowds at every
+    // check and keeps the short wait.
+    check_wait_ = c.retired == 0 && c.gaps.empty() ? std::min(2 * std::max(settle, check_wait_), k_check_backoff * settle) : settle;
 }
 
 DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Vec3f> normals,
@@ -519,44 +562,12 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
     const bool by_samples = options_.crowd_spacing > 0.0f || options_.gap_spacing > 0.0f;
     const uint32_t settle = std::max(1u, options_.settle_frames);
     if (by_samples && check_due_ && frame_ >= checked_frame_ + std::max(settle, check_wait_)) {
-        CrowdingQuery q;
-        q.h = h;
-        q.crowd = options_.crowd_spacing;
-        // Embedded samples stand off the simulation triangles by their offsets: a triangle's
-        // centre is no point of the surface they cover.
-        q.gap = s.embedded() ? 0.0f : options_.gap_spacing;
-        q.anchors_drawn = anchors_drawn;
-        q.fade_step = 1.0f / float(std::max(1u, options_.fade_frames));
-        q.max_retired = 4 * options_.budget;
-        q.changed = changed_;
-        q.ring = &ring(x.size(), triangles);
-        CrowdingResult c = thin_crowds(x, normals, triangles, q, s);
-        stats.checked = true;
-        stats.crowded = c.retired;
-        stats.retired += c.retired;
-        // Refill wherever no sample reaches, within what the triangles' work left of the budget.
-        // Not the crowded samples' own triangles: on a surface still folding, samples thrown
-        // there crowd again a few frames later (the teapot deflating: 80-100 retired every 4
-        // frames for 200 frames, against 1,300 in all without).
+        // Within what the triangles' work left of the budget.
         const size_t room = options_.budget - std::min<size_t>(options_.budget, stats.resampled);
-        for (size_t k = 0; k < c.gaps.size() && k < room; ++k) {
-            if (inverse_rest_[c.gaps[k]].isZero()) continue;
-            r().insert(c.gaps[k]);
-            sampled(c.gaps[k]);
-            ++stats.gaps;
-            ++stats.resampled;
-        }
-        for (size_t t = 0; t < changed_.size(); ++t)
-            if (changed_[t]) changed_[t] = 0, arm_change_bounds(uint32_t(t));
-        checked_frame_ = frame_;
-        check_due_ = false;
-        // A check that found nothing doubles the wait for the next, up to k_check_backoff times
-        // the settle frames; one that found anything brings it back. The changes keep adding up
-        // in between (changed_), so a later check still sees all of them. balloon_inflate's 42
-        // checks in 240 frames found nothing (the triangles' own trigger keeps up with an even
-        // inflation), a quarter of its density pass; a crumpling surface finds crowds at every
-        // check and keeps the short wait.
-        check_wait_ = c.retired == 0 && c.gaps.empty() ? std::min(2 * std::max(settle, check_wait_), k_check_backoff * settle) : settle;
+        check_crowds(x, normals, triangles, anchors_drawn, h, s, room, stats, [&](uint32_t t) {
+            r().insert(t);
+            sampled(t);
+        });
     }
     stats.removed = uint32_t(advance_fades(s, &stats.fading));
     return stats;

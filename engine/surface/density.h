@@ -8,6 +8,7 @@
 // then leave. Between the two thresholds nothing happens (hysteresis: no flicker), and a
 // per-frame budget of triangles spreads a sudden inflation over several frames.
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -98,6 +99,19 @@ private:
     // The triangles around each particle (surface/rows.h), rebuilt after a topology change.
     const Rows& ring(size_t particles, std::span<const mesh::Triangle> triangles);
     std::vector<Due> due_triangles(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangles);
+    // The squared thresholds due_triangles judges by (squared stretches throughout: one square
+    // root a triangle instead of three, no division).
+    struct Thresholds {
+        float grow2, shrink2, squash2, unsquash2;
+        uint32_t settle;
+    };
+    // Triangle t's stretches (this frame's, in stretch2_ and squeeze2_) against its reference: its
+    // change bits, its run of frames past a threshold, and a Due in `work` once the run settles.
+    void judge(uint32_t t, const Thresholds& th, std::vector<Due>& work);
+    // The samples' own trigger: crowded samples thinned, and the triangles no sample reaches
+    // handed to `refill`, within `room` of them.
+    void check_crowds(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const mesh::Triangle> triangles, bool anchors_drawn,
+                      float h, BoundaryParticles& s, size_t room, DensityStats& stats, const std::function<void(uint32_t)>& refill);
     void arm_change_bounds(uint32_t t);     // from this frame's stretches, nothing recorded
     void disarm_change_bounds(uint32_t t);  // for the bits set in changed_[t]
     DensityOptions options_;
