@@ -62,11 +62,10 @@ private:
 
 } // namespace
 
-CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const mesh::Triangle> triangles,
-                           const CrowdingQuery& q, BoundaryParticles& s) {
-    CrowdingResult out;
-    s.pad_fades();
-    PBDSPLAT_ASSERT(q.changed.empty() || q.changed.size() == triangles.size(), "thin_crowds: give one changed flag per triangle, or none");
+namespace {
+
+// Unit normals of the triangles (zero for a degenerate one).
+std::vector<Vec3f> face_normals(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangles) {
     std::vector<Vec3f> face(triangles.size());
     for (size_t t = 0; t < triangles.size(); ++t) {
         const mesh::Triangle& c = triangles[t];
@@ -74,62 +73,134 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
         const float len = n.norm();
         face[t] = len > 0.0f ? Vec3f(n / len) : Vec3f::Zero();
     }
-    auto shrank = [&](uint32_t t) { return q.changed.empty() || (q.changed[t] & k_shrank) != 0; };
-    auto grew = [&](uint32_t t) { return q.changed.empty() || (q.changed[t] & k_grew) != 0; };
-    // The samples by rank: on triangles that did not shrink (kept as they are), settled, fading
-    // in. Edge samples stay out of it: they lie h/2 apart along a boundary with smaller splats on
-    // purpose, and the interior ones beside them cover what they do not. A byte per sample marks
-    // the kept ones, not a list: they are most of a body (65k of the bunny's 70k at a check), and
-    // listing them cost more than the test that reads them.
-    constexpr uint8_t k_kept = 0, k_candidate = 1, k_out = 2;
-    std::vector<uint8_t> rank(s.size());
-    std::vector<uint32_t> settled, fading_in;
+    return face;
+}
+
+// The samples by rank: on triangles that did not shrink (kept as they are), or candidates,
+// settled ones first, then those fading in, each in storage order. Edge samples stay out of it:
+// they lie h/2 apart along a boundary with smaller splats on purpose, and the interior ones
+// beside them cover what they do not. A byte per sample marks the kept ones, not a list: they
+// are most of a body (65k of the bunny's 70k at a check), and listing them cost more than the
+// test that reads them.
+constexpr uint8_t k_kept = 0, k_candidate = 1, k_out = 2;
+struct Ranks {
+    std::vector<uint8_t> rank;
+    std::vector<uint32_t> candidates;
     size_t kept_as_they_are = 0;
+};
+Ranks rank_samples(const BoundaryParticles& s, const CrowdingQuery& q) {
+    Ranks r;
+    r.rank.resize(s.size());
+    std::vector<uint32_t> fading_in;
     for (size_t i = 0; i < s.size(); ++i) {
         if (s.retiring(i) || s.on_edge(i)) {
-            rank[i] = k_out;
-        } else if (!shrank(s.triangle[i])) {
-            rank[i] = k_kept;
-            ++kept_as_they_are;
+            r.rank[i] = k_out;
+        } else if (!q.changed.empty() && (q.changed[s.triangle[i]] & k_shrank) == 0) {
+            r.rank[i] = k_kept;
+            ++r.kept_as_they_are;
         } else {
-            rank[i] = k_candidate;
-            (s.fade_step[i] > 0.0f ? fading_in : settled).push_back(uint32_t(i));
+            r.rank[i] = k_candidate;
+            (s.fade_step[i] > 0.0f ? fading_in : r.candidates).push_back(uint32_t(i));
         }
     }
-    const size_t anchors = q.anchors_drawn ? x.size() : 0;  // the particles, when they are splats
-    auto anchor_side = [&](size_t v) { return v < normals.size() ? normals[v] : Vec3f::Zero(); };
-    // The candidates (samples on shrunk triangles) go into a small grid of cells 2 `crowd` h
-    // wide, each test reading the 8 nearest; the samples kept as they are and the particles then
-    // look for candidates near them there, so the large set is read once in order and never
-    // gridded (gridding the bunny's 70k samples kept as they are took 3-4 ms a check).
-    constexpr float same_side = 0.5f;  // cos 60 degrees, as the spacing figure counts
-    const float crowd_r = std::max(q.crowd, 0.05f) * q.h;
-    std::vector<uint32_t> candidates = std::move(settled);
-    candidates.insert(candidates.end(), fading_in.begin(), fading_in.end());
+    r.candidates.insert(r.candidates.end(), fading_in.begin(), fading_in.end());
+    return r;
+}
+
+constexpr float k_same_side = 0.5f;  // cos 60 degrees, as the spacing figure counts
+
+// Which candidates lie within the crowd radius of a sample kept as it is, or of a particle drawn
+// as a splat, facing the same way. The candidates go into a small grid of cells 2 `crowd` h wide,
+// each test reading the 8 nearest; the samples kept as they are and the particles then look for
+// candidates near them there, so the large set is read once in order and never gridded
+// (gridding the bunny's 70k samples kept as they are took 3-4 ms a check).
+std::vector<uint8_t> pressed_candidates(std::span<const Vec4f> x, std::span<const Vec3f> normals, const std::vector<Vec3f>& face,
+                                        const BoundaryParticles& s, const Ranks& r, size_t anchors, float crowd_r) {
+    const std::vector<uint32_t>& candidates = r.candidates;
     std::vector<uint8_t> crowded(candidates.size(), 0);
-    if (q.crowd > 0.0f && !candidates.empty()) {
-        PointGrid grid(2.0f * crowd_r, candidates.size());
-        // The bitmap pays where the candidates are few against what tests them; where most of the
-        // body shrank (a balloon let down), marking its cells for each costs more than it saves.
-        std::optional<CellBits> cells;
-        if (candidates.size() * 4 < kept_as_they_are + anchors) cells.emplace(2.0f * crowd_r, crowd_r);
-        for (uint32_t i : candidates) {
-            grid.add(s.position[i]);
-            if (cells) cells->add(s.position[i]);
-        }
-        std::vector<Vec3f> candidate_side(candidates.size());
-        for (size_t k = 0; k < candidates.size(); ++k) candidate_side[k] = face[s.triangle[candidates[k]]];
-        auto press = [&](const Vec3f& p, const Vec3f& n) {
-            if (cells && !cells->maybe_near(p)) return;
-            grid.each_within(p, crowd_r, [&](uint32_t k) {
-                if (candidate_side[k].dot(n) >= same_side) crowded[k] = 1;
-                return true;
-            });
-        };
-        for (size_t v = 0; v < anchors; ++v) press(x[v].head<3>(), anchor_side(v));
-        for (size_t i = 0; i < s.size(); ++i)
-            if (rank[i] == k_kept) press(s.position[i], face[s.triangle[i]]);
+    PointGrid grid(2.0f * crowd_r, candidates.size());
+    // The bitmap pays where the candidates are few against what tests them; where most of the
+    // body shrank (a balloon let down), marking its cells for each costs more than it saves.
+    std::optional<CellBits> cells;
+    if (candidates.size() * 4 < r.kept_as_they_are + anchors) cells.emplace(2.0f * crowd_r, crowd_r);
+    for (uint32_t i : candidates) {
+        grid.add(s.position[i]);
+        if (cells) cells->add(s.position[i]);
     }
+    std::vector<Vec3f> candidate_side(candidates.size());
+    for (size_t k = 0; k < candidates.size(); ++k) candidate_side[k] = face[s.triangle[candidates[k]]];
+    auto press = [&](const Vec3f& p, const Vec3f& n) {
+        if (cells && !cells->maybe_near(p)) return;
+        grid.each_within(p, crowd_r, [&](uint32_t k) {
+            if (candidate_side[k].dot(n) >= k_same_side) crowded[k] = 1;
+            return true;
+        });
+    };
+    for (size_t v = 0; v < anchors; ++v) press(x[v].head<3>(), v < normals.size() ? normals[v] : Vec3f::Zero());
+    for (size_t i = 0; i < s.size(); ++i)
+        if (r.rank[i] == k_kept) press(s.position[i], face[s.triangle[i]]);
+    return crowded;
+}
+
+// The grown triangles whose centre nothing kept covers. A grown triangle's centre is covered by
+// what is kept around it: its own samples, those of the triangles sharing a vertex with it, and
+// those triangles' corners where the particles are drawn. A surface sampled at h is never so
+// crumpled inside a grown triangle that cover comes from farther away; and no grid is built
+// (gridding every sample of an inflating body, each of its triangles grown, was half of the check).
+std::vector<uint32_t> uncovered(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const mesh::Triangle> triangles,
+                                const std::vector<Vec3f>& face, const CrowdingQuery& q, const BoundaryParticles& s,
+                                const std::vector<uint8_t>& rank, size_t anchors) {
+    std::vector<uint32_t> gaps;
+    const float gap_r2 = (q.gap * q.h) * (q.gap * q.h);
+    const Rows by_triangle = make_rows(triangles.size(), s.size(), [&](size_t i) { return s.triangle[i]; },
+                                       [&](size_t i) { return rank[i] == k_kept; });
+    Rows own_ring;
+    if (!q.ring) own_ring = corner_rows(x.size(), triangles);
+    const Rows& ring = q.ring ? *q.ring : own_ring;
+    std::vector<uint32_t> mark(triangles.size(), ~0u);
+    for (uint32_t t = 0; t < triangles.size(); ++t) {
+        if ((!q.changed.empty() && (q.changed[t] & k_grew) == 0) || face[t].isZero()) continue;
+        const mesh::Triangle& c = triangles[t];
+        const Vec3f centre = ((x[c[0]] + x[c[1]] + x[c[2]]) / 3.0f).head<3>();
+        const Vec3f& n = face[t];
+        auto covers = [&](const Vec3f& p, const Vec3f& side) { return (p - centre).squaredNorm() < gap_r2 && side.dot(n) >= k_same_side; };
+        auto covered_by = [&](uint32_t u) {
+            for (uint32_t i : by_triangle[u])
+                if (covers(s.position[i], face[u])) return true;
+            if (anchors)
+                for (uint32_t v : triangles[u])
+                    if (covers(x[v].head<3>(), v < normals.size() ? normals[v] : Vec3f::Zero())) return true;
+            return false;
+        };
+        // Its own samples first: they cover it most often.
+        bool covered = covered_by(t);
+        mark[t] = t;
+        for (int k = 0; k < 3 && !covered; ++k)
+            for (uint32_t corner : ring[c[k]]) {
+                const uint32_t u = corner / 3;
+                if (mark[u] == t) continue;
+                mark[u] = t;
+                if ((covered = covered_by(u))) break;
+            }
+        if (!covered) gaps.push_back(t);
+    }
+    return gaps;
+}
+
+} // namespace
+
+CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const mesh::Triangle> triangles,
+                           const CrowdingQuery& q, BoundaryParticles& s) {
+    CrowdingResult out;
+    s.pad_fades();
+    PBDSPLAT_ASSERT(q.changed.empty() || q.changed.size() == triangles.size(), "thin_crowds: give one changed flag per triangle, or none");
+    const std::vector<Vec3f> face = face_normals(x, triangles);
+    Ranks r = rank_samples(s, q);
+    const size_t anchors = q.anchors_drawn ? x.size() : 0;  // the particles, when they are splats
+    const float crowd_r = std::max(q.crowd, 0.05f) * q.h;
+    const std::vector<uint32_t>& candidates = r.candidates;
+    const std::vector<uint8_t> crowded =
+        q.crowd > 0.0f && !candidates.empty() ? pressed_candidates(x, normals, face, s, r, anchors, crowd_r) : std::vector<uint8_t>(candidates.size(), 0);
     // Among the candidates, the older stay: the settled first, then those fading in, each in
     // storage order.
     PointGrid kept(2.0f * crowd_r, candidates.size());
@@ -140,7 +211,7 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
         const uint32_t i = candidates[k];
         const Vec3f& n = face[s.triangle[i]];
         if (q.crowd > 0.0f && out.retired < q.max_retired &&
-            (crowded[k] || kept.near_within_if(s.position[i], crowd_r, [&](uint32_t j) { return kept_side[j].dot(n) >= same_side; }))) {
+            (crowded[k] || kept.near_within_if(s.position[i], crowd_r, [&](uint32_t j) { return kept_side[j].dot(n) >= k_same_side; }))) {
             s.fade_step[i] = -q.fade_step;
             ++out.retired;
             continue;
@@ -150,45 +221,8 @@ CrowdingResult thin_crowds(std::span<const Vec4f> x, std::span<const Vec3f> norm
         kept_side.push_back(n);
     }
     if (q.gap > 0.0f) {
-        // A grown triangle's centre is covered by what is kept around it: its own samples, those
-        // of the triangles sharing a vertex with it, and those triangles' corners where the
-        // particles are drawn. A surface sampled at h is never so crumpled inside a grown
-        // triangle that cover comes from farther away; and no grid is built (gridding every
-        // sample of an inflating body, each of its triangles grown, was half of the check).
-        const float gap_r2 = (q.gap * q.h) * (q.gap * q.h);
-        for (uint32_t i : kept_candidates) rank[i] = k_kept;
-        const Rows by_triangle = make_rows(triangles.size(), s.size(), [&](size_t i) { return s.triangle[i]; },
-                                           [&](size_t i) { return rank[i] == k_kept; });
-        Rows own_ring;
-        if (!q.ring) own_ring = corner_rows(x.size(), triangles);
-        const Rows& ring = q.ring ? *q.ring : own_ring;
-        std::vector<uint32_t> mark(triangles.size(), ~0u);
-        for (uint32_t t = 0; t < triangles.size(); ++t) {
-            if (!grew(t) || face[t].isZero()) continue;
-            const mesh::Triangle& c = triangles[t];
-            const Vec3f centre = ((x[c[0]] + x[c[1]] + x[c[2]]) / 3.0f).head<3>();
-            const Vec3f& n = face[t];
-            auto covers = [&](const Vec3f& p, const Vec3f& side) { return (p - centre).squaredNorm() < gap_r2 && side.dot(n) >= same_side; };
-            auto covered_by = [&](uint32_t u) {
-                for (uint32_t i : by_triangle[u])
-                    if (covers(s.position[i], face[u])) return true;
-                if (anchors)
-                    for (uint32_t v : triangles[u])
-                        if (covers(x[v].head<3>(), anchor_side(v))) return true;
-                return false;
-            };
-            // Its own samples first: they cover it most often.
-            bool covered = covered_by(t);
-            mark[t] = t;
-            for (int k = 0; k < 3 && !covered; ++k)
-                for (uint32_t corner : ring[c[k]]) {
-                    const uint32_t u = corner / 3;
-                    if (mark[u] == t) continue;
-                    mark[u] = t;
-                    if ((covered = covered_by(u))) break;
-                }
-            if (!covered) out.gaps.push_back(t);
-        }
+        for (uint32_t i : kept_candidates) r.rank[i] = k_kept;
+        out.gaps = uncovered(x, normals, triangles, face, q, s, r.rank, anchors);
     }
     return out;
 }
