@@ -195,28 +195,13 @@ public:
         s.pad_fades();
     }
 
-    void insert(uint32_t t) {
-        const auto& tri = in_.triangles[t];
-        const Vec3f a = in_.x[tri[0]].head<3>(), b = in_.x[tri[1]].head<3>(), c = in_.x[tri[2]].head<3>();
-        same_.assign(by_triangle_[t].begin(), by_triangle_[t].end());
-        const float r = o_.insert_spacing * in_.h, r2 = r * r;
-        // How far the offset can move a dart: a new sample's offset blends its neighbours' here.
-        float reach = 0.0f;
-        if (embedded_) {
-            for (uint32_t i : same_) reach = std::max(reach, std::abs(s_.offset[i]));
-            neighbours_.assign(s_, same_);
-        }
-        // Every dart lies within `bound` of the centre (the farthest corner, plus the offset): a
-        // point farther than bound + r can reject none, and stays out of the list. The one-ring
-        // of a coarse triangle carrying many samples holds several times what borders it (the
-        // bunny: a dart that stays was tested against some 220 points).
-        const Vec3f centre = (a + b + c) / 3.0f;
-        const float bound = std::sqrt(std::max({(a - centre).squaredNorm(), (b - centre).squaredNorm(), (c - centre).squaredNorm()})) + reach;
-        const float keep2 = (bound + r) * (bound + r);
+    // What a dart into t is tested against: the triangle's own samples first (most darts land
+    // near one of them), then its one-ring's, this frame's new ones and the drawn particles there,
+    // those farther than keep2 from t's centre left out (they can reject no dart).
+    void gather_local(uint32_t t, const Vec3f& centre, float keep2) {
         auto offer = [&](const Vec3f& q) {
             if ((q - centre).squaredNorm() < keep2) local_.add(q);
         };
-        // The triangle's own samples first: most darts land near one of them.
         local_.clear();
         for (uint32_t i : same_)
             if (!s_.retiring(i)) local_.add(s_.position[i]);
@@ -227,23 +212,95 @@ public:
             for (uint32_t i = fresh_head_[n]; i != k_none; i = fresh_next_[i - first_new_]) offer(s_.position[i]);
             if (in_.anchors_drawn) each_new_corner(n, [&](uint32_t v) { offer(in_.x[v].head<3>()); });
         });
-        const float area = 0.5f * (b - a).cross(c - a).norm();
-        const float expected = area * o_.candidates / (in_.h * in_.h);
+    }
+
+    // Stratified darts: the triangle cut into cells x cells sub-triangles, one dart in each,
+    // visited in a scrambled order (a stride through the cells from a random start). A gap the
+    // size of a cell cannot be missed, where independent darts need several times as many
+    // throws to find the same gaps. `expected`: the darts the triangle's area asks for.
+    struct CellWalk {
+        uint32_t cells, start, stride;
+        uint64_t key;  // each cell's dart from its own draw of the triangle's stream
+    };
+    CellWalk cell_walk(uint32_t t, float expected) const {
         // A generator per triangle and frame, seeded in a few instructions: a Mersenne twister
         // seeded its 624 words for every resampled triangle (a fifth of balloon_inflate's run).
         SplitMix rng{(uint64_t(in_.seed) << 32) ^ (in_.frame * 0x9E3779B97F4A7C15ull) ^ (uint64_t(t) * 0xD1B54A32D192ED03ull)};
-        // Stratified darts: the triangle cut into cells x cells sub-triangles, one dart in each,
-        // visited in a scrambled order (a stride through the cells from a random start). A gap
-        // the size of a cell cannot be missed, where independent darts need several times as
-        // many throws to find the same gaps (48 per h^2 once, 16 before this).
-        const uint32_t cells = std::clamp(uint32_t(std::lround(std::sqrt(expected))), 1u, 64u);
-        const uint32_t n = cells * cells;
-        uint32_t cell = rng.next() % n;
+        CellWalk w;
+        w.cells = std::clamp(uint32_t(std::lround(std::sqrt(expected))), 1u, 64u);
+        const uint32_t n = w.cells * w.cells;
+        w.start = rng.next() % n;
         uint32_t stride = 1 + 2 * (rng.next() % std::max(1u, n / 2));  // odd; coprime with n below
         while (std::gcd(stride, n) != 1) stride += 2;
-        stride %= n;
-        // Each cell's dart from its own draw of the triangle's stream.
-        const uint64_t key = uint64_t(rng.next()) << 32 | rng.next();
+        w.stride = stride % n;
+        w.key = uint64_t(rng.next()) << 32 | rng.next();
+        return w;
+    }
+
+    // Barycentric (b1, b2) of the dart into cell `id` (its row entry `row`: i << 8 | m) of
+    // cells x cells (1 / cells: `inv_cells`). Upright cells span (i, j), (i + 1, j), (i, j + 1);
+    // inverted ones the mirror image from (i + 1, j + 1).
+    static Vec2f dart_in(uint16_t row, uint64_t key, uint32_t id, float inv_cells) {
+        const uint32_t i = row >> 8, m = row & 0xFFu, j = m / 2;
+        float u, v;
+        SplitMix::unit_pair(key, id, u, v);
+        if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
+        const bool inverted = m % 2 == 1;
+        return {(inverted ? float(i + 1) - u : float(i) + u) * inv_cells, (inverted ? float(j + 1) - v : float(j) + v) * inv_cells};
+    }
+
+    // The triangle's samples (same_), their neighbours for the offsets where the samples are
+    // embedded, and what a dart is tested against (gather_local). Every dart lies within `bound`
+    // of the centre (the farthest corner, plus the offset: a new sample's offset blends its
+    // neighbours'): a point farther than bound + r can reject none, and stays out of the list.
+    // The one-ring of a coarse triangle carrying many samples holds several times what borders
+    // it (the bunny: a dart that stays was tested against some 220 points).
+    void prepare_local(uint32_t t, const Vec3f& a, const Vec3f& b, const Vec3f& c, float r) {
+        same_.assign(by_triangle_[t].begin(), by_triangle_[t].end());
+        float reach = 0.0f;
+        if (embedded_) {
+            for (uint32_t i : same_) reach = std::max(reach, std::abs(s_.offset[i]));
+            neighbours_.assign(s_, same_);
+        }
+        const Vec3f centre = (a + b + c) / 3.0f;
+        const float bound = std::sqrt(std::max({(a - centre).squaredNorm(), (b - centre).squaredNorm(), (c - centre).squaredNorm()})) + reach;
+        gather_local(t, centre, (bound + r) * (bound + r));
+    }
+
+    // A dart that stays: a new sample of triangle (a, b, c) = t, fading in.
+    void add_sample(uint32_t t, const Vec3f& p, const Vec2f& bary, float d, const Vec3f& local, const Vec3f& interpolated, const Vec3f& a,
+                    const Vec3f& b, const Vec3f& c) {
+        fresh_.add(p);
+        local_.add(p);
+        const uint32_t index = uint32_t(s_.size());
+        fresh_next_.push_back(fresh_head_[t]);
+        fresh_head_[t] = index;
+        s_.triangle.push_back(t);
+        s_.bary.push_back(bary);
+        if (embedded_) s_.offset.push_back(d), s_.local_normal.push_back(local);
+        s_.position.push_back(p);
+        const float len = interpolated.norm();
+        s_.normal.push_back(embedded_ ? Vec3f(surface_frame(a, b, c, interpolated) * local)
+                                      : len > 0.0f ? Vec3f(interpolated / len) : Vec3f(triangle_frame(a, b, c).col(2)));
+        s_.fade.push_back(0.0f);
+        s_.fade_step.push_back(step_);
+        ++stats_.inserted;
+    }
+
+    // New samples darted into t where none lies within insert_spacing h. A dart is tested against
+    // the one-ring's samples (this frame's new ones included) in a flat list, the rest of the
+    // frame's new ones in a grid: a hash grid rebuilt per triangle cost 27 lookups a dart and the
+    // clearing of its table. The normal and the offset are made only where the samples stand off
+    // the triangle, or for a dart that stays: most are rejected.
+    void insert(uint32_t t) {
+        const auto& tri = in_.triangles[t];
+        const Vec3f a = in_.x[tri[0]].head<3>(), b = in_.x[tri[1]].head<3>(), c = in_.x[tri[2]].head<3>();
+        const float r = o_.insert_spacing * in_.h, r2 = r * r;
+        prepare_local(t, a, b, c, r);
+        const float area = 0.5f * (b - a).cross(c - a).norm();
+        const CellWalk walk = cell_walk(t, area * o_.candidates / (in_.h * in_.h));
+        const uint32_t cells = walk.cells, n = cells * cells;
+        uint32_t cell = walk.start;
         const float inv_cells = 1.0f / float(cells);
         const Vec3f &na = in_.normals[tri[0]], &nb = in_.normals[tri[1]], &nc = in_.normals[tri[2]];
         const uint16_t* rows = cell_rows(cells);
@@ -253,21 +310,10 @@ public:
 #endif
         for (uint32_t k = 0; k < n; ++k) {
             const uint32_t id = cell;
-            cell += stride;
+            cell += walk.stride;
             if (cell >= n) cell -= n;
-            const uint32_t i = rows[id] >> 8, m = rows[id] & 0xFFu, j = m / 2;
-            float u, v;
-            SplitMix::unit_pair(key, id, u, v);
-            if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
-            // Upright cells span (i, j), (i + 1, j), (i, j + 1); inverted ones the mirror image
-            // from (i + 1, j + 1).
-            const bool inverted = m % 2 == 1;
-            const float b1 = (inverted ? float(i + 1) - u : float(i) + u) * inv_cells;
-            const float b2 = (inverted ? float(j + 1) - v : float(j) + v) * inv_cells;
-            const float b0 = 1.0f - b1 - b2;
-            // The one-ring's samples (this frame's new ones included) in a flat list, the rest of
-            // the frame's new ones in a grid: a hash grid rebuilt per triangle cost 27 lookups a
-            // dart and the clearing of its table.
+            const Vec2f dart = dart_in(rows[id], walk.key, id, inv_cells);
+            const float b1 = dart.x(), b2 = dart.y(), b0 = 1.0f - b1 - b2;
 #if defined(__SSE2__)
             // Off the embedding, the dart in lanes first, the same sums in the same order: a
             // rejected dart (most) never leaves them, nor sets up anything else.
@@ -279,8 +325,6 @@ public:
             }
 #endif
             Vec3f p;
-            // The normal and the offset only where the samples stand off the triangle, or for a
-            // dart that stays: most are rejected.
             float d = 0.0f;
             Vec3f local = Vec3f::UnitZ(), interpolated = Vec3f::Zero();
             if (embedded_) {
@@ -305,21 +349,7 @@ public:
                 break;
             }
             if (!embedded_) interpolated = b0 * na + b1 * nb + b2 * nc;
-            fresh_.add(p);
-            local_.add(p);
-            const uint32_t index = uint32_t(s_.size());
-            fresh_next_.push_back(fresh_head_[t]);
-            fresh_head_[t] = index;
-            s_.triangle.push_back(t);
-            s_.bary.emplace_back(b1, b2);
-            if (embedded_) s_.offset.push_back(d), s_.local_normal.push_back(local);
-            s_.position.push_back(p);
-            const float len = interpolated.norm();
-            s_.normal.push_back(embedded_ ? Vec3f(surface_frame(a, b, c, interpolated) * local)
-                                          : len > 0.0f ? Vec3f(interpolated / len) : Vec3f(triangle_frame(a, b, c).col(2)));
-            s_.fade.push_back(0.0f);
-            s_.fade_step.push_back(step_);
-            ++stats_.inserted;
+            add_sample(t, p, Vec2f(b1, b2), d, local, interpolated, a, b, c);
         }
     }
 
