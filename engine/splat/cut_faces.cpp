@@ -37,7 +37,9 @@ CutFaces::Face CutFaces::make_face(const std::vector<uint32_t>& loop, const sim:
     std::vector<Vec3f> outline;
     outline.reserve(loop.size());
     for (uint32_t i : loop) outline.push_back(sim::xyz(body.particles.x[i]));
-    // Spanned as contact spans it, folded where a cut crossed an older face.
+    // Spanned as contact spans it, folded where a cut crossed an older face (older: the cut
+    // loops this follows; contact counts the model's own capped holes too, which a cut rarely
+    // crosses).
     const std::vector<mesh::Triangle> local = sim::face_triangles(loop, body.particles.x, older);
     f.triangles.reserve(local.size());
     for (const mesh::Triangle& t : local) f.triangles.push_back({loop[t[0]], loop[t[1]], loop[t[2]]});

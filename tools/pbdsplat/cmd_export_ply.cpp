@@ -105,8 +105,9 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
             // surface): the particles drawn are what the records hold beyond those and the cut
             // faces' samples.
             const scene::FrameStats& st = runtime.value()->stats();
-            const size_t faces = std::min(runtime.value()->cut_faces().samples(), st.gaussians - std::min(st.gaussians, st.boundary_particles));
-            const size_t drawn_particles = st.gaussians - std::min(st.gaussians, st.boundary_particles + faces);
+            const size_t beyond_boundary = st.gaussians - std::min(st.gaussians, st.boundary_particles);
+            const size_t faces = std::min(runtime.value()->cut_faces().samples(), beyond_boundary);
+            const size_t drawn_particles = beyond_boundary - faces;
             std::printf("wrote %s (%zu Gaussians: %zu boundary particles + %zu of the %zu simulation particles + %zu on cut faces, frame %u, %s up)\n",
                         file.c_str(), st.gaussians, st.boundary_particles, drawn_particles, st.particles, faces, f,
                         opt.text("up") == "y" ? "+y" : "-y");
