@@ -4,10 +4,15 @@ namespace pbdsplat::asset {
 
 SurfaceColors::SurfaceColors(SurfaceLook look) : look_(std::move(look)), grid_(look_.positions, look_.triangles) {}
 
+Vec3f SurfaceColors::at(const Vec3f& p, std::vector<mesh::ClosestPoint>& scratch) const {
+    grid_.closest(p, 1.0f, 0.0f, scratch);
+    if (scratch.empty()) return Vec3f::Ones();
+    return look_.color_at(scratch.front().triangle, scratch.front().bary);
+}
+
 Vec3f SurfaceColors::at(const Vec3f& p) const {
-    grid_.closest(p, 1.0f, 0.0f, scratch_);
-    if (scratch_.empty()) return Vec3f::Ones();
-    return look_.color_at(scratch_.front().triangle, scratch_.front().bary);
+    std::vector<mesh::ClosestPoint> scratch;
+    return at(p, scratch);
 }
 
 } // namespace pbdsplat::asset

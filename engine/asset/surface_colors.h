@@ -17,14 +17,15 @@ public:
     SurfaceColors(const SurfaceColors&) = delete;  // the grid refers to the look's arrays
     SurfaceColors& operator=(const SurfaceColors&) = delete;
 
-    // Linear RGB at the surface point nearest to p (in the look's coordinates).
+    // Linear RGB at the surface point nearest to p (in the look's coordinates). Threads may ask
+    // at once, each with its own scratch.
+    Vec3f at(const Vec3f& p, std::vector<mesh::ClosestPoint>& scratch) const;
     Vec3f at(const Vec3f& p) const;
     const SurfaceLook& look() const { return look_; }
 
 private:
     SurfaceLook look_;
     mesh::TriangleGrid grid_;
-    mutable std::vector<mesh::ClosestPoint> scratch_;
 };
 
 } // namespace pbdsplat::asset

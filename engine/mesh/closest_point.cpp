@@ -32,7 +32,7 @@ Vec2f closest_point_barycentric(const Vec3f& p, const Vec3f& a, const Vec3f& b, 
 }
 
 TriangleGrid::TriangleGrid(std::span<const Vec3f> positions, std::span<const Triangle> triangles)
-    : positions_(positions), triangles_(triangles), stamp_(triangles.size(), 0) {
+    : positions_(positions), triangles_(triangles) {
     Eigen::AlignedBox3f box;
     double extent = 0.0;
     for (const Triangle& t : triangles) {
@@ -57,6 +57,12 @@ TriangleGrid::TriangleGrid(std::span<const Vec3f> positions, std::span<const Tri
             for (int y = lo.y(); y <= hi.y(); ++y)
                 for (int x = lo.x(); x <= hi.x(); ++x) fn((size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x));
     };
+    lowest_cell_.resize(triangles.size());
+    for (uint32_t i = 0; i < triangles.size(); ++i) {
+        Eigen::AlignedBox3f tb;
+        for (uint32_t v : triangles[i]) tb.extend(positions[v]);
+        lowest_cell_[i] = cell_of(tb.min());
+    }
     for (const Triangle& t : triangles) for_cells(t, [&](size_t c) { ++count[c + 1]; });
     for (size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
     start_ = count;
@@ -72,18 +78,20 @@ Eigen::Vector3i TriangleGrid::cell_of(const Vec3f& p) const {
 void TriangleGrid::near(const Vec3f& p, float radius, std::vector<uint32_t>& out) const {
     out.clear();
     if (triangles_.empty()) return;
-    if (++query_ == 0) std::fill(stamp_.begin(), stamp_.end(), 0), query_ = 1;
     const Eigen::Vector3i lo = cell_of(p - Vec3f::Constant(radius)), hi = cell_of(p + Vec3f::Constant(radius));
+    // A triangle over several cells is listed in each; it is taken from the first of them the
+    // scan meets, the one at max(lo, its lowest cell) on each axis. No per-query marks, so
+    // threads can share one grid.
+    const auto first_here = [&](uint32_t t, int x, int y, int z) {
+        const Eigen::Vector3i& m = lowest_cell_[t];
+        return (x == lo.x() || x == m.x()) && (y == lo.y() || y == m.y()) && (z == lo.z() || z == m.z());
+    };
     for (int z = lo.z(); z <= hi.z(); ++z)
         for (int y = lo.y(); y <= hi.y(); ++y)
             for (int x = lo.x(); x <= hi.x(); ++x) {
                 const size_t c = (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);
-                for (uint32_t k = start_[c]; k < start_[c + 1]; ++k) {
-                    const uint32_t t = items_[k];
-                    if (stamp_[t] == query_) continue;
-                    stamp_[t] = query_;
-                    out.push_back(t);
-                }
+                for (uint32_t k = start_[c]; k < start_[c + 1]; ++k)
+                    if (first_here(items_[k], x, y, z)) out.push_back(items_[k]);
             }
 }
 

@@ -26,7 +26,8 @@ public:
     // Cells about as large as the triangles; the mesh must outlive the grid.
     TriangleGrid(std::span<const Vec3f> positions, std::span<const Triangle> triangles);
 
-    // Triangles that may lie within `radius` of p (every one that does, and some more).
+    // Triangles that may lie within `radius` of p (every one that does, and some more). The
+    // queries keep no state: threads may share a grid.
     void near(const Vec3f& p, float radius, std::vector<uint32_t>& out) const;
     // Every triangle whose closest point lies within `factor` x the nearest distance + `margin`
     // of p, nearest first (ties by index): the nearest and its rivals, searched outwards.
@@ -44,8 +45,7 @@ private:
     float cell_ = 1.0f;
     std::vector<uint32_t> start_;  // per cell, into items_
     std::vector<uint32_t> items_;  // triangle indices
-    mutable std::vector<uint32_t> stamp_;  // per triangle: the query that last saw it (dedup)
-    mutable uint32_t query_ = 0;
+    std::vector<Eigen::Vector3i> lowest_cell_;  // per triangle: the cell of its box's low corner
 };
 
 } // namespace pbdsplat::mesh

@@ -1,6 +1,7 @@
 #include "scene/scene_runtime.h"
 
 #include <algorithm>
+#include <thread>
 
 #include "core/timer.h"
 #include "mesh/topology.h"
@@ -40,6 +41,11 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     options_ = options;
     readback_ = options.readback;
     pool_ = std::make_unique<core::ThreadPool>(std::max(1u, options.threads));
+    // Loading takes every core whatever the simulation's thread count: its result does not depend
+    // on the threads, and the user is waiting for the first frame.
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    auto load_pool = options.threads >= cores ? nullptr : std::make_unique<core::ThreadPool>(cores);
+    core::ThreadPool* loader = load_pool ? load_pool.get() : pool_.get();
     solver_ = std::make_unique<sim::Solver>(pool_.get());
     frame_input_.frame = scene_.render.frame;
     queue_ = std::make_unique<EventQueue>(scene_.events);
@@ -49,11 +55,12 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     appearance_.albedo = mat.color;
     appearance_.opacity_logit = math::logit(mat.opacity);
     const SurfaceDesc& sd_surface = scene_.surface;
-    auto surface = setup_surface(sd_surface, scene_.simulation.fade_frames, body_, fine_, boundary_, embedding_, density_);
+    auto surface = setup_surface(sd_surface, scene_.simulation.fade_frames, body_, fine_, boundary_, embedding_, density_,
+                                 loader);
     if (!surface.ok()) return surface.error();
     h_ = surface->h;
     splat_particles_ = surface->particles_are_splats;
-    if (!paint_.empty()) paint_samples(paint_, body_, boundary_);
+    if (!paint_.empty()) paint_samples(paint_, body_, boundary_, loader);
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
     cut_faces_ = splat::CutFaces(h_, mat.interior_color, mat.color, scene_.simulation.fade_frames, sd_surface.seed);
     mapping_ = std::make_unique<MappingStage>(body_, scene_.simulation.fade_frames, scene_.render.deformed_shapes(),

@@ -16,6 +16,10 @@
 #include "core/math.h"
 #include "mesh/triangle_mesh.h"
 
+namespace pbdsplat::core {
+class ThreadPool;
+}
+
 namespace pbdsplat::surface {
 
 struct BoundaryParticles {
@@ -79,9 +83,10 @@ struct SurfacePoint {
     Vec3f normal;
 };
 // Samples the whole of `surface` with the same maximal sampler; `anchors` act as samples
-// already placed (the simulation particles of a coarser mesh that carries this surface).
+// already placed (the simulation particles of a coarser mesh that carries this surface). The
+// same samples with or without a pool.
 std::vector<SurfacePoint> sample_points(const mesh::TriangleMesh& surface, std::span<const Vec3f> anchors,
-                                        const SamplingOptions& options);
+                                        const SamplingOptions& options, core::ThreadPool* pool = nullptr);
 
 // Adds samples on the given triangles only, keeping h away from every sample already present
 // (anywhere) and from the vertices; existing samples do not move. For local resampling after a

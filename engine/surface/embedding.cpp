@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/thread_pool.h"
 #include "mesh/closest_point.h"
 
 namespace pbdsplat::surface {
@@ -83,9 +84,52 @@ Solve along_normal(const Vec3f& p, const mesh::ClosestPoint& c, std::span<const 
 
 } // namespace
 
+namespace {
+struct EmbedContext {
+    std::span<const Vec3f> rest;
+    std::span<const mesh::Triangle> triangles;
+    std::span<const Vec3f> rest_normals;
+    const std::vector<Mat3f>& frames;
+    const mesh::TriangleGrid& grid;
+    float exact;
+};
+
+// Embeds one point: triangle, coordinates, offset and rest normal, counted in `st`.
+void embed_one(const EmbedContext& x, const SurfacePoint& sp, std::vector<mesh::ClosestPoint>& cands, uint32_t& triangle,
+               Vec2f& bary, float& offset, Vec3f& local_normal, EmbeddingStats& st) {
+    const Vec3f& p = sp.position;
+    // The nearest triangle and its rivals up to half as far again: on a thin part the
+    // nearest may be the far side's.
+    x.grid.closest(p, 1.5f, 0.25f * x.grid.cell_size(), cands);
+    const auto [found, found_t] =
+        best_candidate(sp, cands, x.rest, x.triangles, x.rest_normals, x.frames, x.exact, x.grid.cell_size());
+    Solve best = found;
+    uint32_t best_t = found_t;
+    if (best_t == UINT32_MAX) {
+        // Nothing reproduces it (a sample beyond every triangle's normal field): the closest
+        // point, offset along the face normal.
+        ++st.fallback;
+        best = along_normal(p, cands.front(), x.rest, x.triangles, x.rest_normals);
+        best_t = cands.front().triangle;
+    }
+    const bool outside = best.bary.minCoeff() < 0.0f || best.bary.sum() > 1.0f;
+    st.outside += outside ? 1 : 0;
+    st.max_rest_error = std::max(st.max_rest_error, best.residual);
+    st.max_offset = std::max(st.max_offset, std::abs(best.offset));
+    triangle = best_t;
+    bary = best.bary;
+    offset = best.offset;
+    const auto& tri = x.triangles[best_t];
+    const Vec2f& b = best.bary;
+    const Vec3f interpolated = (1.0f - b.x() - b.y()) * x.rest_normals[tri[0]] + b.x() * x.rest_normals[tri[1]] +
+                               b.y() * x.rest_normals[tri[2]];
+    const Mat3f frame = surface_frame(x.rest[tri[0]], x.rest[tri[1]], x.rest[tri[2]], interpolated);
+    local_normal = frame.transpose() * sp.normal;
+}
+} // namespace
+
 void embed_points(std::span<const SurfacePoint> points, std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles,
-                  std::span<const Vec3f> rest_normals, BoundaryParticles& out, EmbeddingStats* stats) {
-    EmbeddingStats st;
+                  std::span<const Vec3f> rest_normals, BoundaryParticles& out, EmbeddingStats* stats, core::ThreadPool* pool) {
     const mesh::TriangleGrid grid(rest, triangles);
     // Exact means: a few float roundings of the mesh's size.
     Eigen::AlignedBox3f box;
@@ -94,45 +138,40 @@ void embed_points(std::span<const SurfacePoint> points, std::span<const Vec3f> r
     std::vector<Mat3f> frames(triangles.size());
     for (size_t t = 0; t < triangles.size(); ++t)
         frames[t] = triangle_frame(rest[triangles[t][0]], rest[triangles[t][1]], rest[triangles[t][2]]);
+    const EmbedContext x{rest, triangles, rest_normals, frames, grid, exact};
 
-    std::vector<mesh::ClosestPoint> cands;
-    const size_t first = out.size();
+    // Each point on its own: the arrays are sized first and written per index, so a pool's
+    // chunks give the same result as one thread; the counts are summed per chunk in order.
+    const size_t first = out.size(), n = points.size();
     out.offset.resize(first, 0.0f);
     out.local_normal.resize(first, Vec3f::UnitZ());
-    for (const SurfacePoint& sp : points) {
-        const Vec3f& p = sp.position;
-        // The nearest triangle and its rivals up to half as far again: on a thin part the
-        // nearest may be the far side's.
-        grid.closest(p, 1.5f, 0.25f * grid.cell_size(), cands);
-        const auto [found, found_t] = best_candidate(sp, cands, rest, triangles, rest_normals, frames, exact, grid.cell_size());
-        Solve best = found;
-        uint32_t best_t = found_t;
-        if (best_t == UINT32_MAX) {
-            // Nothing reproduces it (a sample beyond every triangle's normal field): the closest
-            // point, offset along the face normal.
-            ++st.fallback;
-            best = along_normal(p, cands.front(), rest, triangles, rest_normals);
-            best_t = cands.front().triangle;
+    out.triangle.resize(first + n);
+    out.bary.resize(first + n);
+    out.offset.resize(first + n);
+    out.local_normal.resize(first + n);
+    out.position.resize(first + n);
+    out.normal.resize(first + n);
+    const unsigned chunks = pool ? pool->chunks() : 1u;
+    std::vector<EmbeddingStats> per_chunk(chunks);
+    const auto run = [&](unsigned chunk, size_t b, size_t e) {
+        std::vector<mesh::ClosestPoint> cands;
+        for (size_t i = b; i < e; ++i) {
+            const size_t o = first + i;
+            embed_one(x, points[i], cands, out.triangle[o], out.bary[o], out.offset[o], out.local_normal[o], per_chunk[chunk]);
+            out.position[o] = points[i].position;
+            out.normal[o] = points[i].normal;
         }
-        const bool outside = best.bary.minCoeff() < 0.0f || best.bary.sum() > 1.0f;
-        st.outside += outside ? 1 : 0;
-        st.max_rest_error = std::max(st.max_rest_error, best.residual);
-        st.max_offset = std::max(st.max_offset, std::abs(best.offset));
-        out.triangle.push_back(best_t);
-        out.bary.push_back(best.bary);
-        out.offset.push_back(best.offset);
-        {
-            const auto& tri = triangles[best_t];
-            const Vec2f& b = best.bary;
-            const Vec3f interpolated = (1.0f - b.x() - b.y()) * rest_normals[tri[0]] + b.x() * rest_normals[tri[1]] +
-                                       b.y() * rest_normals[tri[2]];
-            const Mat3f frame = surface_frame(rest[tri[0]], rest[tri[1]], rest[tri[2]], interpolated);
-            out.local_normal.push_back(frame.transpose() * sp.normal);
-        }
-        out.position.push_back(p);
-        out.normal.push_back(sp.normal);
+    };
+    if (pool) pool->parallel_for(n, run);
+    else run(0, 0, n);
+    EmbeddingStats st;
+    for (const EmbeddingStats& c : per_chunk) {
+        st.outside += c.outside;
+        st.fallback += c.fallback;
+        st.max_rest_error = std::max(st.max_rest_error, c.max_rest_error);
+        st.max_offset = std::max(st.max_offset, c.max_offset);
     }
-    st.samples = points.size();
+    st.samples = n;
     if (stats) *stats = st;
 }
 

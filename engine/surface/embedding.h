@@ -22,9 +22,11 @@ struct EmbeddingStats {
 };
 
 // Embeds `points` in the coarse rest mesh (`rest`, `triangles`, unit vertex normals
-// `rest_normals`, the ones the solver computes at rest). Appends to `out`.
+// `rest_normals`, the ones the solver computes at rest). Appends to `out`; the same with or
+// without a pool.
 void embed_points(std::span<const SurfacePoint> points, std::span<const Vec3f> rest, std::span<const mesh::Triangle> triangles,
-                  std::span<const Vec3f> rest_normals, BoundaryParticles& out, EmbeddingStats* stats = nullptr);
+                  std::span<const Vec3f> rest_normals, BoundaryParticles& out, EmbeddingStats* stats = nullptr,
+                  core::ThreadPool* pool = nullptr);
 
 // The embedding of a new sample at `bary` on a triangle, from the embedded samples `same` (indices
 // into `samples`) of that triangle: offset and rest normal of the nearest ones in barycentric

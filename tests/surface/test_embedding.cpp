@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/thread_pool.h"
 #include "mesh/decimate.h"
 #include "mesh/procedural.h"
 #include "sim/soft_body.h"
@@ -19,7 +20,7 @@ struct TwoResolutions {
     surface::EmbeddingStats stats;
 };
 
-TwoResolutions make(uint32_t coarse_vertices) {
+TwoResolutions make(uint32_t coarse_vertices, core::ThreadPool* pool = nullptr) {
     TwoResolutions t;
     t.fine = mesh::icosphere(5);
     // Bumps, so the fine surface is not the coarse one with more vertices.
@@ -31,13 +32,33 @@ TwoResolutions make(uint32_t coarse_vertices) {
     REQUIRE(body.ok());
     t.body = std::move(body.value());
     const float h = surface::spacing(t.fine, 0.5f);
-    const auto points = surface::sample_points(t.fine, t.body.rest_positions, {h, 1});
-    surface::embed_points(points, t.body.rest_positions, t.body.triangles, t.body.normals, t.samples, &t.stats);
+    const auto points = surface::sample_points(t.fine, t.body.rest_positions, {h, 1}, pool);
+    surface::embed_points(points, t.body.rest_positions, t.body.triangles, t.body.normals, t.samples, &t.stats, pool);
     return t;
 }
 } // namespace
 
 TEST_SUITE("surface/embedding") {
+    TEST_CASE("sampling and embedding on a pool give the same samples, bit for bit") {
+        // Enough darts (about 1.5M) for the sampler's batches to be shared among the threads.
+        core::ThreadPool pool(3);
+        const TwoResolutions alone = make(400), shared = make(400, &pool);
+        REQUIRE(alone.samples.size() > 10000);
+        REQUIRE(shared.samples.size() == alone.samples.size());
+        size_t differ = 0;
+        for (size_t i = 0; i < alone.samples.size(); ++i)
+            differ += shared.samples.position[i] != alone.samples.position[i] ||
+                      shared.samples.normal[i] != alone.samples.normal[i] ||
+                      shared.samples.triangle[i] != alone.samples.triangle[i] ||
+                      shared.samples.bary[i] != alone.samples.bary[i] || shared.samples.offset[i] != alone.samples.offset[i] ||
+                      shared.samples.local_normal[i] != alone.samples.local_normal[i];
+        CHECK(differ == 0);
+        CHECK(shared.stats.outside == alone.stats.outside);
+        CHECK(shared.stats.fallback == alone.stats.fallback);
+        CHECK(shared.stats.max_offset == alone.stats.max_offset);
+        CHECK(shared.stats.max_rest_error == alone.stats.max_rest_error);
+    }
+
     TEST_CASE("embedded samples reproduce the fine surface exactly in the rest pose") {
         TwoResolutions t = make(400);
         REQUIRE(t.samples.size() > 10000);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/thread_pool.h"
+
 namespace pbdsplat::scene {
 
 bool SurfacePaint::empty() const {
@@ -17,8 +19,8 @@ uint32_t pack_color(const Vec3f& c) {
 
 namespace {
 
-Vec3f color_of(const SurfacePaint& paint, uint32_t model, const Vec3f& rest) {
-    if (model < paint.model.size() && paint.model[model]) return paint.model[model]->at(rest);
+Vec3f color_of(const SurfacePaint& paint, uint32_t model, const Vec3f& rest, std::vector<mesh::ClosestPoint>& scratch) {
+    if (model < paint.model.size() && paint.model[model]) return paint.model[model]->at(rest, scratch);
     return model < paint.plain.size() ? paint.plain[model] : Vec3f::Ones();
 }
 
@@ -30,41 +32,48 @@ uint32_t model_of(const sim::SoftBody& body, uint32_t particle) {
 
 void paint_particles(const SurfacePaint& paint, sim::SoftBody& body) {
     body.colors.resize(body.particle_count());
-    for (uint32_t i = 0; i < body.particle_count(); ++i) body.colors[i] = color_of(paint, model_of(body, i), body.rest_positions[i]);
+    std::vector<mesh::ClosestPoint> scratch;
+    for (uint32_t i = 0; i < body.particle_count(); ++i)
+        body.colors[i] = color_of(paint, model_of(body, i), body.rest_positions[i], scratch);
 }
 
 std::vector<Vec3f> paint_vertices(const SurfacePaint& paint, const sim::SoftBody& body, const mesh::TriangleMesh& surface,
                                   const surface::BoundaryParticles& embedded) {
     std::vector<Vec3f> out(surface.vertex_count());
+    std::vector<mesh::ClosestPoint> scratch;
     for (size_t v = 0; v < out.size(); ++v) {
         const uint32_t model = v < embedded.size() ? model_of(body, body.triangles[embedded.triangle[v]][0]) : 0u;
-        out[v] = color_of(paint, model, surface.positions[v]);
+        out[v] = color_of(paint, model, surface.positions[v], scratch);
     }
     return out;
 }
 
-size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& s) {
+size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& s, core::ThreadPool* pool) {
     // What waits for paint is a suffix: samples are only appended, and keep_if keeps the order
     // (padding the colours it compacts with zeros at the end). So a frame costs what it added.
     size_t first = std::min(s.color.size(), s.size());
     while (first > 0 && !(s.color[first - 1] >> 24)) --first;
     s.color.resize(s.size(), 0u);
-    size_t painted = 0;
-    for (size_t k = first; k < s.size(); ++k) {
-        const mesh::Triangle& t = body.triangles[s.triangle[k]];
-        const Vec3f &a = body.rest_positions[t[0]], &b = body.rest_positions[t[1]], &c = body.rest_positions[t[2]];
-        const Vec2f w = s.bary[k];
-        Vec3f rest = a + w.x() * (b - a) + w.y() * (c - a);
-        // An embedded sample stands off its coarse triangle by its offset: along the face normal
-        // is close enough to find the fine surface's spot under it.
-        if (s.embedded()) {
-            const Vec3f n = (b - a).cross(c - a);
-            if (n.squaredNorm() > 0.0f) rest += s.offset[k] * n.normalized();
+    const auto run = [&](unsigned, size_t begin, size_t end) {
+        std::vector<mesh::ClosestPoint> scratch;
+        for (size_t k = first + begin; k < first + end; ++k) {
+            const mesh::Triangle& t = body.triangles[s.triangle[k]];
+            const Vec3f &a = body.rest_positions[t[0]], &b = body.rest_positions[t[1]], &c = body.rest_positions[t[2]];
+            const Vec2f w = s.bary[k];
+            Vec3f rest = a + w.x() * (b - a) + w.y() * (c - a);
+            // An embedded sample stands off its coarse triangle by its offset: along the face
+            // normal is close enough to find the fine surface's spot under it.
+            if (s.embedded()) {
+                const Vec3f n = (b - a).cross(c - a);
+                if (n.squaredNorm() > 0.0f) rest += s.offset[k] * n.normalized();
+            }
+            s.color[k] = pack_color(color_of(paint, model_of(body, t[0]), rest, scratch));
         }
-        s.color[k] = pack_color(color_of(paint, model_of(body, t[0]), rest));
-        ++painted;
-    }
-    return painted;
+    };
+    const size_t count = s.size() - first;
+    if (pool) pool->parallel_for(count, run);
+    else run(0, 0, count);
+    return count;
 }
 
 void add_paint_pass(graph::FrameGraph& g, PaintHandles& h, uint32_t tag) {

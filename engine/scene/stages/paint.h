@@ -10,6 +10,10 @@
 #include "sim/soft_body.h"
 #include "surface/boundary_particles.h"
 
+namespace pbdsplat::core {
+class ThreadPool;
+}
+
 namespace pbdsplat::scene {
 
 struct SurfacePaint {
@@ -31,8 +35,9 @@ void paint_particles(const SurfacePaint& paint, sim::SoftBody& body);
 std::vector<Vec3f> paint_vertices(const SurfacePaint& paint, const sim::SoftBody& body, const mesh::TriangleMesh& surface,
                                   const surface::BoundaryParticles& embedded);
 // The samples that have no colour yet (those added since the last call: always the last ones);
-// returns how many were painted.
-size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& samples);
+// returns how many were painted. The same colours with or without a pool.
+size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& samples,
+                     core::ThreadPool* pool = nullptr);
 
 struct PaintHandles {
     graph::Handle<sim::SoftBody> body;

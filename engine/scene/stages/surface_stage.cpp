@@ -11,7 +11,8 @@ namespace pbdsplat::scene {
 
 core::Result<SurfaceSetup> setup_surface(const SurfaceDesc& desc, uint32_t fade_frames, const sim::SoftBody& body,
                                          const std::optional<mesh::TriangleMesh>& fine, surface::BoundaryParticles& samples,
-                                         surface::EmbeddingStats& embedding, surface::DensityControl& density) {
+                                         surface::EmbeddingStats& embedding, surface::DensityControl& density,
+                                         core::ThreadPool* pool) {
     SurfaceSetup out;
     const mesh::TriangleMesh rest{body.rest_positions, body.triangles, {}, {}, {}};
     const bool boundary = desc.mode == SurfaceMode::boundary;
@@ -26,8 +27,8 @@ core::Result<SurfaceSetup> setup_surface(const SurfaceDesc& desc, uint32_t fade_
     // lie on the coarse cut line, away from the fine samples: drawn, they float as strays.
     out.particles_are_splats = !(boundary && fine);
     if (boundary && fine) {
-        const auto points = surface::sample_points(*fine, {}, {out.h, desc.seed});
-        surface::embed_points(points, body.rest_positions, body.triangles, body.normals, samples, &embedding);
+        const auto points = surface::sample_points(*fine, {}, {out.h, desc.seed}, pool);
+        surface::embed_points(points, body.rest_positions, body.triangles, body.normals, samples, &embedding, pool);
     } else if (boundary) {
         samples = surface::sample_surface(rest, {out.h, desc.seed});
     }

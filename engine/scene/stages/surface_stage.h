@@ -34,10 +34,12 @@ struct SurfaceSetup {
 };
 
 // `fine`: the model's full-resolution surface when the body simulates a decimated copy.
-// Fills `samples` (boundary mode), `embedding` (with `fine`) and `density` (when the scene has it).
+// Fills `samples` (boundary mode), `embedding` (with `fine`) and `density` (when the scene has it);
+// `pool` (optional) shares the sampling and embedding of a fine surface, with the same result.
 core::Result<SurfaceSetup> setup_surface(const SurfaceDesc& desc, uint32_t fade_frames, const sim::SoftBody& body,
                                          const std::optional<mesh::TriangleMesh>& fine, surface::BoundaryParticles& samples,
-                                         surface::EmbeddingStats& embedding, surface::DensityControl& density);
+                                         surface::EmbeddingStats& embedding, surface::DensityControl& density,
+                                         core::ThreadPool* pool = nullptr);
 
 struct SurfaceFollow {
     surface::BoundaryParticles* samples = nullptr;
