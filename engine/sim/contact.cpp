@@ -460,6 +460,15 @@ template <class Real>
 void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettings& s) {
     const ParticlesT<Real>& p = body.particles;
     const size_t n = p.size();
+    // One piece without self-contact has nothing to meet (its own cap faces close it along its
+    // rim), so a body alone pays for no search; its loops' faces are still made as they appear,
+    // since a face keeps the shape it had then.
+    if (body.pieces < 2 && !s.self) {
+        contacts_.clear(), seam_pairs_.clear(), anchor_.clear();
+        stacked_ = false;
+        if (s.enabled) build_faces(body);
+        return;
+    }
     scale_ = contact_scale(mean_rest_edge(body), s);
     if (candidates_hold(body, s)) return;
     contacts_.clear();

@@ -242,6 +242,21 @@ TEST_SUITE("sim/contact") {
         CHECK(solver.contact().searches() > before);
     }
 
+    TEST_CASE("a body of one piece without self-contact runs no search; with self-contact on, it does") {
+        sim::SoftBody b = test::make_body(mesh::icosphere(3), shape_matched_desc());
+        REQUIRE(b.pieces == 1);
+        sim::Colliders c;
+        c.ground = sim::GroundPlane{Vec3f::UnitY(), -1.0f};
+        sim::SolverSettings s = held_shape_settings();
+        sim::Solver solver;
+        for (int f = 0; f < 30; ++f) solver.step(b, 1.0f / 60.0f, s, c, {});  // falling: it moves every frame
+        CHECK(solver.contact().searches() == 0);
+        CHECK(solver.contact().contacts().empty());
+        s.contact.self = true;  // folds of its own: the search runs
+        for (int f = 0; f < 5; ++f) solver.step(b, 1.0f / 60.0f, s, c, {});
+        CHECK(solver.contact().searches() > 0);
+    }
+
     TEST_CASE("a stiff ball cut through: the top stays on the bottom") {
         // Through the centre, a tenth below it, a sixth above it, and tilted 8 degrees: each cut
         // face is a disc of another size and the top another weight, resting on the rim below.
