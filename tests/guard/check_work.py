@@ -15,7 +15,7 @@ import subprocess
 import sys
 
 # name, what it is, limit, measured when the limit was set (2026-11-29, the 2-vCPU VM, median
-# of four runs: docs/BENCHMARKS.md, "Work guard").
+# of four runs: docs/BENCHMARKS.md, "Checks: claims as data").
 LIMITS = {
     "stage_a_per_tuned_loop": ("Stage A of a hanging icosphere:5 over the tuned hand-written loop's", 1.55, 1.02),
     "cut_per_stage_a_frame": ("a line cut through icosphere:5 over one Stage A frame of it", 1.6, 1.0),
