@@ -80,9 +80,12 @@ void main() {
         if (k_footprint_dither && g_color.a < 0.97 && g_color.a < dither_threshold()) discard;
         alpha = k_footprint_dither ? 1.0 : g_color.a;
     } else {
-        // uv is in standard deviations: the Gaussian falloff, cut where it stops showing.
+        // uv is in standard deviations: the Gaussian falloff, cut where it stops showing and,
+        // with kappa set, at kappa standard deviations: a disc, whatever carrier bounds it (a
+        // quad's corners reach 1.4 kappa, an octagon's 1.08 kappa).
         alpha = min(g_color.a * exp(-0.5 * r2), 1.0);
         if (alpha < k_alpha_floor) discard;
+        if (frame.splat.x > 0.0 && dot(g_uv, g_uv) > frame.splat.x * frame.splat.x) discard;
     }
     const vec3 facing = normalize(g_normal);
     const vec3 n = splat_lit_normal(facing, g_world, k_footprint == SPLAT_FOOTPRINT_PAPER, k_opaque_surface);

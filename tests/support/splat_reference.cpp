@@ -18,6 +18,7 @@ struct Footprint2D {
     float alpha = 1.0f;
     Eigen::Matrix2f axes;  // columns: unit principal directions
     Vec2f lengths;         // standard deviations along them
+    float s0 = 0.0f;       // the world standard deviation of a round splat
 };
 
 // `axes`: null for a round splat; `pixel`: a pixel's size in view-plane units at unit depth;
@@ -28,6 +29,7 @@ Footprint2D project(const splat::GaussianRecord& r, const Mat4f& view, float sca
     const Vec3f world(r.position[0], r.position[1], r.position[2]);
     f.centre = (view * world.homogeneous()).head<3>();
     const float s0 = splat::half_to_float(r.scale_half) * scale_multiplier;
+    f.s0 = s0;
     // Eq. 14: the Gaussian's axes (s0 * e_k for a round one) seen in view space, each pushed
     // through the perspective Jacobian at the centre (a' = a.xy + p a.z).
     const Eigen::Matrix3f world_axes = shape ? Eigen::Matrix3f(splat::shape_axes(*shape)) : Eigen::Matrix3f(s0 * Eigen::Matrix3f::Identity());
@@ -53,6 +55,53 @@ Footprint2D project(const splat::GaussianRecord& r, const Mat4f& view, float sca
     const float fade = float(r.color[3]) / 255.0f;
     f.alpha = fade / (1.0f + std::exp(-splat::half_to_float(r.opacity_half)));
     return f;
+}
+} // namespace
+
+namespace {
+// Normalised blending at one pixel, from its definition (render/frame_inputs.h, "Blend"): a
+// splat counts where its Gaussian reaches at least 1/255 and, when kappa > 0, within kappa
+// standard deviations of its centre; of those, the front surface: no farther than the nearest
+// opaque core (alpha >= depth_min_alpha) pushed back by depth_push of its own standard
+// deviations. Each adds w = -ln(1 - alpha) of its colour; the mean shows over the background
+// with coverage 1 - exp(-4 sum w). Round splats facing the eye only (no inside layer).
+Vec3f normalised_pixel(const std::vector<Footprint2D>& splats, const Vec3f& ray, const render::SplatStyle& style,
+                       const Vec3f& background, float& margin) {
+    // The accumulation stage's alpha: the Gaussian inside its carrier, down to 1/255.
+    const auto alpha_at = [&](const Footprint2D& f) {
+        const Vec3f hit = ray * (f.centre.z() / ray.z());
+        const Vec2f d = (hit - f.centre).head<2>();
+        const float a = std::min(f.alpha * std::exp(-0.5f * d.dot(f.inv * d)), 1.0f);
+        if (!(a >= 1.0f / 255.0f)) return 0.0f;
+        // Within kappa standard deviations (a disc; the sharpness only scales the falloff).
+        const Vec2f q = f.axes.transpose() * d;
+        if (style.kappa > 0.0f && Vec2f(q.x() / f.lengths.x(), q.y() / f.lengths.y()).squaredNorm() > style.kappa * style.kappa)
+            return 0.0f;
+        return a;
+    };
+    float front = -1e30f;  // view z of the visibility pass's depth (the camera looks down -z)
+    for (const Footprint2D& f : splats) {
+        const float pushed = f.centre.z() - style.depth_push * f.s0;
+        const Vec3f hit = ray * (pushed / ray.z());
+        const Vec2f d = (hit - Vec3f(f.centre.x(), f.centre.y(), pushed)).head<2>();
+        const float a = f.alpha * std::exp(-0.5f * d.dot(f.inv * d));
+        // How near the core's edge: where the test could go either way, the pixel is not judged.
+        margin = std::min(margin, std::abs(a - style.depth_min_alpha) / style.depth_min_alpha);
+        if (a >= style.depth_min_alpha) front = std::max(front, pushed);
+    }
+    Vec3f sum = Vec3f::Zero();
+    float weight = 0.0f;
+    for (const Footprint2D& f : splats) {
+        if (f.centre.z() < front) continue;  // behind the front surface
+        const float a = alpha_at(f);
+        if (a == 0.0f) continue;
+        const float w = -std::log(1.0f - std::min(a, 0.996f));
+        sum += w * f.albedo;
+        weight += w;
+    }
+    if (!(weight > 1e-4f)) return background;
+    const float coverage = 1.0f - std::exp(-4.0f * weight);
+    return sum / weight * coverage + background * (1.0f - coverage);
 }
 } // namespace
 
@@ -99,6 +148,8 @@ std::vector<ReferencePixel> render_reference(const std::vector<splat::GaussianRe
                 }
                 for (size_t i = 0; i < splats.size(); ++i)
                     if (splats[i].centre.z() >= nearest) px.rim_margin = std::min(px.rim_margin, std::abs(radius[i] - 1.0f));
+            } else if (style.blend == render::Blend::normalised) {
+                c = normalised_pixel(splats, ray, style, c, px.rim_margin);
             } else {
                 for (const Footprint2D& f : splats) {
                     const Vec3f hit = ray * (f.centre.z() / ray.z());

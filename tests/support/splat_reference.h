@@ -22,7 +22,9 @@ struct ReferencePixel {
 
 // `frame` must have flat lighting (environment off, no key light, no specular, ambient 1):
 // a splat's colour is then its albedo. Paper discs: the nearest covering disc wins. Gaussian:
-// composited in the records' order ("over", premultiplied) or summed (additive).
+// composited in the records' order ("over", premultiplied), summed (additive) or normalised
+// (round splats facing the eye; rim_margin is then how near a pixel lies to the edge of an
+// opaque core, which decides what counts as the front surface).
 // `shapes` (one per record, or empty): anisotropic axes, projected by EWA (J W Sigma W^T J^T)
 // plus a 0.3 pixel^2 low-pass for the Gaussian, as 3D Gaussian splatting does; the paper's disc
 // has none but stays at least a pixel wide seen edge-on, as the shaders draw it.
