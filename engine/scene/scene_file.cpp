@@ -48,6 +48,7 @@ public:
             return t_.get(key);
         }
         std::string where(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+        [[noreturn]] void fail(const std::string& key, const std::string& what) const { r_.fail(t_.get(key)->source(), what); }
 
         double number(const std::string& key, double fallback, double lo, double hi) {
             const toml::node* n = node(key);
@@ -229,6 +230,14 @@ void read_material(Reader::Table& t, MaterialDesc& m) {
 void read_surface(Reader::Table& t, SurfaceDesc& d) {
     d.mode = t.named<SurfaceMode>("mode", SurfaceMode::boundary, k_surface_mode_names);
     read_keys<SurfaceDesc>(t, d, k_surface_keys);
+    for (const auto& k : k_advanced_keys)
+        if (t.has(k.name))
+            t.fail(k.name, "'" + t.where(k.name) + "' is one of the density control's internals: it belongs in the [advanced] table");
+    t.finish();
+}
+
+void read_advanced(Reader::Table& t, SurfaceDesc& d) {
+    read_keys<SurfaceDesc>(t, d, k_advanced_keys);
     t.finish();
 }
 
@@ -493,6 +502,10 @@ core::Result<Scene> parse_scene(const std::string& text, const std::string& name
         if (const toml::table* t = top.table("surface")) {
             Reader::Table d(r, *t, "surface");
             read_surface(d, scene.surface);
+        }
+        if (const toml::table* t = top.table("advanced")) {
+            Reader::Table a(r, *t, "advanced");
+            read_advanced(a, scene.surface);
         }
         if (const toml::table* t = top.table("simulation")) {
             Reader::Table s(r, *t, "simulation");

@@ -60,6 +60,10 @@ inline const Key<SurfaceDesc> k_surface_keys[] = {
     PBDSPLAT_KEY(SurfaceDesc, "seed", seed, 0, 0x7fffffff),
     PBDSPLAT_KEY(SurfaceDesc, "edge_samples", edge_samples),
     PBDSPLAT_KEY(SurfaceDesc, "density", density.enabled),
+};
+// [advanced]: the density control's internals, each with a default chosen from measurements
+// (docs/scene-format.md, "[advanced]"); no shipped scene sets them.
+inline const Key<SurfaceDesc> k_advanced_keys[] = {
     PBDSPLAT_KEY(SurfaceDesc, "density_grow", density.grow, 1.05, 4.0),
     PBDSPLAT_KEY(SurfaceDesc, "density_shrink", density.shrink, 0.2, 0.95),
     PBDSPLAT_KEY(SurfaceDesc, "density_squash", density.squash, 0.2, 0.95),

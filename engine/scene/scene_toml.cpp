@@ -77,6 +77,8 @@ void write_model_material_surface(std::ostream& o, const Scene& sc) {
         o << "interior_color = [" << num(c->x()) << ", " << num(c->y()) << ", " << num(c->z()) << "]\n";
     o << "\n[surface]\nmode = \"" << core::name_of<SurfaceMode>(k_surface_mode_names, sc.surface.mode) << "\"\n";
     write_keys<SurfaceDesc>(o, sc.surface, k_surface_keys);
+    o << "\n[advanced]\n# the density control's internals, chosen from measurements: see docs/scene-format.md\n";
+    write_keys<SurfaceDesc>(o, sc.surface, k_advanced_keys);
     o << "\n";
 }
 

@@ -7,8 +7,10 @@
 // and a face cut again is two faces folded along the new cut), so a piece cut off rests on the
 // cut face of the piece below instead of falling into it.
 //
-// Each substep finds candidate (particle, triangle) pairs once, after prediction, through a hash
-// grid of the particles; each iteration then projects them as one-sided PBD constraints
+// Each substep finds candidate (particle, triangle) pairs after prediction, through a hash grid
+// of the particles (keeping the last search's while no particle has moved half the slack since,
+// and none for a body of one piece without self-contact, which has nothing to meet); each
+// iteration then projects them as one-sided PBD constraints
 //   side * (x_p - q(a, b, c)) . n  >=  thickness
 // with Coulomb friction on the relative motion since the substep began. The side is read at the
 // substep's start, so a particle that was in front of a triangle stays in front however far it

@@ -33,6 +33,11 @@ color = [0.2, 0.6, 0.9]
 opacity = 0.95
 interior_color = [0.9, 0.8, 0.5]
 
+[advanced]
+density_grow = 1.3
+density_budget = 77
+density_gap_spacing = 0.0
+
 [simulation]
 mode = "xpbd"
 dt = 0.01
@@ -213,6 +218,9 @@ TEST_SUITE("scene/scene_file") {
         CHECK(second->material.interior_color->isApprox(Vec3f(0.9f, 0.8f, 0.5f)));
         CHECK(second->render.frame.style.sharpness == Vec2f(0.8f, 0.9f));
         CHECK(second->render.carrier == render::SplatCarrier::octagon);
+        CHECK(second->surface.density.grow == doctest::Approx(1.3f));
+        CHECK(second->surface.density.budget == 77u);
+        CHECK(second->surface.density.gap_spacing == 0.0f);
         CHECK(second->render.splat_shape == scene::SplatShape::deformed);
         CHECK(second->render.surfel_thickness == 0.2f);
         CHECK(second->render.frame.style.surfel_thickness == 0.0f);  // deformed: not surfels
@@ -298,6 +306,9 @@ TEST_SUITE("scene/scene_file") {
         CHECK(refusal("[[events]]\ntime = 1\ntype = \"explode\"\n") ==
               "bad.toml:3:8: 'events.type' must be one of pressure, drag, spin, cut, tear, opacity, not 'explode'");
         CHECK(refusal("[model\nmesh = 1\n").find("bad.toml:1:") == 0);  // truncated table header
+        // The density control's internals live in [advanced]; where they used to be, a pointer.
+        CHECK(refusal("[surface]\ndensity_grow = 1.2\n") ==
+              "bad.toml:2:16: 'surface.density_grow' is one of the density control's internals: it belongs in the [advanced] table");
         CHECK(refusal("frames = 10\n") == "bad.toml:1:1: unknown key 'frames'");
         CHECK(refusal("[render.camera]\npath = [{ time = 2, eye = [0, 0, 3] }, { time = 1, eye = [0, 0, 4] }]\n")
                   .find("bad.toml:2:40: camera path keys must be in increasing time") == 0);
