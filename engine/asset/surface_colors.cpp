@@ -10,9 +10,4 @@ Vec3f SurfaceColors::at(const Vec3f& p, std::vector<mesh::ClosestPoint>& scratch
     return look_.color_at(scratch.front().triangle, scratch.front().bary);
 }
 
-Vec3f SurfaceColors::at(const Vec3f& p) const {
-    std::vector<mesh::ClosestPoint> scratch;
-    return at(p, scratch);
-}
-
 } // namespace pbdsplat::asset

@@ -20,7 +20,6 @@ public:
     // Linear RGB at the surface point nearest to p (in the look's coordinates). Threads may ask
     // at once, each with its own scratch.
     Vec3f at(const Vec3f& p, std::vector<mesh::ClosestPoint>& scratch) const;
-    Vec3f at(const Vec3f& p) const;
     const SurfaceLook& look() const { return look_; }
 
 private:

@@ -82,9 +82,6 @@ Solve along_normal(const Vec3f& p, const mesh::ClosestPoint& c, std::span<const 
     return s;
 }
 
-} // namespace
-
-namespace {
 struct EmbedContext {
     std::span<const Vec3f> rest;
     std::span<const mesh::Triangle> triangles;
