@@ -222,7 +222,7 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
     for (uint32_t f = 0; f < o.frames; ++f) {
         PBDSPLAT_TRY(rt.step());
         const FrameStats& st = rt.stats();
-        stage_a.push_back(st.apply_forces_ms + st.constraints_ms + st.integrate_normals_ms);
+        stage_a.push_back(st.groups.stage_a());
         burst.frame(rt, st, report);
         if ((f + 1) % o.every != 0 && f + 1 != o.frames) continue;
         CheckSample s;

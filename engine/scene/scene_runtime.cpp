@@ -174,7 +174,7 @@ core::Status SceneRuntime::step() {
     FrameStats s;
     s.cuts = topology_->cuts();
     s.tears = topology_->tears();
-    s.topology_ms = topology_->ms();
+    s.groups[PassGroup::topology] = topology_->ms();
     s.frame = frame_;
     s.time = control_.time;
     s.particles = body_.particle_count();
@@ -182,17 +182,9 @@ core::Status SceneRuntime::step() {
     s.density = density_stats_;
     s.gaussians = mapping_->records().size();
     for (size_t k = 0; k < ms.size(); ++k) {
-        const double t = ms[k];
-        switch (group_of_kept_pass_[k]) {
-            case PassGroup::events: s.events_ms += t; break;
-            case PassGroup::topology: break;  // timed by the stage itself, follow-up included (topology_ms)
-            case PassGroup::forces: s.apply_forces_ms += t; break;
-            case PassGroup::constraints: s.constraints_ms += t; break;
-            case PassGroup::integrate: s.integrate_normals_ms += t; break;
-            case PassGroup::update: s.update_particles_ms += t; break;
-            case PassGroup::gpu_record: s.gpu_record_ms += t; break;
-            case PassGroup::other: break;
-        }
+        const PassGroup g = group_of_kept_pass_[k];
+        // The topology stage times itself, its follow-up included (below).
+        if (g != PassGroup::other && g != PassGroup::topology) s.groups[g] += ms[k];
     }
     if (renderer_) {
         const render::GpuTimings g = renderer_->timings();

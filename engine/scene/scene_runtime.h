@@ -69,10 +69,10 @@ struct FrameStats {
     size_t particles = 0, boundary_particles = 0, gaussians = 0;
     size_t cuts = 0;   // cut events applied so far
     size_t tears = 0;  // edges torn so far
-    double topology_ms = 0.0;  // this frame's cuts and tears, with the boundary particles' refill
-    double events_ms = 0.0,  // the timeline (pressure, drags, spins, opacity)
-           apply_forces_ms = 0.0, constraints_ms = 0.0, integrate_normals_ms = 0.0,
-           update_particles_ms = 0.0, gpu_record_ms = 0.0, graph_ms = 0.0;
+    // CPU ms per group (stages/pass_group.h). Events: the timeline (pressure, drags, spins,
+    // opacity); topology: this frame's cuts and tears, with the boundary particles' refill.
+    GroupTimes groups;
+    double graph_ms = 0.0;  // the whole frame, wall clock
     uint64_t uploaded_bytes = 0;  // of the newest finished GPU frame
     // GPU time of the newest finished frame, per pass, from timestamps (0 where the device has
     // none or the pass did not run): the paper's "GPU Scene" row, broken down.

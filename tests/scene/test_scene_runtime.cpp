@@ -120,6 +120,21 @@ TEST_SUITE("scene/runtime") {
         CHECK(c.at("normals").empty());
     }
 
+    TEST_CASE("a frame's time is counted in the groups its passes are tagged with, Stage A in its three") {
+        auto rt = scene::SceneRuntime::create(load("no_pressure.toml"), scene::RuntimeOptions{});
+        REQUIRE_MESSAGE(rt.ok(), test::why(rt));
+        for (int f = 0; f < 3; ++f) REQUIRE(rt.value()->step().ok());
+        const scene::GroupTimes& t = rt.value()->stats().groups;
+        // Every kept pass of a group adds to it: the solver's passes ran, so their groups took time.
+        CHECK(t[scene::PassGroup::forces] > 0.0);
+        CHECK(t[scene::PassGroup::constraints] > 0.0);
+        CHECK(t[scene::PassGroup::integrate] > 0.0);
+        CHECK(t.stage_a() == t[scene::PassGroup::forces] + t[scene::PassGroup::constraints] + t[scene::PassGroup::integrate]);
+        CHECK(t.cpu_total() >= t.stage_a() + t[scene::PassGroup::update]);
+        CHECK(std::string(scene::group_key(scene::tag(scene::PassGroup::constraints))) == "constraint_projection");
+        CHECK(std::string(scene::group_key(0)) == "other");
+    }
+
     TEST_CASE("a drag event brings in the drag stage, and moves the body") {
         const scene::Scene s = load("drag_spin.toml");
         const auto c = culling(s);

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/timer.h"
@@ -31,11 +32,13 @@ const CommandSpec& command_spec() {
 // What the frames gave: per stage group and per pass, and the paper's rows split at the first
 // topology change (CPU frame, GPU scene, the four update stages).
 struct Split {
-    std::vector<double> cpu_frame, gpu_scene, apply, constraints, integrate, update;
+    std::vector<double> cpu_frame, gpu_scene;
+    std::array<std::vector<double>, scene::k_timed_groups> groups;  // per group (scene::k_pass_groups)
     size_t particles = 0, gaussians = 0, frames = 0;
 };
 struct Samples {
-    std::vector<double> events, topology, forces, constraints, integrate, update, gpu_record, frame, gpu_upload, gpu_sort, gpu_draw;
+    std::array<std::vector<double>, scene::k_timed_groups> groups;  // per group (scene::k_pass_groups)
+    std::vector<double> frame, gpu_upload, gpu_sort, gpu_draw;
     // The splat pass's parts (render::GpuTimings).
     std::vector<double> gpu_splat, gpu_occluders, gpu_over_occluders, gpu_accumulate, gpu_resolve;
     Split before, after;
@@ -54,9 +57,8 @@ struct Samples {
 
     void add(const scene::SceneRuntime& runtime) {
         const auto& s = runtime.stats();
-        events.push_back(s.events_ms), topology.push_back(s.topology_ms), forces.push_back(s.apply_forces_ms), constraints.push_back(s.constraints_ms);
-        integrate.push_back(s.integrate_normals_ms), update.push_back(s.update_particles_ms);
-        gpu_record.push_back(s.gpu_record_ms), frame.push_back(s.graph_ms);
+        for (size_t g = 0; g < scene::k_timed_groups; ++g) groups[g].push_back(s.groups.ms[g]);
+        frame.push_back(s.graph_ms);
         gpu_upload.push_back(s.gpu.upload_ms), gpu_sort.push_back(s.gpu.sort_ms), gpu_draw.push_back(s.gpu.draw_ms);
         gpu_splat.push_back(s.gpu.splat_ms), gpu_occluders.push_back(s.gpu.occluders_ms);
         gpu_over_occluders.push_back(s.gpu.over_occluders_ms), gpu_accumulate.push_back(s.gpu.accumulate_ms);
@@ -69,8 +71,7 @@ struct Samples {
             density_working.push_back(s.density.resampled + s.density.retired > 0);
         }
         Split& part = s.cuts + s.tears == 0 ? before : after;
-        part.cpu_frame.push_back(s.events_ms + s.topology_ms + s.apply_forces_ms + s.constraints_ms + s.integrate_normals_ms + s.update_particles_ms +
-                                 s.gpu_record_ms);
+        part.cpu_frame.push_back(s.groups.cpu_total());
         part.gpu_scene.push_back(s.gpu_scene_ms());
         const bool changed = s.cuts + s.tears > changes_so_far;
         if (&part == &after) (changed ? changing_cpu : steady_cpu).push_back(part.cpu_frame.back());
@@ -79,21 +80,21 @@ struct Samples {
             for (size_t k = 0; k < pm.size(); ++k) changing_pass[k].push_back(pm[k]);
         }
         changes_so_far = s.cuts + s.tears;
-        part.apply.push_back(s.apply_forces_ms), part.constraints.push_back(s.constraints_ms);
-        part.integrate.push_back(s.integrate_normals_ms), part.update.push_back(s.update_particles_ms);
+        for (size_t g = 0; g < scene::k_timed_groups; ++g) part.groups[g].push_back(s.groups.ms[g]);
         part.particles = s.particles, part.gaussians = s.gaussians, ++part.frames;
     }
 };
 
 void report_stages(Report& report, const Samples& m, const gpu::DeviceCaps& caps) {
     using core::median;
-    report.json()["stages_median_ms"] = {{"events", median(m.events)},
-                                         {"topology", median(m.topology)},
-                                         {"apply_forces", median(m.forces)},
-                                         {"constraint_projection", median(m.constraints)},
-                                         {"integrate_normals", median(m.integrate)},
-                                         {"update_particles", median(m.update)},
-                                         {"gpu_record", median(m.gpu_record)}};
+    auto& stages = report.json()["stages_median_ms"] = nlohmann::json::object();
+    std::vector<Figure> cpu;
+    for (const auto& n : scene::k_pass_groups) {
+        const double ms = median(m.groups[scene::GroupTimes::slot(n.group)]);
+        stages[n.key] = ms;
+        cpu.push_back({n.label, ms, "ms"});
+    }
+    cpu.push_back({"frame (wall)", median(m.frame), "ms (waits for the GPU when it is the bottleneck)"});
     report.json()["gpu_median_ms"] = {{"upload", median(m.gpu_upload)},
                                       {"sort", median(m.gpu_sort)},
                                       {"draw", median(m.gpu_draw)},
@@ -104,14 +105,7 @@ void report_stages(Report& report, const Samples& m, const gpu::DeviceCaps& caps
                                         {"accumulate", median(m.gpu_accumulate)},
                                         {"resolve", median(m.gpu_resolve)}}}};
     report.json()["gpu_timestamps"] = caps.timestamps;
-    report.figures("", {{"events", median(m.events), "ms"},
-                        {"topology (cuts, tears)", median(m.topology), "ms"},
-                        {"apply forces", median(m.forces), "ms"},
-                        {"constraint projection", median(m.constraints), "ms"},
-                        {"integrate + normals", median(m.integrate), "ms"},
-                        {"update particles", median(m.update), "ms"},
-                        {"GPU recording", median(m.gpu_record), "ms"},
-                        {"frame (wall)", median(m.frame), "ms (waits for the GPU when it is the bottleneck)"}});
+    report.figures("", cpu);
     if (caps.timestamps) {
         std::vector<Figure> gpu = {{"upload", median(m.gpu_upload), "ms"},
                                    {"sort", median(m.gpu_sort), "ms"},
@@ -184,11 +178,14 @@ void report_passes(Report& report, const Samples& m, const graph::FrameGraph& gr
 // --before-after: the paper's Tables 2-4, split at the first cut or tear.
 void report_before_after(Report& report, const Samples& m) {
     using core::median;
-    for (const auto& [name, part] : {std::pair<const char*, const Split*>{"before", &m.before}, {"after", &m.after}})
-        report.json()[name] = {{"frames", part->frames}, {"particles", part->particles}, {"gaussians", part->gaussians},
-                               {"cpu_frame_ms", median(part->cpu_frame)}, {"gpu_scene_ms", median(part->gpu_scene)},
-                               {"apply_forces_ms", median(part->apply)}, {"constraint_projection_ms", median(part->constraints)},
-                               {"integrate_normals_ms", median(part->integrate)}, {"update_particles_ms", median(part->update)}};
+    // The paper's Table 3 rows: the simulation's stages and the splats' update.
+    auto paper_row = [](const scene::PassGroupNames& n) { return n.stage_a || n.group == scene::PassGroup::update; };
+    for (const auto& [name, part] : {std::pair<const char*, const Split*>{"before", &m.before}, {"after", &m.after}}) {
+        nlohmann::json& j = report.json()[name] = {{"frames", part->frames}, {"particles", part->particles}, {"gaussians", part->gaussians},
+                                                  {"cpu_frame_ms", median(part->cpu_frame)}, {"gpu_scene_ms", median(part->gpu_scene)}};
+        for (const auto& n : scene::k_pass_groups)
+            if (paper_row(n)) j[std::string(n.key) + "_ms"] = median(part->groups[scene::GroupTimes::slot(n.group)]);
+    }
     report.json()["change_frames"] = {{"frames", m.changing_cpu.size()}, {"cpu_frame_ms", median(m.changing_cpu)},
                                       {"steady_frames", m.steady_cpu.size()}, {"steady_cpu_frame_ms", median(m.steady_cpu)}};
     Table table({{"stage", 0, true, ""}, {"before", 3}, {"after", 3}, {"delta", 3}, {"delta_percent", 2, true, "delta %"}});
@@ -198,10 +195,8 @@ void report_before_after(Report& report, const Samples& m) {
     };
     row("CPU frame", m.before.cpu_frame, m.after.cpu_frame);
     row("GPU scene", m.before.gpu_scene, m.after.gpu_scene);
-    row("apply forces", m.before.apply, m.after.apply);
-    row("constraint projection", m.before.constraints, m.after.constraints);
-    row("integrate + normals", m.before.integrate, m.after.integrate);
-    row("update particles", m.before.update, m.after.update);
+    for (const auto& n : scene::k_pass_groups)
+        if (paper_row(n)) row(n.label, m.before.groups[scene::GroupTimes::slot(n.group)], m.after.groups[scene::GroupTimes::slot(n.group)]);
     report.table(format("before and after the first cut or tear (%zu -> %zu particles, %zu -> %zu Gaussians; medians, ms):",
                         m.before.particles, m.after.particles, m.before.gaussians, m.after.gaussians),
                  table);
@@ -232,7 +227,7 @@ Outcome measure(const Options& opt) {
         size_t k = 0;
         for (const auto& p : runtime.graph().describe())
             if (!p.culled) {
-                if (p.name == "density") m.density_pass = k;
+                if (p.name == scene::k_density_pass) m.density_pass = k;
                 ++k;
             }
     }

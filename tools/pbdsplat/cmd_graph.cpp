@@ -14,11 +14,12 @@ int cmd_graph(const std::vector<std::string>& argv) {
     static const CommandSpec command{
         "graph", "[SCENE.toml]",
         "Compiles the frame graph of a scene (default: the built-in one) and prints its passes in\n"
-        "execution order, with the culled ones marked and the reason: a resource the scene does not\n"
-        "have (\"needs volume constraints\") or an output nobody reads (\"unused\").\n",
+        "execution order, each with the timing group its time counts towards (bench scene's rows), and\n"
+        "the culled ones marked with the reason: a resource the scene does not have (\"needs volume\n"
+        "constraints\") or an output nobody reads (\"unused\").\n",
         with_gpu({flag("present", "as for a window: no readback of the image"),
                   text("dot", "FILE", "", "also write the graph as Graphviz dot").default_from("none"),
-                  json_option("print {\"passes\": [{\"name\", \"kind\", \"culled\", \"reason\", \"barriers\"}]}")})};
+                  json_option("print {\"passes\": [{\"name\", \"kind\", \"group\", \"culled\", \"reason\", \"barriers\"}]}")})};
     const Parsed parsed = parse_command(command, argv);
     if (!parsed.options) return parsed.exit_code;
     const Options& opt = *parsed.options;
@@ -43,6 +44,7 @@ int cmd_graph(const std::vector<std::string>& argv) {
         for (const auto& p : passes)
             j["passes"].push_back({{"name", p.name},
                                    {"kind", p.kind == graph::PassKind::gpu ? "gpu" : "cpu"},
+                                   {"group", scene::group_key(p.tag)},
                                    {"culled", p.culled},
                                    {"reason", p.reason},
                                    {"barriers", p.barriers}});
@@ -51,7 +53,7 @@ int cmd_graph(const std::vector<std::string>& argv) {
         size_t kept = 0;
         for (const auto& p : passes) {
             kept += p.culled ? 0 : 1;
-            std::printf("  %-16s %s  %s%s\n", p.name.c_str(), p.kind == graph::PassKind::gpu ? "gpu" : "cpu",
+            std::printf("  %-18s %s  %-21s  %s%s\n", p.name.c_str(), p.kind == graph::PassKind::gpu ? "gpu" : "cpu", scene::group_key(p.tag),
                         p.culled ? "culled: " : "", p.culled ? p.reason.c_str()
                                                              : (p.barriers ? (std::to_string(p.barriers) + " barrier(s)").c_str() : ""));
         }

@@ -163,8 +163,9 @@ int cmd_render(const std::vector<std::string>& argv) {
     if (!single) {
         csv.open(dir / "frames.csv");
         if (!csv) return fail("render", (dir / "frames.csv").string() + ": cannot write");
-        csv << "frame,time,particles,gaussians,events_ms,topology_ms,apply_forces_ms,constraints_ms,integrate_normals_ms,"
-               "update_particles_ms,gpu_record_ms,frame_ms,uploaded_bytes,samples_inserted,samples_retired,samples_fading\n";
+        csv << "frame,time,particles,gaussians,";
+        for (const auto& n : scene::k_pass_groups) csv << n.csv << ',';
+        csv << "frame_ms,uploaded_bytes,samples_inserted,samples_retired,samples_fading\n";
     }
     Progress progress("render", frames);
     for (uint32_t f = 0; f < frames; ++f) {
@@ -179,9 +180,9 @@ int cmd_render(const std::vector<std::string>& argv) {
         }
         if (csv) {
             const auto& s = runtime.value()->stats();
-            csv << s.frame - 1 << ',' << s.time << ',' << s.particles << ',' << s.gaussians << ',' << s.events_ms << ',' << s.topology_ms << ','
-                << s.apply_forces_ms << ',' << s.constraints_ms << ',' << s.integrate_normals_ms << ','
-                << s.update_particles_ms << ',' << s.gpu_record_ms << ',' << s.graph_ms << ',' << s.uploaded_bytes << ','
+            csv << s.frame - 1 << ',' << s.time << ',' << s.particles << ',' << s.gaussians << ',';
+            for (double ms : s.groups.ms) csv << ms << ',';
+            csv << s.graph_ms << ',' << s.uploaded_bytes << ','
                 << s.density.inserted << ',' << s.density.retired << ',' << s.density.fading << '\n';
         }
         if (frames > 1) progress.frame_done(f + 1);

@@ -55,7 +55,7 @@ void add_surface_passes(graph::FrameGraph& g, SurfaceHandles& h, const SurfacePa
         config.tag);
     // Also advances the fades of samples a cut or tear added.
     g.add_pass(
-        "density", graph::PassKind::cpu,
+        k_density_pass, graph::PassKind::cpu,
         [&](graph::PassBuilder& b) {
             b.read(h.body);
             h.density = b.write(h.density);  // its trigger state and fades advance

@@ -69,6 +69,8 @@ struct SurfacePassConfig {
     uint32_t seed = 0;
     uint32_t tag = 0;  // the passes' group (scene/stages/pass_group.h)
 };
+// The density control's pass, by which `bench scene --passes` finds its time per sample.
+inline constexpr const char* k_density_pass = "density";
 void add_surface_passes(graph::FrameGraph& g, SurfaceHandles& h, const SurfacePassConfig& config);
 
 // Whether any of `triangles` has an edge no other triangle uses (the body's rings current).

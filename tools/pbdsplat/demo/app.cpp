@@ -184,10 +184,12 @@ void Demo::draw_overlay() {
     std::snprintf(buf, sizeof(buf), "particles %zu   boundary %zu   Gaussians %zu   cuts %zu   tears %zu", st.particles,
                   st.boundary_particles, st.gaussians, st.cuts, st.tears);
     lines.emplace_back(buf);
-    std::snprintf(buf, sizeof(buf), "CPU ms  events %.2f  topology %.2f  forces %.2f  constraints %.2f  integrate %.2f  update %.2f  record %.2f",
-                  st.events_ms, st.topology_ms, st.apply_forces_ms, st.constraints_ms, st.integrate_normals_ms, st.update_particles_ms,
-                  st.gpu_record_ms);
-    lines.emplace_back(buf);
+    std::string cpu = "CPU ms";
+    for (const auto& n : scene::k_pass_groups) {
+        std::snprintf(buf, sizeof(buf), "  %s %.2f", n.brief, st.groups[n.group]);
+        cpu += buf;
+    }
+    lines.push_back(std::move(cpu));
     std::snprintf(buf, sizeof(buf), "GPU ms  upload %.2f  sort %.2f  splat %.2f  (GPU scene %.2f)", st.gpu.upload_ms, st.gpu.sort_ms,
                   st.gpu.draw_ms, st.gpu_scene_ms());
     lines.emplace_back(buf);
