@@ -5,6 +5,8 @@
 #include "scene/scene_runtime.h"
 
 #include "scene/stages/body_view.h"
+#include "scene/stages/event_stage.h"
+#include "scene/stages/frame_keys.h"
 #include "scene/stages/fine_surface.h"
 #include "scene/stages/mapping_stage.h"
 #include "scene/stages/paint.h"
@@ -15,26 +17,10 @@
 
 namespace pbdsplat::scene {
 
-// The frame's resources as the passes declared so far left them (each write gives the next
-// version), passed from one stage's passes to the next.
-struct SceneRuntime::GraphHandles {
-    graph::Handle<sim::SoftBody> body;
-    graph::Handle<Timeline> timeline;
-    graph::Handle<std::vector<sim::VolumeConstraint>> volumes;
-    graph::Handle<std::vector<sim::ShapeCluster>> shapes;
-    graph::Handle<sim::Colliders> colliders;
-    graph::Handle<sim::DragConstraint> drag;
-    graph::Handle<passes::GpuFrameInput> input;
-    graph::Handle<surface::BoundaryParticles> samples;
-    graph::Handle<surface::DensityControl> density;
-    graph::Handle<splat::SortScratch> sort;
-    graph::Handle<splat::StretchScale> stretch;
-    graph::Handle<passes::ImageSink> sink;
-    graph::Handle<EventQueue> queue;
-    graph::Handle<EventQueue> cuts;
-    graph::Handle<splat::Appearance> appearance;
-    graph::Handle<std::string> note;
-    graph::Handle<splat::CutFaces> cut_faces;
+// The frame's resources as the passes added so far left them (each write gives the next
+// version) on the blackboard, and what the scene has.
+struct SceneRuntime::GraphAssembly {
+    graph::Blackboard board;
     bool boundary = false, drags = false, sorted = false, cut_faces_on = false;
 };
 
@@ -42,7 +28,7 @@ bool SceneRuntime::has_timed_events() const {
     return !scene_.events.empty() || scene_.render.orbit.degrees_per_second != 0.0f || !scene_.render.path.empty();
 }
 
-void SceneRuntime::import_resources(GraphHandles& h) {
+void SceneRuntime::import_resources(GraphAssembly& h) {
     const SurfaceDesc& sd_surface = scene_.surface;
     const SimulationDesc& sd = scene_.simulation;
     graph::FrameGraph& g = graph_;
@@ -53,65 +39,62 @@ void SceneRuntime::import_resources(GraphHandles& h) {
     const bool has_volume = sd.solver.volume && !body_.volumes.empty();
     const bool has_shape = sd.solver.shape_stiffness > 0.0f && body_.shape_matching;
     const bool topology_events = queue_->any(is_topology_event) || options_.interactive;
-    h.body = g.import("body", &body_, true);
-    h.timeline = g.import("timeline", has_timed_events() ? timeline_.get() : static_cast<Timeline*>(nullptr));
-    h.volumes = g.import("volume constraints", has_volume ? &body_.volumes : static_cast<std::vector<sim::VolumeConstraint>*>(nullptr));
-    h.shapes = g.import("shape clusters", has_shape ? &body_.shapes : static_cast<std::vector<sim::ShapeCluster>*>(nullptr));
-    h.colliders = g.import("colliders", sd.colliders.empty() ? nullptr : &scene_.simulation.colliders);
-    h.drag = g.import("drag", h.drags ? &drag_ : static_cast<sim::DragConstraint*>(nullptr));
-    h.input = g.import("frame input", &frame_input_);
-    h.samples = g.import("boundary particles", h.boundary ? &boundary_ : static_cast<surface::BoundaryParticles*>(nullptr));
-    h.density = g.import("density control", h.boundary ? &density_ : static_cast<surface::DensityControl*>(nullptr));
-    h.sort = g.import("sort", h.sorted ? &mapping_->sort_scratch() : static_cast<splat::SortScratch*>(nullptr));
-    h.stretch = g.import("stretch", sd_surface.stretch_scale ? &stretch_ : static_cast<splat::StretchScale*>(nullptr));
-    h.sink = g.import("image", readback_ ? &sink_ : static_cast<passes::ImageSink*>(nullptr));
-    h.appearance = g.import("appearance", &appearance_);
-    h.note = g.import("note", &note_);
-    h.queue = g.import("event queue", queue_.get());
+    graph::Blackboard& board = h.board;
+    graph::import_into(g, board, keys::body, &body_, true);
+    graph::import_into(g, board, keys::timeline, has_timed_events() ? timeline_.get() : static_cast<Timeline*>(nullptr));
+    graph::import_into(g, board, keys::volumes, has_volume ? &body_.volumes : static_cast<std::vector<sim::VolumeConstraint>*>(nullptr));
+    graph::import_into(g, board, keys::shapes, has_shape ? &body_.shapes : static_cast<std::vector<sim::ShapeCluster>*>(nullptr));
+    graph::import_into(g, board, keys::colliders, sd.colliders.empty() ? nullptr : &scene_.simulation.colliders);
+    graph::import_into(g, board, keys::drag, h.drags ? &drag_ : static_cast<sim::DragConstraint*>(nullptr));
+    graph::import_into(g, board, keys::input, &frame_input_);
+    graph::import_into(g, board, keys::samples, h.boundary ? &boundary_ : static_cast<surface::BoundaryParticles*>(nullptr));
+    graph::import_into(g, board, keys::density, h.boundary ? &density_ : static_cast<surface::DensityControl*>(nullptr));
+    graph::import_into(g, board, keys::sort, h.sorted ? &mapping_->sort_scratch() : static_cast<splat::SortScratch*>(nullptr));
+    graph::import_into(g, board, keys::stretch, sd_surface.stretch_scale ? &stretch_ : static_cast<splat::StretchScale*>(nullptr));
+    graph::import_into(g, board, keys::sink, readback_ ? &sink_ : static_cast<passes::ImageSink*>(nullptr));
+    graph::import_into(g, board, keys::appearance, &appearance_);
+    graph::import_into(g, board, keys::note, &note_);
+    graph::import_into(g, board, keys::queue, queue_.get());
     // The queue again, as a marker read by the topology pass: absent when no cut or tear can come,
     // so that the pass is culled (it is never written through this handle).
-    h.cuts = g.import("topology events", topology_events ? queue_.get() : static_cast<EventQueue*>(nullptr));
+    graph::import_into(g, board, keys::cuts, topology_events ? queue_.get() : static_cast<EventQueue*>(nullptr));
     // The faces a cut makes, drawn where surfaces are sampled: once cuts can come, and for as long
     // as the body has openings (the graph is rebuilt after the last cut).
     const bool opened = std::any_of(body_.volumes.begin(), body_.volumes.end(), [](const sim::VolumeConstraint& v) { return v.opened(); });
     h.cut_faces_on = (topology_events || opened) && h_ > 0.0f;
-    h.cut_faces = g.import("cut faces", h.cut_faces_on ? &cut_faces_ : static_cast<splat::CutFaces*>(nullptr));
+    graph::import_into(g, board, keys::cut_faces, h.cut_faces_on ? &cut_faces_ : static_cast<splat::CutFaces*>(nullptr));
 }
 
-void SceneRuntime::add_surface_and_map_passes(GraphHandles& h) {
+void SceneRuntime::add_surface_and_map_passes(GraphAssembly& h) {
     graph::FrameGraph& g = graph_;
-    auto density_stats = g.import("density stats", &density_stats_);
-    SurfaceHandles surface{h.body, h.samples, h.density, density_stats, h.stretch};
-    add_surface_passes(g, surface, {splat_particles_, h_, scene_.surface.seed, tag(PassGroup::update)});
-    h.samples = surface.samples;
-    h.stretch = surface.stretch;
+    graph::Blackboard& board = h.board;
+    graph::import_into(g, board, keys::density_stats, &density_stats_);
+    add_surface_passes(g, board, {splat_particles_, h_, scene_.surface.seed, tag(PassGroup::update)});
     if (h.boundary && !paint_.empty()) {
-        PaintHandles paint{h.body, g.import("paint", &paint_), h.samples};
-        add_paint_pass(g, paint, tag(PassGroup::update));
-        h.samples = paint.samples;
+        graph::import_into(g, board, keys::paint, &paint_);
+        add_paint_pass(g, board, tag(PassGroup::update));
     }
     map_settings_.particles = splat_particles_;
     map_settings_.cull_back = scene_.render.cull_back;
     map_settings_.draw_ground = scene_.render.ground;
     map_settings_.ground = scene_.simulation.colliders.ground;
-    MapHandles map{h.body, h.samples, h.stretch, h.sort, h.appearance, g.import("map settings", &map_settings_),
-                   g.import("mapping", mapping_.get()), h.input, h.cut_faces};
+    graph::import_into(g, board, keys::map_settings, &map_settings_);
+    graph::import_into(g, board, keys::mapping, mapping_.get());
     MapPassOptions mo{h.boundary, scene_.surface.stretch_scale, h.sorted, options_.keep_records, !paused_, tag(PassGroup::update)};
     mo.cut_faces = h.cut_faces_on;
-    add_mapping_passes(g, map, mo);
-    h.input = map.input;
-    h.cut_faces = map.cut_faces;
+    add_mapping_passes(g, board, mo);
 }
 
-void SceneRuntime::fingerprint_resources(const GraphHandles& h) {
+void SceneRuntime::fingerprint_resources(const GraphAssembly& h) {
     graph::FrameGraph& g = graph_;
     const auto print = [](const auto& resource) { return fingerprint(resource); };
-    g.set_fingerprint<sim::SoftBody>(h.body, print);
-    g.set_fingerprint<splat::Appearance>(h.appearance, print);
-    g.set_fingerprint<passes::GpuFrameInput>(h.input, print);
-    g.set_fingerprint<std::string>(h.note, print);
-    if (h.drags) g.set_fingerprint<sim::DragConstraint>(h.drag, print);
-    if (h.boundary) g.set_fingerprint<surface::BoundaryParticles>(h.samples, print);
+    const graph::Blackboard& board = h.board;
+    g.set_fingerprint<sim::SoftBody>(board.get(keys::body), print);
+    g.set_fingerprint<splat::Appearance>(board.get(keys::appearance), print);
+    g.set_fingerprint<passes::GpuFrameInput>(board.get(keys::input), print);
+    g.set_fingerprint<std::string>(board.get(keys::note), print);
+    if (h.drags) g.set_fingerprint<sim::DragConstraint>(board.get(keys::drag), print);
+    if (h.boundary) g.set_fingerprint<surface::BoundaryParticles>(board.get(keys::samples), print);
     g.check_writes(true);
 }
 
@@ -123,16 +106,14 @@ uint32_t SceneRuntime::frame_substeps() const {
 
 core::Status SceneRuntime::build_graph() {
     graph_ = graph::FrameGraph();
-    GraphHandles h;
+    GraphAssembly h;
     import_resources(h);
     // Paused: nothing moves, so no simulation stage runs; the frame is drawn again as it was.
     if (!paused_) {
         add_frame_event_passes(h, has_timed_events());
-        SimulationHandles sim_handles{h.body, h.volumes, h.shapes, h.drag, h.colliders};
         step_settings_ = scene_.simulation.solver;
         step_settings_.substeps = frame_substeps();
-        add_simulation_passes(graph_, sim_handles, *solver_, step_settings_, scene_.simulation.dt);
-        h.body = sim_handles.body;
+        add_simulation_passes(graph_, h.board, *solver_, step_settings_, scene_.simulation.dt);
     }
     add_surface_and_map_passes(h);
     if (renderer_) add_view_passes(h);
@@ -144,7 +125,7 @@ core::Status SceneRuntime::build_graph() {
     return core::Status::success();
 }
 
-void SceneRuntime::add_frame_event_passes(GraphHandles& h, bool has_events) {
+void SceneRuntime::add_frame_event_passes(GraphAssembly& h, bool has_events) {
     graph::FrameGraph& g = graph_;
     const SimulationDesc& sd = scene_.simulation;
     ChangeFollowers::Targets targets;
@@ -158,91 +139,99 @@ void SceneRuntime::add_frame_event_passes(GraphHandles& h, bool has_events) {
     targets.h = h_, targets.seed = scene_.surface.seed, targets.fade_frames = sd.fade_frames;
     targets.edge_samples = scene_.surface.edge_samples;
     followers_ = std::make_unique<ChangeFollowers>(targets);
-    EventHandles events{g.import("frame control", &control_), h.timeline, h.queue, h.cuts, g.import("topology stage", topology_.get()),
-                        g.import("change followers", followers_.get()), h.body, h.drag, h.appearance,
-                        h.input, h.samples, h.density, h.stretch, h.note};
+    graph::import_into(g, h.board, keys::control, &control_);
+    graph::import_into(g, h.board, keys::topology, topology_.get());
+    graph::import_into(g, h.board, keys::followers, followers_.get());
     EventPassOptions o;
     o.dt = sd.dt, o.interactive = options_.interactive, o.timeline = has_events;
     o.drags = h.drags, o.boundary = h.boundary, o.stretch = scene_.surface.stretch_scale;
     o.cut = sd.cut;
     o.tag = tag(PassGroup::events), o.topology_tag = tag(PassGroup::topology);
-    add_event_passes(g, events, o);
-    h.body = events.body, h.drag = events.drag, h.input = events.input, h.samples = events.samples;
-    h.density = events.density, h.stretch = events.stretch, h.appearance = events.appearance, h.note = events.note;
+    add_event_passes(g, h.board, o);
 }
 
-void SceneRuntime::add_occluder_mesh_pass(GraphHandles& h) {
+void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
     graph::FrameGraph& g = graph_;
     // The surface the splats stand for, as it is this frame, for the occluders' pass.
     auto mesh = g.import("occluder mesh", &occluder_mesh_);
     // The fine surface's embedding, made on the first frame it is drawn (absent, and not
     // declared, without a fine surface).
     auto embedding = g.import("fine surface embedding", fine_ ? &fine_vertices_ : nullptr);
+    const auto body = h.board.get(keys::body);
+    const auto cut_faces = h.board.get(keys::cut_faces);
+    auto input = h.board.get(keys::input);
+    const bool cut_faces_on = h.cut_faces_on;
     g.add_pass("occluder mesh", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
-        b.read(h.body);
+        b.read(body);
         mesh = b.write(mesh);
         if (fine_) embedding = b.write(embedding);
-        if (h.cut_faces_on) b.read(h.cut_faces);
-        h.input = b.write(h.input);
+        if (cut_faces_on) b.read(cut_faces);
+        input = b.write(input);
         const mesh::TriangleMesh* fine = fine_ ? &*fine_ : nullptr;  // the model's surface: fixed at load
-        return [fine, mesh, embedding, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
-            const sim::SoftBody& body = r.read(hh.body);
-            passes::GpuFrameInput& in = r.write(hh.input);
+        return [fine, mesh, embedding, body, cut_faces, input, cut_faces_on](const graph::PassResources& r, graph::ExecuteContext&) {
+            const sim::SoftBody& bd = r.read(body);
+            passes::GpuFrameInput& in = r.write(input);
             // A cut face hides what lies behind it as the shell does.
-            const splat::CutFaces* faces = hh.cut_faces_on ? &r.read(hh.cut_faces) : nullptr;
+            const splat::CutFaces* faces = cut_faces_on ? &r.read(cut_faces) : nullptr;
             if (fine || (faces && faces->faces() > 0)) {
                 OccluderMesh& m = r.write(mesh);
                 if (fine) {
-                    deformed_fine_surface(body, *fine, r.write(embedding), m.x, m.triangles);
+                    deformed_fine_surface(bd, *fine, r.write(embedding), m.x, m.triangles);
                 } else {
-                    m.x = body.particles.x;
-                    m.triangles = body.triangles;
+                    m.x = bd.particles.x;
+                    m.triangles = bd.triangles;
                 }
-                if (faces) faces->append_surface(body.particles.x, m.x, m.triangles);
+                if (faces) faces->append_surface(bd.particles.x, m.x, m.triangles);
                 in.occluder_positions = m.x;
                 in.occluder_triangles = m.triangles;
             } else {
-                in.occluder_positions = body.particles.x;
-                in.occluder_triangles = body.triangles;
+                in.occluder_positions = bd.particles.x;
+                in.occluder_triangles = bd.triangles;
             }
         };
     }, tag(PassGroup::update));
+    h.board.put(keys::input, input);
 }
 
-graph::Handle<graph::GpuImageRef> SceneRuntime::add_mesh_view_pass(GraphHandles& h) {
+graph::Handle<graph::GpuImageRef> SceneRuntime::add_mesh_view_pass(GraphAssembly& h) {
     graph::FrameGraph& g = graph_;
     auto mesh_color = g.import("mesh colour", &mesh_color_);
     auto mesh_depth = g.import("mesh depth", &mesh_depth_);
     auto raster = g.import("mesh raster", mesh_raster_.get());
     auto splats = g.import("splat renderer", renderer_.get());
+    const auto body = h.board.get(keys::body);
+    const auto input = h.board.get(keys::input);
+    const auto appearance = h.board.get(keys::appearance);
+    auto note = h.board.get(keys::note);
     g.add_pass("mesh", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-        b.read(h.body);
-        b.read(h.input);
-        b.read(h.appearance);
+        b.read(body);
+        b.read(input);
+        b.read(appearance);
         b.read(splats);
         raster = b.write(raster);
-        h.note = b.write(h.note);
+        note = b.write(note);
         mesh_color = b.write(mesh_color, passes::to_graph(render::uses::color_attachment));
         b.write(mesh_depth, passes::to_graph(render::uses::depth_attachment));
-        return [hh = h, raster, splats](const graph::PassResources& r, graph::ExecuteContext& c) {
+        return [body, input, appearance, note, raster, splats](const graph::PassResources& r, graph::ExecuteContext& c) {
             render::MeshRaster& mesh = r.write(raster);
-            const sim::SoftBody& body = r.read(hh.body);
+            const sim::SoftBody& bd = r.read(body);
             const uint32_t slot = r.read(splats).slot();
-            if (const core::Status s = mesh.set_mesh(body.particles.x, body.triangles, body.normals, slot, body.colors); !s.ok())
-                r.write(hh.note) = "mesh view: " + s.error().to_string();  // drawn with the last mesh that fitted
+            if (const core::Status s = mesh.set_mesh(bd.particles.x, bd.triangles, bd.normals, slot, bd.colors); !s.ok())
+                r.write(note) = "mesh view: " + s.error().to_string();  // drawn with the last mesh that fitted
             // Drawn in the body's own colours where it has them, as its splats are.
-            const Vec3f albedo = body.colors.empty() ? r.read(hh.appearance).albedo : Vec3f::Ones();
-            mesh.draw(c.cmd, r.read(hh.input).frame, render::MeshView::shaded, albedo, slot);
+            const Vec3f albedo = bd.colors.empty() ? r.read(appearance).albedo : Vec3f::Ones();
+            mesh.draw(c.cmd, r.read(input).frame, render::MeshView::shaded, albedo, slot);
         };
     });
+    h.board.put(keys::note, note);
     return mesh_color;
 }
 
-void SceneRuntime::add_view_passes(GraphHandles& h) {
+void SceneRuntime::add_view_passes(GraphAssembly& h) {
     graph::FrameGraph& g = graph_;
     if (renderer_->has_occluders()) add_occluder_mesh_pass(h);
     const auto status = g.import("upload status", &upload_status_, true);
-    const auto drawn = passes::add_gpu_passes(g, *renderer_, gpu_resources_, h.input, status, h.sink, order_ == render::SplatOrder::gpu,
+    const auto drawn = passes::add_gpu_passes(g, *renderer_, gpu_resources_, h.board.get(keys::input), status, h.board.get(keys::sink), order_ == render::SplatOrder::gpu,
                                               tag(PassGroup::gpu_record));
     passes::PresentSources sources{drawn, {}, renderer_->width(), renderer_->height(),
                                    [renderer = renderer_.get()] { return renderer->slot(); }};

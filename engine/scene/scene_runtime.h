@@ -185,15 +185,15 @@ private:
     // (sim/contact.h), within the 256 sweeps a frame may take.
     uint32_t frame_substeps() const;
     sim::SolverSettings step_settings_;  // what the graph's simulation passes run with
-    struct GraphHandles;
+    struct GraphAssembly;
     bool has_timed_events() const;
-    void import_resources(GraphHandles& h);  // absent where the scene does not need them
-    void add_frame_event_passes(GraphHandles& h, bool has_events);
-    void add_surface_and_map_passes(GraphHandles& h);
-    void add_view_passes(GraphHandles& h);
-    void add_occluder_mesh_pass(GraphHandles& h);
-    graph::Handle<graph::GpuImageRef> add_mesh_view_pass(GraphHandles& h);
-    void fingerprint_resources(const GraphHandles& h);
+    void import_resources(GraphAssembly& h);  // absent where the scene does not need them
+    void add_frame_event_passes(GraphAssembly& h, bool has_events);
+    void add_surface_and_map_passes(GraphAssembly& h);
+    void add_view_passes(GraphAssembly& h);
+    void add_occluder_mesh_pass(GraphAssembly& h);
+    graph::Handle<graph::GpuImageRef> add_mesh_view_pass(GraphAssembly& h);
+    void fingerprint_resources(const GraphAssembly& h);
     RuntimeOptions options_;
     render::SplatOrder order_ = render::SplatOrder::unsorted;
     render::SplatOrder sorted_order_ = render::SplatOrder::cpu;  // what set_sorted(true) picks

@@ -258,3 +258,44 @@ TEST_SUITE("graph/frame_graph") {
 #endif
     }
 }
+
+#include "graph/blackboard.h"
+
+TEST_SUITE("graph/frame_graph") {
+    TEST_CASE("the blackboard hands on the newest version, and refuses a missing or mistyped key by name") {
+        FrameGraph g;
+        graph::Blackboard board;
+        int value = 0;
+        constexpr graph::Key<int> k_value{"value"};
+        constexpr graph::Key<float> k_value_as_float{"value"};  // the same name, another type
+        constexpr graph::Key<int> k_missing{"missing"};
+        graph::import_into(g, board, k_value, &value);
+        graph::Handle<int> h = board.get(k_value);
+        // A module writes it and puts the new version back: the next module reads that one.
+        g.add_pass("write", PassKind::cpu, [&](PassBuilder& b) {
+            h = b.write(h);
+            return [h](const graph::PassResources& r, graph::ExecuteContext&) { r.write(h) = 7; };
+        });
+        board.put(k_value, h);
+        int seen = -1;
+        g.add_pass("read", PassKind::cpu, [&](PassBuilder& b) {
+            const graph::Handle<int> in = board.get(k_value);
+            b.read(in);
+            b.side_effect();
+            return [in, &seen](const graph::PassResources& r, graph::ExecuteContext&) { seen = r.read(in); };
+        });
+        REQUIRE(g.compile().ok());
+        graph::ExecuteContext ctx;
+        g.execute(ctx);
+        CHECK(seen == 7);
+
+        auto missing = board.find(k_missing);
+        REQUIRE(!missing.ok());
+        CHECK(missing.error().to_string().find("'missing'") != std::string::npos);
+        auto mistyped = board.find(k_value_as_float);
+        REQUIRE(!mistyped.ok());
+        CHECK(mistyped.error().to_string().find("'value' holds") != std::string::npos);
+        CHECK(board.has("value"));
+        CHECK(!board.has("missing"));
+    }
+}

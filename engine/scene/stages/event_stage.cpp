@@ -1,8 +1,27 @@
 #include "scene/stages/event_stage.h"
 
+#include "scene/stages/frame_keys.h"
+
 namespace pbdsplat::scene {
 
 namespace {
+
+struct EventHandles {
+    graph::Handle<FrameControl> control;
+    graph::Handle<Timeline> timeline;              // absent when the scene has no timed events
+    graph::Handle<EventQueue> queue;               // the run's one queue: each pass takes its kinds
+    graph::Handle<EventQueue> cuts;                // the queue as a marker: absent when no cut or tear can come
+    graph::Handle<TopologyStage> topology;
+    graph::Handle<ChangeFollowers> followers;
+    graph::Handle<sim::SoftBody> body;
+    graph::Handle<sim::DragConstraint> drag;       // absent when nothing drags
+    graph::Handle<splat::Appearance> appearance;   // the timeline fades the opacity
+    graph::Handle<passes::GpuFrameInput> input;    // the camera
+    graph::Handle<surface::BoundaryParticles> samples;
+    graph::Handle<surface::DensityControl> density;
+    graph::Handle<splat::StretchScale> stretch;
+    graph::Handle<std::string> note;               // what the user's last stroke did
+};
 
 void add_timeline_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOptions& o) {
     g.add_pass("events", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
@@ -60,9 +79,23 @@ void add_topology_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
 
 } // namespace
 
-void add_event_passes(graph::FrameGraph& g, EventHandles& h, const EventPassOptions& o) {
+void add_event_passes(graph::FrameGraph& g, graph::Blackboard& board, const EventPassOptions& o) {
+    EventHandles h{board.get(keys::control),   board.get(keys::timeline), board.get(keys::queue),     board.get(keys::cuts),
+                   board.get(keys::topology),  board.get(keys::followers), board.get(keys::body),     board.get(keys::drag),
+                   board.get(keys::appearance), board.get(keys::input),   board.get(keys::samples),   board.get(keys::density),
+                   board.get(keys::stretch),   board.get(keys::note)};
     add_timeline_pass(g, h, o);
     add_topology_pass(g, h, o);
+    board.put(keys::queue, h.queue);
+    board.put(keys::timeline, h.timeline);
+    board.put(keys::body, h.body);
+    board.put(keys::drag, h.drag);
+    board.put(keys::appearance, h.appearance);
+    board.put(keys::input, h.input);
+    board.put(keys::samples, h.samples);
+    board.put(keys::density, h.density);
+    board.put(keys::stretch, h.stretch);
+    board.put(keys::note, h.note);
 }
 
 } // namespace pbdsplat::scene

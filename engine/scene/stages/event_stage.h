@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "graph/blackboard.h"
 #include "graph/frame_graph.h"
 #include "passes/gpu_passes.h"
 #include "scene/stages/change_follow.h"
@@ -24,22 +25,11 @@ struct FrameControl {
     sim::DragConstraint user_drag;
 };
 
-struct EventHandles {
-    graph::Handle<FrameControl> control;
-    graph::Handle<Timeline> timeline;              // absent when the scene has no timed events
-    graph::Handle<EventQueue> queue;               // the run's one queue: each pass takes its kinds
-    graph::Handle<EventQueue> cuts;                // the queue as a marker: absent when no cut or tear can come
-    graph::Handle<TopologyStage> topology;
-    graph::Handle<ChangeFollowers> followers;
-    graph::Handle<sim::SoftBody> body;
-    graph::Handle<sim::DragConstraint> drag;       // absent when nothing drags
-    graph::Handle<splat::Appearance> appearance;   // the timeline fades the opacity
-    graph::Handle<passes::GpuFrameInput> input;    // the camera
-    graph::Handle<surface::BoundaryParticles> samples;
-    graph::Handle<surface::DensityControl> density;
-    graph::Handle<splat::StretchScale> stretch;
-    graph::Handle<std::string> note;               // what the user's last stroke did
-};
+namespace keys {
+inline constexpr graph::Key<FrameControl> control{"frame control"};
+inline constexpr graph::Key<TopologyStage> topology{"topology stage"};
+inline constexpr graph::Key<ChangeFollowers> followers{"change followers"};
+} // namespace keys
 
 struct EventPassOptions {
     float dt = 0.0f;
@@ -50,6 +40,9 @@ struct EventPassOptions {
     uint32_t tag = 0, topology_tag = 0;  // what the timeline's and the topology pass's times count towards
 };
 
-void add_event_passes(graph::FrameGraph& g, EventHandles& h, const EventPassOptions& o);
+// Reads keys::control, keys::topology, keys::followers and the frame's shared resources from
+// `board` (the timeline, the drag and the cut marker may be absent) and puts back what the two
+// passes wrote: the body, drag, appearance, frame input, samples, density, stretch and note.
+void add_event_passes(graph::FrameGraph& g, graph::Blackboard& board, const EventPassOptions& o);
 
 } // namespace pbdsplat::scene

@@ -1,6 +1,7 @@
 #include "scene/stages/mapping_stage.h"
 
 #include "scene/stages/body_view.h"
+#include "scene/stages/frame_keys.h"
 
 namespace pbdsplat::scene {
 
@@ -47,7 +48,24 @@ void MappingStage::topology_changed(const sim::SoftBody& body, const topology::T
     if (!deformed_.empty()) deformed_ = splat::DeformedShapes(body.rest_positions, body.triangles);
 }
 
-void add_mapping_passes(graph::FrameGraph& g, MapHandles& h, const MapPassOptions& o) {
+namespace {
+struct MapHandles {
+    graph::Handle<sim::SoftBody> body;
+    graph::Handle<surface::BoundaryParticles> samples;
+    graph::Handle<splat::StretchScale> stretch;
+    graph::Handle<splat::SortScratch> sort;
+    graph::Handle<splat::Appearance> appearance;
+    graph::Handle<MapSettings> settings;
+    graph::Handle<MappingStage> mapping;
+    graph::Handle<passes::GpuFrameInput> input;
+    graph::Handle<splat::CutFaces> cut_faces;
+};
+} // namespace
+
+void add_mapping_passes(graph::FrameGraph& g, graph::Blackboard& board, const MapPassOptions& o) {
+    MapHandles h{board.get(keys::body),       board.get(keys::samples),      board.get(keys::stretch),
+                 board.get(keys::sort),       board.get(keys::appearance),   board.get(keys::map_settings),
+                 board.get(keys::mapping),    board.get(keys::input),        board.get(keys::cut_faces)};
     g.add_pass("map", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         b.read(h.body);
         if (o.boundary) b.read(h.samples);
@@ -97,6 +115,8 @@ void add_mapping_passes(graph::FrameGraph& g, MapHandles& h, const MapPassOption
             mapping.publish(input, moved);
         };
     }, o.tag);
+    board.put(keys::input, h.input);
+    board.put(keys::cut_faces, h.cut_faces);
 }
 
 } // namespace pbdsplat::scene

@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "graph/blackboard.h"
 #include "graph/frame_graph.h"
 #include "render/frame_inputs.h"
 #include "passes/gpu_passes.h"
@@ -72,20 +73,10 @@ struct MapSettings {
     std::optional<sim::GroundPlane> ground;
 };
 
-// The resources of the map and sort passes. `samples`, `stretch` and `sort` may be absent (the
-// scene has no boundary particles, no stretch-scaled splats, no CPU sort): the flags in
-// add_mapping_passes say which are there.
-struct MapHandles {
-    graph::Handle<sim::SoftBody> body;
-    graph::Handle<surface::BoundaryParticles> samples;
-    graph::Handle<splat::StretchScale> stretch;
-    graph::Handle<splat::SortScratch> sort;
-    graph::Handle<splat::Appearance> appearance;
-    graph::Handle<MapSettings> settings;
-    graph::Handle<MappingStage> mapping;
-    graph::Handle<passes::GpuFrameInput> input;
-    graph::Handle<splat::CutFaces> cut_faces;
-};
+namespace keys {
+inline constexpr graph::Key<MapSettings> map_settings{"map settings"};
+inline constexpr graph::Key<MappingStage> mapping{"mapping"};
+} // namespace keys
 struct MapPassOptions {
     bool boundary = false, stretch = false, sorted = false;
     bool keep_records = false;  // the caller reads the records every frame: the passes always run
@@ -95,7 +86,10 @@ struct MapPassOptions {
 };
 // "map" (body -> records, the cut faces follow the body's cap loops, the view follows the body,
 // the records handed over unless sorted) and
-// "sort" (far to near on the CPU, then handed over); they reach their data through `h` only.
-void add_mapping_passes(graph::FrameGraph& g, MapHandles& h, const MapPassOptions& o);
+// "sort" (far to near on the CPU, then handed over). They read the body, samples, stretch,
+// sort scratch, appearance, keys::map_settings and keys::mapping from `board` (the samples,
+// stretch and sort may be absent: the options say which are there) and put back the frame input
+// and the cut faces they wrote.
+void add_mapping_passes(graph::FrameGraph& g, graph::Blackboard& board, const MapPassOptions& o);
 
 } // namespace pbdsplat::scene

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/thread_pool.h"
+#include "scene/stages/frame_keys.h"
 
 namespace pbdsplat::scene {
 
@@ -76,7 +77,12 @@ size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surfa
     return count;
 }
 
-void add_paint_pass(graph::FrameGraph& g, PaintHandles& h, uint32_t tag) {
+void add_paint_pass(graph::FrameGraph& g, graph::Blackboard& board, uint32_t tag) {
+    struct PaintHandles {
+        graph::Handle<sim::SoftBody> body;
+        graph::Handle<SurfacePaint> paint;
+        graph::Handle<surface::BoundaryParticles> samples;
+    } h{board.get(keys::body), board.get(keys::paint), board.get(keys::samples)};
     g.add_pass(
         "paint", graph::PassKind::cpu,
         [&](graph::PassBuilder& b) {
@@ -88,6 +94,7 @@ void add_paint_pass(graph::FrameGraph& g, PaintHandles& h, uint32_t tag) {
             };
         },
         tag);
+    board.put(keys::samples, h.samples);
 }
 
 } // namespace pbdsplat::scene

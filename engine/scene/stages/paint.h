@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "asset/surface_colors.h"
+#include "graph/blackboard.h"
 #include "graph/frame_graph.h"
 #include "sim/soft_body.h"
 #include "surface/boundary_particles.h"
@@ -39,12 +40,11 @@ std::vector<Vec3f> paint_vertices(const SurfacePaint& paint, const sim::SoftBody
 size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& samples,
                      core::ThreadPool* pool = nullptr);
 
-struct PaintHandles {
-    graph::Handle<sim::SoftBody> body;
-    graph::Handle<SurfacePaint> paint;
-    graph::Handle<surface::BoundaryParticles> samples;
-};
-// The pass that paints what a cut, a tear or the density control added this frame.
-void add_paint_pass(graph::FrameGraph& g, PaintHandles& h, uint32_t tag);
+namespace keys {
+inline constexpr graph::Key<SurfacePaint> paint{"paint"};
+}
+// The pass that paints what a cut, a tear or the density control added this frame: reads the
+// body and keys::paint from `board`, writes the samples.
+void add_paint_pass(graph::FrameGraph& g, graph::Blackboard& board, uint32_t tag);
 
 } // namespace pbdsplat::scene

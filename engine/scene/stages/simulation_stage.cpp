@@ -2,12 +2,25 @@
 
 #include <string>
 
+#include "scene/stages/frame_keys.h"
 #include "scene/stages/pass_group.h"
 
 namespace pbdsplat::scene {
 
-void add_simulation_passes(graph::FrameGraph& g, SimulationHandles& h, sim::Solver& solver, const sim::SolverSettings& settings,
+namespace {
+struct SimulationHandles {
+    graph::Handle<sim::SoftBody> body;  // written by every pass
+    graph::Handle<std::vector<sim::VolumeConstraint>> volumes;
+    graph::Handle<std::vector<sim::ShapeCluster>> shapes;
+    graph::Handle<sim::DragConstraint> drag;
+    graph::Handle<sim::Colliders> colliders;
+};
+} // namespace
+
+void add_simulation_passes(graph::FrameGraph& g, graph::Blackboard& board, sim::Solver& solver, const sim::SolverSettings& settings,
                            float dt) {
+    SimulationHandles h{board.get(keys::body), board.get(keys::volumes), board.get(keys::shapes), board.get(keys::drag),
+                        board.get(keys::colliders)};
     const float substep = dt / float(settings.substeps);
     for (const sim::ScheduledStage& entry : sim::frame_schedule(settings)) {
         const sim::Stage stage = entry.stage;
@@ -35,6 +48,7 @@ void add_simulation_passes(graph::FrameGraph& g, SimulationHandles& h, sim::Solv
             },
             tag(pass_group(sim::stage_group(stage))));
     }
+    board.put(keys::body, h.body);
 }
 
 } // namespace pbdsplat::scene

@@ -5,21 +5,16 @@
 // drag) is culled by the graph.
 #include <vector>
 
+#include "graph/blackboard.h"
 #include "graph/frame_graph.h"
 #include "sim/solver.h"
 
 namespace pbdsplat::scene {
 
-struct SimulationHandles {
-    graph::Handle<sim::SoftBody> body;  // written by every pass: the newest version on return
-    graph::Handle<std::vector<sim::VolumeConstraint>> volumes;
-    graph::Handle<std::vector<sim::ShapeCluster>> shapes;
-    graph::Handle<sim::DragConstraint> drag;
-    graph::Handle<sim::Colliders> colliders;
-};
-
-// `solver` and `settings` must outlive the graph; `dt` is the frame's length.
-void add_simulation_passes(graph::FrameGraph& g, SimulationHandles& h, sim::Solver& solver, const sim::SolverSettings& settings,
+// Reads the body, volume constraints, shape clusters, drag and colliders from `board`
+// (scene/stages/frame_keys.h) and puts back the body's newest version. `solver` and `settings`
+// must outlive the graph; `dt` is the frame's length.
+void add_simulation_passes(graph::FrameGraph& g, graph::Blackboard& board, sim::Solver& solver, const sim::SolverSettings& settings,
                            float dt);
 
 } // namespace pbdsplat::scene

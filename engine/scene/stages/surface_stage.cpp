@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "mesh/topology.h"
+#include "scene/stages/frame_keys.h"
 #include "surface/edges.h"
 #include "surface/remap.h"
 
@@ -41,7 +42,15 @@ core::Result<SurfaceSetup> setup_surface(const SurfaceDesc& desc, uint32_t fade_
     return out;
 }
 
-void add_surface_passes(graph::FrameGraph& g, SurfaceHandles& h, const SurfacePassConfig& config) {
+void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const SurfacePassConfig& config) {
+    struct SurfaceHandles {
+        graph::Handle<sim::SoftBody> body;                  // read
+        graph::Handle<surface::BoundaryParticles> samples;  // written
+        graph::Handle<surface::DensityControl> density;
+        graph::Handle<surface::DensityStats> density_stats;
+        graph::Handle<splat::StretchScale> stretch;         // written
+    } h{board.get(keys::body), board.get(keys::samples), board.get(keys::density), board.get(keys::density_stats),
+        board.get(keys::stretch)};
     g.add_pass(
         "boundary particles", graph::PassKind::cpu,
         [&](graph::PassBuilder& b) {
@@ -87,6 +96,8 @@ void add_surface_passes(graph::FrameGraph& g, SurfaceHandles& h, const SurfacePa
             };
         },
         config.tag);
+    board.put(keys::samples, h.samples);
+    board.put(keys::stretch, h.stretch);
 }
 
 namespace {

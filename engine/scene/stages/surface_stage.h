@@ -15,6 +15,7 @@
 #include <optional>
 
 #include "core/result.h"
+#include "graph/blackboard.h"
 #include "graph/frame_graph.h"
 #include "splat/mapping.h"
 #include "mesh/triangle_mesh.h"
@@ -56,13 +57,9 @@ struct SurfaceFollow {
 // their density as it stretches and shrinks and advance their fades ("density"), and the
 // stretch-scaled splats' factors follow ("stretch"). Each reaches its data through the handles;
 // an absent one (vertices only, no stretch scaling) culls the passes that need it.
-struct SurfaceHandles {
-    graph::Handle<sim::SoftBody> body;                 // read
-    graph::Handle<surface::BoundaryParticles> samples;  // written: the newest version on return
-    graph::Handle<surface::DensityControl> density;
-    graph::Handle<surface::DensityStats> density_stats;
-    graph::Handle<splat::StretchScale> stretch;         // written
-};
+namespace keys {
+inline constexpr graph::Key<surface::DensityStats> density_stats{"density stats"};
+}
 struct SurfacePassConfig {
     bool particles_are_splats = true;
     float h = 0.0f;
@@ -71,7 +68,9 @@ struct SurfacePassConfig {
 };
 // The density control's pass, by which `bench scene --passes` finds its time per sample.
 inline constexpr const char* k_density_pass = "density";
-void add_surface_passes(graph::FrameGraph& g, SurfaceHandles& h, const SurfacePassConfig& config);
+// Reads the body, samples, density control, keys::density_stats and the stretch from `board`
+// (an absent one culls the passes that need it) and puts back the samples and the stretch.
+void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const SurfacePassConfig& config);
 
 // Whether any of `triangles` has an edge no other triangle uses (the body's rings current).
 bool opens_boundary(const sim::SoftBody& body, std::span<const uint32_t> triangles);
