@@ -35,6 +35,7 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     if (sh_degree > 3) return core::make_error("spherical-harmonic degree " + std::to_string(sh_degree) + " is not 0 to 3");
     if (const std::string why = splat_path_unsupported(ctx.caps(), path); !why.empty()) return core::make_error(why);
     SplatPass p;
+    p.ctx_ = &ctx;
     p.path_ = path;
     p.shading_ = shading;
     p.carrier_ = path == SplatPath::vertex ? SplatCarrier::quad : carrier;
@@ -45,7 +46,7 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     desc.color_format = color;
     desc.depth_format = depth;
     desc.layout = p.layout_.get();
-    PBDSPLAT_TRY(p.create_pipelines(ctx, std::move(desc), sh_degree, accumulation));
+    p.describe_pipelines(std::move(desc), sh_degree, accumulation);
     return p;
 }
 
@@ -106,74 +107,120 @@ core::Status SplatPass::describe_front(const gpu::Context& ctx, gpu::GraphicsPip
     return core::Status::success();
 }
 
-namespace {
+void SplatPass::describe(Variant v, const gpu::GraphicsPipelineDesc& desc) {
+    LazyPipeline& lazy = variants_[size_t(v)];
+    lazy.desc = desc;
+    lazy.described = true;
+}
 
-core::Status make_pipeline(const gpu::Context& ctx, const gpu::GraphicsPipelineDesc& desc, gpu::Pipeline& into) {
-    auto made = gpu::create_graphics_pipeline(ctx, desc);
+core::Status SplatPass::make(Variant v) {
+    LazyPipeline& lazy = variants_[size_t(v)];
+    if (lazy.pipeline) return core::Status::success();
+    PBDSPLAT_ASSERT(lazy.described, "SplatPass: a pipeline variant this pass was not created for");
+    auto made = gpu::create_graphics_pipeline(*ctx_, lazy.desc);
     if (!made.ok()) return made.error();
-    into = std::move(made).value();
+    lazy.pipeline = std::move(made).value();
     return core::Status::success();
 }
 
-} // namespace
+size_t SplatPass::pipelines_made() const {
+    size_t n = 0;
+    for (const LazyPipeline& lazy : variants_) n += lazy.pipeline ? 1 : 0;
+    return n;
+}
 
-core::Status SplatPass::create_sum_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc sums, VkFormat accumulation) {
+VkPipeline SplatPass::pipeline(Variant v) const {
+    const LazyPipeline& lazy = variants_[size_t(v)];
+    PBDSPLAT_ASSERT(lazy.pipeline, "SplatPass: draw a style only after prepare(style)");
+    return lazy.pipeline.get();
+}
+
+std::optional<SplatPass::Variant> SplatPass::front_variant(const SplatStyle& style) {
+    const bool additive = style.blend == Blend::additive, normalised = style.blend == Blend::normalised;
+    if (style.footprint == Footprint::paper) {
+        if (occluded_style(style)) return std::nullopt;  // record_paper_occluded()
+        return additive ? Variant::paper_additive : style.order == SplatOrder::unsorted ? Variant::paper_over : Variant::paper_sorted;
+    }
+    // Mesh occluders lay down the visibility depth in their own pass (render/occluder_pass.h).
+    if (!additive && ((normalised && !style.mesh_occluders) || (!normalised && style.order == SplatOrder::unsorted)))
+        return Variant::visibility;
+    return std::nullopt;
+}
+
+std::optional<SplatPass::Variant> SplatPass::colour_variant(const SplatStyle& style) {
+    // The paper's disc is one pass; normalised sums follow in their own (record_accumulation).
+    if (style.footprint == Footprint::paper || style.blend == Blend::normalised) return std::nullopt;
+    return style.blend == Blend::additive ? Variant::additive : Variant::over;
+}
+
+SplatPass::Variant SplatPass::paper_occluded_variant(const SplatStyle& style) {
+    return style.order == SplatOrder::unsorted ? Variant::paper_over_occluded : Variant::paper_sorted_occluded;
+}
+
+core::Status SplatPass::prepare(const SplatStyle& style) {
+    if (const auto v = front_variant(style)) PBDSPLAT_TRY(make(*v));
+    if (const auto v = colour_variant(style)) PBDSPLAT_TRY(make(*v));
+    const bool occluded = occluded_style(style) && occluded_layout_;
+    if (style.footprint == Footprint::paper && occluded) PBDSPLAT_TRY(make(paper_occluded_variant(style)));
+    if (style.blend == Blend::normalised && normalised())
+        PBDSPLAT_TRY(make(occluded ? Variant::accumulate_occluded : Variant::accumulate));
+    return core::Status::success();
+}
+
+void SplatPass::describe_sums(gpu::GraphicsPipelineDesc sums, VkFormat accumulation) {
     // The same fragments as the Gaussian's, summed as weights and weighted colours into the float image.
     sums.stages.back().second = "splat_accumulate.frag";
     sums.color_format = accumulation;
     sums.color_count = k_sum_layers;
     sums.specialization.resize(8, 0u);
     sums.specialization[7] = 1u;  // k_opaque_surface: what shows is the surface, lit from the seen side
-    PBDSPLAT_TRY(make_pipeline(ctx, sums, accumulate_));
-    if (!occluded_layout_) return core::Status::success();
+    describe(Variant::accumulate, sums);
+    if (!occluded_layout_) return;
     sums.stages.back().second = "splat_accumulate_occluded.frag";
     sums.layout = occluded_layout_.get();
-    return make_pipeline(ctx, sums, accumulate_occluded_);
+    describe(Variant::accumulate_occluded, sums);
 }
 
-core::Status SplatPass::create_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc desc, uint32_t sh_degree,
-                                        VkFormat accumulation) {
+void SplatPass::describe_pipelines(gpu::GraphicsPipelineDesc desc, uint32_t sh_degree, VkFormat accumulation) {
     const uint32_t per_corner = shading_ == SplatShading::corner ? 1u : 0u;
     const uint32_t octagon = carrier_ == SplatCarrier::octagon ? 1u : 0u;
     const uint32_t aniso = anisotropic_ ? 1u : 0u;
-    auto make_from = [&](const gpu::GraphicsPipelineDesc& d, gpu::Pipeline& into) { return make_pipeline(ctx, d, into); };
-    auto make = [&](gpu::Pipeline& into) { return make_from(desc, into); };
     desc.color_write = false;
     // k_visibility_pass, k_shade_per_corner, k_footprint, k_octagon, k_footprint_dither, k_anisotropic,
     // k_sh_degree (and k_opaque_surface, 0 unless given)
     desc.specialization = {1u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon, 0u, aniso, sh_degree};
-    PBDSPLAT_TRY(make(visibility_));
+    describe(Variant::visibility, desc);
 
     desc.stages.back().second = "splat.frag";
     desc.color_write = true;
     desc.specialization = {0u, per_corner, SPLAT_FOOTPRINT_GAUSSIAN, octagon, 0u, aniso, sh_degree};
     desc.depth_write = false;
     desc.blend = gpu::BlendMode::over_premultiplied;
-    PBDSPLAT_TRY(make(over_));
+    describe(Variant::over, desc);
     // Additive splats do not occlude one another: order does not matter, no visibility pass.
     desc.blend = gpu::BlendMode::additive;
-    PBDSPLAT_TRY(make(additive_));
-    if (accumulation != VK_FORMAT_UNDEFINED) PBDSPLAT_TRY(create_sum_pipelines(ctx, desc, accumulation));
+    describe(Variant::additive, desc);
+    if (accumulation != VK_FORMAT_UNDEFINED) describe_sums(desc, accumulation);
 
     // The paper's disc: additive blending needs no depth; "over" writes it, so the nearest disc
     // wins each pixel whatever the draw order (its mask must run before the test).
     desc.specialization = {0u, per_corner, SPLAT_FOOTPRINT_PAPER, octagon, 0u, aniso, sh_degree};
-    PBDSPLAT_TRY(make(paper_additive_));
+    describe(Variant::paper_additive, desc);
     desc.stages.back().second = "splat_paper.frag";
     desc.blend = gpu::BlendMode::over_premultiplied;
     desc.depth_write = true;
     // Sorted far to near, the flat alpha blends over what lies behind, as the paper composites.
-    PBDSPLAT_TRY(make(paper_sorted_));
+    describe(Variant::paper_sorted, desc);
     if (occluded_layout_) {
         gpu::GraphicsPipelineDesc occluded = desc;
         occluded.stages.back().second = "splat_paper_occluded.frag";
         occluded.layout = occluded_layout_.get();
-        PBDSPLAT_TRY(make_from(occluded, paper_sorted_occluded_));
+        describe(Variant::paper_sorted_occluded, occluded);
         occluded.specialization[4] = 1u;
-        PBDSPLAT_TRY(make_from(occluded, paper_over_occluded_));
+        describe(Variant::paper_over_occluded, occluded);
     }
     desc.specialization[4] = 1u;  // k_footprint_dither: unsorted, opacity becomes coverage
-    return make(paper_over_);
+    describe(Variant::paper_over, desc);
 }
 
 void SplatPass::draw(VkCommandBuffer cmd, const SplatSource& s) const {
@@ -216,46 +263,33 @@ void SplatPass::bind(VkCommandBuffer cmd, VkDescriptorSet frame_set, VkDescripto
 void SplatPass::record(VkCommandBuffer cmd, const SplatStyle& style, VkDescriptorSet frame_set,
                        const SplatSource& source) const {
     if (source.count == 0) return;
-    if (style.footprint == Footprint::paper && occluded_style(style)) return;  // record_paper_occluded()
+    const auto front = front_variant(style), colour = colour_variant(style);
+    if (!front && !colour) return;  // record_paper_occluded() or record_accumulation()
     bind(cmd, frame_set, VK_NULL_HANDLE, source);
-    const bool additive = style.blend == Blend::additive;
-    if (style.footprint == Footprint::paper) {
-        const VkPipeline pipeline = additive ? paper_additive_.get()
-                                    : style.order == SplatOrder::unsorted ? paper_over_.get()
-                                                                          : paper_sorted_.get();
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-        draw(cmd, source);
-        return;
-    }
-    const bool normalised = style.blend == Blend::normalised;
-    // Mesh occluders lay down the visibility depth in their own pass (render/occluder_pass.h).
-    if (!additive && ((normalised && !style.mesh_occluders) || (!normalised && style.order == SplatOrder::unsorted))) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, visibility_.get());
+    for (const auto& v : {front, colour}) {
+        if (!v) continue;
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline(*v));
         draw(cmd, source);
     }
-    if (normalised) return;  // the sums follow in their own pass (record_accumulation)
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, additive ? additive_.get() : over_.get());
-    draw(cmd, source);
 }
 
 void SplatPass::record_paper_occluded(VkCommandBuffer cmd, const SplatStyle& style, VkDescriptorSet frame_set,
                                       const SplatSource& source, VkDescriptorSet occluder_set) const {
-    PBDSPLAT_ASSERT(paper_over_occluded_, "SplatPass::record_paper_occluded: create the pass with the occluders' set layout");
+    PBDSPLAT_ASSERT(occluded_layout_, "SplatPass::record_paper_occluded: create the pass with the occluders' set layout");
     if (source.count == 0) return;
     bind(cmd, frame_set, occluder_set, source);
-    const VkPipeline pipeline = style.order == SplatOrder::unsorted ? paper_over_occluded_.get() : paper_sorted_occluded_.get();
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline(paper_occluded_variant(style)));
     draw(cmd, source);
 }
 
 void SplatPass::record_accumulation(VkCommandBuffer cmd, VkDescriptorSet frame_set, const SplatSource& source,
                                     VkDescriptorSet occluder_set) const {
     PBDSPLAT_ASSERT(normalised(), "SplatPass::record_accumulation: create the pass with an accumulation format");
-    PBDSPLAT_ASSERT(!occluder_set || accumulate_occluded_,
+    PBDSPLAT_ASSERT(!occluder_set || variants_[size_t(Variant::accumulate_occluded)].described,
                     "SplatPass::record_accumulation with occluders: create the pass with the occluders' set layout");
     if (source.count == 0) return;
     bind(cmd, frame_set, occluder_set, source);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, occluder_set ? accumulate_occluded_.get() : accumulate_.get());
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline(occluder_set ? Variant::accumulate_occluded : Variant::accumulate));
     draw(cmd, source);
 }
 

@@ -5,6 +5,7 @@
 // number of splats per workgroup, or vertex pulling (six vertices per splat) for devices with
 // neither. Two footprints: the soft Gaussian (a depth-only visibility pass, then colour) and
 // the paper's flat disc (one depth-tested, depth-writing pass).
+#include <array>
 #include <optional>
 
 #include "gpu/device_handle.h"
@@ -58,7 +59,13 @@ public:
     // Normalised blending draws only the visibility pass here; record_accumulation() then adds
     // the front fragments into the accumulation image.
     void record(VkCommandBuffer cmd, const SplatStyle& style, VkDescriptorSet frame_set, const SplatSource& source) const;
-    bool normalised() const { return static_cast<bool>(accumulate_); }
+    bool normalised() const { return variants_[size_t(Variant::accumulate)].described; }
+    // Creates the pipelines that drawing `style` binds, the first time a style needs them (each
+    // costs a shader compile: tens of milliseconds on a CPU device, so a scene pays only for
+    // the ones it draws). Every record call needs it done for its style first.
+    core::Status prepare(const SplatStyle& style);
+    // How many pipeline variants have been made so far (of the ten a pass can draw with).
+    size_t pipelines_made() const;
     // The paper's disc against mesh occluders (record() then draws nothing for it): set 1 holds
     // the occluders' distance image; needs the pass created with `occluders`.
     void record_paper_occluded(VkCommandBuffer cmd, const SplatStyle& style, VkDescriptorSet frame_set, const SplatSource& source,
@@ -76,27 +83,47 @@ private:
     gpu::DescriptorSetLayout set_layout_;
     gpu::PipelineLayout layout_;
     gpu::PipelineLayout occluded_layout_;  // the frame set and the occluders' (set 1)
-    gpu::Pipeline visibility_;
-    gpu::Pipeline over_;
-    gpu::Pipeline additive_;
-    gpu::Pipeline paper_over_;      // unsorted: writes depth, tests after the mask, opacity dithered
-    gpu::Pipeline paper_sorted_;    // far to near: the same, opacity blended
-    gpu::Pipeline paper_additive_;
-    gpu::Pipeline accumulate_;      // normalised blending: weighted sums into the accumulation image
-    gpu::Pipeline accumulate_occluded_;  // the same against mesh occluders
-    gpu::Pipeline paper_over_occluded_, paper_sorted_occluded_;  // the paper's disc against them
+    // The pipeline variants, each described at creation and made by prepare() when first needed.
+    enum class Variant : uint8_t {
+        visibility,
+        over,
+        additive,
+        paper_over,             // unsorted: writes depth, tests after the mask, opacity dithered
+        paper_sorted,           // far to near: the same, opacity blended
+        paper_additive,
+        accumulate,             // normalised blending: weighted sums into the accumulation image
+        accumulate_occluded,    // the same against mesh occluders
+        paper_over_occluded,    // the paper's disc against them
+        paper_sorted_occluded,
+        count
+    };
+    struct LazyPipeline {
+        gpu::GraphicsPipelineDesc desc;
+        bool described = false;
+        gpu::Pipeline pipeline;
+    };
+    std::array<LazyPipeline, size_t(Variant::count)> variants_;
+    const gpu::Context* ctx_ = nullptr;
+    void describe(Variant v, const gpu::GraphicsPipelineDesc& desc);
+    core::Status make(Variant v);
+    VkPipeline pipeline(Variant v) const;
+    // What record() binds for `style`: the front pass (visibility or the paper's disc) and the
+    // colour pass, either absent.
+    static std::optional<Variant> front_variant(const SplatStyle& style);
+    static std::optional<Variant> colour_variant(const SplatStyle& style);
+    static Variant paper_occluded_variant(const SplatStyle& style);
     PFN_vkCmdDrawMeshTasksEXT draw_mesh_tasks_ = nullptr;
     PFN_vkCmdDrawMeshTasksIndirectEXT draw_mesh_tasks_indirect_ = nullptr;
     // The frame set (and the occluders' set 1, when given) and, on the geometry path, the records.
     void bind(VkCommandBuffer cmd, VkDescriptorSet frame_set, VkDescriptorSet occluder_set, const SplatSource& source) const;
     void draw(VkCommandBuffer cmd, const SplatSource& source) const;
     // create() in steps: the layouts every path shares, the front stages of the path, then
-    // every pipeline variant from that description.
+    // every pipeline variant's description.
     core::Status create_layouts(const gpu::Context& ctx, VkDescriptorSetLayout occluders);
     core::Status describe_front(const gpu::Context& ctx, gpu::GraphicsPipelineDesc& desc);
-    core::Status create_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc desc, uint32_t sh_degree, VkFormat accumulation);
+    void describe_pipelines(gpu::GraphicsPipelineDesc desc, uint32_t sh_degree, VkFormat accumulation);
     // The normalised blend's sums, from the Gaussian's "over" pipeline description.
-    core::Status create_sum_pipelines(const gpu::Context& ctx, gpu::GraphicsPipelineDesc sums, VkFormat accumulation);
+    void describe_sums(gpu::GraphicsPipelineDesc sums, VkFormat accumulation);
 };
 
 } // namespace pbdsplat::render

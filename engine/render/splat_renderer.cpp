@@ -239,7 +239,17 @@ core::Status SplatRenderer::end_frame(const VkSemaphoreSubmitInfo* wait, const V
     last_slot_ = slot;
     any_frame_ = true;
     cmd_ = VK_NULL_HANDLE;
-    return core::Status::success();
+    core::Status deferred = std::move(deferred_);
+    deferred_ = core::Status::success();
+    return deferred;
+}
+
+bool SplatRenderer::prepared(const SplatStyle& style) {
+    if (core::Status s = splat_.prepare(style); !s.ok()) {
+        if (deferred_.ok()) deferred_ = std::move(s);
+        return false;
+    }
+    return true;
 }
 
 core::Status SplatRenderer::upload(std::span<const splat::GaussianRecord> records, std::span<const gpu::ByteRange> changed) {
@@ -295,7 +305,7 @@ void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
                     "SplatStyle::mesh_occluders needs a renderer created with options.occluders (and the graph's occluders pass)");
     target_.begin(cmd_, inputs.background.data(), normalised || occluded);
     if (inputs.ground.visible) ground_.record(cmd_, sets.set(slot), inputs.ground);
-    splat_.record(cmd_, inputs.style, sets.set(slot), splat_source(inputs, count));
+    if (prepared(inputs.style)) splat_.record(cmd_, inputs.style, sets.set(slot), splat_source(inputs, count));
     target_.end(cmd_);
     timers_[slot].mark(cmd_, "splat", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
@@ -312,6 +322,7 @@ SplatSource SplatRenderer::splat_source(const FrameInputs& inputs, uint32_t coun
 
 void SplatRenderer::draw_over_occluders(const FrameInputs& inputs, uint32_t count) {
     if (!render::occluded_style(inputs.style) || inputs.style.blend == Blend::normalised) return;
+    if (!prepared(inputs.style)) return;
     const uint32_t slot = frames_.slot();
     target_.resume(cmd_);
     splat_.record_paper_occluded(cmd_, inputs.style, frame_sets(inputs.style).set(slot), splat_source(inputs, count), occluders_.set());
@@ -332,7 +343,7 @@ void SplatRenderer::draw_occluders(const FrameInputs& inputs) {
 }
 
 void SplatRenderer::accumulate(const FrameInputs& inputs, uint32_t count) {
-    if (inputs.style.blend != Blend::normalised) return;
+    if (inputs.style.blend != Blend::normalised || !prepared(inputs.style)) return;
     const uint32_t slot = frames_.slot();
     const PixelRect r = splat_screen_rect(slot_bounds_[slot], inputs, target_.width(), target_.height());
     normalised_area_ = {{int32_t(r.x), int32_t(r.y)}, {r.width, r.height}};

@@ -125,6 +125,8 @@ public:
     // With Blend::normalised, draw() lays down the ground and the visibility depth only;
     // accumulate() sums the front fragments and resolve() blends them over the colour target.
     // Both record nothing for other blends.
+    // The draws make the pipelines their style needs the first time it comes (a shader compile
+    // each, SplatPass::prepare); a failure to make one is returned by end_frame().
     void draw(const FrameInputs& inputs, uint32_t count);
     // Mesh occluders (options.occluders): the surface mesh for this frame's slot, then its pass,
     // between draw() and accumulate(); records nothing unless the style asks for them.
@@ -142,6 +144,7 @@ public:
     VkImage color_image() const { return target_.color().handle(); }
     VkImage depth_image() const { return target_.depth().handle(); }
     bool has_normalised() const { return splat_.normalised(); }
+    size_t splat_pipelines_made() const { return splat_.pipelines_made(); }
     bool has_occluders() const { return static_cast<bool>(occluders_.image().handle()); }
     VkImage occluder_image() const { return occluders_.image().handle(); }
     VkImage accumulation_image(SumLayer layer) const { return has_normalised() ? blend_.accumulation(layer).handle() : VK_NULL_HANDLE; }
@@ -187,6 +190,8 @@ private:
     gpu::Buffer stream_identity_;       // 0, 1, 2, ...: where unsorted splats' stream entries are
     OffscreenTarget target_;
     SplatPass splat_;
+    core::Status deferred_;  // the frame's first failure to prepare a style's pipelines
+    bool prepared(const SplatStyle& style);  // false (and deferred_ set) when they could not be made
     GroundPass ground_;
     NormalisedBlend blend_;  // empty without options.normalised
     OccluderPass occluders_;  // empty without options.occluders

@@ -264,6 +264,37 @@ TEST_SUITE("render/splat") {
         test::require_no_validation_messages(*ctx);
     }
 
+    TEST_CASE("a renderer makes only the pipelines the styles it draws need, each once") {
+        auto ctx = test::open_validated_context();
+        render::RendererOptions o;
+        o.path = render::SplatPath::geometry;
+        o.normalised = true;
+        o.width = 64, o.height = 48, o.max_splats = 4, o.frames_in_flight = 1;
+        auto r = passes::OffscreenRenderer::create(*ctx, o);
+        REQUIRE_MESSAGE(r.ok(), test::why(r));
+        const render::SplatRenderer& splats = r.value()->splat_renderer();
+        CHECK(splats.splat_pipelines_made() == 0);  // nothing is compiled before a style is drawn
+        splat::Appearance look;
+        look.scale = 0.2f;
+        const std::vector<splat::GaussianRecord> one = {splat::make_record(Vec3f::Zero(), Vec3f(0, 0, 1), look)};
+        render::FrameInputs frame;
+        auto draw = [&](const render::SplatStyle& style) {
+            frame.style = style;
+            REQUIRE(r.value()->render(one, frame).ok());
+            REQUIRE(r.value()->finish().ok());
+            return splats.splat_pipelines_made();
+        };
+        render::SplatStyle paper;  // the paper's disc, unsorted: one pass
+        CHECK(draw(paper) == 1);
+        CHECK(draw(paper) == 1);  // made once
+        render::SplatStyle gaussian;
+        gaussian.footprint = render::Footprint::gaussian;  // unsorted "over": visibility, then colour
+        CHECK(draw(gaussian) == 3);
+        gaussian.blend = render::Blend::normalised;  // visibility (made) and the sums
+        CHECK(draw(gaussian) == 4);
+        test::require_no_validation_messages(*ctx);
+    }
+
     TEST_CASE("additive blending accumulates where over blending occludes") {
         auto ctx = test::open_validated_context();
         render::FrameInputs frame = albedo_only_frame();
