@@ -41,6 +41,10 @@ void GpuPassResources::refresh(const render::SplatRenderer& r) {
 
 graph::GpuUse to_graph(const render::Use& u) { return {u.access.stage, u.access.access, u.layout}; }
 
+GpuInputHandles import_gpu_input(graph::FrameGraph& g, GpuFrameInput& input) {
+    return {g.import("frame view", &input.frame), g.import("splat stream", &input.splats), g.import("occluder input", &input.occluders)};
+}
+
 namespace {
 
 // The GPU passes of one frame, added in order: each adds its pass and hands on the handles the
@@ -49,7 +53,7 @@ struct GpuChain {
     graph::FrameGraph& g;
     render::SplatRenderer& renderer;
     GpuPassResources& res;
-    graph::Handle<GpuFrameInput> input;
+    GpuInputHandles input;
     graph::Handle<core::Status> status;
     bool gpu_sort;
     uint32_t tag;
@@ -66,11 +70,11 @@ struct GpuChain {
         // On the direct path the CPU writes the records in place before the submit: no GPU access.
         const graph::GpuUse use = renderer.upload_path() == gpu::UploadPath::staged ? to_graph(render::uses::upload_write) : graph::GpuUse{};
         g.add_pass("upload", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-            b.read(input);
+            b.read(input.splats);
             status = b.write(status);
             uploaded = b.write(records, use);
-            return [&gpu = renderer, in_h = input, st = status](const graph::PassResources& r, graph::ExecuteContext&) {
-                const GpuFrameInput& in = r.read(in_h);
+            return [&gpu = renderer, in_h = input.splats, st = status](const graph::PassResources& r, graph::ExecuteContext&) {
+                const SplatStream& in = r.read(in_h);
                 core::Status& out = r.write(st);
                 const gpu::ByteRange all{0, in.records.size_bytes()};
                 const std::span<const gpu::ByteRange> ranges =
@@ -88,21 +92,22 @@ struct GpuChain {
         control = g.import("sort control", &res.sort_control);
         order = g.import("sort order", &res.sort_order);
         g.add_pass("gpu sort", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-            b.read(input);
+            b.read(input.frame);
+            b.read(input.splats);
             b.read(uploaded, to_graph(render::uses::compute_read));
             sorted = b.write(sorted, to_graph(render::uses::compute_write));
             control = b.write(control, to_graph(render::uses::compute_write));
             order = b.write(order, to_graph(render::uses::compute_write));
-            return [&gpu = renderer, in_h = input](const graph::PassResources& r, graph::ExecuteContext&) {
-                const GpuFrameInput& in = r.read(in_h);
-                gpu.sort(in.frame, uint32_t(in.records.size()));
+            return [&gpu = renderer, in = input](const graph::PassResources& r, graph::ExecuteContext&) {
+                gpu.sort(r.read(in.frame), uint32_t(r.read(in.splats).records.size()));
             };
         }, tag);
     }
 
     // What a pass that draws the splats reads: the frame, and the uploaded records or the sort's.
     void read_draw_records(graph::PassBuilder& b) const {
-        b.read(input);
+        b.read(input.frame);
+        b.read(input.splats);
         if (gpu_sort) {
             b.read(sorted, to_graph(records_read));
             b.read(control, to_graph(render::uses::indirect_read));
@@ -118,9 +123,8 @@ struct GpuChain {
             drawn = b.write(color, to_graph(render::uses::color_attachment));
             depth_drawn = b.write(depth, to_graph(render::uses::depth_attachment));
             b.side_effect();  // the colour target is what a frame is for (presented or read back)
-            return [&gpu = renderer, in_h = input](const graph::PassResources& r, graph::ExecuteContext&) {
-                const GpuFrameInput& in = r.read(in_h);
-                gpu.draw(in.frame, uint32_t(in.records.size()));
+            return [&gpu = renderer, in = input](const graph::PassResources& r, graph::ExecuteContext&) {
+                gpu.draw(r.read(in.frame), uint32_t(r.read(in.splats).records.size()));
             };
         }, tag);
     }
@@ -129,14 +133,15 @@ struct GpuChain {
     void add_occluders() {
         const auto occluders = g.import("occluder image", &res.occluders);
         g.add_pass("occluders", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-            b.read(input);
+            b.read(input.frame);
+            b.read(input.occluders);
             status = b.write(status);
             depth_drawn = b.write(depth_drawn, to_graph(render::uses::depth_attachment));
             occluded = b.write(occluders, to_graph(render::uses::color_attachment));
-            return [&gpu = renderer, in_h = input, st = status](const graph::PassResources& r, graph::ExecuteContext&) {
-                const GpuFrameInput& in = r.read(in_h);
-                if (core::Status& out = r.write(st); out.ok()) out = gpu.set_occluders(in.occluder_positions, in.occluder_triangles);
-                gpu.draw_occluders(in.frame);
+            return [&gpu = renderer, in = input, st = status](const graph::PassResources& r, graph::ExecuteContext&) {
+                const OccluderInput& mesh = r.read(in.occluders);
+                if (core::Status& out = r.write(st); out.ok()) out = gpu.set_occluders(mesh.positions, mesh.triangles);
+                gpu.draw_occluders(r.read(in.frame));
             };
         }, tag);
     }
@@ -149,9 +154,8 @@ struct GpuChain {
             drawn = b.write(drawn, to_graph(render::uses::color_attachment));
             depth_drawn = b.write(depth_drawn, to_graph(render::uses::depth_attachment));
             b.side_effect();
-            return [&gpu = renderer, in_h = input](const graph::PassResources& r, graph::ExecuteContext&) {
-                const GpuFrameInput& in = r.read(in_h);
-                gpu.draw_over_occluders(in.frame, uint32_t(in.records.size()));
+            return [&gpu = renderer, in = input](const graph::PassResources& r, graph::ExecuteContext&) {
+                gpu.draw_over_occluders(r.read(in.frame), uint32_t(r.read(in.splats).records.size()));
             };
         }, tag);
     }
@@ -164,24 +168,24 @@ struct GpuChain {
         const auto accumulation_inside = g.import("accumulation image, inside", &res.accumulation_inside);
         graph::Handle<graph::GpuImageRef> summed, summed_inside;
         g.add_pass("splat accumulate", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-            b.read(input);
+            b.read(input.frame);
+            b.read(input.splats);
             b.read(uploaded, to_graph(records_read));
             if (renderer.has_occluders()) b.read(occluded, to_graph(render::uses::accumulation_sampled));
             b.write(depth_drawn, to_graph(render::uses::depth_attachment));
             summed = b.write(accumulation, to_graph(render::uses::color_attachment));
             summed_inside = b.write(accumulation_inside, to_graph(render::uses::color_attachment));
-            return [&gpu = renderer, in_h = input](const graph::PassResources& r, graph::ExecuteContext&) {
-                const GpuFrameInput& in = r.read(in_h);
-                gpu.accumulate(in.frame, uint32_t(in.records.size()));
+            return [&gpu = renderer, in = input](const graph::PassResources& r, graph::ExecuteContext&) {
+                gpu.accumulate(r.read(in.frame), uint32_t(r.read(in.splats).records.size()));
             };
         }, tag);
         g.add_pass("splat resolve", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-            b.read(input);
+            b.read(input.frame);
             b.read(summed, to_graph(render::uses::accumulation_sampled));
             b.read(summed_inside, to_graph(render::uses::accumulation_sampled));
             drawn = b.write(drawn, to_graph(render::uses::color_attachment));
             b.side_effect();  // as the splat pass: the colour target is what a frame is for
-            return [&gpu = renderer, in_h = input](const graph::PassResources& r, graph::ExecuteContext&) { gpu.resolve(r.read(in_h).frame); };
+            return [&gpu = renderer, in_h = input.frame](const graph::PassResources& r, graph::ExecuteContext&) { gpu.resolve(r.read(in_h)); };
         }, tag);
     }
 
@@ -199,7 +203,7 @@ struct GpuChain {
 } // namespace
 
 graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer,
-                                                 GpuPassResources& res, graph::Handle<GpuFrameInput> input,
+                                                 GpuPassResources& res, const GpuInputHandles& input,
                                                  graph::Handle<core::Status> status, graph::Handle<ImageSink> sink, bool gpu_sort,
                                                  uint32_t tag) {
     GpuChain chain{g, renderer, res, input, status, gpu_sort, tag};

@@ -11,17 +11,33 @@
 
 namespace pbdsplat::passes {
 
-// What the GPU passes read each frame; the owner fills it before FrameGraph::execute.
-struct GpuFrameInput {
+// The splats a frame hands to the GPU (the map and sort passes write them).
+struct SplatStream {
     std::span<const splat::GaussianRecord> records;
     std::vector<gpu::ByteRange> changed;  // since the previous frame; empty: everything
     std::span<const splat::GaussianShape> shapes;  // anisotropic splats' axes, parallel to records; or none
     std::span<const splat::GaussianSH> sh;         // view-dependent colour, parallel to records; or none
-    render::FrameInputs frame;
-    // The surface mesh, with frame.style.mesh_occluders (render/occluder_pass.h).
-    std::span<const Vec4f> occluder_positions;
-    std::span<const std::array<uint32_t, 3>> occluder_triangles;
 };
+// The surface mesh, with frame.style.mesh_occluders (render/occluder_pass.h; the occluder-mesh
+// pass writes it).
+struct OccluderInput {
+    std::span<const Vec4f> positions;
+    std::span<const std::array<uint32_t, 3>> triangles;
+};
+// What the GPU passes read each frame, kept by its owner and filled before FrameGraph::execute:
+// three resources to the graph, one per kind of writer (the camera and style: the events and
+// the map; the splats; the occluder mesh), so a pass declares only the part it touches.
+struct GpuFrameInput {
+    SplatStream splats;
+    render::FrameInputs frame;
+    OccluderInput occluders;
+};
+struct GpuInputHandles {
+    graph::Handle<render::FrameInputs> frame;
+    graph::Handle<SplatStream> splats;
+    graph::Handle<OccluderInput> occluders;
+};
+GpuInputHandles import_gpu_input(graph::FrameGraph& g, GpuFrameInput& input);
 
 // Where a rendered image leaves the frame (a PNG, a test); absent when presenting to a window.
 struct ImageSink {};
@@ -70,7 +86,7 @@ public:
 // persistent).
 // Returns the colour target as the splat pass leaves it.
 graph::Handle<graph::GpuImageRef> add_gpu_passes(graph::FrameGraph& g, render::SplatRenderer& renderer,
-                                                 GpuPassResources& resources, graph::Handle<GpuFrameInput> input,
+                                                 GpuPassResources& resources, const GpuInputHandles& input,
                                                  graph::Handle<core::Status> upload_status, graph::Handle<ImageSink> sink, bool gpu_sort = false,
                                                  uint32_t tag = 0);
 

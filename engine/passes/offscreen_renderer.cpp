@@ -17,7 +17,7 @@ core::Result<std::unique_ptr<OffscreenRenderer>> OffscreenRenderer::create(gpu::
 
 core::Status OffscreenRenderer::build_graph() {
     graph_ = graph::FrameGraph();
-    const auto input = graph_.import("frame input", &input_);
+    const auto input = import_gpu_input(graph_, input_);
     // Without a sink the readback pass is culled: a window shows frames without copying them out.
     const auto sink = graph_.import("image", readback_ ? &sink_ : static_cast<ImageSink*>(nullptr));
     const auto status = graph_.import("upload status", &upload_status_, true);
@@ -47,10 +47,10 @@ core::Status OffscreenRenderer::render(std::span<const splat::GaussianRecord> re
                                 " for " + std::to_string(records.size()) + ")");
     auto cmd = renderer_->begin_frame();
     if (!cmd.ok()) return cmd.error();
-    input_.records = records;
-    input_.changed.assign(changed.begin(), changed.end());
-    input_.shapes = shapes;
-    input_.sh = sh;
+    input_.splats.records = records;
+    input_.splats.changed.assign(changed.begin(), changed.end());
+    input_.splats.shapes = shapes;
+    input_.splats.sh = sh;
     input_.frame = inputs;
     resources_.refresh(*renderer_);
     graph::ExecuteContext ctx{cmd.value(), 0};

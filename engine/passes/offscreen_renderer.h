@@ -26,8 +26,8 @@ public:
     // The surface mesh for the next render()s' occluders (a renderer created with
     // options.occluders, frames with SplatStyle::mesh_occluders); the spans must outlive them.
     void set_occluders(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles) {
-        input_.occluder_positions = positions;
-        input_.occluder_triangles = triangles;
+        input_.occluders.positions = positions;
+        input_.occluders.triangles = triangles;
     }
     // Whether each frame is copied out for finish() (always, unless presenting).
     core::Status set_readback(bool readback);

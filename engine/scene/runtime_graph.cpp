@@ -46,7 +46,10 @@ void SceneRuntime::import_resources(GraphAssembly& h) {
     graph::import_into(g, board, keys::shapes, has_shape ? &body_.shapes : static_cast<std::vector<sim::ShapeCluster>*>(nullptr));
     graph::import_into(g, board, keys::colliders, sd.colliders.empty() ? nullptr : &scene_.simulation.colliders);
     graph::import_into(g, board, keys::drag, h.drags ? &drag_ : static_cast<sim::DragConstraint*>(nullptr));
-    graph::import_into(g, board, keys::input, &frame_input_);
+    const passes::GpuInputHandles gpu_input = passes::import_gpu_input(g, frame_input_);
+    board.put(keys::view, gpu_input.frame);
+    board.put(keys::splats, gpu_input.splats);
+    board.put(keys::occluder_input, gpu_input.occluders);
     graph::import_into(g, board, keys::samples, h.boundary ? &boundary_ : static_cast<surface::BoundaryParticles*>(nullptr));
     graph::import_into(g, board, keys::density, h.boundary ? &density_ : static_cast<surface::DensityControl*>(nullptr));
     graph::import_into(g, board, keys::sort, h.sorted ? &mapping_->sort_scratch() : static_cast<splat::SortScratch*>(nullptr));
@@ -91,7 +94,8 @@ void SceneRuntime::fingerprint_resources(const GraphAssembly& h) {
     const graph::Blackboard& board = h.board;
     g.set_fingerprint<sim::SoftBody>(board.get(keys::body), print);
     g.set_fingerprint<splat::Appearance>(board.get(keys::appearance), print);
-    g.set_fingerprint<passes::GpuFrameInput>(board.get(keys::input), print);
+    g.set_fingerprint<render::FrameInputs>(board.get(keys::view), print);
+    g.set_fingerprint<passes::SplatStream>(board.get(keys::splats), print);
     g.set_fingerprint<std::string>(board.get(keys::note), print);
     if (h.drags) g.set_fingerprint<sim::DragConstraint>(board.get(keys::drag), print);
     if (h.boundary) g.set_fingerprint<surface::BoundaryParticles>(board.get(keys::samples), print);
@@ -159,7 +163,7 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
     auto embedding = g.import("fine surface embedding", fine_ ? &fine_vertices_ : nullptr);
     const auto body = h.board.get(keys::body);
     const auto cut_faces = h.board.get(keys::cut_faces);
-    auto input = h.board.get(keys::input);
+    auto input = h.board.get(keys::occluder_input);
     const bool cut_faces_on = h.cut_faces_on;
     g.add_pass("occluder mesh", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         b.read(body);
@@ -170,7 +174,7 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
         const mesh::TriangleMesh* fine = fine_ ? &*fine_ : nullptr;  // the model's surface: fixed at load
         return [fine, mesh, embedding, body, cut_faces, input, cut_faces_on](const graph::PassResources& r, graph::ExecuteContext&) {
             const sim::SoftBody& bd = r.read(body);
-            passes::GpuFrameInput& in = r.write(input);
+            passes::OccluderInput& in = r.write(input);
             // A cut face hides what lies behind it as the shell does.
             const splat::CutFaces* faces = cut_faces_on ? &r.read(cut_faces) : nullptr;
             if (fine || (faces && faces->faces() > 0)) {
@@ -182,15 +186,15 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
                     m.triangles = bd.triangles;
                 }
                 if (faces) faces->append_surface(bd.particles.x, m.x, m.triangles);
-                in.occluder_positions = m.x;
-                in.occluder_triangles = m.triangles;
+                in.positions = m.x;
+                in.triangles = m.triangles;
             } else {
-                in.occluder_positions = bd.particles.x;
-                in.occluder_triangles = bd.triangles;
+                in.positions = bd.particles.x;
+                in.triangles = bd.triangles;
             }
         };
     }, tag(PassGroup::update));
-    h.board.put(keys::input, input);
+    h.board.put(keys::occluder_input, input);
 }
 
 graph::Handle<graph::GpuImageRef> SceneRuntime::add_mesh_view_pass(GraphAssembly& h) {
@@ -200,19 +204,19 @@ graph::Handle<graph::GpuImageRef> SceneRuntime::add_mesh_view_pass(GraphAssembly
     auto raster = g.import("mesh raster", mesh_raster_.get());
     auto splats = g.import("splat renderer", renderer_.get());
     const auto body = h.board.get(keys::body);
-    const auto input = h.board.get(keys::input);
+    const auto view = h.board.get(keys::view);
     const auto appearance = h.board.get(keys::appearance);
     auto note = h.board.get(keys::note);
     g.add_pass("mesh", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
         b.read(body);
-        b.read(input);
+        b.read(view);
         b.read(appearance);
         b.read(splats);
         raster = b.write(raster);
         note = b.write(note);
         mesh_color = b.write(mesh_color, passes::to_graph(render::uses::color_attachment));
         b.write(mesh_depth, passes::to_graph(render::uses::depth_attachment));
-        return [body, input, appearance, note, raster, splats](const graph::PassResources& r, graph::ExecuteContext& c) {
+        return [body, view, appearance, note, raster, splats](const graph::PassResources& r, graph::ExecuteContext& c) {
             render::MeshRaster& mesh = r.write(raster);
             const sim::SoftBody& bd = r.read(body);
             const uint32_t slot = r.read(splats).slot();
@@ -220,7 +224,7 @@ graph::Handle<graph::GpuImageRef> SceneRuntime::add_mesh_view_pass(GraphAssembly
                 r.write(note) = "mesh view: " + s.error().to_string();  // drawn with the last mesh that fitted
             // Drawn in the body's own colours where it has them, as its splats are.
             const Vec3f albedo = bd.colors.empty() ? r.read(appearance).albedo : Vec3f::Ones();
-            mesh.draw(c.cmd, r.read(input).frame, render::MeshView::shaded, albedo, slot);
+            mesh.draw(c.cmd, r.read(view), render::MeshView::shaded, albedo, slot);
         };
     });
     h.board.put(keys::note, note);
@@ -231,7 +235,8 @@ void SceneRuntime::add_view_passes(GraphAssembly& h) {
     graph::FrameGraph& g = graph_;
     if (renderer_->has_occluders()) add_occluder_mesh_pass(h);
     const auto status = g.import("upload status", &upload_status_, true);
-    const auto drawn = passes::add_gpu_passes(g, *renderer_, gpu_resources_, h.board.get(keys::input), status, h.board.get(keys::sink), order_ == render::SplatOrder::gpu,
+    const auto drawn = passes::add_gpu_passes(g, *renderer_, gpu_resources_,
+                                              {h.board.get(keys::view), h.board.get(keys::splats), h.board.get(keys::occluder_input)}, status, h.board.get(keys::sink), order_ == render::SplatOrder::gpu,
                                               tag(PassGroup::gpu_record));
     passes::PresentSources sources{drawn, {}, renderer_->width(), renderer_->height(),
                                    [renderer = renderer_.get()] { return renderer->slot(); }};

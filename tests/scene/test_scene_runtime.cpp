@@ -341,7 +341,7 @@ TEST_SUITE("scene/runtime") {
         scene::MappingStage::Sources sources;
         sources.body = &body;
         splat::Appearance look;
-        passes::GpuFrameInput input;
+        passes::SplatStream input;
         mapping.map(sources, look);
         input.changed.push_back({0, 0});
         mapping.publish(input, true);

@@ -16,7 +16,7 @@ struct EventHandles {
     graph::Handle<sim::SoftBody> body;
     graph::Handle<sim::DragConstraint> drag;       // absent when nothing drags
     graph::Handle<splat::Appearance> appearance;   // the timeline fades the opacity
-    graph::Handle<passes::GpuFrameInput> input;    // the camera
+    graph::Handle<render::FrameInputs> view;       // the camera
     graph::Handle<surface::BoundaryParticles> samples;
     graph::Handle<surface::DensityControl> density;
     graph::Handle<splat::StretchScale> stretch;
@@ -33,21 +33,21 @@ void add_timeline_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
         h.body = b.write(h.body);
         if (o.drags) h.drag = b.write(h.drag);
         h.appearance = b.write(h.appearance);
-        h.input = b.write(h.input);
+        h.view = b.write(h.view);
         const bool has_timeline = o.timeline;
         return [o, has_timeline, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
             const FrameControl& control = r.read(hh.control);
-            passes::GpuFrameInput& input = r.write(hh.input);
+            render::FrameInputs& view = r.write(hh.view);
             splat::Appearance& look = r.write(hh.appearance);
             sim::DragConstraint no_drag;
             sim::DragConstraint& drag = o.drags ? r.write(hh.drag) : no_drag;
             // A camera the user took over is not the script's to move: it moves a copy.
-            render::Camera scripted = input.frame.camera;
+            render::Camera scripted = view.camera;
             float opacity = math::sigmoid(look.opacity_logit);
             const float before = opacity;
             if (has_timeline)
                 r.write(hh.timeline).advance(r.write(hh.queue), control.time, o.dt, r.write(hh.body), drag,
-                                             control.camera_override ? scripted : input.frame.camera, opacity);
+                                             control.camera_override ? scripted : view.camera, opacity);
             if (opacity != before) look.opacity_logit = math::logit(opacity);
             if (control.user_drag.active) drag = control.user_drag;  // the hand wins over the script
         };
@@ -59,7 +59,7 @@ void add_topology_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
         b.read(h.cuts);
         h.queue = b.write(h.queue);
         b.read(h.control);
-        b.read(h.input);
+        b.read(h.view);
         h.topology = b.write(h.topology);
         h.followers = b.write(h.followers);
         h.body = b.write(h.body);
@@ -71,7 +71,7 @@ void add_topology_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
         return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
             sim::SoftBody& body = r.write(hh.body);
             const TopologyStage::Follow follow = r.write(hh.followers).follow(body);
-            r.write(hh.topology).run(r.write(hh.queue), body, r.read(hh.control).time, o.dt, r.read(hh.input).frame.camera, o.cut, follow,
+            r.write(hh.topology).run(r.write(hh.queue), body, r.read(hh.control).time, o.dt, r.read(hh.view).camera, o.cut, follow,
                                      r.write(hh.note));
         };
     }, o.topology_tag);
@@ -82,7 +82,7 @@ void add_topology_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
 void add_event_passes(graph::FrameGraph& g, graph::Blackboard& board, const EventPassOptions& o) {
     EventHandles h{board.get(keys::control),   board.get(keys::timeline), board.get(keys::queue),     board.get(keys::cuts),
                    board.get(keys::topology),  board.get(keys::followers), board.get(keys::body),     board.get(keys::drag),
-                   board.get(keys::appearance), board.get(keys::input),   board.get(keys::samples),   board.get(keys::density),
+                   board.get(keys::appearance), board.get(keys::view),   board.get(keys::samples),   board.get(keys::density),
                    board.get(keys::stretch),   board.get(keys::note)};
     add_timeline_pass(g, h, o);
     add_topology_pass(g, h, o);
@@ -91,7 +91,7 @@ void add_event_passes(graph::FrameGraph& g, graph::Blackboard& board, const Even
     board.put(keys::body, h.body);
     board.put(keys::drag, h.drag);
     board.put(keys::appearance, h.appearance);
-    board.put(keys::input, h.input);
+    board.put(keys::view, h.view);
     board.put(keys::samples, h.samples);
     board.put(keys::density, h.density);
     board.put(keys::stretch, h.stretch);

@@ -42,7 +42,7 @@ struct EventPassOptions {
 
 // Reads keys::control, keys::topology, keys::followers and the frame's shared resources from
 // `board` (the timeline, the drag and the cut marker may be absent) and puts back what the two
-// passes wrote: the body, drag, appearance, frame input, samples, density, stretch and note.
+// passes wrote: the body, drag, appearance, frame view, samples, density, stretch and note.
 void add_event_passes(graph::FrameGraph& g, graph::Blackboard& board, const EventPassOptions& o);
 
 } // namespace pbdsplat::scene

@@ -29,7 +29,10 @@ inline constexpr graph::Key<std::vector<sim::VolumeConstraint>> volumes{"volume 
 inline constexpr graph::Key<std::vector<sim::ShapeCluster>> shapes{"shape clusters"};
 inline constexpr graph::Key<sim::Colliders> colliders{"colliders"};
 inline constexpr graph::Key<sim::DragConstraint> drag{"drag"};
-inline constexpr graph::Key<passes::GpuFrameInput> input{"frame input"};
+// What the GPU passes read (passes::GpuFrameInput), in three parts by writer.
+inline constexpr graph::Key<render::FrameInputs> view{"frame view"};
+inline constexpr graph::Key<passes::SplatStream> splats{"splat stream"};
+inline constexpr graph::Key<passes::OccluderInput> occluder_input{"occluder input"};
 inline constexpr graph::Key<surface::BoundaryParticles> samples{"boundary particles"};
 inline constexpr graph::Key<surface::DensityControl> density{"density control"};
 inline constexpr graph::Key<splat::SortScratch> sort{"sort"};

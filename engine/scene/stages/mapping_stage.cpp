@@ -29,7 +29,7 @@ void MappingStage::sort(const render::Camera& c) {
     splat::sort_far_to_near(records_, shapes_, math::look_at(c.eye, c.target, c.up), sort_scratch_);
 }
 
-void MappingStage::publish(passes::GpuFrameInput& input, bool moved) {
+void MappingStage::publish(passes::SplatStream& input, bool moved) {
     input.records = records_;
     input.shapes = shapes_;
     if (moved) {
@@ -57,7 +57,8 @@ struct MapHandles {
     graph::Handle<splat::Appearance> appearance;
     graph::Handle<MapSettings> settings;
     graph::Handle<MappingStage> mapping;
-    graph::Handle<passes::GpuFrameInput> input;
+    graph::Handle<render::FrameInputs> frame;
+    graph::Handle<passes::SplatStream> splats;
     graph::Handle<splat::CutFaces> cut_faces;
 };
 } // namespace
@@ -65,7 +66,8 @@ struct MapHandles {
 void add_mapping_passes(graph::FrameGraph& g, graph::Blackboard& board, const MapPassOptions& o) {
     MapHandles h{board.get(keys::body),       board.get(keys::samples),      board.get(keys::stretch),
                  board.get(keys::sort),       board.get(keys::appearance),   board.get(keys::map_settings),
-                 board.get(keys::mapping),    board.get(keys::input),        board.get(keys::cut_faces)};
+                 board.get(keys::mapping),    board.get(keys::view),         board.get(keys::splats),
+                 board.get(keys::cut_faces)};
     g.add_pass("map", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         b.read(h.body);
         if (o.boundary) b.read(h.samples);
@@ -73,7 +75,8 @@ void add_mapping_passes(graph::FrameGraph& g, graph::Blackboard& board, const Ma
         b.read(h.appearance);
         b.read(h.settings);
         h.mapping = b.write(h.mapping);
-        h.input = b.write(h.input);
+        h.frame = b.write(h.frame);  // the view follows the body
+        if (!o.sorted) h.splats = b.write(h.splats);
         if (o.cut_faces) h.cut_faces = b.write(h.cut_faces);
         if (o.keep_records) b.side_effect();
         return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
@@ -81,7 +84,7 @@ void add_mapping_passes(graph::FrameGraph& g, graph::Blackboard& board, const Ma
             const MapSettings& settings = r.read(hh.settings);
             const splat::Appearance& look = r.read(hh.appearance);
             MappingStage& mapping = r.write(hh.mapping);
-            passes::GpuFrameInput& input = r.write(hh.input);
+            render::FrameInputs& frame = r.write(hh.frame);
             MappingStage::Sources sources;
             sources.body = &body;
             sources.particles = settings.particles;
@@ -97,25 +100,26 @@ void add_mapping_passes(graph::FrameGraph& g, graph::Blackboard& board, const Ma
             BodyViewOptions view;
             view.cull_back = settings.cull_back;
             view.closed = settings.closed;
-            view.opaque = input.frame.style.blend != render::Blend::additive && look.opacity_logit > math::logit(0.9f);
+            view.opaque = frame.style.blend != render::Blend::additive && look.opacity_logit > math::logit(0.9f);
             view.draw_ground = settings.draw_ground;
-            follow_body(body.particles.x, settings.ground, view, input.frame);
-            if (!o.sorted) mapping.publish(input, o.moved);  // else the sort pass reorders them first
+            follow_body(body.particles.x, settings.ground, view, frame);
+            if (!o.sorted) mapping.publish(r.write(hh.splats), o.moved);  // else the sort pass reorders them first
         };
     }, o.tag);
     g.add_pass("sort", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         b.read(h.sort);
         h.mapping = b.write(h.mapping);
-        h.input = b.write(h.input);
+        b.read(h.frame);
+        h.splats = b.write(h.splats);
         if (o.keep_records) b.side_effect();
         return [moved = o.moved, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
             MappingStage& mapping = r.write(hh.mapping);
-            passes::GpuFrameInput& input = r.write(hh.input);
-            mapping.sort(input.frame.camera);
-            mapping.publish(input, moved);
+            mapping.sort(r.read(hh.frame).camera);
+            mapping.publish(r.write(hh.splats), moved);
         };
     }, o.tag);
-    board.put(keys::input, h.input);
+    board.put(keys::view, h.frame);
+    board.put(keys::splats, h.splats);
     board.put(keys::cut_faces, h.cut_faces);
 }
 

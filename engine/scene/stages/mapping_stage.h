@@ -42,7 +42,7 @@ public:
     // simulated this frame, so every record changed: all of them go, without comparing them with
     // the last frame's (a copy and a compare of every record per frame). A frame that did not
     // move the body (paused) compares, and uploads only what a sort or a setting changed.
-    void publish(passes::GpuFrameInput& input, bool moved);
+    void publish(passes::SplatStream& input, bool moved);
     // New particles fade in; the deformed shapes follow the new triangles.
     void topology_changed(const sim::SoftBody& body, const topology::TopologyChange& change, bool particles);
 
@@ -87,9 +87,9 @@ struct MapPassOptions {
 // "map" (body -> records, the cut faces follow the body's cap loops, the view follows the body,
 // the records handed over unless sorted) and
 // "sort" (far to near on the CPU, then handed over). They read the body, samples, stretch,
-// sort scratch, appearance, keys::map_settings and keys::mapping from `board` (the samples,
-// stretch and sort may be absent: the options say which are there) and put back the frame input
-// and the cut faces they wrote.
+// sort scratch, appearance, frame view, keys::map_settings and keys::mapping from `board` (the
+// samples, stretch and sort may be absent: the options say which are there) and put back the
+// frame view, the splat stream and the cut faces they wrote.
 void add_mapping_passes(graph::FrameGraph& g, graph::Blackboard& board, const MapPassOptions& o);
 
 } // namespace pbdsplat::scene

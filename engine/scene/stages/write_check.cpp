@@ -54,12 +54,13 @@ uint64_t fingerprint(const surface::BoundaryParticles& s) {
     return mix_span<float>(h, s.fade);
 }
 
-uint64_t fingerprint(const passes::GpuFrameInput& in) {
-    const render::Camera& c = in.frame.camera;
-    uint64_t h = mix(k_basis, c.eye.data(), sizeof(float) * 3);
-    h = mix(h, c.target.data(), sizeof(float) * 3);
-    return mix_span<splat::GaussianRecord>(h, in.records);
+uint64_t fingerprint(const render::FrameInputs& frame) {
+    const render::Camera& c = frame.camera;
+    const uint64_t h = mix(k_basis, c.eye.data(), sizeof(float) * 3);
+    return mix(h, c.target.data(), sizeof(float) * 3);
 }
+
+uint64_t fingerprint(const passes::SplatStream& splats) { return mix_span<splat::GaussianRecord>(k_basis, splats.records); }
 
 uint64_t fingerprint(const std::string& text) { return mix(k_basis, text.data(), text.size()); }
 

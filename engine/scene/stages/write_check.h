@@ -19,8 +19,9 @@ uint64_t fingerprint(const sim::DragConstraint& drag);
 uint64_t fingerprint(const splat::Appearance& look);
 // The samples' count, triangles, barycentric coordinates and fades.
 uint64_t fingerprint(const surface::BoundaryParticles& samples);
-// The camera and the records handed to the GPU passes.
-uint64_t fingerprint(const passes::GpuFrameInput& input);
+// The camera; the records handed to the GPU passes.
+uint64_t fingerprint(const render::FrameInputs& frame);
+uint64_t fingerprint(const passes::SplatStream& splats);
 uint64_t fingerprint(const std::string& text);
 
 } // namespace pbdsplat::scene
