@@ -11,6 +11,7 @@
 #include "sim/shape_error.h"
 #include "splat/strays.h"
 #include "surface/density.h"
+#include "surface/spacing_report.h"
 #include "topology/invariants.h"
 
 namespace pbdsplat::scene {

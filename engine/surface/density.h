@@ -15,6 +15,7 @@
 #include "core/math.h"
 #include "mesh/triangle_mesh.h"
 #include "surface/boundary_particles.h"
+#include "surface/fades.h"
 #include "surface/rows.h"
 
 namespace pbdsplat::surface {
@@ -140,33 +141,5 @@ private:
     uint64_t frame_ = 0;
     size_t max_samples_ = 0;
 };
-
-// Nearest-neighbour spacing of a point set, for the density goals: the share of points whose
-// nearest neighbour lies within [low, high] (both in units of h), and quantiles. Only the first
-// `measured` points are measured (all by default); the rest count as their neighbours only.
-// With `normals` (one per point), a neighbour counts only on the same side of the surface
-// (normals within 60 degrees): across a sharp fold the sheets' samples come closer in space than
-// along the surface, where their spacing is.
-struct SpacingReport {
-    size_t points = 0;
-    float within = 0.0f;  // share in [low h, high h]
-    float p05 = 0.0f, median = 0.0f, p95 = 0.0f;  // in units of h
-};
-struct SpacingQuery {
-    float low = 0.7f, high = 1.4f;
-    size_t measured = SIZE_MAX;
-    std::span<const Vec3f> normals;
-};
-SpacingReport spacing_report(std::span<const Vec3f> points, float h, const SpacingQuery& query);
-inline SpacingReport spacing_report(std::span<const Vec3f> points, float h) { return spacing_report(points, h, SpacingQuery{}); }
-
-// Advances the fades by one frame and removes the samples that finished fading out, in batches:
-// once a 64th of them has finished, or when nothing else still fades (until then a finished one
-// stays, invisible and retiring). Returns how many were removed; `fading` receives how many
-// still fade.
-size_t advance_fades(BoundaryParticles& samples, uint32_t* fading = nullptr);
-
-// Starts a fade-in over `frames` frames for samples [first, size()).
-void fade_in(BoundaryParticles& samples, size_t first, uint32_t frames);
 
 } // namespace pbdsplat::surface

@@ -7,6 +7,7 @@
 #include "mesh/procedural.h"
 #include "sim/soft_body.h"
 #include "surface/density.h"
+#include "surface/spacing_report.h"
 
 using namespace pbdsplat;
 
