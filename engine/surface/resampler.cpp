@@ -18,7 +18,9 @@
 #include "surface/point_grid.h"
 
 namespace pbdsplat::surface {
-namespace {
+// Named, not anonymous: Resampler::Impl holds a LocalPoints, and a unity build puts this file in
+// a unit whose main file is another (GCC's subobject-linkage warning).
+namespace resampler_parts {
 
 // SplitMix64: a 64-bit counter through a mixing function; plenty for throwing darts.
 struct SplitMix {
@@ -88,7 +90,9 @@ private:
     size_t size_ = 0;
 };
 
-} // namespace
+} // namespace resampler_parts
+using resampler_parts::LocalPoints;
+using resampler_parts::SplitMix;
 
 class Resampler::Impl {
 public:
