@@ -2,18 +2,14 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
-#include <limits>
 #include <numeric>
-#include <optional>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
 
 #include "core/assert.h"
 #include "mesh/deformation.h"
-#include "surface/crowding.h"
 #include "surface/embedding.h"
 #include "surface/point_grid.h"
 
