@@ -5,6 +5,7 @@
 #include "scene/scene_runtime.h"
 
 #include "scene/stages/body_view.h"
+#include "scene/stages/change_passes.h"
 #include "scene/stages/event_stage.h"
 #include "scene/stages/frame_keys.h"
 #include "scene/stages/fine_surface.h"
@@ -66,6 +67,10 @@ void SceneRuntime::import_resources(GraphAssembly& h) {
     const bool opened = std::any_of(body_.volumes.begin(), body_.volumes.end(), [](const sim::VolumeConstraint& v) { return v.opened(); });
     h.cut_faces_on = (topology_events || opened) && h_ > 0.0f;
     graph::import_into(g, board, keys::cut_faces, h.cut_faces_on ? &cut_faces_ : static_cast<splat::CutFaces*>(nullptr));
+    graph::import_into(g, board, keys::changes, &changes_);
+    graph::import_into(g, board, keys::fine_embedding, fine_ ? &fine_vertices_ : static_cast<std::optional<surface::BoundaryParticles>*>(nullptr));
+    graph::import_into(g, board, keys::map_settings, &map_settings_);
+    graph::import_into(g, board, keys::mapping, mapping_.get());
 }
 
 void SceneRuntime::add_surface_and_map_passes(GraphAssembly& h) {
@@ -81,8 +86,6 @@ void SceneRuntime::add_surface_and_map_passes(GraphAssembly& h) {
     map_settings_.cull_back = scene_.render.cull_back;
     map_settings_.draw_ground = scene_.render.ground;
     map_settings_.ground = scene_.simulation.colliders.ground;
-    graph::import_into(g, board, keys::map_settings, &map_settings_);
-    graph::import_into(g, board, keys::mapping, mapping_.get());
     MapPassOptions mo{h.boundary, scene_.surface.stretch_scale, h.sorted, options_.keep_records, !paused_, tag(PassGroup::update)};
     mo.cut_faces = h.cut_faces_on;
     add_mapping_passes(g, board, mo);
@@ -97,6 +100,8 @@ void SceneRuntime::fingerprint_resources(const GraphAssembly& h) {
     g.set_fingerprint<render::FrameInputs>(board.get(keys::view), print);
     g.set_fingerprint<passes::SplatStream>(board.get(keys::splats), print);
     g.set_fingerprint<std::string>(board.get(keys::note), print);
+    g.set_fingerprint<MapSettings>(board.get(keys::map_settings), print);
+    g.set_fingerprint<FrameChanges>(board.get(keys::changes), print);
     if (h.drags) g.set_fingerprint<sim::DragConstraint>(board.get(keys::drag), print);
     if (h.boundary) g.set_fingerprint<surface::BoundaryParticles>(board.get(keys::samples), print);
     g.check_writes(true);
@@ -132,26 +137,19 @@ core::Status SceneRuntime::build_graph() {
 void SceneRuntime::add_frame_event_passes(GraphAssembly& h, bool has_events) {
     graph::FrameGraph& g = graph_;
     const SimulationDesc& sd = scene_.simulation;
-    ChangeFollowers::Targets targets;
-    targets.samples = h.boundary ? &boundary_ : nullptr;
-    targets.fine_vertices = &fine_vertices_;
-    targets.density = &density_;
-    targets.mapping = mapping_.get();
-    targets.map_settings = &map_settings_;
-    targets.stretch = &stretch_;
-    targets.cut_faces = &cut_faces_;
-    targets.h = h_, targets.seed = scene_.surface.seed, targets.fade_frames = sd.fade_frames;
-    targets.edge_samples = scene_.surface.edge_samples;
-    followers_ = std::make_unique<ChangeFollowers>(targets);
     graph::import_into(g, h.board, keys::control, &control_);
     graph::import_into(g, h.board, keys::topology, topology_.get());
-    graph::import_into(g, h.board, keys::followers, followers_.get());
     EventPassOptions o;
     o.dt = sd.dt, o.interactive = options_.interactive, o.timeline = has_events;
-    o.drags = h.drags, o.boundary = h.boundary, o.stretch = scene_.surface.stretch_scale;
+    o.drags = h.drags;
     o.cut = sd.cut;
     o.tag = tag(PassGroup::events), o.topology_tag = tag(PassGroup::topology);
     add_event_passes(g, h.board, o);
+    ChangePassOptions c;
+    c.boundary = h.boundary, c.fine = fine_.has_value(), c.stretch = scene_.surface.stretch_scale, c.cut_faces = h.cut_faces_on;
+    c.h = h_, c.seed = scene_.surface.seed, c.fade_frames = sd.fade_frames, c.edge_samples = scene_.surface.edge_samples;
+    c.tag = tag(PassGroup::topology);
+    add_change_passes(g, h.board, c);
 }
 
 void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
@@ -160,7 +158,7 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
     auto mesh = g.import("occluder mesh", &occluder_mesh_);
     // The fine surface's embedding, made on the first frame it is drawn (absent, and not
     // declared, without a fine surface).
-    auto embedding = g.import("fine surface embedding", fine_ ? &fine_vertices_ : nullptr);
+    auto embedding = h.board.get(keys::fine_embedding);
     const auto body = h.board.get(keys::body);
     const auto cut_faces = h.board.get(keys::cut_faces);
     auto input = h.board.get(keys::occluder_input);
@@ -195,6 +193,7 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
         };
     }, tag(PassGroup::update));
     h.board.put(keys::occluder_input, input);
+    h.board.put(keys::fine_embedding, embedding);
 }
 
 graph::Handle<graph::GpuImageRef> SceneRuntime::add_mesh_view_pass(GraphAssembly& h) {

@@ -174,7 +174,6 @@ core::Status SceneRuntime::step() {
     FrameStats s;
     s.cuts = topology_->cuts();
     s.tears = topology_->tears();
-    s.groups[PassGroup::topology] = topology_->ms();
     s.frame = frame_;
     s.time = control_.time;
     s.particles = body_.particle_count();
@@ -183,8 +182,7 @@ core::Status SceneRuntime::step() {
     s.gaussians = mapping_->records().size();
     for (size_t k = 0; k < ms.size(); ++k) {
         const PassGroup g = group_of_kept_pass_[k];
-        // The topology stage times itself, its follow-up included (below).
-        if (g != PassGroup::other && g != PassGroup::topology) s.groups[g] += ms[k];
+        if (g != PassGroup::other) s.groups[g] += ms[k];
     }
     if (renderer_) {
         const render::GpuTimings g = renderer_->timings();

@@ -11,7 +11,6 @@
 #include "graph/frame_graph.h"
 #include "passes/gpu_passes.h"
 #include "scene/scene.h"
-#include "scene/stages/change_follow.h"
 #include "scene/stages/event_stage.h"
 #include "scene/stages/pass_group.h"
 #include "scene/stages/mapping_stage.h"
@@ -247,9 +246,9 @@ private:
     bool splat_particles_ = true;  // the particles are splats too (not with an embedded surface)
     std::unique_ptr<TopologyStage> topology_;  // scripted cuts and tears, the user's strokes
     std::unique_ptr<MappingStage> mapping_;    // body -> Gaussians -> the GPU passes
-    // Everything downstream of the mesh follows each change: samples, fades, stretch.
-    // The topology stage's follow-up (TopologyStage::Follow): after each change, and once after the frame's.
-    std::unique_ptr<ChangeFollowers> followers_;  // what reacts to a topology change
+    // The frame's topology changes, which the passes after the topology pass follow
+    // (stages/change_passes.h): samples, fades, mapping, stretch.
+    FrameChanges changes_;
     // No open boundary: back-facing splats cannot show (kept from build and each topology change).
     MapSettings map_settings_;  // what the map pass reads of the runtime (stages/mapping_stage.h)
     void update_closed();

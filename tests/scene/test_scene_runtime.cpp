@@ -229,9 +229,9 @@ TEST_SUITE("scene/runtime") {
         CHECK(rt.value()->body().volumes.size() >= 3);  // the strokes made pieces, each capped
     }
 
-    TEST_CASE("a cut that leaves a mesh invariant broken still runs its follow-up, then stops the stage with the error") {
+    TEST_CASE("a cut that leaves a mesh invariant broken is still handed on, then stops the stage with the error") {
         // The passes after the topology pass in that frame read the body (the density control
-        // sizes its state by its triangles): the follow-up must have run when the error is seen.
+        // sizes its state by its triangles): they must follow the change when the error is seen.
         auto made = sim::make_soft_body(mesh::icosphere(2, 0.5f), {});
         REQUIRE_MESSAGE(made.ok(), test::why(made));
         sim::SoftBody body = std::move(made).value();
@@ -240,23 +240,17 @@ TEST_SUITE("scene/runtime") {
         std::vector<scene::Event> events(1);
         events[0].data.emplace<scene::CutEvent>().plane = std::make_pair(Vec3f(0.0f, 0.1f, 0.0f), Vec3f(0.0f, 1.0f, 0.0f));
         scene::EventQueue queue(events);
-        size_t each = 0, settled = 0;
-        scene::TopologyStage::Follow follow;
-        follow.each = [&](const topology::TopologyChange&, const topology::CutSurface*) -> core::Result<std::vector<uint32_t>> {
-            ++each;
-            return std::vector<uint32_t>{};
-        };
-        follow.settle = [&](std::span<const uint32_t>, size_t) {
-            ++settled;
-            return core::Status::success();
-        };
         scene::TopologyStage stage(true);
+        scene::FrameChanges changes;
         std::string note;
-        stage.run(queue, body, 0.0f, 1.0f / 60.0f, render::Camera{}, {}, follow, note);
+        stage.run(queue, body, 0.0f, 1.0f / 60.0f, render::Camera{}, {}, changes, note);
         REQUIRE_FALSE(stage.status().ok());
         CHECK(stage.status().error().to_string().find("used twice in one direction") != std::string::npos);
-        CHECK(each == 1);
-        CHECK(settled == 1);
+        // Handed on all the same, for the passes that follow it in the frame.
+        REQUIRE(changes.changes.size() == 1);
+        CHECK(changes.changes[0].cut.has_value());
+        CHECK(changes.refill.size() == changes.changes[0].change.touched_triangles.size());
+        CHECK(changes.seed_offset == 1);
     }
 
     TEST_CASE("a missing model and an impossible pin are clear errors") {

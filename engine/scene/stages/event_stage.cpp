@@ -1,5 +1,6 @@
 #include "scene/stages/event_stage.h"
 
+#include "scene/stages/change_passes.h"
 #include "scene/stages/frame_keys.h"
 
 namespace pbdsplat::scene {
@@ -12,14 +13,11 @@ struct EventHandles {
     graph::Handle<EventQueue> queue;               // the run's one queue: each pass takes its kinds
     graph::Handle<EventQueue> cuts;                // the queue as a marker: absent when no cut or tear can come
     graph::Handle<TopologyStage> topology;
-    graph::Handle<ChangeFollowers> followers;
+    graph::Handle<FrameChanges> changes;           // what the topology pass changed, for the passes after it
     graph::Handle<sim::SoftBody> body;
     graph::Handle<sim::DragConstraint> drag;       // absent when nothing drags
     graph::Handle<splat::Appearance> appearance;   // the timeline fades the opacity
     graph::Handle<render::FrameInputs> view;       // the camera
-    graph::Handle<surface::BoundaryParticles> samples;
-    graph::Handle<surface::DensityControl> density;
-    graph::Handle<splat::StretchScale> stretch;
     graph::Handle<std::string> note;               // what the user's last stroke did
 };
 
@@ -61,18 +59,12 @@ void add_topology_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
         b.read(h.control);
         b.read(h.view);
         h.topology = b.write(h.topology);
-        h.followers = b.write(h.followers);
+        h.changes = b.write(h.changes);
         h.body = b.write(h.body);
         h.note = b.write(h.note);
-        // What a change re-samples, only where the scene has it: an absent resource culls a
-        // pass that declares it (vertices-only scenes lost their cuts so).
-        if (o.boundary) h.samples = b.write(h.samples), h.density = b.write(h.density);
-        if (o.stretch) h.stretch = b.write(h.stretch);
         return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
-            sim::SoftBody& body = r.write(hh.body);
-            const TopologyStage::Follow follow = r.write(hh.followers).follow(body);
-            r.write(hh.topology).run(r.write(hh.queue), body, r.read(hh.control).time, o.dt, r.read(hh.view).camera, o.cut, follow,
-                                     r.write(hh.note));
+            r.write(hh.topology).run(r.write(hh.queue), r.write(hh.body), r.read(hh.control).time, o.dt, r.read(hh.view).camera, o.cut,
+                                     r.write(hh.changes), r.write(hh.note));
         };
     }, o.topology_tag);
 }
@@ -80,10 +72,9 @@ void add_topology_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
 } // namespace
 
 void add_event_passes(graph::FrameGraph& g, graph::Blackboard& board, const EventPassOptions& o) {
-    EventHandles h{board.get(keys::control),   board.get(keys::timeline), board.get(keys::queue),     board.get(keys::cuts),
-                   board.get(keys::topology),  board.get(keys::followers), board.get(keys::body),     board.get(keys::drag),
-                   board.get(keys::appearance), board.get(keys::view),   board.get(keys::samples),   board.get(keys::density),
-                   board.get(keys::stretch),   board.get(keys::note)};
+    EventHandles h{board.get(keys::control),    board.get(keys::timeline), board.get(keys::queue), board.get(keys::cuts),
+                   board.get(keys::topology),   board.get(keys::changes),  board.get(keys::body),  board.get(keys::drag),
+                   board.get(keys::appearance), board.get(keys::view),     board.get(keys::note)};
     add_timeline_pass(g, h, o);
     add_topology_pass(g, h, o);
     board.put(keys::queue, h.queue);
@@ -92,9 +83,7 @@ void add_event_passes(graph::FrameGraph& g, graph::Blackboard& board, const Even
     board.put(keys::drag, h.drag);
     board.put(keys::appearance, h.appearance);
     board.put(keys::view, h.view);
-    board.put(keys::samples, h.samples);
-    board.put(keys::density, h.density);
-    board.put(keys::stretch, h.stretch);
+    board.put(keys::changes, h.changes);
     board.put(keys::note, h.note);
 }
 

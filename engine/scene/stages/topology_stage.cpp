@@ -1,8 +1,5 @@
 #include "scene/stages/topology_stage.h"
 
-#include <algorithm>
-
-#include "core/timer.h"
 #include "topology/invariants.h"
 #include "topology/tear.h"
 
@@ -11,20 +8,20 @@ namespace pbdsplat::scene {
 TopologyStage::TopologyStage(bool check_invariants) : check_invariants_(check_invariants) {}
 
 void TopologyStage::run(EventQueue& queue, sim::SoftBody& body, float t, float dt, const render::Camera& camera,
-                        const topology::CutOptions& options, const Follow& follow, std::string& note) {
-    const core::Stopwatch clock;
+                        const topology::CutOptions& options, FrameChanges& changes, std::string& note) {
+    changes.clear();
     for (const QueuedEvent& q : queue.take_due(t + dt, is_topology_event)) {
         if (!status_.ok()) break;
         const Event& e = q.event;
         if (const auto* c = std::get_if<CutEvent>(&e.data); c && q.from_user) {
             const size_t particles = body.particle_count();
-            const core::Status s = apply_cut(body, *c, camera, options, follow);
+            const core::Status s = apply_cut(body, *c, camera, options, changes);
             if (!s.ok()) note = "cut failed: " + s.error().to_string();
             else if (body.particle_count() == particles) note = "the stroke cut nothing";
             else note = "cut: " + std::to_string(body.particle_count() - particles) + " particles split off";
             if (s.ok()) ++cuts_;
         } else if (c) {
-            status_ = apply_cut(body, *c, camera, options, follow);
+            status_ = apply_cut(body, *c, camera, options, changes);
             ++cuts_;
         } else {
             tearing_ = std::get<TearEvent>(e.data);
@@ -32,13 +29,11 @@ void TopologyStage::run(EventQueue& queue, sim::SoftBody& body, float t, float d
         }
     }
     if (tearing_ && t >= tearing_until_) tearing_.reset();
-    if (tearing_ && status_.ok()) status_ = apply_tears(body, options, follow);
-    if (const core::Status s = settle(follow); !s.ok() && status_.ok()) status_ = s;
-    ms_ = clock.elapsed_ms();
+    if (tearing_ && status_.ok()) status_ = apply_tears(body, options, changes);
 }
 
 core::Status TopologyStage::apply_cut(sim::SoftBody& body, const CutEvent& cut, const render::Camera& camera,
-                                      const topology::CutOptions& options, const Follow& follow) {
+                                      const topology::CutOptions& options, FrameChanges& changes) {
     core::Result<topology::CutSurface> surface = core::make_error("cut: no surface");
     if (cut.plane) {
         surface = topology::plane_cut(cut.plane->first, cut.plane->second);
@@ -51,10 +46,10 @@ core::Status TopologyStage::apply_cut(sim::SoftBody& body, const CutEvent& cut, 
     if (!surface.ok()) return surface.error();
     auto change = topology::cut(body, surface.value(), options);
     if (!change.ok()) return change.error();
-    return after(body, change.value(), &surface.value(), follow);
+    return after(body, change.value(), &surface.value(), changes);
 }
 
-core::Status TopologyStage::apply_tears(sim::SoftBody& body, const topology::CutOptions& cut_options, const Follow& follow) {
+core::Status TopologyStage::apply_tears(sim::SoftBody& body, const topology::CutOptions& cut_options, FrameChanges& changes) {
     topology::TearOptions options;
     options.threshold = tearing_->threshold;
     options.max_per_frame = tearing_->max_per_frame;
@@ -67,37 +62,25 @@ core::Status TopologyStage::apply_tears(sim::SoftBody& body, const topology::Cut
         if (!change.ok()) return change.error();
         if (!change.value()) break;  // nothing strained enough
         ++tears_;
-        PBDSPLAT_TRY(after(body, *change.value(), nullptr, follow));
+        PBDSPLAT_TRY(after(body, *change.value(), nullptr, changes));
     }
     return core::Status::success();
 }
 
 core::Status TopologyStage::after(sim::SoftBody& body, const topology::TopologyChange& change, const topology::CutSurface* cut,
-                                  const Follow& follow) {
+                                  FrameChanges& changes) {
     last_change_ = change;
     if (!change.changed()) return core::Status::success();
-    // Checked first, reported last: the follow-up runs on a broken mesh too, so that the passes
-    // after this one in the frame (the density control's per-triangle state) match the body
-    // while the error travels to the caller, who stops there.
+    // Handed on broken too: the passes that follow this one in the frame (the density control's
+    // per-triangle state) then match the body while the error travels to the caller, who stops
+    // there.
     const core::Status broken = check_invariants_ ? topology::check_invariants(body) : core::Status::success();
-    // A cut is counted after its follow-up, a tear before it: the seeds of the samples laid
+    // A cut is counted after its change, a tear before it: the seeds of the samples laid
     // since the first scenes were recorded.
-    if (frame_seed_offset_ == 0) frame_seed_offset_ = cuts_ + tears_ + 1;
-    auto extra = follow.each(change, cut);
-    if (!extra.ok()) return extra.error();
-    frame_touched_.insert(frame_touched_.end(), change.touched_triangles.begin(), change.touched_triangles.end());
-    frame_touched_.insert(frame_touched_.end(), extra->begin(), extra->end());
+    if (changes.empty()) changes.seed_offset = cuts_ + tears_ + 1;
+    changes.changes.push_back({change, cut ? std::optional<topology::CutSurface>(*cut) : std::nullopt});
+    changes.refill.insert(changes.refill.end(), change.touched_triangles.begin(), change.touched_triangles.end());
     return broken;
-}
-
-core::Status TopologyStage::settle(const Follow& follow) {
-    if (frame_seed_offset_ == 0) return core::Status::success();
-    std::sort(frame_touched_.begin(), frame_touched_.end());
-    frame_touched_.erase(std::unique(frame_touched_.begin(), frame_touched_.end()), frame_touched_.end());
-    const core::Status s = follow.settle(frame_touched_, frame_seed_offset_);
-    frame_touched_.clear();
-    frame_seed_offset_ = 0;
-    return s;
 }
 
 } // namespace pbdsplat::scene

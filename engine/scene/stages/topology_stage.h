@@ -1,12 +1,9 @@
 #pragma once
 // The topology stage of a frame: the scene's cuts at their times, tearing while it is on, and
-// the user's strokes, each applied to the body as it comes. What follows a change downstream
-// of the mesh runs through `Follow` in two parts: `each` right after every change, in the order
-// the changes happen (samples carried across the splits: a later tear may split the triangles
-// an earlier one touched), and `settle` once after the frame's last change, over every triangle
-// the frame's changes touched (the refill, fades, stretch data): three tears in a frame cost
-// one refill, not three.
-#include <functional>
+// the user's strokes, each applied to the body as it comes. It hands on what changed as
+// FrameChanges, a resource of the frame graph: what follows a change downstream of the mesh
+// (samples carried and refilled, the mapping, the stretch data) is passes that read it
+// (scene/stages/change_passes.h), declared like any other.
 #include <optional>
 #include <span>
 #include <string>
@@ -22,37 +19,53 @@
 
 namespace pbdsplat::scene {
 
+// One frame's topology changes, in the order they happened. A change's split list maps the
+// triangles of the mesh before it onto the one after it, so the passes that follow replay the
+// list in order (a later tear may split the triangles an earlier one touched); whatever is
+// resampled is resampled once, after the last change: three tears in a frame cost one refill.
+struct FrameChanges {
+    struct Change {
+        topology::TopologyChange change;
+        std::optional<topology::CutSurface> cut;  // a cut's surface; none for a tear
+    };
+    std::vector<Change> changes;
+    // Triangles to resample after the last change (indices of the mesh as it is now; unsorted,
+    // repeats allowed): every change's touched ones, and those the samples' carry emptied.
+    std::vector<uint32_t> refill;
+    // Added to the surface's seed for the samples laid down: the count of changes before the
+    // frame's first, + 1.
+    size_t seed_offset = 0;
+
+    bool empty() const { return changes.empty(); }
+    void clear() {
+        changes.clear();
+        refill.clear();
+        seed_offset = 0;
+    }
+};
+
 class TopologyStage {
 public:
-    struct Follow {
-        // Returns triangles to refill beyond the change's touched ones (samples dropped there).
-        std::function<core::Result<std::vector<uint32_t>>(const topology::TopologyChange&, const topology::CutSurface*)> each;
-        // `touched`: sorted, valid for the mesh as it is now; `seed_offset`: added to the
-        // surface's seed for the samples laid down (the count of changes before the frame's first, + 1).
-        std::function<core::Status(std::span<const uint32_t> touched, size_t seed_offset)> settle;
-    };
-
     explicit TopologyStage(bool check_invariants);
 
     // The frame [t, t + dt): the cuts and tears `queue` holds for it, in time order (a user's
-    // stroke cuts with the camera of that frame). A failed scripted change stops the stage
-    // (status()); a failed stroke is only noted (note), and the run goes on.
+    // stroke cuts with the camera of that frame), recorded in `changes` (cleared first). A
+    // failed scripted change stops the stage (status()); a failed stroke is only noted (note),
+    // and the run goes on.
     void run(EventQueue& queue, sim::SoftBody& body, float t, float dt, const render::Camera& camera,
-             const topology::CutOptions& options, const Follow& follow, std::string& note);
+             const topology::CutOptions& options, FrameChanges& changes, std::string& note);
 
     const core::Status& status() const { return status_; }
     size_t cuts() const { return cuts_; }
     size_t tears() const { return tears_; }
-    double ms() const { return ms_; }  // the last frame's, follow-ups included
     const topology::TopologyChange& last_change() const { return last_change_; }
 
 private:
     core::Status apply_cut(sim::SoftBody& body, const CutEvent& cut, const render::Camera& camera,
-                           const topology::CutOptions& options, const Follow& follow);
-    core::Status apply_tears(sim::SoftBody& body, const topology::CutOptions& options, const Follow& follow);
+                           const topology::CutOptions& options, FrameChanges& changes);
+    core::Status apply_tears(sim::SoftBody& body, const topology::CutOptions& options, FrameChanges& changes);
     core::Status after(sim::SoftBody& body, const topology::TopologyChange& change, const topology::CutSurface* cut,
-                       const Follow& follow);
-    core::Status settle(const Follow& follow);
+                       FrameChanges& changes);
 
     std::optional<TearEvent> tearing_;
     topology::CrackFront front_;  // the rims tears made, where they run on
@@ -60,10 +73,7 @@ private:
     bool check_invariants_ = false;
     core::Status status_;
     size_t cuts_ = 0, tears_ = 0;
-    double ms_ = 0.0;
     topology::TopologyChange last_change_;
-    std::vector<uint32_t> frame_touched_;  // triangles this frame's changes touched
-    size_t frame_seed_offset_ = 0;         // 0: no change yet this frame
 };
 
 } // namespace pbdsplat::scene

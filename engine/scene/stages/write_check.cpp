@@ -64,4 +64,16 @@ uint64_t fingerprint(const passes::SplatStream& splats) { return mix_span<splat:
 
 uint64_t fingerprint(const std::string& text) { return mix(k_basis, text.data(), text.size()); }
 
+uint64_t fingerprint(const MapSettings& s) {
+    uint64_t h = mix_value(mix_value(mix_value(k_basis, s.particles), s.show_boundary), s.closed);
+    h = mix_value(mix_value(h, s.cull_back), s.draw_ground);
+    return mix_value(h, s.ground.has_value());
+}
+
+uint64_t fingerprint(const FrameChanges& c) {
+    uint64_t h = mix_value(mix_value(k_basis, c.changes.size()), c.seed_offset);
+    for (const FrameChanges::Change& x : c.changes) h = mix_value(mix_value(h, x.change.particles_after), x.change.triangles_after);
+    return mix_span<uint32_t>(h, c.refill);
+}
+
 } // namespace pbdsplat::scene

@@ -1,12 +1,14 @@
 #pragma once
 // Fingerprints of the frame's shared CPU resources, for FrameGraph::check_writes: a test (or a
 // debugging session, RuntimeOptions::check_writes) runs a scene and learns of any pass that
-// changed the body, the drag, the appearance, the samples, the frame input or the note without
-// declaring the write.
+// changed the body, the drag, the appearance, the samples, the frame input, the map settings,
+// the frame's topology changes or the note without declaring the write.
 #include <cstdint>
 #include <string>
 
 #include "passes/gpu_passes.h"
+#include "scene/stages/mapping_stage.h"
+#include "scene/stages/topology_stage.h"
 #include "sim/soft_body.h"
 #include "splat/gaussian_record.h"
 #include "surface/boundary_particles.h"
@@ -23,5 +25,8 @@ uint64_t fingerprint(const surface::BoundaryParticles& samples);
 uint64_t fingerprint(const render::FrameInputs& frame);
 uint64_t fingerprint(const passes::SplatStream& splats);
 uint64_t fingerprint(const std::string& text);
+uint64_t fingerprint(const MapSettings& settings);
+// The changes' count and particle counts, the refill list and the seed offset.
+uint64_t fingerprint(const FrameChanges& changes);
 
 } // namespace pbdsplat::scene
