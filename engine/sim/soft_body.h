@@ -1,6 +1,6 @@
 #pragma once
 // One deformable body: its particles, its surface triangles and its constraints, built from a
-// repaired mesh. The solver stages operate on it; the topology stage (cuts) is the only other
+// repaired mesh; its structure, state and caches apart (below). The solver stages operate on it; the topology stage (cuts) is the only other
 // code that changes it. SoftBody is the float body the engine runs; SoftBodyT<double> exists
 // for accuracy references.
 #include <string>
@@ -30,15 +30,19 @@ struct SoftBodyDesc {
     bool reorder = true;           // Morton-order particles for cache locality
 };
 
+// A body in three parts, as a reader needs them: what it is made of (written when it is built
+// and by the topology stage), where it is (written by the solver every step) and what is derived
+// from the two (kept to save recomputing it). SoftBodyT is all three; a function that needs only
+// one part takes only that part.
+
+// What the body is made of: its particles' rest and origin, its triangles, its constraints and
+// its pieces. Only the body's builder and the topology stage (cuts, tears) change it, except the
+// volume constraints' pressure and air, which the scene's timeline and a leak change each step.
 template <class Real>
-struct SoftBodyT {
-    ParticlesT<Real> particles;
-    std::vector<Vec3f> normals;  // per particle, updated each step
+struct BodyStructureT {
     std::vector<mesh::Triangle> triangles;
-    VertexRings rings;  // per-vertex triangle rings of `triangles`, for normals
     std::vector<DistanceConstraint> distance;  // grouped by colour; may hold dead slots (see constraint_order.h)
     DistanceGroups distance_groups;            // colour c holds distance[start[c], start[c + 1])
-    std::vector<Real> distance_lambda;  // XPBD multipliers, one per distance constraint
     // Parts of one model that touch at rest, held together (sim/weld.h); not mesh edges.
     std::vector<DistanceConstraint> welds;
     std::vector<VolumeConstraint> volumes;  // one per piece that holds air, naming its piece, in piece order
@@ -47,9 +51,7 @@ struct SoftBodyT {
     // split relabels the particles of the new pieces, and ids never change otherwise.
     std::vector<uint32_t> piece_of_particle;
     size_t pieces = 0;
-    // Shape matching, one cluster per piece, rebuilt with the derived data (after every cut).
-    bool shape_matching = false;
-    std::vector<ShapeCluster> shapes;
+    bool shape_matching = false;        // one cluster per piece (BodyCachesT::shapes)
     std::vector<Vec3f> rest_positions;  // rest state (new edges take rest lengths from it)
     std::vector<Vec3f> colors;          // per-particle colours from the mesh file; empty if none
     // The model each particle was loaded from (a scene's [model] and [[bodies]]; a particle a
@@ -58,26 +60,50 @@ struct SoftBodyT {
     // The connected component each particle was in when the body was built (a particle a
     // topology edit adds takes its source's): the two sides of a cut are one part.
     std::vector<uint32_t> part_of_particle;
+};
 
-    size_t particle_count() const { return particles.size(); }
+// Where the body is: what the solver writes every step.
+template <class Real>
+struct BodyStateT {
+    ParticlesT<Real> particles;
+    std::vector<Real> distance_lambda;  // XPBD multipliers, one per distance constraint
+};
+
+// What is derived from the structure and the state: rebuilt with the derived data (after every
+// cut), kept current by the solver (the normals after each step, the fits' warm start).
+template <class Real>
+struct BodyCachesT {
+    std::vector<Vec3f> normals;  // per particle, from the positions after each step
+    VertexRings rings;           // per-vertex triangle rings of `triangles`, for normals
+    std::vector<ShapeCluster> shapes;  // shape matching's clusters: rest offsets, weights, last rotation
+};
+
+template <class Real>
+struct SoftBodyT : BodyStructureT<Real>, BodyStateT<Real>, BodyCachesT<Real> {
+    size_t particle_count() const { return this->particles.size(); }
     // Current volume of a volume constraint (caps included), over the whole body's triangles.
     double volume(size_t constraint) const {
-        const VolumeConstraint& c = volumes[constraint];
-        return (triangles_six_volume<Real>(triangles, piece_of_particle, c.piece, particles.x) + caps_six_volume<Real>(c.cap_loops, particles.x)) / 6.0;
+        const VolumeConstraint& c = this->volumes[constraint];
+        return (triangles_six_volume<Real>(this->triangles, this->piece_of_particle, c.piece, this->particles.x) +
+                caps_six_volume<Real>(c.cap_loops, this->particles.x)) /
+               6.0;
     }
     // Pins the particle (inverse mass 0); it then moves only if the scene moves it.
-    void pin(uint32_t particle) { particles.w[particle] = Real(0); }
+    void pin(uint32_t particle) { this->particles.w[particle] = Real(0); }
     // The particle with the largest (or smallest) `axis` coordinate; ties: lowest index.
     uint32_t extreme_particle(int axis, bool largest = true) const {
         uint32_t best = 0;
-        for (uint32_t i = 1; i < particles.size(); ++i) {
-            const Real a = particles.x[i][axis], b = particles.x[best][axis];
+        for (uint32_t i = 1; i < this->particles.size(); ++i) {
+            const Real a = this->particles.x[i][axis], b = this->particles.x[best][axis];
             if (largest ? a > b : a < b) best = i;
         }
         return best;
     }
 };
 using SoftBody = SoftBodyT<float>;
+using BodyStructure = BodyStructureT<float>;
+using BodyState = BodyStateT<float>;
+using BodyCaches = BodyCachesT<float>;
 constexpr uint32_t k_no_piece = UINT32_MAX;
 
 // The slots of one volume pass: the constraints that project now (not those done leaking), in

@@ -78,22 +78,22 @@ void SolverT<Real>::begin_substep(SoftBodyT<Real>& body, const SolverSettings& s
 }
 
 template <class Real>
-void SolverT<Real>::project_distance(SoftBodyT<Real>& body, const SolverSettings& s, Real h) {
-    ParticlesT<Real>& p = body.particles;
-    const std::span<const DistanceConstraint> distance(body.distance);
-    const std::span<Real> lambda(body.distance_lambda);
+void SolverT<Real>::project_distance(const BodyStructureT<Real>& structure, BodyStateT<Real>& state, const SolverSettings& s, Real h) {
+    ParticlesT<Real>& p = state.particles;
+    const std::span<const DistanceConstraint> distance(structure.distance);
+    const std::span<Real> lambda(state.distance_lambda);
     const bool xpbd = s.mode == SolverMode::xpbd;
     const Real k = Real(per_iteration(s.stretch_stiffness, s.iterations * s.substeps));
     const Real inv_h2 = Real(1) / (h * h);
     // Colour by colour: inside a colour no two constraints share a particle.
-    for (size_t c = 0; c + 1 < body.distance_groups.start.size(); ++c) {
-        const size_t first = body.distance_groups.start[c], count = body.distance_groups.start[c + 1] - first;
+    for (size_t c = 0; c + 1 < structure.distance_groups.start.size(); ++c) {
+        const size_t first = structure.distance_groups.start[c], count = structure.distance_groups.start[c + 1] - first;
         for_range(count, 2048, [&](size_t b, size_t e) {
             if (xpbd) project_distance_xpbd<Real>(distance.subspan(first + b, e - b), lambda.subspan(first + b, e - b), p, inv_h2);
             else project_distance_pbd<Real>(distance.subspan(first + b, e - b), p, k);
         });
     }
-    project_welds<Real>(body, p, k);
+    project_welds<Real>(structure, p, k);
 }
 
 template <class Real>
@@ -129,27 +129,27 @@ void SolverT<Real>::project_volume(SoftBodyT<Real>& body, const SolverSettings& 
 }
 
 template <class Real>
-void SolverT<Real>::project_shape(SoftBodyT<Real>& body, const SolverSettings& s, Real h) {
-    if (!(s.shape_stiffness > 0.0f) || body.shapes.empty()) return;
+void SolverT<Real>::project_shape(BodyCachesT<Real>& caches, BodyStateT<Real>& state, const SolverSettings& s, Real h) {
+    if (!(s.shape_stiffness > 0.0f) || caches.shapes.empty()) return;
     const bool xpbd = s.mode == SolverMode::xpbd && s.shape_compliance > 0.0f;
     const Real k = Real(per_iteration(s.shape_stiffness, s.iterations * s.substeps));
     const Real alpha = Real(s.shape_compliance) / (h * h);
     // Pieces are independent: one per thread when there are several large ones.
-    for_range(body.shapes.size(), 2, [&](size_t b, size_t e) {
-        for (size_t c = b; c < e; ++c) sim::project_shape<Real>(body.shapes[c], body.particles, k, xpbd, alpha);
+    for_range(caches.shapes.size(), 2, [&](size_t b, size_t e) {
+        for (size_t c = b; c < e; ++c) sim::project_shape<Real>(caches.shapes[c], state.particles, k, xpbd, alpha);
     });
 }
 
 template <class Real>
-void SolverT<Real>::apply_drag(SoftBodyT<Real>& body, const DragConstraint& drag) {
-    solve_drag(drag, body.particles);
+void SolverT<Real>::apply_drag(BodyStateT<Real>& state, const DragConstraint& drag) {
+    solve_drag(drag, state.particles);
 }
 
 template <class Real>
-void SolverT<Real>::collide(SoftBodyT<Real>& body, const Colliders& colliders) {
+void SolverT<Real>::collide(BodyStateT<Real>& state, const Colliders& colliders) {
     if (colliders.empty()) return;
-    for_range(body.particles.size(), k_particle_grain,
-              [&](size_t b, size_t e) { solve_collisions<Real>(colliders, body.particles, b, e); });
+    for_range(state.particles.size(), k_particle_grain,
+              [&](size_t b, size_t e) { solve_collisions<Real>(colliders, state.particles, b, e); });
 }
 
 template <class Real>
@@ -181,11 +181,11 @@ void SolverT<Real>::run(Stage stage, SoftBodyT<Real>& body, const SolverSettings
                         const DragConstraint& drag) {
     switch (stage) {
     case Stage::forces: begin_substep(body, s, h); break;
-    case Stage::distance: project_distance(body, s, h); break;
+    case Stage::distance: project_distance(body, body, s, h); break;
     case Stage::volume:
         if (s.volume) project_volume(body, s, h);
         break;
-    case Stage::shape: project_shape(body, s, h); break;
+    case Stage::shape: project_shape(body, body, s, h); break;
     case Stage::drag: apply_drag(body, drag); break;
     case Stage::collide: collide(body, colliders); break;
     case Stage::find_contacts: find_contacts(body, s); break;

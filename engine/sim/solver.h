@@ -71,13 +71,14 @@ public:
     void run(Stage stage, SoftBodyT<Real>& body, const SolverSettings& s, Real h, const Colliders& colliders,
              const DragConstraint& drag);
 
-    // The stages themselves. forces = begin_substep, velocities = end_substep.
+    // The stages themselves. forces = begin_substep, velocities = end_substep. Those that move
+    // only the state take the body's parts apart, the structure (or caches) they read const.
     void begin_substep(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
-    void project_distance(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
+    void project_distance(const BodyStructureT<Real>& structure, BodyStateT<Real>& state, const SolverSettings& s, Real h);
     void project_volume(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
-    void project_shape(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
-    void apply_drag(SoftBodyT<Real>& body, const DragConstraint& drag);
-    void collide(SoftBodyT<Real>& body, const Colliders& colliders);
+    void project_shape(BodyCachesT<Real>& caches, BodyStateT<Real>& state, const SolverSettings& s, Real h);
+    void apply_drag(BodyStateT<Real>& state, const DragConstraint& drag);
+    void collide(BodyStateT<Real>& state, const Colliders& colliders);
     void find_contacts(SoftBodyT<Real>& body, const SolverSettings& s);
     void project_contacts(SoftBodyT<Real>& body, const SolverSettings& s);
     const ContactSolverT<Real>& contact() const { return contact_; }

@@ -56,12 +56,12 @@ size_t weld_touching_parts(SoftBody& b, float reach) {
 }
 
 template <class Real>
-void project_welds(const SoftBodyT<Real>& b, ParticlesT<Real>& p, Real stiffness) {
+void project_welds(const BodyStructureT<Real>& b, ParticlesT<Real>& p, Real stiffness) {
     // One at a time: welds share particles (a body particle may hold several of a spout's).
     for (const DistanceConstraint& w : b.welds) project_distance_pbd<Real>(std::span<const DistanceConstraint>(&w, 1), p, stiffness);
 }
 
-template void project_welds<float>(const SoftBodyT<float>&, ParticlesT<float>&, float);
-template void project_welds<double>(const SoftBodyT<double>&, ParticlesT<double>&, double);
+template void project_welds<float>(const BodyStructureT<float>&, ParticlesT<float>&, float);
+template void project_welds<double>(const BodyStructureT<double>&, ParticlesT<double>&, double);
 
 } // namespace pbdsplat::sim

@@ -19,6 +19,6 @@ size_t weld_touching_parts(SoftBody& body, float reach);
 
 // Projects every weld once (PBD, `stiffness` of the error), one after another.
 template <class Real>
-void project_welds(const SoftBodyT<Real>& body, ParticlesT<Real>& p, Real stiffness);
+void project_welds(const BodyStructureT<Real>& body, ParticlesT<Real>& p, Real stiffness);
 
 } // namespace pbdsplat::sim
