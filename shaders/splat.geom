@@ -20,6 +20,7 @@ layout(location = 0) in vec3 v_normal[];
 layout(location = 1) in vec4 v_color[];
 layout(location = 2) in vec2 v_scale_opacity[];
 layout(location = 3) in mat3 v_curvature[];
+layout(location = 6) in vec2 v_thin[];
 
 layout(location = 0) out vec2 g_uv;         // see splat_quad(): std devs, or the paper's [-1,1]
 layout(location = 1) out vec3 g_world;      // world position of the fragment (for env lookups)
@@ -29,10 +30,11 @@ layout(location = 4) out float g_depth;  // distance to the splat's surface alon
 
 void main() {
     const vec3 world = gl_in[0].gl_Position.xyz;
-    const float s0 = v_scale_opacity[0].x * frame.splat.w;
+    float s0 = v_scale_opacity[0].x * frame.splat.w;
     if (!(s0 > 0.0)) return;  // a zero or NaN scale draws nothing rather than garbage
     if (splat_faces_away(world, v_normal[0])) return;  // the far side of a closed body
     const float alpha = splat_alpha(v_color[0].a, v_scale_opacity[0].y);
+    if (!splat_thin(world, v_thin[0], s0)) return;
     const SplatQuad q = splat_quad(world, v_normal[0], s0, alpha, k_visibility_pass, uint(gl_PrimitiveIDIn));
     if (!(q.extent > 0.0)) return;  // too faint to show anywhere
     const vec3 albedo = splat_albedo(v_color[0].rgb, uint(gl_PrimitiveIDIn), world);

@@ -13,6 +13,7 @@ layout(location = 0) out vec3 v_normal;
 layout(location = 1) out vec4 v_color;
 layout(location = 2) out vec2 v_scale_opacity;
 layout(location = 3) out mat3 v_curvature;  // locations 3-5
+layout(location = 6) out vec2 v_thin;  // splat_thin_place()
 
 void main() {
     gl_Position = vec4(in_position, 1.0);  // world position; the geometry shader projects
@@ -20,4 +21,5 @@ void main() {
     v_color = in_color;
     v_scale_opacity = in_scale_opacity;
     v_curvature = splat_curvature(in_curvature, v_normal);
+    v_thin = splat_thin_place(in_curvature);
 }

@@ -24,7 +24,9 @@ const int k_corner_of_vertex[6] = int[6](0, 1, 2, 2, 1, 3);
 
 void main() {
     const SplatRecord r = read_record(uint(gl_VertexIndex) / 6u);
-    const float s0 = r.scale * frame.splat.w;
+    float s0 = r.scale * frame.splat.w;
+    const float alpha = splat_alpha(r.color.a, r.opacity_logit);
+    if (!splat_thin(r.position, r.thin, s0)) s0 = 0.0;
     g_normal = r.normal;
     if (!(s0 > 0.0)) {  // nothing to draw: a point outside the clip volume
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
@@ -36,7 +38,6 @@ void main() {
     }
     // Always the quad: six vertices per splat, each running the whole footprint, make an
     // octagon's eighteen cost more than the fill it saves.
-    const float alpha = splat_alpha(r.color.a, r.opacity_logit);
     const SplatQuad q = splat_quad(r.position, r.normal, s0, alpha, k_visibility_pass, uint(gl_VertexIndex) / 6u);
     splat_corner(q, r.position, k_corner_of_vertex[gl_VertexIndex % 6], gl_Position, g_world, g_uv, g_depth);
     g_normal = corner_normal(r.normal, r.curvature, r.position, g_world);

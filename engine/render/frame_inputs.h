@@ -110,6 +110,10 @@ struct SplatStyle {
     // flattened onto the plane of its normal, this thick along it over its width (0.1 draws
     // a disc that is a line seen edge-on): silhouettes and folds end where the surface does.
     float surfel_thickness = 0.0f;
+    // Normalised blending: splats under this many pixels of standard deviation are drawn fewer
+    // and larger, by the samples' thinning order (surface/thin_order.h): a fraction
+    // (sigma / thin_below)^2 of them, each grown to cover as much as all did. 0: every splat.
+    float thin_below = 0.0f;
     Blend blend = Blend::over;
     SplatOrder order = SplatOrder::unsorted;  // only read with Blend::over
     // Gaussian "over" blending without a sort: a depth-only pass first lays down each splat's

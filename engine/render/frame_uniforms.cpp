@@ -41,7 +41,7 @@ gpu_types::FrameUniforms make_frame_uniforms(const FrameInputs& in, uint32_t wid
     const SplatStyle& s = in.style;
     const float kappa = s.footprint == Footprint::paper ? paper_kappa(s) : s.kappa;
     u.splat = {kappa, s.sharpness.x(), s.sharpness.y(), s.scale_multiplier};
-    u.material = {l.shininess, s.surfel_thickness, 0.0f, 0.0f};
+    u.material = {l.shininess, s.surfel_thickness, s.blend == Blend::normalised ? s.thin_below : 0.0f, 0.0f};
     u.interior = {s.interior.x(), s.interior.y(), s.interior.z(), s.interior.w()};
     u.visibility = {s.depth_push, s.cull_facing, s.depth_min_alpha, s.mesh_occluders ? s.occluder_tolerance : 0.0f};
     const Environment& e = l.environment;

@@ -77,7 +77,10 @@ void SceneRuntime::add_surface_and_map_passes(GraphAssembly& h) {
     graph::FrameGraph& g = graph_;
     graph::Blackboard& board = h.board;
     graph::import_into(g, board, keys::density_stats, &density_stats_);
-    add_surface_passes(g, board, {splat_particles_, h_, scene_.surface.seed, tag(PassGroup::update)});
+    SurfacePassConfig surface{splat_particles_, h_, scene_.surface.seed, tag(PassGroup::update)};
+    const render::SplatStyle& style = scene_.render.frame.style;
+    surface.thin = style.thin_below > 0.0f && style.blend == render::Blend::normalised;
+    add_surface_passes(g, board, surface);
     if (h.boundary && !paint_.empty()) {
         graph::import_into(g, board, keys::paint, &paint_);
         add_paint_pass(g, board, tag(PassGroup::update));

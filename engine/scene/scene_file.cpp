@@ -327,6 +327,10 @@ void read_splat_look(const Reader& r, Reader::Table& t, RenderDesc& d) {
     const std::string shape = t.choice("splat_shape", "round", {"round", "surfel", "deformed"});
     d.splat_shape = shape == "surfel" ? SplatShape::surfel : shape == "deformed" ? SplatShape::deformed : SplatShape::round;
     style.surfel_thickness = d.splat_shape == SplatShape::surfel ? d.surfel_thickness : 0.0f;
+    if (style.thin_below > 0.0f && (!normalised || d.splat_shape == SplatShape::deformed))
+        r.fail(t.source_of("thin_below"), "'render.thin_below' draws small splats fewer and larger, weighed against their "
+                                          "neighbours: it needs 'render.blend' = \"normalised\" and round or surfel splats "
+                                          "(not 'splat_shape' = \"deformed\")");
     d.varying_normals = t.choice("splat_normals", "varying", {"varying", "flat"}) == "varying";
     const Vec3f bg = t.vec<3>("background", Vec3f(d.frame.background.head<3>()), 0.0, 1.0);
     d.frame.background = Vec4f(bg.x(), bg.y(), bg.z(), 1.0f);

@@ -111,6 +111,7 @@ inline const Key<RenderDesc> k_render_keys[] = {
     PBDSPLAT_KEY(RenderDesc, "ground", ground),
     PBDSPLAT_KEY(RenderDesc, "cull_back", cull_back),
     PBDSPLAT_KEY(RenderDesc, "kappa", frame.style.kappa, 0.0, 6.0),
+    PBDSPLAT_KEY(RenderDesc, "thin_below", frame.style.thin_below, 0.0, 16.0),
     PBDSPLAT_KEY(RenderDesc, "depth_min_alpha", frame.style.depth_min_alpha, 0.0, 0.99),
     PBDSPLAT_KEY(RenderDesc, "depth_push", frame.style.depth_push, 0.0, 10.0),
     PBDSPLAT_KEY(RenderDesc, "environment_intensity", frame.lighting.environment.intensity, 0.0, 100.0),

@@ -60,6 +60,16 @@ struct Appearance {
 
 GaussianRecord make_record(const Vec3f& position, const Vec3f& normal, const Appearance& a, float fade = 1.0f);
 
+// The record's place in the thinning order (surface/thin_order.h): its level (0 to
+// SPLAT_THIN_LEVELS) and its rank within the level (0 to 63: the order in which a level's
+// splats go while it is thinned out), kept beside the curvature's left-out axis (gpu_types.h);
+// either may be set first.
+void set_thin_level(GaussianRecord& r, int level, int rank = 0);
+int thin_level(const GaussianRecord& r);
+int thin_rank(const GaussianRecord& r);
+// The curvature's left-out axis (0, 1 or 2).
+int curvature_axis(const GaussianRecord& r);
+
 // The shape whose covariance is axes * axes^T (columns: the Gaussian's axes, world units).
 GaussianShape make_shape(const Eigen::Matrix3f& axes);
 Eigen::Matrix3f shape_axes(const GaussianShape& s);

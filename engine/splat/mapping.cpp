@@ -1,13 +1,30 @@
 #include "splat/mapping.h"
 
+#include "surface/thin_order.h"
+
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 
 #include "mesh/deformation.h"
 
 namespace pbdsplat::splat {
 
+static_assert(surface::k_thin_levels == SPLAT_THIN_LEVELS, "the thinning order's levels are the shaders'");
+
 namespace {
+// A sample's rank within its thinning level: a hash of where it lies on its triangle, so the
+// same sample keeps it from frame to frame (and a sample a change moved takes another).
+int thin_rank_of(uint32_t triangle, const Vec2f& bary) {
+    uint32_t bx, by;
+    std::memcpy(&bx, &bary.x(), 4);
+    std::memcpy(&by, &bary.y(), 4);
+    uint32_t h = triangle * 0x9E3779B1u ^ bx * 0x85EBCA77u ^ by * 0xC2B2AE3Du;
+    h ^= h >> 15;
+    h *= 0x2C1B3C6Du;
+    h ^= h >> 12;
+    return int(h >> 26);
+}
 // Twice the area over the longest edge squared: 0.87 for an equilateral triangle; below this a
 // triangle counts as a sliver.
 constexpr float k_min_shape_quality = 0.02f;
@@ -65,6 +82,8 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
         for (size_t i = 0; i < n; ++i) out[i].scale_half = float_to_half(look.scale * stretch->vertex(uint32_t(i)));
     if (field && field->has_vertices())
         for (size_t i = 0; i < n; ++i) set_curvature(field->vertex(uint32_t(i)), normals[i], out[i]);
+    // The particles stand for the body's shape: never thinned.
+    for (size_t i = 0; i < n; ++i) set_thin_level(out[i], SPLAT_THIN_LEVELS);
     for (size_t k = 0; k < m; ++k) {
         GaussianRecord r = base;
         const Vec3f& p = samples->position[k];
@@ -83,6 +102,7 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
         if (size != 1.0f) r.scale_half = float_to_half(look.scale * size);
         if (field) set_curvature(field->triangle(t), samples->normal[k], r);
         if (k < samples->fade.size()) r.color[3] = uint8_t(std::lround(std::clamp(samples->fade[k], 0.0f, 1.0f) * 255.0f));
+        if (k < samples->thin_level.size()) set_thin_level(r, samples->thin_level[k], thin_rank_of(t, samples->bary[k]));
         out[n + k] = r;
     }
 }

@@ -38,12 +38,12 @@ void set_curvature(const SymmetricCurvature& s, const Vec3f& n, GaussianRecord& 
     r.curvature_half[0] = core::float_to_half_in_range(s[size_t(k_index[i][i])]);
     r.curvature_half[1] = core::float_to_half_in_range(s[size_t(k_index[i][j])]);
     r.curvature_half[2] = core::float_to_half_in_range(s[size_t(k_index[j][j])]);
-    r.curvature_half[3] = core::float_to_half_in_range(float(d));
+    r.curvature_half[3] = core::float_to_half_in_range(float(d + 4 * thin_level(r) + 32 * thin_rank(r)));
 }
 
 Mat3f decode_curvature(const GaussianRecord& r) {
     const Vec3f n = decode_octahedral(r.normal_oct);
-    const int d = int(std::lround(half_to_float(r.curvature_half[3])));
+    const int d = curvature_axis(r);
     const int i = (d + 1) % 3, j = (d + 2) % 3;
     const float a = half_to_float(r.curvature_half[0]), b = half_to_float(r.curvature_half[1]),
                 c = half_to_float(r.curvature_half[2]);

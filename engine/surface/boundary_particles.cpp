@@ -171,6 +171,8 @@ void BoundaryParticles::clear() {
     fade_step.clear();
     size_factor.clear();
     color.clear();
+    thin_level.clear();
+    thin_gaps.clear();
 }
 
 float spacing(const mesh::TriangleMesh& m, float eta) { return eta * mesh::mean_edge_length(m); }

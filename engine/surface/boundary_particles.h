@@ -47,6 +47,11 @@ struct BoundaryParticles {
     // vertex colours): linear RGB as bytes, alpha 255 once painted (scene/stages/paint.h). Empty
     // for a plain material; shorter than the other arrays, or 0, where a sample waits for paint.
     std::vector<uint32_t> color;
+    // Each sample's level in the thinning order (surface/thin_order.h); shorter (or empty) where
+    // not yet given. Where samples of a level above 0 were removed, their positions (the gaps
+    // they leave in the order, to fill around).
+    std::vector<uint8_t> thin_level;
+    std::vector<Vec3f> thin_gaps;
 
     size_t size() const { return triangle.size(); }
     bool embedded() const { return !offset.empty(); }
@@ -129,15 +134,23 @@ size_t BoundaryParticles::keep_if(const Keep& keep) {
     if (!fade.empty()) pad_fades();
     if (!size_factor.empty()) size_factor.resize(size(), 1.0f);
     if (!color.empty()) color.resize(size(), 0u);
+    if (!thin_level.empty()) thin_level.resize(size(), 0u);
     // The kept prefix stays where it is: a local edit drops few samples, late in the arrays.
     size_t first = 0;
     while (first < size() && keep(first)) ++first;
     if (first == size()) return 0;
+    const auto gap = [this](size_t i) {
+        if (i < thin_level.size() && thin_level[i] > 0 && position.size() == size()) thin_gaps.push_back(position[i]);
+    };
+    gap(first);
     size_t out = first;
     const bool off = !offset.empty(), nl = !local_normal.empty(), pos = position.size() == size(), fd = !fade.empty(),
-               sz = !size_factor.empty(), col = !color.empty();
+               sz = !size_factor.empty(), col = !color.empty(), lv = !thin_level.empty();
     for (size_t i = first + 1; i < size(); ++i) {
-        if (!keep(i)) continue;
+        if (!keep(i)) {
+            gap(i);
+            continue;
+        }
         triangle[out] = triangle[i];
         bary[out] = bary[i];
         if (off) offset[out] = offset[i];
@@ -146,6 +159,7 @@ size_t BoundaryParticles::keep_if(const Keep& keep) {
         if (fd) fade[out] = fade[i], fade_step[out] = fade_step[i];
         if (sz) size_factor[out] = size_factor[i];
         if (col) color[out] = color[i];
+        if (lv) thin_level[out] = thin_level[i];
         ++out;
     }
     const size_t dropped = size() - out;
@@ -157,6 +171,7 @@ size_t BoundaryParticles::keep_if(const Keep& keep) {
     if (fd) fade.resize(out), fade_step.resize(out);
     if (sz) size_factor.resize(out);
     if (col) color.resize(out);
+    if (lv) thin_level.resize(out);
     return dropped;
 }
 

@@ -23,15 +23,19 @@ struct alignas(16) mat4 { float m[16]; };  // column-major, as GLSL reads it
 // curvature  : R16G16B16A16_SFLOAT how the surface's normal turns across the splat: the
 //              symmetric 3x3 S, per world unit, so that a step p in the splat's tangent plane
 //              turns its normal by S p. S n = 0, so three numbers hold it: x, y, z are S's 2x2
-//              block (ii, ij, jj) on the two axes other than d = w (0, 1 or 2, the normal's
+//              block (ii, ij, jj) on the two axes other than d (0, 1 or 2, the normal's
 //              largest component), i = d+1, j = d+2 (mod 3); splat_curvature() rebuilds the rest.
-//              Zero draws one normal per splat (the paper's flat shading)
+//              xyz zero draws one normal per splat (the paper's flat shading). w holds the
+//              integer d + 4 l + 32 k: l is the splat's level in the thinning order (0 to
+//              SPLAT_THIN_LEVELS, surface/thin_order.h), k (0-63) its rank within the level
+//              (splat_thin() in splat_footprint.glsl).
 #define SPLAT_RECORD_SIZE 32
 #define SPLAT_OFFSET_POSITION 0
 #define SPLAT_OFFSET_NORMAL 12
 #define SPLAT_OFFSET_COLOR 16
 #define SPLAT_OFFSET_SCALE_OPACITY 20
 #define SPLAT_OFFSET_CURVATURE 24
+#define SPLAT_THIN_LEVELS 4
 
 // ---- Anisotropic splats (optional storage stream, binding 3 of the splat pass) --------------
 // Per record, the three axes of its Gaussian in world units (columns of R S, so the covariance
@@ -65,7 +69,8 @@ struct FrameUniforms {
                        // paper disc's half-size in s0; y, z: sharpness sigma_x, sigma_y;
                        // w: global scale multiplier
     vec4 material;     // x: shininess; y: surfel thickness along the normal over the width
-                       // (0: the paper's round splats); zw unused
+                       // (0: the paper's round splats); z: splats under this many pixels of
+                       // standard deviation are thinned (0: none, splat_thin()); w unused
     vec4 interior;     // rgb: the colour of the surface's inside seen through an opening;
                        // a: how much it replaces a splat's own there (0: not at all)
     vec4 visibility;   // x: depth push of the visibility pass, in splat std devs;

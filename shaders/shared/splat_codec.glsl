@@ -13,7 +13,7 @@ vec3 decode_octahedral(vec2 e) {
 // leaves out (c.w), with S n = 0 (splat::decode_curvature on the CPU).
 mat3 splat_curvature(vec4 c, vec3 n) {
     if (c.xyz == vec3(0.0)) return mat3(0.0);
-    const int d = clamp(int(c.w + 0.5), 0, 2), i = (d + 1) % 3, j = (d + 2) % 3;
+    const int d = min(int(c.w + 0.5) & 3, 2), i = (d + 1) % 3, j = (d + 2) % 3;
     const float id = -(c.x * n[i] + c.y * n[j]) / n[d], jd = -(c.y * n[i] + c.z * n[j]) / n[d];
     mat3 s;
     s[i][i] = c.x;
@@ -32,6 +32,13 @@ mat3 splat_curvature(vec4 c, vec3 n) {
 void splat_tangent_frame(vec3 n, out vec3 t1, out vec3 t2) {
     t1 = normalize(cross(n, abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0)));
     t2 = cross(n, t1);
+}
+
+// The splat's place in the thinning order (surface/thin_order.h), stored above the curvature's
+// left-out axis: x its level, y its rank within the level in (0, 1).
+vec2 splat_thin_place(vec4 c) {
+    const int packed = int(c.w + 0.5);
+    return vec2(float((packed >> 2) & 7), (float(packed >> 5) + 0.5) / 64.0);
 }
 
 // Opacity from its logit (eq. 21).

@@ -125,6 +125,30 @@ mat3 surfel_axes(vec3 normal, float s0, float thickness) {
     return mat3(s0 * t1, s0 * t2, thickness * s0 * n);
 }
 
+// Splats under frame.material.z pixels of standard deviation (render.thin_below) are drawn
+// fewer and larger: a fraction p = (sigma / target)^2 of them, by their place in the thinning
+// order (surface/thin_order.h: those of each level and above cover the surface evenly), each
+// grown by 1 / sqrt(p) so that together they cover what all did. On pixel-sized splats most of
+// the pass is making and testing their tiny triangles' fragments, which this divides by 1 / p.
+// With t = log2(1 / p), the levels below floor(t) are gone and the one at it goes splat by
+// splat in rank order as t passes through it, so the count falls with p and nothing pops as a
+// whole. False: not drawn.
+bool splat_thin(vec3 world, vec2 place, inout float s0) {
+    const float target = frame.material.z;
+    if (!(target > 0.0) || k_anisotropic) return true;
+    const float depth = -(frame.view * vec4(world, 1.0)).z;
+    const float pixel = 2.0 * max(depth, 1e-6) / (abs(frame.proj[1][1]) * frame.viewport.y);
+    const float sigma = s0 / pixel;
+    if (!(sigma < target)) return true;
+    // At most an eighth of them: grown further, their reach left holes (1 % of bunny_cut at the
+    // checks' 240x135, splats a third of a pixel wide). The top level is never dropped.
+    const float t = min(2.0 * log2(target / max(sigma, 1e-3)), float(SPLAT_THIN_LEVELS - 1));
+    const float k = floor(t);
+    if (place.x < k || (place.x < k + 1.0 && place.y < t - k)) return false;
+    s0 *= exp2(0.5 * t);
+    return true;
+}
+
 // `index`: the splat's place in the draw, where its shape is read (anisotropic pipelines).
 SplatQuad splat_quad(vec3 world, vec3 normal, float s0, float alpha, bool visibility_pass, uint index) {
     SplatQuad q;

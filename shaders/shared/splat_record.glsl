@@ -14,6 +14,7 @@ struct SplatRecord {
     float scale;
     float opacity_logit;
     mat3 curvature;  // S: a step p in the tangent plane turns the normal by S p
+    vec2 thin;  // its place in the thinning order (splat_thin_place)
 };
 
 SplatRecord read_record(uint i) {
@@ -27,7 +28,9 @@ SplatRecord read_record(uint i) {
     r.scale = so.x;
     r.opacity_logit = so.y;
     const uint c = base + SPLAT_OFFSET_CURVATURE / 4;
-    r.curvature = splat_curvature(vec4(unpackHalf2x16(record_words[c]), unpackHalf2x16(record_words[c + 1u])), r.normal);
+    const vec4 packed = vec4(unpackHalf2x16(record_words[c]), unpackHalf2x16(record_words[c + 1u]));
+    r.curvature = splat_curvature(packed, r.normal);
+    r.thin = splat_thin_place(packed);
     return r;
 }
 

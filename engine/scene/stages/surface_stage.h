@@ -65,6 +65,7 @@ struct SurfacePassConfig {
     float h = 0.0f;
     uint32_t seed = 0;
     uint32_t tag = 0;  // the passes' group (scene/stages/pass_group.h)
+    bool thin = false;  // the renderer thins small splats: the samples keep a thinning order
 };
 // The density control's pass, by which `bench scene --passes` finds its time per sample.
 inline constexpr const char* k_density_pass = "density";
