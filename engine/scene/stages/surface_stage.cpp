@@ -43,6 +43,31 @@ core::Result<SurfaceSetup> setup_surface(const SurfaceDesc& desc, uint32_t fade_
     return out;
 }
 
+namespace {
+// New samples (at load, refilled after a change, darted where the surface stretched) join the
+// thinning order around the old ones, with their piece: pieces do not cover for each other once
+// they part. Around removed samples the order is remade too.
+void add_thin_order_pass(graph::FrameGraph& g, graph::Handle<sim::SoftBody> body, graph::Handle<surface::BoundaryParticles>& samples,
+                         const SurfacePassConfig& config) {
+    g.add_pass(
+        "thin order", graph::PassKind::cpu,
+        [&](graph::PassBuilder& b) {
+            b.read(body);
+            samples = b.write(samples);
+            return [config, body, samples](const graph::PassResources& r, graph::ExecuteContext&) {
+                surface::BoundaryParticles& s = r.write(samples);
+                if (s.thin_level.size() == s.size() && s.thin_gaps.empty()) return;
+                const sim::SoftBody& bd = r.read(body);
+                std::vector<uint32_t> piece(s.size());
+                for (size_t i = 0; i < s.size(); ++i) piece[i] = bd.piece_of_particle[bd.triangles[s.triangle[i]][0]];
+                surface::place_in_thin_order(s.position, s.normal, piece, config.h, s.thin_level, s.thin_gaps);
+                s.thin_gaps.clear();
+            };
+        },
+        config.tag);
+}
+} // namespace
+
 void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const SurfacePassConfig& config) {
     struct SurfaceHandles {
         graph::Handle<sim::SoftBody> body;                  // read
@@ -86,26 +111,7 @@ void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const Su
             };
         },
         config.tag);
-    // New samples (at load, refilled after a change, darted where the surface stretched) join
-    // the thinning order around the old ones, with their piece: pieces do not cover for each
-    // other once they part. Samples removed leave their level's gap until the next ones join.
-    if (config.thin)
-        g.add_pass(
-            "thin order", graph::PassKind::cpu,
-            [&](graph::PassBuilder& b) {
-                b.read(h.body);
-                h.samples = b.write(h.samples);
-                return [config, body = h.body, samples = h.samples](const graph::PassResources& r, graph::ExecuteContext&) {
-                    surface::BoundaryParticles& s = r.write(samples);
-                    if (s.thin_level.size() == s.size() && s.thin_gaps.empty()) return;
-                    const sim::SoftBody& bd = r.read(body);
-                    std::vector<uint32_t> piece(s.size());
-                    for (size_t i = 0; i < s.size(); ++i) piece[i] = bd.piece_of_particle[bd.triangles[s.triangle[i]][0]];
-                    surface::place_in_thin_order(s.position, s.normal, piece, config.h, s.thin_level, s.thin_gaps);
-                    s.thin_gaps.clear();
-                };
-            },
-            config.tag);
+    if (config.thin) add_thin_order_pass(g, h.body, h.samples, config);
     g.add_pass(
         "stretch", graph::PassKind::cpu,
         [&](graph::PassBuilder& b) {
