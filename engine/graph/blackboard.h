@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 #include <typeindex>
+#include <utility>
 
 #include "core/result.h"
 #include "graph/frame_graph.h"
@@ -24,6 +25,11 @@ public:
     template <class T>
     void put(Key<T> key, Handle<T> h) {
         put_entry(key.name, std::type_index(typeid(T)), h.version);
+    }
+    // put() for each pair: a module hands back everything its passes wrote in one statement.
+    template <class... T>
+    void put_all(const std::pair<Key<T>, Handle<T>>&... entries) {
+        (put(entries.first, entries.second), ...);
     }
     // The handle under `key`, or an error naming the key: absent, or put there as another type.
     template <class T>

@@ -297,5 +297,10 @@ TEST_SUITE("graph/frame_graph") {
         CHECK(mistyped.error().to_string().find("'value' holds") != std::string::npos);
         CHECK(board.has("value"));
         CHECK(!board.has("missing"));
+        // Several at once, each under its own key and type.
+        constexpr graph::Key<float> k_other{"other"};
+        board.put_all(std::pair{k_value, graph::Handle<int>{41}}, std::pair{k_other, graph::Handle<float>{42}});
+        CHECK(board.get(k_value).version == 41);
+        CHECK(board.get(k_other).version == 42);
     }
 }

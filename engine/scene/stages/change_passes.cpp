@@ -131,14 +131,9 @@ void add_change_passes(graph::FrameGraph& g, graph::Blackboard& board, const Cha
     }
     add_mapping_follow_pass(g, h, o);
     if (o.stretch) add_stretch_follow_pass(g, h, o);
-    board.put(keys::changes, h.changes);
-    board.put(keys::samples, h.samples);
-    board.put(keys::fine_embedding, h.fine);
-    board.put(keys::density, h.density);
-    board.put(keys::mapping, h.mapping);
-    board.put(keys::map_settings, h.settings);
-    board.put(keys::cut_faces, h.cut_faces);
-    board.put(keys::stretch, h.stretch);
+    board.put_all(std::pair{keys::changes, h.changes}, std::pair{keys::samples, h.samples}, std::pair{keys::fine_embedding, h.fine},
+                  std::pair{keys::density, h.density}, std::pair{keys::mapping, h.mapping}, std::pair{keys::map_settings, h.settings},
+                  std::pair{keys::cut_faces, h.cut_faces}, std::pair{keys::stretch, h.stretch});
 }
 
 } // namespace pbdsplat::scene
