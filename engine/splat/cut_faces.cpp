@@ -139,9 +139,6 @@ void CutFaces::append_records(std::span<const Vec4f> x, std::span<const Vec3f> c
             const Vec3f p = (1.0f - b.x() - b.y()) * x[t[0]].head<3>() + b.x() * x[t[1]].head<3>() + b.y() * x[t[2]].head<3>();
             out.push_back(make_record(p, nt, inside, std::min(1.0f, fade)));
             out.back().scale_half = float_to_half(scale);
-            // Never thinned: a face's own thinning order, made when it appeared, left holes
-            // where bunny_cut's faces are seen at a grazing angle (docs/BENCHMARKS.md).
-            set_thin_level(out.back(), SPLAT_THIN_LEVELS);
             if (shapes) {
                 const Vec3f t1 = nt.unitOrthogonal(), t2 = nt.cross(t1);
                 Eigen::Matrix3f axes;

@@ -63,17 +63,18 @@ GaussianRecord make_record(const Vec3f& position, const Vec3f& normal, const App
 }
 
 namespace {
-int packed_axis_and_level(const GaussianRecord& r) { return int(std::lround(half_to_float(r.curvature_half[3]))); }
+// An integer below 2048, which a half holds exactly: 2 bits of axis, 3 of levels below the top
+// (0 in a record made without a place: never thinned), 6 of rank.
+int packed_curvature_w(const GaussianRecord& r) { return int(std::lround(half_to_float(r.curvature_half[3]))); }
 } // namespace
 
-// An integer below 2048, which a half holds exactly: 2 bits of axis, 3 of level, 6 of rank.
 void set_thin_level(GaussianRecord& r, int level, int rank) {
-    const int packed = curvature_axis(r) + 4 * std::clamp(level, 0, SPLAT_THIN_LEVELS) + 32 * std::clamp(rank, 0, 63);
-    r.curvature_half[3] = float_to_half(float(packed));
+    const int below_top = SPLAT_THIN_LEVELS - std::clamp(level, 0, SPLAT_THIN_LEVELS);
+    r.curvature_half[3] = float_to_half(float(curvature_axis(r) + 4 * below_top + 32 * std::clamp(rank, 0, 63)));
 }
-int thin_level(const GaussianRecord& r) { return (packed_axis_and_level(r) >> 2) & 7; }
-int thin_rank(const GaussianRecord& r) { return packed_axis_and_level(r) >> 5; }
-int curvature_axis(const GaussianRecord& r) { return std::min(packed_axis_and_level(r) & 3, 2); }
+int thin_level(const GaussianRecord& r) { return SPLAT_THIN_LEVELS - ((packed_curvature_w(r) >> 2) & 7); }
+int thin_rank(const GaussianRecord& r) { return packed_curvature_w(r) >> 5; }
+int curvature_axis(const GaussianRecord& r) { return std::min(packed_curvature_w(r) & 3, 2); }
 
 GaussianShape make_shape(const Eigen::Matrix3f& axes) {
     GaussianShape s;

@@ -63,7 +63,8 @@ GaussianRecord make_record(const Vec3f& position, const Vec3f& normal, const App
 // The record's place in the thinning order (surface/thin_order.h): its level (0 to
 // SPLAT_THIN_LEVELS) and its rank within the level (0 to 63: the order in which a level's
 // splats go while it is thinned out), kept beside the curvature's left-out axis (gpu_types.h);
-// either may be set first.
+// either may be set first. A record made without one (particles, cut faces, captures) is at the
+// top level: never thinned.
 void set_thin_level(GaussianRecord& r, int level, int rank = 0);
 int thin_level(const GaussianRecord& r);
 int thin_rank(const GaussianRecord& r);

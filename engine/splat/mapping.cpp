@@ -1,12 +1,11 @@
 #include "splat/mapping.h"
 
-#include "surface/thin_order.h"
-
 #include <algorithm>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 
 #include "mesh/deformation.h"
+#include "surface/thin_order.h"
 
 namespace pbdsplat::splat {
 
@@ -82,8 +81,6 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
         for (size_t i = 0; i < n; ++i) out[i].scale_half = float_to_half(look.scale * stretch->vertex(uint32_t(i)));
     if (field && field->has_vertices())
         for (size_t i = 0; i < n; ++i) set_curvature(field->vertex(uint32_t(i)), normals[i], out[i]);
-    // The particles stand for the body's shape: never thinned.
-    for (size_t i = 0; i < n; ++i) set_thin_level(out[i], SPLAT_THIN_LEVELS);
     for (size_t k = 0; k < m; ++k) {
         GaussianRecord r = base;
         const Vec3f& p = samples->position[k];

@@ -38,7 +38,7 @@ void set_curvature(const SymmetricCurvature& s, const Vec3f& n, GaussianRecord& 
     r.curvature_half[0] = core::float_to_half_in_range(s[size_t(k_index[i][i])]);
     r.curvature_half[1] = core::float_to_half_in_range(s[size_t(k_index[i][j])]);
     r.curvature_half[2] = core::float_to_half_in_range(s[size_t(k_index[j][j])]);
-    r.curvature_half[3] = core::float_to_half_in_range(float(d + 4 * thin_level(r) + 32 * thin_rank(r)));
+    r.curvature_half[3] = core::float_to_half_in_range(float(d + 4 * (SPLAT_THIN_LEVELS - thin_level(r)) + 32 * thin_rank(r)));
 }
 
 Mat3f decode_curvature(const GaussianRecord& r) {

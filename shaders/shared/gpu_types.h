@@ -26,9 +26,9 @@ struct alignas(16) mat4 { float m[16]; };  // column-major, as GLSL reads it
 //              block (ii, ij, jj) on the two axes other than d (0, 1 or 2, the normal's
 //              largest component), i = d+1, j = d+2 (mod 3); splat_curvature() rebuilds the rest.
 //              xyz zero draws one normal per splat (the paper's flat shading). w holds the
-//              integer d + 4 l + 32 k: l is the splat's level in the thinning order (0 to
-//              SPLAT_THIN_LEVELS, surface/thin_order.h), k (0-63) its rank within the level
-//              (splat_thin() in splat_footprint.glsl).
+//              integer d + 4 (SPLAT_THIN_LEVELS - l) + 32 k: l is the splat's level in the
+//              thinning order (surface/thin_order.h; 0 stored, the top: never thinned), k (0-63)
+//              its rank within the level (splat_thin() in splat_footprint.glsl).
 #define SPLAT_RECORD_SIZE 32
 #define SPLAT_OFFSET_POSITION 0
 #define SPLAT_OFFSET_NORMAL 12

@@ -38,7 +38,7 @@ void splat_tangent_frame(vec3 n, out vec3 t1, out vec3 t2) {
 // left-out axis: x its level, y its rank within the level in (0, 1).
 vec2 splat_thin_place(vec4 c) {
     const int packed = int(c.w + 0.5);
-    return vec2(float((packed >> 2) & 7), (float(packed >> 5) + 0.5) / 64.0);
+    return vec2(float(SPLAT_THIN_LEVELS - ((packed >> 2) & 7)), (float(packed >> 5) + 0.5) / 64.0);
 }
 
 // Opacity from its logit (eq. 21).
