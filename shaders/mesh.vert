@@ -7,14 +7,17 @@ layout(set = 0, binding = 0, std140) uniform Frame { FrameUniforms frame; };
 layout(location = 0) in vec4 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec3 in_color;  // the model's own colour (ones for a plain material)
+layout(location = 3) in vec2 in_uv;     // read only where the draw samples a texture
 
 layout(location = 0) out vec3 v_world;
 layout(location = 1) out vec3 v_normal;
 layout(location = 2) out vec3 v_color;
+layout(location = 3) out vec2 v_uv;
 
 void main() {
     v_world = in_position.xyz;
     v_normal = in_normal;
     v_color = in_color;
+    v_uv = in_uv;
     gl_Position = frame.proj * frame.view * vec4(in_position.xyz, 1.0);
 }

@@ -99,4 +99,23 @@ Vec3f SurfaceLook::color_at(uint32_t t, const Vec2f& b) const {
     return c;
 }
 
+SurfaceLook::Parts SurfaceLook::parts_at(uint32_t t, const Vec2f& b) const {
+    const float b0 = 1.0f - b.x() - b.y();
+    Parts p;
+    if (!material.empty() && material[t] < materials.size()) {
+        const Material& m = materials[material[t]];
+        p.tint = m.color;
+        if (m.texture >= 0 && size_t(m.texture) < textures.size() && !uv.empty()) {
+            const auto& q = uv[t];
+            p.texture = m.texture;
+            p.uv = b0 * q[0] + b.x() * q[1] + b.y() * q[2];
+        }
+    }
+    if (!corner_color.empty()) {
+        const auto& k = corner_color[t];
+        p.tint = p.tint.cwiseProduct(b0 * k[0] + b.x() * k[1] + b.y() * k[2]);
+    }
+    return p;
+}
+
 } // namespace pbdsplat::asset

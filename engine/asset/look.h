@@ -49,6 +49,14 @@ struct SurfaceLook {
     bool has_colour() const;
     // Linear RGB at barycentric (b1, b2) of triangle t.
     Vec3f color_at(uint32_t t, const Vec2f& bary) const;
+    // What color_at multiplies, apart: the texture (-1 for none) at its coordinates, and the
+    // material and corner colours together (the tint), for a renderer that samples the texture.
+    struct Parts {
+        Vec3f tint = Vec3f::Ones();
+        int32_t texture = -1;
+        Vec2f uv = Vec2f::Zero();
+    };
+    Parts parts_at(uint32_t t, const Vec2f& bary) const;
 };
 
 // sRGB-encoded byte to linear [0, 1].

@@ -4,6 +4,7 @@
 // at rest, so a sample added late (after a cut, by the density control) gets the colour of the
 // spot it stands on, and decimating the simulation mesh never blurs the texture.
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "asset/look.h"
@@ -20,6 +21,8 @@ public:
     // Linear RGB at the surface point nearest to p (in the look's coordinates). Threads may ask
     // at once, each with its own scratch.
     Vec3f at(const Vec3f& p, std::vector<mesh::ClosestPoint>& scratch) const;
+    // The look's triangle nearest to p and the barycentrics there (none for an empty look).
+    std::optional<mesh::ClosestPoint> nearest(const Vec3f& p, std::vector<mesh::ClosestPoint>& scratch) const;
     const SurfaceLook& look() const { return look_; }
 
 private:

@@ -1,13 +1,14 @@
 #include "gpu/texture.h"
 
+#include <cstddef>
 #include <cstring>
+#include <vector>
 
 #include "core/half.h"
 #include "gpu/barriers.h"
 #include "gpu/buffer.h"
 
 namespace pbdsplat::gpu {
-
 
 core::Status submit_once(Context& ctx, const std::function<void(VkCommandBuffer)>& record) {
     VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -42,16 +43,29 @@ core::Status submit_once(Context& ctx, const std::function<void(VkCommandBuffer)
 core::Result<Texture> Texture::create_rgba16f(Context& ctx, uint32_t width, uint32_t height, std::span<const float> texels) {
     if (width == 0 || height == 0 || texels.size() != size_t(width) * height * 4)
         return core::make_error("texture: need width * height RGBA texels");
+    std::vector<uint16_t> half(texels.size());
+    for (size_t i = 0; i < texels.size(); ++i) half[i] = core::float_to_half(texels[i]);
+    return create(ctx, width, height, VK_FORMAT_R16G16B16A16_SFLOAT, std::as_bytes(std::span<const uint16_t>(half)),
+                  VK_SAMPLER_ADDRESS_MODE_REPEAT, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE);
+}
+
+core::Result<Texture> Texture::create_rgba8_srgb(Context& ctx, uint32_t width, uint32_t height, std::span<const uint8_t> texels,
+                                                VkSamplerAddressMode wrap_u, VkSamplerAddressMode wrap_v) {
+    if (width == 0 || height == 0 || texels.size() != size_t(width) * height * 4)
+        return core::make_error("texture: need width * height RGBA texels");
+    return create(ctx, width, height, VK_FORMAT_R8G8B8A8_SRGB, std::as_bytes(texels), wrap_u, wrap_v);
+}
+
+core::Result<Texture> Texture::create(Context& ctx, uint32_t width, uint32_t height, VkFormat format, std::span<const std::byte> bytes,
+                                      VkSamplerAddressMode wrap_u, VkSamplerAddressMode wrap_v) {
     Texture t;
-    auto image = Image::create_2d(ctx, width, height, VK_FORMAT_R16G16B16A16_SFLOAT,
-                                  VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
+    auto image = Image::create_2d(ctx, width, height, format, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                                  VK_IMAGE_ASPECT_COLOR_BIT);
     if (!image.ok()) return image.error();
     t.image_ = std::move(image).value();
-    const VkDeviceSize bytes = VkDeviceSize(texels.size()) * 2;
-    auto staging = Buffer::create(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::upload);
+    auto staging = Buffer::create(ctx, bytes.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::upload);
     if (!staging.ok()) return staging.error();
-    auto* half = static_cast<uint16_t*>(staging->mapped());
-    for (size_t i = 0; i < texels.size(); ++i) half[i] = core::float_to_half(texels[i]);
+    std::memcpy(staging->mapped(), bytes.data(), bytes.size());
     const VkImage img = t.image_.handle();
     const VkBuffer src = staging->handle();
     PBDSPLAT_TRY(submit_once(ctx, [&](VkCommandBuffer cmd) {
@@ -69,8 +83,9 @@ core::Result<Texture> Texture::create_rgba16f(Context& ctx, uint32_t width, uint
     VkSamplerCreateInfo s{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     s.magFilter = s.minFilter = VK_FILTER_LINEAR;
     s.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-    s.addressModeU = VK_SAMPLER_ADDRESS_MODE_REPEAT;
-    s.addressModeV = s.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    s.addressModeU = wrap_u;
+    s.addressModeV = wrap_v;
+    s.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
     s.maxLod = 0.0f;
     VkSampler sampler = VK_NULL_HANDLE;
     PBDSPLAT_VK_TRY(vkCreateSampler(ctx.vk(), &s, nullptr, &sampler));

@@ -10,6 +10,41 @@
 namespace pbdsplat::passes {
 namespace {
 
+// Area-weighted vertex normals of the deformed mesh, for the lit image.
+std::vector<Vec3f> vertex_normals(std::span<const Vec4f> x, std::span<const std::array<uint32_t, 3>> triangles) {
+    std::vector<Vec3f> normals(x.size(), Vec3f::Zero());
+    for (const auto& t : triangles) {
+        const Vec3f n = (x[t[1]] - x[t[0]]).head<3>().cross((x[t[2]] - x[t[0]]).head<3>());
+        for (uint32_t v : t) normals[v] += n;
+    }
+    for (Vec3f& n : normals) n = n.norm() > 0.0f ? Vec3f(n.normalized()) : Vec3f::UnitZ();
+    return normals;
+}
+
+// A textured mesh on corners of its own (a vertex has a texture coordinate per triangle where a
+// seam runs through it), lit with the shared vertices' normals.
+core::Status set_textured_mesh(render::MeshRaster& raster, std::span<const Vec4f> x, std::span<const std::array<uint32_t, 3>> triangles,
+                               const ReferenceTextures& textures) {
+    const std::vector<Vec3f> shared = vertex_normals(x, triangles);
+    const size_t n = triangles.size() * 3;
+    std::vector<Vec4f> corners(n);
+    std::vector<Vec3f> normals(n), colors(n);
+    std::vector<Vec2f> uv(n);
+    std::vector<std::array<uint32_t, 3>> split(triangles.size());
+    for (size_t t = 0; t < triangles.size(); ++t)
+        for (size_t k = 0; k < 3; ++k) {
+            const size_t c = t * 3 + k;
+            corners[c] = x[triangles[t][k]];
+            normals[c] = shared[triangles[t][k]];
+            colors[c] = textures.tint[t][k];
+            uv[c] = textures.uv[t][k];
+            split[t][k] = uint32_t(c);
+        }
+    PBDSPLAT_TRY(raster.set_textures(textures.textures));
+    const render::MeshTexturing texturing{uv, textures.triangle_texture};
+    return raster.set_mesh(corners, split, normals, 0, colors, &texturing);
+}
+
 core::Result<std::unique_ptr<render::MeshRaster>> mesh_raster(gpu::Context& ctx, std::span<const Vec4f> x,
                                                               std::span<const std::array<uint32_t, 3>> triangles,
                                                               uint32_t width, uint32_t height, std::span<const Vec3f> colors) {
@@ -20,15 +55,50 @@ core::Result<std::unique_ptr<render::MeshRaster>> mesh_raster(gpu::Context& ctx,
     mo.max_triangles = triangles.size();
     auto raster = render::MeshRaster::create(ctx, mo);
     if (!raster.ok()) return raster.error();
-    // Area-weighted vertex normals of the deformed mesh, for the lit image.
-    std::vector<Vec3f> normals(x.size(), Vec3f::Zero());
-    for (const auto& t : triangles) {
-        const Vec3f n = (x[t[1]] - x[t[0]]).head<3>().cross((x[t[2]] - x[t[0]]).head<3>());
-        for (uint32_t v : t) normals[v] += n;
-    }
-    for (Vec3f& n : normals) n = n.norm() > 0.0f ? Vec3f(n.normalized()) : Vec3f::UnitZ();
-    PBDSPLAT_TRY(raster.value()->set_mesh(x, triangles, normals, 0, colors));
+    PBDSPLAT_TRY(raster.value()->set_mesh(x, triangles, vertex_normals(x, triangles), 0, colors));
     return std::move(raster).value();
+}
+
+// The mean of each k x k block of `fine`, in the image's own (display) encoding, as the splats
+// blend.
+core::ImageRgba8 box_down(const core::ImageRgba8& fine, uint32_t k) {
+    core::ImageRgba8 out;
+    out.width = fine.width / k;
+    out.height = fine.height / k;
+    out.pixels.resize(size_t(out.width) * out.height * 4);
+    for (uint32_t y = 0; y < out.height; ++y)
+        for (uint32_t x = 0; x < out.width; ++x)
+            for (uint32_t c = 0; c < 4; ++c) {
+                uint32_t sum = 0;
+                for (uint32_t dy = 0; dy < k; ++dy)
+                    for (uint32_t dx = 0; dx < k; ++dx)
+                        sum += fine.pixels[((size_t(y) * k + dy) * fine.width + size_t(x) * k + dx) * 4 + c];
+                out.pixels[(size_t(y) * out.width + x) * 4 + c] = uint8_t((sum + k * k / 2) / (k * k));
+            }
+    return out;
+}
+
+// The lit textured mesh, each pixel the mean of 4 x 4 samples: a texture's edges fall inside
+// pixels, and a pixel's colour is then the mean over its area, as the splats (themselves soft)
+// draw it, not whichever side its centre happens to fall on.
+core::Result<core::ImageRgba8> textured_image(gpu::Context& ctx, std::span<const Vec4f> x, std::span<const std::array<uint32_t, 3>> triangles,
+                                              const ReferenceTextures& textures, const render::FrameInputs& frame, uint32_t width,
+                                              uint32_t height) {
+    if (textures.triangle_texture.size() != triangles.size() || textures.uv.size() != triangles.size() ||
+        textures.tint.size() != triangles.size())
+        return core::make_error("measure_coverage: the textured look needs one entry per triangle");
+    constexpr uint32_t k_samples = 4;
+    render::MeshRasterOptions mo;
+    mo.width = width * k_samples;
+    mo.height = height * k_samples;
+    mo.max_vertices = triangles.size() * 3;
+    mo.max_triangles = triangles.size();
+    auto raster = render::MeshRaster::create(ctx, mo);
+    if (!raster.ok()) return raster.error();
+    PBDSPLAT_TRY(set_textured_mesh(*raster.value(), x, triangles, textures));
+    auto image = render_mesh_image(ctx, *raster.value(), frame, render::MeshView::shaded, Vec3f::Ones());
+    if (!image.ok()) return image.error();
+    return box_down(image->image, k_samples);
 }
 
 } // namespace
@@ -119,7 +189,8 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
                                         std::span<const std::array<uint32_t, 3>> triangles,
                                         std::span<const splat::GaussianRecord> records, render::FrameInputs frame,
                                         uint32_t width, uint32_t height, std::optional<Vec3f> albedo,
-                                        std::span<const splat::GaussianShape> shapes, std::span<const Vec3f> colors) {
+                                        std::span<const splat::GaussianShape> shapes, std::span<const Vec3f> colors,
+                                        const ReferenceTextures* textures) {
     Coverage c;
     auto raster = mesh_raster(ctx, x, triangles, width, height, colors);
     if (!raster.ok()) return raster.error();
@@ -129,9 +200,15 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
     if (albedo) {
         render::FrameInputs lit = frame;
         lit.background = Vec4f::Zero();
-        auto shaded = render_mesh_image(ctx, *raster.value(), lit, render::MeshView::shaded, colors.empty() ? *albedo : Vec3f::Ones());
-        if (!shaded.ok()) return shaded.error();
-        c.shaded = std::move(shaded->image);
+        if (textures) {
+            auto shaded = textured_image(ctx, x, triangles, *textures, lit, width, height);
+            if (!shaded.ok()) return shaded.error();
+            c.shaded = std::move(shaded).value();
+        } else {
+            auto shaded = render_mesh_image(ctx, *raster.value(), lit, render::MeshView::shaded, colors.empty() ? *albedo : Vec3f::Ones());
+            if (!shaded.ok()) return shaded.error();
+            c.shaded = std::move(shaded->image);
+        }
     }
 
     render::RendererOptions ro;

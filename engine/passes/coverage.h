@@ -8,6 +8,7 @@
 #include "core/image.h"
 #include "gpu/context.h"
 #include "render/frame_inputs.h"
+#include "render/mesh_textures.h"
 #include "splat/gaussian_record.h"
 
 namespace pbdsplat::passes {
@@ -48,12 +49,23 @@ double color_error(const core::ImageRgba8& splats, const core::ImageRgba8& shade
 // (the deflated default balloon: 0.32); and mottling finer than the check's pixels goes unseen.
 double edge_excess(const core::ImageRgba8& splats, const core::ImageRgba8& shaded_mesh, const core::ImageRgba8& mesh_mask);
 
+// A textured look per triangle of the mesh measured: its texture (into `textures`, -1 for
+// none), and per corner the texture coordinates and the colour the texture multiplies.
+struct ReferenceTextures {
+    std::span<const int32_t> triangle_texture;
+    std::span<const std::array<Vec2f, 3>> uv;
+    std::span<const std::array<Vec3f, 3>> tint;
+    std::span<const render::MeshTexture> textures;
+};
+
 core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f> x,
                                         std::span<const std::array<uint32_t, 3>> triangles,
                                         std::span<const splat::GaussianRecord> records, render::FrameInputs frame,
                                         uint32_t width, uint32_t height, std::optional<Vec3f> albedo = std::nullopt,
-                                        std::span<const splat::GaussianShape> shapes = {}, std::span<const Vec3f> colors = {});
+                                        std::span<const splat::GaussianShape> shapes = {}, std::span<const Vec3f> colors = {},
+                                        const ReferenceTextures* textures = nullptr);
 // `colors`, when given (one per vertex of x, linear), is the model's own look: the lit mesh is
-// drawn in it, as its splats are, instead of in `albedo`.
+// drawn in it, as its splats are, instead of in `albedo`. `textures`, when given, draws a
+// textured model's look as its file does: each pixel samples the texture (colors then unused).
 
 } // namespace pbdsplat::passes

@@ -1,6 +1,7 @@
 #include "render/gpu_sort.h"
 
 #include "gpu/barriers.h"
+#include "gpu/descriptor_pool.h"
 #include "gpu/pipeline.h"
 #include "splat/gaussian_record.h"
 
@@ -49,14 +50,10 @@ core::Result<GpuSort> GpuSort::create(gpu::Context& ctx, uint32_t capacity, std:
     }
 
     const auto n = uint32_t(records.size());
-    const VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, n * k_binding_count};
-    VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pool_info.maxSets = n;
-    pool_info.poolSizeCount = 1;
-    pool_info.pPoolSizes = &pool_size;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    PBDSPLAT_VK_TRY(vkCreateDescriptorPool(ctx.vk(), &pool_info, nullptr, &pool));
-    s.pool_ = gpu::DescriptorPool(ctx.vk(), pool);
+    auto pool_made = gpu::create_descriptor_pool(ctx, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, n * k_binding_count, n);
+    if (!pool_made.ok()) return pool_made.error();
+    s.pool_ = std::move(pool_made).value();
+    const VkDescriptorPool pool = s.pool_.get();
 
     for (uint32_t i = 0; i < n; ++i) {
         auto slot = create_slot(ctx, capacity, records[i], pool, set_layout);

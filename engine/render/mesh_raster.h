@@ -13,12 +13,21 @@
 #include "gpu/uniform_sets.h"
 #include "render/environment_texture.h"
 #include "render/frame_inputs.h"
+#include "render/mesh_textures.h"
 #include "render/offscreen_target.h"
 #include "render/splat_renderer.h"
 
 namespace pbdsplat::render {
 
 enum class MeshView { mask, shaded };
+
+// A textured mesh for MeshView::shaded: texture coordinates per vertex (v down, as
+// asset::Texture stores rows) and each triangle's texture (an index into the textures given to
+// set_textures(), or -1 for none).
+struct MeshTexturing {
+    std::span<const Vec2f> uv;
+    std::span<const int32_t> triangle_texture;
+};
 
 struct MeshRasterOptions {
     uint32_t width = 1280, height = 720;
@@ -38,8 +47,12 @@ public:
     // Copies the mesh into the (host-visible) vertex and index buffers; call while no frame
     // using them is in flight. `normals` (one per position) are needed for MeshView::shaded;
     // `colors` (linear, one per position), when given, multiply the albedo: a model's own look.
+    // `texturing`, when given, has the shaded view multiply the colours by the textures.
     core::Status set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles,
-                          std::span<const Vec3f> normals = {}, uint32_t slot = 0, std::span<const Vec3f> colors = {});
+                          std::span<const Vec3f> normals = {}, uint32_t slot = 0, std::span<const Vec3f> colors = {},
+                          const MeshTexturing* texturing = nullptr);
+    // The textures MeshTexturing indexes; call while no frame that reads them is in flight.
+    core::Status set_textures(std::span<const MeshTexture> textures) { return textures_.set(*ctx_, textures); }
     // Draws into the target (in attachment layouts); the caller's frame graph places the
     // barriers (uses::color_attachment etc.). A mask clears to transparent black, a shaded view
     // to the frame's background.
@@ -62,13 +75,20 @@ private:
     core::Status create_pipelines(gpu::Context& ctx);
     gpu::Context* ctx_ = nullptr;
     OffscreenTarget target_;
+    core::Status set_texturing(uint32_t slot_index, std::span<const std::array<uint32_t, 3>> triangles, const MeshTexturing& texturing);
+    // A run of the index buffer drawn with one texture.
+    struct Run {
+        uint32_t first_index = 0, index_count = 0;
+        int32_t texture = -1;
+    };
     struct Slot {
-        gpu::Buffer vertices, normals, colors, indices;
-        uint32_t index_count = 0;
+        gpu::Buffer vertices, normals, colors, uvs, indices;
+        std::vector<Run> runs;  // the triangles grouped by texture (one run, untextured, without)
         bool colored = false;  // colors holds a mesh's own; else all ones
     };
     std::vector<Slot> slots_;
     EnvironmentTexture environment_;
+    MeshTextureSets textures_;
     gpu::DescriptorSetLayout set_layout_;
     gpu::UniformSets uniforms_;
     gpu::PipelineLayout layout_;

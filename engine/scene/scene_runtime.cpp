@@ -139,6 +139,21 @@ std::span<const Vec3f> SceneRuntime::surface_colors() {
     return fine_colors_;
 }
 
+TriangleLooks SceneRuntime::triangle_looks(std::span<const mesh::Triangle> triangles) {
+    if (paint_.empty()) return {};
+    if (!fine_) return paint_triangles(paint_, body_.rest_positions, body_.model_of_particle, triangles);
+    if (!fine_vertices_) {
+        std::vector<Vec4f> x;
+        std::vector<mesh::Triangle> t;
+        deformed_surface(x, t);
+    }
+    std::vector<uint32_t> model(fine_->vertex_count(), 0u);
+    if (!body_.model_of_particle.empty())
+        for (size_t v = 0; v < model.size() && v < fine_vertices_->size(); ++v)
+            model[v] = body_.model_of_particle[body_.triangles[fine_vertices_->triangle[v]][0]];
+    return paint_triangles(paint_, fine_->positions, model, triangles);
+}
+
 void SceneRuntime::deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles) {
     if (!fine_) {
         x = body_.particles.x;

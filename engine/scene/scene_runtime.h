@@ -107,6 +107,9 @@ public:
     // Per vertex of the surface deformed_surface() gives, the model's own colour at rest
     // (linear): its look painted on it. Empty for plain materials.
     std::span<const Vec3f> surface_colors();
+    // Where a model has a texture: its look on `triangles` (of the surface deformed_surface()
+    // gives) apart, for a reference that samples the texture per pixel. Empty otherwise.
+    TriangleLooks triangle_looks(std::span<const mesh::Triangle> triangles);
     const mesh::DecimateReport& decimation() const { return decimation_; }
     const surface::EmbeddingStats& embedding() const { return embedding_; }
     // The surface the splats stand for, as it is now: the model's full-resolution mesh carried

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <random>
 
+#include "asset/look.h"
 #include "asset/mesh_spec.h"
 #include "mesh/procedural.h"
 #include "asset/model_path.h"
@@ -271,6 +272,94 @@ TEST_SUITE("render/coverage") {
             }
         CHECK(green > 1000);
         CHECK(red == 0);
+        test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("a textured look: the lit mesh samples the texture at each pixel, and the colour error sees it moved") {
+        auto ctx = test::open_validated_context();
+        const LumpySphere s;
+        // Two texels, green then blue, clamped, with u rising with height: the lower half
+        // green, the upper blue, a blend over the middle of the body.
+        const std::vector<uint8_t> texels = {40, 180, 60, 255, 30, 60, 200, 255};
+        const Vec3f green = asset::srgb_to_linear(Vec3f(40, 180, 60) / 255.0f), blue = asset::srgb_to_linear(Vec3f(30, 60, 200) / 255.0f);
+        const std::vector<render::MeshTexture> textures{{2, 1, texels, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE}};
+        const auto u_of = [&](uint32_t v, float sign) { return 0.5f + 0.5f * sign * s.body.rest_positions[v].y(); };
+        // The texture read on the CPU as a GPU reads it: texel centres at u = 1/4 and 3/4.
+        const auto color_at = [&](float u) { return Vec3f(green + std::clamp((u - 0.25f) / 0.5f, 0.0f, 1.0f) * (blue - green)); };
+        const size_t n = s.triangles.size();
+        std::vector<int32_t> texture(n, 0);
+        std::vector<std::array<Vec2f, 3>> up(n), down(n);
+        std::vector<std::array<Vec3f, 3>> tint(n, {Vec3f::Ones(), Vec3f::Ones(), Vec3f::Ones()});
+        for (size_t t = 0; t < n; ++t)
+            for (int k = 0; k < 3; ++k) up[t][k] = Vec2f(u_of(s.triangles[t][k], 1.0f), 0.5f), down[t][k] = Vec2f(u_of(s.triangles[t][k], -1.0f), 0.5f);
+        const passes::ReferenceTextures textured{texture, up, tint, textures}, flipped{texture, down, tint, textures};
+        // The splats painted from the texture where their particles stand.
+        std::vector<Vec3f> colors(s.body.particle_count());
+        for (uint32_t i = 0; i < colors.size(); ++i) colors[i] = color_at(u_of(i, 1.0f));
+        std::vector<splat::GaussianRecord> records;
+        splat::map_body(s.body.particles.x, s.body.normals, colors, s.body.triangles, &s.samples, s.look, nullptr, &s.field, records);
+        auto right = passes::measure_coverage(*ctx, s.body.particles.x, s.triangles, records, s.frame, 256, 256, s.albedo, {}, {}, &textured);
+        auto wrong = passes::measure_coverage(*ctx, s.body.particles.x, s.triangles, records, s.frame, 256, 256, s.albedo, {}, {}, &flipped);
+        REQUIRE_MESSAGE(right.ok(), test::why(right));
+        REQUIRE_MESSAGE(wrong.ok(), test::why(wrong));
+        MESSAGE("colour error against the texture " << right->color_error << ", against it upside down " << wrong->color_error);
+        CHECK(right->color_error < 0.03);
+        CHECK(wrong->color_error > 4.0 * right->color_error);
+        // Green below, blue above, in the lit mesh as drawn from the texture; the other way round
+        // with the coordinates flipped.
+        const auto mean_row = [](const core::ImageRgba8& image, bool want_green) {
+            double rows = 0.0;
+            size_t count = 0;
+            for (uint32_t y = 0; y < image.height; ++y)
+                for (uint32_t x = 0; x < image.width; ++x) {
+                    const uint8_t* p = image.at(x, y);
+                    if (p[3] < 255 || (p[1] > 2 * p[2]) != want_green || (p[2] > 2 * p[1]) == want_green) continue;
+                    rows += y, ++count;
+                }
+            CHECK(count > 1000);
+            return count ? rows / double(count) : 0.0;
+        };
+        CHECK(mean_row(right->shaded, true) > mean_row(right->shaded, false) + 40.0);
+        CHECK(mean_row(wrong->shaded, true) + 40.0 < mean_row(wrong->shaded, false));
+        test::require_no_validation_messages(*ctx);
+    }
+
+    TEST_CASE("a texture of one texel draws as the same colour given at the vertices, away from the silhouette") {
+        auto ctx = test::open_validated_context();
+        const LumpySphere s;
+        const std::vector<uint8_t> texel = {200, 120, 40, 255};
+        const Vec3f linear = asset::srgb_to_linear(Vec3f(200, 120, 40) / 255.0f);
+        const Vec3f tint(0.9f, 1.0f, 0.8f);
+        const std::vector<render::MeshTexture> textures{{1, 1, texel, VK_SAMPLER_ADDRESS_MODE_REPEAT, VK_SAMPLER_ADDRESS_MODE_REPEAT}};
+        const size_t n = s.triangles.size();
+        const std::vector<int32_t> texture(n, 0);
+        const std::vector<std::array<Vec2f, 3>> uv(n, {Vec2f(0.1f, 0.2f), Vec2f(0.7f, 0.3f), Vec2f(0.4f, 0.9f)});
+        const std::vector<std::array<Vec3f, 3>> tints(n, {tint, tint, tint});
+        const passes::ReferenceTextures textured{texture, uv, tints, textures};
+        const std::vector<Vec3f> colors(s.body.particle_count(), Vec3f(linear.cwiseProduct(tint)));
+        const std::vector<splat::GaussianRecord> records = s.records(true);
+        auto a = passes::measure_coverage(*ctx, s.body.particles.x, s.triangles, records, s.frame, 256, 256, s.albedo, {}, {}, &textured);
+        auto b = passes::measure_coverage(*ctx, s.body.particles.x, s.triangles, records, s.frame, 256, 256, s.albedo, {}, colors);
+        REQUIRE_MESSAGE(a.ok(), test::why(a));
+        REQUIRE_MESSAGE(b.ok(), test::why(b));
+        const core::ImageRgba8& mask = b->mesh;
+        const auto inside = [&](uint32_t x, uint32_t y) {
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx)
+                    if (mask.at(uint32_t(int(x) + dx), uint32_t(int(y) + dy))[3] < 128) return false;
+            return true;
+        };
+        size_t compared = 0;
+        int worst = 0;
+        for (uint32_t y = 1; y + 1 < 256; ++y)
+            for (uint32_t x = 1; x + 1 < 256; ++x) {
+                if (!inside(x, y)) continue;
+                ++compared;
+                for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(int(a->shaded.at(x, y)[k]) - int(b->shaded.at(x, y)[k])));
+            }
+        MESSAGE(compared << " pixels compared, largest difference " << worst << " of 255");
+        CHECK(compared > 10000);
+        CHECK(worst <= 3);  // the supersampled image rounds its means; the texel is decoded in 8 bits
         test::require_no_validation_messages(*ctx);
     }
 }

@@ -49,6 +49,56 @@ std::vector<Vec3f> paint_vertices(const SurfacePaint& paint, const sim::SoftBody
     return out;
 }
 
+namespace {
+
+// Barycentrics (b1, b2) of p's projection on the plane of (a, b, c): outside the triangle where
+// p is, so a corner of a triangle that is not the look's own reads the look extended.
+Vec2f plane_bary(const Vec3f& p, const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+    const Vec3f e1 = b - a, e2 = c - a, d = p - a;
+    const float d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2), det = d11 * d22 - d12 * d12;
+    if (!(std::abs(det) > 0.0f)) return Vec2f::Zero();
+    const float p1 = d.dot(e1), p2 = d.dot(e2);
+    return Vec2f((d22 * p1 - d12 * p2) / det, (d11 * p2 - d12 * p1) / det);
+}
+
+} // namespace
+
+TriangleLooks paint_triangles(const SurfacePaint& paint, std::span<const Vec3f> rest, std::span<const uint32_t> vertex_model,
+                              std::span<const mesh::Triangle> triangles) {
+    TriangleLooks out;
+    std::vector<int32_t> first_texture(paint.model.size(), 0);
+    for (size_t m = 0; m < paint.model.size(); ++m) {
+        first_texture[m] = int32_t(out.textures.size());
+        if (paint.model[m])
+            for (const asset::Texture& t : paint.model[m]->look().textures) out.textures.push_back(&t);
+    }
+    if (out.textures.empty()) return out;
+    out.texture.assign(triangles.size(), -1);
+    out.uv.assign(triangles.size(), {Vec2f::Zero(), Vec2f::Zero(), Vec2f::Zero()});
+    out.tint.resize(triangles.size());
+    std::vector<mesh::ClosestPoint> scratch;
+    for (size_t t = 0; t < triangles.size(); ++t) {
+        const mesh::Triangle& tri = triangles[t];
+        const uint32_t model = vertex_model.empty() ? 0u : vertex_model[tri[0]];
+        const asset::SurfaceColors* colors = model < paint.model.size() ? paint.model[model].get() : nullptr;
+        const Vec3f plain = model < paint.plain.size() ? paint.plain[model] : Vec3f::Ones();
+        out.tint[t] = {plain, plain, plain};
+        if (!colors) continue;
+        const auto near = colors->nearest((rest[tri[0]] + rest[tri[1]] + rest[tri[2]]) / 3.0f, scratch);
+        if (!near) continue;
+        const asset::SurfaceLook& look = colors->look();
+        const mesh::Triangle& lt = look.triangles[near->triangle];
+        for (int k = 0; k < 3; ++k) {
+            const Vec2f b = plane_bary(rest[tri[k]], look.positions[lt[0]], look.positions[lt[1]], look.positions[lt[2]]);
+            const asset::SurfaceLook::Parts parts = look.parts_at(near->triangle, b);
+            out.tint[t][k] = parts.tint.cwiseMax(0.0f);
+            out.uv[t][k] = parts.uv;
+            if (parts.texture >= 0) out.texture[t] = first_texture[model] + parts.texture;
+        }
+    }
+    return out;
+}
+
 size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& s, core::ThreadPool* pool) {
     // What waits for paint is a suffix: samples are only appended, and keep_if keeps the order
     // (padding the colours it compacts with zeros at the end). So a frame costs what it added.

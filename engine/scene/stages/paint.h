@@ -2,7 +2,9 @@
 // A model's own look on its splats: each particle and boundary particle takes the colour of the
 // spot of the model's full-resolution surface where it lies at rest (asset/surface_colors.h).
 // Only scenes whose models have a look (a texture, materials, vertex colours) schedule it.
+#include <array>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "asset/surface_colors.h"
@@ -35,6 +37,20 @@ void paint_particles(const SurfacePaint& paint, sim::SoftBody& body);
 // `embedded` (one sample per vertex, on the body's triangles) tells each vertex's model.
 std::vector<Vec3f> paint_vertices(const SurfacePaint& paint, const sim::SoftBody& body, const mesh::TriangleMesh& surface,
                                   const surface::BoundaryParticles& embedded);
+// A textured model's look on triangles, apart, for a renderer that samples the textures (the
+// lit reference of `pbdsplat check`): per triangle its texture (into `textures`, -1 for none),
+// per corner the texture coordinates and the colour the texture multiplies.
+struct TriangleLooks {
+    std::vector<int32_t> texture;
+    std::vector<std::array<Vec2f, 3>> uv;
+    std::vector<std::array<Vec3f, 3>> tint;
+    std::vector<const asset::Texture*> textures;  // every model's, in model order
+};
+// The looks of `triangles` over vertices at rest at `rest` (in the body's rest frame), each
+// vertex of model `vertex_model[v]` (model 0 where empty): each triangle takes the look of the
+// model's triangle nearest its centre, read at its corners. Empty where no model has a texture.
+TriangleLooks paint_triangles(const SurfacePaint& paint, std::span<const Vec3f> rest, std::span<const uint32_t> vertex_model,
+                              std::span<const mesh::Triangle> triangles);
 // The samples that have no colour yet (those added since the last call: always the last ones);
 // returns how many were painted. The same colours with or without a pool.
 size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& samples,
