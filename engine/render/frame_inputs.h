@@ -132,8 +132,8 @@ struct SplatStyle {
     float depth_min_alpha = 0.4f;
     // Normalised blending or the paper's disc (occluded_style): the visibility depth comes from
     // the surface mesh (render/occluder_pass.h) instead of the splats, and a fragment farther than
-    // occluder_tolerance (world units, along the view axis) from the surface the mesh shows at
-    // its pixel is dropped. Needs a renderer created with options.occluders and the mesh each
+    // occluder_tolerance (world units, along the view axis) behind the surface the mesh shows at
+    // its pixel, or twice that in front, is dropped. Needs a renderer created with options.occluders and the mesh each
     // frame (SplatRenderer::set_occluders).
     bool mesh_occluders = false;
     float occluder_tolerance = 0.0f;

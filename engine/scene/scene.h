@@ -141,8 +141,9 @@ struct RenderDesc {
     // disc under "over"). "splats": each splat's opaque core writes depth (the disc: its own
     // depth). "mesh" (the default under normalised blending): the surface mesh itself
     // (frame.style.mesh_occluders, render/occluder_pass.h), and a splat fragment farther than
-    // `occluder_tolerance` splat scales from the surface the mesh shows at its pixel is dropped:
-    // discs end at occluding contours and creases where the surface does.
+    // `occluder_tolerance` splat scales behind the surface the mesh shows at its pixel, or twice
+    // that in front, is dropped: discs end at occluding contours and creases where the surface
+    // does.
     // Three scales: a surfel's plane is that of its smoothed normal, which on a wrinkled surface
     // leaves the triangle under it by up to its reach times the turn between the two (the
     // deflating monkey opened pinholes on 0.94 % of its surface at one scale, 0.07 % at two,

@@ -181,4 +181,32 @@ TEST_SUITE("render/occluder_pass") {
         CHECK(b->hole_ratio < 0.001);
         test::require_no_validation_messages(*ctx);
     }
+
+    TEST_CASE("a splat a little in front of the mesh's surface is kept, behind it dropped: twice the tolerance in front") {
+        // One plate's mesh at z = 0 and a layer of splats over it at depth offset dz (the eye
+        // looks down -z): how much of the plate the layer covers under mesh occluders.
+        const float h = 0.05f, tolerance = 3.0f * 0.7f * h;
+        const auto covered = [&](gpu::Context& ctx, float dz) {
+            Plates s;
+            s.x.clear(), s.triangles.clear(), s.records.clear();
+            s.plate(-0.6f, 0.6f, -0.6f, 0.6f, 0.0f, {0.9f, 0.05f, 0.05f}, h);
+            for (auto& r : s.records) r.position[2] += dz;
+            render::FrameInputs f = s.frame;
+            f.style.mesh_occluders = true;
+            f.style.occluder_push = 3.0f * tolerance;  // the early depth test keeps all three layers
+            auto c = passes::measure_coverage(ctx, s.x, s.triangles, s.records, f, Plates::k_size, Plates::k_size);
+            REQUIRE_MESSAGE(c.ok(), test::why(c));
+            return 1.0 - c->hole_ratio;
+        };
+        auto ctx = test::open_validated_context();
+        const double front = covered(*ctx, 1.5f * tolerance), behind = covered(*ctx, -1.5f * tolerance),
+                     far_front = covered(*ctx, 2.5f * tolerance), on = covered(*ctx, 0.0f);
+        MESSAGE("covered: on the surface " << on << ", 1.5 tolerances in front " << front << ", behind " << behind
+                << ", 2.5 in front " << far_front);
+        CHECK(on > 0.99);
+        CHECK(front > 0.99);
+        CHECK(behind < 0.01);
+        CHECK(far_front < 0.01);
+        test::require_no_validation_messages(*ctx);
+    }
 }
