@@ -147,10 +147,12 @@ TriangleLooks SceneRuntime::triangle_looks(std::span<const mesh::Triangle> trian
         std::vector<mesh::Triangle> t;
         deformed_surface(x, t);
     }
+    // A fine vertex's model is that of the body triangle it is embedded in.
     std::vector<uint32_t> model(fine_->vertex_count(), 0u);
-    if (!body_.model_of_particle.empty())
-        for (size_t v = 0; v < model.size() && v < fine_vertices_->size(); ++v)
-            model[v] = body_.model_of_particle[body_.triangles[fine_vertices_->triangle[v]][0]];
+    for (size_t v = 0; v < model.size() && v < fine_vertices_->size(); ++v) {
+        const uint32_t particle = body_.triangles[fine_vertices_->triangle[v]][0];
+        if (particle < body_.model_of_particle.size()) model[v] = body_.model_of_particle[particle];
+    }
     return paint_triangles(paint_, fine_->positions, model, triangles);
 }
 

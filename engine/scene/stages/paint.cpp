@@ -79,7 +79,7 @@ TriangleLooks paint_triangles(const SurfacePaint& paint, std::span<const Vec3f> 
     std::vector<mesh::ClosestPoint> scratch;
     for (size_t t = 0; t < triangles.size(); ++t) {
         const mesh::Triangle& tri = triangles[t];
-        const uint32_t model = vertex_model.empty() ? 0u : vertex_model[tri[0]];
+        const uint32_t model = tri[0] < vertex_model.size() ? vertex_model[tri[0]] : 0u;
         const asset::SurfaceColors* colors = model < paint.model.size() ? paint.model[model].get() : nullptr;
         const Vec3f plain = model < paint.plain.size() ? paint.plain[model] : Vec3f::Ones();
         out.tint[t] = {plain, plain, plain};

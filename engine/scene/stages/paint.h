@@ -47,7 +47,7 @@ struct TriangleLooks {
     std::vector<const asset::Texture*> textures;  // every model's, in model order
 };
 // The looks of `triangles` over vertices at rest at `rest` (in the body's rest frame), each
-// vertex of model `vertex_model[v]` (model 0 where empty): each triangle takes the look of the
+// vertex of model `vertex_model[v]` (model 0 past its end): each triangle takes the look of the
 // model's triangle nearest its centre, read at its corners. Empty where no model has a texture.
 TriangleLooks paint_triangles(const SurfacePaint& paint, std::span<const Vec3f> rest, std::span<const uint32_t> vertex_model,
                               std::span<const mesh::Triangle> triangles);
