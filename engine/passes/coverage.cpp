@@ -101,6 +101,14 @@ core::Result<core::ImageRgba8> textured_image(gpu::Context& ctx, std::span<const
     return box_down(image->image, k_samples);
 }
 
+// The lit mesh in `albedo` times its vertex colours.
+core::Result<core::ImageRgba8> lit_image(gpu::Context& ctx, render::MeshRaster& raster, const render::FrameInputs& frame,
+                                         const Vec3f& albedo) {
+    auto image = render_mesh_image(ctx, raster, frame, render::MeshView::shaded, albedo);
+    if (!image.ok()) return image.error();
+    return std::move(image->image);
+}
+
 } // namespace
 
 double pixel_luminance(const uint8_t* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
@@ -200,15 +208,10 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
     if (albedo) {
         render::FrameInputs lit = frame;
         lit.background = Vec4f::Zero();
-        if (textures) {
-            auto shaded = textured_image(ctx, x, triangles, *textures, lit, width, height);
-            if (!shaded.ok()) return shaded.error();
-            c.shaded = std::move(shaded).value();
-        } else {
-            auto shaded = render_mesh_image(ctx, *raster.value(), lit, render::MeshView::shaded, colors.empty() ? *albedo : Vec3f::Ones());
-            if (!shaded.ok()) return shaded.error();
-            c.shaded = std::move(shaded->image);
-        }
+        auto shaded = textures ? textured_image(ctx, x, triangles, *textures, lit, width, height)
+                               : lit_image(ctx, *raster.value(), lit, colors.empty() ? *albedo : Vec3f::Ones());
+        if (!shaded.ok()) return shaded.error();
+        c.shaded = std::move(shaded).value();
     }
 
     render::RendererOptions ro;
