@@ -82,21 +82,8 @@ bool SurfaceLook::has_colour() const {
 }
 
 Vec3f SurfaceLook::color_at(uint32_t t, const Vec2f& b) const {
-    const float b0 = 1.0f - b.x() - b.y();
-    Vec3f c = Vec3f::Ones();
-    if (!material.empty() && material[t] < materials.size()) {
-        const Material& m = materials[material[t]];
-        c = m.color;
-        if (m.texture >= 0 && size_t(m.texture) < textures.size() && !uv.empty()) {
-            const auto& q = uv[t];
-            c = c.cwiseProduct(textures[size_t(m.texture)].sample(b0 * q[0] + b.x() * q[1] + b.y() * q[2]));
-        }
-    }
-    if (!corner_color.empty()) {
-        const auto& k = corner_color[t];
-        c = c.cwiseProduct(b0 * k[0] + b.x() * k[1] + b.y() * k[2]);
-    }
-    return c;
+    const Parts p = parts_at(t, b);
+    return p.texture >= 0 ? Vec3f(p.tint.cwiseProduct(textures[size_t(p.texture)].sample(p.uv))) : p.tint;
 }
 
 SurfaceLook::Parts SurfaceLook::parts_at(uint32_t t, const Vec2f& b) const {

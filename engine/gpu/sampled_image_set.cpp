@@ -1,5 +1,7 @@
 #include "gpu/sampled_image_set.h"
 
+#include "gpu/descriptor_pool.h"
+
 #include <vector>
 
 namespace pbdsplat::gpu {
@@ -9,14 +11,24 @@ core::Result<SampledImageSet> SampledImageSet::create(const Context& ctx, VkImag
 }
 
 core::Result<SampledImageSet> SampledImageSet::create(const Context& ctx, std::span<const VkImageView> views) {
-    SampledImageSet s;
-    const uint32_t n = uint32_t(views.size());
     VkSamplerCreateInfo sampler_info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     sampler_info.magFilter = sampler_info.minFilter = VK_FILTER_NEAREST;  // one texel per pixel
     sampler_info.addressModeU = sampler_info.addressModeV = sampler_info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
     VkSampler sampler = VK_NULL_HANDLE;
     PBDSPLAT_VK_TRY(vkCreateSampler(ctx.vk(), &sampler_info, nullptr, &sampler));
-    s.sampler_ = Sampler(ctx.vk(), sampler);
+    Sampler owned(ctx.vk(), sampler);
+    auto s = create_with(ctx, views, sampler);
+    if (s.ok()) s->sampler_ = std::move(owned);
+    return s;
+}
+
+core::Result<SampledImageSet> SampledImageSet::create(const Context& ctx, VkImageView view, VkSampler sampler) {
+    return create_with(ctx, std::span<const VkImageView>(&view, 1), sampler);
+}
+
+core::Result<SampledImageSet> SampledImageSet::create_with(const Context& ctx, std::span<const VkImageView> views, VkSampler sampler) {
+    SampledImageSet s;
+    const uint32_t n = uint32_t(views.size());
 
     std::vector<VkDescriptorSetLayoutBinding> bindings;
     for (uint32_t i = 0; i < n; ++i) bindings.push_back({i, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr});
@@ -27,14 +39,10 @@ core::Result<SampledImageSet> SampledImageSet::create(const Context& ctx, std::s
     PBDSPLAT_VK_TRY(vkCreateDescriptorSetLayout(ctx.vk(), &layout_info, nullptr, &layout));
     s.layout_ = DescriptorSetLayout(ctx.vk(), layout);
 
-    const VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, n};
-    VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pool_info.maxSets = 1;
-    pool_info.poolSizeCount = 1;
-    pool_info.pPoolSizes = &pool_size;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    PBDSPLAT_VK_TRY(vkCreateDescriptorPool(ctx.vk(), &pool_info, nullptr, &pool));
-    s.pool_ = DescriptorPool(ctx.vk(), pool);
+    auto pool_made = create_descriptor_pool(ctx, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, n, 1);
+    if (!pool_made.ok()) return pool_made.error();
+    s.pool_ = std::move(pool_made).value();
+    const VkDescriptorPool pool = s.pool_.get();
 
     VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     alloc.descriptorPool = pool;

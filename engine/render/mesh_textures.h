@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "gpu/device_handle.h"
+#include "gpu/sampled_image_set.h"
 #include "gpu/texture.h"
 
 namespace pbdsplat::render {
@@ -26,21 +26,22 @@ public:
 
     // Replaces the textures; call while no frame that reads them is in flight.
     core::Status set(gpu::Context& ctx, std::span<const MeshTexture> textures);
-    VkDescriptorSetLayout layout() const { return layout_.get(); }
+    // Every set's layout (one texture at binding 0, each set made alike).
+    VkDescriptorSetLayout layout() const { return white_set_.layout(); }
     // Texture i's set, or the white texel's for -1 (or an index past the textures).
     VkDescriptorSet set_of(int32_t texture) const;
     size_t size() const { return textures_.size(); }
 
 private:
-    static core::Result<VkDescriptorSet> make_set(gpu::Context& ctx, const gpu::DescriptorPool& pool, VkDescriptorSetLayout layout,
-                                                  const gpu::Texture& texture);
-    gpu::DescriptorSetLayout layout_;
+    // The set refers to the texture's view and sampler: the two live and go together (the set
+    // first).
+    struct Entry {
+        gpu::Texture texture;
+        gpu::SampledImageSet set;
+    };
     gpu::Texture white_;
-    gpu::DescriptorPool white_pool_;
-    VkDescriptorSet white_set_ = VK_NULL_HANDLE;  // freed with its pool
-    std::vector<gpu::Texture> textures_;
-    gpu::DescriptorPool pool_;
-    std::vector<VkDescriptorSet> sets_;
+    gpu::SampledImageSet white_set_;
+    std::vector<Entry> textures_;
 };
 
 } // namespace pbdsplat::render

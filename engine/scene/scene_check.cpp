@@ -115,10 +115,9 @@ core::Status sample_coverage(SceneRuntime& rt, const Scene& scene, const CheckOp
     std::span<const Vec3f> colors = rt.surface_colors();
     std::vector<Vec3f> with_faces(colors.begin(), colors.end());
     TriangleLooks looks = rt.triangle_looks(triangles);
-    // A plain body whose cut faces have a colour of their own (the material's interior colour):
-    // the surface in its albedo, the faces in theirs, as the splats draw them.
-    const bool faces_apart = colors.empty() && scene.material.interior_color && rt.cut_faces().faces() > 0;
-    if (faces_apart) with_faces.assign(x.size(), scene.material.color);
+    // A plain body's cut faces take the colour their splats do (the interior colour where the
+    // material has one): the surface in its albedo, each face in its own.
+    if (colors.empty() && rt.cut_faces().faces() > 0) with_faces.assign(x.size(), scene.material.color);
     rt.append_cut_faces(x, triangles, with_faces.empty() ? nullptr : &with_faces);
     if (!with_faces.empty()) colors = with_faces;
     render::FrameInputs frame = rt.frame_inputs();
