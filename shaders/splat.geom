@@ -11,6 +11,7 @@ layout(set = 0, binding = 1) uniform sampler2D env_map;
 #include "splat_footprint.glsl"
 #include "shading.glsl"
 #include "splat_corner.glsl"
+#include "splat_texture.glsl"
 
 // The visibility pass pushes every carrier back along the view ray, so splats of the front
 // surface later blend over one another while the hidden surfaces behind stay rejected.
@@ -27,6 +28,9 @@ layout(location = 1) out vec3 g_world;      // world position of the fragment (f
 layout(location = 2) out vec3 g_normal;
 layout(location = 3) out vec4 g_color;      // see corner_color()
 layout(location = 4) out float g_depth;  // distance to the splat's surface along the view axis
+layout(location = 5) out vec3 g_tex;     // see corner_texcoord()
+layout(location = 6) flat out vec3 g_tex_centre;  // see texcoord_centre()
+layout(location = 7) flat out vec3 g_tex_metric;  // see texcoord_metric()
 
 void main() {
     const vec3 world = gl_in[0].gl_Position.xyz;
@@ -37,11 +41,15 @@ void main() {
     if (!splat_thin(world, v_thin[0], s0)) return;
     const SplatQuad q = splat_quad(world, v_normal[0], s0, alpha, k_visibility_pass, uint(gl_PrimitiveIDIn));
     if (!(q.extent > 0.0)) return;  // too faint to show anywhere
-    const vec3 albedo = splat_albedo(v_color[0].rgb, uint(gl_PrimitiveIDIn), world);
+    const SplatTexcoord tex = read_texcoord(uint(gl_PrimitiveIDIn));
+    const vec3 albedo = textured_albedo(tex, splat_albedo(v_color[0].rgb, uint(gl_PrimitiveIDIn), world));
     for (int i = 0; i < k_carrier_corners; ++i) {
         splat_corner(q, world, i, gl_Position, g_world, g_uv, g_depth);
         g_normal = corner_normal(v_normal[0], v_curvature[0], world, g_world);
         g_color = corner_color(albedo, alpha, g_normal, g_world);
+        g_tex = corner_texcoord(tex, v_normal[0], world, g_world);
+        g_tex_centre = texcoord_centre(tex);
+        g_tex_metric = texcoord_metric(tex);
         EmitVertex();
     }
     EndPrimitive();

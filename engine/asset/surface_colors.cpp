@@ -2,7 +2,9 @@
 
 namespace pbdsplat::asset {
 
-SurfaceColors::SurfaceColors(SurfaceLook look) : look_(std::move(look)), grid_(look_.positions, look_.triangles) {}
+SurfaceColors::SurfaceColors(SurfaceLook look) : look_(std::move(look)), grid_(look_.positions, look_.triangles) {
+    if (!look_.textures.empty()) charts_ = TextureCharts(look_);
+}
 
 Vec3f SurfaceColors::at(const Vec3f& p, std::vector<mesh::ClosestPoint>& scratch) const {
     const auto q = nearest(p, scratch);
@@ -13,6 +15,18 @@ std::optional<mesh::ClosestPoint> SurfaceColors::nearest(const Vec3f& p, std::ve
     grid_.closest(p, 1.0f, 0.0f, scratch);
     if (scratch.empty()) return std::nullopt;
     return scratch.front();
+}
+
+std::optional<SurfaceColors::TexturePoint> SurfaceColors::texture_point(const Vec3f& p, float reach,
+                                                                        std::vector<mesh::ClosestPoint>& scratch) const {
+    if (look_.textures.empty()) return std::nullopt;
+    const auto q = nearest(p, scratch);
+    if (!q) return std::nullopt;
+    const SurfaceLook::Parts parts = look_.parts_at(q->triangle, q->bary);
+    if (parts.texture < 0) return std::nullopt;
+    const auto gradient = uv_gradient(look_, q->triangle);
+    if (!gradient) return std::nullopt;
+    return TexturePoint{parts.uv, *gradient, parts.texture, parts.tint.cwiseMax(0.0f), charts_.seam_distance(p, reach)};
 }
 
 } // namespace pbdsplat::asset

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "asset/look.h"
+#include "asset/texture_charts.h"
 #include "mesh/closest_point.h"
 
 namespace pbdsplat::asset {
@@ -25,9 +26,24 @@ public:
     std::optional<mesh::ClosestPoint> nearest(const Vec3f& p, std::vector<mesh::ClosestPoint>& scratch) const;
     const SurfaceLook& look() const { return look_; }
 
+    // The texture at the surface point nearest to p, for a splat reaching `reach` around it that
+    // reads the texture per pixel: its coordinates there and their gradients, the texture (into
+    // look().textures), the colour it multiplies, and how far along the surface the splat may read
+    // from its centre before it would cross a seam (texture_charts.h): `reach` where no seam is
+    // within it. None where that point has no texture.
+    struct TexturePoint {
+        Vec2f uv;
+        UvGradient gradient;
+        int32_t texture;
+        Vec3f tint;
+        float reach;
+    };
+    std::optional<TexturePoint> texture_point(const Vec3f& p, float reach, std::vector<mesh::ClosestPoint>& scratch) const;
+
 private:
     SurfaceLook look_;
     mesh::TriangleGrid grid_;
+    TextureCharts charts_;
 };
 
 } // namespace pbdsplat::asset

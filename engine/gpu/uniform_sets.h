@@ -1,6 +1,7 @@
 #pragma once
 // Per-frame uniform buffers, each bound to binding 0 of its own descriptor set: the shape every
 // pass here uses for its FrameUniforms.
+#include <span>
 #include <vector>
 
 #include "gpu/buffer.h"
@@ -13,10 +14,13 @@ core::Result<DescriptorSetLayout> create_uniform_layout(const Context& ctx, VkSh
 
 // The frame set of the splat passes: the uniforms at 0, a sampled texture at 1 and a storage
 // buffer at 2 (the records, for the paths that pull them), each seen by its own stages; and,
-// where `shapes`, `sh` and `order` name stages, more storage buffers at 3 (anisotropic splats'
-// axes), 4 (view-dependent colour) and 5 (where each drawn splat's entries in 3 and 4 are).
+// where `shapes`, `sh`, `order` and `texcoords` name stages, more storage buffers at 3
+// (anisotropic splats' axes), 4 (view-dependent colour), 5 (where each drawn splat's entries in
+// the streams are) and 6 (textured splats' coordinates); where `textures` does, an array of
+// `texture_count` sampled textures at 7 (a textured model's).
 struct FrameSetStages {
-    VkShaderStageFlags uniforms = 0, texture = 0, storage = 0, shapes = 0, sh = 0, order = 0;
+    VkShaderStageFlags uniforms = 0, texture = 0, storage = 0, shapes = 0, sh = 0, order = 0, texcoords = 0, textures = 0;
+    uint32_t texture_count = 0;
 };
 core::Result<DescriptorSetLayout> create_frame_layout(const Context& ctx, const FrameSetStages& stages);
 
@@ -29,6 +33,8 @@ struct FrameSetResources {
     std::vector<VkBuffer> shapes;
     std::vector<VkBuffer> sh;
     std::vector<VkBuffer> order;
+    std::vector<VkBuffer> texcoords;
+    std::vector<VkDescriptorImageInfo> textures;  // binding 7's array, whole
 };
 
 class UniformSets {
@@ -39,6 +45,10 @@ public:
     UniformSets() = default;
 
     VkDescriptorSet set(uint32_t i) const { return sets_[i]; }
+    size_t size() const { return sets_.size(); }
+    // Points every set's array of textures at `binding` at `images`; only while no frame that
+    // reads the sets is in flight.
+    void write_images(Context& ctx, uint32_t binding, std::span<const VkDescriptorImageInfo> images) const;
     void* mapped(uint32_t i) const { return buffers_[i].mapped(); }
 
 private:

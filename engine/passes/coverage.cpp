@@ -193,12 +193,42 @@ double color_error(const core::ImageRgba8& splats, const core::ImageRgba8& shade
     });
 }
 
+namespace {
+
+// The splats as the runtime draws them, over a transparent background (the accumulated alpha is
+// then their coverage), the mesh as their occluders where the style has them.
+core::Result<core::ImageRgba8> splat_image(gpu::Context& ctx, std::span<const Vec4f> x, std::span<const std::array<uint32_t, 3>> triangles,
+                                           std::span<const splat::GaussianRecord> records, render::FrameInputs frame, uint32_t width,
+                                           uint32_t height, std::span<const splat::GaussianShape> shapes, const SplatTexturing* texturing) {
+    render::RendererOptions ro;
+    ro.width = width;
+    ro.height = height;
+    ro.max_splats = uint32_t(std::max<size_t>(1, records.size()));
+    ro.frames_in_flight = 1;
+    ro.anisotropic = !shapes.empty();
+    ro.normalised = frame.style.blend == render::Blend::normalised;
+    ro.occluders = render::occluded_style(frame.style);
+    ro.textured = texturing && !texturing->texcoords.empty();
+    auto splats = OffscreenRenderer::create(ctx, ro);
+    if (!splats.ok()) return splats.error();
+    splats.value()->set_occluders(x, triangles);
+    if (ro.textured) {
+        splats.value()->set_texcoords(texturing->texcoords);
+        PBDSPLAT_TRY(splats.value()->set_textures(texturing->textures));
+    }
+    frame.background = Vec4f::Zero();
+    PBDSPLAT_TRY(splats.value()->render(records, frame, {}, shapes));
+    return splats.value()->finish();
+}
+
+} // namespace
+
 core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f> x,
                                         std::span<const std::array<uint32_t, 3>> triangles,
                                         std::span<const splat::GaussianRecord> records, render::FrameInputs frame,
                                         uint32_t width, uint32_t height, std::optional<Vec3f> albedo,
                                         std::span<const splat::GaussianShape> shapes, std::span<const Vec3f> colors,
-                                        const ReferenceTextures* textures) {
+                                        const ReferenceTextures* textures, const SplatTexturing* texturing) {
     Coverage c;
     auto raster = mesh_raster(ctx, x, triangles, width, height, colors);
     if (!raster.ok()) return raster.error();
@@ -214,22 +244,9 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
         c.shaded = std::move(shaded).value();
     }
 
-    render::RendererOptions ro;
-    ro.width = width;
-    ro.height = height;
-    ro.max_splats = uint32_t(std::max<size_t>(1, records.size()));
-    ro.frames_in_flight = 1;
-    ro.anisotropic = !shapes.empty();
-    ro.normalised = frame.style.blend == render::Blend::normalised;
-    ro.occluders = render::occluded_style(frame.style);
-    auto splats = OffscreenRenderer::create(ctx, ro);
+    auto splats = splat_image(ctx, x, triangles, records, frame, width, height, shapes, texturing);
     if (!splats.ok()) return splats.error();
-    splats.value()->set_occluders(x, triangles);
-    frame.background = Vec4f::Zero();  // the accumulated alpha is then the splats' coverage
-    PBDSPLAT_TRY(splats.value()->render(records, frame, {}, shapes));
-    auto image = splats.value()->finish();
-    if (!image.ok()) return image.error();
-    c.splats = std::move(image).value();
+    c.splats = std::move(splats).value();
 
     size_t holes = 0, both = 0, either = 0;
     for (size_t i = 0; i < size_t(width) * height; ++i) {

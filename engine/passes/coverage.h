@@ -58,12 +58,19 @@ struct ReferenceTextures {
     std::span<const render::MeshTexture> textures;
 };
 
+// Splats that read a textured model's texture per pixel: where it lies on each record, and the
+// textures (splat/texcoords.h).
+struct SplatTexturing {
+    std::span<const splat::GaussianTexcoord> texcoords;
+    std::span<const render::MeshTexture> textures;
+};
+
 core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f> x,
                                         std::span<const std::array<uint32_t, 3>> triangles,
                                         std::span<const splat::GaussianRecord> records, render::FrameInputs frame,
                                         uint32_t width, uint32_t height, std::optional<Vec3f> albedo = std::nullopt,
                                         std::span<const splat::GaussianShape> shapes = {}, std::span<const Vec3f> colors = {},
-                                        const ReferenceTextures* textures = nullptr);
+                                        const ReferenceTextures* textures = nullptr, const SplatTexturing* texturing = nullptr);
 // `colors`, when given (one per vertex of x, linear), is the model's own look: the lit mesh is
 // drawn in it, as its splats are, instead of in `albedo`. `textures`, when given, draws a
 // textured model's look as its file does: each pixel samples the texture (colors then unused).

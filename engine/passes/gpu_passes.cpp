@@ -83,6 +83,7 @@ struct GpuChain {
                 // Anisotropic bodies' axes go straight into host-visible memory (no GPU copy).
                 if (out.ok() && !in.shapes.empty()) out = gpu.upload_shapes(in.shapes);
                 if (out.ok() && !in.sh.empty()) out = gpu.upload_sh(in.sh);
+                if (out.ok() && !in.texcoords.empty()) out = gpu.upload_texcoords(in.texcoords);
             };
         }, tag);
     }

@@ -17,6 +17,7 @@ struct SplatStream {
     std::vector<gpu::ByteRange> changed;  // since the previous frame; empty: everything
     std::span<const splat::GaussianShape> shapes;  // anisotropic splats' axes, parallel to records; or none
     std::span<const splat::GaussianSH> sh;         // view-dependent colour, parallel to records; or none
+    std::span<const splat::GaussianTexcoord> texcoords;  // textured splats, parallel to records; or none
 };
 // The surface mesh, with frame.style.mesh_occluders (render/occluder_pass.h; the occluder-mesh
 // pass writes it).

@@ -45,9 +45,13 @@ core::Status OffscreenRenderer::render(std::span<const splat::GaussianRecord> re
     if (renderer_->sh_degree() > 0 && sh.size() != records.size())
         return core::make_error("a renderer with view-dependent colour needs one colour record per Gaussian (" + std::to_string(sh.size()) +
                                 " for " + std::to_string(records.size()) + ")");
+    if (!texcoords_.empty() && texcoords_.size() != records.size())
+        return core::make_error("textured splats need one texture entry per record (" + std::to_string(texcoords_.size()) + " for " +
+                                std::to_string(records.size()) + ")");
     auto cmd = renderer_->begin_frame();
     if (!cmd.ok()) return cmd.error();
     input_.splats.records = records;
+    input_.splats.texcoords = texcoords_;
     input_.splats.changed.assign(changed.begin(), changed.end());
     input_.splats.shapes = shapes;
     input_.splats.sh = sh;

@@ -29,6 +29,10 @@ public:
         input_.occluders.positions = positions;
         input_.occluders.triangles = triangles;
     }
+    // Where a textured model's texture lies on each record of the next render()s (a renderer
+    // created with options.textured; one per record, or none); the span must outlive them.
+    void set_texcoords(std::span<const splat::GaussianTexcoord> texcoords) { texcoords_ = texcoords; }
+    core::Status set_textures(std::span<const render::MeshTexture> textures) { return renderer_->set_textures(textures); }
     // Whether each frame is copied out for finish() (always, unless presenting).
     core::Status set_readback(bool readback);
     // Waits for the GPU and returns the last frame's image.
@@ -46,6 +50,7 @@ private:
     bool gpu_sort_ = false, readback_ = true;
     GpuPassResources resources_;
     GpuFrameInput input_;
+    std::span<const splat::GaussianTexcoord> texcoords_;
     core::Status upload_status_;  // what the frame's upload left
     ImageSink sink_;
     graph::FrameGraph graph_;

@@ -31,7 +31,7 @@ std::string splat_path_unsupported(const gpu::DeviceCaps& caps, SplatPath path) 
 
 core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path,
                                           SplatShading shading, SplatCarrier carrier, bool anisotropic, uint32_t sh_degree,
-                                          VkFormat accumulation, VkDescriptorSetLayout occluders) {
+                                          VkFormat accumulation, VkDescriptorSetLayout occluders, bool textured) {
     if (sh_degree > 3) return core::make_error("spherical-harmonic degree " + std::to_string(sh_degree) + " is not 0 to 3");
     if (const std::string why = splat_path_unsupported(ctx.caps(), path); !why.empty()) return core::make_error(why);
     SplatPass p;
@@ -40,6 +40,7 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     p.shading_ = shading;
     p.carrier_ = path == SplatPath::vertex ? SplatCarrier::quad : carrier;
     p.anisotropic_ = anisotropic;
+    p.textured_ = textured;
     PBDSPLAT_TRY(p.create_layouts(ctx, occluders));
     gpu::GraphicsPipelineDesc desc;
     PBDSPLAT_TRY(p.describe_front(ctx, desc));
@@ -63,6 +64,9 @@ core::Status SplatPass::create_layouts(const gpu::Context& ctx, VkDescriptorSetL
     stages.shapes = front;  // every front stage declares the shape stream; anisotropic ones read it
     stages.sh = front;      // the same for view-dependent colour
     stages.order = front;   // and for where a sorted splat's entries in those two are
+    stages.texcoords = front;  // and for textured splats' coordinates, and their textures
+    stages.textures = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages.texture_count = SPLAT_MAX_TEXTURES;
     auto set_layout = gpu::create_frame_layout(ctx, stages);
     if (!set_layout.ok()) return set_layout.error();
     set_layout_ = std::move(set_layout).value();
@@ -110,6 +114,10 @@ core::Status SplatPass::describe_front(const gpu::Context& ctx, gpu::GraphicsPip
 void SplatPass::describe(Variant v, const gpu::GraphicsPipelineDesc& desc) {
     LazyPipeline& lazy = variants_[size_t(v)];
     lazy.desc = desc;
+    if (textured_) {
+        lazy.desc.specialization.resize(9, 0u);
+        lazy.desc.specialization[8] = 1u;  // k_textured
+    }
     lazy.described = true;
 }
 

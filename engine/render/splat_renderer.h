@@ -18,6 +18,7 @@
 #include "render/frame_inputs.h"
 #include "render/gpu_sort.h"
 #include "render/gpu_use.h"
+#include "render/mesh_textures.h"
 #include "render/ground.h"
 #include "render/normalised_blend.h"
 #include "render/occluder_pass.h"
@@ -47,6 +48,9 @@ struct RendererOptions {
     // Degrees of view-dependent colour to evaluate (upload_sh every frame); 0: none. The same
     // limit on sorting as anisotropic.
     uint32_t sh_degree = 0;
+    // Textured splats: each reads a textured model's texture under its pixels where its entry in
+    // the texture stream says (upload_texcoords every frame; the textures from set_textures).
+    bool textured = false;
     // Create the GPU depth sort (frames drawn with SplatOrder::gpu need it).
     bool gpu_sort = false;
     // Create normalised blending's accumulation image and passes (frames drawn with
@@ -119,6 +123,12 @@ public:
     core::Status upload_shapes(std::span<const splat::GaussianShape> shapes);
     // Degrees 1-3 of each record's colour (options.sh_degree > 0), written like the shapes.
     core::Status upload_sh(std::span<const splat::GaussianSH> sh);
+    // Where a textured model's texture lies on each record, one per record in the same order
+    // (options.textured), written like the shapes.
+    core::Status upload_texcoords(std::span<const splat::GaussianTexcoord> texcoords);
+    // The textures the texture stream names (at most SPLAT_MAX_TEXTURES; the rest of the array
+    // a white texel). Waits for the frames in flight: call it when the scene's models are known.
+    core::Status set_textures(std::span<const MeshTexture> textures);
     // Culls and sorts the uploaded records far to near (needs options.gpu_sort); a following
     // draw() with SplatOrder::gpu draws the result.
     void sort(const FrameInputs& inputs, uint32_t count);
@@ -187,6 +197,9 @@ private:
     gpu::StreamBuffer records_;
     std::vector<gpu::Buffer> shapes_;  // one per slot; a token one when not anisotropic
     std::vector<gpu::Buffer> sh_rest_;  // one per slot; a token one without view-dependent colour
+    std::vector<gpu::Buffer> texcoords_;  // one per slot; a token one without textured splats
+    gpu::Texture white_;                   // binding 7's entries that no texture fills
+    std::vector<gpu::Texture> textures_;   // set_textures()'s
     gpu::Buffer stream_identity_;       // 0, 1, 2, ...: where unsorted splats' stream entries are
     OffscreenTarget target_;
     SplatPass splat_;

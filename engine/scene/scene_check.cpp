@@ -86,21 +86,14 @@ void sample_body_and_splats(const SceneRuntime& rt, double load_volume, CheckSam
 // textures (none where no model has one).
 std::vector<render::MeshTexture> reference_textures(TriangleLooks& looks, std::span<const mesh::Triangle> triangles,
                                                     std::span<const Vec3f> colors) {
-    std::vector<render::MeshTexture> out;
-    if (looks.textures.empty()) return out;
+    if (looks.textures.empty()) return {};
     const size_t first_face = looks.texture.size();
     looks.texture.resize(triangles.size(), -1);
     looks.uv.resize(triangles.size(), {Vec2f::Zero(), Vec2f::Zero(), Vec2f::Zero()});
     looks.tint.resize(triangles.size(), {Vec3f::Ones(), Vec3f::Ones(), Vec3f::Ones()});
     for (size_t t = first_face; t < triangles.size(); ++t)
         for (size_t k = 0; k < 3 && triangles[t][k] < colors.size(); ++k) looks.tint[t][k] = colors[triangles[t][k]];
-    const auto wrap = [](asset::Wrap w) {
-        return w == asset::Wrap::clamp    ? VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE
-               : w == asset::Wrap::mirror ? VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT
-                                          : VK_SAMPLER_ADDRESS_MODE_REPEAT;
-    };
-    for (const asset::Texture* t : looks.textures) out.push_back({t->width, t->height, t->rgba, wrap(t->wrap_u), wrap(t->wrap_v)});
-    return out;
+    return gpu_textures(looks.textures);
 }
 
 // Holes, silhouette and specks of the frame as the runtime draws it (its camera, the
@@ -125,8 +118,11 @@ core::Status sample_coverage(SceneRuntime& rt, const Scene& scene, const CheckOp
     frame.style.order = rt.order();  // without a device: the CPU sort, records already in order
     const std::vector<render::MeshTexture> textures = reference_textures(looks, triangles, colors);
     const passes::ReferenceTextures reference{looks.texture, looks.uv, looks.tint, textures};
+    // The splats read the textures the runtime gives them: the first SPLAT_MAX_TEXTURES.
+    const passes::SplatTexturing texturing{rt.texcoords(),
+                                           std::span(textures).first(std::min<size_t>(textures.size(), SPLAT_MAX_TEXTURES))};
     auto c = passes::measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height, scene.material.color, rt.shapes(),
-                                      colors, textures.empty() ? nullptr : &reference);
+                                      colors, textures.empty() ? nullptr : &reference, rt.texcoords().empty() ? nullptr : &texturing);
     if (!c.ok()) return core::make_error("frame " + std::to_string(s.frame) + ": " + c.error().to_string());
     s.hole_ratio = c->hole_ratio;
     s.iou = c->silhouette_iou;

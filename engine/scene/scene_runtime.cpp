@@ -60,7 +60,11 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     if (!surface.ok()) return surface.error();
     h_ = surface->h;
     splat_particles_ = surface->particles_are_splats;
+    // A textured model's splats read its texture per pixel, except within their reach of a seam:
+    // a Gaussian cut at two standard deviations, and a margin.
+    if (paint_.textured() && boundary_.size() > 0) paint_.texture_reach = 2.5f * mat.splat_scale * h_;
     if (!paint_.empty()) paint_samples(paint_, body_, boundary_, loader);
+    if (splat_particles_) paint_particle_texcoords(paint_, body_);
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
     cut_faces_ = splat::CutFaces(h_, mat.interior_color, mat.color, scene_.simulation.fade_frames, sd_surface.seed);
     mapping_ = std::make_unique<MappingStage>(body_, scene_.simulation.fade_frames, scene_.render.deformed_shapes(),
@@ -103,7 +107,7 @@ void SceneRuntime::set_up_look() {
 }
 
 core::Status SceneRuntime::create_renderer(const SortChoice& sort) {
-    RendererNeeds needs{body_.particle_count() + boundary_.size(), options_.interactive, !density_.empty()};
+    RendererNeeds needs{body_.particle_count() + boundary_.size(), options_.interactive, !density_.empty(), paint_.texture_reach > 0.0f};
     size_t max_samples = 0;
     render::RendererOptions ro = renderer_options(scene_, sort, needs, &max_samples);
     // What the density control may fill: the renderer's capacity less the cuts' room.
@@ -114,6 +118,11 @@ core::Status SceneRuntime::create_renderer(const SortChoice& sort) {
     auto r = render::SplatRenderer::create(*options_.gpu, ro);
     if (!r.ok()) return r.error();
     renderer_ = std::move(r).value();
+    if (ro.textured) {
+        std::vector<const asset::Texture*> textures = paint_.textures();
+        textures.resize(std::min<size_t>(textures.size(), SPLAT_MAX_TEXTURES));
+        PBDSPLAT_TRY(renderer_->set_textures(gpu_textures(textures)));
+    }
     return core::Status::success();
 }
 

@@ -131,6 +131,8 @@ public:
     const std::vector<splat::GaussianRecord>& records() const { return mapping_->records(); }
     // With render.splat_shape = "deformed": each record's axes; else empty.
     const std::vector<splat::GaussianShape>& shapes() const { return mapping_->shapes(); }
+    // Where a textured model's texture lies on each record (empty unless textured splats).
+    const std::vector<splat::GaussianTexcoord>& texcoords() const { return mapping_->texcoords(); }
     float spacing() const { return h_; }
     const Scene& scene() const { return scene_; }
     // What the most recent cut or tear did (empty before any).

@@ -99,6 +99,7 @@ bool reserve_headroom(SoftBody& b, float fraction) {
     reserve(b.particles.x, n), reserve(b.particles.x_prev, n), reserve(b.particles.v, n), reserve(b.particles.w, n);
     reserve(b.rest_positions, n), reserve(b.normals, n), reserve(b.piece_of_particle, n);
     if (!b.colors.empty()) reserve(b.colors, n);
+    if (!b.texcoords.empty()) reserve(b.texcoords, n);
     reserve(b.triangles, t);
     reserve(b.distance, e), reserve(b.distance_lambda, e), reserve(b.distance_groups.colour, e);
     reserve(b.volumes, b.volumes.size());  // a piece cut off adds its constraint at the end
@@ -134,6 +135,7 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     d.shapes = b.shapes;
     d.rest_positions = b.rest_positions;
     d.colors = b.colors;
+    d.texcoords = b.texcoords;
     d.model_of_particle = b.model_of_particle;
     d.part_of_particle = b.part_of_particle;
     return d;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/result.h"
+#include "mesh/surface_texcoord.h"
 #include "mesh/triangle_mesh.h"
 #include "sim/constraint_order.h"
 #include "sim/constraints.h"
@@ -54,6 +55,9 @@ struct BodyStructureT {
     bool shape_matching = false;        // one cluster per piece (BodyCachesT::shapes)
     std::vector<Vec3f> rest_positions;  // rest state (new edges take rest lengths from it)
     std::vector<Vec3f> colors;          // per-particle colours from the mesh file; empty if none
+    // Per particle, where a textured model's texture lies at it (scene/stages/paint.h); empty
+    // unless a model is textured and the particles are drawn.
+    std::vector<mesh::SurfaceTexcoord> texcoords;
     // The model each particle was loaded from (a scene's [model] and [[bodies]]; a particle a
     // topology edit adds takes its source's). make_soft_body makes the whole mesh one model.
     std::vector<uint32_t> model_of_particle;

@@ -45,6 +45,18 @@ struct GaussianSH {
 };
 static_assert(sizeof(GaussianSH) == SPLAT_SH_SIZE, "GaussianSH must match SPLAT_SH_SIZE");
 
+// Where a textured model's texture lies on a splat (SPLAT_TEXCOORD_SIZE in gpu_types.h), in a
+// stream beside the records: only scenes whose models are textured carry one.
+struct GaussianTexcoord {
+    float uv[2] = {0.0f, 0.0f};
+    uint16_t gradient_half[6] = {0, 0, 0, 0, 0, 0};  // du x y z, dv x y z (world units), IEEE half
+    uint16_t texture = SPLAT_NO_TEXTURE;
+    uint16_t reach_half = 0;  // how far from its centre the splat may read (world units), IEEE half
+    uint8_t tint[4] = {255, 255, 255, 255};  // unorm8 linear rgb; a unused
+    uint32_t pad = 0;
+};
+static_assert(sizeof(GaussianTexcoord) == SPLAT_TEXCOORD_SIZE, "GaussianTexcoord must match SPLAT_TEXCOORD_SIZE");
+
 using core::float_to_half;
 using core::half_to_float;
 

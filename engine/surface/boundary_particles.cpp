@@ -171,6 +171,7 @@ void BoundaryParticles::clear() {
     fade_step.clear();
     size_factor.clear();
     color.clear();
+    texcoord.clear();
     thin_level.clear();
     thin_gaps.clear();
 }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "mesh/surface_texcoord.h"
 #include "mesh/triangle_mesh.h"
 
 namespace pbdsplat::core {
@@ -47,6 +48,11 @@ struct BoundaryParticles {
     // vertex colours): linear RGB as bytes, alpha 255 once painted (scene/stages/paint.h). Empty
     // for a plain material; shorter than the other arrays, or 0, where a sample waits for paint.
     std::vector<uint32_t> color;
+    // Where a textured model's texture lies on each sample, for splats that read it per pixel
+    // (mesh/surface_texcoord.h; scene/stages/paint.h). Empty unless a model is textured; painted
+    // with `color`.
+    using Texcoord = mesh::SurfaceTexcoord;
+    std::vector<Texcoord> texcoord;
     // Each sample's level in the thinning order (surface/thin_order.h); shorter (or empty) where
     // not yet given. Where samples of a level above 0 were removed, their positions (the gaps
     // they leave in the order, to fill around).
@@ -134,6 +140,7 @@ size_t BoundaryParticles::keep_if(const Keep& keep) {
     if (!fade.empty()) pad_fades();
     if (!size_factor.empty()) size_factor.resize(size(), 1.0f);
     if (!color.empty()) color.resize(size(), 0u);
+    if (!texcoord.empty()) texcoord.resize(size());
     if (!thin_level.empty()) thin_level.resize(size(), 0u);
     // The kept prefix stays where it is: a local edit drops few samples, late in the arrays.
     size_t first = 0;
@@ -145,7 +152,7 @@ size_t BoundaryParticles::keep_if(const Keep& keep) {
     gap(first);
     size_t out = first;
     const bool off = !offset.empty(), nl = !local_normal.empty(), pos = position.size() == size(), fd = !fade.empty(),
-               sz = !size_factor.empty(), col = !color.empty(), lv = !thin_level.empty();
+               sz = !size_factor.empty(), col = !color.empty(), tc = !texcoord.empty(), lv = !thin_level.empty();
     for (size_t i = first + 1; i < size(); ++i) {
         if (!keep(i)) {
             gap(i);
@@ -159,6 +166,7 @@ size_t BoundaryParticles::keep_if(const Keep& keep) {
         if (fd) fade[out] = fade[i], fade_step[out] = fade_step[i];
         if (sz) size_factor[out] = size_factor[i];
         if (col) color[out] = color[i];
+        if (tc) texcoord[out] = texcoord[i];
         if (lv) thin_level[out] = thin_level[i];
         ++out;
     }
@@ -171,6 +179,7 @@ size_t BoundaryParticles::keep_if(const Keep& keep) {
     if (fd) fade.resize(out), fade_step.resize(out);
     if (sz) size_factor.resize(out);
     if (col) color.resize(out);
+    if (tc) texcoord.resize(out);
     if (lv) thin_level.resize(out);
     return dropped;
 }

@@ -38,6 +38,7 @@ uint32_t Edit::new_particle(uint32_t from) {
     p.w.push_back(p.w[from]);
     b_.rest_positions.push_back(b_.rest_positions[from]);
     if (!b_.colors.empty()) b_.colors.push_back(b_.colors[from]);
+    if (!b_.texcoords.empty()) b_.texcoords.push_back(b_.texcoords[from]);
     if (b_.model_of_particle.size() + 1 == p.x.size()) b_.model_of_particle.push_back(b_.model_of_particle[from]);
     if (b_.part_of_particle.size() + 1 == p.x.size()) b_.part_of_particle.push_back(b_.part_of_particle[from]);
     b_.normals.push_back(from < b_.normals.size() ? b_.normals[from] : Vec3f::UnitY());
@@ -58,6 +59,7 @@ void Edit::add_edge_point(uint32_t i, uint32_t j, float t) {
     p.w[v] = 1.0f;  // set by redistribute_mass
     b_.rest_positions[v] = b_.rest_positions[i] + t * (b_.rest_positions[j] - b_.rest_positions[i]);
     if (!b_.colors.empty()) b_.colors[v] = b_.colors[i] + t * (b_.colors[j] - b_.colors[i]);
+    if (!b_.texcoords.empty()) b_.texcoords[v] = mesh::lerp(b_.texcoords[i], b_.texcoords[j], t);
     const Vec3f n = b_.normals[i] + t * (b_.normals[j] - b_.normals[i]);
     b_.normals[v] = n.norm() > 0.0f ? Vec3f(n.normalized()) : b_.normals[i];
     point_of_edge_.emplace(edge_key(i, j), uint32_t(points_.size()));

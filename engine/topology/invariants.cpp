@@ -21,7 +21,8 @@ namespace {
 core::Status check_particles(const sim::SoftBody& b) {
     const size_t n = b.particle_count();
     if (b.particles.x_prev.size() != n || b.particles.v.size() != n || b.particles.w.size() != n ||
-        b.rest_positions.size() != n || b.normals.size() != n || (!b.colors.empty() && b.colors.size() != n))
+        b.rest_positions.size() != n || b.normals.size() != n || (!b.colors.empty() && b.colors.size() != n) ||
+        (!b.texcoords.empty() && b.texcoords.size() != n))
         return broken("the per-particle arrays differ in length");
     for (size_t i = 0; i < n; ++i)
         if (!b.particles.x[i].allFinite() || !b.particles.v[i].allFinite() || !std::isfinite(b.particles.w[i]) ||

@@ -51,6 +51,19 @@ struct alignas(16) mat4 { float m[16]; };  // column-major, as GLSL reads it
 #define SPLAT_SH_COEFFS 45
 #define SPLAT_SH_SIZE 96
 
+// ---- Textured splats (optional storage stream, binding 6; the textures at binding 7) --------
+// Per record, where a textured model's texture lies on the splat, so the fragment stage reads
+// the texture under each pixel instead of one colour per splat: the texture coordinates at the
+// centre (two floats), their world gradients du and dv (IEEE halfs, x y z each: the change of u
+// and v per world unit along the surface), the texture (a uint16 into binding 7's array;
+// SPLAT_NO_TEXTURE draws the record's own colour) and how far from its centre the splat may read
+// (an IEEE half, world units along the surface: short of a seam, where the coordinates jump to
+// another part of the texture), and the colour the texture multiplies (unorm8 rgb, linear; a
+// unused). 32 bytes.
+#define SPLAT_TEXCOORD_SIZE 32
+#define SPLAT_MAX_TEXTURES 8
+#define SPLAT_NO_TEXTURE 0xFFFFu
+
 // ---- Splat footprints (specialization constant 2 of the splat pipelines) --------------------
 #define SPLAT_FOOTPRINT_GAUSSIAN 0u  // soft Gaussian, cut where its alpha falls below 1/255
 #define SPLAT_FOOTPRINT_PAPER 1u     // the paper's flat elliptical disc (eqs. 22-23), one pass

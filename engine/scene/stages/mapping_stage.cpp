@@ -23,15 +23,21 @@ void MappingStage::map(const Sources& s, const splat::Appearance& look) {
     }
     fade_.apply(records_);
     if (s.cut_faces) s.cut_faces->append_records(body.particles.x, body.colors, look, records_, deformed_.empty() ? nullptr : &shapes_);
+    if (s.samples && !s.samples->texcoord.empty())
+        splat::map_texcoords(body.rest_positions, body.particles.x, body.triangles, s.particles ? body.particle_count() : 0,
+                             body.texcoords, *s.samples, records_.size(), texcoords_, texcoord_scratch_);
+    else texcoords_.clear();
 }
 
 void MappingStage::sort(const render::Camera& c) {
     splat::sort_far_to_near(records_, shapes_, math::look_at(c.eye, c.target, c.up), sort_scratch_);
+    splat::reorder_like_last_sort(sort_scratch_, texcoords_);
 }
 
 void MappingStage::publish(passes::SplatStream& input, bool moved) {
     input.records = records_;
     input.shapes = shapes_;
+    input.texcoords = texcoords_;
     if (moved) {
         input.changed.clear();  // everything
         previous_valid_ = false;

@@ -18,6 +18,7 @@
 #include "splat/mapping.h"
 #include "splat/normal_field.h"
 #include "splat/sort.h"
+#include "splat/texcoords.h"
 #include "surface/boundary_particles.h"
 #include "topology/topology_change.h"
 
@@ -48,6 +49,9 @@ public:
 
     const std::vector<splat::GaussianRecord>& records() const { return records_; }
     const std::vector<splat::GaussianShape>& shapes() const { return shapes_; }
+    // Where a textured model's texture lies on each splat, parallel to records(); empty unless
+    // the samples carry texture coordinates (scene/stages/paint.h).
+    const std::vector<splat::GaussianTexcoord>& texcoords() const { return texcoords_; }
     splat::SortScratch& sort_scratch() { return sort_scratch_; }
 
 private:
@@ -55,6 +59,8 @@ private:
     std::vector<splat::GaussianRecord> previous_;  // what the GPU holds, when previous_valid_: for the changed ranges
     bool previous_valid_ = false;
     std::vector<splat::GaussianShape> shapes_;     // parallel to records_ with deformed shapes
+    std::vector<splat::GaussianTexcoord> texcoords_;  // parallel to records_ for textured models
+    splat::TexcoordScratch texcoord_scratch_;
     splat::DeformedShapes deformed_;
     splat::NormalField normal_field_;
     bool varying_normals_ = false;

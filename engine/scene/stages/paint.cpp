@@ -12,6 +12,35 @@ bool SurfacePaint::empty() const {
     return std::none_of(model.begin(), model.end(), [](const auto& m) { return m != nullptr; });
 }
 
+std::vector<const asset::Texture*> SurfacePaint::textures() const {
+    std::vector<const asset::Texture*> out;
+    for (const auto& m : model)
+        if (m)
+            for (const asset::Texture& t : m->look().textures) out.push_back(&t);
+    return out;
+}
+
+std::vector<int32_t> SurfacePaint::first_texture() const {
+    std::vector<int32_t> out(model.size(), 0);
+    int32_t n = 0;
+    for (size_t m = 0; m < model.size(); ++m) {
+        out[m] = n;
+        if (model[m]) n += int32_t(model[m]->look().textures.size());
+    }
+    return out;
+}
+
+std::vector<render::MeshTexture> gpu_textures(std::span<const asset::Texture* const> textures) {
+    const auto wrap = [](asset::Wrap w) {
+        return w == asset::Wrap::clamp    ? VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE
+               : w == asset::Wrap::mirror ? VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT
+                                          : VK_SAMPLER_ADDRESS_MODE_REPEAT;
+    };
+    std::vector<render::MeshTexture> out;
+    for (const asset::Texture* t : textures) out.push_back({t->width, t->height, t->rgba, wrap(t->wrap_u), wrap(t->wrap_v)});
+    return out;
+}
+
 uint32_t pack_color(const Vec3f& c) {
     uint32_t out = 0xFF000000u;
     for (int k = 0; k < 3; ++k) out |= uint32_t(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f)) << (8 * k);
@@ -66,13 +95,9 @@ Vec2f plane_bary(const Vec3f& p, const Vec3f& a, const Vec3f& b, const Vec3f& c)
 TriangleLooks paint_triangles(const SurfacePaint& paint, std::span<const Vec3f> rest, std::span<const uint32_t> vertex_model,
                               std::span<const mesh::Triangle> triangles) {
     TriangleLooks out;
-    std::vector<int32_t> first_texture(paint.model.size(), 0);
-    for (size_t m = 0; m < paint.model.size(); ++m) {
-        first_texture[m] = int32_t(out.textures.size());
-        if (paint.model[m])
-            for (const asset::Texture& t : paint.model[m]->look().textures) out.textures.push_back(&t);
-    }
+    out.textures = paint.textures();
     if (out.textures.empty()) return out;
+    const std::vector<int32_t> first_texture = paint.first_texture();
     out.texture.assign(triangles.size(), -1);
     out.uv.assign(triangles.size(), {Vec2f::Zero(), Vec2f::Zero(), Vec2f::Zero()});
     out.tint.resize(triangles.size());
@@ -99,12 +124,46 @@ TriangleLooks paint_triangles(const SurfacePaint& paint, std::span<const Vec3f> 
     return out;
 }
 
+namespace {
+
+surface::BoundaryParticles::Texcoord texcoord_of(const SurfacePaint& paint, uint32_t model, const std::vector<int32_t>& first_texture,
+                                                 const Vec3f& rest, std::vector<mesh::ClosestPoint>& scratch) {
+    surface::BoundaryParticles::Texcoord out;
+    if (model >= paint.model.size() || !paint.model[model]) return out;
+    const auto q = paint.model[model]->texture_point(rest, paint.texture_reach, scratch);
+    if (!q) return out;
+    out.uv = q->uv;
+    out.du = q->gradient.du;
+    out.dv = q->gradient.dv;
+    out.tint = q->tint;
+    out.reach = q->reach;
+    // The splats read at most SPLAT_MAX_TEXTURES; the samples of the rest keep their colour.
+    if (first_texture[model] + q->texture >= int32_t(SPLAT_MAX_TEXTURES)) return out;
+    out.texture = first_texture[model] + q->texture;
+    return out;
+}
+
+} // namespace
+
+void paint_particle_texcoords(const SurfacePaint& paint, sim::SoftBody& body) {
+    body.texcoords.clear();
+    if (!(paint.texture_reach > 0.0f) || !paint.textured()) return;
+    const std::vector<int32_t> first_texture = paint.first_texture();
+    body.texcoords.resize(body.particle_count());
+    std::vector<mesh::ClosestPoint> scratch;
+    for (uint32_t i = 0; i < body.particle_count(); ++i)
+        body.texcoords[i] = texcoord_of(paint, model_of(body, i), first_texture, body.rest_positions[i], scratch);
+}
+
 size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& s, core::ThreadPool* pool) {
     // What waits for paint is a suffix: samples are only appended, and keep_if keeps the order
     // (padding the colours it compacts with zeros at the end). So a frame costs what it added.
     size_t first = std::min(s.color.size(), s.size());
     while (first > 0 && !(s.color[first - 1] >> 24)) --first;
     s.color.resize(s.size(), 0u);
+    const bool textured = paint.texture_reach > 0.0f && paint.textured();
+    const std::vector<int32_t> first_texture = textured ? paint.first_texture() : std::vector<int32_t>{};
+    if (textured) s.texcoord.resize(s.size());
     const auto run = [&](unsigned, size_t begin, size_t end) {
         std::vector<mesh::ClosestPoint> scratch;
         for (size_t k = first + begin; k < first + end; ++k) {
@@ -118,7 +177,9 @@ size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surfa
                 const Vec3f n = (b - a).cross(c - a);
                 if (n.squaredNorm() > 0.0f) rest += s.offset[k] * n.normalized();
             }
-            s.color[k] = pack_color(color_of(paint, model_of(body, t[0]), rest, scratch));
+            const uint32_t model = model_of(body, t[0]);
+            s.color[k] = pack_color(color_of(paint, model, rest, scratch));
+            if (textured) s.texcoord[k] = texcoord_of(paint, model, first_texture, rest, scratch);
         }
     };
     const size_t count = s.size() - first;

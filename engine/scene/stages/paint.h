@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "asset/surface_colors.h"
+#include "render/mesh_textures.h"
 #include "graph/blackboard.h"
 #include "graph/frame_graph.h"
 #include "sim/soft_body.h"
@@ -24,15 +25,29 @@ struct SurfacePaint {
     // plain one, drawn in `plain`'s colour.
     std::vector<std::shared_ptr<const asset::SurfaceColors>> model;
     std::vector<Vec3f> plain;
+    // How far a splat reaches about its sample (world units, rest frame): where above 0, the
+    // samples of textured models also carry where the texture lies on them (BoundaryParticles::
+    // texcoord), for splats that read it per pixel, no farther than a seam within this.
+    float texture_reach = 0.0f;
 
     bool empty() const;  // no model has a look
+    // Every model's textures, in model order, and where each model's first one is in that list.
+    std::vector<const asset::Texture*> textures() const;
+    std::vector<int32_t> first_texture() const;
+    bool textured() const { return !textures().empty(); }
 };
+
+// Textures as the GPU takes them (the bytes stay the assets'), wrap modes translated.
+std::vector<render::MeshTexture> gpu_textures(std::span<const asset::Texture* const> textures);
 
 // Linear RGB as the records' bytes, alpha 255 (painted).
 uint32_t pack_color(const Vec3f& c);
 
 // Every particle's colour (SoftBody::colors) from where it lies at rest.
 void paint_particles(const SurfacePaint& paint, sim::SoftBody& body);
+// Where the texture lies at every particle (SoftBody::texcoords), for particles drawn as splats
+// that read it per pixel (paint.texture_reach set); clears them otherwise.
+void paint_particle_texcoords(const SurfacePaint& paint, sim::SoftBody& body);
 // The colour of each vertex of `surface` (the models' fine surface, in the body's rest frame);
 // `embedded` (one sample per vertex, on the body's triangles) tells each vertex's model.
 std::vector<Vec3f> paint_vertices(const SurfacePaint& paint, const sim::SoftBody& body, const mesh::TriangleMesh& surface,
