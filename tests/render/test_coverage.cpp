@@ -13,6 +13,7 @@
 #include "passes/coverage.h"
 #include "passes/offscreen_renderer.h"
 #include "scene/stages/paint.h"
+#include "splat/sort.h"
 #include "splat/texcoords.h"
 #include "sim/soft_body.h"
 #include "splat/mapping.h"
@@ -452,6 +453,39 @@ TEST_SUITE("render/coverage") {
             MESSAGE(std::string(render::splat_path_name(path)) << " against the first path: " << diff->share_over * 100.0 << " % of pixels over 3/255");
             CHECK(diff->share_over < 0.005);
         }
+
+        // Sorted on the GPU, each record finds its texture entry through the sort's order: the
+        // same image as the records and entries sorted together on the CPU.
+        const auto sorted = [&](render::SplatOrder order) {
+            render::RendererOptions o;
+            o.width = o.height = 256;
+            o.max_splats = uint32_t(records.size());
+            o.frames_in_flight = 1;
+            o.textured = true;
+            o.gpu_sort = order == render::SplatOrder::gpu;
+            render::FrameInputs over = frame;
+            over.style.blend = render::Blend::over;
+            over.style.order = order;
+            std::vector<splat::GaussianRecord> drawn = records;
+            std::vector<splat::GaussianTexcoord> entries = texcoords;
+            if (order == render::SplatOrder::cpu) {
+                splat::SortScratch sort;
+                splat::sort_far_to_near(drawn, math::look_at(over.camera.eye, over.camera.target, over.camera.up), sort);
+                splat::reorder_like_last_sort(sort, entries);
+            }
+            auto r = passes::OffscreenRenderer::create(*ctx, o);
+            REQUIRE_MESSAGE(r.ok(), test::why(r));
+            REQUIRE(r.value()->set_textures(textures).ok());
+            r.value()->set_texcoords(entries);
+            REQUIRE(r.value()->render(drawn, over).ok());
+            auto image = r.value()->finish();
+            REQUIRE(image.ok());
+            return std::move(image).value();
+        };
+        auto diff = core::compare_images(sorted(render::SplatOrder::cpu), sorted(render::SplatOrder::gpu), 1);
+        REQUIRE(diff.ok());
+        MESSAGE("textured, GPU against CPU sort: " << diff->share_over * 100.0 << " % of pixels over 1/255");
+        CHECK(diff->share_over == 0.0);
         test::require_no_validation_messages(*ctx);
     }
 }
