@@ -21,10 +21,14 @@ std::optional<SurfaceColors::TexturePoint> SurfaceColors::texture_point(const Ve
                                                                         std::vector<mesh::ClosestPoint>& scratch) const {
     if (look_.textures.empty()) return std::nullopt;
     const auto q = nearest(p, scratch);
-    if (!q) return std::nullopt;
-    const SurfaceLook::Parts parts = look_.parts_at(q->triangle, q->bary);
+    return q ? texture_point(*q, p, reach) : std::nullopt;
+}
+
+std::optional<SurfaceColors::TexturePoint> SurfaceColors::texture_point(const mesh::ClosestPoint& q, const Vec3f& p, float reach) const {
+    if (look_.textures.empty()) return std::nullopt;
+    const SurfaceLook::Parts parts = look_.parts_at(q.triangle, q.bary);
     if (parts.texture < 0) return std::nullopt;
-    const auto gradient = uv_gradient(look_, q->triangle);
+    const auto gradient = uv_gradient(look_, q.triangle);
     if (!gradient) return std::nullopt;
     return TexturePoint{parts.uv, *gradient, parts.texture, parts.tint.cwiseMax(0.0f), charts_.seam_distance(p, reach)};
 }

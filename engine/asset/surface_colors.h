@@ -39,6 +39,8 @@ public:
         float reach;
     };
     std::optional<TexturePoint> texture_point(const Vec3f& p, float reach, std::vector<mesh::ClosestPoint>& scratch) const;
+    // The same at the nearest point already found (nearest(p)).
+    std::optional<TexturePoint> texture_point(const mesh::ClosestPoint& q, const Vec3f& p, float reach) const;
 
 private:
     SurfaceLook look_;

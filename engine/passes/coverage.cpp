@@ -208,11 +208,11 @@ core::Result<core::ImageRgba8> splat_image(gpu::Context& ctx, std::span<const Ve
     ro.anisotropic = !shapes.empty();
     ro.normalised = frame.style.blend == render::Blend::normalised;
     ro.occluders = render::occluded_style(frame.style);
-    ro.textured = texturing && !texturing->texcoords.empty();
+    ro.textures = texturing && !texturing->texcoords.empty() ? uint32_t(texturing->textures.size()) : 0u;
     auto splats = OffscreenRenderer::create(ctx, ro);
     if (!splats.ok()) return splats.error();
     splats.value()->set_occluders(x, triangles);
-    if (ro.textured) {
+    if (ro.textures > 0) {
         splats.value()->set_texcoords(texturing->texcoords);
         PBDSPLAT_TRY(splats.value()->set_textures(texturing->textures));
     }

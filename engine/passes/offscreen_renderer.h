@@ -30,7 +30,7 @@ public:
         input_.occluders.triangles = triangles;
     }
     // Where a textured model's texture lies on each record of the next render()s (a renderer
-    // created with options.textured; one per record, or none); the span must outlive them.
+    // created with options.textures; one per record, or none); the span must outlive them.
     void set_texcoords(std::span<const splat::GaussianTexcoord> texcoords) { texcoords_ = texcoords; }
     core::Status set_textures(std::span<const render::MeshTexture> textures) { return renderer_->set_textures(textures); }
     // Whether each frame is copied out for finish() (always, unless presenting).

@@ -31,7 +31,7 @@ std::string splat_path_unsupported(const gpu::DeviceCaps& caps, SplatPath path) 
 
 core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat color, VkFormat depth, SplatPath path,
                                           SplatShading shading, SplatCarrier carrier, bool anisotropic, uint32_t sh_degree,
-                                          VkFormat accumulation, VkDescriptorSetLayout occluders, bool textured) {
+                                          VkFormat accumulation, VkDescriptorSetLayout occluders, uint32_t textures) {
     if (sh_degree > 3) return core::make_error("spherical-harmonic degree " + std::to_string(sh_degree) + " is not 0 to 3");
     if (const std::string why = splat_path_unsupported(ctx.caps(), path); !why.empty()) return core::make_error(why);
     SplatPass p;
@@ -40,7 +40,9 @@ core::Result<SplatPass> SplatPass::create(const gpu::Context& ctx, VkFormat colo
     p.shading_ = shading;
     p.carrier_ = path == SplatPath::vertex ? SplatCarrier::quad : carrier;
     p.anisotropic_ = anisotropic;
-    p.textured_ = textured;
+    if (textures > SPLAT_MAX_TEXTURES)
+        return core::make_error(std::to_string(textures) + " textures; splats read at most " + std::to_string(SPLAT_MAX_TEXTURES));
+    p.textures_ = textures;
     PBDSPLAT_TRY(p.create_layouts(ctx, occluders));
     gpu::GraphicsPipelineDesc desc;
     PBDSPLAT_TRY(p.describe_front(ctx, desc));
@@ -114,9 +116,9 @@ core::Status SplatPass::describe_front(const gpu::Context& ctx, gpu::GraphicsPip
 void SplatPass::describe(Variant v, const gpu::GraphicsPipelineDesc& desc) {
     LazyPipeline& lazy = variants_[size_t(v)];
     lazy.desc = desc;
-    if (textured_) {
+    if (textures_ > 0) {
         lazy.desc.specialization.resize(9, 0u);
-        lazy.desc.specialization[8] = 1u;  // k_textured
+        lazy.desc.specialization[8] = textures_;  // k_texture_count
     }
     lazy.described = true;
 }

@@ -44,7 +44,7 @@ public:
                                           SplatShading shading = SplatShading::fragment,
                                           SplatCarrier carrier = SplatCarrier::quad, bool anisotropic = false,
                                           uint32_t sh_degree = 0, VkFormat accumulation = VK_FORMAT_UNDEFINED,
-                                          VkDescriptorSetLayout occluders = VK_NULL_HANDLE, bool textured = false);
+                                          VkDescriptorSetLayout occluders = VK_NULL_HANDLE, uint32_t textures = 0);
     SplatPass() = default;
 
     SplatPath path() const { return path_; }
@@ -52,8 +52,8 @@ public:
     SplatCarrier carrier() const { return carrier_; }
     // Reads each splat's axes from the shape stream (binding 3) instead of drawing it round.
     bool anisotropic() const { return anisotropic_; }
-    // Reads a textured model's texture under each pixel (bindings 6 and 7) where a splat has one.
-    bool textured() const { return textured_; }
+    // How many textures (bindings 6 and 7) the splats read under each pixel where they have one.
+    uint32_t textures() const { return textures_; }
     VkDescriptorSetLayout set_layout() const { return set_layout_.get(); }
     // The Gaussian footprint under unsorted "over" draws the visibility pass first; sorted
     // orders, additive blending and the paper's disc draw one pass. `frame_set`'s storage
@@ -82,7 +82,7 @@ private:
     SplatShading shading_ = SplatShading::fragment;
     SplatCarrier carrier_ = SplatCarrier::quad;
     bool anisotropic_ = false;
-    bool textured_ = false;
+    uint32_t textures_ = 0;
     gpu::DescriptorSetLayout set_layout_;
     gpu::PipelineLayout layout_;
     gpu::PipelineLayout occluded_layout_;  // the frame set and the occluders' (set 1)

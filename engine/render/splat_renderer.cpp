@@ -121,7 +121,7 @@ core::Status SplatRenderer::create_passes() {
     auto pass = SplatPass::create(ctx, k_color_format, k_depth_format, options.path.value_or(best_splat_path(ctx.caps())),
                                   options.shading, options.carrier, options.anisotropic, options.sh_degree,
                                   options.normalised ? k_accumulation_format : VK_FORMAT_UNDEFINED,
-                                  options.occluders ? occluders_.set_layout() : VK_NULL_HANDLE, options.textured);
+                                  options.occluders ? occluders_.set_layout() : VK_NULL_HANDLE, options.textures);
     if (!pass.ok()) return pass.error();
     splat_ = std::move(pass).value();
     if (options.normalised) {
@@ -152,7 +152,7 @@ core::Status SplatRenderer::create_sets() {
                                   shapes_, extra.shapes));
     PBDSPLAT_TRY(make_host_stream(ctx, n, VkDeviceSize(options.sh_degree > 0 ? options.max_splats : 1) * sizeof(splat::GaussianSH),
                                   sh_rest_, extra.sh));
-    PBDSPLAT_TRY(make_host_stream(ctx, n, VkDeviceSize(options.textured ? options.max_splats : 1) * sizeof(splat::GaussianTexcoord),
+    PBDSPLAT_TRY(make_host_stream(ctx, n, VkDeviceSize(options.textures > 0 ? options.max_splats : 1) * sizeof(splat::GaussianTexcoord),
                                   texcoords_, extra.texcoords));
     const uint8_t white[4] = {255, 255, 255, 255};
     auto white_texture = gpu::Texture::create_rgba8_srgb(ctx, 1, 1, white, VK_SAMPLER_ADDRESS_MODE_REPEAT, VK_SAMPLER_ADDRESS_MODE_REPEAT);
@@ -160,7 +160,7 @@ core::Status SplatRenderer::create_sets() {
     white_ = std::move(white_texture).value();
     extra.textures.assign(SPLAT_MAX_TEXTURES, {white_.sampler(), white_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL});
     // Streams drawn in the order they were written: the identity (a token entry without streams).
-    const bool streams = options.anisotropic || options.sh_degree > 0 || options.textured;
+    const bool streams = options.anisotropic || options.sh_degree > 0 || options.textures > 0;
     const uint32_t identity_size = streams ? options.max_splats : 1u;
     auto identity = gpu::Buffer::create(ctx, VkDeviceSize(identity_size) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                         gpu::MemoryUsage::upload);
@@ -283,13 +283,12 @@ core::Status SplatRenderer::upload_sh(std::span<const splat::GaussianSH> sh) {
 }
 
 core::Status SplatRenderer::upload_texcoords(std::span<const splat::GaussianTexcoord> texcoords) {
-    return write_host_stream(texcoords_[frames_.slot()], texcoords, options_.max_splats, options_.textured, "textured splats");
+    return write_host_stream(texcoords_[frames_.slot()], texcoords, options_.max_splats, options_.textures > 0, "textured splats");
 }
 
 core::Status SplatRenderer::set_textures(std::span<const MeshTexture> textures) {
-    if (!options_.textured) return core::make_error("the renderer was created without textured splats");
-    if (textures.size() > SPLAT_MAX_TEXTURES)
-        return core::make_error(std::to_string(textures.size()) + " textures; splats read at most " + std::to_string(SPLAT_MAX_TEXTURES));
+    if (textures.size() > options_.textures)
+        return core::make_error(std::to_string(textures.size()) + " textures for a renderer created to read " + std::to_string(options_.textures));
     PBDSPLAT_TRY(frames_.wait_all());
     std::vector<gpu::Texture> made;
     for (const MeshTexture& t : textures) {

@@ -48,9 +48,10 @@ struct RendererOptions {
     // Degrees of view-dependent colour to evaluate (upload_sh every frame); 0: none. The same
     // limit on sorting as anisotropic.
     uint32_t sh_degree = 0;
-    // Textured splats: each reads a textured model's texture under its pixels where its entry in
-    // the texture stream says (upload_texcoords every frame; the textures from set_textures).
-    bool textured = false;
+    // Textured splats: how many textures (at most SPLAT_MAX_TEXTURES; 0: none) the splats read
+    // under their pixels where their entries in the texture stream say (upload_texcoords every
+    // frame; the textures from set_textures). The pipelines are made for that many.
+    uint32_t textures = 0;
     // Create the GPU depth sort (frames drawn with SplatOrder::gpu need it).
     bool gpu_sort = false;
     // Create normalised blending's accumulation image and passes (frames drawn with
@@ -124,10 +125,10 @@ public:
     // Degrees 1-3 of each record's colour (options.sh_degree > 0), written like the shapes.
     core::Status upload_sh(std::span<const splat::GaussianSH> sh);
     // Where a textured model's texture lies on each record, one per record in the same order
-    // (options.textured), written like the shapes.
+    // (options.textures > 0), written like the shapes.
     core::Status upload_texcoords(std::span<const splat::GaussianTexcoord> texcoords);
-    // The textures the texture stream names (at most SPLAT_MAX_TEXTURES; the rest of the array
-    // a white texel). Waits for the frames in flight: call it when the scene's models are known.
+    // The textures the texture stream names (at most options.textures; the rest of the array a
+    // white texel). Waits for the frames in flight: call it when the scene's models are known.
     core::Status set_textures(std::span<const MeshTexture> textures);
     // Culls and sorts the uploaded records far to near (needs options.gpu_sort); a following
     // draw() with SplatOrder::gpu draws the result.

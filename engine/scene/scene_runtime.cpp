@@ -107,7 +107,9 @@ void SceneRuntime::set_up_look() {
 }
 
 core::Status SceneRuntime::create_renderer(const SortChoice& sort) {
-    RendererNeeds needs{body_.particle_count() + boundary_.size(), options_.interactive, !density_.empty(), paint_.texture_reach > 0.0f};
+    std::vector<const asset::Texture*> textures = paint_.texture_reach > 0.0f ? paint_.textures() : std::vector<const asset::Texture*>{};
+    textures.resize(std::min<size_t>(textures.size(), SPLAT_MAX_TEXTURES));
+    RendererNeeds needs{body_.particle_count() + boundary_.size(), options_.interactive, !density_.empty(), uint32_t(textures.size())};
     size_t max_samples = 0;
     render::RendererOptions ro = renderer_options(scene_, sort, needs, &max_samples);
     // What the density control may fill: the renderer's capacity less the cuts' room.
@@ -118,11 +120,7 @@ core::Status SceneRuntime::create_renderer(const SortChoice& sort) {
     auto r = render::SplatRenderer::create(*options_.gpu, ro);
     if (!r.ok()) return r.error();
     renderer_ = std::move(r).value();
-    if (ro.textured) {
-        std::vector<const asset::Texture*> textures = paint_.textures();
-        textures.resize(std::min<size_t>(textures.size(), SPLAT_MAX_TEXTURES));
-        PBDSPLAT_TRY(renderer_->set_textures(gpu_textures(textures)));
-    }
+    if (!textures.empty()) PBDSPLAT_TRY(renderer_->set_textures(gpu_textures(textures)));
     return core::Status::success();
 }
 

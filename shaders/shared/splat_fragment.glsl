@@ -32,7 +32,8 @@ layout(location = 5) in vec3 g_tex;
 // the metric of the coordinates along the surface (texcoord_centre(), texcoord_metric()).
 layout(location = 6) flat in vec3 g_tex_centre;
 layout(location = 7) flat in vec3 g_tex_metric;
-layout(constant_id = 8) const bool k_textured = false;
+layout(constant_id = 8) const uint k_texture_count = 0u;  // as in splat_texture.glsl
+const bool k_textured = k_texture_count > 0u;
 layout(set = 0, binding = 7) uniform sampler2D splat_textures[SPLAT_MAX_TEXTURES];
 
 layout(location = 0) out vec4 out_color;
@@ -53,32 +54,29 @@ float dither_threshold() {
     return (float(bayer[p.y * 4u + p.x]) + 0.5) / 16.0;
 }
 
+// Texture `which` of the k_texture_count: each read names its array entry with a constant, so no
+// device feature for non-uniform indexing is needed, and the specialised count leaves only the
+// reads of the textures there are (one, for most models).
 vec3 texture_at(int which, vec2 uv) {
-    switch (which) {
-    case 0: return textureLod(splat_textures[0], uv, 0.0).rgb;
-    case 1: return textureLod(splat_textures[1], uv, 0.0).rgb;
-    case 2: return textureLod(splat_textures[2], uv, 0.0).rgb;
-    case 3: return textureLod(splat_textures[3], uv, 0.0).rgb;
-    case 4: return textureLod(splat_textures[4], uv, 0.0).rgb;
-    case 5: return textureLod(splat_textures[5], uv, 0.0).rgb;
-    case 6: return textureLod(splat_textures[6], uv, 0.0).rgb;
-    case 7: return textureLod(splat_textures[7], uv, 0.0).rgb;
-    }
-    return vec3(1.0);
+    if (k_texture_count <= 1u || which <= 0) return textureLod(splat_textures[0], uv, 0.0).rgb;
+    if (k_texture_count <= 2u || which == 1) return textureLod(splat_textures[1], uv, 0.0).rgb;
+    if (k_texture_count <= 3u || which == 2) return textureLod(splat_textures[2], uv, 0.0).rgb;
+    if (k_texture_count <= 4u || which == 3) return textureLod(splat_textures[3], uv, 0.0).rgb;
+    if (k_texture_count <= 5u || which == 4) return textureLod(splat_textures[4], uv, 0.0).rgb;
+    if (k_texture_count <= 6u || which == 5) return textureLod(splat_textures[5], uv, 0.0).rgb;
+    if (k_texture_count <= 7u || which == 6) return textureLod(splat_textures[6], uv, 0.0).rgb;
+    return textureLod(splat_textures[7], uv, 0.0).rgb;
 }
 
 ivec2 texture_extent(int which) {
-    switch (which) {
-    case 0: return textureSize(splat_textures[0], 0);
-    case 1: return textureSize(splat_textures[1], 0);
-    case 2: return textureSize(splat_textures[2], 0);
-    case 3: return textureSize(splat_textures[3], 0);
-    case 4: return textureSize(splat_textures[4], 0);
-    case 5: return textureSize(splat_textures[5], 0);
-    case 6: return textureSize(splat_textures[6], 0);
-    case 7: return textureSize(splat_textures[7], 0);
-    }
-    return ivec2(1);
+    if (k_texture_count <= 1u || which <= 0) return textureSize(splat_textures[0], 0);
+    if (k_texture_count <= 2u || which == 1) return textureSize(splat_textures[1], 0);
+    if (k_texture_count <= 3u || which == 2) return textureSize(splat_textures[2], 0);
+    if (k_texture_count <= 4u || which == 3) return textureSize(splat_textures[3], 0);
+    if (k_texture_count <= 5u || which == 4) return textureSize(splat_textures[4], 0);
+    if (k_texture_count <= 6u || which == 5) return textureSize(splat_textures[5], 0);
+    if (k_texture_count <= 7u || which == 6) return textureSize(splat_textures[6], 0);
+    return textureSize(splat_textures[7], 0);
 }
 
 // The texture over this pixel, white for an untextured splat: near its mean over the pixel's
@@ -86,10 +84,9 @@ ivec2 texture_extent(int which) {
 // pixel drawn as the part of it on each side). One read where the texture is magnified enough
 // that the bilinear read is that mean already, else four on a rotated grid (sixteen where the
 // texture is squeezed, towards the silhouette, cut a globe's colour error by a further 6 % and
-// cost 13 % more of the frame on Lavapipe). Indexed through a switch: each case names its array
-// entry with a constant, so no device feature for non-uniform indexing is needed; the explicit
-// level reads the full-size image as the mesh raster does. `dx`, `dy`: the coordinates' change
-// per pixel, taken before anything discards.
+// cost 13 % more of the frame on Lavapipe). The explicit level reads the full-size image as the
+// mesh raster does. `dx`, `dy`: the coordinates' change per pixel, taken before anything
+// discards.
 vec3 texel(vec2 dx, vec2 dy) {
     if (!k_textured || g_tex.z < 0.0) return vec3(1.0);
     const int which = int(g_tex.z + 0.5);

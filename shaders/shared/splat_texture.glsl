@@ -9,7 +9,9 @@
 
 #include "splat_stream_order.glsl"
 
-layout(constant_id = 8) const bool k_textured = false;
+// How many textures binding 7 holds (0: none): only those are read.
+layout(constant_id = 8) const uint k_texture_count = 0u;
+const bool k_textured = k_texture_count > 0u;
 layout(set = 0, binding = 6, std430) readonly buffer Texcoords { uint texcoord_words[]; };
 
 struct SplatTexcoord {

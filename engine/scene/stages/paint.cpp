@@ -126,20 +126,24 @@ TriangleLooks paint_triangles(const SurfacePaint& paint, std::span<const Vec3f> 
 
 namespace {
 
-surface::BoundaryParticles::Texcoord texcoord_of(const SurfacePaint& paint, uint32_t model, const std::vector<int32_t>& first_texture,
-                                                 const Vec3f& rest, std::vector<mesh::ClosestPoint>& scratch) {
-    surface::BoundaryParticles::Texcoord out;
-    if (model >= paint.model.size() || !paint.model[model]) return out;
-    const auto q = paint.model[model]->texture_point(rest, paint.texture_reach, scratch);
-    if (!q) return out;
-    out.uv = q->uv;
-    out.du = q->gradient.du;
-    out.dv = q->gradient.dv;
-    out.tint = q->tint;
-    out.reach = q->reach;
-    // The splats read at most SPLAT_MAX_TEXTURES; the samples of the rest keep their colour.
-    if (first_texture[model] + q->texture >= int32_t(SPLAT_MAX_TEXTURES)) return out;
-    out.texture = first_texture[model] + q->texture;
+// A point's colour and, where `textured`, where the texture lies at it: one nearest-point search
+// for both.
+struct PointLook {
+    Vec3f color;
+    surface::BoundaryParticles::Texcoord texcoord;
+};
+PointLook look_of(const SurfacePaint& paint, uint32_t model, bool textured, const std::vector<int32_t>& first_texture,
+                  const Vec3f& rest, std::vector<mesh::ClosestPoint>& scratch) {
+    const asset::SurfaceColors* colors = model < paint.model.size() ? paint.model[model].get() : nullptr;
+    if (!colors) return {color_of(paint, model, rest, scratch), {}};
+    const auto near = colors->nearest(rest, scratch);
+    if (!near) return {Vec3f::Ones(), {}};
+    PointLook out{colors->look().color_at(near->triangle, near->bary), {}};
+    if (!textured) return out;
+    const auto q = colors->texture_point(*near, rest, paint.texture_reach);
+    // The splats read at most SPLAT_MAX_TEXTURES; the points of the rest keep their colour.
+    if (!q || first_texture[model] + q->texture >= int32_t(SPLAT_MAX_TEXTURES)) return out;
+    out.texcoord = {q->uv, q->gradient.du, q->gradient.dv, q->tint, first_texture[model] + q->texture, q->reach};
     return out;
 }
 
@@ -152,7 +156,7 @@ void paint_particle_texcoords(const SurfacePaint& paint, sim::SoftBody& body) {
     body.texcoords.resize(body.particle_count());
     std::vector<mesh::ClosestPoint> scratch;
     for (uint32_t i = 0; i < body.particle_count(); ++i)
-        body.texcoords[i] = texcoord_of(paint, model_of(body, i), first_texture, body.rest_positions[i], scratch);
+        body.texcoords[i] = look_of(paint, model_of(body, i), true, first_texture, body.rest_positions[i], scratch).texcoord;
 }
 
 size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& s, core::ThreadPool* pool) {
@@ -177,9 +181,9 @@ size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surfa
                 const Vec3f n = (b - a).cross(c - a);
                 if (n.squaredNorm() > 0.0f) rest += s.offset[k] * n.normalized();
             }
-            const uint32_t model = model_of(body, t[0]);
-            s.color[k] = pack_color(color_of(paint, model, rest, scratch));
-            if (textured) s.texcoord[k] = texcoord_of(paint, model, first_texture, rest, scratch);
+            const PointLook look = look_of(paint, model_of(body, t[0]), textured, first_texture, rest, scratch);
+            s.color[k] = pack_color(look.color);
+            if (textured) s.texcoord[k] = look.texcoord;
         }
     };
     const size_t count = s.size() - first;

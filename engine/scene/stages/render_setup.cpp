@@ -35,7 +35,7 @@ render::RendererOptions renderer_options(const Scene& scene, const SortChoice& s
     const size_t grow = needs.density ? 3 : 1;
     ro.max_splats = uint32_t(std::max<size_t>(1, room * grow * needs.splats));
     if (max_samples) *max_samples = grow * needs.splats;
-    ro.textured = needs.textured;
+    ro.textures = needs.textures;
     ro.path = scene.render.splat_path;
     ro.environment_map = scene.render.environment_map;
     ro.sky_sun = scene.render.frame.lighting.direction;

@@ -25,7 +25,7 @@ struct RendererNeeds {
     size_t splats = 0;        // particles and boundary particles at the start
     bool interactive = false;  // may be cut again and again, sorted later
     bool density = false;      // the density control adds samples where the surface grows
-    bool textured = false;     // the samples carry where a texture lies on them (paint.h)
+    uint32_t textures = 0;     // the textures the samples say lie on them (paint.h), if any
 };
 // `max_samples`: receives what the density control may fill (the capacity less the cuts' room).
 render::RendererOptions renderer_options(const Scene& scene, const SortChoice& sort, const RendererNeeds& needs,
