@@ -6,16 +6,19 @@
 namespace pbdsplat::splat {
 
 GaussianTexcoord make_texcoord(const Vec2f& uv, const Vec3f& du, const Vec3f& dv, uint32_t texture, const Vec3f& tint, float reach) {
+    // Every sample, every frame: the in-range half conversion and a plain rounding, after clamps
+    // that keep both in range (a gradient below half's smallest normal draws as flat).
+    const auto half = [](float v) { return core::float_to_half_in_range(std::isfinite(v) ? std::clamp(v, -65504.0f, 65504.0f) : 0.0f); };
     GaussianTexcoord t;
     t.uv[0] = uv.x();
     t.uv[1] = uv.y();
     for (int k = 0; k < 3; ++k) {
-        t.gradient_half[k] = float_to_half(du[k]);
-        t.gradient_half[3 + k] = float_to_half(dv[k]);
-        t.tint[k] = uint8_t(std::lround(std::clamp(tint[k], 0.0f, 1.0f) * 255.0f));
+        t.gradient_half[k] = half(du[k]);
+        t.gradient_half[3 + k] = half(dv[k]);
+        t.tint[k] = uint8_t(std::clamp(tint[k], 0.0f, 1.0f) * 255.0f + 0.5f);
     }
     t.texture = uint16_t(std::min<uint32_t>(texture, SPLAT_NO_TEXTURE));
-    t.reach_half = float_to_half(std::clamp(reach, 0.0f, 60000.0f));
+    t.reach_half = half(std::max(reach, 0.0f));
     return t;
 }
 
