@@ -29,7 +29,7 @@ std::optional<SurfaceColors::TexturePoint> SurfaceColors::texture_point(const me
     const SurfaceLook::Parts parts = look_.parts_at(q.triangle, q.bary);
     if (parts.texture < 0) return std::nullopt;
     const auto gradient = uv_gradient(look_, q.triangle);
-    if (!gradient) return std::nullopt;
+    if (!gradient || !parts.uv.allFinite()) return std::nullopt;
     return TexturePoint{parts.uv, *gradient, parts.texture, parts.tint.cwiseMax(0.0f), charts_.seam_distance(p, reach)};
 }
 

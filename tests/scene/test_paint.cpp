@@ -2,6 +2,8 @@
 
 #include <memory>
 
+#include "mesh/procedural.h"
+#include "scene/stages/mapping_stage.h"
 #include "scene/stages/paint.h"
 
 using namespace pbdsplat;
@@ -73,5 +75,34 @@ TEST_SUITE("scene/paint") {
         plain.model = {nullptr};
         plain.plain = {Vec3f(0.3f, 0.3f, 0.3f)};
         CHECK(scene::paint_triangles(plain, rest, {}, triangles).textures.empty());
+    }
+
+    TEST_CASE("once a frame drew textured splats, a frame without them hands over an untextured entry for every record") {
+        auto made = sim::make_soft_body(mesh::icosphere(1), {});
+        REQUIRE(made.ok());
+        const sim::SoftBody& body = made.value();
+        const mesh::TriangleMesh rest{body.rest_positions, body.triangles, {}, {}, {}};
+        surface::BoundaryParticles samples = surface::sample_surface(rest, {surface::spacing(rest, 0.5f), 1});
+        surface::update_boundary_particles(body.triangles, body.particles.x, body.normals, samples);
+        REQUIRE(samples.size() > 0);
+        surface::BoundaryParticles::Texcoord c;
+        c.du = Vec3f(1, 0, 0);
+        c.dv = Vec3f(0, 1, 0);
+        c.texture = 0;
+        c.reach = 0.1f;
+        samples.texcoord.assign(samples.size(), c);
+        scene::MappingStage mapping(body, 0, false, false);
+        scene::MappingStage::Sources sources;
+        sources.body = &body;
+        sources.samples = &samples;
+        const splat::Appearance look;
+        mapping.map(sources, look);
+        REQUIRE(mapping.texcoords().size() == mapping.records().size());
+        CHECK(mapping.texcoords().back().texture == 0);
+        // The user hides the boundary splats: the renderer still reads an entry per record.
+        sources.samples = nullptr;
+        mapping.map(sources, look);
+        REQUIRE(mapping.texcoords().size() == mapping.records().size());
+        for (const splat::GaussianTexcoord& t : mapping.texcoords()) CHECK(t.texture == SPLAT_NO_TEXTURE);
     }
 }

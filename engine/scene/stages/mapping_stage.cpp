@@ -23,10 +23,13 @@ void MappingStage::map(const Sources& s, const splat::Appearance& look) {
     }
     fade_.apply(records_);
     if (s.cut_faces) s.cut_faces->append_records(body.particles.x, body.colors, look, records_, deformed_.empty() ? nullptr : &shapes_);
-    if (s.samples && !s.samples->texcoord.empty())
+    // Once a frame drew textured splats, every later one hands entries over too (untextured where
+    // nothing is, as when the boundary splats are hidden): the renderer would read the last ones.
+    static const surface::BoundaryParticles no_samples;
+    const bool textured = (s.samples && !s.samples->texcoord.empty()) || (s.particles && !body.texcoords.empty());
+    if (textured || !texcoords_.empty())
         splat::map_texcoords(body.rest_positions, body.particles.x, body.triangles, s.particles ? body.particle_count() : 0,
-                             body.texcoords, *s.samples, records_.size(), texcoords_, texcoord_scratch_);
-    else texcoords_.clear();
+                             body.texcoords, s.samples ? *s.samples : no_samples, records_.size(), texcoords_, texcoord_scratch_);
 }
 
 void MappingStage::sort(const render::Camera& c) {
