@@ -1,6 +1,7 @@
 #include "scene/scene_runtime.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <thread>
 
 #include "core/timer.h"
@@ -63,6 +64,9 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     // A textured model's splats read its texture per pixel, except within their reach of a seam:
     // a Gaussian cut at two standard deviations, and a margin.
     if (paint_.textured() && boundary_.size() > 0) paint_.texture_reach = 2.5f * mat.splat_scale * h_;
+    if (const size_t n = paint_.textures().size(); paint_.texture_reach > 0.0f && n > SPLAT_MAX_TEXTURES)
+        std::fprintf(stderr, "warning: the models have %zu textures; splats read the first %u under each pixel, the others' one colour a splat\n",
+                     n, unsigned(SPLAT_MAX_TEXTURES));
     if (!paint_.empty()) paint_samples(paint_, body_, boundary_, loader);
     if (splat_particles_) paint_particle_texcoords(paint_, body_);
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
