@@ -2,10 +2,18 @@
 
 namespace pbdsplat::render {
 
+core::Result<gpu::Texture> make_texture(gpu::Context& ctx, const MeshTexture& t) {
+    return gpu::Texture::create_rgba8_srgb(ctx, t.width, t.height, t.rgba, t.wrap_u, t.wrap_v);
+}
+
+core::Result<gpu::Texture> make_white_texture(gpu::Context& ctx) {
+    const uint8_t white[4] = {255, 255, 255, 255};
+    return make_texture(ctx, {1, 1, white});
+}
+
 core::Result<MeshTextureSets> MeshTextureSets::create(gpu::Context& ctx) {
     MeshTextureSets s;
-    const uint8_t white[4] = {255, 255, 255, 255};
-    auto texture = gpu::Texture::create_rgba8_srgb(ctx, 1, 1, white, VK_SAMPLER_ADDRESS_MODE_REPEAT, VK_SAMPLER_ADDRESS_MODE_REPEAT);
+    auto texture = make_white_texture(ctx);
     if (!texture.ok()) return texture.error();
     s.white_ = std::move(texture).value();
     auto set = gpu::SampledImageSet::create(ctx, s.white_.view(), s.white_.sampler());
@@ -18,7 +26,7 @@ core::Status MeshTextureSets::set(gpu::Context& ctx, std::span<const MeshTexture
     textures_.clear();
     textures_.reserve(textures.size());
     for (const MeshTexture& t : textures) {
-        auto texture = gpu::Texture::create_rgba8_srgb(ctx, t.width, t.height, t.rgba, t.wrap_u, t.wrap_v);
+        auto texture = make_texture(ctx, t);
         if (!texture.ok()) return texture.error();
         auto set = gpu::SampledImageSet::create(ctx, texture->view(), texture->sampler());
         if (!set.ok()) return set.error();

@@ -19,6 +19,11 @@ struct MeshTexture {
     VkSamplerAddressMode wrap_u = VK_SAMPLER_ADDRESS_MODE_REPEAT, wrap_v = VK_SAMPLER_ADDRESS_MODE_REPEAT;
 };
 
+// The GPU image of a texture (sRGB-decoded when read, bilinear, its wrap modes), and a white
+// texel for what has none.
+core::Result<gpu::Texture> make_texture(gpu::Context& ctx, const MeshTexture& t);
+core::Result<gpu::Texture> make_white_texture(gpu::Context& ctx);
+
 class MeshTextureSets {
 public:
     static core::Result<MeshTextureSets> create(gpu::Context& ctx);

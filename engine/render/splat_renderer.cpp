@@ -154,8 +154,7 @@ core::Status SplatRenderer::create_sets() {
                                   sh_rest_, extra.sh));
     PBDSPLAT_TRY(make_host_stream(ctx, n, VkDeviceSize(options.textures > 0 ? options.max_splats : 1) * sizeof(splat::GaussianTexcoord),
                                   texcoords_, extra.texcoords));
-    const uint8_t white[4] = {255, 255, 255, 255};
-    auto white_texture = gpu::Texture::create_rgba8_srgb(ctx, 1, 1, white, VK_SAMPLER_ADDRESS_MODE_REPEAT, VK_SAMPLER_ADDRESS_MODE_REPEAT);
+    auto white_texture = make_white_texture(ctx);
     if (!white_texture.ok()) return white_texture.error();
     white_ = std::move(white_texture).value();
     extra.textures.assign(SPLAT_MAX_TEXTURES, {white_.sampler(), white_.view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL});
@@ -292,7 +291,7 @@ core::Status SplatRenderer::set_textures(std::span<const MeshTexture> textures) 
     PBDSPLAT_TRY(frames_.wait_all());
     std::vector<gpu::Texture> made;
     for (const MeshTexture& t : textures) {
-        auto texture = gpu::Texture::create_rgba8_srgb(*ctx_, t.width, t.height, t.rgba, t.wrap_u, t.wrap_v);
+        auto texture = make_texture(*ctx_, t);
         if (!texture.ok()) return texture.error();
         made.push_back(std::move(texture).value());
     }

@@ -61,8 +61,8 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     if (!surface.ok()) return surface.error();
     h_ = surface->h;
     splat_particles_ = surface->particles_are_splats;
-    // A textured model's splats read its texture per pixel, except within their reach of a seam:
-    // a Gaussian cut at two standard deviations, and a margin.
+    // A textured model's splats read its texture per pixel, as far as they reach (a Gaussian cut
+    // at two standard deviations, and a margin) or to the nearest seam.
     if (paint_.textured() && boundary_.size() > 0) paint_.texture_reach = 2.5f * mat.splat_scale * h_;
     if (const size_t n = paint_.textures().size(); paint_.texture_reach > 0.0f && n > SPLAT_MAX_TEXTURES)
         std::fprintf(stderr, "warning: the models have %zu textures; splats read the first %u under each pixel, the others' one colour a splat\n",

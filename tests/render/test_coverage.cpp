@@ -439,6 +439,23 @@ TEST_SUITE("render/coverage") {
         CHECK(sharp->color_error < 0.4 * flat->color_error);
         CHECK(sharp->hole_ratio == flat->hole_ratio);
 
+        // One textured frame drawn by a renderer of its own.
+        const auto draw = [&](render::RendererOptions o, std::span<const splat::GaussianRecord> drawn,
+                              std::span<const splat::GaussianTexcoord> entries, const render::FrameInputs& f) {
+            o.width = o.height = 256;
+            o.max_splats = uint32_t(drawn.size());
+            o.frames_in_flight = 1;
+            o.textures = 2;
+            auto r = passes::OffscreenRenderer::create(*ctx, o);
+            REQUIRE_MESSAGE(r.ok(), test::why(r));
+            REQUIRE(r.value()->set_textures(textures).ok());
+            r.value()->set_texcoords(entries);
+            REQUIRE(r.value()->render(drawn, f).ok());
+            auto image = r.value()->finish();
+            REQUIRE(image.ok());
+            return std::move(image).value();
+        };
+
         // Every splat path the device has draws the same texture.
         std::optional<core::ImageRgba8> first;
         for (const render::SplatPath path : {render::SplatPath::geometry, render::SplatPath::mesh, render::SplatPath::vertex}) {
@@ -447,24 +464,14 @@ TEST_SUITE("render/coverage") {
                 continue;
             }
             render::RendererOptions o;
-            o.width = o.height = 256;
-            o.max_splats = uint32_t(records.size());
-            o.frames_in_flight = 1;
             o.normalised = true;
-            o.textures = 2;
             o.path = path;
-            auto r = passes::OffscreenRenderer::create(*ctx, o);
-            REQUIRE_MESSAGE(r.ok(), test::why(r));
-            REQUIRE(r.value()->set_textures(textures).ok());
-            r.value()->set_texcoords(texcoords);
-            REQUIRE(r.value()->render(records, frame).ok());
-            auto image = r.value()->finish();
-            REQUIRE(image.ok());
+            core::ImageRgba8 image = draw(o, records, texcoords, frame);
             if (!first) {
-                first = std::move(image).value();
+                first = std::move(image);
                 continue;
             }
-            auto diff = core::compare_images(*first, *image, 3);
+            auto diff = core::compare_images(*first, image, 3);
             REQUIRE(diff.ok());
             MESSAGE(std::string(render::splat_path_name(path)) << " against the first path: " << diff->share_over * 100.0 << " % of pixels over 3/255");
             CHECK(diff->share_over < 0.005);
@@ -474,10 +481,6 @@ TEST_SUITE("render/coverage") {
         // same image as the records and entries sorted together on the CPU.
         const auto sorted = [&](render::SplatOrder order) {
             render::RendererOptions o;
-            o.width = o.height = 256;
-            o.max_splats = uint32_t(records.size());
-            o.frames_in_flight = 1;
-            o.textures = 2;
             o.gpu_sort = order == render::SplatOrder::gpu;
             render::FrameInputs over = frame;
             over.style.blend = render::Blend::over;
@@ -489,14 +492,7 @@ TEST_SUITE("render/coverage") {
                 splat::sort_far_to_near(drawn, math::look_at(over.camera.eye, over.camera.target, over.camera.up), sort);
                 splat::reorder_like_last_sort(sort, entries);
             }
-            auto r = passes::OffscreenRenderer::create(*ctx, o);
-            REQUIRE_MESSAGE(r.ok(), test::why(r));
-            REQUIRE(r.value()->set_textures(textures).ok());
-            r.value()->set_texcoords(entries);
-            REQUIRE(r.value()->render(drawn, over).ok());
-            auto image = r.value()->finish();
-            REQUIRE(image.ok());
-            return std::move(image).value();
+            return draw(o, drawn, entries, over);
         };
         auto diff = core::compare_images(sorted(render::SplatOrder::cpu), sorted(render::SplatOrder::gpu), 1);
         REQUIRE(diff.ok());
