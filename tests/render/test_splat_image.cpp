@@ -14,6 +14,7 @@
 #include "mesh/topology.h"
 #include "passes/mesh_image.h"
 #include "passes/offscreen_renderer.h"
+#include "scene/scene_check.h"
 #include "scene/scene_file.h"
 #include "scene/builtin_scene.h"
 #include "scene/default_scene.h"
@@ -678,19 +679,40 @@ TEST_SUITE("render/scene") {
         test::require_no_validation_messages(*ctx);
     }
 
-    TEST_CASE("the default scene through its frame graph matches its golden image") {
+    TEST_CASE("the default scene through its frame graph, mid-deflation: closed, even and shaded as its mesh") {
+        // Properties, not a golden: the balloon's picture changes whenever the density control
+        // throws other darts, while what a user sees must not. Measured at 320x180, 90 frames,
+        // every 30 (2026-11-30): holes 0, specks 0, IoU 0.964, spacing in band 0.9996, shading
+        // error 0.0029, colour error 0.0028, edge excess 0.0024, area 1.03 of rest.
         auto ctx = test::open_validated_context();
-        scene::Scene s = scene::default_scene();
-        s.render.width = 320;
-        s.render.height = 180;
-        scene::RuntimeOptions o;
+        scene::CheckOptions o;
         o.gpu = ctx.get();
-        auto rt = scene::SceneRuntime::create(s, o);
-        REQUIRE_MESSAGE(rt.ok(), test::why(rt));
-        for (int f = 0; f < 90; ++f) REQUIRE(rt.value()->step().ok());  // mid-deflation
-        auto img = rt.value()->finish();
-        REQUIRE_MESSAGE(img.ok(), test::why(img));
-        check_against_golden(img.value(), "default_scene_f90_320x180");
+        o.frames = 90;
+        o.every = 30;
+        o.width = 320;
+        o.height = 180;
+        auto r = scene::check_scene(scene::default_scene(), o);
+        REQUIRE_MESSAGE(r.ok(), test::why(r));
+        const scene::CheckReport& c = r.value();
+        REQUIRE(c.samples.size() >= 3);
+        for (double measured : {c.hole_ratio_max, c.speck_ratio_max, c.iou_min, c.shading_error_max, c.color_error_max, c.edge_excess_max})
+            REQUIRE(measured >= 0.0);  // -1: not measured, which would pass every bound below
+        MESSAGE("holes " << c.hole_ratio_max << ", specks " << c.speck_ratio_max << ", IoU " << c.iou_min << ", spacing " << c.spacing_within_min
+                         << ", shading " << c.shading_error_max << ", colour " << c.color_error_max << ", edge excess " << c.edge_excess_max);
+        CHECK(c.pieces == 1);
+        CHECK(c.strays_max == 0);
+        CHECK(c.hole_ratio_max <= 0.002);      // a hole a user sees is a few hundred pixels here
+        CHECK(c.speck_ratio_max <= 0.002);
+        CHECK(c.iou_min >= 0.93);              // the outline a pixel off all round is about 0.93
+        CHECK(c.spacing_within_min >= 0.95);   // the surface's goal: 95 % of samples in band
+        CHECK(c.shading_error_max <= 0.006);   // twice the measured
+        CHECK(c.color_error_max <= 0.006);
+        CHECK(c.edge_excess_max <= 0.005);     // the shading seam's bound in the shipped scenes
+        const scene::CheckSample& last = c.samples.back();
+        CHECK(last.frame == 90);
+        CHECK(last.area_ratio > 0.9);
+        CHECK(last.area_ratio < 1.2);
+        CHECK(last.volume_ratio < 1.0);  // deflating: below its volume at load
         test::require_no_validation_messages(*ctx);
     }
 
