@@ -1,5 +1,6 @@
 #pragma once
-// One offscreen frame of the given records through a fresh renderer: what the image tests draw.
+// One offscreen frame of the given records through a fresh renderer: what the image tests draw;
+// with `occluders`, their mesh hides what lies behind it (frame.style.mesh_occluders).
 #include <algorithm>
 #include <optional>
 #include <span>
@@ -9,6 +10,7 @@
 
 #include "core/image.h"
 #include "passes/offscreen_renderer.h"
+#include "support/splat_reference.h"
 #include "support/why.h"
 
 namespace pbdsplat::test {
@@ -18,7 +20,7 @@ inline core::ImageRgba8 render_once(gpu::Context& ctx, const std::vector<splat::
                                     std::optional<render::SplatPath> path = render::SplatPath::geometry,
                                     render::SplatShading shading = render::SplatShading::fragment,
                                     render::SplatCarrier carrier = render::SplatCarrier::quad,
-                                    std::span<const splat::GaussianShape> shapes = {}) {
+                                    std::span<const splat::GaussianShape> shapes = {}, const OccluderMesh* occluders = nullptr) {
     render::RendererOptions o;
     o.path = path;
     o.shading = shading;
@@ -29,8 +31,10 @@ inline core::ImageRgba8 render_once(gpu::Context& ctx, const std::vector<splat::
     o.height = h;
     o.max_splats = std::max<uint32_t>(1, uint32_t(records.size()));
     o.frames_in_flight = 1;
+    o.occluders = occluders != nullptr;
     auto r = passes::OffscreenRenderer::create(ctx, o);
     REQUIRE_MESSAGE(r.ok(), test::why(r));
+    if (occluders) r.value()->set_occluders(occluders->x, occluders->triangles);
     const auto status = r.value()->render(records, frame, {}, shapes);
     REQUIRE_MESSAGE(status.ok(), test::why(status));
     auto img = r.value()->finish();

@@ -59,6 +59,46 @@ Footprint2D project(const splat::GaussianRecord& r, const Mat4f& view, float sca
 } // namespace
 
 namespace {
+// The mesh's distance along the view axis where `ray` (view space, from the eye) first meets
+// it, 0 where it misses; `edge` is set where the ray passes within `slack` (barycentric) of a
+// triangle's rim without a clear answer: hit loosely but not strictly, or the reverse.
+float mesh_depth(const std::vector<std::array<Vec3f, 3>>& tris, const Vec3f& ray, float slack, bool& edge) {
+    float nearest = 0.0f;
+    for (const auto& t : tris) {
+        const Vec3f e1 = t[1] - t[0], e2 = t[2] - t[0];
+        const Vec3f p = ray.cross(e2);
+        const float det = e1.dot(p);
+        if (std::abs(det) < 1e-12f) continue;
+        const Vec3f s = -t[0];
+        const float u = s.dot(p) / det;
+        const Vec3f q = s.cross(e1);
+        const float v = ray.dot(q) / det, along = e2.dot(q) / det;
+        if (!(along > 0.0f)) continue;
+        const float least = std::min({u, v, 1.0f - u - v});
+        if (std::abs(least) < slack) edge = true;
+        if (least < 0.0f) continue;
+        const float depth = -(ray * along).z();
+        if (nearest == 0.0f || depth < nearest) nearest = depth;
+    }
+    return nearest;
+}
+
+// Whether a fragment at view depth `depth` (along the axis) passes the occluders at a pixel
+// whose mesh depth is `surface` (0: not seen there; `beside`: the mesh is seen next to it).
+bool occluded_keeps(float depth, float surface, bool beside, float tolerance, float& margin) {
+    if (surface <= 0.0f) return beside;
+    const float off = depth - surface;  // > 0: behind the surface
+    margin = std::min({margin, std::abs(off - tolerance) / tolerance, std::abs(off + 2.0f * tolerance) / tolerance});
+    return off <= tolerance && off >= -2.0f * tolerance;
+}
+
+// What the occluders decide at one pixel: keep(depth) for a fragment there.
+struct OccluderAt {
+    bool on = false;
+    float surface = 0.0f, tolerance = 0.0f;
+    bool beside = false;
+};
+
 // Normalised blending at one pixel, from its definition (render/frame_inputs.h, "Blend"): a
 // splat counts where its Gaussian reaches at least 1/255 and, when kappa > 0, within kappa
 // standard deviations of its centre; of those, the front surface: no farther than the nearest
@@ -66,7 +106,7 @@ namespace {
 // deviations. Each adds w = -ln(1 - alpha) of its colour; the mean shows over the background
 // with coverage 1 - exp(-4 sum w). Round splats facing the eye only (no inside layer).
 Vec3f normalised_pixel(const std::vector<Footprint2D>& splats, const Vec3f& ray, const render::SplatStyle& style,
-                       const Vec3f& background, float& margin) {
+                       const Vec3f& background, const OccluderAt& occ, float& margin) {
     // The accumulation stage's alpha: the Gaussian inside its carrier, down to 1/255.
     const auto alpha_at = [&](const Footprint2D& f) {
         const Vec3f hit = ray * (f.centre.z() / ray.z());
@@ -81,6 +121,7 @@ Vec3f normalised_pixel(const std::vector<Footprint2D>& splats, const Vec3f& ray,
     };
     float front = -1e30f;  // view z of the visibility pass's depth (the camera looks down -z)
     for (const Footprint2D& f : splats) {
+        if (occ.on) break;  // the mesh is the visibility, not the splats' cores
         const float pushed = f.centre.z() - style.depth_push * f.s0;
         const Vec3f hit = ray * (pushed / ray.z());
         const Vec2f d = (hit - Vec3f(f.centre.x(), f.centre.y(), pushed)).head<2>();
@@ -93,6 +134,7 @@ Vec3f normalised_pixel(const std::vector<Footprint2D>& splats, const Vec3f& ray,
     float weight = 0.0f;
     for (const Footprint2D& f : splats) {
         if (f.centre.z() < front) continue;  // behind the front surface
+        if (occ.on && !occluded_keeps(-f.centre.z(), occ.surface, occ.beside, occ.tolerance, margin)) continue;
         const float a = alpha_at(f);
         if (a == 0.0f) continue;
         const float w = -std::log(1.0f - std::min(a, 0.996f));
@@ -107,7 +149,7 @@ Vec3f normalised_pixel(const std::vector<Footprint2D>& splats, const Vec3f& ray,
 
 std::vector<ReferencePixel> render_reference(const std::vector<splat::GaussianRecord>& records,
                                              const render::FrameInputs& frame, uint32_t width, uint32_t height,
-                                             const std::vector<splat::GaussianShape>& shapes) {
+                                             const std::vector<splat::GaussianShape>& shapes, const OccluderMesh* occluders) {
     const auto u = render::make_frame_uniforms(frame, width, height);
     Mat4f view, proj;
     std::memcpy(view.data(), u.view.m, sizeof(u.view.m));
@@ -121,14 +163,51 @@ std::vector<ReferencePixel> render_reference(const std::vector<splat::GaussianRe
     for (size_t i = 0; i < records.size(); ++i)
         splats.push_back(project(records[i], view, style.scale_multiplier, shapes.empty() ? nullptr : &shapes[i], pixel, paper ? kappa : 0.0f));
     const Vec2f sharp = style.sharpness;
+    const auto ray_at = [&](int x, int y) {
+        const Vec2f ndc((float(x) + 0.5f) / float(width) * 2.0f - 1.0f, (float(y) + 0.5f) / float(height) * 2.0f - 1.0f);
+        const Vec4f v = unproject * Vec4f(ndc.x(), ndc.y(), 0.5f, 1.0f);
+        return Vec3f(v.head<3>() / v.w());  // from the eye at the origin
+    };
+    // The occluders' depth at every pixel, and where it is on the outline (not judged).
+    const bool occluded = occluders && style.mesh_occluders;
+    std::vector<float> surface;
+    std::vector<uint8_t> outline;
+    if (occluded) {
+        std::vector<std::array<Vec3f, 3>> tris;
+        for (const auto& t : occluders->triangles) {
+            std::array<Vec3f, 3> v;
+            for (int k = 0; k < 3; ++k) v[k] = (view * Vec4f(occluders->x[t[k]].head<3>().homogeneous())).head<3>();
+            tris.push_back(v);
+        }
+        surface.resize(size_t(width) * height);
+        outline.resize(surface.size());
+        for (uint32_t y = 0; y < height; ++y)
+            for (uint32_t x = 0; x < width; ++x) {
+                bool edge = false;
+                surface[size_t(y) * width + x] = mesh_depth(tris, ray_at(int(x), int(y)), 0.02f, edge);
+                outline[size_t(y) * width + x] = edge;
+            }
+    }
 
     std::vector<ReferencePixel> out(size_t(width) * height);
     for (uint32_t y = 0; y < height; ++y)
         for (uint32_t x = 0; x < width; ++x) {
-            const Vec2f ndc((float(x) + 0.5f) / float(width) * 2.0f - 1.0f, (float(y) + 0.5f) / float(height) * 2.0f - 1.0f);
-            const Vec4f v = unproject * Vec4f(ndc.x(), ndc.y(), 0.5f, 1.0f);
-            const Vec3f ray = v.head<3>() / v.w();  // from the eye at the origin
+            const Vec3f ray = ray_at(int(x), int(y));
             ReferencePixel& px = out[size_t(y) * width + x];
+            OccluderAt occ;
+            if (occluded) {
+                occ.on = true;
+                occ.surface = surface[size_t(y) * width + x];
+                occ.tolerance = style.occluder_tolerance;
+                const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+                bool unsure = outline[size_t(y) * width + x] != 0;
+                for (int k = 0; k < 4; ++k) {
+                    const int nx = std::clamp(int(x) + dx[k], 0, int(width) - 1), ny = std::clamp(int(y) + dy[k], 0, int(height) - 1);
+                    occ.beside |= surface[size_t(ny) * width + size_t(nx)] > 0.0f;
+                    unsure |= outline[size_t(ny) * width + size_t(nx)] != 0;
+                }
+                if (unsure) px.rim_margin = 0.0f;
+            }
             Vec3f c = frame.background.head<3>();
             float nearest = -1e30f;
             if (style.footprint == render::Footprint::paper) {
@@ -141,6 +220,7 @@ std::vector<ReferencePixel> render_reference(const std::vector<splat::GaussianRe
                     const Vec3f hit = ray * (f.centre.z() / ray.z());
                     const Vec2f q = f.axes.transpose() * (hit - f.centre).head<2>();
                     radius[i] = Vec2f(q.x() / (kappa * f.lengths.x()) / sharp.x(), q.y() / (kappa * f.lengths.y()) / sharp.y()).norm();
+                    if (occ.on && !occluded_keeps(-f.centre.z(), occ.surface, occ.beside, occ.tolerance, px.rim_margin)) continue;
                     if (radius[i] <= 1.0f && f.centre.z() > nearest) {
                         nearest = f.centre.z();
                         c = f.albedo;
@@ -149,7 +229,7 @@ std::vector<ReferencePixel> render_reference(const std::vector<splat::GaussianRe
                 for (size_t i = 0; i < splats.size(); ++i)
                     if (splats[i].centre.z() >= nearest) px.rim_margin = std::min(px.rim_margin, std::abs(radius[i] - 1.0f));
             } else if (style.blend == render::Blend::normalised) {
-                c = normalised_pixel(splats, ray, style, c, px.rim_margin);
+                c = normalised_pixel(splats, ray, style, c, occ, px.rim_margin);
             } else {
                 for (const Footprint2D& f : splats) {
                     const Vec3f hit = ray * (f.centre.z() / ray.z());

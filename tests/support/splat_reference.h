@@ -5,6 +5,7 @@
 // through the perspective Jacobian at the centre, diagonalised by Eigen; the paper's disc keeps
 // the unit ellipse of eqs. 19-23, the Gaussian its falloff down to alpha 1/255. Lighting is left
 // out (flat albedo): the reference checks where and how opaque, the goldens check the shading.
+#include <array>
 #include <vector>
 
 #include "core/image.h"
@@ -28,8 +29,20 @@ struct ReferencePixel {
 // `shapes` (one per record, or empty): anisotropic axes, projected by EWA (J W Sigma W^T J^T)
 // plus a 0.3 pixel^2 low-pass for the Gaussian, as 3D Gaussian splatting does; the paper's disc
 // has none but stays at least a pixel wide seen edge-on, as the shaders draw it.
+// The surface mesh that hides what lies behind it (frame.style.mesh_occluders): a fragment is
+// kept where the mesh is seen at its pixel, from twice occluder_tolerance in front of it to
+// occluder_tolerance behind (along the view axis), and next to where the mesh is seen (a pixel
+// of rim past the outline). The mesh's depth comes from casting each pixel's ray at its
+// triangles, not from a raster; rim_margin is 0 where a pixel or a neighbour lies on the mesh's
+// outline, or a splat near the tolerance's ends.
+struct OccluderMesh {
+    std::vector<Vec4f> x;
+    std::vector<std::array<uint32_t, 3>> triangles;
+};
+
 std::vector<ReferencePixel> render_reference(const std::vector<splat::GaussianRecord>& records,
                                              const render::FrameInputs& frame, uint32_t width, uint32_t height,
-                                             const std::vector<splat::GaussianShape>& shapes = {});
+                                             const std::vector<splat::GaussianShape>& shapes = {},
+                                             const OccluderMesh* occluders = nullptr);
 
 } // namespace pbdsplat::test
