@@ -124,7 +124,7 @@ TEST_SUITE("render/splat") {
         check_against_golden(averaged, "builtin_icosphere_normalised_320x240");
         auto pulled = core::compare_images(render_once(*ctx, scene.records, normalised, 320, 240, render::SplatPath::vertex), averaged, 2);
         REQUIRE(pulled.ok());
-        CHECK(pulled->share_over <= 0.001);
+        CHECK(pulled->share_over <= 0.001);  // the paths draw alike: rounding only
         // The disc sorted far to near: its flat alpha blended, not dithered.
         render::FrameInputs sorted = scene.frame;
         sorted.style.order = render::SplatOrder::cpu;
@@ -148,14 +148,14 @@ TEST_SUITE("render/splat") {
             REQUIRE(diff.ok());
             MESSAGE(std::string(render::footprint_name(footprint)) << ": culled against all, PSNR " << diff->psnr_db << " dB, "
                                                       << diff->share_over * 100.0 << " % of pixels over 2/255");
-            CHECK(diff->psnr_db >= 50.0);
+            CHECK(diff->psnr_db >= 50.0);  // measured 62 dB (Gaussian), identical (disc)
             CHECK(diff->share_over <= 0.01);  // the Gaussian's faint tails past the rim
             // Culling everything that does not face the eye head-on does change it: the check bites.
             render::FrameInputs too_much = culled;
             too_much.style.cull_facing = 0.5f;
             auto bad = core::compare_images(render_once(*ctx, scene.records, too_much, 320, 240), a, 2);
             REQUIRE(bad.ok());
-            CHECK(bad->share_over > 0.01);
+            CHECK(bad->share_over > 0.01);  // a cosine of 0.5 drops the spheres rim
         }
         test::require_no_validation_messages(*ctx);
     }
@@ -181,12 +181,15 @@ TEST_SUITE("render/splat") {
         CHECK_FALSE(is_background(img.at(uint32_t(px), uint32_t(py)), frame.background));
         // The footprint is small: pixels well away from the centre are untouched.
         size_t lit = 0;
+        float farthest = 0.0f;
         for (uint32_t y = 0; y < h; ++y)
             for (uint32_t x = 0; x < w; ++x)
                 if (!is_background(img.at(x, y), frame.background)) {
                     ++lit;
-                    CHECK(std::hypot(float(x) + 0.5f - px, float(y) + 0.5f - py) < 12.0f);
+                    farthest = std::max(farthest, std::hypot(float(x) + 0.5f - px, float(y) + 0.5f - py));
                 }
+        MESSAGE(lit << " pixels drawn, the farthest " << farthest << " px from the centre");
+        CHECK(farthest < 12.0f);  // measured 4.3 px: its own footprint
         CHECK(lit > 10);
         test::require_no_validation_messages(*ctx);
     }
@@ -368,8 +371,8 @@ TEST_SUITE("render/paths") {
                 MESSAGE(std::string(render::footprint_name(footprint)) << ", " << render::splat_path_name(v.path) << " on " << carrier
                                                           << " against gs on quads: PSNR " << diff->psnr_db << " dB, "
                                                           << diff->share_over * 100.0 << " % of pixels over 2/255");
-                CHECK(diff->share_over <= 0.001);
-                CHECK(diff->psnr_db >= 45.0);
+                CHECK(diff->share_over <= 0.001);  // measured at most 0.0013 %
+                CHECK(diff->psnr_db >= 45.0);  // measured 82 dB at least
             }
         }
         test::require_no_validation_messages(*ctx);
@@ -421,7 +424,7 @@ TEST_SUITE("render/lighting") {
             REQUIRE(diff.ok());
             MESSAGE(std::string(render::splat_path_name(path)) << ": corner against fragment shading, PSNR " << diff->psnr_db << " dB, "
                                                   << diff->share_over * 100.0 << " % of pixels over 2/255");
-            CHECK(diff->psnr_db >= 35.0);
+            CHECK(diff->psnr_db >= 35.0);  // measured 45.0 dB
             CHECK(diff->share_over > 0.0);  // interpolated, not the same lighting
         }
         test::require_no_validation_messages(*ctx);
@@ -468,7 +471,7 @@ TEST_SUITE("render/lighting") {
                     }
         REQUIRE(n > 3000);
         MESSAGE("lit mesh against splats inside the silhouette: mean difference " << sum / double(n) << " of 255");
-        CHECK(sum / double(n) < 12.0);
+        CHECK(sum / double(n) < 12.0);  // measured 5.3 of 255
         for (size_t i = 0; i < size_t(160) * 120; ++i)  // the mask covers exactly what the lit view draws
             if ((mask->image.pixels[i * 4 + 3] >= 128) != !is_background(&lit->image.pixels[i * 4], scene.frame.background)) {
                 FAIL("mask and lit view disagree at pixel " << i);
@@ -674,8 +677,9 @@ TEST_SUITE("render/scene") {
         };
         auto diff = core::compare_images(first_frame(render::EnvSampling::normal), first_frame(render::EnvSampling::position), 2);
         REQUIRE(diff.ok());
-        CHECK(diff->share_over > 0.05);
-        CHECK(diff->psnr_db < 40.0);
+        MESSAGE("normal against position lookups: " << diff->share_over * 100.0 << " % of pixels over 2/255, PSNR " << diff->psnr_db << " dB");
+        CHECK(diff->share_over > 0.05);  // measured 20 %
+        CHECK(diff->psnr_db < 40.0);  // measured 30.1 dB
         test::require_no_validation_messages(*ctx);
     }
 
@@ -702,16 +706,16 @@ TEST_SUITE("render/scene") {
         CHECK(c.pieces == 1);
         CHECK(c.strays_max == 0);
         CHECK(c.hole_ratio_max <= 0.002);      // a hole a user sees is a few hundred pixels here
-        CHECK(c.speck_ratio_max <= 0.002);
+        CHECK(c.speck_ratio_max <= 0.002);  // measured 0
         CHECK(c.iou_min >= 0.93);              // the outline a pixel off all round is about 0.93
         CHECK(c.spacing_within_min >= 0.95);   // the surface's goal: 95 % of samples in band
         CHECK(c.shading_error_max <= 0.006);   // twice the measured
-        CHECK(c.color_error_max <= 0.006);
+        CHECK(c.color_error_max <= 0.006);  // twice the measured
         CHECK(c.edge_excess_max <= 0.005);     // the shading seam's bound in the shipped scenes
         const scene::CheckSample& last = c.samples.back();
         CHECK(last.frame == 90);
-        CHECK(last.area_ratio > 0.9);
-        CHECK(last.area_ratio < 1.2);
+        CHECK(last.area_ratio > 0.9);  // measured 1.03: the deflating balloon near its rest area
+        CHECK(last.area_ratio < 1.2);  // the same
         CHECK(last.volume_ratio < 1.0);  // deflating: below its volume at load
         test::require_no_validation_messages(*ctx);
     }
@@ -743,7 +747,7 @@ TEST_SUITE("render/scene") {
         auto diff = core::compare_images(images[0], images[1], 2);
         REQUIRE(diff.ok());
         MESSAGE("scene sorted on the GPU against the CPU: PSNR " << diff->psnr_db << " dB, " << diff->share_over * 100.0 << " % over 2/255");
-        CHECK(diff->share_over <= 0.001);
+        CHECK(diff->share_over <= 0.001);  // measured 0
         test::require_no_validation_messages(*ctx);
     }
 

@@ -240,7 +240,7 @@ TEST_SUITE("render/reference") {
             MESSAGE("sampling " << std::string(render::env_sampling_name(sampling)) << ": GPU " << int(gpu[0]) << " " << int(gpu[1]) << " "
                              << int(gpu[2]) << ", CPU " << cpu.transpose() * 255.0f);
             CHECK(cpu.maxCoeff() < 0.95f);  // unclamped: the comparison means something
-            CHECK(cpu.minCoeff() > 0.05f);
+            CHECK(cpu.minCoeff() > 0.05f);  // unclamped: measured at least 65 of 255
             for (int c = 0; c < 3; ++c) CHECK(std::abs(int(gpu[c]) - int(std::lround(std::clamp(cpu[c], 0.0f, 1.0f) * 255.0f))) <= 3);
         }
         test::require_no_validation_messages(*ctx);

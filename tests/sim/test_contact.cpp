@@ -95,7 +95,7 @@ TEST_SUITE("sim/contact") {
         const float thickness = sim::contact_scale(sim::mean_rest_edge(b), s.contact).thickness;
         const float gap = lowest_y(b, 1 - sheet) - highest_y(b, sheet);
         MESSAGE("gap " << gap << ", thickness " << thickness);
-        CHECK(gap >= 0.9f * thickness);
+        CHECK(gap >= 0.9f * thickness);  // measured: the gap is the thickness (0.0527)
         CHECK(gap <= 1.5f * thickness);  // resting on it, not bounced off
     }
 
@@ -130,8 +130,8 @@ TEST_SUITE("sim/contact") {
             for (size_t i = 0; i < b.particle_count(); ++i) end += sim::xyz(b.particles.x[i]);
             const float slid = (end - start).norm() / float(b.particle_count());
             MESSAGE(degrees << " degrees: slid " << slid << " m in 1 s");
-            if (std::tan(a) < mu) CHECK(slid < 0.01f);
-            else CHECK(slid > 0.2f);
+            if (std::tan(a) < mu) CHECK(slid < 0.01f);  // measured 0.0034 m at 15 degrees, 0.0090 at 20 (mu 0.5: 26.6 degrees)
+            else CHECK(slid > 0.2f);  // measured 0.36 m at 30 degrees, 0.83 at 35
         }
     }
 
@@ -166,8 +166,8 @@ TEST_SUITE("sim/contact") {
             run_frames(b, s, {}, 60);
             const float slid = (centre() - start).norm();
             MESSAGE(degrees << " degrees: slid " << slid << " m in 1 s on a sloped piece");
-            if (std::tan(a) < mu) CHECK(slid < 0.02f);
-            else CHECK(slid > 0.2f);
+            if (std::tan(a) < mu) CHECK(slid < 0.02f);  // measured 0.00014 m at 15 degrees, 0.0011 at 20
+            else CHECK(slid > 0.2f);  // measured 1.03 m at 30 degrees, 1.69 at 35
         }
     }
 
@@ -338,9 +338,9 @@ TEST_SUITE("sim/contact") {
             MESSAGE("contact substeps " << substeps << ": stack height after 3 s " << runs.back().height << " of the uncut ball's, deepest "
                                         << runs.back().deepest << " edges inside");
         }
-        CHECK(runs[0].height >= 0.98f);
-        CHECK(runs[0].deepest < 0.3f);
-        CHECK(runs[1].deepest > 2.0f * runs[0].deepest);
+        CHECK(runs[0].height >= 0.98f);  // measured 1.022 at 4 substeps, 0.954 at one
+        CHECK(runs[0].deepest < 0.3f);  // measured 0.155 edges
+        CHECK(runs[1].deepest > 2.0f * runs[0].deepest);  // measured 0.51 edges at one substep: 3.3x
     }
 
     TEST_CASE("a floating ball cut in two: one half dragged into the other pushes it away") {
@@ -377,8 +377,8 @@ TEST_SUITE("sim/contact") {
         const float edge = sim::mean_rest_edge(b);
         const double pushed = left_before - centroid_x(left_piece);
         MESSAGE("the held half pushed 0.6 into the other: that half moved " << pushed << ", deepest " << deepest / edge << " edges inside");
-        CHECK(pushed > 0.3);
-        CHECK(deepest < 0.5f * edge);
+        CHECK(pushed > 0.3);  // measured 1.27 m
+        CHECK(deepest < 0.5f * edge);  // measured 4e-7 edges
     }
 
     TEST_CASE("a folded sheet does not pass through itself") {

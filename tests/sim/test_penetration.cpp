@@ -91,7 +91,7 @@ TEST_SUITE("sim/penetration") {
         // The small ball's particles lie 0.1 from the centre; the big sphere's facets sit a little
         // inside its radius (icosphere level 3: about 0.3 % at the face centres).
         CHECK(p.depth > 0.88f);
-        CHECK(p.depth < 0.9f);
+        CHECK(p.depth < 0.9f);  // 0.9 analytically, less the facets inset
     }
 
     TEST_CASE("the two halves of a cut sphere resting as cut do not count as inside each other") {
@@ -109,8 +109,8 @@ TEST_SUITE("sim/penetration") {
         move_piece(b, b.piece_of_particle[b.extreme_particle(1, true)], push);
         const float depth = sim::deepest_penetration(b).depth;
         MESSAGE("moved 0.2 into the other half: depth " << depth);
-        CHECK(depth > 0.05f);
-        CHECK(depth < 0.2f);
+        CHECK(depth > 0.05f);  // measured 0.057
+        CHECK(depth < 0.2f);  // measured 0.057
     }
 
     TEST_CASE("a burst piece is open: what came in through its opening is not inside it") {
@@ -132,7 +132,7 @@ TEST_SUITE("sim/penetration") {
                 for (const sim::VolumeConstraint& v : b.volumes) REQUIRE_FALSE(v.leaking_done());
                 CHECK(depth == 0.0f);
             } else {
-                CHECK(depth > 0.05f);
+                CHECK(depth > 0.05f);  // measured 0.057 (cap, rebase)
             }
         }
     }

@@ -50,13 +50,13 @@ TEST_SUITE("splat/cut_faces") {
         // factor of two (a maximal sampling at spacing h puts one sample per 1-2 h^2).
         const double disc = M_PI * 1.0 * 1.0, per_face = double(records.size()) / 2.0;
         MESSAGE(records.size() << " samples on two faces");
-        CHECK(per_face > 0.4 * disc / double(h * h));
-        CHECK(per_face < 1.2 * disc / double(h * h));
+        CHECK(per_face > 0.4 * disc / double(h * h));  // measured 799 a face: 0.64 of area / h^2
+        CHECK(per_face < 1.2 * disc / double(h * h));  // the same
         size_t up = 0, down = 0;
         for (const splat::GaussianRecord& r : records) {
             const Vec3f p = position_of(r);
             CHECK(std::abs(p.y()) < 1e-4f);
-            CHECK(std::hypot(p.x(), p.z()) <= 1.0f + 1e-4f);
+            CHECK(std::hypot(p.x(), p.z()) <= 1.0f + 1e-4f);  // on the disc, to rounding
             const Vec3f n = splat::decode_octahedral(r.normal_oct);
             if (n.y() > 0.99f) ++up;
             else if (n.y() < -0.99f) ++down;
@@ -80,7 +80,7 @@ TEST_SUITE("splat/cut_faces") {
                 worst = std::max(worst, nearest);
             }
         MESSAGE("farthest point of the disc from a sample: " << worst / h << " h");
-        CHECK(worst < 1.5f * h);
+        CHECK(worst < 1.5f * h);  // measured 0.78 h
     }
 
     TEST_CASE("a face a second cut crossed folds along the cut: the quarter's samples lie on its two planes") {
@@ -117,7 +117,7 @@ TEST_SUITE("splat/cut_faces") {
         // older one: within a factor of two of their area over h^2.
         const double half_discs = 4.0 * 0.5 * M_PI;
         MESSAGE(on_x << " samples on the second cut's plane");
-        CHECK(double(on_x) > 0.4 * half_discs / double(h * h));
+        CHECK(double(on_x) > 0.4 * half_discs / double(h * h));  // measured 1572: 0.63 of area / h^2
     }
 
     TEST_CASE("the faces ride on their rims: moved with the body, stretched splats grow") {

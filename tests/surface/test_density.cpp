@@ -85,7 +85,7 @@ TEST_SUITE("surface/density") {
             b.frame();
             // Throughout, not only at the end: the control keeps pace with the inflation.
             const surface::SpacingReport r = surface::spacing_report(b.splats(), b.h);
-            CHECK_MESSAGE(r.within >= 0.95f, "frame " << f << ": " << r.within << " within [0.7 h, 1.4 h], p05 " << r.p05 << ", p95 " << r.p95);
+            CHECK_MESSAGE(r.within >= 0.95f, "frame " << f << ": " << r.within << " within [0.7 h, 1.4 h], p05 " << r.p05 << ", p95 " << r.p95);  // the surfaces goal: 95 % of samples in band
         }
         CHECK(b.samples.size() > at_rest + at_rest / 2);  // twice the area: far more samples
         CHECK(on_their_triangles(b.samples));
@@ -111,7 +111,7 @@ TEST_SUITE("surface/density") {
         }
         CHECK(b.samples.size() < inflated * 3 / 4);
         const surface::SpacingReport r = surface::spacing_report(b.splats(), b.h);
-        CHECK_MESSAGE(r.within >= 0.95f, r.within << " within [0.7 h, 1.4 h], p05 " << r.p05 << ", p95 " << r.p95);
+        CHECK_MESSAGE(r.within >= 0.95f, r.within << " within [0.7 h, 1.4 h], p05 " << r.p05 << ", p95 " << r.p95);  // the surfaces goal
         // Retired samples leave only where a kept one stands close by.
         CHECK(worst_gap < 1.2f * b.h);
         CHECK(on_their_triangles(b.samples));
@@ -127,15 +127,15 @@ TEST_SUITE("surface/density") {
         }
         // The largest stretch never moved; the samples crowded along the squashed direction.
         const surface::SpacingReport squashed = surface::spacing_report(b.splats(), b.h);
-        CHECK_MESSAGE(squashed.within >= 0.95f, squashed.within << " within [0.7 h, 1.4 h], p05 " << squashed.p05);
+        CHECK_MESSAGE(squashed.within >= 0.95f, squashed.within << " within [0.7 h, 1.4 h], p05 " << squashed.p05);  // the surfaces goal
         CHECK(b.samples.size() < at_rest);
         for (int f = 1; f <= 30; ++f) {
             b.scale_axes(squash(0.6f + 0.4f * float(std::min(f, 20)) / 20.0f));
             b.frame();
         }
         const surface::SpacingReport back = surface::spacing_report(b.splats(), b.h);
-        CHECK_MESSAGE(back.within >= 0.95f, back.within << " within [0.7 h, 1.4 h], p95 " << back.p95);
-        CHECK(b.largest_gap() < 1.05f * b.h);
+        CHECK_MESSAGE(back.within >= 0.95f, back.within << " within [0.7 h, 1.4 h], p95 " << back.p95);  // the surfaces goal
+        CHECK(b.largest_gap() < 1.05f * b.h);  // a maximal set leaves no gap past h; 5 % for the facets
         CHECK(on_their_triangles(b.samples));
     }
 

@@ -39,7 +39,7 @@ void check_edges(std::span<const Vec3f> x, std::span<const mesh::Triangle> trian
             std::sort(u.begin(), u.end());
             REQUIRE(u.size() >= 3);  // at least one sample on every boundary edge
             for (size_t j = 1; j + 1 < u.size(); ++j) CHECK((u[j + 1] - u[j]) * len <= step * 1.001f);
-            CHECK(u[1] * len <= 0.5f * step * 1.001f);
+            CHECK(u[1] * len <= 0.5f * step * 1.001f);  // the first sample half a step in from the end
         }
 }
 } // namespace

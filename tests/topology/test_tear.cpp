@@ -48,7 +48,7 @@ TEST_SUITE("topology/tear") {
             if (x.z() < -0.99f) b.pin(i);
             if (x.z() > 0.99f && std::abs(x.x()) < std::abs(sim::xyz(b.particles.x[grab]).x()) + 1e-6f) grab = i;
         }
-        REQUIRE(b.particles.x[grab].z() > 0.99f);
+        REQUIRE(b.particles.x[grab].z() > 0.99f);  // the sphere radius is 1
         b.pin(grab);
         sim::Solver solver;
         const sim::SolverSettings s = floating();
@@ -142,7 +142,7 @@ TEST_SUITE("topology/tear") {
             b.volumes[0].pressure = 1.5f;
             for (int f = 0; f < 60; ++f) solver.step(b, 1.0f / 60.0f, s, {}, {});
             const double inflated = sim::opening_report(b).volume;
-            REQUIRE(inflated > 1.3 * b.volumes[0].rest_volume);
+            REQUIRE(inflated > 1.3 * b.volumes[0].rest_volume);  // pressure 1.5: about 1.5 V0
             topology::CutOptions cut;
             cut.volume = topology::VolumePolicy::burst;
             cut.reference_edge_length = float(b.distance_groups.mean_rest());
@@ -184,8 +184,8 @@ TEST_SUITE("topology/tear") {
         const Outcome runs = run(true), stays = run(false);
         INFO("rip: growth " << runs.growth << ", volume " << runs.volume_fall << ", tears " << runs.tears);
         INFO("slit alone: growth " << stays.growth << ", volume " << stays.volume_fall << ", tears " << stays.tears);
-        CHECK(runs.growth >= 3.0);
-        CHECK(runs.volume_fall < 0.5);
+        CHECK(runs.growth >= 3.0);  // the goal (docs/BENCHMARKS.md, Tears that run)
+        CHECK(runs.volume_fall < 0.5);  // the goal
         CHECK(runs.smallest >= 8);
         CHECK(stays.tears == 0);
         // A slit whose sides still touch lets little out: the ball stays more than half full.
@@ -240,7 +240,7 @@ TEST_SUITE("topology/tear") {
         float worst = 0.0f;
         for (uint32_t i = before_tears; i < b.particle_count(); ++i) worst = std::max(worst, std::abs(b.rest_positions[i].z() - notch_z));
         INFO("tears " << tears << ", farthest from the notch's line " << worst / edge << " edges");
-        CHECK(worst <= 3.0f * edge);
+        CHECK(worst <= 3.0f * edge);  // a crack: within the ring a slit crosses (8.5 edges off before the fix)
     }
 
     TEST_CASE("tear options are checked") {
