@@ -25,8 +25,8 @@ std::string vec(const Eigen::Matrix<float, N, 1>& v) {
     for (int k = 0; k < N; ++k) s += (k ? ", " : "") + num(double(v[k]));
     return s + "]";
 }
-// A TOML basic string: quotes, backslashes and control characters escaped (found by fuzzing:
-// a mesh name with an escaped newline was written back raw, and the file no longer parsed).
+// A TOML basic string: quotes, backslashes and control characters escaped, so that any name,
+// a newline in it included, prints back into a file that parses (the fuzz corpus holds one).
 std::string toml_string(const std::string& t) {
     std::string o = "\"";
     for (const char c : t) {

@@ -41,7 +41,7 @@ const CommandSpec& command_spec() {
                          "over: composited (with the visibility pass when unsorted); normalised: the\n"
                          "front splats averaged, then resolved (needs --footprint gaussian, no --sort)"),
                   real("kappa", "K", 0.0f, 0.0f, 6.0f,
-                       "Gaussian: cap on the reach in std devs (0: none; 3 is the old fixed quad);\n"
+                       "Gaussian: cap on the reach in std devs (0: none, the 1/255 cut-off alone);\n"
                        "paper: the disc's half-size in s0 (0: closing, 1.8)"),
                   choice("carrier", {"quad", "octagon"}, "quad", "the primitive around each splat (geometry and mesh paths)"),
                   real("cull-facing", "C", -0.3f, -2.0f, 1.0f,
