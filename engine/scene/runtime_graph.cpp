@@ -4,6 +4,7 @@
 
 #include "scene/scene_runtime.h"
 
+#include "scene/stages/body_parts.h"
 #include "scene/stages/body_view.h"
 #include "scene/stages/change_passes.h"
 #include "scene/stages/event_stage.h"
@@ -41,7 +42,10 @@ void SceneRuntime::import_resources(GraphAssembly& h) {
     const bool has_shape = sd.solver.shape_stiffness > 0.0f && body_.shape_matching;
     const bool topology_events = queue_->any(is_topology_event) || options_.interactive;
     graph::Blackboard& board = h.board;
-    graph::import_into(g, board, keys::body, &body_, true);
+    // The body in its three parts (scene/stages/body_parts.h), each a base of the one body.
+    graph::import_into(g, board, keys::body_structure, static_cast<sim::BodyStructure*>(&body_), true);
+    graph::import_into(g, board, keys::body_state, static_cast<sim::BodyState*>(&body_), true);
+    graph::import_into(g, board, keys::body_caches, static_cast<sim::BodyCaches*>(&body_), true);
     graph::import_into(g, board, keys::timeline, has_timed_events() ? timeline_.get() : static_cast<Timeline*>(nullptr));
     graph::import_into(g, board, keys::volumes, has_volume ? &body_.volumes : static_cast<std::vector<sim::VolumeConstraint>*>(nullptr));
     graph::import_into(g, board, keys::shapes, has_shape ? &body_.shapes : static_cast<std::vector<sim::ShapeCluster>*>(nullptr));
@@ -98,7 +102,9 @@ void SceneRuntime::fingerprint_resources(const GraphAssembly& h) {
     graph::FrameGraph& g = graph_;
     const auto print = [](const auto& resource) { return fingerprint(resource); };
     const graph::Blackboard& board = h.board;
-    g.set_fingerprint<sim::SoftBody>(board.get(keys::body), print);
+    g.set_fingerprint<sim::BodyStructure>(board.get(keys::body_structure), print);
+    g.set_fingerprint<sim::BodyState>(board.get(keys::body_state), print);
+    g.set_fingerprint<sim::BodyCaches>(board.get(keys::body_caches), print);
     g.set_fingerprint<splat::Appearance>(board.get(keys::appearance), print);
     g.set_fingerprint<render::FrameInputs>(board.get(keys::view), print);
     g.set_fingerprint<passes::SplatStream>(board.get(keys::splats), print);
@@ -162,19 +168,19 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
     // The fine surface's embedding, made on the first frame it is drawn (absent, and not
     // declared, without a fine surface).
     auto embedding = h.board.get(keys::fine_embedding);
-    const auto body = h.board.get(keys::body);
+    const BodyParts body = BodyParts::from(h.board);
     const auto cut_faces = h.board.get(keys::cut_faces);
     auto input = h.board.get(keys::occluder_input);
     const bool cut_faces_on = h.cut_faces_on;
     g.add_pass("occluder mesh", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
-        b.read(body);
+        body.read(b);
         mesh = b.write(mesh);
         if (fine_) embedding = b.write(embedding);
         if (cut_faces_on) b.read(cut_faces);
         input = b.write(input);
         const mesh::TriangleMesh* fine = fine_ ? &*fine_ : nullptr;  // the model's surface: fixed at load
         return [fine, mesh, embedding, body, cut_faces, input, cut_faces_on](const graph::PassResources& r, graph::ExecuteContext&) {
-            const sim::SoftBody& bd = r.read(body);
+            const sim::SoftBody& bd = body.body(r);
             passes::OccluderInput& in = r.write(input);
             // A cut face hides what lies behind it as the shell does.
             const splat::CutFaces* faces = cut_faces_on ? &r.read(cut_faces) : nullptr;
@@ -205,12 +211,12 @@ graph::Handle<graph::GpuImageRef> SceneRuntime::add_mesh_view_pass(GraphAssembly
     auto mesh_depth = g.import("mesh depth", &mesh_depth_);
     auto raster = g.import("mesh raster", mesh_raster_.get());
     auto splats = g.import("splat renderer", renderer_.get());
-    const auto body = h.board.get(keys::body);
+    const BodyParts body = BodyParts::from(h.board);
     const auto view = h.board.get(keys::view);
     const auto appearance = h.board.get(keys::appearance);
     auto note = h.board.get(keys::note);
     g.add_pass("mesh", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-        b.read(body);
+        body.read(b);
         b.read(view);
         b.read(appearance);
         b.read(splats);
@@ -220,7 +226,7 @@ graph::Handle<graph::GpuImageRef> SceneRuntime::add_mesh_view_pass(GraphAssembly
         b.write(mesh_depth, passes::to_graph(render::uses::depth_attachment));
         return [body, view, appearance, note, raster, splats](const graph::PassResources& r, graph::ExecuteContext& c) {
             render::MeshRaster& mesh = r.write(raster);
-            const sim::SoftBody& bd = r.read(body);
+            const sim::SoftBody& bd = body.body(r);
             const uint32_t slot = r.read(splats).slot();
             if (const core::Status s = mesh.set_mesh(bd.particles.x, bd.triangles, bd.normals, slot, bd.colors); !s.ok())
                 r.write(note) = "mesh view: " + s.error().to_string();  // drawn with the last mesh that fitted

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "scene/stages/body_parts.h"
 #include "scene/stages/frame_keys.h"
 #include "scene/stages/mapping_stage.h"
 #include "scene/stages/surface_stage.h"
@@ -13,7 +14,7 @@ namespace {
 struct ChangeHandles {
     graph::Handle<FrameChanges> changes;
     graph::Handle<EventQueue> cuts;  // the marker: absent when no cut or tear can come
-    graph::Handle<sim::SoftBody> body;
+    BodyParts body;
     graph::Handle<surface::BoundaryParticles> samples;
     graph::Handle<std::optional<surface::BoundaryParticles>> fine;
     graph::Handle<surface::DensityControl> density;
@@ -40,7 +41,7 @@ SurfaceFollow surface_follow(const ChangePassOptions& o, surface::BoundaryPartic
 void add_carry_pass(graph::FrameGraph& g, ChangeHandles& h, const ChangePassOptions& o) {
     g.add_pass("carry samples", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         b.read(h.cuts);
-        b.read(h.body);
+        h.body.read(b);
         b.read(h.settings);
         h.changes = b.write(h.changes);  // the triangles it empties join the refill
         h.samples = b.write(h.samples);
@@ -48,7 +49,7 @@ void add_carry_pass(graph::FrameGraph& g, ChangeHandles& h, const ChangePassOpti
         return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
             FrameChanges& changes = r.write(hh.changes);
             if (changes.empty()) return;
-            const sim::SoftBody& body = r.read(hh.body);
+            const sim::SoftBody& body = hh.body.body(r);
             const SurfaceFollow f =
                 surface_follow(o, r.write(hh.samples), nullptr, o.fine ? &r.write(hh.fine) : nullptr, r.read(hh.settings).particles);
             for (const FrameChanges::Change& c : changes.changes) {
@@ -62,7 +63,7 @@ void add_carry_pass(graph::FrameGraph& g, ChangeHandles& h, const ChangePassOpti
 void add_refill_pass(graph::FrameGraph& g, ChangeHandles& h, const ChangePassOptions& o) {
     g.add_pass("refill", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         b.read(h.cuts);
-        b.read(h.body);
+        h.body.read(b);
         b.read(h.settings);
         b.read(h.changes);
         h.samples = b.write(h.samples);
@@ -74,7 +75,7 @@ void add_refill_pass(graph::FrameGraph& g, ChangeHandles& h, const ChangePassOpt
             std::sort(refill.begin(), refill.end());
             refill.erase(std::unique(refill.begin(), refill.end()), refill.end());
             const SurfaceFollow f = surface_follow(o, r.write(hh.samples), &r.write(hh.density), nullptr, r.read(hh.settings).particles);
-            refill_touched(f, r.read(hh.body), refill, changes.seed_offset);
+            refill_touched(f, hh.body.body(r), refill, changes.seed_offset);
         };
     }, o.tag);
 }
@@ -82,7 +83,7 @@ void add_refill_pass(graph::FrameGraph& g, ChangeHandles& h, const ChangePassOpt
 void add_mapping_follow_pass(graph::FrameGraph& g, ChangeHandles& h, const ChangePassOptions& o) {
     g.add_pass("follow mapping", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         b.read(h.cuts);
-        b.read(h.body);
+        h.body.read(b);
         b.read(h.changes);
         h.mapping = b.write(h.mapping);
         h.settings = b.write(h.settings);
@@ -90,7 +91,7 @@ void add_mapping_follow_pass(graph::FrameGraph& g, ChangeHandles& h, const Chang
         return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
             const FrameChanges& changes = r.read(hh.changes);
             if (changes.empty()) return;
-            const sim::SoftBody& body = r.read(hh.body);
+            const sim::SoftBody& body = hh.body.body(r);
             MapSettings& settings = r.write(hh.settings);
             MappingStage& mapping = r.write(hh.mapping);
             for (const FrameChanges::Change& c : changes.changes) {
@@ -107,12 +108,12 @@ void add_mapping_follow_pass(graph::FrameGraph& g, ChangeHandles& h, const Chang
 void add_stretch_follow_pass(graph::FrameGraph& g, ChangeHandles& h, const ChangePassOptions& o) {
     g.add_pass("stretch data", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         b.read(h.cuts);
-        b.read(h.body);
+        b.read(h.body.structure);  // the rest shape alone
         b.read(h.changes);
         h.stretch = b.write(h.stretch);
         return [hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
             if (r.read(hh.changes).empty()) return;
-            const sim::SoftBody& body = r.read(hh.body);
+            const sim::BodyStructure& body = r.read(hh.body.structure);
             r.write(hh.stretch) = splat::StretchScale(body.rest_positions, body.triangles);
         };
     }, o.tag);
@@ -121,7 +122,7 @@ void add_stretch_follow_pass(graph::FrameGraph& g, ChangeHandles& h, const Chang
 } // namespace
 
 void add_change_passes(graph::FrameGraph& g, graph::Blackboard& board, const ChangePassOptions& o) {
-    ChangeHandles h{board.get(keys::changes),  board.get(keys::cuts),         board.get(keys::body),
+    ChangeHandles h{board.get(keys::changes),  board.get(keys::cuts),         BodyParts::from(board),
                     board.get(keys::samples),  board.get(keys::fine_embedding), board.get(keys::density),
                     board.get(keys::mapping),  board.get(keys::map_settings), board.get(keys::cut_faces),
                     board.get(keys::stretch)};

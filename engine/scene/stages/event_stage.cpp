@@ -1,5 +1,6 @@
 #include "scene/stages/event_stage.h"
 
+#include "scene/stages/body_parts.h"
 #include "scene/stages/change_passes.h"
 #include "scene/stages/frame_keys.h"
 
@@ -14,7 +15,7 @@ struct EventHandles {
     graph::Handle<EventQueue> cuts;                // the queue as a marker: absent when no cut or tear can come
     graph::Handle<TopologyStage> topology;
     graph::Handle<FrameChanges> changes;           // what the topology pass changed, for the passes after it
-    graph::Handle<sim::SoftBody> body;
+    BodyParts body;
     graph::Handle<sim::DragConstraint> drag;       // absent when nothing drags
     graph::Handle<splat::Appearance> appearance;   // the timeline fades the opacity
     graph::Handle<render::FrameInputs> view;       // the camera
@@ -28,7 +29,7 @@ void add_timeline_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
         if (!o.interactive || o.timeline) h.timeline = b.write(h.timeline);
         b.read(h.control);
         h.queue = b.write(h.queue);
-        h.body = b.write(h.body);
+        h.body.write(b, false);  // pressures, spins
         if (o.drags) h.drag = b.write(h.drag);
         h.appearance = b.write(h.appearance);
         h.view = b.write(h.view);
@@ -44,7 +45,7 @@ void add_timeline_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
             float opacity = math::sigmoid(look.opacity_logit);
             const float before = opacity;
             if (has_timeline)
-                r.write(hh.timeline).advance(r.write(hh.queue), control.time, o.dt, r.write(hh.body), drag,
+                r.write(hh.timeline).advance(r.write(hh.queue), control.time, o.dt, hh.body.body_written(r, false), drag,
                                              control.camera_override ? scripted : view.camera, opacity);
             if (opacity != before) look.opacity_logit = math::logit(opacity);
             if (control.user_drag.active) drag = control.user_drag;  // the hand wins over the script
@@ -60,10 +61,10 @@ void add_topology_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
         b.read(h.view);
         h.topology = b.write(h.topology);
         h.changes = b.write(h.changes);
-        h.body = b.write(h.body);
+        h.body.write(b);
         h.note = b.write(h.note);
         return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
-            r.write(hh.topology).run(r.write(hh.queue), r.write(hh.body), r.read(hh.control).time, o.dt, r.read(hh.view).camera, o.cut,
+            r.write(hh.topology).run(r.write(hh.queue), hh.body.body_written(r), r.read(hh.control).time, o.dt, r.read(hh.view).camera, o.cut,
                                      r.write(hh.changes), r.write(hh.note));
         };
     }, o.topology_tag);
@@ -73,13 +74,13 @@ void add_topology_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
 
 void add_event_passes(graph::FrameGraph& g, graph::Blackboard& board, const EventPassOptions& o) {
     EventHandles h{board.get(keys::control),    board.get(keys::timeline), board.get(keys::queue), board.get(keys::cuts),
-                   board.get(keys::topology),   board.get(keys::changes),  board.get(keys::body),  board.get(keys::drag),
+                   board.get(keys::topology),   board.get(keys::changes),  BodyParts::from(board),  board.get(keys::drag),
                    board.get(keys::appearance), board.get(keys::view),     board.get(keys::note)};
     add_timeline_pass(g, h, o);
     add_topology_pass(g, h, o);
     board.put(keys::queue, h.queue);
     board.put(keys::timeline, h.timeline);
-    board.put(keys::body, h.body);
+    h.body.put(board);
     board.put(keys::drag, h.drag);
     board.put(keys::appearance, h.appearance);
     board.put(keys::view, h.view);

@@ -23,7 +23,10 @@
 
 namespace pbdsplat::scene::keys {
 
-inline constexpr graph::Key<sim::SoftBody> body{"body"};
+// The body in its three parts (scene/stages/body_parts.h).
+inline constexpr graph::Key<sim::BodyStructure> body_structure{"body structure"};
+inline constexpr graph::Key<sim::BodyState> body_state{"body state"};
+inline constexpr graph::Key<sim::BodyCaches> body_caches{"body caches"};
 inline constexpr graph::Key<Timeline> timeline{"timeline"};  // absent without timed events
 inline constexpr graph::Key<std::vector<sim::VolumeConstraint>> volumes{"volume constraints"};
 inline constexpr graph::Key<std::vector<sim::ShapeCluster>> shapes{"shape clusters"};

@@ -1,5 +1,6 @@
 #include "scene/stages/mapping_stage.h"
 
+#include "scene/stages/body_parts.h"
 #include "scene/stages/body_view.h"
 #include "scene/stages/frame_keys.h"
 
@@ -59,7 +60,7 @@ void MappingStage::topology_changed(const sim::SoftBody& body, const topology::T
 
 namespace {
 struct MapHandles {
-    graph::Handle<sim::SoftBody> body;
+    BodyParts body;
     graph::Handle<surface::BoundaryParticles> samples;
     graph::Handle<splat::StretchScale> stretch;
     graph::Handle<splat::SortScratch> sort;
@@ -73,12 +74,12 @@ struct MapHandles {
 } // namespace
 
 void add_mapping_passes(graph::FrameGraph& g, graph::Blackboard& board, const MapPassOptions& o) {
-    MapHandles h{board.get(keys::body),       board.get(keys::samples),      board.get(keys::stretch),
+    MapHandles h{BodyParts::from(board),      board.get(keys::samples),      board.get(keys::stretch),
                  board.get(keys::sort),       board.get(keys::appearance),   board.get(keys::map_settings),
                  board.get(keys::mapping),    board.get(keys::view),         board.get(keys::splats),
                  board.get(keys::cut_faces)};
     g.add_pass("map", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
-        b.read(h.body);
+        h.body.read(b);
         if (o.boundary) b.read(h.samples);
         if (o.stretch) b.read(h.stretch);
         b.read(h.appearance);
@@ -89,7 +90,7 @@ void add_mapping_passes(graph::FrameGraph& g, graph::Blackboard& board, const Ma
         if (o.cut_faces) h.cut_faces = b.write(h.cut_faces);
         if (o.keep_records) b.side_effect();
         return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
-            const sim::SoftBody& body = r.read(hh.body);
+            const sim::SoftBody& body = hh.body.body(r);
             const MapSettings& settings = r.read(hh.settings);
             const splat::Appearance& look = r.read(hh.appearance);
             MappingStage& mapping = r.write(hh.mapping);

@@ -54,7 +54,7 @@ Vec3f color_of(const SurfacePaint& paint, uint32_t model, const Vec3f& rest, std
     return model < paint.plain.size() ? paint.plain[model] : Vec3f::Ones();
 }
 
-uint32_t model_of(const sim::SoftBody& body, uint32_t particle) {
+uint32_t model_of(const sim::BodyStructure& body, uint32_t particle) {
     return particle < body.model_of_particle.size() ? body.model_of_particle[particle] : 0u;
 }
 
@@ -67,7 +67,7 @@ void paint_particles(const SurfacePaint& paint, sim::SoftBody& body) {
         body.colors[i] = color_of(paint, model_of(body, i), body.rest_positions[i], scratch);
 }
 
-std::vector<Vec3f> paint_vertices(const SurfacePaint& paint, const sim::SoftBody& body, const mesh::TriangleMesh& surface,
+std::vector<Vec3f> paint_vertices(const SurfacePaint& paint, const sim::BodyStructure& body, const mesh::TriangleMesh& surface,
                                   const surface::BoundaryParticles& embedded) {
     std::vector<Vec3f> out(surface.vertex_count());
     std::vector<mesh::ClosestPoint> scratch;
@@ -159,7 +159,7 @@ void paint_particle_texcoords(const SurfacePaint& paint, sim::SoftBody& body) {
         body.texcoords[i] = look_of(paint, model_of(body, i), true, first_texture, body.rest_positions[i], scratch).texcoord;
 }
 
-size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& s, core::ThreadPool* pool) {
+size_t paint_samples(const SurfacePaint& paint, const sim::BodyStructure& body, surface::BoundaryParticles& s, core::ThreadPool* pool) {
     // What waits for paint is a suffix: samples are only appended, and keep_if keeps the order
     // (padding the colours it compacts with zeros at the end). So a frame costs what it added.
     size_t first = std::min(s.color.size(), s.size());
@@ -194,10 +194,10 @@ size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surfa
 
 void add_paint_pass(graph::FrameGraph& g, graph::Blackboard& board, uint32_t tag) {
     struct PaintHandles {
-        graph::Handle<sim::SoftBody> body;
+        graph::Handle<sim::BodyStructure> body;  // where the samples lie at rest: the structure alone
         graph::Handle<SurfacePaint> paint;
         graph::Handle<surface::BoundaryParticles> samples;
-    } h{board.get(keys::body), board.get(keys::paint), board.get(keys::samples)};
+    } h{board.get(keys::body_structure), board.get(keys::paint), board.get(keys::samples)};
     g.add_pass(
         "paint", graph::PassKind::cpu,
         [&](graph::PassBuilder& b) {

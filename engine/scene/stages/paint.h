@@ -50,7 +50,7 @@ void paint_particles(const SurfacePaint& paint, sim::SoftBody& body);
 void paint_particle_texcoords(const SurfacePaint& paint, sim::SoftBody& body);
 // The colour of each vertex of `surface` (the models' fine surface, in the body's rest frame);
 // `embedded` (one sample per vertex, on the body's triangles) tells each vertex's model.
-std::vector<Vec3f> paint_vertices(const SurfacePaint& paint, const sim::SoftBody& body, const mesh::TriangleMesh& surface,
+std::vector<Vec3f> paint_vertices(const SurfacePaint& paint, const sim::BodyStructure& body, const mesh::TriangleMesh& surface,
                                   const surface::BoundaryParticles& embedded);
 // A textured model's look on triangles, apart, for a renderer that samples the textures (the
 // lit reference of `pbdsplat check`): per triangle its texture (into `textures`, -1 for none),
@@ -68,7 +68,7 @@ TriangleLooks paint_triangles(const SurfacePaint& paint, std::span<const Vec3f> 
                               std::span<const mesh::Triangle> triangles);
 // The samples that have no colour yet (those added since the last call: always the last ones);
 // returns how many were painted. The same colours with or without a pool.
-size_t paint_samples(const SurfacePaint& paint, const sim::SoftBody& body, surface::BoundaryParticles& samples,
+size_t paint_samples(const SurfacePaint& paint, const sim::BodyStructure& body, surface::BoundaryParticles& samples,
                      core::ThreadPool* pool = nullptr);
 
 namespace keys {

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "scene/stages/body_parts.h"
 #include "scene/stages/frame_keys.h"
 #include "scene/stages/pass_group.h"
 
@@ -9,7 +10,7 @@ namespace pbdsplat::scene {
 
 namespace {
 struct SimulationHandles {
-    graph::Handle<sim::SoftBody> body;  // written by every pass
+    BodyParts body;  // the state written by every pass, the caches by the normals
     graph::Handle<std::vector<sim::VolumeConstraint>> volumes;
     graph::Handle<std::vector<sim::ShapeCluster>> shapes;
     graph::Handle<sim::DragConstraint> drag;
@@ -19,7 +20,7 @@ struct SimulationHandles {
 
 void add_simulation_passes(graph::FrameGraph& g, graph::Blackboard& board, sim::Solver& solver, const sim::SolverSettings& settings,
                            float dt) {
-    SimulationHandles h{board.get(keys::body), board.get(keys::volumes), board.get(keys::shapes), board.get(keys::drag),
+    SimulationHandles h{BodyParts::from(board), board.get(keys::volumes), board.get(keys::shapes), board.get(keys::drag),
                         board.get(keys::colliders)};
     const float substep = dt / float(settings.substeps);
     for (const sim::ScheduledStage& entry : sim::frame_schedule(settings)) {
@@ -37,18 +38,28 @@ void add_simulation_passes(graph::FrameGraph& g, graph::Blackboard& board, sim::
                 if (stage == sim::Stage::shape) b.read(h.shapes);
                 if (stage == sim::Stage::drag) b.read(h.drag);
                 if (stage == sim::Stage::collide) b.read(h.colliders);
-                h.body = b.write(h.body);
-                return [&solver, &settings, stage, substep, handles = h](const graph::PassResources& r, graph::ExecuteContext&) {
+                // Every stage moves the state; the first of a substep also lets the gas out of
+                // the volume constraints that leak (their pressure, part of the structure), and
+                // the last of a frame makes the normals (the caches).
+                const bool leaks = stage == sim::Stage::forces && settings.volume;
+                if (leaks) h.body.structure = b.write(h.body.structure);
+                else b.read(h.body.structure);
+                h.body.state = b.write(h.body.state);
+                if (stage == sim::Stage::normals) h.body.caches = b.write(h.body.caches);
+                else b.read(h.body.caches);
+                return [&solver, &settings, stage, substep, leaks, handles = h](const graph::PassResources& r, graph::ExecuteContext&) {
                     static const sim::Colliders k_no_colliders;
                     static const sim::DragConstraint k_no_drag;
                     const sim::Colliders& colliders = stage == sim::Stage::collide ? r.read(handles.colliders) : k_no_colliders;
                     const sim::DragConstraint& drag = stage == sim::Stage::drag ? r.read(handles.drag) : k_no_drag;
-                    solver.run(stage, r.write(handles.body), settings, substep, colliders, drag);
+                    if (stage == sim::Stage::normals) r.write(handles.body.caches);
+                    else r.read(handles.body.caches);
+                    solver.run(stage, handles.body.body_written_through_state(r, leaks), settings, substep, colliders, drag);
                 };
             },
             tag(pass_group(sim::stage_group(stage))));
     }
-    board.put(keys::body, h.body);
+    h.body.put(board);
 }
 
 } // namespace pbdsplat::scene

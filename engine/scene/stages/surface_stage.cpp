@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "mesh/topology.h"
+#include "scene/stages/body_parts.h"
 #include "scene/stages/frame_keys.h"
 #include "surface/edges.h"
 #include "surface/remap.h"
@@ -47,7 +48,7 @@ namespace {
 // New samples (at load, refilled after a change, darted where the surface stretched) join the
 // thinning order around the old ones, with their piece: pieces do not cover for each other once
 // they part. Around removed samples the order is remade too.
-void add_thin_order_pass(graph::FrameGraph& g, graph::Handle<sim::SoftBody> body, graph::Handle<surface::BoundaryParticles>& samples,
+void add_thin_order_pass(graph::FrameGraph& g, graph::Handle<sim::BodyStructure> body, graph::Handle<surface::BoundaryParticles>& samples,
                          const SurfacePassConfig& config) {
     g.add_pass(
         "thin order", graph::PassKind::cpu,
@@ -57,7 +58,7 @@ void add_thin_order_pass(graph::FrameGraph& g, graph::Handle<sim::SoftBody> body
             return [config, body, samples](const graph::PassResources& r, graph::ExecuteContext&) {
                 surface::BoundaryParticles& s = r.write(samples);
                 if (s.thin_level.size() == s.size() && s.thin_gaps.empty()) return;
-                const sim::SoftBody& bd = r.read(body);
+                const sim::BodyStructure& bd = r.read(body);
                 std::vector<uint32_t> piece(s.size());
                 for (size_t i = 0; i < s.size(); ++i) piece[i] = bd.piece_of_particle[bd.triangles[s.triangle[i]][0]];
                 surface::place_in_thin_order(s.position, s.normal, piece, config.h, s.thin_level, s.thin_gaps);
@@ -70,21 +71,21 @@ void add_thin_order_pass(graph::FrameGraph& g, graph::Handle<sim::SoftBody> body
 
 void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const SurfacePassConfig& config) {
     struct SurfaceHandles {
-        graph::Handle<sim::SoftBody> body;                  // read
+        BodyParts body;                                     // read
         graph::Handle<surface::BoundaryParticles> samples;  // written
         graph::Handle<surface::DensityControl> density;
         graph::Handle<surface::DensityStats> density_stats;
         graph::Handle<splat::StretchScale> stretch;         // written
-    } h{board.get(keys::body), board.get(keys::samples), board.get(keys::density), board.get(keys::density_stats),
+    } h{BodyParts::from(board), board.get(keys::samples), board.get(keys::density), board.get(keys::density_stats),
         board.get(keys::stretch)};
     g.add_pass(
         "boundary particles", graph::PassKind::cpu,
         [&](graph::PassBuilder& b) {
-            b.read(h.body);
+            h.body.read(b);
             h.samples = b.write(h.samples);
             return [body = h.body, samples = h.samples](const graph::PassResources& r, graph::ExecuteContext&) {
-                const sim::SoftBody& bd = r.read(body);
-                surface::update_boundary_particles(bd.triangles, bd.particles.x, bd.normals, r.write(samples));
+                surface::update_boundary_particles(r.read(body.structure).triangles, r.read(body.state).particles.x,
+                                                   r.read(body.caches).normals, r.write(samples));
             };
         },
         config.tag);
@@ -92,13 +93,13 @@ void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const Su
     g.add_pass(
         k_density_pass, graph::PassKind::cpu,
         [&](graph::PassBuilder& b) {
-            b.read(h.body);
+            h.body.read(b);
             h.density = b.write(h.density);  // its trigger state and fades advance
             h.samples = b.write(h.samples);
             h.density_stats = b.write(h.density_stats);
             return [config, body = h.body, samples = h.samples, density = h.density, stats = h.density_stats](
                        const graph::PassResources& r, graph::ExecuteContext&) {
-                const sim::SoftBody& bd = r.read(body);
+                const sim::SoftBody& bd = body.body(r);
                 surface::DensityStats& out = r.write(stats);
                 surface::DensityControl& control = r.write(density);
                 if (control.empty()) {
@@ -111,15 +112,15 @@ void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const Su
             };
         },
         config.tag);
-    if (config.thin) add_thin_order_pass(g, h.body, h.samples, config);
+    if (config.thin) add_thin_order_pass(g, h.body.structure, h.samples, config);
     g.add_pass(
         "stretch", graph::PassKind::cpu,
         [&](graph::PassBuilder& b) {
-            b.read(h.body);
+            b.read(h.body.structure);
+            b.read(h.body.state);
             h.stretch = b.write(h.stretch);
             return [body = h.body, stretch = h.stretch](const graph::PassResources& r, graph::ExecuteContext&) {
-                const sim::SoftBody& bd = r.read(body);
-                r.write(stretch).update(bd.particles.x, bd.triangles);
+                r.write(stretch).update(r.read(body.state).particles.x, r.read(body.structure).triangles);
             };
         },
         config.tag);

@@ -26,13 +26,18 @@ uint64_t mix_span(uint64_t h, std::span<const T> v) {
 constexpr uint64_t k_basis = 14695981039346656037ull;
 } // namespace
 
-uint64_t fingerprint(const sim::SoftBody& body) {
-    uint64_t h = mix_value(k_basis, sim::state_hash(body.particles));
-    h = mix_value(h, body.triangles.size());
+uint64_t fingerprint(const sim::BodyStructure& body) {
+    uint64_t h = mix_value(k_basis, body.triangles.size());
     h = mix_value(h, body.distance.size());
+    h = mix_value(h, body.pieces);
+    h = mix_span<uint32_t>(h, body.piece_of_particle);
     for (const sim::VolumeConstraint& v : body.volumes) h = mix_value(mix_value(mix_value(h, v.piece), v.pressure), v.rest_volume);
     return h;
 }
+
+uint64_t fingerprint(const sim::BodyState& state) { return mix_value(k_basis, sim::state_hash(state.particles)); }
+
+uint64_t fingerprint(const sim::BodyCaches& caches) { return mix_span<Vec3f>(k_basis, caches.normals); }
 
 uint64_t fingerprint(const sim::DragConstraint& d) {
     uint64_t h = mix_span<uint32_t>(k_basis, d.particles);

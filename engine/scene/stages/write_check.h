@@ -1,7 +1,7 @@
 #pragma once
 // Fingerprints of the frame's shared CPU resources, for FrameGraph::check_writes: a test (or a
 // debugging session, RuntimeOptions::check_writes) runs a scene and learns of any pass that
-// changed the body, the drag, the appearance, the samples, the frame input, the map settings,
+// changed a part of the body, the drag, the appearance, the samples, the frame input, the map settings,
 // the frame's topology changes or the note without declaring the write.
 #include <cstdint>
 #include <string>
@@ -15,8 +15,11 @@
 
 namespace pbdsplat::scene {
 
-// Positions, velocities, mesh and constraint counts, and each volume constraint's target.
-uint64_t fingerprint(const sim::SoftBody& body);
+// The body's parts: the mesh and constraint counts, pieces and each volume constraint's target;
+// positions and velocities; the normals.
+uint64_t fingerprint(const sim::BodyStructure& structure);
+uint64_t fingerprint(const sim::BodyState& state);
+uint64_t fingerprint(const sim::BodyCaches& caches);
 uint64_t fingerprint(const sim::DragConstraint& drag);
 uint64_t fingerprint(const splat::Appearance& look);
 // The samples' count, triangles, barycentric coordinates and fades.
