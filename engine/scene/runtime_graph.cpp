@@ -168,12 +168,12 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
     // The fine surface's embedding, made on the first frame it is drawn (absent, and not
     // declared, without a fine surface).
     auto embedding = h.board.get(keys::fine_embedding);
-    const BodyParts body = BodyParts::from(h.board);
+    BodyParts body = BodyParts::from(h.board);
     const auto cut_faces = h.board.get(keys::cut_faces);
     auto input = h.board.get(keys::occluder_input);
     const bool cut_faces_on = h.cut_faces_on;
     g.add_pass("occluder mesh", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
-        body.read(b);
+        body.declare(b);
         mesh = b.write(mesh);
         if (fine_) embedding = b.write(embedding);
         if (cut_faces_on) b.read(cut_faces);
@@ -211,12 +211,12 @@ graph::Handle<graph::GpuImageRef> SceneRuntime::add_mesh_view_pass(GraphAssembly
     auto mesh_depth = g.import("mesh depth", &mesh_depth_);
     auto raster = g.import("mesh raster", mesh_raster_.get());
     auto splats = g.import("splat renderer", renderer_.get());
-    const BodyParts body = BodyParts::from(h.board);
+    BodyParts body = BodyParts::from(h.board);
     const auto view = h.board.get(keys::view);
     const auto appearance = h.board.get(keys::appearance);
     auto note = h.board.get(keys::note);
     g.add_pass("mesh", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
-        body.read(b);
+        body.declare(b);
         b.read(view);
         b.read(appearance);
         b.read(splats);

@@ -4,6 +4,21 @@
 
 namespace pbdsplat::scene {
 
+namespace {
+template <class T>
+void declare_part(graph::PassBuilder& b, graph::Handle<T>& h, bool write) {
+    if (write) h = b.write(h);
+    else b.read(h);
+}
+
+// Checks the part was declared as the pass says it uses it.
+template <class T>
+void reach_part(const graph::PassResources& r, graph::Handle<T> h, bool write) {
+    if (write) r.write(h);
+    else r.read(h);
+}
+} // namespace
+
 BodyParts BodyParts::from(const graph::Blackboard& board) {
     return {board.get(keys::body_structure), board.get(keys::body_state), board.get(keys::body_caches)};
 }
@@ -14,38 +29,24 @@ void BodyParts::put(graph::Blackboard& board) const {
     board.put(keys::body_caches, caches);
 }
 
-void BodyParts::read(graph::PassBuilder& b) const {
-    b.read(structure);
-    b.read(state);
-    b.read(caches);
+void BodyParts::declare(graph::PassBuilder& b, BodyWrites w) {
+    declare_part(b, structure, w.structure);
+    declare_part(b, state, w.state);
+    declare_part(b, caches, w.caches);
 }
 
-void BodyParts::write(graph::PassBuilder& b, bool with_caches) {
-    structure = b.write(structure);
-    state = b.write(state);
-    if (with_caches) caches = b.write(caches);
-    else b.read(caches);
-}
-
-// Each part is a base of the one sim::SoftBody the runtime imported, so the whole is reached from
-// any of them; the graph has checked the pass declared the part it is reached through.
 const sim::SoftBody& BodyParts::body(const graph::PassResources& r) const {
     r.read(state);
     r.read(caches);
     return static_cast<const sim::SoftBody&>(r.read(structure));
 }
 
-sim::SoftBody& BodyParts::body_written_through_state(const graph::PassResources& r, bool with_structure) const {
-    if (with_structure) r.write(structure);
-    else r.read(structure);
+sim::SoftBody& BodyParts::body(const graph::PassResources& r, BodyWrites w) const {
+    reach_part(r, structure, w.structure);
+    reach_part(r, caches, w.caches);
+    // Every pass that changes the body moves its state (a solver stage, the timeline's spins, the
+    // particles a cut adds): reached through it.
     return static_cast<sim::SoftBody&>(r.write(state));
-}
-
-sim::SoftBody& BodyParts::body_written(const graph::PassResources& r, bool with_caches) const {
-    if (with_caches) r.write(caches);
-    else r.read(caches);
-    r.write(state);
-    return static_cast<sim::SoftBody&>(r.write(structure));
 }
 
 } // namespace pbdsplat::scene

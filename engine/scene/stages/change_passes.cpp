@@ -41,7 +41,7 @@ SurfaceFollow surface_follow(const ChangePassOptions& o, surface::BoundaryPartic
 void add_carry_pass(graph::FrameGraph& g, ChangeHandles& h, const ChangePassOptions& o) {
     g.add_pass("carry samples", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         b.read(h.cuts);
-        h.body.read(b);
+        h.body.declare(b);
         b.read(h.settings);
         h.changes = b.write(h.changes);  // the triangles it empties join the refill
         h.samples = b.write(h.samples);
@@ -63,7 +63,7 @@ void add_carry_pass(graph::FrameGraph& g, ChangeHandles& h, const ChangePassOpti
 void add_refill_pass(graph::FrameGraph& g, ChangeHandles& h, const ChangePassOptions& o) {
     g.add_pass("refill", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         b.read(h.cuts);
-        h.body.read(b);
+        h.body.declare(b);
         b.read(h.settings);
         b.read(h.changes);
         h.samples = b.write(h.samples);
@@ -83,7 +83,7 @@ void add_refill_pass(graph::FrameGraph& g, ChangeHandles& h, const ChangePassOpt
 void add_mapping_follow_pass(graph::FrameGraph& g, ChangeHandles& h, const ChangePassOptions& o) {
     g.add_pass("follow mapping", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         b.read(h.cuts);
-        h.body.read(b);
+        h.body.declare(b);
         b.read(h.changes);
         h.mapping = b.write(h.mapping);
         h.settings = b.write(h.settings);

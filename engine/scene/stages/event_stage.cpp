@@ -22,6 +22,11 @@ struct EventHandles {
     graph::Handle<std::string> note;               // what the user's last stroke did
 };
 
+// The timeline ramps pressures (the structure's volumes) and spins the body (its state); a cut
+// or tear changes every part.
+constexpr BodyWrites k_timeline_writes{true, true, false};
+constexpr BodyWrites k_topology_writes{true, true, true};
+
 void add_timeline_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOptions& o) {
     g.add_pass("events", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         // An interactive run keeps the pass for the user's drag, with or without a timeline; a
@@ -29,7 +34,7 @@ void add_timeline_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
         if (!o.interactive || o.timeline) h.timeline = b.write(h.timeline);
         b.read(h.control);
         h.queue = b.write(h.queue);
-        h.body.write(b, false);  // pressures, spins
+        h.body.declare(b, k_timeline_writes);
         if (o.drags) h.drag = b.write(h.drag);
         h.appearance = b.write(h.appearance);
         h.view = b.write(h.view);
@@ -45,7 +50,7 @@ void add_timeline_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
             float opacity = math::sigmoid(look.opacity_logit);
             const float before = opacity;
             if (has_timeline)
-                r.write(hh.timeline).advance(r.write(hh.queue), control.time, o.dt, hh.body.body_written(r, false), drag,
+                r.write(hh.timeline).advance(r.write(hh.queue), control.time, o.dt, hh.body.body(r, k_timeline_writes), drag,
                                              control.camera_override ? scripted : view.camera, opacity);
             if (opacity != before) look.opacity_logit = math::logit(opacity);
             if (control.user_drag.active) drag = control.user_drag;  // the hand wins over the script
@@ -61,10 +66,10 @@ void add_topology_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
         b.read(h.view);
         h.topology = b.write(h.topology);
         h.changes = b.write(h.changes);
-        h.body.write(b);
+        h.body.declare(b, k_topology_writes);
         h.note = b.write(h.note);
         return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
-            r.write(hh.topology).run(r.write(hh.queue), hh.body.body_written(r), r.read(hh.control).time, o.dt, r.read(hh.view).camera, o.cut,
+            r.write(hh.topology).run(r.write(hh.queue), hh.body.body(r, k_topology_writes), r.read(hh.control).time, o.dt, r.read(hh.view).camera, o.cut,
                                      r.write(hh.changes), r.write(hh.note));
         };
     }, o.topology_tag);

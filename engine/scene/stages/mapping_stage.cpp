@@ -79,7 +79,7 @@ void add_mapping_passes(graph::FrameGraph& g, graph::Blackboard& board, const Ma
                  board.get(keys::mapping),    board.get(keys::view),         board.get(keys::splats),
                  board.get(keys::cut_faces)};
     g.add_pass("map", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
-        h.body.read(b);
+        h.body.declare(b);
         if (o.boundary) b.read(h.samples);
         if (o.stretch) b.read(h.stretch);
         b.read(h.appearance);

@@ -41,20 +41,14 @@ void add_simulation_passes(graph::FrameGraph& g, graph::Blackboard& board, sim::
                 // Every stage moves the state; the first of a substep also lets the gas out of
                 // the volume constraints that leak (their pressure, part of the structure), and
                 // the last of a frame makes the normals (the caches).
-                const bool leaks = stage == sim::Stage::forces && settings.volume;
-                if (leaks) h.body.structure = b.write(h.body.structure);
-                else b.read(h.body.structure);
-                h.body.state = b.write(h.body.state);
-                if (stage == sim::Stage::normals) h.body.caches = b.write(h.body.caches);
-                else b.read(h.body.caches);
-                return [&solver, &settings, stage, substep, leaks, handles = h](const graph::PassResources& r, graph::ExecuteContext&) {
+                const BodyWrites writes{stage == sim::Stage::forces && settings.volume, true, stage == sim::Stage::normals};
+                h.body.declare(b, writes);
+                return [&solver, &settings, stage, substep, writes, handles = h](const graph::PassResources& r, graph::ExecuteContext&) {
                     static const sim::Colliders k_no_colliders;
                     static const sim::DragConstraint k_no_drag;
                     const sim::Colliders& colliders = stage == sim::Stage::collide ? r.read(handles.colliders) : k_no_colliders;
                     const sim::DragConstraint& drag = stage == sim::Stage::drag ? r.read(handles.drag) : k_no_drag;
-                    if (stage == sim::Stage::normals) r.write(handles.body.caches);
-                    else r.read(handles.body.caches);
-                    solver.run(stage, handles.body.body_written_through_state(r, leaks), settings, substep, colliders, drag);
+                    solver.run(stage, handles.body.body(r, writes), settings, substep, colliders, drag);
                 };
             },
             tag(pass_group(sim::stage_group(stage))));

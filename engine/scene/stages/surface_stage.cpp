@@ -81,7 +81,7 @@ void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const Su
     g.add_pass(
         "boundary particles", graph::PassKind::cpu,
         [&](graph::PassBuilder& b) {
-            h.body.read(b);
+            h.body.declare(b);
             h.samples = b.write(h.samples);
             return [body = h.body, samples = h.samples](const graph::PassResources& r, graph::ExecuteContext&) {
                 surface::update_boundary_particles(r.read(body.structure).triangles, r.read(body.state).particles.x,
@@ -93,7 +93,7 @@ void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const Su
     g.add_pass(
         k_density_pass, graph::PassKind::cpu,
         [&](graph::PassBuilder& b) {
-            h.body.read(b);
+            h.body.declare(b);
             h.density = b.write(h.density);  // its trigger state and fades advance
             h.samples = b.write(h.samples);
             h.density_stats = b.write(h.density_stats);
