@@ -31,14 +31,12 @@ using namespace pbdsplat;
 
 namespace {
 
-// Goldens are remade only by tools/update-goldens, which sets this: "1" for every golden, or
-// a comma-separated list of golden names for those alone; never automatically.
+// Goldens are remade only by tools/update-goldens, which sets this to a comma-separated list of
+// the golden names it remakes; never all at once, never automatically.
 bool updating_golden(const std::string& name) {
     const char* v = std::getenv("PBDSPLAT_UPDATE_GOLDENS");
     if (!v) return false;
-    const std::string list = v;
-    if (list == "1") return true;
-    return ("," + list + ",").find("," + name + ",") != std::string::npos;
+    return ("," + std::string(v) + ",").find("," + name + ",") != std::string::npos;
 }
 
 // The golden tolerance: per-channel difference of at most 2/255 on 99.9 % of the pixels, and a
