@@ -245,8 +245,10 @@ std::vector<std::pair<std::string, std::string>> documented_keys() {
             a = text.find('`', b + 1);
         }
     };
-    const auto is_key = [](const std::string& k) {
-        return !k.empty() && std::all_of(k.begin(), k.end(), [](char c) { return (c >= 'a' && c <= 'z') || c == '_'; });
+    // A key named in prose or an event's row: a plain name, each once.
+    const auto add_key = [&keys](const std::string& table, const std::string& k) {
+        const bool plain = !k.empty() && std::all_of(k.begin(), k.end(), [](char c) { return (c >= 'a' && c <= 'z') || c == '_'; });
+        if (plain && std::find(keys.begin(), keys.end(), std::make_pair(table, k)) == keys.end()) keys.emplace_back(table, k);
     };
     std::string line, section, prose;
     while (std::getline(doc, line)) {
@@ -257,9 +259,8 @@ std::vector<std::pair<std::string, std::string>> documented_keys() {
             if (line.rfind(std::string("`[") + sub + "]`", 0) == 0) prose = sub;
         if (line.empty()) prose.clear();
         if (!prose.empty()) {
-            backticked(line.substr(line.find("]`") == std::string::npos ? 0 : line.find("]`") + 2), [&](const std::string& k) {
-                if (is_key(k) && std::find(keys.begin(), keys.end(), std::make_pair(prose, k)) == keys.end()) keys.emplace_back(prose, k);
-            });
+            backticked(line.substr(line.find("]`") == std::string::npos ? 0 : line.find("]`") + 2),
+                       [&](const std::string& k) { add_key(prose, k); });
             continue;
         }
         if (section.empty() || line.rfind("| `", 0) != 0) continue;
@@ -267,10 +268,8 @@ std::vector<std::pair<std::string, std::string>> documented_keys() {
         if (section == "events") {
             // A row per type: the type, then the keys it takes.
             const std::string type = line.substr(3, line.find('`', 3) - 3);
-            backticked(line.substr(cell + 1, line.find('|', cell + 1) - cell - 1), [&](const std::string& k) {
-                const std::string table = "events:" + type;
-                if (is_key(k) && std::find(keys.begin(), keys.end(), std::make_pair(table, k)) == keys.end()) keys.emplace_back(table, k);
-            });
+            backticked(line.substr(cell + 1, line.find('|', cell + 1) - cell - 1),
+                       [&](const std::string& k) { add_key("events:" + type, k); });
             continue;
         }
         backticked(line.substr(1, cell - 1), [&](const std::string& k) {
@@ -438,6 +437,15 @@ TEST_SUITE("scene/scene_file") {
             {"opacity", "value = 0.5"},
             {"tear", ""},
         };
+        // Each such entry as printed, made once per kind.
+        std::map<std::string, Printed> least_printed;
+        for (const auto& [kind, text] : least) {
+            auto one = scene::parse_scene(kind == "bodies" ? "[[bodies]]\n" + text + "\n"
+                                                           : "[[events]]\ntime = 1\ntype = \"" + kind + "\"\n" + text + "\n",
+                                          "least.toml");
+            REQUIRE_MESSAGE(one.ok(), test::why(one));
+            least_printed[kind] = printed_values(scene::to_toml(one.value()));
+        }
         // The tables of `p` that hold `table`'s keys: itself, or the array entries of its kind.
         const auto entries = [](const Printed& p, const std::string& table) {
             std::vector<const std::map<std::string, std::string>*> out;
@@ -456,15 +464,7 @@ TEST_SUITE("scene/scene_file") {
             CAPTURE(table);
             CAPTURE(key);
             const std::string kind = table.rfind("events:", 0) == 0 ? table.substr(7) : table;
-            Printed least_printed;
-            if (least.count(kind)) {
-                const std::string text = kind == "bodies" ? "[[bodies]]\n" + least.at(kind) + "\n"
-                                                          : "[[events]]\ntime = 1\ntype = \"" + kind + "\"\n" + least.at(kind) + "\n";
-                auto one = scene::parse_scene(text, "least.toml");
-                REQUIRE_MESSAGE(one.ok(), test::why(one));
-                least_printed = printed_values(scene::to_toml(one.value()));
-            }
-            const Printed& defaults_printed = least.count(kind) ? least_printed : plain;
+            const Printed& defaults_printed = least.count(kind) ? least_printed.at(kind) : plain;
             const bool required = kind == "cut" || (least.count(kind) && kind != "bodies" && least.at(kind).find(key + " = ") != std::string::npos);
             // Set somewhere other than its default, and every entry reads back as printed.
             bool printed_somewhere = false, differs_somewhere = required;
