@@ -99,6 +99,49 @@ struct OccluderAt {
     bool beside = false;
 };
 
+// The occluders' depth at every pixel, and where a pixel lies on the mesh's outline (not judged).
+struct OccluderImage {
+    uint32_t width = 0, height = 0;
+    std::vector<float> surface;
+    std::vector<uint8_t> outline;
+
+    // What the occluders decide at pixel (x, y): off when there are none.
+    OccluderAt at(uint32_t x, uint32_t y, float tolerance, float& margin) const {
+        OccluderAt occ;
+        if (surface.empty()) return occ;
+        occ.on = true;
+        occ.surface = surface[size_t(y) * width + x];
+        occ.tolerance = tolerance;
+        const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+        bool unsure = outline[size_t(y) * width + x] != 0;
+        for (int k = 0; k < 4; ++k) {
+            const int nx = std::clamp(int(x) + dx[k], 0, int(width) - 1), ny = std::clamp(int(y) + dy[k], 0, int(height) - 1);
+            occ.beside |= surface[size_t(ny) * width + size_t(nx)] > 0.0f;
+            unsure |= outline[size_t(ny) * width + size_t(nx)] != 0;
+        }
+        if (unsure) margin = 0.0f;
+        return occ;
+    }
+};
+
+template <class RayAt>
+OccluderImage occluder_depths(const OccluderMesh& mesh, const Mat4f& view, uint32_t width, uint32_t height, const RayAt& ray_at) {
+    std::vector<std::array<Vec3f, 3>> tris;
+    for (const auto& t : mesh.triangles) {
+        std::array<Vec3f, 3> v;
+        for (int k = 0; k < 3; ++k) v[k] = (view * Vec4f(mesh.x[t[k]].head<3>().homogeneous())).head<3>();
+        tris.push_back(v);
+    }
+    OccluderImage img{width, height, std::vector<float>(size_t(width) * height), std::vector<uint8_t>(size_t(width) * height)};
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) {
+            bool edge = false;
+            img.surface[size_t(y) * width + x] = mesh_depth(tris, ray_at(int(x), int(y)), 0.02f, edge);
+            img.outline[size_t(y) * width + x] = edge;
+        }
+    return img;
+}
+
 // Normalised blending at one pixel, from its definition (render/frame_inputs.h, "Blend"): a
 // splat counts where its Gaussian reaches at least 1/255 and, when kappa > 0, within kappa
 // standard deviations of its centre; of those, the front surface: no farther than the nearest
@@ -168,46 +211,14 @@ std::vector<ReferencePixel> render_reference(const std::vector<splat::GaussianRe
         const Vec4f v = unproject * Vec4f(ndc.x(), ndc.y(), 0.5f, 1.0f);
         return Vec3f(v.head<3>() / v.w());  // from the eye at the origin
     };
-    // The occluders' depth at every pixel, and where it is on the outline (not judged).
-    const bool occluded = occluders && style.mesh_occluders;
-    std::vector<float> surface;
-    std::vector<uint8_t> outline;
-    if (occluded) {
-        std::vector<std::array<Vec3f, 3>> tris;
-        for (const auto& t : occluders->triangles) {
-            std::array<Vec3f, 3> v;
-            for (int k = 0; k < 3; ++k) v[k] = (view * Vec4f(occluders->x[t[k]].head<3>().homogeneous())).head<3>();
-            tris.push_back(v);
-        }
-        surface.resize(size_t(width) * height);
-        outline.resize(surface.size());
-        for (uint32_t y = 0; y < height; ++y)
-            for (uint32_t x = 0; x < width; ++x) {
-                bool edge = false;
-                surface[size_t(y) * width + x] = mesh_depth(tris, ray_at(int(x), int(y)), 0.02f, edge);
-                outline[size_t(y) * width + x] = edge;
-            }
-    }
-
+    const OccluderImage occluder_image =
+        occluders && style.mesh_occluders ? occluder_depths(*occluders, view, width, height, ray_at) : OccluderImage{};
     std::vector<ReferencePixel> out(size_t(width) * height);
     for (uint32_t y = 0; y < height; ++y)
         for (uint32_t x = 0; x < width; ++x) {
             const Vec3f ray = ray_at(int(x), int(y));
             ReferencePixel& px = out[size_t(y) * width + x];
-            OccluderAt occ;
-            if (occluded) {
-                occ.on = true;
-                occ.surface = surface[size_t(y) * width + x];
-                occ.tolerance = style.occluder_tolerance;
-                const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
-                bool unsure = outline[size_t(y) * width + x] != 0;
-                for (int k = 0; k < 4; ++k) {
-                    const int nx = std::clamp(int(x) + dx[k], 0, int(width) - 1), ny = std::clamp(int(y) + dy[k], 0, int(height) - 1);
-                    occ.beside |= surface[size_t(ny) * width + size_t(nx)] > 0.0f;
-                    unsure |= outline[size_t(ny) * width + size_t(nx)] != 0;
-                }
-                if (unsure) px.rim_margin = 0.0f;
-            }
+            const OccluderAt occ = occluder_image.at(x, y, style.occluder_tolerance, px.rim_margin);
             Vec3f c = frame.background.head<3>();
             float nearest = -1e30f;
             if (style.footprint == render::Footprint::paper) {
