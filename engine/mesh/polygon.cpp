@@ -142,11 +142,38 @@ std::vector<std::array<uint32_t, 3>> triangulate_least_area(std::span<const Vec3
     return out;
 }
 
-std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Vec3f> corners, std::span<const uint8_t> older) {
+namespace {
+// The ends of the chord closing a run of older corners (`run`, indices into `corners`): the new
+// corners before and after it (`first`, `last`), or, where the cut went through a corner of the
+// older rim (whose index the older side kept), that corner: the new corner beyond it then lies
+// off the run's plane.
+void chord_ends(std::span<const Vec3f> corners, const std::vector<uint32_t>& run, size_t& first, size_t& last) {
+    if (run.size() < 3) return;
+    Vec3f normal = Vec3f::Zero(), centre = Vec3f::Zero();
+    for (size_t q = 0; q < run.size(); ++q) {
+        normal += corners[run[q]].cross(corners[run[(q + 1) % run.size()]]);
+        centre += corners[run[q]];
+    }
+    centre /= float(run.size());
+    if (!(normal.norm() > 0.0f)) return;
+    normal.normalize();
+    const auto off_plane = [&](size_t c, size_t inner) {
+        return std::abs((corners[c] - centre).dot(normal)) > 0.25f * (corners[c] - corners[inner]).norm();
+    };
+    if (off_plane(first, run.front())) first = run.front();
+    if (off_plane(last, run.back())) last = run.back();
+}
+} // namespace
+
+std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Vec3f> corners, std::span<const uint8_t> older,
+                                                              std::vector<uint8_t>* parts) {
     const size_t n = corners.size();
     const auto fresh = std::find(older.begin(), older.end(), uint8_t(0));
-    if (older.size() != n || fresh == older.end() || std::find(older.begin(), older.end(), uint8_t(1)) == older.end())
-        return triangulate_least_area(corners);
+    if (older.size() != n || fresh == older.end() || std::find(older.begin(), older.end(), uint8_t(1)) == older.end()) {
+        std::vector<std::array<uint32_t, 3>> out = triangulate_least_area(corners);
+        if (parts) parts->assign(out.size(), 0);
+        return out;
+    }
     std::vector<std::array<uint32_t, 3>> out;
     std::vector<uint32_t> part;  // corners of one part, as indices into `corners`
     std::vector<Vec3f> outline;
@@ -158,10 +185,9 @@ std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Ve
     };
     std::vector<uint8_t> inside_run(n, 0);  // strictly between a run's chord ends
     // Walk from a new corner. A run of older corners spans the older face's part, closed by the
-    // chord between the corners where the cut crossed the older rim: the new corners at the run's
-    // ends, or, where the cut went through a corner of the older rim (whose index the older side
-    // kept), that corner: the new corner beyond it then lies off the older face's plane.
+    // chord between the corners where the cut crossed the older rim (chord_ends).
     const size_t start = size_t(fresh - older.begin());
+    size_t runs = 0;
     for (size_t step = 0; step < n; ++step) {
         const size_t k = (start + step) % n;
         if (!older[k] || older[(k + n - 1) % n]) continue;
@@ -169,22 +195,7 @@ std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Ve
         part.clear();
         while (older[j]) part.push_back(uint32_t(j)), j = (j + 1) % n;
         size_t first = (k + n - 1) % n, last = j;
-        if (part.size() >= 3) {
-            Vec3f normal = Vec3f::Zero(), centre = Vec3f::Zero();
-            for (size_t q = 0; q < part.size(); ++q) {
-                normal += corners[part[q]].cross(corners[part[(q + 1) % part.size()]]);
-                centre += corners[part[q]];
-            }
-            centre /= float(part.size());
-            if (normal.norm() > 0.0f) {
-                normal.normalize();
-                const auto off_plane = [&](size_t c, size_t inner) {
-                    return std::abs((corners[c] - centre).dot(normal)) > 0.25f * (corners[c] - corners[inner]).norm();
-                };
-                if (off_plane(first, part.front())) first = part.front();
-                if (off_plane(last, part.back())) last = part.back();
-            }
-        }
+        chord_ends(corners, part, first, last);
         part.clear();
         for (size_t q = first;; q = (q + 1) % n) {
             part.push_back(uint32_t(q));
@@ -192,6 +203,7 @@ std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Ve
             if (q != first) inside_run[q] = 1;
         }
         span_part();
+        if (parts) parts->resize(out.size(), uint8_t(std::min<size_t>(++runs, 255)));
     }
     // The rest (the new corners and the chords' ends) spans the cut's part.
     part.clear();
@@ -200,6 +212,7 @@ std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Ve
         if (!inside_run[k]) part.push_back(uint32_t(k));
     }
     span_part();
+    if (parts) parts->resize(out.size(), 0);
     return out;
 }
 

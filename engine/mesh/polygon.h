@@ -31,7 +31,9 @@ std::vector<std::array<uint32_t, 3>> triangulate_least_area(std::span<const Vec3
 // crossed the older face. The least area over the whole loop does not: where the piece is the
 // wedge between the two planes, a surface cutting across the wedge has less area than its two
 // faces, and it would leave the wedge's shell open to the eye and to contact. No older corner,
-// or no new one: triangulate_least_area's.
-std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Vec3f> corners, std::span<const uint8_t> older);
+// or no new one: triangulate_least_area's. `parts`, when given, gets each triangle's part: 0 the
+// cut's, k the k-th run's (the planes the face folds between).
+std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Vec3f> corners, std::span<const uint8_t> older,
+                                                              std::vector<uint8_t>* parts = nullptr);
 
 } // namespace pbdsplat::mesh

@@ -53,7 +53,7 @@ bool encloses_face(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x,
 
 template <class Real>
 std::vector<std::array<uint32_t, 3>> face_triangles(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x,
-                                                    std::span<const uint32_t> older) {
+                                                    std::span<const uint32_t> older, std::vector<uint8_t>* parts) {
     std::vector<Vec3f> outline;
     std::vector<uint8_t> on_older;
     outline.reserve(loop.size()), on_older.reserve(loop.size());
@@ -61,7 +61,7 @@ std::vector<std::array<uint32_t, 3>> face_triangles(const std::vector<uint32_t>&
         outline.push_back(Vec3f(x[i].template head<3>().template cast<float>()));
         on_older.push_back(std::binary_search(older.begin(), older.end(), i) ? 1 : 0);
     }
-    return mesh::triangulate_across_older(outline, on_older);
+    return mesh::triangulate_across_older(outline, on_older, parts);
 }
 
 std::vector<uint32_t> loop_particles(std::span<const std::vector<uint32_t>* const> loops) {
@@ -729,8 +729,10 @@ template float mean_rest_edge<float>(const SoftBodyT<float>&);
 template float mean_rest_edge<double>(const SoftBodyT<double>&);
 template bool encloses_face<float>(const std::vector<uint32_t>&, const Vec4ArrayT<float>&, const std::vector<Vec3f>&);
 template bool encloses_face<double>(const std::vector<uint32_t>&, const Vec4ArrayT<double>&, const std::vector<Vec3f>&);
-template std::vector<std::array<uint32_t, 3>> face_triangles<float>(const std::vector<uint32_t>&, const Vec4ArrayT<float>&, std::span<const uint32_t>);
-template std::vector<std::array<uint32_t, 3>> face_triangles<double>(const std::vector<uint32_t>&, const Vec4ArrayT<double>&, std::span<const uint32_t>);
+template std::vector<std::array<uint32_t, 3>> face_triangles<float>(const std::vector<uint32_t>&, const Vec4ArrayT<float>&, std::span<const uint32_t>,
+                                                                    std::vector<uint8_t>*);
+template std::vector<std::array<uint32_t, 3>> face_triangles<double>(const std::vector<uint32_t>&, const Vec4ArrayT<double>&, std::span<const uint32_t>,
+                                                                     std::vector<uint8_t>*);
 template class ContactSolverT<float>;
 template class ContactSolverT<double>;
 

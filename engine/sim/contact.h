@@ -79,10 +79,10 @@ bool encloses_face(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x,
 // The triangles spanning a face's loop (corner triples into `loop`, wound like it), as it lies in
 // `x`: mesh::triangulate_across_older, the loop's particles found in `older` (sorted: the
 // particles of every loop known before the change that made this one) taken as the older face's
-// corners, so a face a second cut crossed folds along the cut.
+// corners, so a face a second cut crossed folds along the cut (`parts`: as there).
 template <class Real>
 std::vector<std::array<uint32_t, 3>> face_triangles(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x,
-                                                    std::span<const uint32_t> older);
+                                                    std::span<const uint32_t> older, std::vector<uint8_t>* parts = nullptr);
 // The sorted particles of these loops, for face_triangles.
 std::vector<uint32_t> loop_particles(std::span<const std::vector<uint32_t>* const> loops);
 

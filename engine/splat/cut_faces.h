@@ -6,7 +6,8 @@
 // loop is spanned as contact spans it (least-area triangles over the loop as it lay when first
 // seen, sim/contact.h) and sampled at the boundary particles' spacing h; the samples ride on the
 // loop's particles (barycentric in the face's triangles) and are drawn as splats of the interior
-// colour, lit by the face's normal, fading in as the cut's own new splats do. A burst's openings
+// colour, lit smoothly across each part of the face (a second cut folds it into parts), fading
+// in as the cut's own new splats do. A burst's openings
 // (a popped balloon) and a tear's slits stay open; a model's own capped holes are not cut faces.
 #include <cstdint>
 #include <optional>
@@ -41,9 +42,9 @@ public:
     void append_records(std::span<const Vec4f> x, std::span<const Vec3f> colors, const Appearance& look, std::vector<GaussianRecord>& out,
                         std::vector<GaussianShape>* shapes) const;
 
-    // The faces as a surface: their triangles appended to `triangles`, each on corners of its
-    // own appended to `out_x` (so a mesh drawn from them is lit flat across the face, not with
-    // the shell's normals at the rim). `out_colors`, when not null, gets each appended corner's
+    // The faces as a surface: their triangles appended to `triangles`, on corners of their own
+    // appended to `out_x`, one per particle of each part of a face (so a mesh drawn from them is
+    // lit as the splats are: smoothly within each part, not with the shell's normals at the rim). `out_colors`, when not null, gets each appended corner's
     // colour, the one its face's splats take (`colors`: the particles' colours, or empty).
     void append_surface(std::span<const Vec4f> x, std::vector<Vec4f>& out_x, std::vector<mesh::Triangle>& triangles,
                         std::span<const Vec3f> colors = {}, std::vector<Vec3f>* out_colors = nullptr) const;
@@ -57,6 +58,9 @@ private:
     struct Face {
         std::vector<uint32_t> loop;
         std::vector<mesh::Triangle> triangles;  // over the body's particles; none for a slit
+        // Per triangle, the part of the face it spans (mesh::triangulate_across_older): 0 the
+        // cut's own, k > 0 an older face's that a second cut folded it from.
+        std::vector<uint8_t> part;
         std::vector<uint32_t> sample_triangle;  // per sample: its triangle in `triangles`
         std::vector<Vec2f> bary;                // per sample: (b1, b2) in that triangle
         float first_perimeter = 0.0f, first_area = 0.0f;  // the loop's as first seen

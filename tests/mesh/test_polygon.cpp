@@ -97,8 +97,16 @@ TEST_SUITE("mesh/polygon") {
             return all([](const Vec3f& p) { return p.x(); }) || all([](const Vec3f& p) { return p.y(); });
         };
         const double two_half_discs = double(k) * std::sin(pi / float(k));  // two k-gon halves
-        const auto folded = mesh::triangulate_across_older(c, older);
+        std::vector<uint8_t> parts;
+        const auto folded = mesh::triangulate_across_older(c, older, &parts);
         CHECK(folded.size() == c.size() - 2);
+        // Each triangle named by its part: the older face's on x = 0 (the run), the cut's on y = 0.
+        REQUIRE(parts.size() == folded.size());
+        for (size_t t = 0; t < folded.size(); ++t) {
+            const auto on_x = [&](uint32_t i) { return std::abs(c[i].x()) < 1e-6f; };
+            const bool older_plane = on_x(folded[t][0]) && on_x(folded[t][1]) && on_x(folded[t][2]);
+            CHECK(int(parts[t]) == (older_plane ? 1 : 0));
+        }
         CHECK(total_area(c, folded) == doctest::Approx(two_half_discs).epsilon(1e-4));
         for (const auto& t : folded) CHECK(on_a_plane(t));
         // Wound like the loop: the x = 0 part faces -x and the y = 0 part faces -y, out of the

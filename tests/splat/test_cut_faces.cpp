@@ -31,6 +31,14 @@ sim::SoftBody cut_ball(topology::VolumePolicy policy) {
 
 Vec3f position_of(const splat::GaussianRecord& r) { return {r.position[0], r.position[1], r.position[2]}; }
 
+// The faces of `b`'s cut (made just now), sampled at spacing h, without an interior colour.
+splat::CutFaces faces_after_cut(const sim::SoftBody& b, float h) {
+    splat::CutFaces faces(h, std::nullopt, Vec3f::Ones(), 1);
+    faces.cut_made();
+    faces.update(b);
+    return faces;
+}
+
 } // namespace
 
 TEST_SUITE("splat/cut_faces") {
@@ -113,6 +121,15 @@ TEST_SUITE("splat/cut_faces") {
             CHECK_MESSAGE(on_a_plane, "a sample off both cut planes at " << p.transpose());
             on_x += std::abs(p.x()) < 1e-3f && std::abs(p.y()) > 1e-3f;
         }
+        // Lit as its two planes: the fold is a crease, not averaged across.
+        size_t off_plane_normal = 0;
+        for (const splat::GaussianRecord& r : records) {
+            const Vec3f p = position_of(r), n = splat::decode_octahedral(r.normal_oct);
+            // (0.999: the octahedral code's rounding, under 0.1 degree; on the chord, either plane's)
+            const bool lit_as_its_plane = (std::abs(p.x()) < 1e-3f && std::abs(n.x()) > 0.999f) || (std::abs(p.y()) < 1e-3f && std::abs(n.y()) > 0.999f);
+            off_plane_normal += lit_as_its_plane ? 0 : 1;
+        }
+        CHECK(off_plane_normal == 0);
         // The new cut's faces (a half disc of radius 1 on each quarter) are sampled like the
         // older one: within a factor of two of their area over h^2.
         const double half_discs = 4.0 * 0.5 * M_PI;
@@ -120,12 +137,57 @@ TEST_SUITE("splat/cut_faces") {
         CHECK(double(on_x) > 0.4 * half_discs / double(h * h));  // measured 1572: 0.63 of area / h^2
     }
 
+    TEST_CASE("a face whose rim has warped since the cut is lit smoothly, not as the facets that span it") {
+        sim::SoftBody b = cut_ball(topology::VolumePolicy::cap);
+        const float h = 0.05f;
+        splat::CutFaces faces = faces_after_cut(b, h);
+        // The rim (the particles on the cut plane) waved up and down: the triangles that span
+        // the face, laid on the flat loop, now lie at different angles.
+        for (Vec4f& x : b.particles.x)
+            if (std::abs(x.y()) < 1e-4f) x.y() += 0.06f * std::sin(3.0f * std::atan2(x.z(), x.x()));
+        faces.update(b);
+        splat::Appearance look;
+        look.scale = 0.5f * h;
+        std::vector<splat::GaussianRecord> records;
+        faces.append_records(b.particles.x, {}, look, records, nullptr);
+        REQUIRE(records.size() == faces.samples());
+        // The largest turn between neighbouring samples' normals, against the largest between
+        // the spanning triangles that share an edge (what lighting each by its own showed).
+        float sample_turn = 0.0f;
+        for (size_t i = 0; i < records.size(); ++i)
+            for (size_t k = i + 1; k < records.size(); ++k) {
+                if ((position_of(records[i]) - position_of(records[k])).norm() > 1.5f * h) continue;
+                const Vec3f a = splat::decode_octahedral(records[i].normal_oct), c = splat::decode_octahedral(records[k].normal_oct);
+                if (a.dot(c) < 0.0f) continue;  // the other half's face
+                sample_turn = std::max(sample_turn, std::acos(std::clamp(a.dot(c), -1.0f, 1.0f)));
+            }
+        float facet_turn = 0.0f;
+        for (const auto& v : b.volumes)
+            for (const auto& loop : v.cap_loops) {
+                const auto* tris = faces.triangles_of(loop);
+                if (!tris) continue;
+                const auto normal = [&](const mesh::Triangle& t) {
+                    const Vec3f p0 = b.particles.x[t[0]].head<3>();
+                    return Vec3f((b.particles.x[t[1]].head<3>() - p0).cross(b.particles.x[t[2]].head<3>() - p0).normalized());
+                };
+                for (const mesh::Triangle& t : *tris)
+                    for (const mesh::Triangle& u : *tris) {
+                        int shared = 0;
+                        for (uint32_t i : t) shared += std::count(u.begin(), u.end(), i) > 0 ? 1 : 0;
+                        if (shared == 2) facet_turn = std::max(facet_turn, std::acos(std::clamp(normal(t).dot(normal(u)), -1.0f, 1.0f)));
+                    }
+            }
+        MESSAGE("largest turn between neighbouring samples " << sample_turn * 57.3f << " degrees, between facets " << facet_turn * 57.3f);
+        CHECK(facet_turn > 0.35f);  // the facets turn sharply (measured 29.7 degrees) ...
+        // ... the lighting by half as much between neighbours (measured 16.3 degrees, 0.55 of the
+        // facets' turn; lit by each triangle's own normal, 33.2: 1.12)
+        CHECK(sample_turn < 0.7f * facet_turn);
+    }
+
     TEST_CASE("the faces ride on their rims: moved with the body, stretched splats grow") {
         sim::SoftBody b = cut_ball(topology::VolumePolicy::cap);
         const float h = 0.05f;
-        splat::CutFaces faces(h, std::nullopt, Vec3f::Ones(), 1);
-        faces.cut_made();
-        faces.update(b);
+        splat::CutFaces faces = faces_after_cut(b, h);
         splat::Appearance look;
         look.scale = 0.5f * h;
         std::vector<splat::GaussianRecord> before, after;
