@@ -189,24 +189,22 @@ Vec3f CutFaces::albedo_of(const Face& f, std::span<const Vec3f> colors, size_t p
 
 void CutFaces::append_surface(std::span<const Vec4f> x, std::vector<Vec4f>& out_x, std::vector<mesh::Triangle>& triangles,
                               std::span<const Vec3f> colors, std::vector<Vec3f>* out_colors) const {
-    std::vector<std::pair<uint64_t, uint32_t>> corners;  // (part and particle, appended corner) of one face
+    std::vector<uint64_t> keys;  // one face's corners: its part, then its particle
     for (const Face& f : faces_) {
         const Vec3f albedo = out_colors ? albedo_of(f, colors, x.size()) : Vec3f::Zero();
-        corners.clear();
+        const auto key = [&](size_t t, size_t j) { return uint64_t(f.part[t]) << 32 | f.triangles[t][j]; };
+        keys.clear();
+        for (size_t t = 0; t < f.triangles.size(); ++t)
+            for (size_t j = 0; j < 3; ++j) keys.push_back(key(t, j));
+        std::sort(keys.begin(), keys.end());
+        keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+        const uint32_t first = uint32_t(out_x.size());
+        for (uint64_t k : keys) out_x.push_back(x[uint32_t(k)]);
+        if (out_colors) out_colors->insert(out_colors->end(), keys.size(), albedo);
         for (size_t t = 0; t < f.triangles.size(); ++t) {
             mesh::Triangle appended{};
-            for (size_t j = 0; j < 3; ++j) {
-                const uint64_t key = uint64_t(f.part[t]) << 32 | f.triangles[t][j];
-                const auto known = std::find_if(corners.begin(), corners.end(), [&](const auto& c) { return c.first == key; });
-                if (known != corners.end()) {
-                    appended[j] = known->second;
-                    continue;
-                }
-                appended[j] = uint32_t(out_x.size());
-                corners.emplace_back(key, appended[j]);
-                out_x.push_back(x[f.triangles[t][j]]);
-                if (out_colors) out_colors->push_back(albedo);
-            }
+            for (size_t j = 0; j < 3; ++j)
+                appended[j] = first + uint32_t(std::lower_bound(keys.begin(), keys.end(), key(t, j)) - keys.begin());
             triangles.push_back(appended);
         }
     }

@@ -31,6 +31,15 @@ sim::SoftBody cut_ball(topology::VolumePolicy policy) {
 
 Vec3f position_of(const splat::GaussianRecord& r) { return {r.position[0], r.position[1], r.position[2]}; }
 
+// How many triangles span the faces `faces` draws over `b`'s cap loops.
+size_t faces_triangles_total(const splat::CutFaces& faces, const sim::SoftBody& b) {
+    size_t n = 0;
+    for (const auto& v : b.volumes)
+        for (const auto& loop : v.cap_loops)
+            if (const auto* tris = faces.triangles_of(loop)) n += tris->size();
+    return n;
+}
+
 // The faces of `b`'s cut (made just now), sampled at spacing h, without an interior colour.
 splat::CutFaces faces_after_cut(const sim::SoftBody& b, float h) {
     splat::CutFaces faces(h, std::nullopt, Vec3f::Ones(), 1);
@@ -182,6 +191,18 @@ TEST_SUITE("splat/cut_faces") {
         // ... the lighting by half as much between neighbours (measured 16.3 degrees, 0.55 of the
         // facets' turn; lit by each triangle's own normal, 33.2: 1.12)
         CHECK(sample_turn < 0.7f * facet_turn);
+        // As a surface (the checks' lit mesh), each face's triangles share one corner per rim
+        // particle, so the raster's vertex normals are smooth across it as the splats are.
+        std::vector<Vec4f> corners;
+        std::vector<mesh::Triangle> triangles;
+        faces.append_surface(b.particles.x, corners, triangles);
+        size_t rim = 0;
+        for (const auto& v : b.volumes)
+            for (const auto& loop : v.cap_loops) rim += faces.triangles_of(loop) ? loop.size() : 0;
+        CHECK(corners.size() == rim);
+        CHECK(triangles.size() == faces_triangles_total(faces, b));
+        for (const mesh::Triangle& t : triangles)
+            for (uint32_t c : t) CHECK(c < corners.size());
     }
 
     TEST_CASE("the faces ride on their rims: moved with the body, stretched splats grow") {
