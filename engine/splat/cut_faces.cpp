@@ -1,7 +1,6 @@
 #include "splat/cut_faces.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 #include "mesh/polygon.h"
@@ -10,41 +9,6 @@
 #include "surface/boundary_particles.h"
 
 namespace pbdsplat::splat {
-
-namespace {
-// The face's normal at each triangle's corners: the area-weighted mean of the normals of the
-// triangles of the same part (`part`: CutFaces::Face) at that particle. The loop is spanned by
-// triangles over its rim alone, at angles that follow the rim as it warps rather than the solid
-// matter the face stands for, which is smooth: lit by each triangle's own normal, a squashed
-// piece's face showed its spanning as flat facets and a sliver's odd angle as a bright spoke.
-// Where a second cut folded the face, its parts meet at a crease and are lit as their planes.
-// A triangle that says nothing (a sliver under 2e-4 of the face's `area`, or one turned over
-// against its Newell normal `n`) takes the face's normal and next to no weight.
-void face_corner_normals(const std::vector<mesh::Triangle>& triangles, const std::vector<uint8_t>& part, std::span<const Vec4f> x,
-                         const Vec3f& n, float area, std::vector<std::array<Vec3f, 3>>& corners) {
-    const uint32_t count = uint32_t(triangles.size());
-    std::vector<Vec3f> weighted(count);  // each triangle's normal times its weight
-    std::vector<std::pair<uint32_t, uint32_t>> at;  // (particle, triangle), sorted by particle
-    at.reserve(3 * size_t(count));
-    for (uint32_t t = 0; t < count; ++t) {
-        const mesh::Triangle& c = triangles[t];
-        const Vec3f a = x[c[0]].head<3>();
-        const Vec3f m = (x[c[1]].head<3>() - a).cross(x[c[2]].head<3>() - a);
-        weighted[t] = m.norm() > 2e-4f * area && m.dot(n) > 0.0f ? m : Vec3f(1e-6f * area * n);
-        for (uint32_t i : c) at.emplace_back(i, t);
-    }
-    std::sort(at.begin(), at.end());
-    corners.resize(count);
-    for (uint32_t t = 0; t < count; ++t)
-        for (size_t j = 0; j < 3; ++j) {
-            Vec3f sum = Vec3f::Zero();
-            const auto from = std::pair<uint32_t, uint32_t>(triangles[t][j], 0);
-            for (auto it = std::lower_bound(at.begin(), at.end(), from); it != at.end() && it->first == triangles[t][j]; ++it)
-                if (part[it->second] == part[t]) sum += weighted[it->second];
-            corners[t][j] = sum.normalized();
-        }
-}
-} // namespace
 
 CutFaces::CutFaces(float h, const std::optional<Vec3f>& interior, const Vec3f& albedo, uint32_t fade_frames, uint32_t seed)
     : h_(h), interior_(interior), albedo_(albedo), fade_frames_(std::max(1u, fade_frames)), seed_(seed) {}
@@ -79,6 +43,7 @@ CutFaces::Face CutFaces::make_face(const std::vector<uint32_t>& loop, const sim:
     const std::vector<mesh::Triangle> local = sim::face_triangles(loop, body.particles.x, older, &f.part);
     f.triangles.reserve(local.size());
     for (const mesh::Triangle& t : local) f.triangles.push_back({loop[t[0]], loop[t[1]], loop[t[2]]});
+    share_corners(f);
     // The rim's particles count as samples already placed: the shell draws them.
     std::vector<uint32_t> all(local.size());
     for (uint32_t t = 0; t < all.size(); ++t) all[t] = t;
@@ -92,6 +57,36 @@ CutFaces::Face CutFaces::make_face(const std::vector<uint32_t>& loop, const sim:
     f.sample_triangle = std::move(s.triangle);
     f.bary = std::move(s.bary);
     return f;
+}
+
+void CutFaces::share_corners(Face& f) {
+    std::vector<uint64_t> keys;  // a corner's part, then its particle
+    keys.reserve(3 * f.triangles.size());
+    const auto key = [&](size_t t, size_t j) { return uint64_t(f.part[t]) << 32 | f.triangles[t][j]; };
+    for (size_t t = 0; t < f.triangles.size(); ++t)
+        for (size_t j = 0; j < 3; ++j) keys.push_back(key(t, j));
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    f.corner_particles.clear();
+    for (uint64_t k : keys) f.corner_particles.push_back(uint32_t(k));
+    f.corner_of.resize(3 * f.triangles.size());
+    for (size_t t = 0; t < f.triangles.size(); ++t)
+        for (size_t j = 0; j < 3; ++j)
+            f.corner_of[3 * t + j] = uint32_t(std::lower_bound(keys.begin(), keys.end(), key(t, j)) - keys.begin());
+}
+
+void CutFaces::corner_normals(const Face& f, std::span<const Vec4f> x, const Vec3f& n, float area, std::vector<Vec3f>& normals) {
+    normals.assign(f.corner_particles.size(), Vec3f::Zero());
+    for (size_t t = 0; t < f.triangles.size(); ++t) {
+        const mesh::Triangle& c = f.triangles[t];
+        const Vec3f a = x[c[0]].head<3>();
+        const Vec3f m = (x[c[1]].head<3>() - a).cross(x[c[2]].head<3>() - a);
+        // Area-weighted; one that says nothing (a sliver, or one turned over against the face)
+        // counts as the face's normal with next to no weight.
+        const Vec3f weighted = m.norm() > 2e-4f * area && m.dot(n) > 0.0f ? m : Vec3f(1e-6f * area * n);
+        for (size_t j = 0; j < 3; ++j) normals[f.corner_of[3 * t + j]] += weighted;
+    }
+    for (Vec3f& m : normals) m.normalize();
 }
 
 void CutFaces::update(const sim::SoftBody& body) {
@@ -143,7 +138,7 @@ std::pair<Vec3f, float> CutFaces::measure(const std::vector<uint32_t>& loop, std
 void CutFaces::append_records(std::span<const Vec4f> x, std::span<const Vec3f> colors, const Appearance& look,
                               std::vector<GaussianRecord>& out, std::vector<GaussianShape>* shapes) const {
     Appearance inside = look;
-    std::vector<std::array<Vec3f, 3>> corners;  // one face's normals at its triangles' corners
+    std::vector<Vec3f> normals;  // one face's, at its shared corners
     for (const Face& f : faces_) {
         if (f.bary.empty()) continue;
         inside.albedo = albedo_of(f, colors, x.size());
@@ -158,13 +153,14 @@ void CutFaces::append_records(std::span<const Vec4f> x, std::span<const Vec3f> c
         // holes between them.
         const float stretch = std::clamp(std::max(perimeter / f.first_perimeter, std::sqrt(area / f.first_area)), 1.0f, 3.0f);
         const float scale = look.scale * stretch;
-        face_corner_normals(f.triangles, f.part, x, n, area, corners);
+        corner_normals(f, x, n, area, normals);
         for (size_t k = 0; k < f.bary.size(); ++k) {
             const uint32_t ti = f.sample_triangle[k];
             const mesh::Triangle& t = f.triangles[ti];
+            const uint32_t* corner = &f.corner_of[3 * size_t(ti)];
             const Vec2f b = f.bary[k];
             const Vec3f p = (1.0f - b.x() - b.y()) * x[t[0]].head<3>() + b.x() * x[t[1]].head<3>() + b.y() * x[t[2]].head<3>();
-            const Vec3f blend = (1.0f - b.x() - b.y()) * corners[ti][0] + b.x() * corners[ti][1] + b.y() * corners[ti][2];
+            const Vec3f blend = (1.0f - b.x() - b.y()) * normals[corner[0]] + b.x() * normals[corner[1]] + b.y() * normals[corner[2]];
             const Vec3f nt = blend.norm() > 1e-6f ? Vec3f(blend.normalized()) : n;
             out.push_back(make_record(p, nt, inside, std::min(1.0f, fade)));
             out.back().scale_half = float_to_half(scale);
@@ -189,24 +185,12 @@ Vec3f CutFaces::albedo_of(const Face& f, std::span<const Vec3f> colors, size_t p
 
 void CutFaces::append_surface(std::span<const Vec4f> x, std::vector<Vec4f>& out_x, std::vector<mesh::Triangle>& triangles,
                               std::span<const Vec3f> colors, std::vector<Vec3f>* out_colors) const {
-    std::vector<uint64_t> keys;  // one face's corners: its part, then its particle
     for (const Face& f : faces_) {
-        const Vec3f albedo = out_colors ? albedo_of(f, colors, x.size()) : Vec3f::Zero();
-        const auto key = [&](size_t t, size_t j) { return uint64_t(f.part[t]) << 32 | f.triangles[t][j]; };
-        keys.clear();
-        for (size_t t = 0; t < f.triangles.size(); ++t)
-            for (size_t j = 0; j < 3; ++j) keys.push_back(key(t, j));
-        std::sort(keys.begin(), keys.end());
-        keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
         const uint32_t first = uint32_t(out_x.size());
-        for (uint64_t k : keys) out_x.push_back(x[uint32_t(k)]);
-        if (out_colors) out_colors->insert(out_colors->end(), keys.size(), albedo);
-        for (size_t t = 0; t < f.triangles.size(); ++t) {
-            mesh::Triangle appended{};
-            for (size_t j = 0; j < 3; ++j)
-                appended[j] = first + uint32_t(std::lower_bound(keys.begin(), keys.end(), key(t, j)) - keys.begin());
-            triangles.push_back(appended);
-        }
+        for (uint32_t i : f.corner_particles) out_x.push_back(x[i]);
+        if (out_colors) out_colors->insert(out_colors->end(), f.corner_particles.size(), albedo_of(f, colors, x.size()));
+        for (size_t t = 0; t < f.triangles.size(); ++t)
+            triangles.push_back({first + f.corner_of[3 * t], first + f.corner_of[3 * t + 1], first + f.corner_of[3 * t + 2]});
     }
 }
 

@@ -7,8 +7,8 @@
 // seen, sim/contact.h) and sampled at the boundary particles' spacing h; the samples ride on the
 // loop's particles (barycentric in the face's triangles) and are drawn as splats of the interior
 // colour, lit smoothly across each part of the face (a second cut folds it into parts), fading
-// in as the cut's own new splats do. A burst's openings
-// (a popped balloon) and a tear's slits stay open; a model's own capped holes are not cut faces.
+// in as the cut's own new splats do. A burst's openings (a popped balloon) and a tear's slits
+// stay open; a model's own capped holes are not cut faces.
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -44,8 +44,9 @@ public:
 
     // The faces as a surface: their triangles appended to `triangles`, on corners of their own
     // appended to `out_x`, one per particle of each part of a face (so a mesh drawn from them is
-    // lit as the splats are: smoothly within each part, not with the shell's normals at the rim). `out_colors`, when not null, gets each appended corner's
-    // colour, the one its face's splats take (`colors`: the particles' colours, or empty).
+    // lit as the splats are: smoothly within each part, not with the shell's normals at the
+    // rim). `out_colors`, when not null, gets each appended corner's colour, the one its face's
+    // splats take (`colors`: the particles' colours, or empty).
     void append_surface(std::span<const Vec4f> x, std::vector<Vec4f>& out_x, std::vector<mesh::Triangle>& triangles,
                         std::span<const Vec3f> colors = {}, std::vector<Vec3f>* out_colors = nullptr) const;
 
@@ -61,6 +62,9 @@ private:
         // Per triangle, the part of the face it spans (mesh::triangulate_across_older): 0 the
         // cut's own, k > 0 an older face's that a second cut folded it from.
         std::vector<uint8_t> part;
+        // The face's corners, one per particle of each part (share_corners): their particles,
+        // and per triangle corner (3 t + j) which one it is.
+        std::vector<uint32_t> corner_particles, corner_of;
         std::vector<uint32_t> sample_triangle;  // per sample: its triangle in `triangles`
         std::vector<Vec2f> bary;                // per sample: (b1, b2) in that triangle
         float first_perimeter = 0.0f, first_area = 0.0f;  // the loop's as first seen
@@ -69,6 +73,15 @@ private:
     };
     // `older`: the sorted particles of the loops known before (sim::face_triangles).
     Face make_face(const std::vector<uint32_t>& loop, const sim::SoftBody& body, std::span<const uint32_t> older) const;
+    // Fills f.corner_particles and f.corner_of from its triangles and parts (fixed for its life).
+    static void share_corners(Face& f);
+    // The face's normal at each of its corners, for positions `x` (its Newell normal `n`, its
+    // `area`): the area-weighted mean of its triangles there. The loop is spanned by triangles
+    // over its rim alone, at angles that follow the rim as it warps rather than the solid matter
+    // the face stands for: lit by each triangle's own normal, a squashed piece's face would show
+    // the spanning as flat facets and a sliver's odd angle as a bright spoke. Corners are shared
+    // within a part only, so a fold between two cuts stays a crease.
+    static void corner_normals(const Face& f, std::span<const Vec4f> x, const Vec3f& n, float area, std::vector<Vec3f>& normals);
     // The face's colour: the interior colour, else the mean of its rim's (`colors` one per
     // particle), else the albedo.
     Vec3f albedo_of(const Face& f, std::span<const Vec3f> colors, size_t particles) const;
