@@ -22,6 +22,8 @@ const std::vector<FigureOf>& figure_table() {
         {{"strays_max", "splats floating away from the surface, the most in a frame"},
          [](const CheckReport& r) { return double(r.strays_max); }},
         {{"hole_ratio_max", "share of the surface's pixels the splats leave open"}, [](const CheckReport& r) { return r.hole_ratio_max; }, true},
+        {{"thin_ratio_max", "share of the surface's inner pixels the splats cover less than 0.9 (the background dimly through)"},
+         [](const CheckReport& r) { return r.thin_ratio_max; }, true},
         {{"iou_min", "splat silhouette over the mesh's (intersection over union), the least"},
          [](const CheckReport& r) { return r.iou_min; }, true},
         {{"speck_ratio_max", "share of dark specks through the front surface"}, [](const CheckReport& r) { return r.speck_ratio_max; }, true},

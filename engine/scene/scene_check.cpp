@@ -125,6 +125,7 @@ core::Status sample_coverage(SceneRuntime& rt, const Scene& scene, const CheckOp
                                       colors, textures.empty() ? nullptr : &reference, rt.texcoords().empty() ? nullptr : &texturing);
     if (!c.ok()) return core::make_error("frame " + std::to_string(s.frame) + ": " + c.error().to_string());
     s.hole_ratio = c->hole_ratio;
+    s.thin_ratio = c->thin_ratio;
     s.iou = c->silhouette_iou;
     s.speck_ratio = c->speck_ratio;
     s.shading_error = c->shading_error;
@@ -157,6 +158,7 @@ void summarise(CheckReport& report, std::vector<double> stage_a) {
                                                                        : std::min(report.smallest_piece_min, s.smallest_piece_triangles);
         if (s.hole_ratio >= 0.0) {
             report.hole_ratio_max = std::max(report.hole_ratio_max, s.hole_ratio);
+            report.thin_ratio_max = std::max(report.thin_ratio_max, s.thin_ratio);
             report.iou_min = report.iou_min < 0.0 ? s.iou : std::min(report.iou_min, s.iou);
             report.speck_ratio_max = std::max(report.speck_ratio_max, s.speck_ratio);
             report.shading_error_max = std::max(report.shading_error_max, s.shading_error);

@@ -31,6 +31,7 @@ struct CheckSample {
     double shape_error = 0.0;  // the worst piece
     size_t strays = 0;
     double hole_ratio = -1.0, iou = -1.0, speck_ratio = -1.0;  // -1: not measured (no GPU)
+    double thin_ratio = -1.0;     // passes::Coverage::thin_ratio; -1 as above
     double shading_error = -1.0;  // passes::shading_error; -1 as above
     double color_error = -1.0;    // passes::color_error (against the model's own look); -1 as above
     double edge_excess = -1.0;    // passes::edge_excess (seams, rims, mottling the lit mesh lacks); -1 as above
@@ -64,6 +65,7 @@ struct CheckReport {
     size_t strays_max = 0;
     double hole_ratio_max = -1.0, iou_min = -1.0, speck_ratio_max = -1.0, shading_error_max = -1.0, color_error_max = -1.0;
     double edge_excess_max = -1.0;
+    double thin_ratio_max = -1.0;
     double spacing_within_min = -1.0, spacing_within_3d_min = -1.0;
     double volume_error_max = 0.0;
     double penetration_max = 0.0;

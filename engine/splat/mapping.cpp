@@ -95,7 +95,8 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
             const Vec2f b = samples->bary[k];
             color_bytes((1.0f - b.x() - b.y()) * colors[tri[0]] + b.x() * colors[tri[1]] + b.y() * colors[tri[2]], r);
         }
-        const float size = samples->size_of(k) * (stretch && !stretch->empty() ? stretch->triangle(t) : 1.0f);
+        const float grown = std::max(samples->growth_of(t), stretch && !stretch->empty() ? stretch->triangle(t) : 1.0f);
+        const float size = samples->size_of(k) * grown;
         if (size != 1.0f) r.scale_half = float_to_half(look.scale * size);
         if (field) set_curvature(field->triangle(t), samples->normal[k], r);
         if (k < samples->fade.size()) r.color[3] = uint8_t(std::lround(std::clamp(samples->fade[k], 0.0f, 1.0f) * 255.0f));

@@ -173,6 +173,7 @@ void BoundaryParticles::clear() {
     color.clear();
     texcoord.clear();
     thin_level.clear();
+    triangle_growth.clear();
     thin_gaps.clear();
 }
 

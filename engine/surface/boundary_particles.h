@@ -58,6 +58,11 @@ struct BoundaryParticles {
     // they leave in the order, to fill around).
     std::vector<uint8_t> thin_level;
     std::vector<Vec3f> thin_gaps;
+    // Per simulation triangle, not per sample: how far it has stretched since its samples were
+    // placed (>= 1; empty, or past its end: 1). Its splats grow by as much, so a surface pulled
+    // wider than its samples reach stays closed until the density control refills it
+    // (surface/density.h).
+    std::vector<float> triangle_growth;
 
     size_t size() const { return triangle.size(); }
     bool embedded() const { return !offset.empty(); }
@@ -65,6 +70,7 @@ struct BoundaryParticles {
     float fade_of(size_t i) const { return i < fade.size() ? fade[i] : 1.0f; }
     bool retiring(size_t i) const { return i < fade_step.size() && fade_step[i] < 0.0f; }
     float size_of(size_t i) const { return i < size_factor.size() ? size_factor[i] : 1.0f; }
+    float growth_of(uint32_t t) const { return t < triangle_growth.size() ? triangle_growth[t] : 1.0f; }
     bool on_edge(size_t i) const { return size_of(i) < 1.0f; }
     // Extends the fade arrays to every sample.
     void pad_fades() {

@@ -224,6 +224,7 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
     std::vector<Due> work = due_triangles(x, triangles);
     if (!options_.enabled) {
         stats.removed = uint32_t(advance_fades(s, &stats.fading));
+        publish_growth(s);
         return stats;
     }
     PBDSPLAT_ASSERT(s.position.size() == s.size(), "density control: update the boundary particles' positions first");
@@ -261,7 +262,25 @@ DensityStats DensityControl::update(std::span<const Vec4f> x, std::span<const Ve
         });
     }
     stats.removed = uint32_t(advance_fades(s, &stats.fading));
+    publish_growth(s);
     return stats;
+}
+
+void DensityControl::publish_growth(BoundaryParticles& s) const {
+    // A maximal set at spacing h leaves no point farther than about h from a sample, and the
+    // splats' Gaussians close that much (surface/boundary_particles.h). Stretched by g, the set
+    // leaves points g h away, where the sums of the neighbours' weights fall below what makes the
+    // surface opaque: pulled to 1.4 the default balloon showed dark worms between its samples
+    // seen close up (up to half its coverage gone) until the density control caught up. Grown by
+    // g, the splats cover what the stretched set spans. A triangle resampled starts again at 1
+    // (its new samples fade in over a set stretched by at most `grow`, which still closes). At
+    // most k_max_growth: beyond, the splats would blur the surface more than a late refill costs.
+    constexpr float k_max_growth = 2.0f;
+    s.triangle_growth.resize(stretch2_.size());
+    for (size_t t = 0; t < stretch2_.size(); ++t) {
+        const float ratio = reference2_[t] > 0.0f ? stretch2_[t] / reference2_[t] : 1.0f;
+        s.triangle_growth[t] = ratio > 1.0f ? std::min(std::sqrt(ratio), k_max_growth) : 1.0f;
+    }
 }
 
 } // namespace pbdsplat::surface

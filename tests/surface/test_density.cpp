@@ -167,6 +167,38 @@ TEST_SUITE("surface/density") {
         CHECK(frames == (b.body.triangles.size() + 63) / 64 - 1);
     }
 
+    TEST_CASE("a triangle's splats grow with its stretch since it was sampled, and back to 1 once refilled") {
+        Balloon b;
+        b.frame();
+        for (float g : b.samples.triangle_growth) REQUIRE(g == doctest::Approx(1.0f).epsilon(1e-5));  // at rest
+        // Inflated by 1.3 at once: before the settle frames run out nothing is resampled, and
+        // every triangle's splats are grown by its stretch.
+        b.scale(1.3f);
+        b.frame();
+        REQUIRE(b.samples.triangle_growth.size() == b.body.triangles.size());
+        for (float g : b.samples.triangle_growth) REQUIRE(g == doctest::Approx(1.3f).epsilon(1e-3));
+        // Refilled, each starts again from its new samples (the budget spreads the work).
+        for (int f = 0; f < 30; ++f) b.frame();
+        for (float g : b.samples.triangle_growth) CHECK(g == doctest::Approx(1.0f).epsilon(1e-3));
+        // Shrinking never shrinks a splat below its size; a stretch past twice stops at 2.
+        b.scale(1.0f);
+        b.frame();
+        for (float g : b.samples.triangle_growth) CHECK(g == doctest::Approx(1.0f).epsilon(1e-5));
+        b.scale(3.5f);
+        b.frame();
+        for (float g : b.samples.triangle_growth) CHECK(g == doctest::Approx(2.0f));
+    }
+
+    TEST_CASE("with the control off, splats grow with the stretch from rest") {
+        Balloon b;
+        surface::DensityOptions o;
+        o.enabled = false;
+        b.density = surface::DensityControl(b.body.rest_positions, b.body.triangles, o);
+        b.scale(1.4f);
+        for (int f = 0; f < 10; ++f) b.frame();
+        for (float g : b.samples.triangle_growth) CHECK(g == doctest::Approx(1.4f).epsilon(1e-3));
+    }
+
     TEST_CASE("fades ramp monotonically in and out, and a faded-out sample leaves") {
         Balloon b;
         const size_t n = b.samples.size();

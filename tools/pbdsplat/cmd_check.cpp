@@ -20,6 +20,7 @@ int cmd_check(const std::vector<std::string>& argv) {
         "                shape after the best rigid alignment, over the piece's rest diagonal (worst piece)\n"
         "  strays        Gaussians with no neighbour within 3x the median spacing\n"
         "  hole ratio    share of the deformed surface's raster pixels the splats leave below half alpha\n"
+        "  thin ratio    share of its inner pixels (the outline left out) they cover less than 0.9\n"
         "  IoU           silhouette of the splats against that raster\n"
         "  pieces        connected components; volume error |V / (k V0) - 1|, worst piece\n"
         "  specks        share of the raster's pixels where the splats are less than half as bright as\n"
@@ -41,7 +42,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                   flag("no-gpu", "skip the coverage images (shape, strays, pieces and volume only)"),
                   text("images", "DIR", "", "write each measured frame's splat image and lit mesh as PNG into DIR")
                       .default_from("none"),
-                  save_scene_option(), json_option("one JSON object: shape_error_max, strays_max, hole_ratio_max, iou_min,\n"
+                  save_scene_option(), json_option("one JSON object: shape_error_max, strays_max, hole_ratio_max, thin_ratio_max, iou_min,\n"
                               "speck_ratio_max, shading_error_max, color_error_max, pieces, volume_error_max, penetration_max\n"
                               "(the deepest particle inside another piece, over h), tilt_max,\n"
                               "height_ratio_min, tears, smallest_piece_min, rip_growth, burst_volume_ratio,\n"
@@ -90,7 +91,7 @@ int cmd_check(const std::vector<std::string>& argv) {
         nlohmann::json samples = nlohmann::json::array();
         for (const scene::CheckSample& s : r.samples)
             samples.push_back({{"frame", s.frame}, {"time", s.time}, {"cuts", s.cuts}, {"tears", s.tears},
-                               {"shape_error", s.shape_error}, {"strays", s.strays}, {"hole_ratio", s.hole_ratio},
+                               {"shape_error", s.shape_error}, {"strays", s.strays}, {"hole_ratio", s.hole_ratio}, {"thin_ratio", s.thin_ratio},
                                {"iou", s.iou}, {"speck_ratio", s.speck_ratio}, {"shading_error", s.shading_error}, {"color_error", s.color_error}, {"edge_excess", s.edge_excess}, {"spacing_within", s.spacing_within}, {"spacing_within_3d", s.spacing_within_3d}, {"spacing_p05", s.spacing_p05}, {"spacing_p95", s.spacing_p95}, {"area_ratio", s.area_ratio}, {"pieces", s.pieces}, {"particles", s.particles},
                                {"gaussians", s.gaussians}, {"volume_error", s.volume_error}, {"penetration", s.penetration},
                                {"tilt", s.tilt_degrees}, {"height_ratio", s.height_ratio}, {"smallest_piece_triangles", s.smallest_piece_triangles},
@@ -101,6 +102,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                                   {"shape_error_before_topology", r.shape_error_before_topology},
                                   {"strays_max", r.strays_max},
                                   {"hole_ratio_max", r.hole_ratio_max},
+                                  {"thin_ratio_max", r.thin_ratio_max},
                                   {"iou_min", r.iou_min},
                                   {"speck_ratio_max", r.speck_ratio_max},
                                   {"shading_error_max", r.shading_error_max}, {"color_error_max", r.color_error_max},
