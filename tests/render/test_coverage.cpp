@@ -140,7 +140,7 @@ TEST_SUITE("render/coverage") {
     TEST_CASE("a surface stretched past its samples stays closed: its splats grow until the density control refills it") {
         // A balloon inflated by 1.35 at once, seen close (splats about ten pixels wide), on the
         // frame the stretch appears: the density control waits for it to settle before adding
-        // samples, so the set is 1.35 h apart. Drawn as the scenes draw it.
+        // samples, so the set has spread 1.35 times as far. Drawn as the scenes draw it.
         auto made = sim::make_soft_body(mesh::icosphere(3, 1.0f), {});
         REQUIRE(made.ok());
         sim::SoftBody body = std::move(made).value();
@@ -176,7 +176,8 @@ TEST_SUITE("render/coverage") {
         MESSAGE("thin coverage: grown " << g->thin_ratio * 100.0 << " %, kept at their size " << k->thin_ratio * 100.0 << " %; holes "
                 << g->hole_ratio * 100.0 << " / " << k->hole_ratio * 100.0 << " %");
         CHECK(k->thin_ratio > 0.01);   // the dark worms between the samples: measured 1.88 %
-        CHECK(g->thin_ratio < 0.002);  // measured 0.05 %
+        CHECK(g->thin_ratio < 0.005);  // measured 0.24 % (grown only past the refill threshold)
+        CHECK(g->thin_ratio < 0.25 * k->thin_ratio);  // measured an eighth
         CHECK(g->hole_ratio <= k->hole_ratio);
         test::require_no_validation_messages(*ctx);
     }
