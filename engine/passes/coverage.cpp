@@ -225,8 +225,9 @@ core::Result<core::ImageRgba8> splat_image(gpu::Context& ctx, std::span<const Ve
 
 double thin_ratio(const core::ImageRgba8& splats, const core::ImageRgba8& mesh_mask) {
     // 230 of 255: the coverage a maximal sample set stretched by the density control's own
-    // threshold (1.1) still reaches midway between three samples (0.98); the dark worms of a
-    // stretched default balloon seen close up measured 0.52-0.9.
+    // threshold (1.1) still reaches midway between three samples (0.98); the dim worms between
+    // samples (a sphere stretched by 1.35 before its refill, or the normalised weights made
+    // sharper on purpose) measured 0.52-0.9.
     constexpr uint8_t k_thin_below = 230;
     constexpr int k_inner = 2;  // the neighbourhood's half-width: the outline's fade is left out
     const int w = int(splats.width), h = int(splats.height);
