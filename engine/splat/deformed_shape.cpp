@@ -32,9 +32,11 @@ void DeformedShapes::map(size_t particles, const surface::BoundaryParticles* sam
     const size_t m = samples ? samples->size() : 0;
     for (size_t k = 0; k < m; ++k) {
         GaussianRecord& r = records[particles + k];
-        const float s = half_to_float(r.scale_half);
-        const Vec3f n = samples->normal[k];
         const uint32_t t = samples->triangle[k];
+        // F below carries the triangle's stretch; the growth a round splat takes for it
+        // (BoundaryParticles::triangle_growth) would count it twice.
+        const float s = half_to_float(r.scale_half) / samples->growth_of(t);
+        const Vec3f n = samples->normal[k];
         Eigen::Matrix<float, 3, 2> f = gradient_[t];
         // The sample's own tangent plane (a fine surface riding a coarse triangle tilts away
         // from it): F's axes with their normal part taken out.

@@ -58,10 +58,10 @@ struct BoundaryParticles {
     // they leave in the order, to fill around).
     std::vector<uint8_t> thin_level;
     std::vector<Vec3f> thin_gaps;
-    // Per simulation triangle, not per sample: how far it has stretched since its samples were
-    // placed (>= 1; empty, or past its end: 1). Its splats grow by as much, so a surface pulled
-    // wider than its samples reach stays closed until the density control refills it
-    // (surface/density.h).
+    // Per simulation triangle, not per sample: how far it has stretched past the density
+    // control's refill threshold since its samples were placed (>= 1; empty, or past its end: 1).
+    // Its splats grow by as much, so a surface pulled wider than its samples reach stays closed
+    // until the control refills it (surface/density.h).
     std::vector<float> triangle_growth;
 
     size_t size() const { return triangle.size(); }

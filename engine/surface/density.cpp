@@ -270,15 +270,20 @@ void DensityControl::publish_growth(BoundaryParticles& s) const {
     // A maximal set at spacing h leaves no point farther than about h from a sample, and the
     // splats' Gaussians close that much with room to spare: stretched by the refill threshold
     // `grow` (1.1) the set still covers 0.98 midway between three samples. Stretched further (a
-    // sudden inflation waiting out the settle frames and the budget, or any stretch with the
-    // control off) the background shows dimly between them: a sphere inflated by 1.35 at once,
+    // sudden inflation waiting out the settle frames and the budget) the background shows dimly
+    // between them: a sphere inflated by 1.35 at once,
     // seen close, left 1.9 % of its pixels covered under 0.9. Its splats grow by the stretch
     // past `grow`, so they close what the stretched set spans; within the threshold they keep
     // their size (grown there too, the default scene's splat pass took 7-14 % longer on
     // Lavapipe for nothing a user sees). At most k_max_growth: beyond, a late refill costs less
-    // than the blur.
+    // than the blur. With the control off the samples stay as they are, as asked
+    // (`surface.stretch_scale` grows the splats instead).
     constexpr float k_max_growth = 2.0f;
-    const float allowed2 = options_.enabled ? options_.grow * options_.grow : 1.0f;
+    if (!options_.enabled) {
+        s.triangle_growth.clear();
+        return;
+    }
+    const float allowed2 = options_.grow * options_.grow;
     s.triangle_growth.resize(stretch2_.size());
     for (size_t t = 0; t < stretch2_.size(); ++t) {
         const float ratio = reference2_[t] > 0.0f ? stretch2_[t] / (reference2_[t] * allowed2) : 1.0f;

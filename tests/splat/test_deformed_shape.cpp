@@ -72,6 +72,17 @@ TEST_SUITE("splat/deformed_shape") {
         CHECK(std::sqrt(capped(0, 0)) == doctest::Approx(0.1f * splat::DeformedShapes::k_max_stretch).epsilon(0.01));
     }
 
+    TEST_CASE("the growth a round splat takes for its triangle's stretch is not counted again") {
+        // map_body grows a sample's record by its triangle's growth; the deformed shape takes the
+        // stretch from F, and so from the ungrown size.
+        OneTriangle t;
+        const Eigen::Matrix3f f = Vec3f(1.6f, 1.0f, 1.0f).asDiagonal();
+        const Eigen::Matrix3f plain = t.covariance(moved(t.rest, f), 0.1f);
+        t.samples.triangle_growth = {1.6f};
+        const Eigen::Matrix3f grown = t.covariance(moved(t.rest, f), 0.1f * 1.6f);
+        CHECK((grown - plain).norm() < 0.01f * plain.norm());  // the same to half-float rounding
+    }
+
     TEST_CASE("a collapsed triangle leaves its splat round") {
         OneTriangle t;
         const Eigen::Matrix3f cov = t.covariance(moved(t.rest, Eigen::Matrix3f::Zero()), 0.1f);
