@@ -271,13 +271,12 @@ void DensityControl::publish_growth(BoundaryParticles& s) const {
     // splats' Gaussians close that much with room to spare: stretched by the refill threshold
     // `grow` (1.1) the set still covers 0.98 midway between three samples. Stretched further (a
     // sudden inflation waiting out the settle frames and the budget) the background shows dimly
-    // between them: a sphere inflated by 1.35 at once,
-    // seen close, left 1.9 % of its pixels covered under 0.9. Its splats grow by the stretch
-    // past `grow`, so they close what the stretched set spans; within the threshold they keep
-    // their size (grown there too, the default scene's splat pass took 7-14 % longer on
-    // Lavapipe for nothing a user sees). At most k_max_growth: beyond, a late refill costs less
-    // than the blur. With the control off the samples stay as they are, as asked
-    // (`surface.stretch_scale` grows the splats instead).
+    // between them: a sphere inflated by 1.35 at once, seen close, left 1.9 % of its pixels
+    // covered under 0.9. Its splats grow by the stretch past `grow`, so they close what the
+    // stretched set spans; within the threshold they keep their size (grown there too, the
+    // default scene's splat pass took 7-14 % longer on Lavapipe for nothing a user sees). At
+    // most k_max_growth: beyond, a late refill costs less than the blur. With the control off
+    // the samples stay as they are, as asked (`surface.stretch_scale` grows the splats instead).
     constexpr float k_max_growth = 2.0f;
     if (!options_.enabled) {
         s.triangle_growth.clear();

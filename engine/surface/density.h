@@ -109,7 +109,7 @@ private:
     // Triangle t's stretches (this frame's, in stretch2_ and squeeze2_) against its reference: its
     // change bits, its run of frames past a threshold, and a Due in `work` once the run settles.
     void judge(uint32_t t, const Thresholds& th, std::vector<Due>& work);
-    // Each triangle's stretch since it was last sampled into s.triangle_growth.
+    // Each triangle's stretch past `grow` since it was last sampled into s.triangle_growth.
     void publish_growth(BoundaryParticles& s) const;
     // The samples' own trigger: crowded samples thinned, and the triangles no sample reaches
     // handed to `refill`, within `room` of them.
