@@ -44,6 +44,8 @@ const std::vector<FigureOf>& figure_table() {
          [](const CheckReport& r) { return r.rip_growth; }},
         {{"burst_volume_ratio", "the least volume within 2 s of the first tear over the volume then (1: no tear)"},
          [](const CheckReport& r) { return r.burst_volume_ratio; }},
+        {{"pull_stretch", "a drag's grabbed part at its longest along the pull before a tear, over its length then (0: no drag)"},
+         [](const CheckReport& r) { return r.pull_stretch; }},
         {{"volume_ratio_min", "the least enclosed volume over the volume at load (openings closed by fans)"},
          [](const CheckReport& r) { return r.volume_ratio_min; }},
         {{"smallest_piece_min", "triangles in the smallest piece any sample saw"},

@@ -1,6 +1,7 @@
 #include "scene/scene_check.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cstdio>
 
 #include "passes/coverage.h"
@@ -217,6 +218,52 @@ private:
     double open_length_ = 0.0, volume_ = 0.0;
 };
 
+// How far a drag stretches what it holds before anything tears: the grabbed part (the model part
+// of the held particle nearest the grab point) measured along the pull, whose way is known only
+// once the grab has moved, so the part's particles are kept as they were when it began.
+class PullWatch {
+public:
+    void frame(const SceneRuntime& rt, const FrameStats& st, CheckReport& report) {
+        const sim::DragConstraint& drag = rt.drag();
+        if (!drag.active || drag.particles.empty()) {
+            started_ = false;
+            return;
+        }
+        const sim::SoftBody& b = rt.body();
+        if (!started_) {
+            started_ = true, done_ = false;
+            start_target_ = drag.target, tears_ = st.tears;
+            const uint32_t held = drag.particles.front();
+            const uint32_t part = held < b.part_of_particle.size() ? b.part_of_particle[held] : 0;
+            particles_.clear(), start_.clear();
+            for (uint32_t i = 0; i < b.particle_count(); ++i)
+                if (b.part_of_particle.size() != b.particle_count() || b.part_of_particle[i] == part)
+                    particles_.push_back(i), start_.push_back(sim::xyz(b.particles.x[i]));
+            report.pull_stretch = std::max(report.pull_stretch, 1.0);
+            return;
+        }
+        if (done_) return;
+        // The frame that tore is measured before its tear moved anything apart.
+        done_ = st.tears > tears_;
+        const Vec3f way = drag.target - start_target_;
+        if (way.squaredNorm() <= 0.0f) return;
+        const Vec3f d = way.normalized();
+        float lo0 = FLT_MAX, hi0 = -FLT_MAX, lo = FLT_MAX, hi = -FLT_MAX;
+        for (size_t k = 0; k < particles_.size(); ++k) {
+            const float s0 = start_[k].dot(d), s = sim::xyz(b.particles.x[particles_[k]]).dot(d);
+            lo0 = std::min(lo0, s0), hi0 = std::max(hi0, s0), lo = std::min(lo, s), hi = std::max(hi, s);
+        }
+        if (hi0 > lo0) report.pull_stretch = std::max(report.pull_stretch, double(hi - lo) / double(hi0 - lo0));
+    }
+
+private:
+    bool started_ = false, done_ = false;
+    Vec3f start_target_ = Vec3f::Zero();
+    size_t tears_ = 0;
+    std::vector<uint32_t> particles_;
+    std::vector<Vec3f> start_;
+};
+
 // The surface as the coverage images see it, before the first step: the area ratio's 1.
 double rest_area_of(SceneRuntime& rt) {
     std::vector<Vec4f> x;
@@ -245,12 +292,14 @@ core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o)
     std::vector<double> stage_a;
     const sim::OpeningReport at_load = sim::opening_report(rt.body());
     BurstWatch burst(at_load);
+    PullWatch pull;
     const double rest_area = o.gpu ? rest_area_of(rt) : 0.0;
     for (uint32_t f = 0; f < o.frames; ++f) {
         PBDSPLAT_TRY(rt.step());
         const FrameStats& st = rt.stats();
         stage_a.push_back(st.groups.stage_a());
         burst.frame(rt, st, report);
+        pull.frame(rt, st, report);
         if ((f + 1) % o.every != 0 && f + 1 != o.frames) continue;
         CheckSample s;
         s.frame = st.frame;

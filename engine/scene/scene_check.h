@@ -75,6 +75,9 @@ struct CheckReport {
     // tear (or at the end) over their length on that frame, and the least volume in those 2 s over
     // the volume on that frame. Nothing torn reads as no growth (0) and no fall (1).
     double rip_growth = 0.0, burst_volume_ratio = 1.0;
+    // A pull, read every frame of a drag until its first tear: the grabbed part's length along the
+    // pull at its longest over its length when the pull began (0: nothing pulled).
+    double pull_stretch = 0.0;
     double volume_ratio_min = 1.0;  // over the samples
     size_t pieces = 0, tears = 0;  // at the end
     size_t particles = 0, gaussians = 0;  // at the end

@@ -101,6 +101,8 @@ public:
     // CPU milliseconds of each pass the last step ran, in the order of graph().describe()'s kept passes.
     const std::vector<double>& pass_ms() const { return last_pass_ms_; }
     const sim::SoftBody& body() const { return body_; }
+    // The frame's drag (inactive when nothing pulls).
+    const sim::DragConstraint& drag() const { return drag_; }
     // The model's full-resolution surface (rest pose, scene space) when the body simulates a
     // decimated copy of it; empty otherwise.
     const std::optional<mesh::TriangleMesh>& fine_surface() const { return fine_; }

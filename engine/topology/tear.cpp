@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/contact.h"
 #include "topology/cut_surface.h"
 
 namespace pbdsplat::topology {
@@ -14,6 +15,7 @@ core::Status validate(const TearOptions& o) {
     if (!(o.reach >= 0.5f) || !std::isfinite(o.reach)) return core::make_error("tear: reach must be at least 0.5 edge lengths");
     if (o.tip_threshold != 0.0f && !(o.tip_threshold > 1.0f && o.tip_threshold <= o.threshold))
         return core::make_error("tear: tip_threshold must be a stretch ratio above 1 and at most the threshold (got " + std::to_string(o.tip_threshold) + ")");
+    if (!(o.gauge >= 0.0f) || !std::isfinite(o.gauge)) return core::make_error("tear: gauge must be a length >= 0");
     if (o.min_fragment_triangles > 1000000) return core::make_error("tear: min_fragment_triangles must be at most 1,000,000");
     return core::Status::success();
 }
@@ -24,23 +26,26 @@ namespace {
 // (0.1 %, far above float rounding) passes them over without the square root and the division,
 // and decides nothing the exact test below would not.
 struct RatioTest {
-    RatioTest(float at, float front_at, const CrackFront* on_front)
-        : threshold(at), front_threshold(on_front ? front_at : at), front(on_front), margin2(std::min(at, front_threshold) * std::min(at, front_threshold) * 0.999f) {}
-    // The edge when past its threshold (the front's where an end is on it), else excess 0.
+    RatioTest(float at, float front_at, const CrackFront* on_front, float gauge_length)
+        : threshold(at), front_threshold(on_front ? front_at : at), front(on_front), gauge(gauge_length),
+          margin(0.999f * (std::min(at, front_threshold) - 1.0f)) {}
+    // The edge when past its threshold (the front's where an end is on it), else excess 0. The
+    // ratio is 1 plus the lengthening over the longer of the rest length and the gauge.
     StrainedEdge operator()(const sim::SoftBody& b, const sim::DistanceConstraint& c) const {
         StrainedEdge e{c.i, c.j, 0.0f, 0.0f};
         if (!(c.rest > 0.0f)) return e;
         const Vec3f d = (b.particles.x[c.i] - b.particles.x[c.j]).head<3>();
-        const float d2 = d.squaredNorm();
-        if (d2 < margin2 * (c.rest * c.rest)) return e;
-        e.ratio = d.norm() / c.rest;
+        const float over = std::max(c.rest, gauge);
+        const float least = c.rest + margin * over;
+        if (d.squaredNorm() < least * least) return e;
+        e.ratio = 1.0f + (d.norm() - c.rest) / over;
         const float at = front && (front->on(c.i) || front->on(c.j)) ? front_threshold : threshold;
         if (e.ratio > at) e.excess = e.ratio / at;
         return e;
     }
     float threshold, front_threshold;
     const CrackFront* front;
-    float margin2;
+    float gauge, margin;
 };
 
 bool more_strained(const StrainedEdge& x, const StrainedEdge& y) {
@@ -78,9 +83,11 @@ std::vector<StrainedEdge> strained(const sim::SoftBody& b, const RatioTest& test
 }
 } // namespace
 
-std::vector<StrainedEdge> strained_edges(const sim::SoftBody& b, float threshold, size_t limit) {
-    return strained(b, RatioTest(threshold, threshold, nullptr), limit);
+std::vector<StrainedEdge> strained_edges(const sim::SoftBody& b, float threshold, size_t limit, float gauge) {
+    return strained(b, RatioTest(threshold, threshold, nullptr, gauge), limit);
 }
+
+float tear_gauge(const sim::SoftBody& b) { return sim::mean_rest_edge(b); }
 
 std::vector<uint32_t> CrackFront::grow(const sim::SoftBody& b, const TopologyChange& change) {
     if (flags_.size() < change.particles_after) flags_.resize(change.particles_after, 0);
@@ -92,13 +99,14 @@ std::vector<uint32_t> CrackFront::grow(const sim::SoftBody& b, const TopologyCha
     return joined;
 }
 
-StrainedSet::StrainedSet(const sim::SoftBody& b, float threshold) : threshold_(threshold), front_threshold_(threshold) {
-    edges_ = strained_edges(b, threshold, SIZE_MAX);
+StrainedSet::StrainedSet(const sim::SoftBody& b, float threshold, float gauge)
+    : threshold_(threshold), front_threshold_(threshold), gauge_(gauge) {
+    edges_ = strained_edges(b, threshold, SIZE_MAX, gauge);
 }
 
-StrainedSet::StrainedSet(const sim::SoftBody& b, float threshold, float front_threshold, CrackFront& front)
-    : threshold_(threshold), front_threshold_(front_threshold), front_(&front) {
-    edges_ = strained(b, RatioTest(threshold_, front_threshold_, front_), SIZE_MAX);
+StrainedSet::StrainedSet(const sim::SoftBody& b, float threshold, float front_threshold, CrackFront& front, float gauge)
+    : threshold_(threshold), front_threshold_(front_threshold), gauge_(gauge), front_(&front) {
+    edges_ = strained(b, RatioTest(threshold_, front_threshold_, front_, gauge_), SIZE_MAX);
 }
 
 void StrainedSet::sort() { std::sort(edges_.begin(), edges_.end(), more_strained); }
@@ -106,7 +114,7 @@ void StrainedSet::sort() { std::sort(edges_.begin(), edges_.end(), more_strained
 void StrainedSet::update(const sim::SoftBody& b, const TopologyChange& change) {
     if (!change.changed()) return;
     const std::vector<uint32_t> joined = front_ ? front_->grow(b, change) : std::vector<uint32_t>{};
-    const RatioTest test(threshold_, front_threshold_, front_);
+    const RatioTest test(threshold_, front_threshold_, front_, gauge_);
     const sim::DistanceGroups& groups = b.distance_groups;
     // An edge stays while a live constraint joins its ends with the same rest length (its ratio
     // then is what it was: neither end moved).
@@ -206,9 +214,11 @@ core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const Te
             CutSurface slit = local_cut(sim::xyz(b.particles.x[v]), along, std::max(tear.reach * (xj - xi).norm(), 1.01f * radius));
             slit.particles = neighbourhood(b, v, 2);
             // Whether the slit cuts off a fleck shows only once it is cut: the body as it was is
-            // kept to go back to.
+            // kept to go back to. The slit crosses the triangles of its particles, whose corners
+            // reach a ring further: an opening there can close a piece off too (teapot_balloon's
+            // pull cut off 6 triangles so).
             std::optional<sim::SoftBody> before;
-            if (tear.min_fragment_triangles > 0 && touches_opening(b, slit.particles)) before.emplace(b);
+            if (tear.min_fragment_triangles > 0 && touches_opening(b, neighbourhood(b, v, 3))) before.emplace(b);
             auto change = cut(b, slit, cut_options);
             if (!change.ok()) return change.error();
             if (before && small_pieces(b, tear.min_fragment_triangles) > small_before) {
@@ -226,7 +236,7 @@ core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const Te
 
 core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const TearOptions& tear, const CutOptions& cut_options) {
     PBDSPLAT_TRY(validate(tear));
-    StrainedSet strained(b, tear.threshold);
+    StrainedSet strained(b, tear.threshold, tear.gauge);
     return tear_once(b, tear, cut_options, strained);
 }
 

@@ -25,6 +25,13 @@ struct TearOptions {
     // An edge with an end on a crack front (the rim a tear made: CrackFront) tears beyond this stretch
     // instead (1 < tip_threshold <= threshold); 0: halfway between 1 and `threshold`.
     float tip_threshold = 0.0f;
+    // The shortest length a stretch is measured over (metres; 0: each edge's own rest length). An
+    // edge shorter than this counts its lengthening over the gauge: a sliver of a decimated mesh,
+    // a few millimetres long, reads 1.6x when its ends move a millimetre or two apart while the
+    // surface around it barely stretches (teapot_balloon's spout tore there 3 frames into its
+    // pull). The body's mean rest edge (tear_gauge) makes the threshold a property of the material
+    // rather than of the mesh's smallest triangles.
+    float gauge = 0.0f;
     float front_threshold() const { return tip_threshold > 0.0f ? tip_threshold : 1.0f + 0.5f * (threshold - 1.0f); }
 };
 core::Status validate(const TearOptions& options);
@@ -35,8 +42,10 @@ struct StrainedEdge {
     float excess = 1.0f;  // ratio over the threshold it passed (the front's or the body's)
 };
 // The distance constraints stretched beyond `threshold`, most strained first (ties: lower i,
-// then lower j), at most `limit`.
-std::vector<StrainedEdge> strained_edges(const sim::SoftBody& body, float threshold, size_t limit);
+// then lower j), at most `limit`; stretches measured over at least `gauge` (TearOptions::gauge).
+std::vector<StrainedEdge> strained_edges(const sim::SoftBody& body, float threshold, size_t limit, float gauge = 0.0f);
+// The gauge a tear measures stretches over by default: the body's mean rest edge.
+float tear_gauge(const sim::SoftBody& body);
 
 // The rims tears made, where the rips run on: the particles a tear made and those its slit ended
 // at (the tip, an old vertex now on the opening). Particles are only ever appended, so a flag per
@@ -60,10 +69,10 @@ private:
 // pass over the body (0.6M instructions on each of the teapot balloon's tear frames).
 class StrainedSet {
 public:
-    StrainedSet(const sim::SoftBody& body, float threshold);
+    StrainedSet(const sim::SoftBody& body, float threshold, float gauge = 0.0f);
     // With a crack front: edges with an end on it pass at `front_threshold` instead, and the
     // particles each tear makes join it (the front outlives the set: a rip runs over frames).
-    StrainedSet(const sim::SoftBody& body, float threshold, float front_threshold, CrackFront& front);
+    StrainedSet(const sim::SoftBody& body, float threshold, float front_threshold, CrackFront& front, float gauge = 0.0f);
     // After `change` to `body`: drops the edges no longer constrained as they were, adds the
     // strained constraints of the new particles. The same set as a new StrainedSet would hold.
     void update(const sim::SoftBody& body, const TopologyChange& change);
@@ -73,7 +82,7 @@ public:
 
 private:
     void sort();
-    float threshold_, front_threshold_;
+    float threshold_, front_threshold_, gauge_;
     CrackFront* front_ = nullptr;
     std::vector<StrainedEdge> edges_;  // sorted
 };

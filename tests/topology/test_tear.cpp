@@ -1,6 +1,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <limits>
 
 #include "mesh/procedural.h"
 #include "sim/opening.h"
@@ -102,9 +103,10 @@ TEST_SUITE("topology/tear") {
         for (Vec4f& x : b.particles.x) x += Vec4f(unit(), unit(), unit(), 0.0f) * (0.8f * edge);
         topology::TearOptions tear;
         tear.threshold = 1.3f;
+        tear.gauge = 0.9f * edge;  // the shorter edges measured over it, as scenes tear
         topology::CutOptions cut;
         cut.reference_edge_length = edge;
-        topology::StrainedSet strained(b, tear.threshold);
+        topology::StrainedSet strained(b, tear.threshold, tear.gauge);
         REQUIRE(strained.size() > 40);
         size_t torn = 0;
         for (int k = 0; k < 40; ++k) {
@@ -112,7 +114,7 @@ TEST_SUITE("topology/tear") {
             REQUIRE_MESSAGE(t.ok(), test::why(t));
             if (!t.value()) break;
             ++torn;
-            const topology::StrainedSet fresh(b, tear.threshold);
+            const topology::StrainedSet fresh(b, tear.threshold, tear.gauge);
             const auto kept = strained.most_strained(SIZE_MAX), scanned = fresh.most_strained(SIZE_MAX);
             REQUIRE(kept.size() == scanned.size());
             for (size_t e = 0; e < kept.size(); ++e) {
@@ -243,6 +245,46 @@ TEST_SUITE("topology/tear") {
         CHECK(worst <= 3.0f * edge);  // a crack: within the ring a slit crosses (8.5 edges off before the fix)
     }
 
+    TEST_CASE("a short edge's stretch is its lengthening over the gauge: a sliver moved a little does not tear") {
+        sim::SoftBody b = sheet();
+        // Two edges of the sheet given shorter rest lengths than their ends' distance L: a sliver
+        // (L / 4) and a short edge still longer than the gauge (L / 2, gauge L / 4).
+        auto first_alive = [&](size_t from) {
+            while (!b.distance[from].alive()) ++from;
+            return from;
+        };
+        const size_t sliver = first_alive(0), shorter = first_alive(sliver + 1);
+        const auto length = [&](size_t e) { return (b.particles.x[b.distance[e].i] - b.particles.x[b.distance[e].j]).head<3>().norm(); };
+        const float ls = length(sliver), lt = length(shorter);
+        b.distance[sliver].rest = 0.25f * ls;
+        b.distance[shorter].rest = 0.5f * lt;
+        const auto ratio_of = [&](size_t e, float gauge) {
+            for (const topology::StrainedEdge& s : topology::strained_edges(b, 1.01f, SIZE_MAX, gauge))
+                if ((s.i == b.distance[e].i && s.j == b.distance[e].j) || (s.i == b.distance[e].j && s.j == b.distance[e].i)) return s.ratio;
+            return 0.0f;
+        };
+        CHECK(ratio_of(sliver, 0.0f) == doctest::Approx(4.0f));
+        CHECK(ratio_of(sliver, ls) == doctest::Approx(1.75f));          // 1 + (L - L/4) / L
+        CHECK(ratio_of(sliver, 0.5f * ls) == doctest::Approx(2.5f));    // 1 + (L - L/4) / (L/2)
+        CHECK(ratio_of(shorter, 0.0f) == doctest::Approx(2.0f));
+        CHECK(ratio_of(shorter, 0.25f * lt) == doctest::Approx(2.0f));  // longer than the gauge: its own length
+        // At a threshold of 2.2 the sliver tears only when measured over its own length.
+        b.distance[shorter].rest = lt;
+        topology::TearOptions tear;
+        tear.threshold = 2.2f;
+        topology::CutOptions cut;
+        cut.reference_edge_length = 2.0f / 20.0f;
+        sim::SoftBody gauged = b;
+        tear.gauge = ls;
+        auto none = topology::tear_once(gauged, tear, cut);
+        REQUIRE(none.ok());
+        CHECK_FALSE(none.value().has_value());
+        tear.gauge = 0.0f;
+        auto torn = topology::tear_once(b, tear, cut);
+        REQUIRE(torn.ok());
+        CHECK(torn.value().has_value());
+    }
+
     TEST_CASE("tear options are checked") {
         topology::TearOptions o;
         o.threshold = 0.9f;
@@ -258,5 +300,9 @@ TEST_SUITE("topology/tear") {
         CHECK_FALSE(topology::validate(o).ok());
         o.tip_threshold = 1.2f;
         CHECK(topology::validate(o).ok());
+        o.gauge = -0.1f;
+        CHECK_FALSE(topology::validate(o).ok());
+        o.gauge = std::numeric_limits<float>::quiet_NaN();
+        CHECK_FALSE(topology::validate(o).ok());
     }
 }

@@ -46,7 +46,8 @@ int cmd_check(const std::vector<std::string>& argv) {
                               "speck_ratio_max, shading_error_max, color_error_max, pieces, volume_error_max, penetration_max\n"
                               "(the deepest particle inside another piece, over h), tilt_max,\n"
                               "height_ratio_min, tears, smallest_piece_min, rip_growth, burst_volume_ratio,\n"
-                              "volume_ratio_min and every measured frame")})};
+                              "pull_stretch (a drag's grabbed part at its longest along the pull before a tear, over\n"
+                              "its length when the pull began), volume_ratio_min and every measured frame")})};
     const Parsed parsed = parse_command(command, argv);
     if (!parsed.options) return parsed.exit_code;
     const Options& opt = *parsed.options;
@@ -118,6 +119,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                                   {"smallest_piece_min", r.smallest_piece_min},
                                   {"rip_growth", r.rip_growth},
                                   {"burst_volume_ratio", r.burst_volume_ratio},
+                                  {"pull_stretch", r.pull_stretch},
                                   {"volume_ratio_min", r.volume_ratio_min},
                                   {"particles", r.particles},
                                   {"gaussians", r.gaussians},
@@ -153,10 +155,11 @@ int cmd_check(const std::vector<std::string>& argv) {
                 "       spacing within [0.7 h, 1.4 h] %.3f along the surface, %.3f in space; %zu pieces at the end;\n"
                 "       %zu particles, %zu Gaussians; Stage A %.3f ms a frame (median); penetration %.3f h;\n"
                 "       tilt %.1f degrees, height %.3f of rest; %zu tears; smallest piece %zu triangles;\n"
-                "       volume %.3f of load at least; 2 s after the first tear: openings %.2fx, volume %.3f\n",
+                "       volume %.3f of load at least; 2 s after the first tear: openings %.2fx, volume %.3f;\n"
+                "       a pull stretched what it held %.2fx before tearing\n",
                 r.shape_error_max, r.shape_error_before_topology, r.strays_max, percent(r.hole_ratio_max), r.iou_min,
                 percent(r.speck_ratio_max), r.shading_error_max, r.color_error_max, r.spacing_within_min, r.spacing_within_3d_min, r.pieces, r.particles, r.gaussians, r.stage_a_ms, r.penetration_max,
-                r.tilt_max, r.height_ratio_min, r.tears, r.smallest_piece_min, r.volume_ratio_min, r.rip_growth, r.burst_volume_ratio);
+                r.tilt_max, r.height_ratio_min, r.tears, r.smallest_piece_min, r.volume_ratio_min, r.rip_growth, r.burst_volume_ratio, r.pull_stretch);
     if (!expect.empty()) std::printf("what the scene's [expect] table claims:\n");
     for (const scene::ExpectOutcome& e : expect) {
         if (e.value)

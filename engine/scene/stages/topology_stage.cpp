@@ -25,6 +25,7 @@ void TopologyStage::run(EventQueue& queue, sim::SoftBody& body, float t, float d
             ++cuts_;
         } else {
             tearing_ = std::get<TearEvent>(e.data);
+            gauge_ = topology::tear_gauge(body);
             tearing_until_ = tearing_->duration > 0.0f ? e.time + tearing_->duration : 1e30f;
         }
     }
@@ -54,9 +55,10 @@ core::Status TopologyStage::apply_tears(sim::SoftBody& body, const topology::Cut
     options.threshold = tearing_->threshold;
     options.max_per_frame = tearing_->max_per_frame;
     options.tip_threshold = tearing_->tip_threshold;
+    options.gauge = gauge_;
     PBDSPLAT_TRY(topology::validate(options));
     // One pass a frame, kept through its tears; the front is kept through the run.
-    topology::StrainedSet strained(body, options.threshold, options.front_threshold(), front_);
+    topology::StrainedSet strained(body, options.threshold, options.front_threshold(), front_, options.gauge);
     for (uint32_t k = 0; k < options.max_per_frame; ++k) {
         auto change = topology::tear_once(body, options, cut_options, strained);
         if (!change.ok()) return change.error();

@@ -70,6 +70,7 @@ private:
     std::optional<TearEvent> tearing_;
     topology::CrackFront front_;  // the rims tears made, where they run on
     float tearing_until_ = 0.0f;
+    float gauge_ = 0.0f;  // tears measure stretch over at least this (the body's mean rest edge when tearing began)
     bool check_invariants_ = false;
     core::Status status_;
     size_t cuts_ = 0, tears_ = 0;
