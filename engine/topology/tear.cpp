@@ -23,8 +23,8 @@ core::Status validate(const TearOptions& o) {
 namespace {
 // Stretch ratios: the same arithmetic wherever an edge is measured, so that the frame's set and
 // a fresh scan agree to the bit. Most edges are far from tearing; a squared test with a margin
-// (0.1 %, far above float rounding) passes them over without the square root and the division,
-// and decides nothing the exact test below would not.
+// (0.1 % of the stretch past 1, far above float rounding) passes them over without the square
+// root and the division, and decides nothing the exact test below would not.
 struct RatioTest {
     RatioTest(float at, float front_at, const CrackFront* on_front, float gauge_length)
         : threshold(at), front_threshold(on_front ? front_at : at), front(on_front), gauge(gauge_length),
