@@ -8,6 +8,7 @@
 #include "asset/model_path.h"
 #include "mesh/procedural.h"
 #include "scene/default_scene.h"
+#include "scene/scene_check.h"
 #include "scene/scene_model.h"
 #include "scene/scene_file.h"
 #include "scene/scene_runtime.h"
@@ -147,6 +148,51 @@ TEST_SUITE("scene/runtime") {
         float farthest = 0.0f;
         for (const auto& x : rt.value()->body().particles.x) farthest = std::max(farthest, x.x());
         CHECK(farthest > 1.6f);  // the torus reaches 1.35; the drag pulls 0.5 past it
+    }
+
+    TEST_CASE("pull_stretch: a body dragged whole reads 1; one held at its far side reads how far it was drawn out") {
+        // A unit sphere pulled at x = 1 towards x = 3 over 1 s, checked after 1 s (0.9 of the way).
+        const std::string pull = R"([model]
+mesh = "icosphere:3"
+[simulation]
+gravity = [0, 0, 0]
+PIN
+[[events]]
+time = 0.1
+type = "drag"
+from = [1, 0, 0]
+to = [3, 0, 0]
+duration = 1.0
+stiffness = 1.0
+RADIUS
+)";
+        const auto stretch_of = [&](const std::string& pin, const std::string& radius) {
+            std::string text = pull;
+            text.replace(text.find("PIN"), 3, pin);
+            text.replace(text.find("RADIUS"), 6, radius);
+            auto s = scene::parse_scene(text, "pull.toml");
+            REQUIRE_MESSAGE(s.ok(), test::why(s));
+            scene::CheckOptions o;
+            o.frames = 60;
+            o.every = 60;
+            auto r = scene::check_scene(s.value(), o);
+            REQUIRE_MESSAGE(r.ok(), test::why(r));
+            CHECK(r.value().tears == 0);
+            return r.value().pull_stretch;
+        };
+        // Held all over (a grab wider than the body): moved, not stretched.
+        CHECK(stretch_of("", "radius = 5.0") == doctest::Approx(1.0).epsilon(0.01));  // measured 1.0
+        // Held at its far cap: from x = -1 to the grab at 1 + 0.9 x 2, over its rest length 2.
+        CHECK(stretch_of("pin_regions = [{ min = [-2, -2, -2], max = [-0.8, 2, 2] }]", "") ==
+              doctest::Approx(1.9).epsilon(0.03));  // measured 1.883
+        // Nothing dragged: nothing measured.
+        auto still = scene::parse_scene("[model]\nmesh = \"icosphere:2\"\n", "still.toml");
+        REQUIRE(still.ok());
+        scene::CheckOptions o;
+        o.frames = 5;
+        auto r = scene::check_scene(still.value(), o);
+        REQUIRE(r.ok());
+        CHECK(r.value().pull_stretch == 0.0);
     }
 
     TEST_CASE("the default scene deflates and re-inflates on its timeline") {
