@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/contact.h"
 #include "topology/cut_surface.h"
 
 namespace pbdsplat::topology {
@@ -87,7 +86,7 @@ std::vector<StrainedEdge> strained_edges(const sim::SoftBody& b, float threshold
     return strained(b, RatioTest(threshold, threshold, nullptr, gauge), limit);
 }
 
-float tear_gauge(const sim::SoftBody& b) { return sim::mean_rest_edge(b); }
+float tear_gauge(const sim::SoftBody& b) { return float(b.distance_groups.mean_rest()); }
 
 std::vector<uint32_t> CrackFront::grow(const sim::SoftBody& b, const TopologyChange& change) {
     if (flags_.size() < change.particles_after) flags_.resize(change.particles_after, 0);
