@@ -130,13 +130,14 @@ struct GpuChain {
         }, tag);
     }
 
-    // The surface mesh's depth over the ground's, and its distance image.
+    // The surface mesh's depth and its distance image, then the ground over them.
     void add_occluders() {
         const auto occluders = g.import("occluder image", &res.occluders);
         g.add_pass("occluders", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
             b.read(input.frame);
             b.read(input.occluders);
             status = b.write(status);
+            drawn = b.write(drawn, to_graph(render::uses::color_attachment));
             depth_drawn = b.write(depth_drawn, to_graph(render::uses::depth_attachment));
             occluded = b.write(occluders, to_graph(render::uses::color_attachment));
             return [&gpu = renderer, in = input, st = status](const graph::PassResources& r, graph::ExecuteContext&) {

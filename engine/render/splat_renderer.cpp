@@ -332,7 +332,8 @@ void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
     PBDSPLAT_ASSERT(!occluded || has_occluders(),
                     "SplatStyle::mesh_occluders needs a renderer created with options.occluders (and the graph's occluders pass)");
     target_.begin(cmd_, inputs.background.data(), normalised || occluded);
-    if (inputs.ground.visible) ground_.record(cmd_, sets.set(slot), inputs.ground);
+    // Under mesh occluders the ground comes after them (draw_occluders).
+    if (inputs.ground.visible && !occluded) ground_.record(cmd_, sets.set(slot), inputs.ground);
     if (prepared(inputs.style)) splat_.record(cmd_, inputs.style, sets.set(slot), splat_source(inputs, count));
     target_.end(cmd_);
     timers_[slot].mark(cmd_, "splat", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
@@ -367,6 +368,14 @@ void SplatRenderer::draw_occluders(const FrameInputs& inputs) {
     if (!render::occluded_style(inputs.style)) return;
     PBDSPLAT_ASSERT(has_occluders(), "SplatStyle::mesh_occluders needs a renderer created with options.occluders");
     occluders_.record(cmd_, inputs.camera, inputs.style.occluder_push, target_.depth().view(), frames_.slot());
+    // The ground after the mesh, at its own depth: drawn first, it hid the mesh's pushed-back
+    // depth wherever the surface lay within the push above it (a sheet resting on the ground
+    // vanished); drawn here it still hides what lies below it, splats and mesh alike.
+    if (inputs.ground.visible) {
+        target_.resume(cmd_);
+        ground_.record(cmd_, frame_sets(inputs.style).set(frames_.slot()), inputs.ground);
+        target_.end(cmd_);
+    }
     timers_[frames_.slot()].mark(cmd_, "occluders", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
 

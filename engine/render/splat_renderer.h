@@ -133,14 +133,16 @@ public:
     // Culls and sorts the uploaded records far to near (needs options.gpu_sort); a following
     // draw() with SplatOrder::gpu draws the result.
     void sort(const FrameInputs& inputs, uint32_t count);
-    // With Blend::normalised, draw() lays down the ground and the visibility depth only;
+    // With Blend::normalised, draw() lays down the ground (unless mesh occluders draw it after
+    // the mesh) and the visibility depth only;
     // accumulate() sums the front fragments and resolve() blends them over the colour target.
     // Both record nothing for other blends.
     // The draws make the pipelines their style needs the first time it comes (a shader compile
     // each, SplatPass::prepare); a failure to make one is returned by end_frame().
     void draw(const FrameInputs& inputs, uint32_t count);
-    // Mesh occluders (options.occluders): the surface mesh for this frame's slot, then its pass,
-    // between draw() and accumulate(); records nothing unless the style asks for them.
+    // Mesh occluders (options.occluders): the surface mesh for this frame's slot, then its pass
+    // (and the ground after it), between draw() and accumulate(); records nothing unless the
+    // style asks for them.
     core::Status set_occluders(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles);
     void draw_occluders(const FrameInputs& inputs);
     // The paper's disc against the occluders, after draw_occluders(); records nothing for other
