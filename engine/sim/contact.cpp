@@ -297,7 +297,8 @@ float side_kept(bool closed, bool same_piece, float h_then, float margin) {
 } // namespace
 
 template <class Real>
-void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch, uint32_t group, float r_ex2) {
+void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch, uint32_t group, float r_ex2,
+                                     std::vector<Contact>& out) {
     const bool rest_known = body.rest_positions.size() == body.particles.size();
     const float reach = scale_.thickness + scale_.margin + scale_.slack;
     const Eigen::AlignedBox3f& patch_box = particle_box_[patch];
@@ -345,7 +346,7 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             if (now.lateral > beside && then.lateral > beside) continue;  // beside it
             float thickness = nb.seam ? 0.0f : scale_.thickness;
             if (!nb.near && rest_known && !rest_gap(body, i, tk, side, thickness)) continue;
-            keep({i, t, side, thickness}, std::abs(h_now) + std::min(now.lateral, then.lateral));
+            keep(out, {i, t, side, thickness}, std::abs(h_now) + std::min(now.lateral, then.lateral));
         }
     }
 }
@@ -358,22 +359,22 @@ float ContactSolverT<Real>::farthest_kept(uint32_t i) const {
 }
 
 template <class Real>
-void ContactSolverT<Real>::keep(const Contact& c, float distance) {
+void ContactSolverT<Real>::keep(std::vector<Contact>& out, const Contact& c, float distance) {
     const size_t base = size_t(c.particle) * k_max_candidates;
     uint32_t& kept = kept_[c.particle];
     if (kept < k_max_candidates) {
-        slot_[base + kept] = uint32_t(contacts_.size());
+        slot_[base + kept] = uint32_t(out.size());
         slot_key_[base + kept] = distance;
         ++kept;
-        contacts_.push_back(c);
+        out.push_back(c);
         return;
     }
-    // Full: the new one takes the farthest's place (in contacts_ too, so the order of every
+    // Full: the new one takes the farthest's place (in the list too, so the order of every
     // particle under the limit is the search's).
     float* key = &slot_key_[base];
     const size_t far = size_t(std::max_element(key, key + k_max_candidates) - key);
     if (!(distance < key[far])) return;
-    contacts_[slot_[base + far]] = c;
+    out[slot_[base + far]] = c;
     key[far] = distance;
 }
 
@@ -646,23 +647,43 @@ void ContactSolverT<Real>::build_grid(const SoftBodyT<Real>& body) {
 template <class Real>
 void ContactSolverT<Real>::search_pairs(const SoftBodyT<Real>& body) {
     const uint32_t patches = uint32_t(patch_start_.size() - 1);
-    const uint32_t groups = patches + face_chunks_;
-    const bool rest_known = body.rest_positions.size() == body.particles.size();
-    seen_.assign(groups, UINT32_MAX);
     kept_.assign(body.particles.size(), 0);
     slot_.resize(body.particles.size() * k_max_candidates);
     slot_key_.resize(slot_.size());
+    // Patches in contiguous chunks, one list of candidates each, joined in chunk order: the
+    // candidates and their order are the one-thread search's for any thread count. A patch's
+    // particles are its own, so the chunks write disjoint slots.
+    const unsigned chunks = pool_ && pool_->size() > 1 && patches >= k_patches_per_chunk * pool_->chunks() ? pool_->chunks() : 1u;
+    chunk_.resize(chunks);
+    const auto run = [&](unsigned chunk, size_t begin, size_t end) {
+        ChunkScratch& c = chunk_[chunk];
+        c.contacts.clear();
+        search_patches(body, uint32_t(begin), uint32_t(end), c);
+    };
+    if (chunks > 1) pool_->parallel_for(patches, run);
+    else run(0, 0, patches);
+    contacts_.clear();
+    if (chunks == 1) return contacts_.swap(chunk_[0].contacts);
+    for (unsigned k = 0; k < chunks; ++k) contacts_.insert(contacts_.end(), chunk_[k].contacts.begin(), chunk_[k].contacts.end());
+}
+
+template <class Real>
+void ContactSolverT<Real>::search_patches(const SoftBodyT<Real>& body, uint32_t first, uint32_t last, ChunkScratch& c) {
+    const uint32_t patches = uint32_t(patch_start_.size() - 1);
+    const uint32_t groups = patches + face_chunks_;
+    const bool rest_known = body.rest_positions.size() == body.particles.size();
+    c.seen.assign(groups, UINT32_MAX);
     const float r_ex2 = scale_.exclusion * scale_.exclusion;
-    for (uint32_t A = 0; A < patches; ++A) {
+    for (uint32_t A = first; A < last; ++A) {
         if (particle_box_[A].isEmpty() || !in_play_[A]) continue;
         const auto visit = [&](uint32_t B) {
-            if (seen_[B] == A) return;
-            seen_[B] = A;
+            if (c.seen[B] == A) return;
+            c.seen[B] = A;
             if (!particle_box_[A].intersects(group_box_[B])) return;
             if (patch_piece_[A] == patch_piece_[B] && (B >= patches || !self_)) return;  // a piece's own cap closes it along its rim
             if (B < patches && patch_piece_[A] == patch_piece_[B] && rest_known && rest_box_[A].exteriorDistance(rest_box_[B]) < 0.5f * scale_.exclusion)
                 return;
-            test_pair(body, A, B, r_ex2);
+            test_pair(body, A, B, r_ex2, c.contacts);
         };
         Eigen::Vector3i lo, hi;
         if (!brute_force_ && cell_range(particle_box_[A], lo, hi)) {

@@ -22,6 +22,7 @@
 #include <span>
 #include <vector>
 
+#include "core/thread_pool.h"
 #include "sim/colliders.h"
 #include "sim/soft_body.h"
 
@@ -115,6 +116,11 @@ public:
     // Every patch against every triangle group instead of through the hash grid (the same pairs:
     // what the tests compare the broad phase with).
     void set_brute_force(bool on) { brute_force_ = on; }
+    // Threads for the search (the caller's pool; null: the calling thread alone). The candidates
+    // do not depend on it.
+    void set_pool(core::ThreadPool* pool) { pool_ = pool; }
+    // Into how many chunks the last search split its patches (1: it ran on the calling thread).
+    size_t search_chunks() const { return chunk_.size(); }
     const ContactScale& scale() const { return scale_; }
     // Searches run (a find that kept the last candidates runs none).
     size_t searches() const { return searches_; }
@@ -175,7 +181,7 @@ private:
     std::vector<uint8_t> closed_;  // per piece
     void update_origins(const SoftBodyT<Real>& body);
     void build_patches(const SoftBodyT<Real>& body);
-    void test_pair(const SoftBodyT<Real>& body, uint32_t patch, uint32_t group, float r_ex2);
+    void test_pair(const SoftBodyT<Real>& body, uint32_t patch, uint32_t group, float r_ex2, std::vector<Contact>& out);
     // A particle's own neighbourhood (in rest space) never touches it: on its own piece (nor does
     // its own cap, which closes it along its rim); across a cut or tear, on the other side's
     // triangles (the two sides start on each other, and pushed apart the seam's edges would
@@ -206,6 +212,16 @@ private:
     void group_triangles(const SoftBodyT<Real>& body);
     void build_grid(const SoftBodyT<Real>& body);
     void search_pairs(const SoftBodyT<Real>& body);
+    // What one chunk of the patches finds, and the groups it has visited for its current patch.
+    struct ChunkScratch {
+        std::vector<Contact> contacts;
+        std::vector<uint32_t> seen;
+    };
+    std::vector<ChunkScratch> chunk_;
+    // Fewer patches than this a chunk cost more to hand out than they take to search.
+    static constexpr uint32_t k_patches_per_chunk = 64;
+    void search_patches(const SoftBodyT<Real>& body, uint32_t first, uint32_t last, ChunkScratch& c);
+    core::ThreadPool* pool_ = nullptr;
     // The hash grid's cells a box meets (false: it is wider than k_span cells, and stays out of
     // the grid), and a visit of each of them.
     static constexpr int k_span = 8;
@@ -230,14 +246,14 @@ private:
     std::vector<uint32_t> part_, model_;
     std::vector<Eigen::AlignedBox3f> triangle_box_;  // swept, per entry of group_triangles_
     std::vector<uint32_t> group_start_, group_triangles_, big_groups_;
-    std::vector<uint32_t> cell_start_, cell_particles_, seen_;
+    std::vector<uint32_t> cell_start_, cell_particles_;
     std::vector<uint32_t> kept_;    // per particle: its candidates so far
     std::vector<uint32_t> slot_;    // per particle, k_max_candidates: their places in contacts_
     std::vector<float> slot_key_;   // and their distances
     // The distance of the particle's farthest kept candidate once it has them all (else infinity):
     // a triangle whose plane is as far from it is no nearer.
     float farthest_kept(uint32_t particle) const;
-    void keep(const Contact& c, float distance);
+    void keep(std::vector<Contact>& out, const Contact& c, float distance);
     std::vector<uint32_t> cursor_;  // fill position per bucket while a counting sort fills it
     bool brute_force_ = false;
     size_t searches_ = 0;

@@ -7,6 +7,7 @@
 #include <string>
 #include <tuple>
 
+#include "core/thread_pool.h"
 #include "mesh/procedural.h"
 #include "sim/contact.h"
 #include "sim/drag.h"
@@ -460,6 +461,37 @@ TEST_SUITE("sim/contact") {
             CHECK(std::abs(above - below) <= 1);
         }
         CHECK(middle_full > 0);
+    }
+
+    TEST_CASE("a search split over threads finds the one-thread search's candidates, in its order") {
+        std::mt19937 rng(11);
+        std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+        mesh::TriangleMesh m;
+        for (int k = 0; k < 80; ++k) mesh::append(m, mesh::icosphere(2, 0.12f + 0.04f * u(rng)), placed_at(Vec3f(u(rng), u(rng), u(rng))));
+        sim::SoftBody b = separate_models(test::make_body(std::move(m), {}));
+        for (size_t i = 0; i < b.particle_count(); ++i) {
+            b.particles.x_prev[i] = b.particles.x[i];
+            b.particles.x[i] += sim::to4(Vec3f(u(rng), u(rng), u(rng)) * 0.03f);
+        }
+        const auto found = [&](unsigned threads, size_t& chunks) {
+            core::ThreadPool pool(threads);
+            sim::ContactSolver solver;
+            solver.set_pool(&pool);
+            solver.find(b, sim::ContactSettings{});
+            chunks = solver.search_chunks();
+            std::vector<std::tuple<uint32_t, uint32_t, float, float>> out;
+            for (const sim::Contact& c : solver.contacts()) out.emplace_back(c.particle, c.triangle, c.side, c.thickness);
+            return out;
+        };
+        size_t chunks = 0;
+        const auto one = found(1, chunks);
+        CHECK(chunks == 1);
+        MESSAGE(one.size() << " candidates");
+        CHECK(one.size() > 1000);  // the heap touches everywhere
+        for (unsigned threads : {2u, 3u}) {
+            CHECK(found(threads, chunks) == one);
+            CHECK(chunks > 1);  // the search did split
+        }
     }
 
     TEST_CASE("the broad phase finds every pair a brute-force search finds, on random soups") {

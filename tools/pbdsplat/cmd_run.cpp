@@ -56,7 +56,7 @@ int read_window_options(const Options& opt, demo::WindowRunOptions& o) {
 
 // A trained capture in the window (demo/capture_app.h).
 int run_capture(const std::string& file, const Options& opt) {
-    for (const char* key : {"script", "save-scene"})
+    for (const char* key : {"script", "save-scene", "threads"})
         if (opt.given(key)) return usage_error("run", std::string("--") + key + " applies to a scene or a model, not to Gaussians");
     demo::CaptureOptions o;
     o.path = file;
@@ -90,6 +90,8 @@ int cmd_run(const std::vector<std::string>& argv) {
                       .default_from("gpu on a GPU, cpu on a CPU device"),
                   whole("width", "W", 0, 16, 16384, "the window and image width").default_from("the scene's"),
                   whole("height", "H", 0, 16, 16384, "the window and image height").default_from("the scene's"),
+                  whole("threads", "T", 0, 1, 64, "simulation threads (the result is the same for any count)")
+                      .default_from("half the cores, 1 to 8"),
                   save_scene_option(), json_option("at the end, one JSON object: frames, FPS (before and after a cut)")})};
     const Parsed parsed = parse_command(command, argv);
     if (!parsed.options) return parsed.exit_code;
@@ -109,6 +111,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     if (opt.given("width")) o.scene.render.width = opt.whole("width");
     if (opt.given("height")) o.scene.render.height = opt.whole("height");
     o.script_path = opt.text("script");
+    o.threads = opt.given("threads") ? opt.whole("threads") : demo::default_simulation_threads();
     if (const int usage = read_window_options(opt, o)) return usage;
 
     return finish_run(opt, o.scene.name, demo::run_demo(o), o);

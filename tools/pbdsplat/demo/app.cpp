@@ -1,7 +1,9 @@
 #include "demo/app.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <deque>
+#include <thread>
 
 #include "core/timer.h"
 #include "demo/camera_control.h"
@@ -147,6 +149,7 @@ core::Status Demo::key(int k) {
 
 core::Status Demo::reset() {
     scene::RuntimeOptions ro;
+    ro.threads = options_.threads;
     ro.gpu = s_.ctx.get();
     ro.readback = false;
     ro.interactive = true;
@@ -274,6 +277,8 @@ core::Result<DemoReport> Demo::run(const InputScript* script) {
 
 } // namespace
 
+unsigned default_simulation_threads() { return std::clamp(std::thread::hardware_concurrency() / 2, 1u, 8u); }
+
 core::Result<DemoReport> run_demo(const DemoOptions& options) {
     std::optional<InputScript> script;
     if (!options.script_path.empty()) {
@@ -289,6 +294,7 @@ core::Result<DemoReport> run_demo(const DemoOptions& options) {
                         options.validation, options.device));
 
     scene::RuntimeOptions ro;
+    ro.threads = options.threads;
     ro.gpu = s.ctx.get();
     ro.readback = false;
     ro.interactive = true;

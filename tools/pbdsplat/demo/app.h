@@ -24,7 +24,10 @@ struct WindowRunOptions {
 struct DemoOptions : WindowRunOptions {
     scene::Scene scene;
     std::string script_path;               // input script (demo/script.h)
+    unsigned threads = 1;                  // simulation threads (the result does not depend on it)
 };
+// Half the cores, 1 to 8: the other half draw (Lavapipe rasterises on them) or feed the GPU.
+unsigned default_simulation_threads();
 
 struct DemoReport {
     uint64_t frames = 0;
