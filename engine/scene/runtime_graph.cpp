@@ -187,7 +187,7 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
             if (fine || (faces && faces->faces() > 0)) {
                 OccluderMesh& m = r.write(mesh);
                 if (fine) {
-                    deformed_fine_surface(bd, *fine, r.write(embedding), m.x, m.triangles);
+                    deformed_fine_surface(bd, *fine, r.write(embedding), m.x, m.triangles, &m.whole);
                 } else {
                     m.x = bd.particles.x;
                     m.triangles = bd.triangles;

@@ -12,6 +12,7 @@
 #include "passes/gpu_passes.h"
 #include "scene/scene.h"
 #include "scene/stages/event_stage.h"
+#include "scene/stages/fine_surface.h"
 #include "scene/stages/pass_group.h"
 #include "scene/stages/mapping_stage.h"
 #include "scene/stages/surface_stage.h"
@@ -227,6 +228,7 @@ private:
     struct OccluderMesh {
         std::vector<Vec4f> x;
         std::vector<mesh::Triangle> triangles;
+        FineTriangles whole;  // which fine triangles are drawn, judged again after each edit
     } occluder_mesh_;
     core::Status upload_status_;  // what the frame's upload and occluder passes left
     std::unique_ptr<core::ThreadPool> pool_;

@@ -346,4 +346,18 @@ void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::s
     }
 }
 
+void update_boundary_positions(std::span<const mesh::Triangle> triangles, std::span<const Vec4f> x, std::span<const Vec3f> n,
+                               BoundaryParticles& s) {
+    const size_t count = s.size();
+    s.position.resize(count);
+    const bool embedded = s.embedded();
+    for (size_t i = 0; i < count; ++i) {
+        const auto& t = triangles[s.triangle[i]];
+        const float b1 = s.bary[i].x(), b2 = s.bary[i].y(), b0 = 1.0f - b1 - b2;
+        Vec3f p = (b0 * x[t[0]] + b1 * x[t[1]] + b2 * x[t[2]]).head<3>();
+        if (embedded) p += s.offset[i] * (b0 * n[t[0]] + b1 * n[t[1]] + b2 * n[t[2]]);
+        s.position[i] = p;
+    }
+}
+
 } // namespace pbdsplat::surface

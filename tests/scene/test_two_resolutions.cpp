@@ -1,6 +1,7 @@
 #include <doctest/doctest.h>
 
 #include "scene/scene_runtime.h"
+#include "scene/stages/fine_surface.h"
 #include "sim/shape_error.h"
 
 using namespace pbdsplat;
@@ -31,6 +32,32 @@ TEST_SUITE("scene/two_resolutions") {
         const double n_full = double(full.value()->body().particle_count() + full.value()->boundary_particles().size());
         CHECK(n_coarse > 0.8 * n_full);  // the same spacing: the same count, within what the fine surface adds
         CHECK(n_coarse < 1.25 * n_full);  // the same
+    }
+
+    TEST_CASE("the fine surface's whole triangles, kept between frames, are judged again after a cut") {
+        scene::Scene sc = bumpy_scene(500);
+        sc.events.push_back({0.05f, scene::CutEvent{std::nullopt, {1280, 720}, std::make_pair(Vec3f(0.07f, 0, 0), Vec3f(1, 0.2f, 0))}});
+        auto rt = scene::SceneRuntime::create(sc, {});
+        REQUIRE(rt.ok());
+        REQUIRE(rt.value()->fine_surface().has_value());
+        const mesh::TriangleMesh& fine = *rt.value()->fine_surface();
+        std::optional<surface::BoundaryParticles> embedding;
+        scene::FineTriangles kept;
+        size_t before_cut = 0;
+        for (int f = 0; f < 8; ++f) {
+            REQUIRE(rt.value()->step().ok());
+            const sim::SoftBody& b = rt.value()->body();
+            std::vector<Vec4f> x, x_fresh;
+            std::vector<mesh::Triangle> t, t_fresh;
+            scene::deformed_fine_surface(b, fine, embedding, x, t, &kept);
+            scene::deformed_fine_surface(b, fine, embedding, x_fresh, t_fresh);
+            CHECK(t == t_fresh);
+            CHECK(x == x_fresh);
+            if (rt.value()->stats().cuts == 0) before_cut = t.size();
+        }
+        CHECK(rt.value()->stats().cuts == 1);
+        MESSAGE(before_cut << " fine triangles whole before the cut, " << kept.whole.size() << " after");
+        CHECK(kept.whole.size() < before_cut);  // the triangles across the cut are left out
     }
 
     TEST_CASE("after a cut no sample sits on the wrong side of the cut surface") {

@@ -4,6 +4,8 @@
 // made on the first call (only coverage checks and mesh occluders ask). Triangles a cut or tear
 // tore across (corners on different pieces, or on body triangles torn apart between them, or an
 // edge stretched past 3x) are left out.
+#include <array>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -13,7 +15,15 @@
 
 namespace pbdsplat::scene {
 
+// Which fine triangles a cut or tear left whole: it changes only with the body's topology, so a
+// caller that draws every frame keeps it between calls.
+struct FineTriangles {
+    size_t body_triangles = SIZE_MAX, particles = 0, pieces = 0;  // the body they were judged for
+    std::vector<mesh::Triangle> whole;
+    std::vector<std::array<float, 3>> rest2;  // per whole triangle, (3 x its rest edge)^2, edge k from corner k
+};
+
 void deformed_fine_surface(const sim::SoftBody& body, const mesh::TriangleMesh& fine, std::optional<surface::BoundaryParticles>& fine_vertices,
-                           std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles);
+                           std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, FineTriangles* keep = nullptr);
 
 } // namespace pbdsplat::scene
