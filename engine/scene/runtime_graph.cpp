@@ -84,6 +84,7 @@ void SceneRuntime::add_surface_and_map_passes(GraphAssembly& h) {
     SurfacePassConfig surface{splat_particles_, h_, scene_.surface.seed, tag(PassGroup::update)};
     const render::SplatStyle& style = scene_.render.frame.style;
     surface.thin = style.thin_below > 0.0f && style.blend == render::Blend::normalised;
+    surface.pool = pool_.get();
     add_surface_passes(g, board, surface);
     if (h.boundary && !paint_.empty()) {
         graph::import_into(g, board, keys::paint, &paint_);

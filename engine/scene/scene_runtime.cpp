@@ -72,7 +72,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     if (sd_surface.stretch_scale) stretch_ = splat::StretchScale(body_.rest_positions, body_.triangles);
     cut_faces_ = splat::CutFaces(h_, mat.interior_color, mat.color, scene_.simulation.fade_frames, sd_surface.seed);
     mapping_ = std::make_unique<MappingStage>(body_, scene_.simulation.fade_frames, scene_.render.deformed_shapes(),
-                                               scene_.render.varying_normals);
+                                               scene_.render.varying_normals, pool_.get());
     set_up_look();
     update_closed();
 

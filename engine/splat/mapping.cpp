@@ -64,9 +64,13 @@ void StretchScale::update(std::span<const Vec4f> x, std::span<const mesh::Triang
     }
 }
 
+// Below this many samples handing ranges to threads costs more than it saves.
+constexpr size_t k_parallel_samples = 8192;
+
 void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const Vec3f> colors,
               std::span<const mesh::Triangle> triangles, const surface::BoundaryParticles* samples, const Appearance& look,
-              const StretchScale* stretch, const NormalField* field, std::vector<GaussianRecord>& out) {
+              const StretchScale* stretch, const NormalField* field, std::vector<GaussianRecord>& out,
+              core::ThreadPool* pool) {
     const size_t n = x.size(), m = samples ? samples->size() : 0;
     out.resize(n + m);
     map_points(x, normals, look, out);  // resizes to n, keeps capacity
@@ -81,7 +85,9 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
         for (size_t i = 0; i < n; ++i) out[i].scale_half = float_to_half(look.scale * stretch->vertex(uint32_t(i)));
     if (field && field->has_vertices())
         for (size_t i = 0; i < n; ++i) set_curvature(field->vertex(uint32_t(i)), normals[i], out[i]);
-    for (size_t k = 0; k < m; ++k) {
+    // Each sample's record is its own: the threads take ranges of them.
+    const auto map_samples = [&](size_t first, size_t last) {
+    for (size_t k = first; k < last; ++k) {
         GaussianRecord r = base;
         const Vec3f& p = samples->position[k];
         r.position[0] = p.x(), r.position[1] = p.y(), r.position[2] = p.z();
@@ -103,6 +109,9 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
         if (k < samples->thin_level.size()) set_thin_level(r, samples->thin_level[k], thin_rank_of(t, samples->bary[k]));
         out[n + k] = r;
     }
+    };
+    if (pool && pool->size() > 1 && m >= k_parallel_samples) pool->parallel_for(m, [&](unsigned, size_t b, size_t e) { map_samples(b, e); });
+    else map_samples(0, m);
 }
 
 } // namespace pbdsplat::splat

@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "core/thread_pool.h"
 #include "mesh/triangle_mesh.h"
 #include "splat/gaussian_record.h"
 #include "splat/normal_field.h"
@@ -40,6 +41,7 @@ private:
 // vertices); else every splat is lit with one normal.
 void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const Vec3f> colors,
               std::span<const mesh::Triangle> triangles, const surface::BoundaryParticles* samples, const Appearance& look,
-              const StretchScale* stretch, const NormalField* field, std::vector<GaussianRecord>& out);
+              const StretchScale* stretch, const NormalField* field, std::vector<GaussianRecord>& out,
+              core::ThreadPool* pool = nullptr);
 
 } // namespace pbdsplat::splat

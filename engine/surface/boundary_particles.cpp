@@ -314,36 +314,46 @@ Mat3f surface_frame(const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f&
     return f.col(2).isZero() ? triangle_frame(a, b, c) : f;
 }
 
+// Below this many samples handing ranges to threads costs more than it saves.
+constexpr size_t k_parallel_carry = 8192;
+
 void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::span<const Vec4f> x,
-                               std::span<const Vec3f> n, BoundaryParticles& s, size_t first) {
+                               std::span<const Vec3f> n, BoundaryParticles& s, size_t first, core::ThreadPool* pool) {
     const size_t count = s.size();
     s.position.resize(count);
     s.normal.resize(count);
     const uint32_t* tri_index = s.triangle.data();
     const Vec2f* bary = s.bary.data();
-    if (s.embedded()) {
-        const float* d = s.offset.data();
-        const Vec3f* ln = s.local_normal.data();
-        // Each sample's normal in the frame of the interpolated normal at it (surface_frame), so
-        // the frame is per sample, not per triangle.
-        for (size_t i = first; i < count; ++i) {
+    const bool embedded = s.embedded();
+    const auto carry = [&](size_t begin, size_t end) {
+        if (embedded) {
+            const float* d = s.offset.data();
+            const Vec3f* ln = s.local_normal.data();
+            // Each sample's normal in the frame of the interpolated normal at it (surface_frame), so
+            // the frame is per sample, not per triangle.
+            for (size_t i = begin; i < end; ++i) {
+                const auto& t = triangles[tri_index[i]];
+                const float b1 = bary[i].x(), b2 = bary[i].y(), b0 = 1.0f - b1 - b2;
+                const Vec3f interpolated = b0 * n[t[0]] + b1 * n[t[1]] + b2 * n[t[2]];
+                s.position[i] = (b0 * x[t[0]] + b1 * x[t[1]] + b2 * x[t[2]]).head<3>() + d[i] * interpolated;
+                s.normal[i] = surface_frame(x[t[0]].head<3>(), x[t[1]].head<3>(), x[t[2]].head<3>(), interpolated) * ln[i];
+            }
+            return;
+        }
+        for (size_t i = begin; i < end; ++i) {
             const auto& t = triangles[tri_index[i]];
             const float b1 = bary[i].x(), b2 = bary[i].y(), b0 = 1.0f - b1 - b2;
-            const Vec3f interpolated = b0 * n[t[0]] + b1 * n[t[1]] + b2 * n[t[2]];
-            s.position[i] = (b0 * x[t[0]] + b1 * x[t[1]] + b2 * x[t[2]]).head<3>() + d[i] * interpolated;
-            s.normal[i] = surface_frame(x[t[0]].head<3>(), x[t[1]].head<3>(), x[t[2]].head<3>(), interpolated) * ln[i];
+            const Vec4f p = b0 * x[t[0]] + b1 * x[t[1]] + b2 * x[t[2]];
+            s.position[i] = p.head<3>();
+            const Vec3f nn = b0 * n[t[0]] + b1 * n[t[1]] + b2 * n[t[2]];
+            const float len = nn.norm();
+            s.normal[i] = len > 0.0f ? Vec3f(nn / len) : n[t[0]];
         }
-        return;
-    }
-    for (size_t i = first; i < count; ++i) {
-        const auto& t = triangles[tri_index[i]];
-        const float b1 = bary[i].x(), b2 = bary[i].y(), b0 = 1.0f - b1 - b2;
-        const Vec4f p = b0 * x[t[0]] + b1 * x[t[1]] + b2 * x[t[2]];
-        s.position[i] = p.head<3>();
-        const Vec3f nn = b0 * n[t[0]] + b1 * n[t[1]] + b2 * n[t[2]];
-        const float len = nn.norm();
-        s.normal[i] = len > 0.0f ? Vec3f(nn / len) : n[t[0]];
-    }
+    };
+    const size_t todo = count > first ? count - first : 0;
+    if (pool && pool->size() > 1 && todo >= k_parallel_carry)
+        pool->parallel_for(todo, [&](unsigned, size_t b, size_t e) { carry(first + b, first + e); });
+    else carry(first, count);
 }
 
 void update_boundary_positions(std::span<const mesh::Triangle> triangles, std::span<const Vec4f> x, std::span<const Vec3f> n,

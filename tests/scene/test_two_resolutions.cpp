@@ -1,5 +1,7 @@
 #include <doctest/doctest.h>
 
+#include <cstring>
+
 #include "scene/scene_runtime.h"
 #include "scene/stages/fine_surface.h"
 #include "sim/shape_error.h"
@@ -32,6 +34,23 @@ TEST_SUITE("scene/two_resolutions") {
         const double n_full = double(full.value()->body().particle_count() + full.value()->boundary_particles().size());
         CHECK(n_coarse > 0.8 * n_full);  // the same spacing: the same count, within what the fine surface adds
         CHECK(n_coarse < 1.25 * n_full);  // the same
+    }
+
+    TEST_CASE("the thread count does not change the Gaussians: the samples' carry and mapping split over threads") {
+        scene::Scene sc = bumpy_scene(500);
+        sc.events.push_back({0.05f, scene::CutEvent{std::nullopt, {1280, 720}, std::make_pair(Vec3f(0.07f, 0, 0), Vec3f(1, 0.2f, 0))}});
+        std::vector<splat::GaussianRecord> records[2];
+        for (int k = 0; k < 2; ++k) {
+            scene::RuntimeOptions ro;
+            ro.threads = k == 0 ? 1 : 3;
+            auto rt = scene::SceneRuntime::create(sc, ro);
+            REQUIRE(rt.ok());
+            for (int f = 0; f < 8; ++f) REQUIRE(rt.value()->step().ok());
+            CHECK(rt.value()->boundary_particles().size() > 8192);  // enough to be split
+            records[k] = rt.value()->records();
+        }
+        REQUIRE(records[0].size() == records[1].size());
+        CHECK(std::memcmp(records[0].data(), records[1].data(), records[0].size() * sizeof(splat::GaussianRecord)) == 0);
     }
 
     TEST_CASE("the fine surface's whole triangles, kept between frames, are judged again after a cut") {

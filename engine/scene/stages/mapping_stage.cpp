@@ -6,8 +6,8 @@
 
 namespace pbdsplat::scene {
 
-MappingStage::MappingStage(const sim::SoftBody& body, uint32_t fade_frames, bool deformed, bool varying_normals)
-    : varying_normals_(varying_normals), fade_(fade_frames) {
+MappingStage::MappingStage(const sim::SoftBody& body, uint32_t fade_frames, bool deformed, bool varying_normals, core::ThreadPool* pool)
+    : varying_normals_(varying_normals), pool_(pool), fade_(fade_frames) {
     if (deformed) deformed_ = splat::DeformedShapes(body.rest_positions, body.triangles);
 }
 
@@ -17,7 +17,7 @@ void MappingStage::map(const Sources& s, const splat::Appearance& look) {
         normal_field_.update(body.particles.x, body.normals, body.triangles, s.particles, splat::curvature_limit(look.scale));
     splat::map_body(s.particles ? std::span<const Vec4f>(body.particles.x) : std::span<const Vec4f>(),
                     s.particles ? std::span<const Vec3f>(body.normals) : std::span<const Vec3f>(), body.colors, body.triangles,
-                    s.samples, look, s.stretch, varying_normals_ ? &normal_field_ : nullptr, records_);
+                    s.samples, look, s.stretch, varying_normals_ ? &normal_field_ : nullptr, records_, pool_);
     if (!deformed_.empty()) {
         deformed_.update(body.particles.x, body.triangles);
         deformed_.map(s.particles ? body.particle_count() : 0, s.samples, records_, shapes_);

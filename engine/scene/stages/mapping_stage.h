@@ -28,7 +28,8 @@ class MappingStage {
 public:
     // `deformed`: each boundary particle a disc carried by its triangle (render.splat_shape).
     // `varying_normals`: each splat carries how the normal turns across it (render.splat_normals).
-    MappingStage(const sim::SoftBody& body, uint32_t fade_frames, bool deformed, bool varying_normals);
+    // `pool`: threads the per-sample work splits over (the records are the same), or null.
+    MappingStage(const sim::SoftBody& body, uint32_t fade_frames, bool deformed, bool varying_normals, core::ThreadPool* pool = nullptr);
 
     struct Sources {
         const sim::SoftBody* body = nullptr;
@@ -64,6 +65,7 @@ private:
     splat::DeformedShapes deformed_;
     splat::NormalField normal_field_;
     bool varying_normals_ = false;
+    core::ThreadPool* pool_ = nullptr;
     splat::FadeIn fade_;
     splat::SortScratch sort_scratch_;
 };

@@ -83,9 +83,9 @@ void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const Su
         [&](graph::PassBuilder& b) {
             h.body.declare(b);
             h.samples = b.write(h.samples);
-            return [body = h.body, samples = h.samples](const graph::PassResources& r, graph::ExecuteContext&) {
+            return [body = h.body, samples = h.samples, pool = config.pool](const graph::PassResources& r, graph::ExecuteContext&) {
                 surface::update_boundary_particles(r.read(body.structure).triangles, r.read(body.state).particles.x,
-                                                   r.read(body.caches).normals, r.write(samples));
+                                                   r.read(body.caches).normals, r.write(samples), 0, pool);
             };
         },
         config.tag);

@@ -66,6 +66,7 @@ struct SurfacePassConfig {
     uint32_t seed = 0;
     uint32_t tag = 0;  // the passes' group (scene/stages/pass_group.h)
     bool thin = false;  // the renderer thins small splats: the samples keep a thinning order
+    core::ThreadPool* pool = nullptr;  // threads the samples' carry splits over, or null
 };
 // The density control's pass, by which `bench scene --passes` finds its time per sample.
 inline constexpr const char* k_density_pass = "density";
