@@ -1,8 +1,9 @@
 #pragma once
 // Stray Gaussians: splats that left the surface they belong to. A splat is a stray when no
-// other splat lies within 3x the median nearest-neighbour spacing of all splats: on a
-// sampled surface every splat has neighbours about one spacing away, so a lone dot floating
-// above the pieces, or a flake of a few dots, stands out.
+// other splat lies within 3x the median nearest-neighbour spacing of all splats, or 3x the
+// sampling spacing where that is longer: on a sampled surface every splat has neighbours about
+// one spacing away, so a lone dot floating above the pieces, or a flake of a few dots, stands
+// out.
 #include <cstddef>
 #include <span>
 
@@ -15,7 +16,7 @@ struct StrayReport {
     float median_spacing = 0.0f;  // of the nearest-neighbour distances
 };
 
-// `hint` is about the expected spacing (the sampling spacing h): it sizes the search grid.
+// `hint`: the sampling spacing h (it also sizes the search grid).
 StrayReport count_strays(std::span<const Vec3f> centres, float hint);
 
 } // namespace pbdsplat::splat
