@@ -38,6 +38,8 @@ const std::vector<FigureOf>& figure_table() {
         {{"tears", "tears at the end"}, [](const CheckReport& r) { return double(r.tears); }},
         {{"volume_error_max", "the worst piece's volume error"}, [](const CheckReport& r) { return r.volume_error_max; }},
         {{"penetration_max", "the deepest particle inside another piece, over h"}, [](const CheckReport& r) { return r.penetration_max; }},
+        {{"crossing_ratio_max", "share of the triangles passing through another (a fold through itself, a torn skin through another piece), the most"},
+         [](const CheckReport& r) { return r.crossing_ratio_max; }},
         {{"tilt_max", "the most a model's vertical turned, degrees"}, [](const CheckReport& r) { return r.tilt_max; }},
         {{"height_ratio_min", "the least height over the rest height"}, [](const CheckReport& r) { return r.height_ratio_min; }},
         {{"rip_growth", "the openings' length 2 s after the first tear over their length then (0: no tear)"},

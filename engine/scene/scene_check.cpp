@@ -7,6 +7,7 @@
 #include "passes/coverage.h"
 #include "scene/scene_runtime.h"
 #include "sim/opening.h"
+#include "sim/crossings.h"
 #include "sim/penetration.h"
 #include "sim/pose.h"
 #include "sim/shape_error.h"
@@ -33,6 +34,8 @@ void sample_body_and_splats(const SceneRuntime& rt, double load_volume, CheckSam
     // Each cut face as drawn and met (folded where a second cut crossed it).
     const auto faces = [&rt](const std::vector<uint32_t>& loop) { return rt.cut_faces().triangles_of(loop); };
     s.penetration = rt.spacing() > 0.0f ? double(sim::deepest_penetration(rt.body(), faces).depth) / double(rt.spacing()) : 0.0;
+    const sim::Crossings crossings = sim::surface_crossings(rt.body());
+    s.crossing_ratio = crossings.ratio, s.self_crossings = crossings.self_pairs;
     s.shape_error = shape.max_error;
     s.pieces = shape.pieces.size();
     const sim::PoseReport pose = sim::pose_report(rt.body());
@@ -151,6 +154,7 @@ void summarise(CheckReport& report, std::vector<double> stage_a) {
         report.gaussians_max = std::max(report.gaussians_max, s.gaussians);
         report.volume_error_max = std::max(report.volume_error_max, s.volume_error);
         report.penetration_max = std::max(report.penetration_max, s.penetration);
+        report.crossing_ratio_max = std::max(report.crossing_ratio_max, s.crossing_ratio);
         report.tilt_max = std::max(report.tilt_max, s.tilt_degrees);
         report.height_ratio_min = std::min(report.height_ratio_min, s.height_ratio);
         report.volume_ratio_min = std::min(report.volume_ratio_min, s.volume_ratio);

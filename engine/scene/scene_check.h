@@ -49,6 +49,10 @@ struct CheckSample {
     // The deepest simulation particle inside another closed piece, over the sampling spacing h
     // (sim::deepest_penetration).
     double penetration = 0.0;
+    // The share of the live triangles passing through another (sim::surface_crossings): a fold
+    // through itself, an open piece through another; within one piece, the crossing pairs.
+    double crossing_ratio = 0.0;
+    size_t self_crossings = 0;
     // The pose of each model (sim::pose_report): the most its vertical turned, in degrees, and
     // the least height over its rest height; the fewest triangles in a piece.
     double tilt_degrees = 0.0, height_ratio = 1.0;
@@ -69,6 +73,7 @@ struct CheckReport {
     double spacing_within_min = -1.0, spacing_within_3d_min = -1.0;
     double volume_error_max = 0.0;
     double penetration_max = 0.0;
+    double crossing_ratio_max = 0.0;
     double tilt_max = 0.0, height_ratio_min = 1.0;  // degrees; over rest height (see CheckSample)
     size_t smallest_piece_min = 0;  // triangles: the smallest fragment any sample saw
     // A burst, read every frame from the first tear on: the openings' length 2 s after the first

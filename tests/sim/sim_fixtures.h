@@ -14,6 +14,27 @@ inline sim::SoftBody make_body(mesh::TriangleMesh m, sim::SoftBodyDesc desc = {}
     return std::move(b).value();
 }
 
+inline Eigen::Affine3f moved_by(const Vec3f& t) {
+    Eigen::Affine3f a = Eigen::Affine3f::Identity();
+    a.translate(t);
+    return a;
+}
+
+// Moves every particle of `piece` by t (the rest shape stays where it was).
+inline void move_piece(sim::SoftBody& b, uint32_t piece, const Vec3f& t) {
+    for (size_t i = 0; i < b.particle_count(); ++i)
+        if (b.piece_of_particle[i] == piece) b.particles.x[i] += sim::to4(t);
+}
+
+// Two 1 m boxes as two pieces, the second centred at `second` at rest.
+inline sim::SoftBody two_boxes_at_rest(const Vec3f& second) {
+    mesh::TriangleMesh m = mesh::box(Vec3f(1.0f, 1.0f, 1.0f), 2);
+    mesh::append(m, mesh::box(Vec3f(1.0f, 1.0f, 1.0f), 2), moved_by(second));
+    sim::SoftBody b = make_body(std::move(m));
+    REQUIRE(b.pieces == 2);
+    return b;
+}
+
 inline double total_mass(const sim::SoftBody& b) {
     double m = 0.0;
     for (float w : b.particles.w) m += w > 0.0f ? 1.0 / double(w) : 0.0;

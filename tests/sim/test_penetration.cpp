@@ -8,28 +8,16 @@
 #include "topology/cut.h"
 
 using namespace pbdsplat;
+using test::move_piece;
+using test::moved_by;
 
 namespace {
-
-Eigen::Affine3f moved_by(const Vec3f& t) {
-    Eigen::Affine3f a = Eigen::Affine3f::Identity();
-    a.translate(t);
-    return a;
-}
-
-// Moves every particle of `piece` by t (the rest shape stays where it was).
-void move_piece(sim::SoftBody& b, uint32_t piece, const Vec3f& t) {
-    for (size_t i = 0; i < b.particle_count(); ++i)
-        if (b.piece_of_particle[i] == piece) b.particles.x[i] += sim::to4(t);
-}
 
 // Two closed boxes (1 m cubes, two pieces) apart at rest, the second then moved to `offset`
 // along x from the first.
 sim::SoftBody two_boxes(float offset) {
     constexpr float k_apart = 3.0f;
-    mesh::TriangleMesh m = mesh::box(Vec3f(1.0f, 1.0f, 1.0f), 2);
-    mesh::append(m, mesh::box(Vec3f(1.0f, 1.0f, 1.0f), 2), moved_by({k_apart, 0.0f, 0.0f}));
-    sim::SoftBody b = test::make_body(std::move(m));
+    sim::SoftBody b = test::two_boxes_at_rest({k_apart, 0.0f, 0.0f});
     move_piece(b, b.piece_of_particle[b.extreme_particle(0, true)], Vec3f(offset - k_apart, 0.0f, 0.0f));
     return b;
 }
@@ -52,11 +40,7 @@ TEST_SUITE("sim/penetration") {
     }
 
     TEST_CASE("parts that overlap at rest (a lid in its pot) do not count") {
-        mesh::TriangleMesh m = mesh::box(Vec3f(1.0f, 1.0f, 1.0f), 2);
-        mesh::append(m, mesh::box(Vec3f(1.0f, 1.0f, 1.0f), 2), moved_by({0.8f, 0.0f, 0.0f}));
-        sim::SoftBody b = test::make_body(std::move(m));
-        REQUIRE(b.pieces == 2);
-        CHECK(sim::deepest_penetration(b).depth == 0.0f);
+        CHECK(sim::deepest_penetration(test::two_boxes_at_rest({0.8f, 0.0f, 0.0f})).depth == 0.0f);
     }
 
     TEST_CASE("a part that lay partly in another at rest is not counted as it settles deeper") {

@@ -44,7 +44,8 @@ int cmd_check(const std::vector<std::string>& argv) {
                       .default_from("none"),
                   save_scene_option(), json_option("one JSON object: shape_error_max, strays_max, hole_ratio_max, thin_ratio_max, iou_min,\n"
                               "speck_ratio_max, shading_error_max, color_error_max, pieces, volume_error_max, penetration_max\n"
-                              "(the deepest particle inside another piece, over h), tilt_max,\n"
+                              "(the deepest particle inside another piece, over h), crossing_ratio_max (the share of triangles\n"
+                              "passing through another), tilt_max,\n"
                               "height_ratio_min, tears, smallest_piece_min, rip_growth, burst_volume_ratio,\n"
                               "pull_stretch (a drag's grabbed part at its longest along the pull before a tear, over\n"
                               "its length when the pull began), volume_ratio_min and every measured frame")})};
@@ -95,6 +96,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                                {"shape_error", s.shape_error}, {"strays", s.strays}, {"hole_ratio", s.hole_ratio}, {"thin_ratio", s.thin_ratio},
                                {"iou", s.iou}, {"speck_ratio", s.speck_ratio}, {"shading_error", s.shading_error}, {"color_error", s.color_error}, {"edge_excess", s.edge_excess}, {"spacing_within", s.spacing_within}, {"spacing_within_3d", s.spacing_within_3d}, {"spacing_p05", s.spacing_p05}, {"spacing_p95", s.spacing_p95}, {"area_ratio", s.area_ratio}, {"pieces", s.pieces}, {"particles", s.particles},
                                {"gaussians", s.gaussians}, {"volume_error", s.volume_error}, {"penetration", s.penetration},
+                               {"crossing_ratio", s.crossing_ratio}, {"self_crossings", s.self_crossings},
                                {"tilt", s.tilt_degrees}, {"height_ratio", s.height_ratio}, {"smallest_piece_triangles", s.smallest_piece_triangles},
                                {"volume_ratio", s.volume_ratio}, {"open_length", s.open_length}});
         const nlohmann::json j = {{"scene", sc->name},
@@ -113,6 +115,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                                   {"pieces", r.pieces},
                                   {"volume_error_max", r.volume_error_max},
                                   {"penetration_max", r.penetration_max},
+                                  {"crossing_ratio_max", r.crossing_ratio_max},
                                   {"tilt_max", r.tilt_max},
                                   {"height_ratio_min", r.height_ratio_min},
                                   {"tears", r.tears},
@@ -154,11 +157,12 @@ int cmd_check(const std::vector<std::string>& argv) {
                 "       shading error %.4f, colour error %.4f,\n"
                 "       spacing within [0.7 h, 1.4 h] %.3f along the surface, %.3f in space; %zu pieces at the end;\n"
                 "       %zu particles, %zu Gaussians; Stage A %.3f ms a frame (median); penetration %.3f h;\n"
+                "       triangles through another %.3f %%;\n"
                 "       tilt %.1f degrees, height %.3f of rest; %zu tears; smallest piece %zu triangles;\n"
                 "       volume %.3f of load at least; 2 s after the first tear: openings %.2fx, volume %.3f;\n"
                 "       a pull stretched what it held %.2fx before tearing\n",
                 r.shape_error_max, r.shape_error_before_topology, r.strays_max, percent(r.hole_ratio_max), r.iou_min,
-                percent(r.speck_ratio_max), r.shading_error_max, r.color_error_max, r.spacing_within_min, r.spacing_within_3d_min, r.pieces, r.particles, r.gaussians, r.stage_a_ms, r.penetration_max,
+                percent(r.speck_ratio_max), r.shading_error_max, r.color_error_max, r.spacing_within_min, r.spacing_within_3d_min, r.pieces, r.particles, r.gaussians, r.stage_a_ms, r.penetration_max, percent(r.crossing_ratio_max),
                 r.tilt_max, r.height_ratio_min, r.tears, r.smallest_piece_min, r.volume_ratio_min, r.rip_growth, r.burst_volume_ratio, r.pull_stretch);
     if (!expect.empty()) std::printf("what the scene's [expect] table claims:\n");
     for (const scene::ExpectOutcome& e : expect) {

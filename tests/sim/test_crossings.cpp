@@ -1,0 +1,63 @@
+#include <doctest/doctest.h>
+
+#include "mesh/procedural.h"
+#include "sim/crossings.h"
+#include "sim/sim_fixtures.h"
+#include "topology/cut.h"
+
+using namespace pbdsplat;
+using test::move_piece;
+
+TEST_SUITE("sim/crossings") {
+    TEST_CASE("two boxes: none apart or touching, some once one is pushed into the other, none within one piece") {
+        sim::SoftBody b = test::two_boxes_at_rest({3.0f, 0.0f, 0.0f});
+        CHECK(sim::surface_crossings(b).pairs == 0);
+        const uint32_t right = b.piece_of_particle[b.extreme_particle(0, true)];
+        // Face to face (x = 0.5): coplanar faces touch, they do not cross.
+        move_piece(b, right, Vec3f(-2.0f, 0.0f, 0.0f));
+        CHECK(sim::surface_crossings(b).pairs == 0);
+        // 0.3 into it and a little off its axis (in line, the side walls would be coplanar): the
+        // side walls of each pass through the other's facing wall.
+        move_piece(b, right, Vec3f(-0.3f, 0.17f, 0.11f));
+        const sim::Crossings c = sim::surface_crossings(b);
+        MESSAGE("pushed 0.3 in: " << c.pairs << " pairs, " << c.triangles << " triangles of " << b.triangles.size());
+        CHECK(c.pairs > 0);
+        CHECK(c.self_pairs == 0);
+        CHECK(c.ratio > 0.0);
+        CHECK(c.ratio < 1.0);  // 28 of 96 measured: the walls only
+    }
+
+    TEST_CASE("parts that cross at rest do not count") {
+        CHECK(sim::surface_crossings(test::two_boxes_at_rest({0.7f, 0.2f, 0.1f})).pairs == 0);
+    }
+
+    TEST_CASE("a ball with one vertex pushed out through its far side crosses itself") {
+        sim::SoftBody b = test::make_body(mesh::icosphere(2, 1.0f));
+        CHECK(sim::surface_crossings(b).pairs == 0);
+        const uint32_t top = b.extreme_particle(1, true);
+        // Off the sphere's planes of symmetry, where the moved edges would pass exactly
+        // through edges and corners of the far side (touching, not crossing).
+        b.particles.x[top] = sim::to4(Vec3f(0.13f, -1.5f, 0.21f));
+        const sim::Crossings c = sim::surface_crossings(b);
+        MESSAGE(c.pairs << " pairs");
+        CHECK(c.self_pairs > 0);
+        CHECK(c.self_pairs == c.pairs);
+        // Only the fan of the moved vertex and the triangles it passes: a small share.
+        CHECK(c.ratio < 0.1);
+    }
+
+    TEST_CASE("the two sides of a cut, resting as cut, do not cross; pushed into each other they do") {
+        sim::SoftBody b = test::make_body(mesh::icosphere(3, 0.5f));
+        auto plane = topology::plane_cut(Vec3f(0.0f, 0.1f, 0.0f), Vec3f(0.3f, 1.0f, 0.0f).normalized());
+        REQUIRE(plane.ok());
+        REQUIRE(topology::cut(b, plane.value()).ok());
+        REQUIRE(b.pieces == 2);
+        CHECK(sim::surface_crossings(b).pairs == 0);
+        // Two edges deep: the triangles along the rim (which share rest places with the other
+        // side's) are left out, the next rings are not.
+        move_piece(b, b.piece_of_particle[b.extreme_particle(1, true)], -0.3f * Vec3f(0.3f, 1.0f, 0.0f).normalized());
+        const sim::Crossings c = sim::surface_crossings(b);
+        CHECK(c.pairs > 0);
+        CHECK(c.self_pairs == 0);
+    }
+}
