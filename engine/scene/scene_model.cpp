@@ -8,6 +8,7 @@
 #include "asset/mesh_spec.h"
 #include "mesh/reorder.h"
 #include "sim/contact.h"
+#include "sim/crossings.h"
 #include "sim/weld.h"
 
 namespace pbdsplat::scene {
@@ -146,6 +147,18 @@ void place_bodies(const Scene& scene, const std::vector<uint32_t>& part_start, s
     }
 }
 
+// Two models placed into each other stay so (contact leaves alone what lay inside another at
+// load, which is how a model's own parts are made): said, since it is almost always a slip.
+void warn_crossing_models(const Scene& scene, const sim::SoftBody& b) {
+    if (scene.bodies.empty()) return;
+    const auto name = [&](uint32_t m) {
+        return m == 0 ? "[model] (" + scene.model.mesh + ")" : "bodies[" + std::to_string(m - 1) + "] (" + scene.bodies[m - 1].model.mesh + ")";
+    };
+    for (const sim::ModelOverlap& o : sim::models_crossing_at_rest(b))
+        std::fprintf(stderr, "warning: scene '%s': %s and %s are placed into each other (%zu triangle pairs cross); contact keeps them so: move them apart\n",
+                     scene.name.c_str(), name(o.a).c_str(), name(o.b).c_str(), o.pairs);
+}
+
 core::Status pin_particles(const Scene& scene, sim::SoftBody& b) {
     const SimulationDesc& s = scene.simulation;
     for (uint32_t pin : s.pins) {
@@ -188,6 +201,7 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     if (!body.ok()) return body.error();
     sim::SoftBody b = std::move(body).value();
     place_bodies(scene, out.part_start, b);
+    warn_crossing_models(scene, b);
     // A model's parts that touch at rest (a teapot's spout on its body) hold together: within an
     // edge of each other, the decimated surfaces' vertices no longer coincide where they met.
     if (scene.simulation.weld_parts) sim::weld_touching_parts(b, sim::mean_rest_edge(b));

@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 namespace pbdsplat::sim {
@@ -72,10 +73,11 @@ private:
     std::vector<uint32_t> start_, entries_, wide_;
 };
 
-} // namespace
-
-Crossings surface_crossings(const SoftBody& body) {
-    Crossings out;
+// Every crossing pair of live triangles (indices into body.triangles) with corners from
+// `corners`, passed to `on_cross`; pairs sharing a particle or a rest place, or refused by
+// `consider`, are not tested.
+template <class CornersOf, class Consider, class OnCross>
+void scan_crossings(const SoftBody& body, const CornersOf& corners, const Consider& consider, const OnCross& on_cross) {
     const size_t n = body.particles.size();
     const bool rest_known = body.rest_positions.size() == n;
     std::vector<uint32_t> live;
@@ -83,24 +85,15 @@ Crossings surface_crossings(const SoftBody& body) {
         const mesh::Triangle& tri = body.triangles[t];
         if (tri[0] < n && tri[1] < n && tri[2] < n && body.piece_of_particle[tri[0]] != k_no_piece) live.push_back(t);
     }
-    if (live.size() < 2) return out;
-    const auto now = [&](const mesh::Triangle& t) {
-        const auto at = [&](uint32_t i) { return V3(body.particles.x[i].head<3>().cast<double>()); };
-        return Corners{at(t[0]), at(t[1]), at(t[2])};
-    };
-    const auto rest = [&](const mesh::Triangle& t) {
-        const auto at = [&](uint32_t i) { return V3(body.rest_positions[i].cast<double>()); };
-        return Corners{at(t[0]), at(t[1]), at(t[2])};
-    };
+    if (live.size() < 2) return;
     std::vector<Eigen::AlignedBox3d> box(live.size());
     double edges = 0.0;
     for (size_t k = 0; k < live.size(); ++k) {
-        const Corners c = now(body.triangles[live[k]]);
+        const Corners c = corners(body.triangles[live[k]]);
         box[k].extend(c[0]).extend(c[1]).extend(c[2]);
         edges += (c[1] - c[0]).norm();
     }
     const BoxGrid grid(box, std::max(edges / double(live.size()), 1e-9));
-    std::vector<uint8_t> crossing(live.size(), 0);
     std::vector<uint32_t> seen(live.size(), UINT32_MAX);
     const auto shares_a_place = [&](const mesh::Triangle& s, const mesh::Triangle& t) {
         for (uint32_t i : s)
@@ -114,15 +107,62 @@ Crossings surface_crossings(const SoftBody& body) {
             if (b <= a || seen[b] == a) return;
             seen[b] = a;
             const mesh::Triangle &s = body.triangles[live[a]], &t = body.triangles[live[b]];
-            if (!box[a].intersects(box[b]) || shares_a_place(s, t) || !triangles_cross(now(s), now(t))) return;
-            if (rest_known && triangles_cross(rest(s), rest(t))) return;
-            crossing[a] = crossing[b] = 1;
-            ++out.pairs;
-            if (body.piece_of_particle[s[0]] == body.piece_of_particle[t[0]]) ++out.self_pairs;
+            if (!box[a].intersects(box[b]) || !consider(s, t) || shares_a_place(s, t) || !triangles_cross(corners(s), corners(t))) return;
+            on_cross(live[a], live[b]);
         });
     }
+}
+
+} // namespace
+
+Crossings surface_crossings(const SoftBody& body) {
+    Crossings out;
+    const size_t n = body.particles.size();
+    const bool rest_known = body.rest_positions.size() == n;
+    const auto now = [&](const mesh::Triangle& t) {
+        const auto at = [&](uint32_t i) { return V3(body.particles.x[i].head<3>().cast<double>()); };
+        return Corners{at(t[0]), at(t[1]), at(t[2])};
+    };
+    const auto rest = [&](const mesh::Triangle& t) {
+        const auto at = [&](uint32_t i) { return V3(body.rest_positions[i].cast<double>()); };
+        return Corners{at(t[0]), at(t[1]), at(t[2])};
+    };
+    std::vector<uint8_t> crossing(body.triangles.size(), 0);
+    size_t live = 0;
+    for (const mesh::Triangle& t : body.triangles)
+        live += t[0] < n && t[1] < n && t[2] < n && body.piece_of_particle[t[0]] != k_no_piece;
+    const auto any = [](const mesh::Triangle&, const mesh::Triangle&) { return true; };
+    scan_crossings(body, now, any, [&](uint32_t a, uint32_t b) {
+        const mesh::Triangle &s = body.triangles[a], &t = body.triangles[b];
+        if (rest_known && triangles_cross(rest(s), rest(t))) return;
+        crossing[a] = crossing[b] = 1;
+        ++out.pairs;
+        if (body.piece_of_particle[s[0]] == body.piece_of_particle[t[0]]) ++out.self_pairs;
+    });
     out.triangles = size_t(std::count(crossing.begin(), crossing.end(), 1));
-    out.ratio = double(out.triangles) / double(live.size());
+    out.ratio = live ? double(out.triangles) / double(live) : 0.0;
+    return out;
+}
+
+std::vector<ModelOverlap> models_crossing_at_rest(const SoftBody& body) {
+    std::vector<ModelOverlap> out;
+    const size_t n = body.particles.size();
+    if (body.rest_positions.size() != n || body.model_of_particle.size() != n) return out;
+    const auto rest = [&](const mesh::Triangle& t) {
+        const auto at = [&](uint32_t i) { return V3(body.rest_positions[i].cast<double>()); };
+        return Corners{at(t[0]), at(t[1]), at(t[2])};
+    };
+    const auto two_models = [&](const mesh::Triangle& s, const mesh::Triangle& t) {
+        return body.model_of_particle[s[0]] != body.model_of_particle[t[0]];
+    };
+    scan_crossings(body, rest, two_models, [&](uint32_t a, uint32_t b) {
+        uint32_t ma = body.model_of_particle[body.triangles[a][0]], mb = body.model_of_particle[body.triangles[b][0]];
+        if (ma > mb) std::swap(ma, mb);
+        auto it = std::find_if(out.begin(), out.end(), [&](const ModelOverlap& o) { return o.a == ma && o.b == mb; });
+        if (it == out.end()) out.push_back({ma, mb, 0}), it = out.end() - 1;
+        ++it->pairs;
+    });
+    std::sort(out.begin(), out.end(), [](const ModelOverlap& x, const ModelOverlap& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
     return out;
 }
 

@@ -4,6 +4,7 @@
 // fold has no inside, so neither is seen there. A crossing is seen on any surface: an edge of one
 // triangle passing through another triangle.
 #include <cstddef>
+#include <vector>
 
 #include "sim/soft_body.h"
 
@@ -20,5 +21,14 @@ struct Crossings {
 // count; nor do pairs that already crossed at rest where the body keeps rest positions (parts of
 // a model made to overlap: an eye through its socket).
 Crossings surface_crossings(const SoftBody& body);
+
+// Two models (body.model_of_particle) whose surfaces cross as they were placed at load: contact
+// leaves what lay inside another at rest alone (it is how a model's own parts are made), so two
+// bodies placed into each other stay so.
+struct ModelOverlap {
+    uint32_t a = 0, b = 0;  // models, a < b
+    size_t pairs = 0;       // triangle pairs crossing
+};
+std::vector<ModelOverlap> models_crossing_at_rest(const SoftBody& body);
 
 } // namespace pbdsplat::sim

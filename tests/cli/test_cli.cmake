@@ -273,6 +273,15 @@ foreach(scene IN LISTS all_shipped)
   list(APPEND shipped "${scene}")
 endforeach()
 expect("validate-scene scenes/" 0 validate-scene ${shipped})
+# No shipped scene places two models into each other (contact would keep them so)...
+string(FIND "${last_err}" "placed into each other" crossing_at)
+if(NOT crossing_at EQUAL -1)
+  record_failure("validate-scene scenes/: a shipped scene places two models into each other:\n${last_err}")
+endif()
+# ... and one that does is told so, naming both.
+file(WRITE "${WORK_DIR}/into_each_other.toml" "[model]\nmesh = \"icosphere:2\"\n[[bodies]]\nmesh = \"box:4\"\nscale = 0.8\ntranslate = [0.5, 0.1, 0.0]\n")
+expect("validate-scene into_each_other" 0 validate-scene "${WORK_DIR}/into_each_other.toml")
+expect_contains("validate-scene into_each_other" "${last_err}" "[model] (icosphere:2) and bodies[0] (box:4) are placed into each other")
 # ... and each renders its first frame offscreen, small, under validation.
 foreach(scene IN LISTS shipped)
   get_filename_component(stem "${scene}" NAME_WE)

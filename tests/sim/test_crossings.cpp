@@ -60,4 +60,20 @@ TEST_SUITE("sim/crossings") {
         CHECK(c.pairs > 0);
         CHECK(c.self_pairs == 0);
     }
+
+    TEST_CASE("models placed into each other at load are named, pair by pair; models apart are not") {
+        sim::SoftBody into = test::two_boxes_at_rest({0.7f, 0.2f, 0.1f});
+        into.model_of_particle = into.piece_of_particle;
+        const std::vector<sim::ModelOverlap> o = sim::models_crossing_at_rest(into);
+        REQUIRE(o.size() == 1);
+        CHECK(o[0].a == 0);
+        CHECK(o[0].b == 1);
+        CHECK(o[0].pairs > 0);
+        sim::SoftBody apart = test::two_boxes_at_rest({1.5f, 0.0f, 0.0f});
+        apart.model_of_particle = apart.piece_of_particle;
+        CHECK(sim::models_crossing_at_rest(apart).empty());
+        // Parts of one model (a lid in its pot) are its own business.
+        into.model_of_particle.assign(into.particle_count(), 0);
+        CHECK(sim::models_crossing_at_rest(into).empty());
+    }
 }
