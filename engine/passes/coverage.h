@@ -78,8 +78,10 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
                                         std::span<const splat::GaussianRecord> records, render::FrameInputs frame,
                                         uint32_t width, uint32_t height, std::optional<Vec3f> albedo = std::nullopt,
                                         std::span<const splat::GaussianShape> shapes = {}, std::span<const Vec3f> colors = {},
-                                        const ReferenceTextures* textures = nullptr, const SplatTexturing* texturing = nullptr);
-// `colors`, when given (one per vertex of x, linear), is the model's own look: the lit mesh is
+                                        const ReferenceTextures* textures = nullptr, const SplatTexturing* texturing = nullptr,
+                                        size_t one_sided = 0);
+// `one_sided`: the leading triangles the splats' mesh occluders draw front faces only, as the
+// runtime does (render/occluder_pass.h). `colors`, when given (one per vertex of x, linear), is the model's own look: the lit mesh is
 // drawn in it, as its splats are, instead of in `albedo`. `textures`, when given, draws a
 // textured model's look as its file does: each pixel samples the texture (colors then unused).
 

@@ -142,7 +142,7 @@ struct GpuChain {
             occluded = b.write(occluders, to_graph(render::uses::color_attachment));
             return [&gpu = renderer, in = input, st = status](const graph::PassResources& r, graph::ExecuteContext&) {
                 const OccluderInput& mesh = r.read(in.occluders);
-                if (core::Status& out = r.write(st); out.ok()) out = gpu.set_occluders(mesh.positions, mesh.triangles);
+                if (core::Status& out = r.write(st); out.ok()) out = gpu.set_occluders(mesh.positions, mesh.triangles, mesh.one_sided);
                 gpu.draw_occluders(r.read(in.frame));
             };
         }, tag);

@@ -24,6 +24,7 @@ struct SplatStream {
 struct OccluderInput {
     std::span<const Vec4f> positions;
     std::span<const std::array<uint32_t, 3>> triangles;
+    size_t one_sided = 0;  // the leading triangles that close solids (OccluderPass::set_mesh)
 };
 // What the GPU passes read each frame, kept by its owner and filled before FrameGraph::execute:
 // three resources to the graph, one per kind of writer (the camera and style: the events and

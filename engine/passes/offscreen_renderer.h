@@ -25,9 +25,10 @@ public:
                         std::span<const splat::GaussianSH> sh = {});
     // The surface mesh for the next render()s' occluders (a renderer created with
     // options.occluders, frames with SplatStyle::mesh_occluders); the spans must outlive them.
-    void set_occluders(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles) {
+    void set_occluders(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles, size_t one_sided = 0) {
         input_.occluders.positions = positions;
         input_.occluders.triangles = triangles;
+        input_.occluders.one_sided = one_sided;
     }
     // Where a textured model's texture lies on each record of the next render()s (a renderer
     // created with options.textures; one per record, or none); the span must outlive them.

@@ -1,5 +1,6 @@
 #include "render/occluder_pass.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "core/assert.h"
@@ -56,10 +57,15 @@ core::Result<OccluderPass> OccluderPass::create(gpu::Context& ctx, uint32_t widt
     auto pipeline = gpu::create_graphics_pipeline(ctx, desc);
     if (!pipeline.ok()) return pipeline.error();
     o.pipeline_ = std::move(pipeline).value();
+    desc.cull = VK_CULL_MODE_BACK_BIT;
+    auto one_sided = gpu::create_graphics_pipeline(ctx, desc);
+    if (!one_sided.ok()) return one_sided.error();
+    o.one_sided_ = std::move(one_sided).value();
     return o;
 }
 
-core::Status OccluderPass::set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles, uint32_t slot_index) {
+core::Status OccluderPass::set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles, uint32_t slot_index,
+                                    size_t one_sided) {
     PBDSPLAT_ASSERT(slot_index < slots_.size(), "OccluderPass: slot out of range; create it with one slot per frame in flight");
     Slot& slot = slots_[slot_index];
     PBDSPLAT_TRY(fit(*ctx_, slot.vertices, positions.size_bytes(), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT));
@@ -67,6 +73,7 @@ core::Status OccluderPass::set_mesh(std::span<const Vec4f> positions, std::span<
     if (!positions.empty()) std::memcpy(slot.vertices.mapped(), positions.data(), positions.size_bytes());
     if (!triangles.empty()) std::memcpy(slot.indices.mapped(), triangles.data(), triangles.size_bytes());
     slot.index_count = uint32_t(triangles.size() * 3);
+    slot.one_sided_indices = uint32_t(std::min(one_sided, triangles.size()) * 3);
     return core::Status::success();
 }
 
@@ -83,13 +90,20 @@ void OccluderPass::record(VkCommandBuffer cmd, const Camera& c, float push_back,
     const gpu::ColorTarget target{image_.view(), VK_ATTACHMENT_LOAD_OP_CLEAR, {}};
     gpu::begin_rendering(cmd, extent_, target, {depth, VK_ATTACHMENT_LOAD_OP_LOAD, VK_ATTACHMENT_STORE_OP_STORE});
     if (slot.index_count > 0) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
-        vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);
         const VkDeviceSize offset = 0;
         const VkBuffer vb = slot.vertices.handle();
         vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
         vkCmdBindIndexBuffer(cmd, slot.indices.handle(), 0, VK_INDEX_TYPE_UINT32);
-        vkCmdDrawIndexed(cmd, slot.index_count, 1, 0, 0, 0);
+        // Both pipelines share the layout, so the push constants bound once hold for both.
+        vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);
+        if (slot.one_sided_indices > 0) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, one_sided_.get());
+            vkCmdDrawIndexed(cmd, slot.one_sided_indices, 1, 0, 0, 0);
+        }
+        if (slot.index_count > slot.one_sided_indices) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
+            vkCmdDrawIndexed(cmd, slot.index_count - slot.one_sided_indices, 1, slot.one_sided_indices, 0, 0);
+        }
     }
     vkCmdEndRendering(cmd);
 }

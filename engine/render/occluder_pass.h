@@ -35,8 +35,12 @@ public:
     OccluderPass() = default;
 
     // Copies the mesh into `slot`'s host-visible buffers (grown as a cut adds vertices); call
-    // while no frame using that slot is in flight.
-    core::Status set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles, uint32_t slot);
+    // while no frame using that slot is in flight. The first `one_sided` triangles close solids,
+    // wound out of them, whose inside never shows: drawn front faces only (a closed body's back
+    // faces lie behind its front ones at every pixel, so only the work and the gaps where a cut
+    // face meets its shell differ); the rest both sides (an open body's inside occludes too).
+    core::Status set_mesh(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles, uint32_t slot,
+                          size_t one_sided = 0);
     // Draws `slot`'s mesh into `depth` (loaded and stored, in attachment layout) and the distance
     // image (cleared); `push`: how far depth is pushed back, world units.
     void record(VkCommandBuffer cmd, const Camera& camera, float push, VkImageView depth, uint32_t slot) const;
@@ -51,12 +55,13 @@ private:
     struct Slot {
         gpu::Buffer vertices, indices;
         uint32_t index_count = 0;
+        uint32_t one_sided_indices = 0;  // the leading indices drawn front faces only
     };
     std::vector<Slot> slots_;
     gpu::Image image_;
     gpu::SampledImageSet sampled_;
     gpu::PipelineLayout layout_;
-    gpu::Pipeline pipeline_;
+    gpu::Pipeline pipeline_, one_sided_;
     VkExtent2D extent_{};
 };
 

@@ -359,9 +359,9 @@ void SplatRenderer::draw_over_occluders(const FrameInputs& inputs, uint32_t coun
     timers_[slot].mark(cmd_, "over occluders", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
 
-core::Status SplatRenderer::set_occluders(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles) {
+core::Status SplatRenderer::set_occluders(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles, size_t one_sided) {
     PBDSPLAT_ASSERT(has_occluders(), "SplatRenderer::set_occluders: create the renderer with options.occluders");
-    return occluders_.set_mesh(positions, triangles, frames_.slot());
+    return occluders_.set_mesh(positions, triangles, frames_.slot(), one_sided);
 }
 
 void SplatRenderer::draw_occluders(const FrameInputs& inputs) {

@@ -143,7 +143,8 @@ public:
     // Mesh occluders (options.occluders): the surface mesh for this frame's slot, then its pass
     // (and the ground after it), between draw() and accumulate(); records nothing unless the
     // style asks for them.
-    core::Status set_occluders(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles);
+    // (`one_sided`: the leading triangles that close solids, OccluderPass::set_mesh.)
+    core::Status set_occluders(std::span<const Vec4f> positions, std::span<const std::array<uint32_t, 3>> triangles, size_t one_sided = 0);
     void draw_occluders(const FrameInputs& inputs);
     // The paper's disc against the occluders, after draw_occluders(); records nothing for other
     // styles (draw() drew them).

@@ -14,6 +14,7 @@
 #include "scene/stages/paint.h"
 #include "scene/stages/pass_group.h"
 #include "scene/stages/simulation_stage.h"
+#include "scene/stages/solid_pieces.h"
 #include "scene/stages/surface_stage.h"
 #include "scene/stages/write_check.h"
 
@@ -185,21 +186,25 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
             passes::OccluderInput& in = r.write(input);
             // A cut face hides what lies behind it as the shell does.
             const splat::CutFaces* faces = cut_faces_on ? &r.read(cut_faces) : nullptr;
-            if (fine || (faces && faces->faces() > 0)) {
-                OccluderMesh& m = r.write(mesh);
-                if (fine) {
-                    deformed_fine_surface(bd, *fine, r.write(embedding), m.x, m.triangles, &m.whole);
-                } else {
-                    m.x = bd.particles.x;
-                    m.triangles = bd.triangles;
-                }
-                if (faces) faces->append_surface(bd.particles.x, m.x, m.triangles);
-                in.positions = m.x;
-                in.triangles = m.triangles;
-            } else {
+            if (const Solids solids = which_solid(bd, faces); !fine && !(faces && faces->faces() > 0) && solids != Solids::some) {
+                // The body's own triangles as they are (not copied): all solid or none.
                 in.positions = bd.particles.x;
                 in.triangles = bd.triangles;
+                in.one_sided = solids == Solids::all ? bd.triangles.size() : 0;
+                return;
             }
+            OccluderMesh& m = r.write(mesh);
+            if (fine) {
+                deformed_fine_surface(bd, *fine, r.write(embedding), m.x, m.triangles, &m.whole);
+            } else {
+                m.x = bd.particles.x;
+                m.triangles = bd.triangles;
+            }
+            const SolidOrder order = order_solids_first(bd, faces, m.triangles, fine ? &*r.write(embedding) : nullptr);
+            if (faces) faces->append_surface(bd.particles.x, m.x, m.triangles);
+            in.positions = m.x;
+            in.triangles = m.triangles;
+            in.one_sided = order.one_sided(m.triangles.size());
         };
     }, tag(PassGroup::update));
     h.board.put(keys::occluder_input, input);

@@ -106,7 +106,8 @@ std::vector<render::MeshTexture> reference_textures(TriangleLooks& looks, std::s
 core::Status sample_coverage(SceneRuntime& rt, const Scene& scene, const CheckOptions& o, double rest_area, CheckSample& s) {
     std::vector<Vec4f> x;
     std::vector<mesh::Triangle> triangles;
-    rt.deformed_surface(x, triangles);
+    SolidOrder order;
+    rt.deformed_surface(x, triangles, &order);
     s.area_ratio = rest_area > 0.0 ? area_of(x, triangles) / rest_area : -1.0;
     // The mesh drawn against the splats closes the pieces with the cut faces, as the splats do.
     std::span<const Vec3f> colors = rt.surface_colors();
@@ -126,7 +127,8 @@ core::Status sample_coverage(SceneRuntime& rt, const Scene& scene, const CheckOp
     const passes::SplatTexturing texturing{rt.texcoords(),
                                            std::span(textures).first(std::min<size_t>(textures.size(), SPLAT_MAX_TEXTURES))};
     auto c = passes::measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height, scene.material.color, rt.shapes(),
-                                      colors, textures.empty() ? nullptr : &reference, rt.texcoords().empty() ? nullptr : &texturing);
+                                      colors, textures.empty() ? nullptr : &reference, rt.texcoords().empty() ? nullptr : &texturing,
+                                      order.one_sided(triangles.size()));
     if (!c.ok()) return core::make_error("frame " + std::to_string(s.frame) + ": " + c.error().to_string());
     s.hole_ratio = c->hole_ratio;
     s.thin_ratio = c->thin_ratio;

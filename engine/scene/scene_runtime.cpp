@@ -167,13 +167,14 @@ TriangleLooks SceneRuntime::triangle_looks(std::span<const mesh::Triangle> trian
     return paint_triangles(paint_, fine_->positions, model, triangles);
 }
 
-void SceneRuntime::deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles) {
+void SceneRuntime::deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, SolidOrder* one_sided) {
     if (!fine_) {
         x = body_.particles.x;
         triangles = body_.triangles;
-        return;
+    } else {
+        deformed_fine_surface(body_, *fine_, fine_vertices_, x, triangles);
     }
-    deformed_fine_surface(body_, *fine_, fine_vertices_, x, triangles);
+    if (one_sided) *one_sided = order_solids_first(body_, &cut_faces_, triangles, fine_ ? &*fine_vertices_ : nullptr);
 }
 
 core::Status SceneRuntime::step() {

@@ -27,6 +27,7 @@
 #include "render/mesh_raster.h"
 #include "splat/sort.h"
 #include "scene/stages/paint.h"
+#include "scene/stages/solid_pieces.h"
 #include "surface/boundary_particles.h"
 #include "surface/density.h"
 #include "surface/embedding.h"
@@ -119,7 +120,10 @@ public:
     // by the simulation mesh (its vertices embedded like the samples), or the simulation mesh
     // itself. Triangles that a cut or tear tore across (corners on different pieces, or an
     // edge stretched past 3x) are left out. For coverage against a mesh raster.
-    void deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles);
+    // With `one_sided`, the triangles are ordered as the mesh occluders draw them, and it gets
+    // the leading triangles they draw front faces only once the cut faces are appended
+    // (scene/stages/solid_pieces.h), so a check's splat image is the runtime's.
+    void deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, SolidOrder* one_sided = nullptr);
     // The faces cuts made, as drawn (splat/cut_faces.h): their triangles appended to `triangles`
     // on corners of their own appended to `x`, and with `colors`, each corner's colour. Nothing
     // before a cut.

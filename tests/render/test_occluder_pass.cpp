@@ -115,6 +115,35 @@ TEST_SUITE("render/occluder_pass") {
         test::require_no_validation_messages(*ctx);
     }
 
+    TEST_CASE("one-sided occluders: a solid's front faces draw as both sides do; faces wound away hide nothing") {
+        // The near plate's two triangles first, drawn front faces only (as a solid's surface is).
+        Plates s;
+        render::FrameInputs frame = s.frame;
+        frame.style.mesh_occluders = true;
+        auto ctx = test::open_validated_context();
+        const auto draw = [&](const Plates& p, size_t one_sided) {
+            auto c = passes::measure_coverage(*ctx, p.x, p.triangles, p.records, frame, Plates::k_size, Plates::k_size, std::nullopt, {}, {},
+                                              nullptr, nullptr, one_sided);
+            REQUIRE_MESSAGE(c.ok(), test::why(c));
+            return std::move(c).value();
+        };
+        const passes::Coverage both = draw(s, 0), front = draw(s, 2);
+        auto diff = core::compare_images(front.splats, both.splats, 0);
+        REQUIRE(diff.ok());
+        CHECK(diff->share_over == 0.0);  // the plate faces the eye: the same pixels
+        // Wound the other way, the near plate is culled: its splats, half a unit in front of the
+        // surface the occluders then show (the far plate), are cut, and the far plate shows.
+        Plates turned = s;
+        for (size_t k = 0; k < 2; ++k) std::swap(turned.triangles[k][1], turned.triangles[k][2]);
+        const BandCount inside_both = count_band(both.splats, -60, -10), inside_turned = count_band(draw(turned, 2).splats, -60, -10);
+        MESSAGE("inside the near plate: both sides " << inside_both.red << " red, turned away " << inside_turned.red << " red / "
+                                                     << inside_turned.blue << " blue");
+        CHECK(inside_both.red > 1000);  // 60 rows x 51 columns, all red
+        CHECK(inside_turned.red == 0);
+        CHECK(inside_turned.blue > 1000);
+        test::require_no_validation_messages(*ctx);
+    }
+
     TEST_CASE("mesh occluders draw the same on every splat path") {
         // Each path computes its carrier corners' depths on the surfel's plane in its own stage
         // (geometry, mesh, vertex); the accumulation compares them with the mesh's.
