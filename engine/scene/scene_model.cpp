@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <limits>
 
 #include "asset/mesh_spec.h"
 #include "mesh/reorder.h"
@@ -159,6 +160,28 @@ void warn_crossing_models(const Scene& scene, const sim::SoftBody& b) {
                      scene.name.c_str(), name(o.a).c_str(), name(o.b).c_str(), o.pairs);
 }
 
+// A model placed partly below the ground plane is pushed out of it on the first step, and leaps.
+void warn_below_ground(const Scene& scene, const sim::SoftBody& b) {
+    const std::optional<sim::GroundPlane>& ground = scene.simulation.colliders.ground;
+    if (!ground || b.particle_count() == 0) return;
+    const size_t models = scene.bodies.size() + 1;
+    std::vector<float> lowest(models, std::numeric_limits<float>::infinity());
+    std::vector<Eigen::AlignedBox3f> box(models);
+    for (size_t i = 0; i < b.particle_count(); ++i) {
+        const uint32_t m = i < b.model_of_particle.size() ? std::min<uint32_t>(b.model_of_particle[i], uint32_t(models - 1)) : 0u;
+        const Vec3f x = sim::xyz(b.particles.x[i]);
+        lowest[m] = std::min(lowest[m], ground->normal.dot(x) - ground->offset);
+        box[m].extend(x);
+    }
+    for (size_t m = 0; m < models; ++m) {
+        // Deeper than a thousandth of the model's size: not the rounding of a model set on the ground.
+        if (box[m].isEmpty() || !(lowest[m] < -1e-3f * box[m].diagonal().norm())) continue;
+        const std::string what = m == 0 ? "[model] (" + scene.model.mesh + ")" : "bodies[" + std::to_string(m - 1) + "] (" + scene.bodies[m - 1].model.mesh + ")";
+        std::fprintf(stderr, "warning: scene '%s': %s starts %.3g below the ground plane; the ground pushes it out on the first step and it leaps: raise it\n",
+                     scene.name.c_str(), what.c_str(), double(-lowest[m]));
+    }
+}
+
 core::Status pin_particles(const Scene& scene, sim::SoftBody& b) {
     const SimulationDesc& s = scene.simulation;
     for (uint32_t pin : s.pins) {
@@ -202,6 +225,7 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     sim::SoftBody b = std::move(body).value();
     place_bodies(scene, out.part_start, b);
     warn_crossing_models(scene, b);
+    warn_below_ground(scene, b);
     // A model's parts that touch at rest (a teapot's spout on its body) hold together: within an
     // edge of each other, the decimated surfaces' vertices no longer coincide where they met.
     if (scene.simulation.weld_parts) sim::weld_touching_parts(b, sim::mean_rest_edge(b));

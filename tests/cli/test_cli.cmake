@@ -273,16 +273,21 @@ foreach(scene IN LISTS all_shipped)
   list(APPEND shipped "${scene}")
 endforeach()
 expect("validate-scene scenes/" 0 validate-scene ${shipped})
-# No shipped scene places two models into each other (contact would keep them so)...
+# No shipped scene places two models into each other (contact would keep them so) or below its ground...
 string(FIND "${last_err}" "placed into each other" crossing_at)
-if(NOT crossing_at EQUAL -1)
-  record_failure("validate-scene scenes/: a shipped scene places two models into each other:\n${last_err}")
+string(FIND "${last_err}" "below the ground plane" below_at)
+if(NOT crossing_at EQUAL -1 OR NOT below_at EQUAL -1)
+  record_failure("validate-scene scenes/: a shipped scene places a model badly:\n${last_err}")
 endif()
 # ... and one that does is told so, naming both.
 file(WRITE "${WORK_DIR}/into_each_other.toml" "[model]\nmesh = \"icosphere:2\"\n[[bodies]]\nmesh = \"box:4\"\nscale = 0.8\ntranslate = [0.5, 0.1, 0.0]\n")
 expect("validate-scene into_each_other" 0 validate-scene "${WORK_DIR}/into_each_other.toml")
 expect_contains("validate-scene into_each_other" "${last_err}" "[model] (icosphere:2) and bodies[0] (box:4) are placed into each other")
-# ... and each renders its first frame offscreen, small, under validation.
+# ... and so is one placed partly below its ground plane (pushed out at once, it would leap).
+file(WRITE "${WORK_DIR}/below_ground.toml" "[model]\nmesh = \"icosphere:2\"\ntranslate = [0, -0.8, 0]\n[simulation]\ncolliders = [{ type = \"plane\", normal = [0, 1, 0], offset = -1.0 }]\n")
+expect("validate-scene below_ground" 0 validate-scene "${WORK_DIR}/below_ground.toml")
+expect_contains("validate-scene below_ground" "${last_err}" "[model] (icosphere:2) starts 0.8 below the ground plane")
+# Each shipped scene renders its first frame offscreen, small, under validation.
 foreach(scene IN LISTS shipped)
   get_filename_component(stem "${scene}" NAME_WE)
   expect("render ${stem}, first frame" 0 render "${scene}" --frames 1 --width 160 --height 90 --out "out/first_${stem}.png" --validation)
