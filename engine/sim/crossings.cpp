@@ -58,6 +58,9 @@ private:
     static constexpr int k_span = 16;
     template <class Fn>
     bool cells(const Eigen::AlignedBox3d& b, const Fn& fn) const {
+        // Far out (past int's reach in cells) a box is wide.
+        constexpr double k_reach = 1e9;
+        if (!((b.min().array() / cell_).abs() < k_reach).all() || !((b.max().array() / cell_).abs() < k_reach).all()) return false;
         const Eigen::Array3i lo = (b.min().array() / cell_).floor().cast<int>(), hi = (b.max().array() / cell_).floor().cast<int>();
         if (!((hi - lo) < k_span).all()) return false;
         for (int z = lo.z(); z <= hi.z(); ++z)
@@ -86,13 +89,22 @@ void scan_crossings(const SoftBody& body, const CornersOf& corners, const Consid
         if (tri[0] < n && tri[1] < n && tri[2] < n && body.piece_of_particle[tri[0]] != k_no_piece) live.push_back(t);
     }
     if (live.size() < 2) return;
-    std::vector<Eigen::AlignedBox3d> box(live.size());
+    // A triangle with a corner not finite (a body blown up) crosses nothing; left in, its box
+    // would meet every other.
+    std::vector<Eigen::AlignedBox3d> box;
+    box.reserve(live.size());
     double edges = 0.0;
-    for (size_t k = 0; k < live.size(); ++k) {
-        const Corners c = corners(body.triangles[live[k]]);
-        box[k].extend(c[0]).extend(c[1]).extend(c[2]);
+    size_t kept = 0;
+    for (const uint32_t t : live) {
+        const Corners c = corners(body.triangles[t]);
+        if (!c[0].allFinite() || !c[1].allFinite() || !c[2].allFinite()) continue;
+        live[kept++] = t;
+        box.emplace_back(c[0]);
+        box.back().extend(c[1]).extend(c[2]);
         edges += (c[1] - c[0]).norm();
     }
+    live.resize(kept);
+    if (live.size() < 2) return;
     const BoxGrid grid(box, std::max(edges / double(live.size()), 1e-9));
     std::vector<uint32_t> seen(live.size(), UINT32_MAX);
     const auto shares_a_place = [&](const mesh::Triangle& s, const mesh::Triangle& t) {

@@ -5,6 +5,8 @@
 #include "sim/sim_fixtures.h"
 #include "topology/cut.h"
 
+#include <limits>
+
 using namespace pbdsplat;
 using test::move_piece;
 
@@ -75,5 +77,18 @@ TEST_SUITE("sim/crossings") {
         // Parts of one model (a lid in its pot) are its own business.
         into.model_of_particle.assign(into.particle_count(), 0);
         CHECK(sim::models_crossing_at_rest(into).empty());
+    }
+
+    TEST_CASE("a body blown up (a particle not finite, one far out) is measured without it") {
+        sim::SoftBody b = test::make_body(mesh::icosphere(2, 1.0f));
+        b.particles.x[0] = sim::to4(Vec3f(std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f));
+        // The rest of the ball crosses nothing (its triangles through the lost corner are left out).
+        CHECK(sim::surface_crossings(b).pairs == 0);
+        // A corner far out (past int's reach in grid cells) makes its triangles wide, tested
+        // against every other rather than cast out of range.
+        b.particles.x[1] = sim::to4(Vec3f(1e30f, 0.0f, 0.0f));
+        const sim::Crossings c = sim::surface_crossings(b);
+        CHECK(c.ratio >= 0.0);
+        CHECK(c.ratio < 0.5);  // its fan's few triangles and what they pass at most
     }
 }
