@@ -81,8 +81,8 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
                                         const ReferenceTextures* textures = nullptr, const SplatTexturing* texturing = nullptr,
                                         size_t one_sided = 0);
 // `one_sided`: the leading triangles the splats' mesh occluders draw front faces only, as the
-// runtime does (render/occluder_pass.h). `colors`, when given (one per vertex of x, linear), is the model's own look: the lit mesh is
-// drawn in it, as its splats are, instead of in `albedo`. `textures`, when given, draws a
+// runtime does (render/occluder_pass.h). `colors`, when given (one per vertex of x, linear), is
+// the model's own look: the lit mesh is drawn in it, as its splats are, instead of in `albedo`. `textures`, when given, draws a
 // textured model's look as its file does: each pixel samples the texture (colors then unused).
 
 } // namespace pbdsplat::passes

@@ -186,7 +186,8 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
             passes::OccluderInput& in = r.write(input);
             // A cut face hides what lies behind it as the shell does.
             const splat::CutFaces* faces = cut_faces_on ? &r.read(cut_faces) : nullptr;
-            if (const Solids solids = which_solid(bd, faces); !fine && !(faces && faces->faces() > 0) && solids != Solids::some) {
+            const std::vector<uint8_t> solid = solid_pieces(bd, faces);
+            if (const Solids solids = which_solid(solid); !fine && !(faces && faces->faces() > 0) && solids != Solids::some) {
                 // The body's own triangles as they are (not copied): all solid or none.
                 in.positions = bd.particles.x;
                 in.triangles = bd.triangles;
@@ -200,7 +201,7 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
                 m.x = bd.particles.x;
                 m.triangles = bd.triangles;
             }
-            const SolidOrder order = order_solids_first(bd, faces, m.triangles, fine ? &*r.write(embedding) : nullptr);
+            const SolidOrder order = order_solids_first(bd, solid, m.triangles, fine ? &*r.write(embedding) : nullptr);
             if (faces) faces->append_surface(bd.particles.x, m.x, m.triangles);
             in.positions = m.x;
             in.triangles = m.triangles;

@@ -150,11 +150,14 @@ void place_bodies(const Scene& scene, const std::vector<uint32_t>& part_start, s
 
 // Two models placed into each other stay so (contact leaves alone what lay inside another at
 // load, which is how a model's own parts are made): said, since it is almost always a slip.
+// A model as a scene file names it (model 0: [model], k: bodies[k - 1]), with its mesh.
+std::string model_name(const Scene& scene, size_t m) {
+    return m == 0 ? "[model] (" + scene.model.mesh + ")" : "bodies[" + std::to_string(m - 1) + "] (" + scene.bodies[m - 1].model.mesh + ")";
+}
+
 void warn_crossing_models(const Scene& scene, const sim::SoftBody& b) {
     if (scene.bodies.empty()) return;
-    const auto name = [&](uint32_t m) {
-        return m == 0 ? "[model] (" + scene.model.mesh + ")" : "bodies[" + std::to_string(m - 1) + "] (" + scene.bodies[m - 1].model.mesh + ")";
-    };
+    const auto name = [&](uint32_t m) { return model_name(scene, m); };
     for (const sim::ModelOverlap& o : sim::models_crossing_at_rest(b))
         std::fprintf(stderr, "warning: scene '%s': %s and %s are placed into each other (%zu triangle pairs cross); contact keeps them so: move them apart\n",
                      scene.name.c_str(), name(o.a).c_str(), name(o.b).c_str(), o.pairs);
@@ -176,9 +179,8 @@ void warn_below_ground(const Scene& scene, const sim::SoftBody& b) {
     for (size_t m = 0; m < models; ++m) {
         // Deeper than a thousandth of the model's size: not the rounding of a model set on the ground.
         if (box[m].isEmpty() || !(lowest[m] < -1e-3f * box[m].diagonal().norm())) continue;
-        const std::string what = m == 0 ? "[model] (" + scene.model.mesh + ")" : "bodies[" + std::to_string(m - 1) + "] (" + scene.bodies[m - 1].model.mesh + ")";
         std::fprintf(stderr, "warning: scene '%s': %s starts %.3g below the ground plane; the ground pushes it out on the first step and it leaps: raise it\n",
-                     scene.name.c_str(), what.c_str(), double(-lowest[m]));
+                     scene.name.c_str(), model_name(scene, m).c_str(), double(-lowest[m]));
     }
 }
 

@@ -174,7 +174,7 @@ void SceneRuntime::deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Tri
     } else {
         deformed_fine_surface(body_, *fine_, fine_vertices_, x, triangles);
     }
-    if (one_sided) *one_sided = order_solids_first(body_, &cut_faces_, triangles, fine_ ? &*fine_vertices_ : nullptr);
+    if (one_sided) *one_sided = order_solids_first(body_, solid_pieces(body_, &cut_faces_), triangles, fine_ ? &*fine_vertices_ : nullptr);
 }
 
 core::Status SceneRuntime::step() {

@@ -12,16 +12,16 @@ using namespace pbdsplat;
 TEST_SUITE("scene/solid_pieces") {
     TEST_CASE("a sealed ball is solid; leaking, or cut with no face drawn over its cut, it is not") {
         sim::SoftBody b = test::make_body(mesh::icosphere(3, 0.5f));
-        CHECK(scene::which_solid(b, nullptr) == scene::Solids::all);
+        CHECK(scene::which_solid(scene::solid_pieces(b, nullptr)) == scene::Solids::all);
         b.volumes[0].leak = 0.5f;
-        CHECK(scene::which_solid(b, nullptr) == scene::Solids::none);
+        CHECK(scene::which_solid(scene::solid_pieces(b, nullptr)) == scene::Solids::none);
         sim::SoftBody cut = test::make_body(mesh::icosphere(3, 0.5f));
         auto plane = topology::plane_cut(Vec3f(0.0f, 0.1f, 0.0f), Vec3f(0.3f, 1.0f, 0.0f).normalized());
         REQUIRE(plane.ok());
         REQUIRE(topology::cut(cut, plane.value()).ok());
         REQUIRE(cut.pieces == 2);
         // Each half has a cap loop; no cut face is drawn over it, so its inside shows.
-        CHECK(scene::which_solid(cut, nullptr) == scene::Solids::none);
+        CHECK(scene::which_solid(scene::solid_pieces(cut, nullptr)) == scene::Solids::none);
     }
 
     TEST_CASE("with a solid piece and an open one, the solid's triangles come first, the set unchanged") {
@@ -29,9 +29,9 @@ TEST_SUITE("scene/solid_pieces") {
         const uint32_t open_piece = b.piece_of_particle[b.extreme_particle(0, true)];
         for (sim::VolumeConstraint& v : b.volumes)
             if (v.piece == open_piece) v.leak = 0.5f;
-        REQUIRE(scene::which_solid(b, nullptr) == scene::Solids::some);
+        REQUIRE(scene::which_solid(scene::solid_pieces(b, nullptr)) == scene::Solids::some);
         std::vector<mesh::Triangle> triangles = b.triangles;
-        const scene::SolidOrder order = scene::order_solids_first(b, nullptr, triangles, nullptr);
+        const scene::SolidOrder order = scene::order_solids_first(b, scene::solid_pieces(b, nullptr), triangles, nullptr);
         CHECK_FALSE(order.all);
         const size_t solid_count = size_t(std::count_if(b.triangles.begin(), b.triangles.end(),
                                                         [&](const mesh::Triangle& t) { return b.piece_of_particle[t[0]] != open_piece; }));
@@ -44,7 +44,7 @@ TEST_SUITE("scene/solid_pieces") {
         // Both sealed: all of it one-sided, faces included, nothing moved.
         for (sim::VolumeConstraint& v : b.volumes) v.leak = 0.0f;
         std::vector<mesh::Triangle> again = b.triangles;
-        const scene::SolidOrder all = scene::order_solids_first(b, nullptr, again, nullptr);
+        const scene::SolidOrder all = scene::order_solids_first(b, scene::solid_pieces(b, nullptr), again, nullptr);
         CHECK(all.all);
         CHECK(all.one_sided(again.size() + 10) == again.size() + 10);
         CHECK(again == b.triangles);

@@ -16,24 +16,16 @@ std::vector<uint8_t> solid_pieces(const sim::SoftBody& body, const splat::CutFac
     return solid;
 }
 
-namespace {
-
-size_t count_solid(const std::vector<uint8_t>& solid) { return size_t(std::count(solid.begin(), solid.end(), uint8_t(1))); }
-
-} // namespace
-
-Solids which_solid(const sim::SoftBody& body, const splat::CutFaces* faces) {
-    const std::vector<uint8_t> solid = solid_pieces(body, faces);
-    const size_t n = count_solid(solid);
+Solids which_solid(const std::vector<uint8_t>& solid) {
+    const size_t n = size_t(std::count(solid.begin(), solid.end(), uint8_t(1)));
     return n == 0 ? Solids::none : n < solid.size() ? Solids::some : Solids::all;
 }
 
-SolidOrder order_solids_first(const sim::SoftBody& body, const splat::CutFaces* faces, std::vector<mesh::Triangle>& triangles,
+SolidOrder order_solids_first(const sim::SoftBody& body, const std::vector<uint8_t>& solid, std::vector<mesh::Triangle>& triangles,
                               const surface::BoundaryParticles* fine_vertices) {
-    const std::vector<uint8_t> solid = solid_pieces(body, faces);
-    const size_t solids = count_solid(solid);
-    if (solids == 0) return {};
-    if (solids == solid.size()) return {true, triangles.size()};
+    const Solids kind = which_solid(solid);
+    if (kind == Solids::none) return {};
+    if (kind == Solids::all) return {true, triangles.size()};
     // A fine triangle's piece is that of the body triangle its first corner rides on.
     const auto piece_of = [&](const mesh::Triangle& t) {
         const uint32_t i = fine_vertices ? body.triangles[fine_vertices->triangle[t[0]]][0] : t[0];

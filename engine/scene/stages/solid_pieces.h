@@ -28,10 +28,11 @@ struct SolidOrder {
     size_t leading = 0;  // else the leading triangles that are
     size_t one_sided(size_t total) const { return all ? total : leading; }
 };
-SolidOrder order_solids_first(const sim::SoftBody& body, const splat::CutFaces* faces, std::vector<mesh::Triangle>& triangles,
+// `solid`: solid_pieces' answer.
+SolidOrder order_solids_first(const sim::SoftBody& body, const std::vector<uint8_t>& solid, std::vector<mesh::Triangle>& triangles,
                               const surface::BoundaryParticles* fine_vertices);
 // Whether no piece, some or all are solid (order_solids_first moves triangles only for some).
 enum class Solids { none, some, all };
-Solids which_solid(const sim::SoftBody& body, const splat::CutFaces* faces);
+Solids which_solid(const std::vector<uint8_t>& solid);
 
 } // namespace pbdsplat::scene
