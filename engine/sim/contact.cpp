@@ -642,6 +642,18 @@ void ContactSolverT<Real>::build_grid(const SoftBodyT<Real>& body) {
         if (left_out(g)) continue;
         if (cell_range(group_box_[g], lo, hi)) each_cell(lo, hi, [&](uint32_t key) { cell_particles_[cursor_[key]++] = g; });
     }
+    // Without self-contact a patch meets nothing of its own piece, and most entries of the cells
+    // it reads are its own surface's. A cell's entries run in group order, which is piece order
+    // (patches are sorted by piece), so each entry notes where its piece's run ends: a patch
+    // passes its own piece's run in one step, and a cell of one piece whole.
+    entry_piece_.resize(cell_particles_.size());
+    run_end_.resize(cell_particles_.size());
+    for (uint32_t k = 0; k < table_; ++k) {
+        const uint32_t begin = cell_start_[k], end = cell_start_[k + 1];
+        for (uint32_t e = begin; e < end; ++e) entry_piece_[e] = patch_piece_[cell_particles_[e]];
+        for (uint32_t e = end; e-- > begin;)
+            run_end_[e] = e + 1 < end && entry_piece_[e + 1] == entry_piece_[e] ? run_end_[e + 1] : e + 1;
+    }
 }
 
 template <class Real>
@@ -687,8 +699,15 @@ void ContactSolverT<Real>::search_patches(const SoftBodyT<Real>& body, uint32_t 
         };
         Eigen::Vector3i lo, hi;
         if (!brute_force_ && cell_range(particle_box_[A], lo, hi)) {
+            const uint32_t own = self_ ? k_no_piece : patch_piece_[A];
             each_cell(lo, hi, [&](uint32_t key) {
-                for (uint32_t e = cell_start_[key]; e < cell_start_[key + 1]; ++e) visit(cell_particles_[e]);
+                for (uint32_t e = cell_start_[key], end = cell_start_[key + 1]; e < end;) {
+                    if (entry_piece_[e] == own) {
+                        e = run_end_[e];
+                        continue;
+                    }
+                    visit(cell_particles_[e++]);
+                }
             });
         } else {
             for (uint32_t B = 0; B < groups; ++B)

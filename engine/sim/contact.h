@@ -247,6 +247,7 @@ private:
     std::vector<Eigen::AlignedBox3f> triangle_box_;  // swept, per entry of group_triangles_
     std::vector<uint32_t> group_start_, group_triangles_, big_groups_;
     std::vector<uint32_t> cell_start_, cell_particles_;
+    std::vector<uint32_t> entry_piece_, run_end_;  // per entry of cell_particles_: its group's piece, where that piece's run ends
     std::vector<uint32_t> kept_;    // per particle: its candidates so far
     std::vector<uint32_t> slot_;    // per particle, k_max_candidates: their places in contacts_
     std::vector<float> slot_key_;   // and their distances
