@@ -230,7 +230,8 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     warn_below_ground(scene, b);
     // A model's parts that touch at rest (a teapot's spout on its body) hold together: within an
     // edge of each other, the decimated surfaces' vertices no longer coincide where they met.
-    if (scene.simulation.weld_parts) sim::weld_touching_parts(b, sim::mean_rest_edge(b));
+    // Welded parts are one object to shape matching too (sim/shape.h).
+    if (scene.simulation.weld_parts && sim::weld_touching_parts(b, sim::mean_rest_edge_of_models(b)) > 0) sim::rebuild_shape_clusters(b);
     if (!out.paint.empty()) paint_particles(out.paint, b);
     PBDSPLAT_TRY(pin_particles(scene, b));
     out.body = std::move(b);

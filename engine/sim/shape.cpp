@@ -7,14 +7,43 @@
 
 namespace pbdsplat::sim {
 
+namespace {
+
+// The welds' components joined: each component's cluster, numbered from 0 in order.
+uint32_t join_welded(std::vector<uint32_t>& comp_of_vertex, uint32_t components, std::span<const std::pair<uint32_t, uint32_t>> welds) {
+    std::vector<uint32_t> root(components);
+    for (uint32_t c = 0; c < components; ++c) root[c] = c;
+    const auto find = [&](uint32_t c) {
+        while (root[c] != c) c = root[c] = root[root[c]];
+        return c;
+    };
+    for (const auto& [i, j] : welds) {
+        if (i >= comp_of_vertex.size() || j >= comp_of_vertex.size()) continue;
+        const uint32_t a = comp_of_vertex[i], b = comp_of_vertex[j];
+        if (a == UINT32_MAX || b == UINT32_MAX) continue;
+        const uint32_t ra = find(a), rb = find(b);
+        if (ra != rb) root[std::max(ra, rb)] = std::min(ra, rb);
+    }
+    std::vector<uint32_t> number(components, UINT32_MAX);
+    uint32_t clusters = 0;
+    for (uint32_t c = 0; c < components; ++c)
+        if (find(c) == c) number[c] = clusters++;
+    for (uint32_t& c : comp_of_vertex)
+        if (c != UINT32_MAX) c = number[find(c)];
+    return clusters;
+}
+
+} // namespace
+
 std::vector<ShapeCluster> build_shape_clusters(std::span<const mesh::Triangle> triangles, std::span<const Vec3f> rest,
-                                               std::span<const float> w) {
+                                               std::span<const float> w, std::span<const std::pair<uint32_t, uint32_t>> welds) {
     std::vector<uint32_t> comp;
-    const uint32_t n = mesh::vertex_components(triangles, rest.size(), comp);
-    std::vector<ShapeCluster> out(n);
+    uint32_t n = mesh::vertex_components(triangles, rest.size(), comp);
     std::vector<uint32_t> comp_of_vertex(rest.size(), UINT32_MAX);
     for (size_t t = 0; t < triangles.size(); ++t)
         for (uint32_t v : triangles[t]) comp_of_vertex[v] = comp[t];
+    if (!welds.empty()) n = join_welded(comp_of_vertex, n, welds);
+    std::vector<ShapeCluster> out(n);
     float heaviest = 0.0f;
     for (float wi : w)
         if (wi > 0.0f) heaviest = std::max(heaviest, 1.0f / wi);

@@ -8,6 +8,7 @@
 // positions. Balloons that must wrinkle and deflate leave it off (stiffness 0).
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/math.h"
@@ -24,9 +25,14 @@ struct ShapeCluster {
     bool fresh = true;  // no fit yet: the first one starts from a full polar decomposition
 };
 
-// One cluster per connected component of `triangles` (through shared vertices).
+// One cluster per connected component of `triangles` (through shared vertices), components
+// joined by a weld (a pair of particles: a teapot's spout, handle and lid held to its body) in
+// one cluster: a model of welded parts keeps its shape as the one object it is, where a cluster
+// per part let a spout bend down at its weld ring like a hinge and a lid pressed from above sink
+// into its pot.
 std::vector<ShapeCluster> build_shape_clusters(std::span<const mesh::Triangle> triangles, std::span<const Vec3f> rest,
-                                               std::span<const float> inverse_mass);
+                                               std::span<const float> inverse_mass,
+                                               std::span<const std::pair<uint32_t, uint32_t>> welds = {});
 
 // PBD: every free particle moves `stiffness` of the way to its goal (rotated rest + centre).
 // XPBD (`alpha_tilde` = compliance / dt^2 >= 0): the step is w / (w + alpha_tilde) of the gap.

@@ -80,7 +80,11 @@ void rebuild_shape_clusters(SoftBodyT<Real>& b) {
     if (!b.shape_matching) return;
     std::vector<float> w(b.particles.w.size());
     for (size_t i = 0; i < w.size(); ++i) w[i] = float(b.particles.w[i]);
-    b.shapes = build_shape_clusters(b.triangles, b.rest_positions, w);
+    std::vector<std::pair<uint32_t, uint32_t>> welds;
+    welds.reserve(b.welds.size());
+    for (const DistanceConstraint& c : b.welds)
+        if (c.alive()) welds.emplace_back(c.i, c.j);
+    b.shapes = build_shape_clusters(b.triangles, b.rest_positions, w, welds);
 }
 template void rebuild_shape_clusters<float>(SoftBodyT<float>&);
 template void rebuild_shape_clusters<double>(SoftBodyT<double>&);

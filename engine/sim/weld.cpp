@@ -10,9 +10,35 @@
 namespace pbdsplat::sim {
 
 size_t weld_touching_parts(SoftBody& b, float reach) {
-    const size_t n = b.particle_count();
-    if (!(reach > 0.0f) || b.part_of_particle.size() != n) return 0;
+    const size_t models = b.model_of_particle.empty() ? 1 : size_t(*std::max_element(b.model_of_particle.begin(), b.model_of_particle.end())) + 1;
+    const std::vector<float> same(models, reach);
+    return weld_touching_parts(b, same);
+}
+
+std::vector<float> mean_rest_edge_of_models(const SoftBody& b) {
     auto model = [&](size_t i) { return i < b.model_of_particle.size() ? b.model_of_particle[i] : 0u; };
+    std::vector<double> sum;
+    std::vector<size_t> count;
+    for (const DistanceConstraint& d : b.distance) {
+        if (!d.alive()) continue;
+        const uint32_t m = model(d.i);
+        if (m >= sum.size()) sum.resize(m + 1, 0.0), count.resize(m + 1, 0);
+        sum[m] += double(d.rest), ++count[m];
+    }
+    std::vector<float> out(sum.size(), 0.0f);
+    for (size_t m = 0; m < out.size(); ++m)
+        if (count[m]) out[m] = float(sum[m] / double(count[m]));
+    return out;
+}
+
+size_t weld_touching_parts(SoftBody& b, std::span<const float> reach_of_model) {
+    const size_t n = b.particle_count();
+    auto model = [&](size_t i) { return i < b.model_of_particle.size() ? b.model_of_particle[i] : 0u; };
+    const auto reach_of = [&](size_t i) { return model(i) < reach_of_model.size() ? reach_of_model[model(i)] : 0.0f; };
+    float reach = 0.0f;  // the grid's cell: the widest reach
+    for (float r : reach_of_model)
+        if (r > reach) reach = r;
+    if (!(reach > 0.0f) || !std::isfinite(reach) || b.part_of_particle.size() != n) return 0;
     auto cell = [&](const Vec3f& x) { return Eigen::Vector3i((x / reach).array().floor().cast<int>()); };
     auto key = [](const Eigen::Vector3i& c) {
         return (uint64_t(uint32_t(c.x()) & 0x1fffff) << 42) ^ (uint64_t(uint32_t(c.y()) & 0x1fffff) << 21) ^ uint64_t(uint32_t(c.z()) & 0x1fffff);
@@ -34,7 +60,7 @@ size_t weld_touching_parts(SoftBody& b, float reach) {
         if (!open_end[i]) continue;
         const Vec3f xi = xyz(b.particles.x[i]);
         const Eigen::Vector3i c = cell(xi);
-        float best = reach * reach;
+        float best = reach_of(i) * reach_of(i);
         uint32_t nearest = UINT32_MAX;
         for (int dx = -1; dx <= 1; ++dx)
             for (int dy = -1; dy <= 1; ++dy)

@@ -5,6 +5,8 @@
 // constraint between two particles of different parts, at their rest distance; welds are not
 // mesh edges, so cuts and tears leave them alone (a tear runs through the skin beside a weld).
 #include <cstddef>
+#include <span>
+#include <vector>
 
 #include "sim/soft_body.h"
 
@@ -16,6 +18,13 @@ namespace pbdsplat::sim {
 // model's eyeballs in their sockets) are not welded: held to a balloon head that deflates and
 // re-inflates, suzanne's eyes tore its surface apart (volume error 9, measured). Returns how many.
 size_t weld_touching_parts(SoftBody& body, float reach);
+// The same with each model's own reach (`reach_of_model[m]` for model m): a scene's models
+// differ in size, and one mean edge over all of them (a small bunny's beside a teapot's) left
+// the larger model's lid unwelded.
+size_t weld_touching_parts(SoftBody& body, std::span<const float> reach_of_model);
+// Per model: the mean rest length of the live distance constraints within it (0 for a model
+// without any), the reach weld_touching_parts takes.
+std::vector<float> mean_rest_edge_of_models(const SoftBody& body);
 
 // Projects every weld once (PBD, `stiffness` of the error), one after another.
 template <class Real>

@@ -435,6 +435,20 @@ void follow_split(sim::SoftBody& b, Edit& e, const CutOptions& o, const Sides& s
     e.change.summed_whole = volumes.summed_whole;
 }
 
+// A weld the cut passes between (its two particles on either side, where the cut reaches) is
+// cut with it: a teapot cut in two is two objects, not one held across the cut by its lid's
+// welds. A tear's slit (a listed cut) leaves them: it runs through the skin beside a weld.
+void sever_crossed_welds(sim::SoftBody& b, const CutSurface& s) {
+    if (!s.particles.empty()) return;
+    std::erase_if(b.welds, [&](const sim::DistanceConstraint& w) {
+        if (!w.alive()) return false;
+        const Vec3f xi = sim::xyz(b.particles.x[w.i]), xj = sim::xyz(b.particles.x[w.j]);
+        const float di = s.distance(xi), dj = s.distance(xj);
+        if (!((di < 0.0f && dj > 0.0f) || (di > 0.0f && dj < 0.0f))) return false;
+        return s.reaches(xi + (xj - xi) * (di / (di - dj)));
+    });
+}
+
 } // namespace
 
 core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const CutOptions& o) {
@@ -481,6 +495,7 @@ core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const Cu
         return std::move(e.change);
     }
     follow_split(b, e, o, sides, lap);
+    sever_crossed_welds(b, s);
     lap("pieces and volumes");
     const core::Stopwatch rebuild;
     sim::rebuild_shape_clusters(b);

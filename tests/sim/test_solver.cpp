@@ -230,6 +230,66 @@ TEST_SUITE("sim/solver") {
         CHECK(run(sheet, false) < 0.0f);  // nothing holds it: it falls past the box's top
     }
 
+    TEST_CASE("welded parts are one shape-matching cluster: a ledge welded to a box's side does not hinge down") {
+        // A sheet a metre long standing out from a pinned box's +x face, its inner edge on the
+        // face (a spout on a pot): welded into the box's cluster it keeps level; in a cluster of
+        // its own, its welds are a hinge and it swings down to hang from them.
+        auto build = [] {
+            mesh::TriangleMesh m = mesh::box(Vec3f(1, 1, 1), 4);
+            mesh::append(m, mesh::grid_sheet(8, 1.0f), Eigen::Affine3f(Eigen::Translation3f(1.0f, 0.0f, 0.0f)));
+            sim::SoftBodyDesc d;
+            d.shape_matching = true;
+            sim::SoftBody b = test::make_body(std::move(m), d);
+            REQUIRE(b.pieces == 2);
+            REQUIRE(b.shapes.size() == 2);
+            for (uint32_t i = 0; i < b.particle_count(); ++i)
+                if (b.part_of_particle[i] == b.part_of_particle[b.extreme_particle(0, false)]) b.pin(i);
+            REQUIRE(sim::weld_touching_parts(b, sim::mean_rest_edge_of_models(b)) > 0);
+            return b;
+        };
+        auto drop = [](sim::SoftBody b) {
+            sim::SolverSettings s;
+            s.contact.enabled = false;
+            s.shape_stiffness = 0.9f;
+            sim::Solver solver;
+            for (int f = 0; f < 60; ++f) solver.step(b, 1.0f / 60.0f, s, {}, {});
+            const uint32_t tip = b.extreme_particle(0);
+            return -b.particles.x[tip].y();
+        };
+        sim::SoftBody joined = build();
+        sim::rebuild_shape_clusters(joined);
+        CHECK(joined.shapes.size() == 1);
+        sim::SoftBody apart = build();  // the clusters built before the welds: one per part
+        CHECK(apart.shapes.size() == 2);
+        const float joined_drop = drop(joined), apart_drop = drop(apart);
+        MESSAGE("the ledge's tip after 1 s: " << joined_drop << " m down welded into one cluster, " << apart_drop << " one cluster a part");
+        CHECK(joined_drop < 0.05f);
+        CHECK(apart_drop > 0.3f);  // measured 0.5: hanging
+    }
+
+    TEST_CASE("welds reach by each model's own edge: a small model beside does not leave a large one's parts unwelded") {
+        // A sheet on a box's top (one model, edges 0.25) and a fine ball far away (another model,
+        // edges about 0.02): one mean edge over both is the ball's, shorter than the sheet's gap
+        // to the box's vertices, and welds nothing.
+        mesh::TriangleMesh m = mesh::box(Vec3f(1, 1, 1), 4);
+        mesh::append(m, mesh::grid_sheet(3, 0.5f), Eigen::Affine3f(Eigen::Translation3f(0.02f, 0.52f, 0.03f)));
+        const size_t first_ball = m.positions.size();
+        mesh::append(m, mesh::icosphere(5, 0.15f), Eigen::Affine3f(Eigen::Translation3f(3.0f, 0.0f, 0.0f)));
+        sim::SoftBodyDesc d;
+        d.reorder = false;
+        sim::SoftBody b = test::make_body(std::move(m), d);
+        REQUIRE(b.pieces == 3);
+        b.model_of_particle.assign(b.particle_count(), 0);
+        for (size_t i = first_ball; i < b.particle_count(); ++i) b.model_of_particle[i] = 1;
+        const std::vector<float> reach = sim::mean_rest_edge_of_models(b);
+        REQUIRE(reach.size() == 2);
+        CHECK(reach[1] < 0.25f * reach[0]);
+        sim::SoftBody one_reach = b;
+        CHECK(sim::weld_touching_parts(one_reach, sim::mean_rest_edge(one_reach)) == 0);
+        CHECK(sim::weld_touching_parts(b, reach) > 0);
+        for (const sim::DistanceConstraint& w : b.welds) CHECK(b.model_of_particle[w.i] == 0);
+    }
+
     TEST_CASE("determinism: the same scene gives bit-identical state") {
         auto run_hash = [](float pressure) {
             auto b = test::make_body(mesh::icosphere(3));

@@ -12,6 +12,7 @@
 #include "sim/sim_fixtures.h"
 #include "sim/solver.h"
 #include "sim/state_hash.h"
+#include "sim/weld.h"
 #include "topology/cut.h"
 #include "topology/invariants.h"
 
@@ -49,6 +50,47 @@ void require_invariants(const sim::SoftBody& b) {
 } // namespace
 
 TEST_SUITE("topology/cut") {
+    TEST_CASE("a cut severs the welds it passes between, and welded parts it parts match as two objects") {
+        // A sheet welded onto a box's top (a lid on a pot), one shape cluster; a vertical plane
+        // through both leaves each half of the box with its half of the sheet.
+        mesh::TriangleMesh m = mesh::box(Vec3f(1, 1, 1), 4);
+        mesh::append(m, mesh::grid_sheet(4, 0.5f), Eigen::Affine3f(Eigen::Translation3f(0.0f, 0.5f, 0.0f)));
+        sim::SoftBodyDesc d;
+        d.shape_matching = true;
+        sim::SoftBody b = test::make_body(std::move(m), d);
+        const size_t welds = sim::weld_touching_parts(b, sim::mean_rest_edge_of_models(b));
+        REQUIRE(welds > 0);
+        sim::rebuild_shape_clusters(b);
+        REQUIRE(b.shapes.size() == 1);
+        const topology::CutSurface s = plane(Vec3f(0.07f, 0.0f, 0.0f), Vec3f(1.0f, 0.0f, 0.1f));
+        auto change = topology::cut(b, s);
+        REQUIRE_MESSAGE(change.ok(), test::why(change));
+        require_invariants(b);
+        CHECK(b.welds.size() < welds);
+        for (const sim::DistanceConstraint& w : b.welds) {
+            const float di = s.distance(b.particles.x[w.i].head<3>()), dj = s.distance(b.particles.x[w.j].head<3>());
+            CHECK(di * dj >= 0.0f);
+        }
+        CHECK(b.pieces == 4);
+        CHECK(b.shapes.size() == 2);
+    }
+
+    TEST_CASE("a listed cut (a tear's slit) leaves welds alone") {
+        // The same plane as above, as a cut limited to a list of particles (every one): what a
+        // tear opens runs through the skin beside a weld and leaves the weld.
+        mesh::TriangleMesh m = mesh::box(Vec3f(1, 1, 1), 4);
+        mesh::append(m, mesh::grid_sheet(4, 0.5f), Eigen::Affine3f(Eigen::Translation3f(0.0f, 0.5f, 0.0f)));
+        sim::SoftBody b = test::make_body(std::move(m));
+        const size_t welds = sim::weld_touching_parts(b, sim::mean_rest_edge_of_models(b));
+        REQUIRE(welds > 0);
+        topology::CutSurface s = plane(Vec3f(0.07f, 0.0f, 0.0f), Vec3f(1.0f, 0.0f, 0.1f));
+        for (uint32_t i = 0; i < b.particle_count(); ++i) s.particles.push_back(i);
+        auto change = topology::cut(b, s);
+        REQUIRE_MESSAGE(change.ok(), test::why(change));
+        CHECK(b.pieces == 4);
+        CHECK(b.welds.size() == welds);
+    }
+
     TEST_CASE("a plane cuts an icosphere in two capped halves whose volumes sum to the original") {
         sim::SoftBody b = test::make_body(mesh::icosphere(3));
         const double volume = total_volume(b), mass = total_mass(b);
