@@ -27,7 +27,7 @@ struct SoftBodyDesc {
     bool volume = true;            // one volume constraint per component
     float pressure = 1.0f;         // k of every volume constraint
     float volume_compliance = 0.0f;
-    bool shape_matching = false;   // one shape-matching cluster per connected piece
+    bool shape_matching = false;   // one shape-matching cluster per connected piece (and the parts welded to it)
     bool reorder = true;           // Morton-order particles for cache locality
 };
 

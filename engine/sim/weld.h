@@ -2,8 +2,9 @@
 // Welds: the parts of one model that touch at rest but share no vertex (a teapot's spout, handle
 // and lid lie on its body as separate surfaces) held together, so that a model a user loads
 // behaves as the one object it shows instead of shedding its parts. A weld is a distance
-// constraint between two particles of different parts, at their rest distance; welds are not
-// mesh edges, so cuts and tears leave them alone (a tear runs through the skin beside a weld).
+// constraint between two particles of different parts, at their rest distance, and welded parts
+// share one shape-matching cluster (sim/shape.h). Welds are not mesh edges: a cut severs those it
+// passes between (topology/cut.cpp), a tear runs through the skin beside them.
 #include <cstddef>
 #include <span>
 #include <vector>

@@ -263,7 +263,7 @@ TEST_SUITE("sim/solver") {
         CHECK(apart.shapes.size() == 2);
         const float joined_drop = drop(joined), apart_drop = drop(apart);
         MESSAGE("the ledge's tip after 1 s: " << joined_drop << " m down welded into one cluster, " << apart_drop << " one cluster a part");
-        CHECK(joined_drop < 0.05f);
+        CHECK(joined_drop < 0.05f);  // measured 0.0003: level
         CHECK(apart_drop > 0.3f);  // measured 0.5: hanging
     }
 
@@ -283,7 +283,7 @@ TEST_SUITE("sim/solver") {
         for (size_t i = first_ball; i < b.particle_count(); ++i) b.model_of_particle[i] = 1;
         const std::vector<float> reach = sim::mean_rest_edge_of_models(b);
         REQUIRE(reach.size() == 2);
-        CHECK(reach[1] < 0.25f * reach[0]);
+        CHECK(reach[1] < 0.25f * reach[0]);  // measured 0.02 of it
         sim::SoftBody one_reach = b;
         CHECK(sim::weld_touching_parts(one_reach, sim::mean_rest_edge(one_reach)) == 0);
         CHECK(sim::weld_touching_parts(b, reach) > 0);
