@@ -11,11 +11,15 @@ namespace {
 constexpr uint32_t k_splats_per_mesh_group = 32;  // SPLATS_PER_GROUP in splat.mesh
 }
 
-SplatPath best_splat_path(const gpu::DeviceCaps& caps) {
-    // Measured on Lavapipe (Mesa 25, 20k splats, 1280x720, docs/BENCHMARKS.md): the mesh
-    // shader's per-workgroup outputs cost about twice the geometry shader's whole pass, so a CPU
-    // device keeps the geometry shader; hardware takes the mesh shader.
+SplatPath best_splat_path(const gpu::DeviceCaps& caps, bool anisotropic) {
+    // Measured (1280x720, docs/BENCHMARKS.md "The renderer"): on Lavapipe the mesh shader's
+    // per-workgroup outputs cost about twice the geometry shader's whole pass, and vertex pulling
+    // a tenth more, captures too, so a CPU device keeps the geometry shader. On an NVIDIA H200 the
+    // three draw a scene's isotropic splats in the same time (20k: 0.82-0.84 ms), and the mesh
+    // shader takes them; a capture's anisotropic ones (1M) take 12.0 ms pulled, 17.0 through the
+    // geometry shader and 27.9 through the mesh shader, so hardware pulls those.
     if (caps.type == "cpu" && caps.geometry_shader) return SplatPath::geometry;
+    if (anisotropic) return SplatPath::vertex;
     if (caps.mesh_shader) return SplatPath::mesh;
     if (caps.geometry_shader) return SplatPath::geometry;
     return SplatPath::vertex;

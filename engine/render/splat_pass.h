@@ -22,9 +22,10 @@ inline constexpr core::EnumName<SplatPath> k_splat_path_names[] = {
     {SplatPath::geometry, "gs"}, {SplatPath::mesh, "mesh"}, {SplatPath::vertex, "vertex"}};
 inline constexpr core::EnumName<SplatCarrier> k_splat_carrier_names[] = {{SplatCarrier::quad, "quad"}, {SplatCarrier::octagon, "octagon"}};
 inline const char* splat_path_name(SplatPath p) { return core::name_of<SplatPath>(k_splat_path_names, p); }
-// The fastest path the device has, by measurement: on CPU devices the geometry shader, else
-// mesh, then geometry; vertex pulling where there is neither.
-SplatPath best_splat_path(const gpu::DeviceCaps& caps);
+// The fastest path the device has for these splats, by measurement: on CPU devices the geometry
+// shader; on hardware vertex pulling for anisotropic splats (captures), else mesh, then
+// geometry; vertex pulling where there is neither.
+SplatPath best_splat_path(const gpu::DeviceCaps& caps, bool anisotropic = false);
 // Why the device cannot run `path` (empty when it can).
 std::string splat_path_unsupported(const gpu::DeviceCaps& caps, SplatPath path);
 

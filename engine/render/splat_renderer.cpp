@@ -118,7 +118,7 @@ core::Status SplatRenderer::create_passes() {
         if (!occluders.ok()) return occluders.error();
         occluders_ = std::move(occluders).value();
     }
-    auto pass = SplatPass::create(ctx, k_color_format, k_depth_format, options.path.value_or(best_splat_path(ctx.caps())),
+    auto pass = SplatPass::create(ctx, k_color_format, k_depth_format, options.path.value_or(best_splat_path(ctx.caps(), options.anisotropic)),
                                   options.shading, options.carrier, options.anisotropic, options.sh_degree,
                                   options.normalised ? k_accumulation_format : VK_FORMAT_UNDEFINED,
                                   options.occluders ? occluders_.set_layout() : VK_NULL_HANDLE, options.textures);

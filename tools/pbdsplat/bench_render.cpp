@@ -140,7 +140,7 @@ Outcome measure_capture(const Options& opt) {
     const bool anisotropic = !gaussians->shapes.empty();
     Report report = device_report(caps);
     report.json().update({{"ply", file}, {"gaussians", count}, {"anisotropic", anisotropic}, {"sh_degree", degree},
-                          {"path", render::splat_path_name(options.path.value_or(render::best_splat_path(caps)))},
+                          {"path", render::splat_path_name(options.path.value_or(render::best_splat_path(caps, anisotropic)))},
                           {"sort", gpu_sort ? "gpu" : "cpu"}, {"width", width}, {"height", height}, {"repeat", repeat}, {"load_ms", load_ms},
                           {"median_ms", core::median(wall)}, {"draw_ms", core::median(draw)}, {"sort_ms", core::median(sort_ms)},
                           {"frame_wall_ms", core::median(wall)}});
