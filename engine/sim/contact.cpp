@@ -644,8 +644,8 @@ void ContactSolverT<Real>::build_grid(const SoftBodyT<Real>& body) {
     }
     // Without self-contact a patch meets nothing of its own piece, and most entries of the cells
     // it reads are its own surface's. A cell's entries run in group order, which is piece order
-    // (patches are sorted by piece), so each entry notes where its piece's run ends: a patch
-    // passes its own piece's run in one step, and a cell of one piece whole.
+    // for the patches (sorted by piece; the cut faces' groups follow), so each entry notes where
+    // its piece's run ends: a patch passes its own piece's run in one step.
     entry_piece_.resize(cell_particles_.size());
     run_end_.resize(cell_particles_.size());
     for (uint32_t k = 0; k < table_; ++k) {

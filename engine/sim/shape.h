@@ -28,8 +28,7 @@ struct ShapeCluster {
 // One cluster per connected component of `triangles` (through shared vertices), components
 // joined by a weld (a pair of particles: a teapot's spout, handle and lid held to its body) in
 // one cluster: a model of welded parts keeps its shape as the one object it is, where a cluster
-// per part let a spout bend down at its weld ring like a hinge and a lid pressed from above sink
-// into its pot.
+// per part let a spout swing down at its weld ring like a hinge.
 std::vector<ShapeCluster> build_shape_clusters(std::span<const mesh::Triangle> triangles, std::span<const Vec3f> rest,
                                                std::span<const float> inverse_mass,
                                                std::span<const std::pair<uint32_t, uint32_t>> welds = {});
