@@ -4,6 +4,7 @@
 
 #include "mesh/procedural.h"
 #include "sim/solver.h"
+#include "topology/cut.h"
 #include "support/why.h"
 
 namespace pbdsplat::test {
@@ -12,6 +13,16 @@ inline sim::SoftBody make_body(mesh::TriangleMesh m, sim::SoftBodyDesc desc = {}
     auto b = sim::make_soft_body(std::move(m), desc);
     REQUIRE_MESSAGE(b.ok(), test::why(b));
     return std::move(b).value();
+}
+
+// Cuts `b` by the plane through `point` with normal `normal` (need not be unit length) into two
+// pieces, or fails the test.
+inline void cut_in_two(sim::SoftBody& b, const Vec3f& point, const Vec3f& normal, const topology::CutOptions& options = {}) {
+    auto plane = topology::plane_cut(point, normal);
+    REQUIRE(plane.ok());
+    auto change = topology::cut(b, plane.value(), options);
+    REQUIRE_MESSAGE(change.ok(), test::why(change));
+    REQUIRE(b.pieces == 2);
 }
 
 inline Eigen::Affine3f moved_by(const Vec3f& t) {

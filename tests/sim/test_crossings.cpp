@@ -50,10 +50,7 @@ TEST_SUITE("sim/crossings") {
 
     TEST_CASE("the two sides of a cut, resting as cut, do not cross; pushed into each other they do") {
         sim::SoftBody b = test::make_body(mesh::icosphere(3, 0.5f));
-        auto plane = topology::plane_cut(Vec3f(0.0f, 0.1f, 0.0f), Vec3f(0.3f, 1.0f, 0.0f).normalized());
-        REQUIRE(plane.ok());
-        REQUIRE(topology::cut(b, plane.value()).ok());
-        REQUIRE(b.pieces == 2);
+        test::cut_in_two(b, Vec3f(0.0f, 0.1f, 0.0f), Vec3f(0.3f, 1.0f, 0.0f));
         CHECK(sim::surface_crossings(b).pairs == 0);
         // Two edges deep: the triangles along the rim (which share rest places with the other
         // side's) are left out, the next rings are not.

@@ -80,10 +80,7 @@ TEST_SUITE("sim/penetration") {
 
     TEST_CASE("the two halves of a cut sphere resting as cut do not count as inside each other") {
         sim::SoftBody b = test::make_body(mesh::icosphere(3, 0.5f));
-        auto plane = topology::plane_cut(Vec3f(0.0f, 0.1f, 0.0f), Vec3f(0.3f, 1.0f, 0.0f).normalized());
-        REQUIRE(plane.ok());
-        REQUIRE(topology::cut(b, plane.value()).ok());
-        REQUIRE(b.pieces == 2);
+        test::cut_in_two(b, Vec3f(0.0f, 0.1f, 0.0f), Vec3f(0.3f, 1.0f, 0.0f));
         // The seam's particles lie on the other half's cap: inside by rounding at most.
         CHECK(sim::deepest_penetration(b).depth < 1e-4f);
         // Moved 20 cm into the other half along the cut's normal, the top's particles lie inside
@@ -103,12 +100,9 @@ TEST_SUITE("sim/penetration") {
         // still to leak (the default scene's halves, one rolling onto the other).
         for (const topology::VolumePolicy policy : {topology::VolumePolicy::cap, topology::VolumePolicy::burst}) {
             sim::SoftBody b = test::make_body(mesh::icosphere(3, 0.5f));
-            auto plane = topology::plane_cut(Vec3f(0.0f, 0.1f, 0.0f), Vec3f(0.3f, 1.0f, 0.0f).normalized());
-            REQUIRE(plane.ok());
             topology::CutOptions o;
             o.volume = policy;
-            REQUIRE(topology::cut(b, plane.value(), o).ok());
-            REQUIRE(b.pieces == 2);
+            test::cut_in_two(b, Vec3f(0.0f, 0.1f, 0.0f), Vec3f(0.3f, 1.0f, 0.0f), o);
             move_piece(b, b.piece_of_particle[b.extreme_particle(1, true)], -0.2f * Vec3f(0.3f, 1.0f, 0.0f).normalized());
             const float depth = sim::deepest_penetration(b).depth;
             MESSAGE(topology::volume_policy_name(policy) << ": depth " << depth);
