@@ -209,7 +209,7 @@ void ContactSolverT<Real>::build_seam_pairs(const SoftBodyT<Real>& body) {
 }
 
 template <class Real>
-void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSettings& s) {
+void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSettings& s, bool rigid) {
     ParticlesT<Real>& p = body.particles;
     // Slid more than an edge apart along the faces, the two no longer bear on each other: the
     // faces' contact takes over.
@@ -220,6 +220,17 @@ void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSet
         const Vec3f nf = faces_[sp.face_b].normal - faces_[sp.face_a].normal;
         const float len = nf.norm();
         if (!(len > 1.0f)) continue;
+        if (rigid) {
+            if (const Sides sd = sides_of(sp.a, {sp.b, sp.b, sp.b}); sd.any()) {
+                const Vec3f nu = nf / len, d = pos3(p.x[sp.a]) - pos3(p.x[sp.b]);
+                const float C = d.dot(nu);
+                if (C < 0.0f && (d - C * nu).squaredNorm() <= reach2) {
+                    const float overlap = std::max(0.0f, -(pos3(p.x_prev[sp.a]) - pos3(p.x_prev[sp.b])).dot(nu));
+                    separate(p, s, sp.a, {sp.b, sp.b, sp.b}, {1.0f, 0.0f, 0.0f}, sd, nu, -C, std::min(overlap, -C));
+                }
+                continue;
+            }
+        }
         const Vec4<Real> n = to4<Real>(Vec3f(nf / len));
         const Vec4<Real> d = p.x[sp.a] - p.x[sp.b];
         const Real C = d.dot(n);
@@ -461,6 +472,8 @@ template <class Real>
 void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettings& s) {
     const ParticlesT<Real>& p = body.particles;
     const size_t n = p.size();
+    rigid_.map(body.shapes, p.w);
+    rigid_ready_ = false;
     // One piece without self-contact has nothing to meet (its own cap faces close it along its
     // rim), so a body alone pays for no search; its loops' faces are still made as they appear,
     // since a face keeps the shape it had then.
@@ -718,15 +731,104 @@ void ContactSolverT<Real>::search_patches(const SoftBodyT<Real>& body, uint32_t 
 }
 
 template <class Real>
-void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings& s) {
+void ContactSolverT<Real>::touch_clusters(const SoftBodyT<Real>& body) {
+    touch_.clear();
+    const auto touch = [&](Sides sd) {
+        if (sd.particle != RigidResponseT<Real>::k_none) touch_.push_back(sd.particle);
+        if (sd.surface != RigidResponseT<Real>::k_none) touch_.push_back(sd.surface);
+    };
+    for (const Contact& ct : contacts_) {
+        const Corners k = corners_of(body, ct.triangle);
+        touch(sides_of(ct.particle, {k.ia, k.ib, k.ic}));
+    }
+    for (const SeamPair& sp : seam_pairs_) touch(sides_of(sp.a, {sp.b, sp.b, sp.b}));
+}
+
+template <class Real>
+typename ContactSolverT<Real>::Sides ContactSolverT<Real>::sides_of(uint32_t i, const std::array<uint32_t, 3>& corners) const {
+    constexpr uint32_t none = RigidResponseT<Real>::k_none;
+    Sides sd{rigid_.cluster_of(i), rigid_.cluster_of(corners[0])};
+    if (rigid_.cluster_of(corners[1]) != sd.surface || rigid_.cluster_of(corners[2]) != sd.surface) sd.surface = none;
+    // Both in one cluster (a fold, two welded parts): a rigid answer would move both alike.
+    if (sd.particle == sd.surface) sd = Sides{};
+    return sd;
+}
+
+template <class Real>
+void ContactSolverT<Real>::separate(ParticlesT<Real>& p, const ContactSettings& s, uint32_t i, const std::array<uint32_t, 3>& k,
+                                    const std::array<float, 3>& u, Sides sd, const Vec3f& n, float depth, float overlap) {
+    constexpr uint32_t none = RigidResponseT<Real>::k_none;
+    const Vec3f xi = pos3(p.x[i]);
+    Vec3f q = Vec3f::Zero();
+    for (int j = 0; j < 3; ++j)
+        if (u[j] != 0.0f) q += u[j] * pos3(p.x[k[j]]);
+    const auto inverse_mass = [&](const Vec3f& dir) {
+        float w = sd.particle != none ? rigid_.inverse_mass(sd.particle, xi, dir) : float(p.w[i]);
+        if (sd.surface != none) return w + rigid_.inverse_mass(sd.surface, q, dir);
+        for (int j = 0; j < 3; ++j) w += u[j] * u[j] * float(p.w[k[j]]);
+        return w;
+    };
+    // `impulse` on the particle, its opposite on the surface point.
+    const auto move = [&](const Vec3f& impulse, bool vote, float settle) {
+        const Vec4<Real> j4 = to4<Real>(impulse), s4 = to4<Real>(settle * impulse);
+        if (sd.particle != none) rigid_.push(sd.particle, xi, impulse, vote, settle);
+        else p.x[i] += p.w[i] * j4, p.x_prev[i] += p.w[i] * s4;
+        if (sd.surface != none) rigid_.push(sd.surface, q, -impulse, vote, settle);
+        else
+            for (int j = 0; j < 3; ++j)
+                if (u[j] != 0.0f) p.x[k[j]] -= (p.w[k[j]] * Real(u[j])) * j4, p.x_prev[k[j]] -= (p.w[k[j]] * Real(u[j])) * s4;
+    };
+    const float denom = inverse_mass(n);
+    if (!(denom > 0.0f)) return;
+    move((depth / denom) * n, true, std::clamp(overlap / depth, 0.0f, 1.0f));
+    Vec3f rel = pos3(p.x[i]) - pos3(p.x_prev[i]);
+    for (int j = 0; j < 3; ++j)
+        if (u[j] != 0.0f) rel -= u[j] * (pos3(p.x[k[j]]) - pos3(p.x_prev[k[j]]));
+    const Vec3f tangential = rel - rel.dot(n) * n;
+    const float length = tangential.norm();
+    if (!(length > 0.0f)) return;
+    const Vec3f dir = tangential / length;
+    const float rub = friction_share(s.friction, length, depth) * length;
+    const float along = inverse_mass(dir);
+    if (!(rub > 0.0f && along > 0.0f)) return;
+    move((-rub / along) * dir, false, 0.0f);
+}
+
+template <class Real>
+void ContactSolverT<Real>::project_rigid(ParticlesT<Real>& p, const ContactSettings& s, const Contact& ct,
+                                         const std::array<uint32_t, 3>& k, Sides sd) {
+    const Vec3f xi = pos3(p.x[ct.particle]);
+    const Vec3f a = pos3(p.x[k[0]]), b = pos3(p.x[k[1]]), c = pos3(p.x[k[2]]);
+    const Vec3f nf = unit_normal(a, b, c);
+    if (nf.isZero() || ct.side * (xi - a).dot(nf) >= ct.thickness) return;
+    const Over o = over_triangle(xi, a, b, c, nf);
+    if (o.lateral > k_over * scale_.edge) return;  // as in project()
+    const float C = ct.side * o.height - ct.thickness;
+    if (C >= 0.0f) return;
+    // How far inside the thickness it lay when the substep began, over the triangle's plane then.
+    const Vec3f a0 = pos3(p.x_prev[k[0]]), n0 = unit_normal(a0, pos3(p.x_prev[k[1]]), pos3(p.x_prev[k[2]]));
+    const float overlap = n0.isZero() ? 0.0f : std::max(0.0f, ct.thickness - ct.side * (pos3(p.x_prev[ct.particle]) - a0).dot(n0));
+    separate(p, s, ct.particle, k, {o.wa, o.wb, o.wc}, sd, ct.side * nf, -C, std::min(overlap, -C));
+}
+
+template <class Real>
+void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings& s, bool stiff_bodies) {
     if (contacts_.empty() && seam_pairs_.empty()) return;
     ParticlesT<Real>& p = body.particles;
+    const bool rigid = stiff_bodies && rigid_.any();
+    if (rigid && !rigid_ready_) touch_clusters(body), rigid_.begin(body.shapes, p, touch_), rigid_ready_ = true;
     update_faces(p);
-    project_seams(body, s);
+    project_seams(body, s, rigid);
     for (const Contact& ct : contacts_) {
         const uint32_t i = ct.particle;
         const Corners ck = corners_of(body, ct.triangle);
         const uint32_t ia = ck.ia, ib = ck.ib, ic = ck.ic;
+        if (rigid) {
+            if (const Sides sd = sides_of(i, {ia, ib, ic}); sd.any()) {
+                project_rigid(p, s, ct, {ia, ib, ic}, sd);
+                continue;
+            }
+        }
         const Vec4<Real>& xa = p.x[ia];
 
         const Real wa = p.w[ia];
@@ -763,6 +865,7 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
         const Vec4<Real> tangential = rel - rel.dot(n) * n;
         apply((-friction_share(s.friction, tangential.norm(), depth) / denom) * tangential);
     }
+    if (rigid) rigid_.finish(body.shapes, p);
 }
 
 template float mean_rest_edge<float>(const SoftBodyT<float>&);

@@ -24,6 +24,7 @@
 
 #include "core/thread_pool.h"
 #include "sim/colliders.h"
+#include "sim/rigid_response.h"
 #include "sim/soft_body.h"
 
 namespace pbdsplat::sim {
@@ -109,8 +110,9 @@ class ContactSolverT {
 public:
     // After prediction (x_prev: the substep's start, x: predicted): the candidates of this substep.
     void find(const SoftBodyT<Real>& body, const ContactSettings& s);
-    // One Gauss-Seidel sweep over the candidates (call every iteration).
-    void project(SoftBodyT<Real>& body, const ContactSettings& s);
+    // One Gauss-Seidel sweep over the candidates (call every iteration). With `stiff_bodies`,
+    // a particle of a shape cluster answers with its whole cluster (sim/rigid_response.h).
+    void project(SoftBodyT<Real>& body, const ContactSettings& s, bool stiff_bodies = false);
 
     const std::vector<Contact>& contacts() const { return contacts_; }
     // Every patch against every triangle group instead of through the hash grid (the same pairs:
@@ -145,9 +147,28 @@ private:
         uint32_t face_a, face_b;  // their loops' faces
     };
     std::vector<SeamPair> seam_pairs_;
+    RigidResponseT<Real> rigid_;
+    std::vector<uint32_t> touch_;  // the clusters a substep's candidates move
+    bool rigid_ready_ = false;     // their frames taken this substep
+    void touch_clusters(const SoftBodyT<Real>& body);
+    // The clusters the two sides of a pair answer with (RigidResponse::k_none: each particle alone).
+    struct Sides {
+        uint32_t particle = RigidResponseT<Real>::k_none, surface = RigidResponseT<Real>::k_none;
+        bool any() const { return particle != RigidResponseT<Real>::k_none || surface != RigidResponseT<Real>::k_none; }
+    };
+    Sides sides_of(uint32_t i, const std::array<uint32_t, 3>& corners) const;
+    // Pushes particle i `depth` along the unit `n` off the point of weights `u` on `corners`, each
+    // side alone or with its cluster, then Coulomb friction on their relative motion since the
+    // substep began. Of the depth, `overlap` was there when the substep began (two sides a cut
+    // just made, lying on each other within the thickness): it is taken out of the start
+    // positions too. Pushed out as motion, it flung a cut bunny's hindquarters off at 2 m/s.
+    void separate(ParticlesT<Real>& p, const ContactSettings& s, uint32_t i, const std::array<uint32_t, 3>& corners,
+                  const std::array<float, 3>& u, Sides sides, const Vec3f& n, float depth, float overlap);
+    // A candidate of which a side answers with its cluster.
+    void project_rigid(ParticlesT<Real>& p, const ContactSettings& s, const Contact& ct, const std::array<uint32_t, 3>& corners, Sides sides);
     std::vector<uint8_t> on_rim_;  // per particle: on a loop of faces_
     void build_seam_pairs(const SoftBodyT<Real>& body);
-    void project_seams(SoftBodyT<Real>& body, const ContactSettings& s);
+    void project_seams(SoftBodyT<Real>& body, const ContactSettings& s, bool rigid);
     struct FaceTriangle {
         uint32_t face;
         uint32_t a, b, c;  // particles of its loop, wound as the loop (out of the piece)

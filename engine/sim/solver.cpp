@@ -159,7 +159,7 @@ void SolverT<Real>::find_contacts(SoftBodyT<Real>& body, const SolverSettings& s
 
 template <class Real>
 void SolverT<Real>::project_contacts(SoftBodyT<Real>& body, const SolverSettings& s) {
-    contact_.project(body, s.contact);
+    contact_.project(body, s.contact, s.shape_stiffness >= k_rigid_response_stiffness);
 }
 
 template <class Real>

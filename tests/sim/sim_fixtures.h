@@ -2,6 +2,9 @@
 // Small bodies and a frame loop shared by the sim suites.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "mesh/procedural.h"
 #include "sim/solver.h"
 #include "topology/cut.h"
@@ -44,6 +47,20 @@ inline sim::SoftBody two_boxes_at_rest(const Vec3f& second) {
     sim::SoftBody b = make_body(std::move(m));
     REQUIRE(b.pieces == 2);
     return b;
+}
+
+// The lowest and highest y of a piece's particles.
+inline float lowest_y(const sim::SoftBody& b, uint32_t piece) {
+    float y = INFINITY;
+    for (size_t i = 0; i < b.particle_count(); ++i)
+        if (b.piece_of_particle[i] == piece) y = std::min(y, b.particles.x[i].y());
+    return y;
+}
+inline float highest_y(const sim::SoftBody& b, uint32_t piece) {
+    float y = -INFINITY;
+    for (size_t i = 0; i < b.particle_count(); ++i)
+        if (b.piece_of_particle[i] == piece) y = std::max(y, b.particles.x[i].y());
+    return y;
 }
 
 inline double total_mass(const sim::SoftBody& b) {

@@ -36,18 +36,8 @@ sim::SoftBodyDesc shape_matched_desc() {
     return d;
 }
 
-float lowest_y(const sim::SoftBody& b, uint32_t piece) {
-    float y = INFINITY;
-    for (size_t i = 0; i < b.particle_count(); ++i)
-        if (b.piece_of_particle[i] == piece) y = std::min(y, b.particles.x[i].y());
-    return y;
-}
-float highest_y(const sim::SoftBody& b, uint32_t piece) {
-    float y = -INFINITY;
-    for (size_t i = 0; i < b.particle_count(); ++i)
-        if (b.piece_of_particle[i] == piece) y = std::max(y, b.particles.x[i].y());
-    return y;
-}
+using test::highest_y;
+using test::lowest_y;
 Vec3d momentum_of(const sim::SoftBody& b, uint32_t piece) {
     Vec3d p = Vec3d::Zero();
     for (size_t i = 0; i < b.particle_count(); ++i)
@@ -172,7 +162,7 @@ TEST_SUITE("sim/contact") {
         }
     }
 
-    TEST_CASE("two equal balls meeting head-on conserve momentum and do not pass through each other") {
+    TEST_CASE("two equal balls meeting head-on conserve momentum, stop and do not pass through each other") {
         mesh::TriangleMesh m = mesh::icosphere(2, 0.3f);
         mesh::append(m, mesh::icosphere(2, 0.3f), placed_at({1.0f, 0.0f, 0.0f}));
         sim::SoftBody b = separate_models(test::make_body(std::move(m), shape_matched_desc()));
@@ -182,6 +172,7 @@ TEST_SUITE("sim/contact") {
         sim::SolverSettings s = held_shape_settings();
         s.gravity = Vec3f::Zero();
         const Vec3d before = b.particles.linear_momentum();
+        const double left_before = momentum_of(b, left).x();
         float closest = INFINITY;
         sim::Solver solver;
         for (int f = 0; f < 60; ++f) {
@@ -198,7 +189,10 @@ TEST_SUITE("sim/contact") {
         MESSAGE("momentum before " << before.transpose() << ", after " << after.transpose() << "; closest gap " << closest);
         CHECK((after - before).norm() < 1e-3 * momentum_of(b, left).norm() + 1e-4);
         CHECK(closest > -0.05f);  // the surfaces never overlap by more than a fraction of an edge
-        CHECK(momentum_of(b, left).x() < 0.0);  // they bounced apart
+        // Contact has no restitution: stiff balls meeting as wholes stop against each other (a
+        // hundredth of the approach measured); neither goes on into the other.
+        MESSAGE("the left ball's momentum before " << left_before << ", after " << momentum_of(b, left).x());
+        CHECK(momentum_of(b, left).x() < 0.1 * left_before);  // measured 0.004 of 1.5
     }
 
     TEST_CASE("three stacked boxes come to rest without jitter") {
