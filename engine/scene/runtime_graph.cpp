@@ -12,6 +12,7 @@
 #include "scene/stages/fine_surface.h"
 #include "scene/stages/mapping_stage.h"
 #include "scene/stages/paint.h"
+#include "sim/approach.h"
 #include "scene/stages/pass_group.h"
 #include "scene/stages/simulation_stage.h"
 #include "scene/stages/solid_pieces.h"
@@ -120,8 +121,12 @@ void SceneRuntime::fingerprint_resources(const GraphAssembly& h) {
 
 uint32_t SceneRuntime::frame_substeps() const {
     const sim::SolverSettings& s = scene_.simulation.solver;
-    if (!s.contact.enabled || !solver_->contact().stacked()) return s.substeps;
-    return std::max(s.substeps, std::min(s.contact.substeps, k_max_sweeps / s.iterations));
+    if (!s.contact.enabled) return s.substeps;
+    uint32_t n = s.substeps;
+    if (solver_->contact().stacked()) n = std::max(n, std::min(s.contact.substeps, k_max_sweeps / s.iterations));
+    if (!sim::approach_steps(s)) return n;
+    const uint32_t most = std::min(sim::k_max_approach_substeps, k_max_sweeps / s.iterations);
+    return std::max(n, sim::approach_substeps(body_, scene_.simulation.dt, solver_->contact().scale().edge, most));
 }
 
 core::Status SceneRuntime::build_graph() {

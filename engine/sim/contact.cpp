@@ -212,7 +212,9 @@ template <class Real>
 void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSettings& s, bool rigid) {
     ParticlesT<Real>& p = body.particles;
     // Slid more than an edge apart along the faces, the two no longer bear on each other: the
-    // faces' contact takes over.
+    // faces' contact takes over. More than an edge behind each other, they did not pass through
+    // each other in a substep: the pieces parted and turned (two halves of a small ball rolling
+    // apart read 1.9 m deep, and the push flung them off at 68 m/s).
     const float reach2 = scale_.edge * scale_.edge;
     for (const SeamPair& sp : seam_pairs_) {
         // From b's face toward a's: the mean of b's outward normal and a's turned round. Faces
@@ -224,7 +226,7 @@ void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSet
             if (const Sides sd = sides_of(sp.a, {sp.b, sp.b, sp.b}); sd.any()) {
                 const Vec3f nu = nf / len, d = pos3(p.x[sp.a]) - pos3(p.x[sp.b]);
                 const float C = d.dot(nu);
-                if (C < 0.0f && (d - C * nu).squaredNorm() <= reach2) {
+                if (C < 0.0f && -C <= scale_.edge && (d - C * nu).squaredNorm() <= reach2) {
                     const float overlap = std::max(0.0f, -(pos3(p.x_prev[sp.a]) - pos3(p.x_prev[sp.b])).dot(nu));
                     separate(p, s, sp.a, {sp.b, sp.b, sp.b}, {1.0f, 0.0f, 0.0f}, sd, nu, -C, std::min(overlap, -C));
                 }
@@ -235,7 +237,7 @@ void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSet
         const Vec4<Real> d = p.x[sp.a] - p.x[sp.b];
         const Real C = d.dot(n);
         const Real w = p.w[sp.a] + p.w[sp.b];
-        if (C >= Real(0) || !(w > Real(0))) continue;
+        if (C >= Real(0) || !(w > Real(0)) || float(-C) > scale_.edge) continue;
         if (float((d - C * n).squaredNorm()) > reach2) continue;
         const Real depth = -C;
         const auto apply = [&](const Vec4<Real>& v) {

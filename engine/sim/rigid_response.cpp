@@ -75,7 +75,10 @@ void RigidResponseT<Real>::finish(const std::vector<ShapeCluster>& clusters, Par
         Frame& f = frame_[c];
         if (f.votes == 0) continue;
         const float mean = 1.0f / float(f.votes);
-        const Vec3f shift = mean * f.shift, turn = mean * f.turn, settle_shift = mean * f.settle_shift, settle_turn = mean * f.settle_turn;
+        // The turn is first order (x + turn x r): past a tenth of a radian it would stretch the
+        // cluster by over half a per cent a sweep, so a larger one is taken a tenth at a time.
+        const float turned = mean * f.turn.norm(), spin = turned > k_max_turn ? k_max_turn / turned : 1.0f;
+        const Vec3f shift = mean * f.shift, turn = spin * mean * f.turn, settle_shift = mean * f.settle_shift, settle_turn = spin * mean * f.settle_turn;
         const bool settle = !settle_shift.isZero() || !settle_turn.isZero();
         for (uint32_t i : clusters[c].particles) {
             const Vec3f r = p.x[i].template head<3>().template cast<float>() - f.centre;

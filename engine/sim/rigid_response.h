@@ -28,6 +28,8 @@ namespace pbdsplat::sim {
 // Shape matching at least this stiff makes a body answer contact as one. A softer body is
 // meant to give where it is pressed (a balloon, a soft toy), so its particles answer alone.
 inline constexpr float k_rigid_response_stiffness = 0.5f;
+// The most a cluster turns in one sweep, in radians (see finish()).
+inline constexpr float k_max_turn = 0.1f;
 
 template <class Real>
 class RigidResponseT {

@@ -9,6 +9,7 @@
 #include "sim/distance.h"
 #include "sim/drag.h"
 #include "sim/integrate.h"
+#include "sim/approach.h"
 #include "sim/shape.h"
 #include "sim/weld.h"
 #include "sim/volume.h"
@@ -202,6 +203,7 @@ StageTimings SolverT<Real>::step(SoftBodyT<Real>& body, float dt, const SolverSe
     // each other they sink in at one step a frame (sim/contact.h). A body alone pays nothing.
     SolverSettings s = settings;
     if (s.contact.enabled && contact_.stacked()) s.substeps = std::max(s.substeps, s.contact.substeps);
+    if (approach_steps(s)) s.substeps = std::max(s.substeps, approach_substeps(body, dt, contact_.scale().edge, k_max_approach_substeps));
     if (schedule_.empty() || schedule_iterations_ != s.iterations || schedule_substeps_ != s.substeps) {
         schedule_ = frame_schedule(s);
         schedule_iterations_ = s.iterations, schedule_substeps_ = s.substeps;

@@ -195,6 +195,38 @@ RADIUS
         CHECK(r.value().pull_stretch == 0.0);
     }
 
+    TEST_CASE("a stiff ball thrown at 25 m/s at a box on the ground stops at it: the frame steps finer as they close in") {
+        const char* text = R"(
+[model]
+mesh = "box:12"
+scale = 0.8
+translate = [0.0, -0.6, 0.0]
+
+[[bodies]]
+mesh = "icosphere:3"
+scale = 0.2
+translate = [-2.0, -0.1, 0.0]
+velocity = [25.0, 0.0, 0.0]
+
+[simulation]
+colliders = [{ type = "plane", normal = [0, 1, 0], offset = -1.0 }]
+)";
+        const auto deepest = [&](bool approach) {
+            auto s = scene::parse_scene(text, "throw.toml");
+            REQUIRE_MESSAGE(s.ok(), test::why(s));
+            s.value().simulation.solver.contact.approach = approach;
+            scene::CheckOptions o;
+            o.frames = 30;
+            o.every = 1;
+            auto r = scene::check_scene(s.value(), o);
+            REQUIRE_MESSAGE(r.ok(), test::why(r));
+            MESSAGE(std::string(approach ? "stepped as they close in" : "one step a frame") << ": deepest " << r.value().penetration_max << " h");
+            return r.value().penetration_max;
+        };
+        CHECK(deepest(true) < 0.5);   // measured 0
+        CHECK(deepest(false) > 1.0);  // measured 2.78 h: 0.42 m a step, past the face it met
+    }
+
     TEST_CASE("the default scene deflates and re-inflates on its timeline") {
         const scene::Scene sc = scene::default_scene();
         // The pressure the timeline re-inflates to: its last pressure event's.

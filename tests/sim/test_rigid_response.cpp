@@ -47,13 +47,25 @@ TEST_SUITE("sim/rigid_response") {
         const float w = r.inverse_mass(0, Vec3f(1, 0, 0), Vec3f::UnitY());
         CHECK(w == doctest::Approx(1.0 / 6.0 + 1.0 / 4.004).epsilon(1e-5));
         CHECK(r.inverse_mass(0, Vec3f::Zero(), Vec3f::UnitY()) == doctest::Approx(1.0 / 6.0));
-        r.push(0, Vec3f(1, 0, 0), Vec3f::UnitY(), true);
+        r.push(0, Vec3f(1, 0, 0), 0.1f * Vec3f::UnitY(), true);
         r.finish(s.clusters, s.p);
-        // The pushed point moves by w along the push; the far one by 1/6 - 1/4 (the turn).
-        CHECK(sim::xyz(s.p.x[0]).y() == doctest::Approx(w).epsilon(1e-5));
-        CHECK(sim::xyz(s.p.x[1]).y() == doctest::Approx(1.0 / 6.0 - 1.0 / 4.004).epsilon(1e-5));
-        CHECK(sim::xyz(s.p.x[4]).y() == doctest::Approx(1.0 / 6.0).epsilon(1e-5));
+        // The pushed point moves by 0.1 w along the push; the far one by 0.1 (1/6 - 1/4): the turn.
+        CHECK(sim::xyz(s.p.x[0]).y() == doctest::Approx(0.1 * w).epsilon(1e-5));
+        CHECK(sim::xyz(s.p.x[1]).y() == doctest::Approx(0.1 * (1.0 / 6.0 - 1.0 / 4.004)).epsilon(1e-5));
+        CHECK(sim::xyz(s.p.x[4]).y() == doctest::Approx(0.1 / 6.0).epsilon(1e-5));
         CHECK(s.p.x_prev[0] == sim::to4(Vec3f(1, 0, 0)));  // no settle share: the start stays
+    }
+
+    TEST_CASE("a push that would turn a cluster further than k_max_turn in one sweep turns it that far") {
+        Star s = star();
+        sim::RigidResponse r;
+        r.map(s.clusters, s.p.w);
+        const uint32_t touch[] = {0};
+        r.begin(s.clusters, s.p, touch);
+        r.push(0, Vec3f(1, 0, 0), 4.0f * Vec3f::UnitY(), true);  // a turn of 1 radian, first order
+        r.finish(s.clusters, s.p);
+        // The far point moves by the shift (4/6) less the clamped turn (k_max_turn).
+        CHECK(sim::xyz(s.p.x[1]).y() == doctest::Approx(4.0 / 6.0 - sim::k_max_turn).epsilon(1e-4));
     }
 
     TEST_CASE("a cluster moves by the mean of its pairs' answers; a settled share moves the start too") {
