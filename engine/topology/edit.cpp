@@ -214,24 +214,34 @@ void Edit::update_rings() {
 void Edit::redistribute_mass() {
     const std::vector<uint32_t>& region = region_;
     if (region.empty()) return;
+    // Each model's share apart: a stroke through a pinned table and the teapot on it must not
+    // hand the teapot's mass to the table's new particles (they came loose and jittered).
+    const bool models = b_.model_of_particle.size() == b_.particle_count();
+    const auto model = [&](uint32_t v) { return models ? b_.model_of_particle[v] : 0u; };
+    std::vector<uint32_t> ids;
+    for (uint32_t v : region) ids.push_back(model(v));
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
     // A third of each triangle's rest area, summed in triangle order (as a pass over the whole
     // list would), from the rings made again for the region.
     std::vector<float> area(region.size(), 0.0f);
-    double mass = 0.0;
-    for (size_t k = 0; k < region.size(); ++k) {
-        const uint32_t v = region[k];
-        if (v < n0_ && b_.particles.w[v] > 0.0f) mass += 1.0 / double(b_.particles.w[v]);
-        for (uint32_t t : b_.rings.triangles.of(v)) area[k] += area_of(b_.rest_positions, b_.triangles[t]) / 3.0f;
-    }
-    // Pinned particles (and their copies) stay pinned and take no share.
-    double total = 0.0;
     for (size_t k = 0; k < region.size(); ++k)
-        if (b_.particles.w[region[k]] > 0.0f) total += area[k];
-    for (size_t k = 0; k < region.size(); ++k) {
-        const uint32_t v = region[k];
-        if (b_.particles.w[v] == 0.0f) continue;
-        const double m = total > 0.0 ? mass * double(area[k]) / total : 0.0;
-        b_.particles.w[v] = m > 0.0 ? float(1.0 / m) : 0.0f;
+        for (uint32_t t : b_.rings.triangles.of(region[k])) area[k] += area_of(b_.rest_positions, b_.triangles[t]) / 3.0f;
+    for (uint32_t id : ids) {
+        double mass = 0.0, total = 0.0;
+        for (size_t k = 0; k < region.size(); ++k) {
+            const uint32_t v = region[k];
+            if (model(v) != id) continue;
+            if (v < n0_ && b_.particles.w[v] > 0.0f) mass += 1.0 / double(b_.particles.w[v]);
+            // Pinned particles (and their copies) stay pinned and take no share.
+            if (b_.particles.w[v] > 0.0f) total += area[k];
+        }
+        for (size_t k = 0; k < region.size(); ++k) {
+            const uint32_t v = region[k];
+            if (model(v) != id || b_.particles.w[v] == 0.0f) continue;
+            const double m = total > 0.0 ? mass * double(area[k]) / total : 0.0;
+            b_.particles.w[v] = m > 0.0 ? float(1.0 / m) : 0.0f;
+        }
     }
 }
 
