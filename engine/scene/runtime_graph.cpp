@@ -12,12 +12,12 @@
 #include "scene/stages/fine_surface.h"
 #include "scene/stages/mapping_stage.h"
 #include "scene/stages/paint.h"
-#include "sim/approach.h"
 #include "scene/stages/pass_group.h"
 #include "scene/stages/simulation_stage.h"
 #include "scene/stages/solid_pieces.h"
 #include "scene/stages/surface_stage.h"
 #include "scene/stages/write_check.h"
+#include "sim/approach.h"
 
 namespace pbdsplat::scene {
 

@@ -223,7 +223,7 @@ void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSet
         const float len = nf.norm();
         if (!(len > 1.0f)) continue;
         if (rigid) {
-            if (const Sides sd = sides_of(sp.a, {sp.b, sp.b, sp.b}); sd.any()) {
+            if (const Sides sd = pair_sides_[contacts_.size() + size_t(&sp - seam_pairs_.data())]; sd.any()) {
                 const Vec3f nu = nf / len, d = pos3(p.x[sp.a]) - pos3(p.x[sp.b]);
                 const float C = d.dot(nu);
                 if (C < 0.0f && -C <= scale_.edge && (d - C * nu).squaredNorm() <= reach2) {
@@ -735,7 +735,9 @@ void ContactSolverT<Real>::search_patches(const SoftBodyT<Real>& body, uint32_t 
 template <class Real>
 void ContactSolverT<Real>::touch_clusters(const SoftBodyT<Real>& body) {
     touch_.clear();
+    pair_sides_.clear();
     const auto touch = [&](Sides sd) {
+        pair_sides_.push_back(sd);
         if (sd.particle != RigidResponseT<Real>::k_none) touch_.push_back(sd.particle);
         if (sd.surface != RigidResponseT<Real>::k_none) touch_.push_back(sd.surface);
     };
@@ -826,7 +828,7 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
         const Corners ck = corners_of(body, ct.triangle);
         const uint32_t ia = ck.ia, ib = ck.ib, ic = ck.ic;
         if (rigid) {
-            if (const Sides sd = sides_of(i, {ia, ib, ic}); sd.any()) {
+            if (const Sides sd = pair_sides_[size_t(&ct - contacts_.data())]; sd.any()) {
                 project_rigid(p, s, ct, {ia, ib, ic}, sd);
                 continue;
             }

@@ -151,6 +151,7 @@ private:
     RigidResponseT<Real> rigid_;
     std::vector<uint32_t> touch_;  // the clusters a substep's candidates move
     bool rigid_ready_ = false;     // their frames taken this substep
+    // Per candidate, then per seam pair: the clusters its sides answer with, this substep.
     void touch_clusters(const SoftBodyT<Real>& body);
     // The clusters the two sides of a pair answer with (RigidResponse::k_none: each particle alone).
     struct Sides {
@@ -158,6 +159,7 @@ private:
         bool any() const { return particle != RigidResponseT<Real>::k_none || surface != RigidResponseT<Real>::k_none; }
     };
     Sides sides_of(uint32_t i, const std::array<uint32_t, 3>& corners) const;
+    std::vector<Sides> pair_sides_;
     // Pushes particle i `depth` along the unit `n` off the point of weights `u` on `corners`, each
     // side alone or with its cluster, then Coulomb friction on their relative motion since the
     // substep began. Of the depth, `overlap` was there when the substep began (two sides a cut

@@ -6,6 +6,12 @@ namespace pbdsplat::sim {
 
 template <class Real>
 void RigidResponseT<Real>::map(const std::vector<ShapeCluster>& clusters, std::span<const Real> inverse_mass) {
+    // Called every substep: a body without shape matching (a balloon) pays nothing.
+    if (clusters.empty()) {
+        of_.clear(), frame_.clear(), is_touched_.clear(), touched_.clear();
+        any_ = false;
+        return;
+    }
     of_.assign(inverse_mass.size(), k_none);
     frame_.assign(clusters.size(), Frame{});
     is_touched_.assign(clusters.size(), 0);

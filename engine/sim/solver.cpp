@@ -5,11 +5,11 @@
 
 #include "core/assert.h"
 #include "core/timer.h"
+#include "sim/approach.h"
 #include "sim/collision.h"
 #include "sim/distance.h"
 #include "sim/drag.h"
 #include "sim/integrate.h"
-#include "sim/approach.h"
 #include "sim/shape.h"
 #include "sim/weld.h"
 #include "sim/volume.h"
