@@ -17,12 +17,20 @@
 
 namespace pbdsplat::scene {
 
+// A model's scale: one factor, or one per axis (a box flattened into a table top). Applied in
+// the model's own axes, before its rotation.
+struct ModelScale {
+    Vec3f axes = Vec3f::Ones();
+    bool uniform() const { return axes.x() == axes.y() && axes.y() == axes.z(); }
+    bool operator==(const ModelScale&) const = default;
+};
+
 struct ModelDesc {
     std::string mesh = "icosphere:4";  // procedural spec or OBJ path (see asset/mesh_spec.h)
     float fit = 2.0f;                  // files: bounding-box diagonal after loading; 0 keeps
     Vec3f translate = Vec3f::Zero();
     Vec3f rotate_degrees = Vec3f::Zero();  // applied x, then y, then z
-    float scale = 1.0f;
+    ModelScale scale;
     bool close_holes = false;  // cap the model's open boundary loops (a balloon needs a closed surface)
 };
 

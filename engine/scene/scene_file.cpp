@@ -125,6 +125,19 @@ public:
             }
             return out;
         }
+        // One factor, or one per axis.
+        ModelScale scale(const std::string& key, const ModelScale& fallback, double lo, double hi) {
+            const toml::node* n = node(key);
+            if (!n) return fallback;
+            if (n->is_array()) {
+                if (n->as_array()->size() != 3)
+                    r_.fail(n->source(), "'" + where(key) + "' must be a number or an array of 3 numbers (one per axis)");
+                return ModelScale{vec<3>(key, fallback.axes, lo, hi)};
+            }
+            if (!n->as_integer() && !n->as_floating_point())
+                r_.fail(n->source(), "'" + where(key) + "' must be a number or an array of 3 numbers (one per axis)");
+            return ModelScale{Vec3f::Constant(real(key, 1.0f, lo, hi))};
+        }
         const toml::table* table(const std::string& key) {
             const toml::node* n = node(key);
             if (!n) return nullptr;
@@ -170,7 +183,8 @@ void read_keys(Reader::Table& t, D& d, std::span<const Key<D>> keys) {
                               [&](typename Key<D>::Count f) { f(d) = t.count(k.name, f(d), uint32_t(k.lo), uint32_t(k.hi)); },
                               [&](typename Key<D>::Flag f) { f(d) = t.flag(k.name, f(d)); },
                               [&](typename Key<D>::Vec3 f) { f(d) = t.vec<3>(k.name, f(d), k.lo, k.hi); },
-                              [&](typename Key<D>::Text f) { f(d) = t.text(k.name, f(d)); }},
+                              [&](typename Key<D>::Text f) { f(d) = t.text(k.name, f(d)); },
+                              [&](typename Key<D>::Scale f) { f(d) = t.scale(k.name, f(d), k.lo, k.hi); }},
                    k.at);
 }
 

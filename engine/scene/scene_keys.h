@@ -19,8 +19,9 @@ struct Key {
     using Flag = bool& (*)(D&);
     using Vec3 = Vec3f& (*)(D&);
     using Text = std::string& (*)(D&);
+    using Scale = ModelScale& (*)(D&);  // a number, or an array of 3
     const char* name;
-    std::variant<Real, Count, Flag, Vec3, Text> at;
+    std::variant<Real, Count, Flag, Vec3, Text, Scale> at;
     double lo = -1e6, hi = 1e6;
 };
 // `member` is an expression on `d`, the section's struct: KEY(SurfaceDesc, "eta", eta, 0.05, 4.0).

@@ -52,7 +52,7 @@ core::Result<Part> load_part(const ModelDesc& md, uint32_t target, const std::st
                         .toRotationMatrix();
     // The surface and the look it is painted from move together.
     const auto place = [&](std::vector<Vec3f>& positions) {
-        for (Vec3f& p : positions) p = r * (p * md.scale) + md.translate;
+        for (Vec3f& p : positions) p = r * p.cwiseProduct(md.scale.axes) + md.translate;
     };
     place(m.positions);
     Part out;

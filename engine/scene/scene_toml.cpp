@@ -54,7 +54,12 @@ void write_keys(std::ostream& o, const D& section, std::span<const Key<D>> keys,
         o << k.name << " = ";
         std::visit(Overloaded{[&](typename Key<D>::Real f) { o << num(f(d)); }, [&](typename Key<D>::Count f) { o << f(d); },
                               [&](typename Key<D>::Flag f) { o << (f(d) ? "true" : "false"); },
-                              [&](typename Key<D>::Vec3 f) { o << vec<3>(f(d)); }, [&](typename Key<D>::Text f) { o << toml_string(f(d)); }},
+                              [&](typename Key<D>::Vec3 f) { o << vec<3>(f(d)); }, [&](typename Key<D>::Text f) { o << toml_string(f(d)); },
+                              [&](typename Key<D>::Scale f) {
+                                  const ModelScale& s = f(d);
+                                  if (s.uniform()) o << num(s.axes.x());
+                                  else o << vec<3>(s.axes);
+                              }},
                    k.at);
         if (!separator) o << "\n";
     }

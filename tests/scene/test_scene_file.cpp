@@ -288,7 +288,7 @@ TEST_SUITE("scene/scene_file") {
         const scene::Scene& s = r.value();
         CHECK(s.name == "full");
         CHECK(s.model.mesh == "torus:32:16");
-        CHECK(s.model.scale == 0.5f);
+        CHECK(s.model.scale.axes == Vec3f::Constant(0.5f));
         CHECK(s.simulation.solver.mode == sim::SolverMode::xpbd);
         CHECK(s.simulation.solver.substeps == 4);
         CHECK(s.simulation.pins == std::vector<uint32_t>{0, 3});
@@ -576,7 +576,7 @@ color = [0.1, 0.2, 0.3]
 [[bodies]]
 mesh = "icosphere:2"
 translate = [3, 0, 0]
-scale = 0.5
+scale = [0.5, 0.25, 1.0]
 static = true
 particles = 0
 )";
@@ -593,7 +593,7 @@ particles = 0
             CHECK(sc->bodies[0].color->isApprox(Vec3f(0.1f, 0.2f, 0.3f)));
             CHECK_FALSE(sc->bodies[0].fixed);
             CHECK(sc->bodies[1].fixed);
-            CHECK(sc->bodies[1].model.scale == doctest::Approx(0.5));
+            CHECK(sc->bodies[1].model.scale.axes.isApprox(Vec3f(0.5f, 0.25f, 1.0f)));
             REQUIRE(sc->bodies[1].particles);
             CHECK(*sc->bodies[1].particles == 0);
         }
@@ -609,7 +609,16 @@ particles = 0
             CHECK(b.particles.x[i].y() > 0.99f);  // placed where its entry says (a unit ball raised by 2)
         }
         for (uint32_t i = start[2]; i < start[3]; ++i) CHECK(b.particles.w[i] == 0.0f);
+        // Scaled per axis in its own frame: the unit ball's diameters become 1, 0.5 and 2.
+        Vec3f lo = Vec3f::Constant(1e9f), hi = -lo;
+        for (uint32_t i = start[2]; i < start[3]; ++i) lo = lo.cwiseMin(b.particles.x[i].head<3>()), hi = hi.cwiseMax(b.particles.x[i].head<3>());
+        CHECK((hi - lo).isApprox(Vec3f(1.0f, 0.5f, 2.0f), 1e-4f));  // measured: the vertices lie on the unit sphere's axes
+        CHECK(((hi + lo) * 0.5f).isApprox(Vec3f(3, 0, 0), 1e-4f));
         for (uint32_t i = start[0]; i < start[1]; ++i) CHECK(b.particles.w[i] > 0.0f);
         CHECK_FALSE(scene::parse_scene("[[bodies]]\ntranslate = [0, 1, 0]\n", "nomesh.toml").ok());
+        const auto refusal = [](const char* t) { return scene::parse_scene(t, "bad.toml").error().to_string(); };
+        CHECK(refusal("[model]\nscale = [1, 2]\n").find("bad.toml:2:9: 'model.scale' must be a number or an array of 3 numbers") == 0);
+        CHECK(refusal("[model]\nscale = \"big\"\n").find("'model.scale' must be a number or an array of 3 numbers") != std::string::npos);
+        CHECK(refusal("[model]\nscale = [1, 0, 1]\n").find("'model.scale' element 0 is out of range") != std::string::npos);
     }
 }
