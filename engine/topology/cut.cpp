@@ -228,6 +228,42 @@ void keep_fragments(const sim::SoftBody& b, const CutSurface& cut, std::span<con
     }
 }
 
+// A cut can close off a few triangles where nothing snapped: a stroke across the rim of a
+// model's small part (a monkey's eye decimated to a few dozen triangles) parts a cap of three
+// from it, which flies off as a speck. Such a cap changes sides instead, its corners with it, so
+// the cut passes it by and it stays on the part. Only where every corner of the cap's side that
+// touches it changes too: an edge between a corner that changed and one that did not would be
+// crossed with both its ends on one side of the plane.
+void join_crossed_fragments(const sim::SoftBody& b, const CutSurface& cut, std::span<const float> d, std::span<int8_t> sign,
+                            const std::vector<uint32_t>& crossed, uint32_t min_fragment, float snap) {
+    const SideGraph graph(b, cut, d, sign, snap);
+    std::vector<SideGraph::Node> fragment, whole;
+    std::vector<uint32_t> corners;
+    std::unordered_set<uint64_t> large;  // (triangle, side) nodes known to lie in a large piece
+    for (uint32_t t : crossed)
+        for (int8_t s : {int8_t(-1), int8_t(1)}) {
+            if (!graph.has_side(t, s) || !graph.has_side(t, int8_t(-s))) continue;
+            if (large.contains(uint64_t(t) << 1 | uint64_t(s > 0))) continue;
+            if (!graph.reach({t, s}, min_fragment, true, fragment)) {
+                for (const auto& [u, side] : fragment) large.insert(uint64_t(u) << 1 | uint64_t(side > 0));
+                continue;
+            }
+            if (graph.reach({t, s}, min_fragment, false, whole)) continue;  // a small piece before the cut
+            corners.clear();
+            for (const auto& [u, side] : fragment)
+                for (uint32_t w : b.triangles[u])
+                    if (sign[w] == s && std::ranges::find(corners, w) == corners.end()) corners.push_back(w);
+            const bool closed = !corners.empty() && std::ranges::all_of(corners, [&](uint32_t w) {
+                for (uint32_t u : b.rings.triangles.of(w))
+                    for (uint32_t x : b.triangles[u])
+                        if (sign[x] == s && std::ranges::find(corners, x) == corners.end()) return false;
+                return true;
+            });
+            if (closed)
+                for (uint32_t w : corners) sign[w] = int8_t(-s);
+        }
+}
+
 // The vertices a cut moves onto itself: a byte per particle, and the list of those set.
 struct Snaps {
     std::vector<uint8_t>& flag;
@@ -315,7 +351,10 @@ void classify(const sim::SoftBody& b, const CutSurface& s, float snap, float ref
     for (uint32_t v : on_cut) sign[v] = 0;
     // A tear's slit (a listed cut) has its own rule: tear_once takes back a slit that leaves a
     // small piece and tries the next edge.
-    if (min_fragment > 0 && out.all) keep_fragments(b, s, d, sign, snapped.flag, on_cut, min_fragment, snap, k_fragment_child_share * min_corner_area);
+    if (min_fragment > 0 && out.all) {
+        keep_fragments(b, s, d, sign, snapped.flag, on_cut, min_fragment, snap, k_fragment_child_share * min_corner_area);
+        join_crossed_fragments(b, s, d, sign, out.crossed, min_fragment, snap);
+    }
     snaps.give_back(on_cut);
     std::erase_if(on_cut, [&](uint32_t v) { return sign[v] != 0; });
     if (on_plane) {

@@ -9,6 +9,7 @@
 #include "asset/mesh_spec.h"
 #include "asset/model_path.h"
 #include "mesh/procedural.h"
+#include "sim/pose.h"
 #include "sim/sim_fixtures.h"
 #include "sim/solver.h"
 #include "sim/state_hash.h"
@@ -378,11 +379,49 @@ TEST_SUITE("topology/cut") {
         auto change = topology::cut(b, above_row);
         REQUIRE(change.ok());
         require_invariants(b);
-        CHECK(change->components_after == 2);
-        // The ear keeps the strip the cut leaves below the row: its own triangle and a child of
-        // every triangle of the first row that the cut crosses beside it.
-        CHECK(piece_triangles(b, tip) >= 4);
+        // With its corners unsnapped the ear would keep a strip of four triangles below the row
+        // (its own and a child of each first-row triangle the cut crosses beside it): still a
+        // fleck, so the strip changes sides and the ear stays on the sheet.
+        CHECK(sim::smallest_piece_triangles(b) >= 8);
+        CHECK(piece_triangles(b, tip) == piece_triangles(b, far_corner));
         CHECK(piece_triangles(b, far_corner) >= std::ptrdiff_t(2 * cols * (rows - 1)));
+    }
+
+    TEST_CASE("a cut that would part a cap of a few triangles from a body passes it by; a larger cap comes off") {
+        // The plane across the edges around the highest vertex of icosphere:1, a third of the way
+        // down them (no snap reaches that far): the cap is the vertex's five or six triangles.
+        const mesh::TriangleMesh m = mesh::icosphere(1);
+        const auto at_depth = [&](const sim::SoftBody& b, float rings) {
+            uint32_t top = 0;
+            for (uint32_t i = 0; i < b.particle_count(); ++i)
+                if (b.particles.x[i].y() > b.particles.x[top].y()) top = i;
+            const Vec3f n = sim::xyz(b.particles.x[top]).normalized();
+            float drop = 1e9f;  // the nearest ring's depth below the top along n
+            for (const auto& pair : b.rings.ring.of(top))
+                for (uint32_t w : pair) drop = std::min(drop, (sim::xyz(b.particles.x[top]) - sim::xyz(b.particles.x[w])).dot(n));
+            return plane(sim::xyz(b.particles.x[top]) - rings * drop * n, n);
+        };
+        {
+            sim::SoftBody b = test::make_body(m);
+            topology::CutOptions o;
+            o.min_fragment_triangles = 0;  // every cap comes off: the fleck this guards against
+            REQUIRE(topology::cut(b, at_depth(b, 0.35f), o).ok());
+            require_invariants(b);
+            CHECK(b.pieces == 2);
+            CHECK(sim::smallest_piece_triangles(b) < 8);  // the vertex's five or six triangles
+        }
+        sim::SoftBody b = test::make_body(m);
+        const size_t particles = b.particle_count();
+        REQUIRE(topology::cut(b, at_depth(b, 0.35f), topology::CutOptions{}).ok());
+        require_invariants(b);
+        CHECK(b.pieces == 1);
+        CHECK(b.particle_count() == particles);  // nothing crossed: the body as it was
+        // Past the first ring the cap holds the second ring's triangles too: it comes off.
+        sim::SoftBody deeper = test::make_body(m);
+        REQUIRE(topology::cut(deeper, at_depth(deeper, 1.3f), topology::CutOptions{}).ok());
+        require_invariants(deeper);
+        CHECK(deeper.pieces == 2);
+        CHECK(sim::smallest_piece_triangles(deeper) >= 8);
     }
 
     TEST_CASE("bad input is refused with a reason") {
