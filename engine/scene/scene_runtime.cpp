@@ -61,6 +61,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     if (!surface.ok()) return surface.error();
     h_ = surface->h;
     splat_particles_ = surface->particles_are_splats;
+    warn_of_sample_count();
     // A textured model's splats read its texture per pixel, as far as they reach (a Gaussian cut
     // at two standard deviations, and a margin) or to the nearest seam.
     if (paint_.textured() && boundary_.size() > 0) paint_.texture_reach = 2.5f * mat.splat_scale * h_;
@@ -90,6 +91,30 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     topology_ = std::make_unique<TopologyStage>(check_topology);
     order_ = order;
     return build_graph();
+}
+
+// Every body is sampled at the scene's one spacing (h from the mean edge of them all), so a large
+// body beside small ones (a table under a few models) holds most of the splats, and the frame
+// slows with its area. Said once at load, naming the body, so a slow scene has its reason.
+void SceneRuntime::warn_of_sample_count() const {
+    const size_t total = boundary_.size() + (splat_particles_ ? body_.particle_count() : 0);
+    if (total < k_many_samples || body_.model_of_particle.size() != body_.particle_count()) return;
+    std::vector<size_t> per_model;
+    for (uint32_t t : boundary_.triangle) {
+        const uint32_t m = body_.model_of_particle[body_.triangles[t][0]];
+        if (m >= per_model.size()) per_model.resize(m + 1, 0);
+        ++per_model[m];
+    }
+    const auto largest = std::ranges::max_element(per_model);
+    if (largest == per_model.end()) return;
+    const size_t m = size_t(largest - per_model.begin());
+    const std::string name = m == 0 ? "[model] (" + scene_.model.mesh + ")"
+                                    : "bodies[" + std::to_string(m - 1) + "] (" + scene_.bodies[m - 1].model.mesh + ")";
+    std::fprintf(stderr,
+                 "warning: %zu splats at the scene's spacing h = %.4g m, %zu of them (%.0f %%) on %s. Every body is sampled at "
+                 "one spacing (eta times the mean simulation edge of them all), so a large body beside small ones costs in "
+                 "proportion to its area: make it smaller, give the small ones fewer simulation particles, or raise surface.eta\n",
+                 total, double(h_), *largest, 100.0 * double(*largest) / double(total), name.c_str());
 }
 
 void SceneRuntime::set_up_look() {

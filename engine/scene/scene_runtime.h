@@ -37,6 +37,8 @@ namespace pbdsplat::scene {
 
 // Constraint sweeps (iterations x substeps) a frame may take.
 inline constexpr uint32_t k_max_sweeps = 256;
+// Splats beyond which loading says where they are (a few per pixel of a 1280x720 frame).
+inline constexpr size_t k_many_samples = 250000;
 
 struct RuntimeOptions {
     gpu::Context* gpu = nullptr;  // null: simulation only (no upload, splat or readback)
@@ -187,6 +189,7 @@ public:
 private:
     SceneRuntime() = default;
     core::Status build(const RuntimeOptions& options);
+    void warn_of_sample_count() const;
     void set_up_look();  // the splats' size, the occluders' tolerances, the lights from the material
     core::Status create_renderer(const SortChoice& sort);
     core::Status ensure_mesh_raster();  // made on first need (a mesh view, mesh_image())
