@@ -23,6 +23,10 @@ struct MeshSpecOptions {
 // A model file of fewer vertices than this is subdivided (flat) until it has them: the sampling
 // spacing follows the edge length, and an 8-vertex cube would be drawn as eight huge splats.
 inline constexpr size_t k_min_file_vertices = 200;
+// A procedural mesh's parameter is its resolution, chosen by the user, and kept; below this many
+// vertices (a box of one to three divisions, an icosahedron) every splat would span a face, so a
+// scene subdivides it flat until it has them (asset users that ask for the mesh itself get it).
+inline constexpr size_t k_min_procedural_vertices = 64;
 
 // True for the procedural kinds above (whatever their parameters), false for a file.
 bool is_procedural_spec(const std::string& spec);

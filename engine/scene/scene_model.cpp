@@ -8,6 +8,7 @@
 
 #include "asset/mesh_spec.h"
 #include "mesh/reorder.h"
+#include "mesh/subdivide.h"
 #include "sim/contact.h"
 #include "sim/crossings.h"
 #include "sim/weld.h"
@@ -46,6 +47,7 @@ core::Result<Part> load_part(const ModelDesc& md, uint32_t target, const std::st
     if (!loaded.ok()) return loaded.error();
     for (const std::string& w : loaded.value().warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     mesh::TriangleMesh m = std::move(loaded.value().repaired.mesh);
+    if (asset::is_procedural_spec(md.mesh)) mesh::refine_to(m, asset::k_min_procedural_vertices);
     const Mat3f r = (Eigen::AngleAxisf(math::radians(md.rotate_degrees.z()), Vec3f::UnitZ()) *
                      Eigen::AngleAxisf(math::radians(md.rotate_degrees.y()), Vec3f::UnitY()) *
                      Eigen::AngleAxisf(math::radians(md.rotate_degrees.x()), Vec3f::UnitX()))

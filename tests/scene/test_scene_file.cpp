@@ -8,6 +8,8 @@
 #include <sstream>
 #include <variant>
 
+#include "asset/mesh_spec.h"
+#include "mesh/procedural.h"
 #include "scene/scene_file.h"
 #include "scene/scene_model.h"
 #include "support/why.h"
@@ -562,6 +564,26 @@ TEST_SUITE("scene/scene_file") {
         CHECK(refusal("[expect]\nframes = 0\n").find("bad.toml:2:10: 'expect.frames' = 0 is out of range") == 0);
         CHECK(refusal("[expect]\nat_most = { pieces = \"two\" }\n").find("'expect.at_most.pieces' must be a number") != std::string::npos);
         CHECK(refusal("[expect]\nwithin = { pieces = 2 }\n").find("unknown key 'expect.within'") != std::string::npos);
+    }
+
+    TEST_CASE("a procedural mesh of a few vertices is subdivided flat: a box of one division stays a box, in splats smaller than its faces") {
+        auto scene = scene::parse_scene("[model]\nmesh = \"box:1\"\n", "box1.toml");
+        REQUIRE_MESSAGE(scene.ok(), test::why(scene));
+        auto model = scene::load_scene_model(scene.value());
+        REQUIRE_MESSAGE(model.ok(), test::why(model));
+        const sim::SoftBody& b = model.value().body;
+        CHECK(b.particle_count() >= asset::k_min_procedural_vertices);  // 8 as given: every splat spanned a face
+        Vec3f lo = Vec3f::Constant(1e9f), hi = -lo;
+        for (const Vec4f& x : b.particles.x) lo = lo.cwiseMin(x.head<3>()), hi = hi.cwiseMax(x.head<3>());
+        const mesh::TriangleMesh given = mesh::box(Vec3f::Constant(1.0f), 1);
+        Vec3f glo = Vec3f::Constant(1e9f), ghi = -glo;
+        for (const Vec3f& x : given.positions) glo = glo.cwiseMin(x), ghi = ghi.cwiseMax(x);
+        CHECK(lo.isApprox(glo, 1e-5f));  // measured: flat subdivision moves no corner
+        CHECK(hi.isApprox(ghi, 1e-5f));
+        // The resolution a user gives above the floor is kept.
+        auto four = scene::load_scene_model(scene::parse_scene("[model]\nmesh = \"box:4\"\n", "box4.toml").value());
+        REQUIRE_MESSAGE(four.ok(), test::why(four));
+        CHECK(four.value().body.particle_count() == 6 * 4 * 4 + 2);  // a cube's surface of 4 x 4 quads a face
     }
 
     TEST_CASE("[[bodies]]: read, printed and read again field by field; each model its own piece, static ones pinned") {
