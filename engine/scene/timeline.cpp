@@ -84,15 +84,19 @@ void Timeline::advance_drags(float t, const sim::SoftBody& body, sim::DragConstr
 }
 
 void Timeline::advance_spins(float t, float dt, sim::SoftBody& body) {
-    // A rigid turn of the whole body about its centre (positions and the previous
-    // positions alike, so no velocity is invented).
+    // A rigid turn of what moves about its centre, its velocities turned with it. Pinned
+    // particles stay where they are pinned: a static table under the spun models, a pinned rim.
     for (const auto& [start, spin] : spins_) {
         if (t < start || t >= start + spin.duration) continue;
         Vec3f centre = Vec3f::Zero();
-        for (const auto& x : body.particles.x) centre += sim::xyz(x);
-        centre /= float(std::max<size_t>(1, body.particle_count()));
+        size_t free = 0;
+        for (size_t i = 0; i < body.particle_count(); ++i)
+            if (body.particles.w[i] > 0.0f) centre += sim::xyz(body.particles.x[i]), ++free;
+        if (free == 0) continue;
+        centre /= float(free);
         const Mat3f r = Eigen::AngleAxisf(math::radians(spin.degrees_per_second * dt), spin.axis).toRotationMatrix();
         for (size_t i = 0; i < body.particle_count(); ++i) {
+            if (!(body.particles.w[i] > 0.0f)) continue;
             body.particles.x[i] = sim::to4(Vec3f(r * (sim::xyz(body.particles.x[i]) - centre) + centre));
             body.particles.v[i] = sim::to4(Vec3f(r * sim::xyz(body.particles.v[i])));
         }
