@@ -14,9 +14,13 @@ void main() {
     if (r > 1.0) discard;
     const vec3 n = ground.plane.xyz;
     const float lambert = max(dot(n, frame.light_dir.xyz), 0.0) * frame.light_dir.w;
-    // The contact shadow: strongest under the body's centre, fading out past its outline.
-    const float d = length(v_world - ground.shadow.xyz);
-    const float shadow = ground.albedo.w * (1.0 - smoothstep(0.3 * ground.shadow.w, 1.6 * ground.shadow.w, d));
+    // The contact shadows: each strongest under its piece's centre, fading out past its outline;
+    // where two overlap the darker one holds.
+    float shadow = 0.0;
+    for (int k = 0; k < GROUND_SHADOWS; ++k) {
+        const float d = length(v_world - ground.shadow[k].xyz);
+        shadow = max(shadow, ground.strength[k] * (1.0 - smoothstep(0.3 * ground.shadow[k].w, 1.6 * ground.shadow[k].w, d)));
+    }
     const vec3 light = frame.ambient.rgb + (1.0 - shadow) * lambert * frame.light_color.rgb;
     const vec3 color = ground.albedo.rgb * light * (1.0 - 0.5 * shadow);
     const float alpha = 1.0 - smoothstep(0.6, 1.0, r);

@@ -1,5 +1,6 @@
 #pragma once
 // What the renderer needs from the scene each frame, besides the Gaussian records.
+#include <array>
 #include <vector>
 
 #include "core/math.h"
@@ -159,9 +160,13 @@ struct Ground {
     float offset = 0.0f;             // dot(normal, x) = offset on the plane
     Vec3f centre = Vec3f::Zero();    // of the drawn disc, on the plane
     float radius = 10.0f;
-    Vec3f shadow_centre = Vec3f::Zero();
-    float shadow_radius = 0.0f;
-    float shadow_strength = 0.0f;  // 0 to 1: how dark right under the body
+    // A contact shadow under each of the largest pieces (strength 0: unused).
+    struct Shadow {
+        Vec3f centre = Vec3f::Zero();  // the piece's centre dropped onto the plane
+        float radius = 0.0f;
+        float strength = 0.0f;  // 0 to 1: how dark right under it
+    };
+    std::array<Shadow, GROUND_SHADOWS> shadows{};
     Vec3f albedo{0.30f, 0.30f, 0.33f};
 };
 

@@ -25,8 +25,14 @@ void GroundPass::record(VkCommandBuffer cmd, VkDescriptorSet frame_set, const Gr
     const Vec3f n = ground.normal.normalized();
     p.plane = {n.x(), n.y(), n.z(), ground.offset};
     p.disc = {ground.centre.x(), ground.centre.y(), ground.centre.z(), ground.radius};
-    p.shadow = {ground.shadow_centre.x(), ground.shadow_centre.y(), ground.shadow_centre.z(), ground.shadow_radius};
-    p.albedo = {ground.albedo.x(), ground.albedo.y(), ground.albedo.z(), ground.shadow_strength};
+    p.albedo = {ground.albedo.x(), ground.albedo.y(), ground.albedo.z(), 0.0f};
+    static_assert(GROUND_SHADOWS == 4, "the strengths below fill one vec4");
+    for (size_t k = 0; k < ground.shadows.size(); ++k) {
+        const Ground::Shadow& s = ground.shadows[k];
+        p.shadow[k] = {s.centre.x(), s.centre.y(), s.centre.z(), s.radius};
+    }
+    const auto& s = ground.shadows;
+    p.strength = {s[0].strength, s[1].strength, s[2].strength, s[3].strength};
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get(), 0, 1, &frame_set, 0, nullptr);
     vkCmdPushConstants(cmd, layout_.get(), VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(p), &p);

@@ -105,13 +105,17 @@ struct FrameUniforms {
 PBDSPLAT_GPU_SIZE(FrameUniforms, 2 * 64 + 9 * 16 + 11 * 16 + 4 * PBDSPLAT_MAX_LIGHTS * 16);
 
 // ---- The ground pass (render/ground.h): push constants ----------------------------------------
+#define GROUND_SHADOWS 4
 struct GroundPush {
     vec4 plane;   // xyz: unit normal into free space; w: offset (dot(n, x) = offset on the plane)
     vec4 disc;    // xyz: centre of the drawn disc on the plane; w: its radius
-    vec4 shadow;  // xyz: the body's centre dropped onto the plane; w: the shadow's radius
-    vec4 albedo;  // rgb: the ground's colour; w: the contact shadow's strength (0 to 1)
+    vec4 albedo;  // rgb: the ground's colour
+    // The contact shadows, one under each of the largest pieces: xyz: its centre dropped onto
+    // the plane; w: the shadow's radius. Their strengths (0 to 1) in `strength`, 0 where unused.
+    vec4 shadow[GROUND_SHADOWS];
+    vec4 strength;
 };
-PBDSPLAT_GPU_SIZE(GroundPush, 64);
+PBDSPLAT_GPU_SIZE(GroundPush, 128);
 
 // ---- GPU depth sort (render/gpu_sort.h): push constants of every sort kernel ----------------
 // The control block (storage, 32-bit words) the sort leaves for the draw: the visible count,

@@ -783,7 +783,7 @@ TEST_SUITE("render/scene") {
         std::memcpy(view.data(), u.view.m, sizeof(u.view.m));
         std::memcpy(proj.data(), u.proj.m, sizeof(u.proj.m));
         // Just past the body's outline along x, where the floor shows.
-        const Vec3f edge = ground.shadow_centre + Vec3f(1.0f, 0.0f, 0.0f) * ground.shadow_radius * 1.1f;
+        const Vec3f edge = ground.shadows[0].centre + Vec3f(1.0f, 0.0f, 0.0f) * ground.shadows[0].radius * 1.1f;
         const Vec4f c = proj * view * edge.homogeneous();
         const int px = int((c.x() / c.w() * 0.5f + 0.5f) * 160.0f), py = int((c.y() / c.w() * 0.5f + 0.5f) * 90.0f);
         REQUIRE(px > 0);

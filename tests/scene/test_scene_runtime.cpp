@@ -10,6 +10,7 @@
 #include "scene/default_scene.h"
 #include "scene/scene_check.h"
 #include "scene/scene_model.h"
+#include "scene/stages/body_view.h"
 #include "scene/scene_file.h"
 #include "scene/scene_runtime.h"
 #include "scene/stages/topology_stage.h"
@@ -148,6 +149,30 @@ TEST_SUITE("scene/runtime") {
         float farthest = 0.0f;
         for (const auto& x : rt.value()->body().particles.x) farthest = std::max(farthest, x.x());
         CHECK(farthest > 1.6f);  // the torus reaches 1.35; the drag pulls 0.5 past it
+    }
+
+    TEST_CASE("the ground darkens under each piece: two pieces apart cast two shadows, one piece one") {
+        // Two unit squares of particles on the ground (y = 0), 4 m apart along x, as pieces 0 and 1.
+        std::vector<Vec4f> x;
+        std::vector<uint32_t> piece;
+        for (uint32_t k = 0; k < 2; ++k)
+            for (int i = 0; i <= 4; ++i)
+                for (int j = 0; j <= 4; ++j) x.push_back(Vec4f(4.0f * float(k) + 0.25f * float(i), 0.0f, 0.25f * float(j), 1.0f)), piece.push_back(k);
+        const sim::GroundPlane plane{Vec3f::UnitY(), 0.0f};
+        render::Ground g;
+        scene::fit_ground(plane, {x, piece, 2}, Vec3f(2.5f, 0.0f, 0.5f), g);
+        REQUIRE(g.shadows[0].strength > 0.0f);
+        REQUIRE(g.shadows[1].strength > 0.0f);
+        CHECK(g.shadows[2].strength == 0.0f);
+        const float xs[2] = {g.shadows[0].centre.x(), g.shadows[1].centre.x()};
+        CHECK(std::min(xs[0], xs[1]) == doctest::Approx(0.5f));  // under each square's centre
+        CHECK(std::max(xs[0], xs[1]) == doctest::Approx(4.5f));
+        CHECK(g.shadows[0].radius < 1.0f);  // each its own square's reach (0.71), not the pair's (2.5)
+        // Taken as one piece: one shadow, as wide as both.
+        render::Ground one;
+        scene::fit_ground(plane, {x, {}, 1}, Vec3f(2.5f, 0.0f, 0.5f), one);
+        CHECK(one.shadows[1].strength == 0.0f);
+        CHECK(one.shadows[0].radius > 2.0f);  // the pair reaches 2.5 from their common centre
     }
 
     TEST_CASE("a spin turns what moves about its centre and leaves a static body where it stands") {

@@ -1,45 +1,80 @@
 #include "scene/stages/body_view.h"
 
 #include <algorithm>
+#include <vector>
 
 namespace pbdsplat::scene {
 
-void follow_body(std::span<const Vec4f> x, const std::optional<sim::GroundPlane>& plane, const BodyViewOptions& o,
+void follow_body(const BodyPoints& body, const std::optional<sim::GroundPlane>& plane, const BodyViewOptions& o,
                  render::FrameInputs& frame) {
     // The far side of a closed, opaque body cannot show: its splats are skipped. The threshold
     // keeps those just past the silhouette, whose discs still reach beyond the rim.
     frame.style.cull_facing = o.cull_back && o.closed && o.opaque ? -0.3f : -2.0f;
     // The body's centre, for what reads it: position-based environment lookups look out from
-    // it, and the ground's contact shadow lies under it.
+    // it, and the ground's disc lies under it.
     render::Environment& env = frame.lighting.environment;
     const bool env_centre = env.sampling == render::EnvSampling::position || env.sampling == render::EnvSampling::hybrid;
-    const bool ground = o.draw_ground && plane && !x.empty();
+    const bool ground = o.draw_ground && plane && !body.x.empty();
     Vec3f centre = Vec3f::Zero();
     if (env_centre || ground) {
-        for (const Vec4f& p : x) centre += p.head<3>();
-        centre /= float(std::max<size_t>(1, x.size()));
+        for (const Vec4f& p : body.x) centre += p.head<3>();
+        centre /= float(std::max<size_t>(1, body.x.size()));
     }
     if (env_centre) env.center = centre;
     frame.ground.visible = ground;
-    if (ground) fit_ground(*plane, x, centre, frame.ground);
+    if (ground) fit_ground(*plane, body, centre, frame.ground);
 }
 
-void fit_ground(const sim::GroundPlane& plane, std::span<const Vec4f> x, const Vec3f& centre, render::Ground& g) {
+namespace {
+// Where a group of particles stands over the plane: its centre, its reach along the plane and
+// how high its lowest particle floats.
+struct Footing {
+    Vec3f sum = Vec3f::Zero();
+    size_t count = 0;
+    float reach = 0.0f, clearance = 1e30f;
+    Vec3f centre() const { return sum / float(std::max<size_t>(1, count)); }
+};
+
+render::Ground::Shadow shadow_of(const sim::GroundPlane& plane, const Footing& f) {
+    // Darkest for a piece lying on the ground, fading as it lifts off.
+    const Vec3f n = plane.normal, c = f.centre();
+    render::Ground::Shadow s;
+    s.centre = c - (n.dot(c) - plane.offset) * n;
+    s.radius = std::max(f.reach, 1e-3f);
+    s.strength = 0.55f * std::clamp(1.0f - f.clearance / s.radius, 0.0f, 1.0f);
+    return s;
+}
+} // namespace
+
+void fit_ground(const sim::GroundPlane& plane, const BodyPoints& body, const Vec3f& centre, render::Ground& g) {
     g.normal = plane.normal;
     g.offset = plane.offset;
-    // The body's reach along the plane and how high it floats: the contact shadow is darkest
-    // for a body lying on the ground and fades as it lifts off.
     const Vec3f n = plane.normal;
-    float reach = 0.0f, clearance = 1e30f;
-    for (const Vec4f& p : x) {
-        const Vec3f d = p.head<3>() - centre;
-        reach = std::max(reach, (d - d.dot(n) * n).norm());
-        clearance = std::min(clearance, n.dot(p.head<3>()) - plane.offset);
+    const auto along_plane = [&](const Vec3f& d) { return (d - d.dot(n) * n).norm(); };
+    const bool by_piece = body.pieces > 1 && body.piece.size() == body.x.size();
+    const auto piece_of = [&](size_t i) { return by_piece ? body.piece[i] : 0u; };
+    std::vector<Footing> pieces(by_piece ? body.pieces : 1);
+    for (size_t i = 0; i < body.x.size(); ++i)
+        if (const uint32_t k = piece_of(i); k < pieces.size()) pieces[k].sum += body.x[i].head<3>(), ++pieces[k].count;
+    float reach = 0.0f;
+    for (size_t i = 0; i < body.x.size(); ++i) {
+        const Vec3f p = body.x[i].head<3>();
+        reach = std::max(reach, along_plane(p - centre));
+        const uint32_t k = piece_of(i);
+        if (k >= pieces.size()) continue;
+        Footing& f = pieces[k];
+        f.reach = std::max(f.reach, along_plane(p - f.centre()));
+        f.clearance = std::min(f.clearance, n.dot(p) - plane.offset);
     }
-    g.shadow_centre = centre - (n.dot(centre) - plane.offset) * n;
-    g.shadow_radius = std::max(reach, 1e-3f);
-    g.shadow_strength = 0.55f * std::clamp(1.0f - clearance / std::max(reach, 1e-3f), 0.0f, 1.0f);
-    g.centre = g.shadow_centre;
+    // The pieces whose shadows weigh most (strength over area), at most GROUND_SHADOWS of them.
+    std::vector<render::Ground::Shadow> shadows;
+    for (const Footing& f : pieces)
+        if (f.count > 0) shadows.push_back(shadow_of(plane, f));
+    const auto weight = [](const render::Ground::Shadow& s) { return s.strength * s.radius * s.radius; };
+    std::ranges::stable_sort(shadows, [&](const auto& a, const auto& b) { return weight(a) > weight(b); });
+    g.shadows = {};
+    for (size_t k = 0; k < std::min(shadows.size(), g.shadows.size()); ++k) g.shadows[k] = shadows[k];
+    g.centre = centre - (n.dot(centre) - plane.offset) * n;
     g.radius = 12.0f * std::max(reach, 0.1f);
 }
 

@@ -17,11 +17,20 @@ struct BodyViewOptions {
     bool draw_ground = true;   // the scene draws its plane collider
 };
 
-// Updates `frame`'s culling threshold, environment centre and ground from the particles `x`.
-void follow_body(std::span<const Vec4f> x, const std::optional<sim::GroundPlane>& plane, const BodyViewOptions& o,
+// The particles and which piece each is in (`piece` may be empty: one piece).
+struct BodyPoints {
+    std::span<const Vec4f> x;
+    std::span<const uint32_t> piece;
+    uint32_t pieces = 1;
+};
+
+// Updates `frame`'s culling threshold, environment centre and ground from the body's particles.
+void follow_body(const BodyPoints& body, const std::optional<sim::GroundPlane>& plane, const BodyViewOptions& o,
                  render::FrameInputs& frame);
 
-// The ground disc and contact shadow under a body whose particles are `x` (centre `centre`).
-void fit_ground(const sim::GroundPlane& plane, std::span<const Vec4f> x, const Vec3f& centre, render::Ground& g);
+// The ground disc under the body (whose centre is `centre`) and a contact shadow under each of
+// its largest pieces: pieces cut apart or models set beside each other each darken the ground
+// under themselves, where one shadow for the whole body darkened everything around them.
+void fit_ground(const sim::GroundPlane& plane, const BodyPoints& body, const Vec3f& centre, render::Ground& g);
 
 } // namespace pbdsplat::scene

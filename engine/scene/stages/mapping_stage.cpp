@@ -112,7 +112,7 @@ void add_mapping_passes(graph::FrameGraph& g, graph::Blackboard& board, const Ma
             view.closed = settings.closed;
             view.opaque = frame.style.blend != render::Blend::additive && look.opacity_logit > math::logit(0.9f);
             view.draw_ground = settings.draw_ground;
-            follow_body(body.particles.x, settings.ground, view, frame);
+            follow_body({body.particles.x, body.piece_of_particle, body.pieces}, settings.ground, view, frame);
             if (!o.sorted) mapping.publish(r.write(hh.splats), o.moved);  // else the sort pass reorders them first
         };
     }, o.tag);
