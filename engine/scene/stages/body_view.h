@@ -2,6 +2,7 @@
 // The render inputs that follow the body from frame to frame: whether the far side of a closed,
 // opaque body may be skipped, the centre position-based environment lookups look out from, and
 // the ground under the body with its contact shadow.
+#include <cstddef>
 #include <optional>
 #include <span>
 
@@ -21,7 +22,7 @@ struct BodyViewOptions {
 struct BodyPoints {
     std::span<const Vec4f> x;
     std::span<const uint32_t> piece;
-    uint32_t pieces = 1;
+    size_t pieces = 1;
 };
 
 // Updates `frame`'s culling threshold, environment centre and ground from the body's particles.
