@@ -120,13 +120,7 @@ void SceneRuntime::fingerprint_resources(const GraphAssembly& h) {
 }
 
 uint32_t SceneRuntime::frame_substeps() const {
-    const sim::SolverSettings& s = scene_.simulation.solver;
-    if (!s.contact.enabled) return s.substeps;
-    uint32_t n = s.substeps;
-    if (solver_->contact().stacked()) n = std::max(n, std::min(s.contact.substeps, k_max_sweeps / s.iterations));
-    if (!sim::approach_steps(s)) return n;
-    const uint32_t most = std::min(sim::k_max_approach_substeps, k_max_sweeps / s.iterations);
-    return std::max(n, sim::approach_substeps(body_, scene_.simulation.dt, solver_->contact().scale().edge, most));
+    return sim::frame_substeps(scene_.simulation.solver, body_, solver_->contact(), scene_.simulation.dt, k_max_sweeps);
 }
 
 core::Status SceneRuntime::build_graph() {

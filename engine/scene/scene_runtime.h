@@ -35,8 +35,7 @@
 
 namespace pbdsplat::scene {
 
-// Constraint sweeps (iterations x substeps) a frame may take.
-inline constexpr uint32_t k_max_sweeps = 256;
+using sim::k_max_sweeps;
 // Splats beyond which loading says where they are (a few per pixel of a 1280x720 frame).
 inline constexpr size_t k_many_samples = 250000;
 

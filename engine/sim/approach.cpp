@@ -46,7 +46,20 @@ uint32_t approach_substeps(const SoftBodyT<Real>& body, float dt, float edge, ui
     return std::min(std::bit_ceil(uint32_t(std::ceil(need))), std::bit_floor(most));
 }
 
+template <class Real>
+uint32_t frame_substeps(const SolverSettings& s, const SoftBodyT<Real>& body, const ContactSolverT<Real>& contact, float dt,
+                        uint32_t max_sweeps) {
+    if (!s.contact.enabled) return s.substeps;
+    const uint32_t room = max_sweeps / std::max(1u, s.iterations);  // substeps within the sweeps
+    uint32_t n = s.substeps;
+    if (contact.stacked()) n = std::max(n, std::min(s.contact.substeps, room));
+    if (!approach_steps(s)) return n;
+    return std::max(n, approach_substeps(body, dt, contact.scale().edge, std::min(k_max_approach_substeps, room)));
+}
+
 template uint32_t approach_substeps<float>(const SoftBodyT<float>&, float, float, uint32_t);
 template uint32_t approach_substeps<double>(const SoftBodyT<double>&, float, float, uint32_t);
+template uint32_t frame_substeps<float>(const SolverSettings&, const SoftBodyT<float>&, const ContactSolverT<float>&, float, uint32_t);
+template uint32_t frame_substeps<double>(const SolverSettings&, const SoftBodyT<double>&, const ContactSolverT<double>&, float, uint32_t);
 
 } // namespace pbdsplat::sim

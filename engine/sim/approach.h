@@ -31,4 +31,11 @@ inline constexpr size_t k_approach_pieces = 128;
 // and a 0.067 m edge needs 13).
 inline constexpr uint32_t k_max_approach_substeps = 16;
 
+// A frame's substeps: the settings' own, the contact's while pieces are stacked, and more while
+// stiff pieces close in fast (approach_substeps), the raised counts kept within `max_sweeps`
+// iterations a frame.
+template <class Real>
+uint32_t frame_substeps(const SolverSettings& s, const SoftBodyT<Real>& body, const ContactSolverT<Real>& contact, float dt,
+                        uint32_t max_sweeps);
+
 } // namespace pbdsplat::sim

@@ -202,8 +202,7 @@ StageTimings SolverT<Real>::step(SoftBodyT<Real>& body, float dt, const SolverSe
     // Pieces stacked at the last search step this frame in the contact's substeps: resting on
     // each other they sink in at one step a frame (sim/contact.h). A body alone pays nothing.
     SolverSettings s = settings;
-    if (s.contact.enabled && contact_.stacked()) s.substeps = std::max(s.substeps, s.contact.substeps);
-    if (approach_steps(s)) s.substeps = std::max(s.substeps, approach_substeps(body, dt, contact_.scale().edge, k_max_approach_substeps));
+    s.substeps = frame_substeps(settings, body, contact_, dt, k_max_sweeps);
     if (schedule_.empty() || schedule_iterations_ != s.iterations || schedule_substeps_ != s.substeps) {
         schedule_ = frame_schedule(s);
         schedule_iterations_ = s.iterations, schedule_substeps_ = s.substeps;

@@ -49,6 +49,10 @@ struct StageTimings {
     }
 };
 
+// Constraint sweeps (iterations x substeps) a frame may take: a scene is refused past it, and the
+// substeps raised for contact stay within it.
+inline constexpr uint32_t k_max_sweeps = 256;
+
 // Validates the settings: a clear reason for an impossible value (I = 0, NaN gravity, ...).
 core::Status validate(const SolverSettings& s);
 

@@ -153,6 +153,34 @@ private:
     float snap_;
 };
 
+// Where a cut would close off a fragment: a side of a crossed triangle that reaches fewer than
+// `limit` triangles once cut, though it lay in a larger piece before. The nodes met in large
+// pieces are remembered, so a large piece is walked once, until the sides move (forget()).
+class FragmentSearch {
+public:
+    FragmentSearch(const SideGraph& graph, uint32_t limit) : graph_(graph), limit_(limit) {}
+
+    // The fragment's (triangle, side) nodes where `start` lies in one, else nullptr.
+    const std::vector<SideGraph::Node>* at(SideGraph::Node start) {
+        if (large_.contains(key(start))) return nullptr;
+        if (!graph_.reach(start, limit_, true, fragment_)) {
+            // Everything the search met lies in one piece of at least the limit.
+            for (const SideGraph::Node& n : fragment_) large_.insert(key(n));
+            return nullptr;
+        }
+        if (graph_.reach(start, limit_, false, whole_)) return nullptr;  // a small piece before the cut
+        return &fragment_;
+    }
+    void forget() { large_.clear(); }
+
+private:
+    static uint64_t key(const SideGraph::Node& n) { return uint64_t(n.first) << 1 | uint64_t(n.second > 0); }
+    const SideGraph& graph_;
+    uint32_t limit_;
+    std::vector<SideGraph::Node> fragment_, whole_;
+    std::unordered_set<uint64_t> large_;
+};
+
 // The smallest child the re-triangulation makes of triangle `t` at these sides, in rest area
 // (crossings clamped to [snap, 1 - snap] as add_crossings does); the triangle's own when the
 // sides do not cross it.
@@ -184,9 +212,8 @@ void keep_fragments(const sim::SoftBody& b, const CutSurface& cut, std::span<con
                     std::span<const uint8_t> snapped, const std::vector<uint32_t>& on_cut, uint32_t min_fragment, float snap,
                     float min_child) {
     const SideGraph graph(b, cut, d, sign, snap);
-    std::vector<SideGraph::Node> fragment, whole;
+    FragmentSearch search(graph, min_fragment);
     std::vector<uint32_t> corners;
-    std::unordered_set<uint64_t> large;  // (triangle, side) nodes known to lie in a large piece
     auto unsnap = [&] {
         for (uint32_t w : corners) sign[w] = d[w] < 0.0f ? int8_t(-1) : int8_t(1);
         for (uint32_t w : corners)
@@ -207,16 +234,10 @@ void keep_fragments(const sim::SoftBody& b, const CutSurface& cut, std::span<con
                 if ((sign[f[0]] == 0) + (sign[f[1]] == 0) + (sign[f[2]] == 0) != 2) continue;
                 for (int8_t s : {int8_t(-1), int8_t(1)}) {
                     if (sign[v] != 0 || !graph.has_side(t, s)) continue;
-                    const uint64_t key = uint64_t(t) << 1 | uint64_t(s > 0);
-                    if (large.contains(key)) continue;
-                    if (!graph.reach({t, s}, min_fragment, true, fragment)) {
-                        // Everything the search met lies in one piece of at least the limit.
-                        for (const auto& [u, side] : fragment) large.insert(uint64_t(u) << 1 | uint64_t(side > 0));
-                        continue;
-                    }
-                    if (graph.reach({t, s}, min_fragment, false, whole)) continue;  // small already
+                    const std::vector<SideGraph::Node>* fragment = search.at({t, s});
+                    if (!fragment) continue;
                     corners.clear();
-                    for (const auto& [u, side] : fragment)
+                    for (const auto& [u, side] : *fragment)
                         for (uint32_t w : b.triangles[u])
                             if (snapped[w] && sign[w] == 0 && std::ranges::find(corners, w) == corners.end()) corners.push_back(w);
                     changed = unsnap() || changed;
@@ -224,7 +245,7 @@ void keep_fragments(const sim::SoftBody& b, const CutSurface& cut, std::span<con
             }
         }
         if (!changed) break;
-        large.clear();  // the sides moved
+        search.forget();  // the sides moved
     }
 }
 
@@ -237,20 +258,15 @@ void keep_fragments(const sim::SoftBody& b, const CutSurface& cut, std::span<con
 void join_crossed_fragments(const sim::SoftBody& b, const CutSurface& cut, std::span<const float> d, std::span<int8_t> sign,
                             const std::vector<uint32_t>& crossed, uint32_t min_fragment, float snap) {
     const SideGraph graph(b, cut, d, sign, snap);
-    std::vector<SideGraph::Node> fragment, whole;
+    FragmentSearch search(graph, min_fragment);
     std::vector<uint32_t> corners;
-    std::unordered_set<uint64_t> large;  // (triangle, side) nodes known to lie in a large piece
     for (uint32_t t : crossed)
         for (int8_t s : {int8_t(-1), int8_t(1)}) {
             if (!graph.has_side(t, s) || !graph.has_side(t, int8_t(-s))) continue;
-            if (large.contains(uint64_t(t) << 1 | uint64_t(s > 0))) continue;
-            if (!graph.reach({t, s}, min_fragment, true, fragment)) {
-                for (const auto& [u, side] : fragment) large.insert(uint64_t(u) << 1 | uint64_t(side > 0));
-                continue;
-            }
-            if (graph.reach({t, s}, min_fragment, false, whole)) continue;  // a small piece before the cut
+            const std::vector<SideGraph::Node>* fragment = search.at({t, s});
+            if (!fragment) continue;
             corners.clear();
-            for (const auto& [u, side] : fragment)
+            for (const auto& [u, side] : *fragment)
                 for (uint32_t w : b.triangles[u])
                     if (sign[w] == s && std::ranges::find(corners, w) == corners.end()) corners.push_back(w);
             const bool closed = !corners.empty() && std::ranges::all_of(corners, [&](uint32_t w) {
