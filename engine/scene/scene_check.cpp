@@ -1,6 +1,7 @@
 #include "scene/scene_check.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cfloat>
 #include <cstdio>
 
@@ -25,6 +26,20 @@ double area_of(std::span<const Vec4f> x, std::span<const mesh::Triangle> triangl
     return a;
 }
 
+// How fast the free particles move, and how many pieces sleep.
+void sample_motion(const sim::SoftBody& body, CheckSample& s) {
+    const sim::Particles& particles = body.particles;
+    double v2 = 0.0;
+    size_t moving = 0;
+    for (size_t i = 0; i < particles.size(); ++i) {
+        if (particles.w[i] <= 0.0f) continue;
+        const double v = double(sim::xyz(particles.v[i]).norm());
+        v2 += v * v, ++moving, s.speed_max = std::max(s.speed_max, v);
+    }
+    s.speed_rms = moving ? std::sqrt(v2 / double(moving)) : 0.0;
+    s.sleeping = body.sleep.sleeping;
+}
+
 // Shape and volume error, strays and sample spacing of the frame the runtime just stepped.
 void sample_body_and_splats(const SceneRuntime& rt, double load_volume, CheckSample& s) {
     const sim::OpeningReport opening = sim::opening_report(rt.body());
@@ -43,6 +58,7 @@ void sample_body_and_splats(const SceneRuntime& rt, double load_volume, CheckSam
     s.height_ratio = pose.height_ratio_min;
     s.smallest_piece_triangles = sim::smallest_piece_triangles(rt.body());
     for (const sim::PieceShape& p : shape.pieces) s.volume_error = std::max(s.volume_error, p.volume_error);
+    sample_motion(rt.body(), s);
     // Every splat drawn (the records), not the particles: strays are what a user sees.
     std::vector<Vec3f> centres;
     for (const splat::GaussianRecord& r : rt.records()) centres.emplace_back(r.position[0], r.position[1], r.position[2]);

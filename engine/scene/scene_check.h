@@ -60,6 +60,10 @@ struct CheckSample {
     // What the body encloses over what it enclosed at load (open loops closed by fans), and the
     // rest length of its openings in mean rest edges (sim::opening_report).
     double volume_ratio = 1.0, open_length = 0.0;
+    // How fast the free particles move (m/s): root mean square and the fastest. A pile that has
+    // landed should read near 0: what it keeps is jitter the contact puts in.
+    double speed_rms = 0.0, speed_max = 0.0;
+    size_t sleeping = 0;  // pieces asleep (sim/sleep.h)
 };
 
 struct CheckReport {

@@ -26,11 +26,23 @@ void Timeline::advance(EventQueue& queue, float t, float dt, sim::SoftBody& body
     // An event joins its kind's list when it falls due; the lists then behave as if it had
     // been there from the start (each ramp waits for its start time).
     for (const QueuedEvent& q : queue.take_due(t + dt, takes)) start(q.event);
+    // What is pushed, pulled or turned must be free to move, and a drag grabs true masses.
+    if (acts_on_body(t, dt)) sim::wake_all(body);
     advance_opacity(t, dt, opacity);
     advance_pressure(t, dt, body);
     advance_drags(t, body, drag);
     advance_spins(t, dt, body);
     advance_camera(t, dt, camera);
+}
+
+bool Timeline::acts_on_body(float t, float dt) const {
+    for (const PressureRamp& r : pressure_)
+        if (t >= r.start && t - r.start <= r.duration + dt) return true;
+    for (const ActiveDrag& d : drags_)
+        if (t >= d.start && t <= d.start + d.event.duration) return true;
+    for (const auto& [start, spin] : spins_)
+        if (t >= start && t < start + spin.duration) return true;
+    return false;
 }
 
 void Timeline::advance_opacity(float t, float dt, float& opacity) {

@@ -26,6 +26,8 @@ public:
 
 private:
     void start(const Event& e);
+    // Whether a pressure ramp, a drag or a spin acts on the body during [t, t + dt).
+    bool acts_on_body(float t, float dt) const;
     // One kind of event each, for the frame from t to t + dt.
     void advance_opacity(float t, float dt, float& opacity);
     void advance_pressure(float t, float dt, sim::SoftBody& body);

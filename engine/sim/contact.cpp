@@ -264,6 +264,18 @@ typename ContactSolverT<Real>::Corners ContactSolverT<Real>::corners_of(const So
 }
 
 template <class Real>
+void ContactSolverT<Real>::touching_pieces(const SoftBodyT<Real>& body, std::vector<std::pair<uint32_t, uint32_t>>& out) const {
+    const size_t first = out.size();
+    const std::vector<uint32_t>& piece = body.piece_of_particle;
+    for (const Contact& c : contacts_) {
+        const uint32_t a = piece[c.particle], b = piece[corners_of(body, c.triangle).ia];
+        if (a != b) out.emplace_back(std::min(a, b), std::max(a, b));
+    }
+    std::sort(out.begin() + std::ptrdiff_t(first), out.end());
+    out.erase(std::unique(out.begin() + std::ptrdiff_t(first), out.end()), out.end());
+}
+
+template <class Real>
 typename ContactSolverT<Real>::Neighbourhood ContactSolverT<Real>::neighbourhood_of(const SoftBodyT<Real>& body, uint32_t i, uint32_t pi,
                                                                                   uint32_t piece, const Corners& tk, bool closed,
                                                                                   float r_ex2) const {

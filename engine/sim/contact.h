@@ -116,6 +116,9 @@ public:
     void project(SoftBodyT<Real>& body, const ContactSettings& s, bool stiff_bodies = false);
 
     const std::vector<Contact>& contacts() const { return contacts_; }
+    // The pieces the candidates bring together (a particle's and its triangle's), each pair once
+    // with the smaller first, appended to `out`.
+    void touching_pieces(const SoftBodyT<Real>& body, std::vector<std::pair<uint32_t, uint32_t>>& out) const;
     // Every patch against every triangle group instead of through the hash grid (the same pairs:
     // what the tests compare the broad phase with).
     void set_brute_force(bool on) { brute_force_ = on; }

@@ -16,6 +16,7 @@ const char* stage_name(Stage s) {
     case Stage::contact: return "contact";
     case Stage::velocities: return "velocities";
     case Stage::normals: return "normals";
+    case Stage::sleep: return "sleep";
     }
     return "?";
 }
@@ -25,7 +26,8 @@ StageGroup stage_group(Stage s) {
     case Stage::forces: return StageGroup::apply_forces;
     case Stage::find_contacts: return StageGroup::constraints;
     case Stage::velocities:
-    case Stage::normals: return StageGroup::integrate_normals;
+    case Stage::normals:
+    case Stage::sleep: return StageGroup::integrate_normals;
     default: return StageGroup::constraints;
     }
 }
@@ -34,7 +36,7 @@ std::vector<ScheduledStage> frame_schedule(const SolverSettings& s) {
     constexpr Stage k_constraints[] = {Stage::distance, Stage::volume, Stage::shape, Stage::drag, Stage::collide, Stage::contact};
     const bool contact = s.contact.enabled;
     std::vector<ScheduledStage> out;
-    out.reserve(size_t(s.substeps) * (3 + s.iterations * std::size(k_constraints)) + 1);
+    out.reserve(size_t(s.substeps) * (3 + s.iterations * std::size(k_constraints)) + 2);
     for (uint32_t sub = 0; sub < s.substeps; ++sub) {
         out.push_back({Stage::forces, sub, 0});
         if (contact) out.push_back({Stage::find_contacts, sub, 0});
@@ -44,6 +46,7 @@ std::vector<ScheduledStage> frame_schedule(const SolverSettings& s) {
         out.push_back({Stage::velocities, sub, 0});
     }
     out.push_back({Stage::normals, 0, 0});
+    if (s.sleep.enabled) out.push_back({Stage::sleep, 0, 0});
     return out;
 }
 

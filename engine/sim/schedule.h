@@ -1,7 +1,7 @@
 #pragma once
 // The order of a simulation frame, as data: the one place that says it. A substep is forces,
 // the search for contacts, I x [distance, volume, shape, drag, collide, contact], velocities; a
-// frame is S substeps, then normals (the paper's section 5.2, with contact between moving
+// frame is S substeps, then normals, then the pieces at rest put to sleep (the paper's section 5.2, with contact between moving
 // surfaces added; without it, the contact stages are not scheduled). Solver::step runs it and the scene's frame graph makes one pass per
 // entry, so the two cannot drift apart.
 #include <cstdint>
@@ -11,7 +11,7 @@ namespace pbdsplat::sim {
 
 struct SolverSettings;
 
-enum class Stage : uint8_t { forces, find_contacts, distance, volume, shape, drag, collide, contact, velocities, normals };
+enum class Stage : uint8_t { forces, find_contacts, distance, volume, shape, drag, collide, contact, velocities, normals, sleep };
 const char* stage_name(Stage s);
 
 // The rows of the paper's Tables 3 and 4 that a stage's time counts towards.

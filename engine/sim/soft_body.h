@@ -14,6 +14,7 @@
 #include "sim/integrate.h"
 #include "sim/particles.h"
 #include "sim/shape.h"
+#include "sim/sleep.h"
 #include "sim/volume.h"
 
 namespace pbdsplat::sim {
@@ -71,6 +72,7 @@ template <class Real>
 struct BodyStateT {
     ParticlesT<Real> particles;
     std::vector<Real> distance_lambda;  // XPBD multipliers, one per distance constraint
+    SleepState sleep;                   // which pieces rest, held (sim/sleep.h)
 };
 
 // What is derived from the structure and the state: rebuilt with the derived data (after every

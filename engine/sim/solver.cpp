@@ -178,6 +178,13 @@ void SolverT<Real>::update_normals(SoftBodyT<Real>& body) {
 }
 
 template <class Real>
+void SolverT<Real>::settle(SoftBodyT<Real>& body, const SolverSettings& s, float dt) {
+    touching_.clear();
+    if (s.contact.enabled) contact_.touching_pieces(body, touching_);
+    update_sleep<Real>(body, touching_, s.sleep, dt);
+}
+
+template <class Real>
 void SolverT<Real>::run(Stage stage, SoftBodyT<Real>& body, const SolverSettings& s, Real h, const Colliders& colliders,
                         const DragConstraint& drag) {
     switch (stage) {
@@ -193,6 +200,7 @@ void SolverT<Real>::run(Stage stage, SoftBodyT<Real>& body, const SolverSettings
     case Stage::contact: project_contacts(body, s); break;
     case Stage::velocities: end_substep(body, h); break;
     case Stage::normals: update_normals(body); break;
+    case Stage::sleep: settle(body, s, float(h) * float(s.substeps)); break;
     }
 }
 

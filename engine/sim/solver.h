@@ -11,6 +11,7 @@
 #include "sim/contact.h"
 #include "sim/constraints.h"
 #include "sim/schedule.h"
+#include "sim/sleep.h"
 #include "sim/soft_body.h"
 #include "sim/volume.h"
 
@@ -36,6 +37,7 @@ struct SolverSettings {
     float shape_compliance = 0.0f;
     bool volume = true;               // project the body's volume constraints
     ContactSettings contact;          // between the pieces of the body, and of a piece with itself
+    SleepSettings sleep;              // pieces at rest held still (sim/sleep.h)
 };
 
 // Milliseconds per stage of the last step, named as in the paper's Tables 3 and 4.
@@ -88,6 +90,8 @@ public:
     const ContactSolverT<Real>& contact() const { return contact_; }
     void end_substep(SoftBodyT<Real>& body, Real h);
     void update_normals(SoftBodyT<Real>& body);
+    // After a frame of `dt`: islands of pieces at rest fall asleep, disturbed ones wake.
+    void settle(SoftBodyT<Real>& body, const SolverSettings& s, float dt);
 
 private:
     // fn(begin, end) over [0, n), split over the pool when n reaches `grain`.
@@ -103,6 +107,7 @@ private:
     std::vector<Real> steps_;       // per slot
     VolumeSlots slots_;
     ContactSolverT<Real> contact_;  // this substep's candidates
+    std::vector<std::pair<uint32_t, uint32_t>> touching_;  // pieces in contact, for sleep
 };
 using Solver = SolverT<float>;
 

@@ -508,6 +508,8 @@ void sever_crossed_welds(sim::SoftBody& b, const CutSurface& s) {
 
 core::Result<TopologyChange> cut(sim::SoftBody& b, const CutSurface& s, const CutOptions& o) {
     PBDSPLAT_TRY(validate(b, s, o));
+    // The copies a cut makes take their source's mass: a sleeping piece's is held (sim/sleep.h).
+    sim::wake_all(b);
 
     const core::Stopwatch clock;
     core::Stopwatch step;

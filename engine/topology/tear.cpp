@@ -202,6 +202,8 @@ core::Result<std::optional<TopologyChange>> tear_once(sim::SoftBody& b, const Te
     // the frame's set back.
     const std::span<const StrainedEdge> top = strained.most_strained(16);
     const std::vector<StrainedEdge> candidates(top.begin(), top.end());
+    // A held particle never splits: what is strained enough to tear must be free first.
+    if (!candidates.empty()) sim::wake_all(b);
     for (const StrainedEdge& e : candidates) {
         const Vec3f xi = sim::xyz(b.particles.x[e.i]), xj = sim::xyz(b.particles.x[e.j]);
         const Vec3f along = (xj - xi).normalized();

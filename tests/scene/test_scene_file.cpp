@@ -94,6 +94,7 @@ static_friction = 0.6
 contact = false
 contact_thickness = 0.02
 contact_substeps = 6
+sleep = false
 self_contact = true
 weld_parts = false
 cut_volume = "burst"

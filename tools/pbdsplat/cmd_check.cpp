@@ -98,7 +98,8 @@ int cmd_check(const std::vector<std::string>& argv) {
                                {"gaussians", s.gaussians}, {"volume_error", s.volume_error}, {"penetration", s.penetration},
                                {"crossing_ratio", s.crossing_ratio}, {"self_crossings", s.self_crossings},
                                {"tilt", s.tilt_degrees}, {"height_ratio", s.height_ratio}, {"smallest_piece_triangles", s.smallest_piece_triangles},
-                               {"volume_ratio", s.volume_ratio}, {"open_length", s.open_length}});
+                               {"volume_ratio", s.volume_ratio}, {"open_length", s.open_length},
+                               {"speed_rms", s.speed_rms}, {"speed_max", s.speed_max}, {"sleeping", s.sleeping}});
         const nlohmann::json j = {{"scene", sc->name},
                                   {"frames", o.frames},
                                   {"shape_error_max", r.shape_error_max},

@@ -53,7 +53,10 @@ void add_timeline_pass(graph::FrameGraph& g, EventHandles& h, const EventPassOpt
                 r.write(hh.timeline).advance(r.write(hh.queue), control.time, o.dt, hh.body.body(r, k_timeline_writes), drag,
                                              control.camera_override ? scripted : view.camera, opacity);
             if (opacity != before) look.opacity_logit = math::logit(opacity);
-            if (control.user_drag.active) drag = control.user_drag;  // the hand wins over the script
+            if (control.user_drag.active) {
+                drag = control.user_drag;  // the hand wins over the script
+                sim::wake_all(hh.body.body(r, k_timeline_writes));
+            }
         };
     }, o.tag);
 }

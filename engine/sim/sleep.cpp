@@ -1,0 +1,132 @@
+#include "sim/sleep.h"
+
+#include <algorithm>
+
+
+#include "sim/soft_body.h"
+
+namespace pbdsplat::sim {
+
+namespace {
+// The per-particle and per-piece arrays sized to the body as it is now: a topology edit appends
+// particles and pieces (awake: whatever acts on the body wakes it first).
+template <class Real>
+void fit_to(SleepState& st, const SoftBodyT<Real>& body) {
+    const size_t n = body.particle_count();
+    st.held_w.resize(n, 0.0f);
+    st.anchor.reserve(n);
+    while (st.anchor.size() < n) st.anchor.push_back(xyz(body.particles.x[st.anchor.size()]));
+    st.anchor.resize(n);
+    st.still.resize(body.pieces, 0.0f);
+}
+
+constexpr uint8_t k_static = 0, k_awake_still = 1, k_awake_moving = 2, k_sleeping = 3;
+} // namespace
+
+template <class Real>
+void wake_all(BodyStateT<Real>& state) {
+    SleepState& st = state.sleep;
+    ParticlesT<Real>& p = state.particles;
+    if (st.sleeping > 0)
+        for (size_t i = 0; i < st.held_w.size() && i < p.size(); ++i)
+            if (st.held_w[i] > 0.0f) p.w[i] = Real(st.held_w[i]), st.held_w[i] = 0.0f;
+    std::fill(st.still.begin(), st.still.end(), 0.0f);
+    st.anchor.resize(std::min(st.anchor.size(), p.size()));
+    for (size_t i = 0; i < st.anchor.size(); ++i) st.anchor[i] = xyz(p.x[i]);
+    st.sleeping = 0;
+}
+
+namespace {
+// Each piece's kind this frame: static (nothing in it can move), asleep, still or moving. Sleep
+// is read off the particles (a held mass), so it follows a piece through relabelling.
+template <class Real>
+std::vector<uint8_t> piece_kinds(const SoftBodyT<Real>& body, const SleepState& st, const SleepSettings& s) {
+    const ParticlesT<Real>& p = body.particles;
+    const size_t pieces = body.pieces;
+    const float edge = float(body.distance_groups.mean_rest());
+    const float drift = s.drift * edge, reach = s.radius * edge;
+    std::vector<uint8_t> kind(pieces, k_static);
+    std::vector<Vec3f> shift(pieces, Vec3f::Zero());  // the free particles' mean way from their anchors
+    std::vector<uint32_t> count(pieces, 0);
+    for (size_t i = 0; i < p.size(); ++i) {
+        const uint32_t k = body.piece_of_particle[i];
+        if (k >= pieces || kind[k] == k_sleeping) continue;
+        if (st.held_w[i] > 0.0f) {
+            kind[k] = k_sleeping;
+        } else if (p.w[i] > Real(0)) {
+            const Vec3f d = xyz(p.x[i]) - st.anchor[i];
+            shift[k] += d, ++count[k];
+            kind[k] = d.squaredNorm() > reach * reach ? k_awake_moving : std::max(kind[k], k_awake_still);
+        }
+    }
+    for (uint32_t k = 0; k < pieces; ++k)
+        if (kind[k] == k_awake_still && (shift[k] / float(count[k])).squaredNorm() > drift * drift) kind[k] = k_awake_moving;
+    // A leaking piece changes by itself: it never sleeps.
+    for (const VolumeConstraint& v : body.volumes)
+        if (v.leak > 0.0f && v.piece < pieces && kind[v.piece] != k_static) kind[v.piece] = k_awake_moving;
+    return kind;
+}
+
+constexpr uint8_t k_stays = 0, k_falls_asleep = 1, k_wakes = 2;
+
+// Holds the particles of the pieces that fall asleep and frees those of the pieces that wake; a
+// piece that moved begins its still spell where it is now.
+template <class Real>
+void apply(SoftBodyT<Real>& body, SleepState& st, std::span<const uint8_t> kind, std::span<const uint8_t> change) {
+    ParticlesT<Real>& p = body.particles;
+    for (size_t i = 0; i < p.size(); ++i) {
+        const uint32_t k = body.piece_of_particle[i];
+        if (k >= kind.size()) continue;
+        if (change[k] == k_falls_asleep && p.w[i] > Real(0)) {
+            st.held_w[i] = float(p.w[i]);
+            p.w[i] = Real(0), p.v[i].setZero(), p.x_prev[i] = p.x[i];
+        } else if (change[k] == k_wakes) {
+            if (st.held_w[i] > 0.0f) p.w[i] = Real(st.held_w[i]);
+            st.held_w[i] = 0.0f;
+            st.anchor[i] = xyz(p.x[i]);
+        } else if (kind[k] == k_awake_moving) {
+            st.anchor[i] = xyz(p.x[i]);
+        }
+    }
+    st.sleeping = 0;
+    for (size_t k = 0; k < kind.size(); ++k) {
+        if (change[k] == k_wakes) st.still[k] = 0.0f;
+        const bool asleep = kind[k] == k_sleeping ? change[k] != k_wakes : change[k] == k_falls_asleep;
+        st.sleeping += asleep ? 1 : 0;
+    }
+}
+} // namespace
+
+template <class Real>
+void update_sleep(SoftBodyT<Real>& body, std::span<const std::pair<uint32_t, uint32_t>> touching, const SleepSettings& s, float dt) {
+    SleepState& st = body.sleep;
+    if (!s.enabled) {
+        if (st.any()) wake_all<Real>(body);
+        return;
+    }
+    fit_to(st, body);
+    const size_t pieces = body.pieces;
+    const std::vector<uint8_t> kind = piece_kinds(body, st, s);
+    for (uint32_t k = 0; k < pieces; ++k) {
+        if (kind[k] == k_awake_moving) st.still[k] = 0.0f;
+        else if (kind[k] == k_awake_still) st.still[k] += dt;
+    }
+    // A piece still long enough falls asleep; a sleeping piece wakes when a piece touching it
+    // moves (one dropped onto it, or what it rests on sliding away).
+    std::vector<uint8_t> change(pieces, k_stays);
+    for (uint32_t k = 0; k < pieces; ++k)
+        if ((kind[k] == k_awake_still || kind[k] == k_awake_moving) && st.still[k] >= s.time) change[k] = k_falls_asleep;
+    for (const auto& [a, b] : touching) {
+        if (a >= pieces || b >= pieces) continue;
+        if (kind[a] == k_sleeping && kind[b] == k_awake_moving) change[a] = k_wakes;
+        if (kind[b] == k_sleeping && kind[a] == k_awake_moving) change[b] = k_wakes;
+    }
+    apply(body, st, kind, change);
+}
+
+template void wake_all<float>(BodyStateT<float>&);
+template void wake_all<double>(BodyStateT<double>&);
+template void update_sleep<float>(SoftBodyT<float>&, std::span<const std::pair<uint32_t, uint32_t>>, const SleepSettings&, float);
+template void update_sleep<double>(SoftBodyT<double>&, std::span<const std::pair<uint32_t, uint32_t>>, const SleepSettings&, float);
+
+} // namespace pbdsplat::sim

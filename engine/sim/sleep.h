@@ -1,0 +1,67 @@
+#pragma once
+// Pieces that have come to rest sleep: their particles are held (inverse mass 0, no velocity)
+// until something acts on them. A stack of PBD contacts never rests by itself: its pieces jitter
+// at a few centimetres a second and creep long after they land, and each creeping particle sets
+// the contact search off again (docs/BENCHMARKS.md, "Contact"). Asleep, a piece is what a static
+// body is to every stage (pushed against, never moved), so nothing else changes.
+//
+// A piece is still while none of its particles leaves a ball of `radius` mean rest edges about
+// where it was when the still spell began; still for `time`, it sleeps. A sleeping piece wakes
+// when a piece touching it moves (one dropped onto it, or what it rests on sliding away); a
+// static body never sleeps, being held already. Whatever acts on the body from outside (a cut, a
+// tear, a drag, a spin, a pressure ramp) wakes every piece first: sim::wake_all, called where it
+// acts. Pieces sleep one by one, not as islands: a piece that keeps creeping beside a resting
+// one would keep the island awake, and in the pile that was every island.
+#include <cstdint>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "core/math.h"
+#include "sim/particles.h"
+
+namespace pbdsplat::sim {
+
+template <class Real>
+struct SoftBodyT;
+template <class Real>
+struct BodyStateT;
+
+struct SleepSettings {
+    bool enabled = true;  // a user expects a pile that landed to lie still
+    // Seconds still before an island sleeps: long enough that a piece rocking to rest (a
+    // half ball in its ring swings with a period of about 0.2 s) is seen to stop.
+    float time = 0.5f;
+    // Mean rest edges a particle may wander from where its piece's still spell began. Resting
+    // pieces jitter by a few hundredths of an edge a frame and creep about a tenth of one a
+    // second; a piece that slides, rolls or tips leaves it within a few frames.
+    float radius = 0.5f;
+    // Mean rest edges the piece as a whole (its particles' mean) may drift in the still spell:
+    // a box on a slope just past its friction angle starts slowly (0.66 m/s^2 at 30 degrees and
+    // mu 0.5: 8 cm in half a second, a third of its 25 cm edges) and must not be held; at 0.1
+    // edges resting stacks creeping a centimetre a second seldom slept.
+    float drift = 0.25f;
+};
+
+// The sleep of a body's pieces: part of its state (the solver writes it; what acts on the body
+// wakes it).
+struct SleepState {
+    std::vector<float> held_w;    // per particle: its inverse mass while its piece sleeps, else 0
+    std::vector<Vec3f> anchor;    // per particle: where it was when its piece's still spell began
+    std::vector<float> still;     // per piece: seconds it has been still
+    size_t sleeping = 0;          // pieces asleep
+    bool any() const { return sleeping > 0; }
+};
+
+// Every piece awake, its still spell begun again: called before anything acts on the body, so a
+// cut copies true masses and a drag moves what it grabs.
+template <class Real>
+void wake_all(BodyStateT<Real>& state);
+
+// After a frame of `dt`: updates the still spells from the particles' positions, puts the pieces
+// still long enough to sleep and wakes those a moving piece touches. `touching`: pairs of pieces
+// in contact (the contact search's candidates); pieces are the body's labels.
+template <class Real>
+void update_sleep(SoftBodyT<Real>& body, std::span<const std::pair<uint32_t, uint32_t>> touching, const SleepSettings& s, float dt);
+
+} // namespace pbdsplat::sim

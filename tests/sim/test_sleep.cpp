@@ -1,0 +1,119 @@
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "mesh/procedural.h"
+#include "sim/sim_fixtures.h"
+#include "sim/sleep.h"
+#include "sim/solver.h"
+
+using namespace pbdsplat;
+
+namespace {
+
+sim::SoftBody boxes(std::initializer_list<Vec3f> centres) {
+    mesh::TriangleMesh m;
+    for (const Vec3f& c : centres) mesh::append(m, mesh::box(Vec3f(0.5f, 0.3f, 0.5f), 2), test::moved_by(c));
+    sim::SoftBodyDesc d;
+    d.shape_matching = true;
+    sim::SoftBody b = test::make_body(std::move(m), d);
+    b.model_of_particle = b.piece_of_particle;  // separate models, as [[bodies]] are
+    return b;
+}
+
+sim::SolverSettings stiff() {
+    sim::SolverSettings s;
+    s.iterations = 10;
+    s.shape_stiffness = 0.8f;
+    s.damping = 0.5f;
+    return s;
+}
+
+sim::Colliders ground() {
+    sim::Colliders c;
+    c.ground = sim::GroundPlane{Vec3f::UnitY(), 0.0f};
+    return c;
+}
+
+bool piece_held(const sim::SoftBody& b, uint32_t piece) {
+    for (size_t i = 0; i < b.particle_count(); ++i)
+        if (b.piece_of_particle[i] == piece && b.particles.w[i] > 0.0f) return false;
+    return true;
+}
+
+} // namespace
+
+TEST_SUITE("sim/sleep") {
+    TEST_CASE("a stack that landed falls asleep, holds still to the bit, and searches no more") {
+        sim::SoftBody b = boxes({{0.0f, 0.2f, 0.0f}, {0.02f, 0.55f, 0.0f}});
+        const std::vector<float> masses = b.particles.w;
+        sim::Solver solver;
+        const sim::SolverSettings s = stiff();
+        const sim::Colliders c = ground();
+        for (int f = 0; f < 180; ++f) solver.step(b, 1.0f / 60.0f, s, c, {});
+        MESSAGE("asleep after 3 s: " << b.sleep.sleeping << " of " << b.pieces);
+        REQUIRE(b.sleep.sleeping == 2);
+        CHECK(piece_held(b, 0));
+        CHECK(piece_held(b, 1));
+        const sim::Vec4Array x = b.particles.x;
+        const size_t searches = solver.contact().searches();
+        for (int f = 0; f < 60; ++f) solver.step(b, 1.0f / 60.0f, s, c, {});
+        CHECK(b.particles.x == x);
+        CHECK(solver.contact().searches() == searches);
+        // Woken, every particle has its own mass back, exactly.
+        sim::wake_all(b);
+        CHECK(b.particles.w == masses);
+        CHECK(b.sleep.sleeping == 0);
+    }
+
+    TEST_CASE("without sleep the same stack keeps moving (the test above can fail)") {
+        sim::SoftBody b = boxes({{0.0f, 0.2f, 0.0f}, {0.02f, 0.55f, 0.0f}});
+        sim::SolverSettings s = stiff();
+        s.sleep.enabled = false;
+        sim::Solver solver;
+        for (int f = 0; f < 180; ++f) solver.step(b, 1.0f / 60.0f, s, ground(), {});
+        const sim::Vec4Array x = b.particles.x;
+        solver.step(b, 1.0f / 60.0f, s, ground(), {});
+        CHECK(b.sleep.sleeping == 0);
+        CHECK(b.particles.x != x);
+    }
+
+    TEST_CASE("a box dropped onto a sleeping one wakes it, and rests on it") {
+        // The lower box sleeps within a second; the upper one falls 3 m (0.8 s) onto it.
+        sim::SoftBody b = boxes({{0.0f, 0.16f, 0.0f}, {0.05f, 3.5f, 0.0f}});
+        const uint32_t low = b.piece_of_particle[b.extreme_particle(1, false)];
+        const uint32_t high = 1 - low;
+        sim::Solver solver;
+        const sim::SolverSettings s = stiff();
+        bool slept = false, woke = false;
+        for (int f = 0; f < 240; ++f) {
+            solver.step(b, 1.0f / 60.0f, s, ground(), {});
+            const bool held = piece_held(b, low);
+            slept = slept || held;
+            woke = woke || (slept && !held);
+        }
+        MESSAGE("the lower box slept: " << slept << ", woke: " << woke);
+        CHECK(slept);
+        CHECK(woke);
+        CHECK(test::lowest_y(b, high) > test::highest_y(b, low) - 0.05f);  // on it, not through it
+        CHECK(test::highest_y(b, low) > 0.28f);  // and the lower box not crushed into the ground
+    }
+
+    TEST_CASE("a piece that keeps moving never sleeps; one at rest beside it does") {
+        // A box on the ground and a second one sliding across it at 1 m/s: the slider never
+        // stays within the still radius, so it never sleeps.
+        sim::SoftBody b = boxes({{0.0f, 0.16f, 0.0f}, {-2.0f, 0.16f, 1.5f}});
+        const uint32_t slider = b.piece_of_particle[b.extreme_particle(0, false)];
+        sim::SolverSettings s = stiff();
+        s.gravity = Vec3f::Zero();
+        sim::Solver solver;
+        for (size_t i = 0; i < b.particle_count(); ++i)
+            if (b.piece_of_particle[i] == slider) b.particles.v[i] = sim::to4(Vec3f(1.0f, 0.0f, 0.0f));
+        for (int f = 0; f < 120; ++f) {
+            solver.step(b, 1.0f / 60.0f, s, {}, {});
+            REQUIRE(!piece_held(b, slider));
+        }
+        CHECK(b.sleep.sleeping == 1);  // the box at rest
+    }
+}
