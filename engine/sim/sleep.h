@@ -50,7 +50,10 @@ struct SleepState {
     std::vector<Vec3f> anchor;    // per particle: where it was when its piece's still spell began
     std::vector<float> still;     // per piece: seconds it has been still
     size_t sleeping = 0;          // pieces asleep
+    size_t movable = 0;           // pieces that can move at all (not static), asleep or awake
     bool any() const { return sleeping > 0; }
+    // Every piece that can move sleeps: a frame has nothing to do but watch for a wake.
+    bool resting() const { return sleeping > 0 && sleeping == movable; }
 };
 
 // Every piece awake, its still spell begun again: called before anything acts on the body, so a

@@ -187,6 +187,9 @@ void SolverT<Real>::settle(SoftBodyT<Real>& body, const SolverSettings& s, float
 template <class Real>
 void SolverT<Real>::run(Stage stage, SoftBodyT<Real>& body, const SolverSettings& s, Real h, const Colliders& colliders,
                         const DragConstraint& drag) {
+    // Nothing moves while every piece sleeps, and nothing need be computed; what acts on the body
+    // wakes it before the frame's stages run.
+    if (body.sleep.resting() && stage != Stage::sleep) return;
     switch (stage) {
     case Stage::forces: begin_substep(body, s, h); break;
     case Stage::distance: project_distance(body, body, s, h); break;

@@ -56,6 +56,7 @@ TEST_SUITE("sim/sleep") {
         REQUIRE(b.sleep.sleeping == 2);
         CHECK(piece_held(b, 0));
         CHECK(piece_held(b, 1));
+        CHECK(b.sleep.resting());  // the frame's stages then have nothing to do
         const sim::Vec4Array x = b.particles.x;
         const size_t searches = solver.contact().searches();
         for (int f = 0; f < 60; ++f) solver.step(b, 1.0f / 60.0f, s, c, {});
