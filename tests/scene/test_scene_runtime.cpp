@@ -151,6 +151,54 @@ TEST_SUITE("scene/runtime") {
         CHECK(farthest > 1.6f);  // the torus reaches 1.35; the drag pulls 0.5 past it
     }
 
+    TEST_CASE("a box asleep on the ground: a drag wakes and moves it, a cut gives every new particle its mass") {
+        const char* text = R"(
+[model]
+mesh = "box:8"
+scale = 0.3
+translate = [0.0, -0.6, 0.0]
+
+[simulation]
+damping = 0.5
+colliders = [{ type = "plane", normal = [0, 1, 0], offset = -0.9 }]
+
+[[events]]
+time = 2.0
+type = "drag"
+from = [0.0, -0.5, 0.0]
+to = [0.4, -0.5, 0.0]
+duration = 0.5
+
+[[events]]
+time = 5.0
+type = "cut"
+point = [0.0, -0.75, 0.0]
+normal = [0.0, 1.0, 0.0]
+)";
+        auto s = scene::parse_scene(text, "sleep.toml");
+        REQUIRE_MESSAGE(s.ok(), test::why(s));
+        auto created = scene::SceneRuntime::create(s.value(), {});
+        REQUIRE_MESSAGE(created.ok(), test::why(created));
+        scene::SceneRuntime& rt = *created.value();
+        const auto centre_x = [&rt] {
+            float x = 0.0f;
+            for (const auto& p : rt.body().particles.x) x += p.x();
+            return x / float(rt.body().particle_count());
+        };
+        for (int f = 0; f < 115; ++f) REQUIRE(rt.step().ok());  // landed and still by 1.9 s
+        CHECK(rt.body().sleep.resting());
+        const float before = centre_x();
+        for (int f = 0; f < 60; ++f) REQUIRE(rt.step().ok());
+        MESSAGE("the box's centre moved " << centre_x() - before << " m along the drag");
+        CHECK(centre_x() - before > 0.1f);  // the drag moved it: it woke
+        for (int f = 0; f < 118; ++f) REQUIRE(rt.step().ok());  // to 4.9 s: at rest again
+        CHECK(rt.body().sleep.resting());
+        for (int f = 0; f < 10; ++f) REQUIRE(rt.step().ok());
+        REQUIRE(rt.body().pieces == 2);
+        CHECK(rt.body().sleep.sleeping == 0);
+        for (size_t i = 0; i < rt.body().particle_count(); ++i) REQUIRE(rt.body().particles.w[i] > 0.0f);
+    }
+
     TEST_CASE("the ground darkens under each piece: two pieces apart cast two shadows, one piece one") {
         // Two unit squares of particles on the ground (y = 0), 4 m apart along x, as pieces 0 and 1.
         std::vector<Vec4f> x;
