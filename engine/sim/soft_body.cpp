@@ -131,6 +131,7 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     d.distance = b.distance;
     d.distance_groups = b.distance_groups;
     d.distance_lambda.assign(b.distance_lambda.size(), 0.0);
+    d.sleep = b.sleep;  // the held masses go with the zeros they stand for
     d.welds = b.welds;
     d.volumes = b.volumes;
     d.piece_of_particle = b.piece_of_particle;
