@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-
 #include "sim/soft_body.h"
 
 namespace pbdsplat::sim {
