@@ -48,6 +48,8 @@ const std::vector<FigureOf>& figure_table() {
          [](const CheckReport& r) { return r.burst_volume_ratio; }},
         {{"pull_stretch", "a drag's grabbed part at its longest along the pull before a tear, over its length then (0: no drag)"},
          [](const CheckReport& r) { return r.pull_stretch; }},
+        {{"speed_rms_end", "the free particles' RMS speed at the end, m/s (a pile at rest: 0)"},
+         [](const CheckReport& r) { return r.speed_rms_end; }},
         {{"volume_ratio_min", "the least enclosed volume over the volume at load (openings closed by fans)"},
          [](const CheckReport& r) { return r.volume_ratio_min; }},
         {{"smallest_piece_min", "triangles in the smallest piece any sample saw"},

@@ -199,6 +199,7 @@ void summarise(CheckReport& report, std::vector<double> stage_a) {
         report.tears = report.samples.back().tears;
         report.particles = report.samples.back().particles;
         report.gaussians = report.samples.back().gaussians;
+        report.speed_rms_end = report.samples.back().speed_rms;
     }
     if (!stage_a.empty()) {
         std::nth_element(stage_a.begin(), stage_a.begin() + long(stage_a.size() / 2), stage_a.end());

@@ -88,6 +88,8 @@ struct CheckReport {
     // pull at its longest over its length when the pull began (0: nothing pulled).
     double pull_stretch = 0.0;
     double volume_ratio_min = 1.0;  // over the samples
+    // The free particles' RMS speed at the last sample (m/s): a scene that ends at rest reads 0.
+    double speed_rms_end = 0.0;
     size_t pieces = 0, tears = 0;  // at the end
     size_t particles = 0, gaussians = 0;  // at the end
     size_t gaussians_max = 0;             // the most any measured frame drew: the scene's work

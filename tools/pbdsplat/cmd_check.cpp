@@ -48,7 +48,8 @@ int cmd_check(const std::vector<std::string>& argv) {
                               "passing through another), tilt_max,\n"
                               "height_ratio_min, tears, smallest_piece_min, rip_growth, burst_volume_ratio,\n"
                               "pull_stretch (a drag's grabbed part at its longest along the pull before a tear, over\n"
-                              "its length when the pull began), volume_ratio_min and every measured frame")})};
+                              "its length when the pull began), volume_ratio_min, speed_rms_end (the free particles'\n"
+                              "RMS speed at the end, m/s) and every measured frame")})};
     const Parsed parsed = parse_command(command, argv);
     if (!parsed.options) return parsed.exit_code;
     const Options& opt = *parsed.options;
@@ -125,6 +126,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                                   {"burst_volume_ratio", r.burst_volume_ratio},
                                   {"pull_stretch", r.pull_stretch},
                                   {"volume_ratio_min", r.volume_ratio_min},
+                                  {"speed_rms_end", r.speed_rms_end},
                                   {"particles", r.particles},
                                   {"gaussians", r.gaussians},
                                   {"gaussians_max", r.gaussians_max},
@@ -161,10 +163,10 @@ int cmd_check(const std::vector<std::string>& argv) {
                 "       triangles through another %.3f %%;\n"
                 "       tilt %.1f degrees, height %.3f of rest; %zu tears; smallest piece %zu triangles;\n"
                 "       volume %.3f of load at least; 2 s after the first tear: openings %.2fx, volume %.3f;\n"
-                "       a pull stretched what it held %.2fx before tearing\n",
+                "       a pull stretched what it held %.2fx before tearing; at the end the free particles move %.3f m/s\n",
                 r.shape_error_max, r.shape_error_before_topology, r.strays_max, percent(r.hole_ratio_max), r.iou_min,
                 percent(r.speck_ratio_max), r.shading_error_max, r.color_error_max, r.spacing_within_min, r.spacing_within_3d_min, r.pieces, r.particles, r.gaussians, r.stage_a_ms, r.penetration_max, percent(r.crossing_ratio_max),
-                r.tilt_max, r.height_ratio_min, r.tears, r.smallest_piece_min, r.volume_ratio_min, r.rip_growth, r.burst_volume_ratio, r.pull_stretch);
+                r.tilt_max, r.height_ratio_min, r.tears, r.smallest_piece_min, r.volume_ratio_min, r.rip_growth, r.burst_volume_ratio, r.pull_stretch, r.speed_rms_end);
     if (!expect.empty()) std::printf("what the scene's [expect] table claims:\n");
     for (const scene::ExpectOutcome& e : expect) {
         if (e.value)
