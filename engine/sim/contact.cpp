@@ -269,7 +269,10 @@ void ContactSolverT<Real>::touching_pieces(const SoftBodyT<Real>& body, std::vec
     const std::vector<uint32_t>& piece = body.piece_of_particle;
     for (const Contact& c : contacts_) {
         const uint32_t a = piece[c.particle], b = piece[corners_of(body, c.triangle).ia];
-        if (a != b) out.emplace_back(std::min(a, b), std::max(a, b));
+        if (a == b) continue;
+        const std::pair<uint32_t, uint32_t> pair(std::min(a, b), std::max(a, b));
+        // A particle's candidates lie together and mostly on one piece: the sort gets few repeats.
+        if (out.size() == first || out.back() != pair) out.push_back(pair);
     }
     std::sort(out.begin() + std::ptrdiff_t(first), out.end());
     out.erase(std::unique(out.begin() + std::ptrdiff_t(first), out.end()), out.end());

@@ -180,7 +180,8 @@ void SolverT<Real>::update_normals(SoftBodyT<Real>& body) {
 template <class Real>
 void SolverT<Real>::settle(SoftBodyT<Real>& body, const SolverSettings& s, float dt) {
     touching_.clear();
-    if (s.contact.enabled) contact_.touching_pieces(body, touching_);
+    // The pairs only wake a sleeping piece beside an awake one.
+    if (s.contact.enabled && body.sleep.any() && !body.sleep.resting()) contact_.touching_pieces(body, touching_);
     update_sleep<Real>(body, touching_, s.sleep, dt);
 }
 
