@@ -15,6 +15,7 @@
 #include "scene/stages/pass_group.h"
 #include "scene/stages/simulation_stage.h"
 #include "scene/stages/solid_pieces.h"
+#include "scene/stages/stillness.h"
 #include "scene/stages/surface_stage.h"
 #include "scene/stages/write_check.h"
 #include "sim/approach.h"
@@ -83,6 +84,8 @@ void SceneRuntime::add_surface_and_map_passes(GraphAssembly& h) {
     graph::FrameGraph& g = graph_;
     graph::Blackboard& board = h.board;
     graph::import_into(g, board, keys::density_stats, &density_stats_);
+    graph::import_into(g, board, keys::stillness, &stillness_);
+    add_stillness_pass(g, board, tag(PassGroup::update));
     SurfacePassConfig surface{splat_particles_, h_, scene_.surface.seed, tag(PassGroup::update)};
     const render::SplatStyle& style = scene_.render.frame.style;
     surface.thin = style.thin_below > 0.0f && style.blend == render::Blend::normalised;
@@ -98,6 +101,7 @@ void SceneRuntime::add_surface_and_map_passes(GraphAssembly& h) {
     map_settings_.ground = scene_.simulation.colliders.ground;
     MapPassOptions mo{h.boundary, scene_.surface.stretch_scale, h.sorted, options_.keep_records, !paused_, tag(PassGroup::update)};
     mo.cut_faces = h.cut_faces_on;
+    mo.stillness = true;
     add_mapping_passes(g, board, mo);
 }
 
@@ -172,15 +176,20 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
     BodyParts body = BodyParts::from(h.board);
     const auto cut_faces = h.board.get(keys::cut_faces);
     auto input = h.board.get(keys::occluder_input);
+    const auto stillness = h.board.get(keys::stillness);
     const bool cut_faces_on = h.cut_faces_on;
     g.add_pass("occluder mesh", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         body.declare(b);
+        b.read(stillness);
         mesh = b.write(mesh);
         if (fine_) embedding = b.write(embedding);
         if (cut_faces_on) b.read(cut_faces);
         input = b.write(input);
         const mesh::TriangleMesh* fine = fine_ ? &*fine_ : nullptr;  // the model's surface: fixed at load
-        return [fine, mesh, embedding, body, cut_faces, input, cut_faces_on](const graph::PassResources& r, graph::ExecuteContext&) {
+        return [fine, mesh, embedding, body, cut_faces, input, cut_faces_on, stillness](const graph::PassResources& r,
+                                                                                        graph::ExecuteContext&) {
+            // The body where it was: the mesh made from it then (whose spans the input keeps) stands.
+            if (r.read(stillness).still()) return;
             const sim::SoftBody& bd = body.body(r);
             passes::OccluderInput& in = r.write(input);
             // A cut face hides what lies behind it as the shell does.

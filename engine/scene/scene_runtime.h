@@ -28,6 +28,7 @@
 #include "splat/sort.h"
 #include "scene/stages/paint.h"
 #include "scene/stages/solid_pieces.h"
+#include "scene/stages/stillness.h"
 #include "surface/boundary_particles.h"
 #include "surface/density.h"
 #include "surface/embedding.h"
@@ -137,6 +138,9 @@ public:
     // The splats of the last frame: the particles' first, then the boundary particles'; with an
     // embedded model surface, the boundary particles' only.
     const std::vector<splat::GaussianRecord>& records() const { return mapping_->records(); }
+    // The last frame found the body where it was on the frame before (asleep or paused): its
+    // samples, records and occluder mesh were kept, not made again (stages/stillness.h).
+    bool body_still() const { return stillness_.still(); }
     // With render.splat_shape = "deformed": each record's axes; else empty.
     const std::vector<splat::GaussianShape>& shapes() const { return mapping_->shapes(); }
     // Where a textured model's texture lies on each record (empty unless textured splats).
@@ -248,6 +252,7 @@ private:
     splat::StretchScale stretch_;
     surface::DensityControl density_;  // empty when the scene turns it off
     surface::DensityStats density_stats_;
+    Stillness stillness_;  // whether the body moved since the surface passes last ran (stages/stillness.h)
     std::unique_ptr<render::SplatRenderer> renderer_;
     passes::GpuPassResources gpu_resources_;
     passes::GpuFrameInput frame_input_;

@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -28,6 +29,31 @@ scene::Scene load(const std::string& file) {
     REQUIRE_MESSAGE(s.ok(), test::why(s));
     return std::move(s).value();
 }
+
+// A box that lands on the ground and rests (asleep by 1.9 s), is dragged at 2 s and cut at 5 s.
+const char* const k_box_on_ground = R"(
+[model]
+mesh = "box:8"
+scale = 0.3
+translate = [0.0, -0.6, 0.0]
+
+[simulation]
+damping = 0.5
+colliders = [{ type = "plane", normal = [0, 1, 0], offset = -0.9 }]
+
+[[events]]
+time = 2.0
+type = "drag"
+from = [0.0, -0.5, 0.0]
+to = [0.4, -0.5, 0.0]
+duration = 0.5
+
+[[events]]
+time = 5.0
+type = "cut"
+point = [0.0, -0.75, 0.0]
+normal = [0.0, 1.0, 0.0]
+)";
 
 // Pass name -> culled reason ("" when kept), for a simulation-only runtime.
 std::map<std::string, std::string> culling(const scene::Scene& s) {
@@ -152,30 +178,7 @@ TEST_SUITE("scene/runtime") {
     }
 
     TEST_CASE("a box asleep on the ground: a drag wakes and moves it, a cut gives every new particle its mass") {
-        const char* text = R"(
-[model]
-mesh = "box:8"
-scale = 0.3
-translate = [0.0, -0.6, 0.0]
-
-[simulation]
-damping = 0.5
-colliders = [{ type = "plane", normal = [0, 1, 0], offset = -0.9 }]
-
-[[events]]
-time = 2.0
-type = "drag"
-from = [0.0, -0.5, 0.0]
-to = [0.4, -0.5, 0.0]
-duration = 0.5
-
-[[events]]
-time = 5.0
-type = "cut"
-point = [0.0, -0.75, 0.0]
-normal = [0.0, 1.0, 0.0]
-)";
-        auto s = scene::parse_scene(text, "sleep.toml");
+        auto s = scene::parse_scene(k_box_on_ground, "sleep.toml");
         REQUIRE_MESSAGE(s.ok(), test::why(s));
         auto created = scene::SceneRuntime::create(s.value(), {});
         REQUIRE_MESSAGE(created.ok(), test::why(created));
@@ -197,6 +200,51 @@ normal = [0.0, 1.0, 0.0]
         REQUIRE(rt.body().pieces == 2);
         CHECK(rt.body().sleep.sleeping == 0);
         for (size_t i = 0; i < rt.body().particle_count(); ++i) REQUIRE(rt.body().particles.w[i] > 0.0f);
+    }
+
+    TEST_CASE("a box at rest keeps its splats as they were made; dragged or cut, it makes them anew") {
+        auto s = scene::parse_scene(k_box_on_ground, "still.toml");
+        REQUIRE_MESSAGE(s.ok(), test::why(s));
+        scene::RuntimeOptions options;
+        options.keep_records = true;
+        auto created = scene::SceneRuntime::create(s.value(), options);
+        REQUIRE_MESSAGE(created.ok(), test::why(created));
+        scene::SceneRuntime& rt = *created.value();
+        REQUIRE(rt.particles_are_splats());
+        // Every particle's splat sits on its particle (the particles' records come first).
+        const auto on_body = [&rt] {
+            const auto& r = rt.records();
+            const auto& x = rt.body().particles.x;
+            if (r.size() <= x.size()) return false;
+            for (size_t i = 0; i < x.size(); ++i)
+                if (r[i].position[0] != x[i].x() || r[i].position[1] != x[i].y() || r[i].position[2] != x[i].z()) return false;
+            return true;
+        };
+        const auto same = [](const std::vector<splat::GaussianRecord>& a, const std::vector<splat::GaussianRecord>& b) {
+            return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(splat::GaussianRecord)) == 0;
+        };
+        for (int f = 0; f < 115; ++f) REQUIRE(rt.step().ok());
+        REQUIRE(rt.body().sleep.resting());
+        REQUIRE(rt.step().ok());
+        CHECK(rt.body_still());
+        const std::vector<splat::GaussianRecord> resting = rt.records();
+        CHECK(on_body());
+        for (int f = 0; f < 3; ++f) {  // to 1.98 s
+            REQUIRE(rt.step().ok());
+            CHECK(rt.body_still());
+            CHECK(same(rt.records(), resting));
+        }
+        for (int f = 0; f < 10; ++f) REQUIRE(rt.step().ok());  // the drag from 2 s
+        CHECK_FALSE(rt.body_still());
+        CHECK(on_body());
+        CHECK_FALSE(same(rt.records(), resting));
+        for (int f = 0; f < 168; ++f) REQUIRE(rt.step().ok());  // to 4.95 s: at rest again
+        REQUIRE(rt.body_still());
+        const size_t before_cut = rt.records().size();
+        for (int f = 0; f < 6; ++f) REQUIRE(rt.step().ok());  // the cut at 5 s
+        CHECK_FALSE(rt.body_still());
+        CHECK(on_body());
+        CHECK(rt.records().size() > before_cut);  // the new particles and the cut faces are drawn
     }
 
     TEST_CASE("the ground darkens under each piece: two pieces apart cast two shadows, one piece one") {

@@ -3,6 +3,8 @@
 #include "scene/stages/body_parts.h"
 #include "scene/stages/body_view.h"
 #include "scene/stages/frame_keys.h"
+#include "scene/stages/stillness.h"
+#include "scene/stages/surface_stage.h"
 
 namespace pbdsplat::scene {
 
@@ -11,8 +13,16 @@ MappingStage::MappingStage(const sim::SoftBody& body, uint32_t fade_frames, bool
     if (deformed) deformed_ = splat::DeformedShapes(body.rest_positions, body.triangles);
 }
 
+bool MappingStage::stands(const Sources& s, const splat::Appearance& look, bool body_still, bool samples_still) const {
+    return made_.valid && body_still && (samples_still || !s.samples) && fade_.fading() == 0 && made_.particles == s.particles &&
+           made_.samples == (s.samples != nullptr) && made_.stretch == (s.stretch != nullptr) &&
+           made_.cut_faces == (s.cut_faces != nullptr) && made_.look.albedo == look.albedo &&
+           made_.look.opacity_logit == look.opacity_logit && made_.look.scale == look.scale;
+}
+
 void MappingStage::map(const Sources& s, const splat::Appearance& look) {
     const sim::SoftBody& body = *s.body;
+    made_ = {true, s.particles, s.samples != nullptr, s.stretch != nullptr, s.cut_faces != nullptr, look};
     if (varying_normals_)
         normal_field_.update(body.particles.x, body.normals, body.triangles, s.particles, splat::curvature_limit(look.scale));
     splat::map_body(s.particles ? std::span<const Vec4f>(body.particles.x) : std::span<const Vec4f>(),
@@ -53,6 +63,13 @@ void MappingStage::publish(passes::SplatStream& input, bool moved) {
     previous_valid_ = true;
 }
 
+void MappingStage::publish_unchanged(passes::SplatStream& input) const {
+    input.records = records_;
+    input.shapes = shapes_;
+    input.texcoords = texcoords_;
+    input.changed.assign(1, gpu::ByteRange{0, 0});  // nothing: an empty range, not "everything"
+}
+
 void MappingStage::topology_changed(const sim::SoftBody& body, const topology::TopologyChange& change, bool particles) {
     if (particles) fade_.add_particles(change.particles_before, change.new_particles());
     if (!deformed_.empty()) deformed_ = splat::DeformedShapes(body.rest_positions, body.triangles);
@@ -70,18 +87,60 @@ struct MapHandles {
     graph::Handle<render::FrameInputs> frame;
     graph::Handle<passes::SplatStream> splats;
     graph::Handle<splat::CutFaces> cut_faces;
+    graph::Handle<Stillness> stillness;
+    graph::Handle<surface::DensityStats> density_stats;
 };
+
+// Nothing the density control did this frame changed a sample's place, count or fade.
+bool samples_quiet(const surface::DensityStats& s) {
+    return s.resampled == 0 && s.inserted == 0 && s.retired == 0 && s.removed == 0 && s.fading == 0;
+}
+
+void map_frame(const MapPassOptions& o, const MapHandles& hh, const graph::PassResources& r) {
+    const sim::SoftBody& body = hh.body.body(r);
+    const MapSettings& settings = r.read(hh.settings);
+    const splat::Appearance& look = r.read(hh.appearance);
+    MappingStage& mapping = r.write(hh.mapping);
+    render::FrameInputs& frame = r.write(hh.frame);
+    MappingStage::Sources sources;
+    sources.body = &body;
+    sources.particles = settings.particles;
+    sources.samples = o.boundary && settings.show_boundary ? &r.read(hh.samples) : nullptr;
+    const splat::StretchScale* stretch = o.stretch ? &r.read(hh.stretch) : nullptr;
+    sources.stretch = stretch && !stretch->empty() ? stretch : nullptr;
+    splat::CutFaces* faces = o.cut_faces ? &r.write(hh.cut_faces) : nullptr;
+    sources.cut_faces = faces;
+    // A sorted frame sorts the records it makes: they are made again whatever stands.
+    const bool body_still = o.stillness && r.read(hh.stillness).still();
+    const bool quiet = o.stillness && o.boundary && samples_quiet(r.read(hh.density_stats));
+    const bool stands = !o.sorted && mapping.stands(sources, look, body_still, quiet);
+    if (!stands) {
+        if (faces) faces->update(body);
+        mapping.map(sources, look);
+    }
+    BodyViewOptions view;
+    view.cull_back = settings.cull_back;
+    view.closed = settings.closed;
+    view.opaque = frame.style.blend != render::Blend::additive && look.opacity_logit > math::logit(0.9f);
+    view.draw_ground = settings.draw_ground;
+    follow_body({body.particles.x, body.piece_of_particle, body.pieces}, settings.ground, view, frame);
+    if (o.sorted) return;  // the sort pass reorders them first
+    if (stands) mapping.publish_unchanged(r.write(hh.splats));
+    else mapping.publish(r.write(hh.splats), o.moved);
+}
 } // namespace
 
 void add_mapping_passes(graph::FrameGraph& g, graph::Blackboard& board, const MapPassOptions& o) {
     MapHandles h{BodyParts::from(board),      board.get(keys::samples),      board.get(keys::stretch),
                  board.get(keys::sort),       board.get(keys::appearance),   board.get(keys::map_settings),
                  board.get(keys::mapping),    board.get(keys::view),         board.get(keys::splats),
-                 board.get(keys::cut_faces)};
+                 board.get(keys::cut_faces),  board.get(keys::stillness),    board.get(keys::density_stats)};
     g.add_pass("map", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         h.body.declare(b);
         if (o.boundary) b.read(h.samples);
         if (o.stretch) b.read(h.stretch);
+        if (o.stillness) b.read(h.stillness);
+        if (o.stillness && o.boundary) b.read(h.density_stats);
         b.read(h.appearance);
         b.read(h.settings);
         h.mapping = b.write(h.mapping);
@@ -89,32 +148,7 @@ void add_mapping_passes(graph::FrameGraph& g, graph::Blackboard& board, const Ma
         if (!o.sorted) h.splats = b.write(h.splats);
         if (o.cut_faces) h.cut_faces = b.write(h.cut_faces);
         if (o.keep_records) b.side_effect();
-        return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) {
-            const sim::SoftBody& body = hh.body.body(r);
-            const MapSettings& settings = r.read(hh.settings);
-            const splat::Appearance& look = r.read(hh.appearance);
-            MappingStage& mapping = r.write(hh.mapping);
-            render::FrameInputs& frame = r.write(hh.frame);
-            MappingStage::Sources sources;
-            sources.body = &body;
-            sources.particles = settings.particles;
-            sources.samples = o.boundary && settings.show_boundary ? &r.read(hh.samples) : nullptr;
-            const splat::StretchScale* stretch = o.stretch ? &r.read(hh.stretch) : nullptr;
-            sources.stretch = stretch && !stretch->empty() ? stretch : nullptr;
-            if (o.cut_faces) {
-                splat::CutFaces& faces = r.write(hh.cut_faces);
-                faces.update(body);
-                sources.cut_faces = &faces;
-            }
-            mapping.map(sources, look);
-            BodyViewOptions view;
-            view.cull_back = settings.cull_back;
-            view.closed = settings.closed;
-            view.opaque = frame.style.blend != render::Blend::additive && look.opacity_logit > math::logit(0.9f);
-            view.draw_ground = settings.draw_ground;
-            follow_body({body.particles.x, body.piece_of_particle, body.pieces}, settings.ground, view, frame);
-            if (!o.sorted) mapping.publish(r.write(hh.splats), o.moved);  // else the sort pass reorders them first
-        };
+        return [o, hh = h](const graph::PassResources& r, graph::ExecuteContext&) { map_frame(o, hh, r); };
     }, o.tag);
     g.add_pass("sort", graph::PassKind::cpu, [&](graph::PassBuilder& b) {
         b.read(h.sort);

@@ -39,12 +39,18 @@ public:
         const splat::CutFaces* cut_faces = nullptr;           // the faces cuts made, drawn after the rest, or null
     };
     void map(const Sources& s, const splat::Appearance& look);
+    // Whether the records the last map() made stand for this frame as they are: the body has not
+    // moved since (`body_still`), nor have the samples (`samples_still`: nothing added, removed or
+    // fading), no particle fades in, and the same splats are drawn with the same look.
+    bool stands(const Sources& s, const splat::Appearance& look, bool body_still, bool samples_still) const;
     void sort(const render::Camera& camera);
     // Hands the records (and shapes) to the GPU passes with what changed. `moved`: the body was
     // simulated this frame, so every record changed: all of them go, without comparing them with
     // the last frame's (a copy and a compare of every record per frame). A frame that did not
     // move the body (paused) compares, and uploads only what a sort or a setting changed.
     void publish(passes::SplatStream& input, bool moved);
+    // Hands the records over as they stand: nothing of them changed (stands()).
+    void publish_unchanged(passes::SplatStream& input) const;
     // New particles fade in; the deformed shapes follow the new triangles.
     void topology_changed(const sim::SoftBody& body, const topology::TopologyChange& change, bool particles);
 
@@ -56,6 +62,13 @@ public:
     splat::SortScratch& sort_scratch() { return sort_scratch_; }
 
 private:
+    // What the last map() made the records from, besides the body and the samples.
+    struct Made {
+        bool valid = false;
+        bool particles = false, samples = false, stretch = false, cut_faces = false;
+        splat::Appearance look;
+    };
+    Made made_;
     std::vector<splat::GaussianRecord> records_;
     std::vector<splat::GaussianRecord> previous_;  // what the GPU holds, when previous_valid_: for the changed ranges
     bool previous_valid_ = false;
@@ -91,6 +104,7 @@ struct MapPassOptions {
     bool moved = true;          // the frame simulates the body (not paused)
     uint32_t tag = 0;
     bool cut_faces = false;     // cuts can come: the faces they make are followed and drawn
+    bool stillness = false;     // keys::stillness is on the board: a still frame keeps the records
 };
 // "map" (body -> records, the cut faces follow the body's cap loops, the view follows the body,
 // the records handed over unless sorted) and

@@ -6,6 +6,7 @@
 #include "mesh/topology.h"
 #include "scene/stages/body_parts.h"
 #include "scene/stages/frame_keys.h"
+#include "scene/stages/stillness.h"
 #include "surface/edges.h"
 #include "surface/remap.h"
 #include "surface/thin_order.h"
@@ -67,6 +68,24 @@ void add_thin_order_pass(graph::FrameGraph& g, graph::Handle<sim::BodyStructure>
         },
         config.tag);
 }
+
+// The stretch-scaled splats' factors follow the triangles' stretch (where the body moved).
+void add_stretch_pass(graph::FrameGraph& g, const BodyParts& body, graph::Handle<Stillness> stillness,
+                      graph::Handle<splat::StretchScale>& stretch, uint32_t tag) {
+    g.add_pass(
+        "stretch", graph::PassKind::cpu,
+        [&](graph::PassBuilder& b) {
+            b.read(body.structure);
+            b.read(body.state);
+            b.read(stillness);
+            stretch = b.write(stretch);
+            return [body, stretch, stillness](const graph::PassResources& r, graph::ExecuteContext&) {
+                if (r.read(stillness).still()) return;
+                r.write(stretch).update(r.read(body.state).particles.x, r.read(body.structure).triangles);
+            };
+        },
+        tag);
+}
 } // namespace
 
 void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const SurfacePassConfig& config) {
@@ -76,14 +95,20 @@ void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const Su
         graph::Handle<surface::DensityControl> density;
         graph::Handle<surface::DensityStats> density_stats;
         graph::Handle<splat::StretchScale> stretch;         // written
+        graph::Handle<Stillness> stillness;                 // read
     } h{BodyParts::from(board), board.get(keys::samples), board.get(keys::density), board.get(keys::density_stats),
-        board.get(keys::stretch)};
+        board.get(keys::stretch), board.get(keys::stillness)};
     g.add_pass(
         "boundary particles", graph::PassKind::cpu,
         [&](graph::PassBuilder& b) {
             h.body.declare(b);
+            b.read(h.stillness);
             h.samples = b.write(h.samples);
-            return [body = h.body, samples = h.samples, pool = config.pool](const graph::PassResources& r, graph::ExecuteContext&) {
+            return [body = h.body, samples = h.samples, still = h.stillness, pool = config.pool](const graph::PassResources& r,
+                                                                                                  graph::ExecuteContext&) {
+                // Where the body has not moved the samples are where its last carry (or the
+                // density control, for those it added since) put them.
+                if (r.read(still).still()) return;
                 surface::update_boundary_particles(r.read(body.structure).triangles, r.read(body.state).particles.x,
                                                    r.read(body.caches).normals, r.write(samples), 0, pool);
             };
@@ -113,19 +138,10 @@ void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const Su
         },
         config.tag);
     if (config.thin) add_thin_order_pass(g, h.body.structure, h.samples, config);
-    g.add_pass(
-        "stretch", graph::PassKind::cpu,
-        [&](graph::PassBuilder& b) {
-            b.read(h.body.structure);
-            b.read(h.body.state);
-            h.stretch = b.write(h.stretch);
-            return [body = h.body, stretch = h.stretch](const graph::PassResources& r, graph::ExecuteContext&) {
-                r.write(stretch).update(r.read(body.state).particles.x, r.read(body.structure).triangles);
-            };
-        },
-        config.tag);
+    add_stretch_pass(g, h.body, h.stillness, h.stretch, config.tag);
     board.put(keys::samples, h.samples);
     board.put(keys::stretch, h.stretch);
+    board.put(keys::density_stats, h.density_stats);
 }
 
 namespace {

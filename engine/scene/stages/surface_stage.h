@@ -71,7 +71,7 @@ struct SurfacePassConfig {
 // The density control's pass, by which `bench scene --passes` finds its time per sample.
 inline constexpr const char* k_density_pass = "density";
 // Reads the body, samples, density control, keys::density_stats and the stretch from `board`
-// (an absent one culls the passes that need it) and puts back the samples and the stretch.
+// (an absent one culls the passes that need it) and puts back the samples, the stretch and the density stats.
 void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const SurfacePassConfig& config);
 
 // Whether any of `triangles` has an edge no other triangle uses (the body's rings current).
