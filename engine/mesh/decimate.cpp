@@ -190,4 +190,28 @@ core::Result<DecimatedMesh> decimate(const TriangleMesh& m, const DecimateOption
     return out;
 }
 
+std::vector<Triangle> simplify_triangles(std::span<const Vec3f> positions, std::span<const Triangle> triangles, float max_error) {
+    std::vector<Triangle> out(triangles.begin(), triangles.end());
+    if (triangles.empty() || positions.empty() || !(max_error > 0.0f)) return out;
+    std::vector<uint32_t> indices;
+    indices.reserve(triangles.size() * 3);
+    Vec3f lo = positions[triangles[0][0]], hi = lo;
+    for (const Triangle& t : triangles)
+        for (uint32_t v : t) {
+            if (v >= positions.size()) return out;  // not a mesh over these positions: left alone
+            indices.push_back(v);
+            lo = lo.cwiseMin(positions[v]), hi = hi.cwiseMax(positions[v]);
+        }
+    // meshoptimizer's error is relative to the mesh's extent; a target count of zero lets the
+    // error alone say where to stop.
+    const float extent = (hi - lo).maxCoeff();
+    if (!(extent > 0.0f)) return out;
+    std::vector<uint32_t> simplified(indices.size());
+    const size_t count = meshopt_simplify(simplified.data(), indices.data(), indices.size(), positions[0].data(), positions.size(),
+                                          sizeof(Vec3f), 0, max_error / extent, unsigned(meshopt_SimplifyLockBorder), nullptr);
+    out.clear();
+    for (size_t i = 0; i + 2 < count; i += 3) out.push_back({simplified[i], simplified[i + 1], simplified[i + 2]});
+    return out;
+}
+
 } // namespace pbdsplat::mesh

@@ -30,6 +30,8 @@ core::Status fit(gpu::Context& ctx, gpu::Buffer& buffer, VkDeviceSize bytes, VkB
 
 } // namespace
 
+float occluder_simplify_share(const gpu::DeviceCaps& caps) { return caps.type == "cpu" ? 0.1f : 0.0f; }
+
 core::Result<OccluderPass> OccluderPass::create(gpu::Context& ctx, uint32_t width, uint32_t height, uint32_t slots, VkFormat depth_format) {
     OccluderPass o;
     o.ctx_ = &ctx;

@@ -5,7 +5,9 @@
 #include <thread>
 
 #include "core/timer.h"
+#include "gpu/context.h"
 #include "mesh/topology.h"
+#include "render/occluder_pass.h"
 #include "scene/stages/body_view.h"
 #include "scene/stages/fine_surface.h"
 #include "scene/stages/mapping_stage.h"
@@ -128,6 +130,9 @@ void SceneRuntime::set_up_look() {
         // (Pushed back only as far as the tolerance, a splat of the squashed base showed as a
         // bright dot against the ground, and the frame was no faster.)
         style.occluder_push = std::max(4.0f * appearance_.scale, 2.0f * style.occluder_tolerance);
+        // Where the device pays per triangle, the fine surface drawn simplified within a share of
+        // the tolerance.
+        if (options_.gpu) occluder_mesh_.whole.simplify_error = render::occluder_simplify_share(options_.gpu->caps()) * style.occluder_tolerance;
     }
     frame_input_.frame.lighting.intensity *= mat.diffuse;
     frame_input_.frame.lighting.specular = mat.specular;

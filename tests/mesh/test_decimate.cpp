@@ -56,6 +56,40 @@ TEST_SUITE("mesh/decimate") {
         CHECK(vertex_distance(c, fine) < 1e-6f);  // the coarse vertices are the model's own
     }
 
+    TEST_CASE("a surface simplified for drawing stays within its error over its own vertices, its open edge kept") {
+        const mesh::TriangleMesh sphere = mesh::icosphere(5);  // 20,480 triangles, radius 1
+        mesh::TriangleMesh dome{sphere.positions, {}, {}, {}, {}};
+        for (const mesh::Triangle& t : sphere.triangles)
+            if (sphere.positions[t[0]].y() > 0.0f && sphere.positions[t[1]].y() > 0.0f && sphere.positions[t[2]].y() > 0.0f)
+                dome.triangles.push_back(t);
+        const float error = 0.005f;
+        const std::vector<mesh::Triangle> drawn = mesh::simplify_triangles(dome.positions, dome.triangles, error);
+        MESSAGE(dome.triangles.size() << " triangles -> " << drawn.size());
+        CHECK(drawn.size() * 4 < dome.triangles.size());
+        CHECK(drawn.size() > 20);
+        // Every vertex the dome used lies within about the error of what is drawn (meshoptimizer's
+        // error is a quadric estimate: on this dome a vertex lay 1.66x it away, so 2x is allowed).
+        const mesh::TriangleGrid grid(dome.positions, drawn);
+        std::set<uint32_t> used;
+        for (const mesh::Triangle& t : dome.triangles) used.insert(t.begin(), t.end());
+        float worst = 0.0f;
+        for (uint32_t v : used) worst = std::max(worst, grid.distance(dome.positions[v]));
+        MESSAGE("farthest vertex " << worst << " (error " << error << ")");
+        CHECK(worst <= 2.0f * error);  // measured 1.66x
+        // The open edge (edges one triangle uses) is the dome's own, edge for edge.
+        const auto border = [](const std::vector<mesh::Triangle>& ts) {
+            std::multiset<std::pair<uint32_t, uint32_t>> edges;
+            for (const mesh::Triangle& t : ts)
+                for (int k = 0; k < 3; ++k) edges.insert(std::minmax(t[size_t(k)], t[size_t((k + 1) % 3)]));
+            std::set<std::pair<uint32_t, uint32_t>> once;
+            for (const auto& e : edges)
+                if (edges.count(e) == 1) once.insert(e);
+            return once;
+        };
+        CHECK(border(drawn) == border(dome.triangles));
+        CHECK(mesh::simplify_triangles(dome.positions, dome.triangles, 0.0f) == dome.triangles);  // nothing to simplify within
+    }
+
     TEST_CASE("a target at or above the vertex count keeps the mesh; below 4 is an error") {
         const mesh::TriangleMesh fine = mesh::icosphere(2);
         auto same = mesh::decimate(fine, {100000, true}, "icosphere:2");

@@ -1,6 +1,8 @@
 #include <doctest/doctest.h>
 
 #include <cstring>
+#include <map>
+#include <set>
 
 #include "scene/scene_runtime.h"
 #include "scene/stages/fine_surface.h"
@@ -79,6 +81,53 @@ TEST_SUITE("scene/two_resolutions") {
         CHECK(rt.value()->stats().cuts == 1);
         MESSAGE(before_cut << " fine triangles whole before the cut, " << kept.whole.size() << " after");
         CHECK(kept.whole.size() < before_cut);  // the triangles across the cut are left out
+    }
+
+    TEST_CASE("the occluders' simplified fine surface waits for the topology to hold, and never bridges a cut") {
+        scene::Scene sc = bumpy_scene(500);
+        sc.events.push_back({0.1f, scene::CutEvent{std::nullopt, {1280, 720}, std::make_pair(Vec3f(0.07f, 0, 0), Vec3f(1, 0.2f, 0))}});
+        auto rt = scene::SceneRuntime::create(sc, {});
+        REQUIRE(rt.ok());
+        const mesh::TriangleMesh& fine = *rt.value()->fine_surface();
+        std::optional<surface::BoundaryParticles> embedding;
+        scene::FineTriangles kept;
+        kept.simplify_error = 0.2f * rt.value()->spacing();
+        kept.settle_frames = 3;
+        const auto open_edges = [](const std::vector<mesh::Triangle>& ts) {
+            std::map<std::pair<uint32_t, uint32_t>, int> uses;
+            for (const mesh::Triangle& t : ts)
+                for (int k = 0; k < 3; ++k) ++uses[std::minmax(t[size_t(k)], t[size_t((k + 1) % 3)])];
+            std::set<std::pair<uint32_t, uint32_t>> once;
+            for (const auto& [e, n] : uses)
+                if (n == 1) once.insert(e);
+            return once;
+        };
+        int simplified_frames = 0;
+        for (int f = 0; f < 20; ++f) {
+            REQUIRE(rt.value()->step().ok());
+            const sim::SoftBody& b = rt.value()->body();
+            std::vector<Vec4f> x, x_full;
+            std::vector<mesh::Triangle> t, t_full;
+            scene::deformed_fine_surface(b, fine, embedding, x, t, &kept);
+            scene::deformed_fine_surface(b, fine, embedding, x_full, t_full);
+            CHECK(x == x_full);
+            if (!kept.simplified_current) {
+                CHECK(t == t_full);  // until the topology has held for the settle frames
+                continue;
+            }
+            ++simplified_frames;
+            CHECK(3 * t.size() < t_full.size());
+            // A cut's opening is drawn where it is: the simplified set's open edges are the whole
+            // set's (each frame then leaves out the triangles stretched across, in both alike).
+            CHECK(open_edges(kept.simplified) == open_edges(kept.whole));
+            const auto piece = [&](uint32_t v) { return b.piece_of_particle[b.triangles[embedding->triangle[v]][0]]; };
+            for (const mesh::Triangle& tri : t) REQUIRE((piece(tri[0]) == piece(tri[1]) && piece(tri[1]) == piece(tri[2])));
+        }
+        CHECK(rt.value()->stats().cuts == 1);
+        CHECK(rt.value()->body().pieces == 2);
+        // Simplified before the cut (at frame 6) and again once the topology held after it.
+        MESSAGE(simplified_frames << " of 20 frames drew the simplified surface");
+        CHECK(simplified_frames >= 10);
     }
 
     TEST_CASE("after a cut no sample sits on the wrong side of the cut surface") {

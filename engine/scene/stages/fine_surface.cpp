@@ -1,5 +1,6 @@
 #include "scene/stages/fine_surface.h"
 
+#include "mesh/decimate.h"
 #include "mesh/topology.h"
 #include "sim/integrate.h"
 #include "surface/embedding.h"
@@ -7,6 +8,26 @@
 namespace pbdsplat::scene {
 
 namespace {
+
+// Per edge k (from corner k) of `t`, the square of 3x its rest length: stretched past it, the
+// edge was torn across by the body under it.
+std::array<float, 3> tear_lengths2(const mesh::TriangleMesh& fine, const mesh::Triangle& t) {
+    std::array<float, 3> r{};
+    for (int k = 0; k < 3; ++k) r[size_t(k)] = 9.0f * (fine.positions[t[size_t(k)]] - fine.positions[t[size_t((k + 1) % 3)]]).squaredNorm();
+    return r;
+}
+
+// Simplifies the whole triangles once the topology has held (FineTriangles::simplify_error).
+void simplify_whole(const mesh::TriangleMesh& fine, bool changed, FineTriangles& f) {
+    if (!(f.simplify_error > 0.0f)) return;
+    if (changed) f.frames_held = 0, f.simplified_current = false;
+    else if (f.frames_held < UINT32_MAX) ++f.frames_held;
+    if (f.simplified_current || f.frames_held < f.settle_frames) return;
+    f.simplified = mesh::simplify_triangles(fine.positions, f.whole, f.simplify_error);
+    f.simplified_rest2.resize(f.simplified.size());
+    for (size_t k = 0; k < f.simplified.size(); ++k) f.simplified_rest2[k] = tear_lengths2(fine, f.simplified[k]);
+    f.simplified_current = true;
+}
 
 // The fine triangles whose corners lie on one piece, on body triangles not torn apart between
 // them: two body triangles that met at rest (a corner at the same rest position) but share no
@@ -31,10 +52,8 @@ void judge_whole(const sim::SoftBody& body, const mesh::TriangleMesh& fine, cons
         const uint32_t c = piece(e0);
         if (piece(e1) != c || piece(e2) != c) continue;
         if (torn_apart(e0, e1) || torn_apart(e1, e2) || torn_apart(e0, e2)) continue;
-        std::array<float, 3> r{};
-        for (int k = 0; k < 3; ++k) r[size_t(k)] = 9.0f * (fine.positions[t[k]] - fine.positions[t[(k + 1) % 3]]).squaredNorm();
         out.whole.push_back(t);
-        out.rest2.push_back(r);
+        out.rest2.push_back(tear_lengths2(fine, t));
     }
     out.body_triangles = body.triangles.size(), out.particles = body.particle_count(), out.pieces = body.pieces;
 }
@@ -65,15 +84,20 @@ void deformed_fine_surface(const sim::SoftBody& body, const mesh::TriangleMesh& 
     // particles), and only an edit changes which triangles are whole.
     FineTriangles local;
     FineTriangles& judged = keep ? *keep : local;
-    if (judged.body_triangles != body.triangles.size() || judged.particles != body.particle_count() || judged.pieces != body.pieces)
-        judge_whole(body, fine, fv, judged);
+    const bool changed =
+        judged.body_triangles != body.triangles.size() || judged.particles != body.particle_count() || judged.pieces != body.pieces;
+    if (changed) judge_whole(body, fine, fv, judged);
+    simplify_whole(fine, changed, judged);
+    const bool simple = judged.simplified_current;
+    const std::vector<mesh::Triangle>& drawn = simple ? judged.simplified : judged.whole;
+    const std::vector<std::array<float, 3>>& rest2 = simple ? judged.simplified_rest2 : judged.rest2;
     // An edge stretched past 3x its rest length was torn across by the body under it.
     triangles.clear();
-    for (size_t k = 0; k < judged.whole.size(); ++k) {
-        const mesh::Triangle& t = judged.whole[k];
+    for (size_t k = 0; k < drawn.size(); ++k) {
+        const mesh::Triangle& t = drawn[k];
         bool torn = false;
         for (int e = 0; e < 3; ++e)
-            torn = torn || (x[t[size_t(e)]] - x[t[size_t((e + 1) % 3)]]).squaredNorm() > judged.rest2[k][size_t(e)] + 1e-12f;
+            torn = torn || (x[t[size_t(e)]] - x[t[size_t((e + 1) % 3)]]).squaredNorm() > rest2[k][size_t(e)] + 1e-12f;
         if (!torn) triangles.push_back(t);
     }
 }

@@ -21,6 +21,17 @@ struct FineTriangles {
     size_t body_triangles = SIZE_MAX, particles = 0, pieces = 0;  // the body they were judged for
     std::vector<mesh::Triangle> whole;
     std::vector<std::array<float, 3>> rest2;  // per whole triangle, (3 x its rest edge)^2, edge k from corner k
+
+    // Where above 0 (the mesh occluders), the whole triangles are drawn simplified within this
+    // many world units of the fine surface (mesh::simplify_triangles), the openings' edges kept
+    // where they are, once the topology has held for `settle_frames` frames: a tear every few
+    // frames would otherwise simplify the surface again each time. Until then, the whole ones.
+    float simplify_error = 0.0f;
+    uint32_t settle_frames = 10;
+    uint32_t frames_held = 0;  // frames since the topology last changed
+    bool simplified_current = false;
+    std::vector<mesh::Triangle> simplified;
+    std::vector<std::array<float, 3>> simplified_rest2;
 };
 
 void deformed_fine_surface(const sim::SoftBody& body, const mesh::TriangleMesh& fine, std::optional<surface::BoundaryParticles>& fine_vertices,
