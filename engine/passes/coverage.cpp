@@ -197,10 +197,9 @@ namespace {
 
 // The splats as the runtime draws them, over a transparent background (the accumulated alpha is
 // then their coverage), the mesh as their occluders where the style has them.
-core::Result<core::ImageRgba8> splat_image(gpu::Context& ctx, std::span<const Vec4f> x, std::span<const std::array<uint32_t, 3>> triangles,
-                                           std::span<const splat::GaussianRecord> records, render::FrameInputs frame, uint32_t width,
-                                           uint32_t height, std::span<const splat::GaussianShape> shapes, const SplatTexturing* texturing,
-                                           size_t one_sided) {
+core::Result<core::ImageRgba8> splat_image(gpu::Context& ctx, const OccluderInput& occluders, std::span<const splat::GaussianRecord> records,
+                                           render::FrameInputs frame, uint32_t width, uint32_t height,
+                                           std::span<const splat::GaussianShape> shapes, const SplatTexturing* texturing) {
     render::RendererOptions ro;
     ro.width = width;
     ro.height = height;
@@ -212,7 +211,7 @@ core::Result<core::ImageRgba8> splat_image(gpu::Context& ctx, std::span<const Ve
     ro.textures = texturing && !texturing->texcoords.empty() ? uint32_t(texturing->textures.size()) : 0u;
     auto splats = OffscreenRenderer::create(ctx, ro);
     if (!splats.ok()) return splats.error();
-    splats.value()->set_occluders(x, triangles, one_sided);
+    splats.value()->set_occluders(occluders.positions, occluders.triangles, occluders.one_sided);
     if (ro.textures > 0) {
         splats.value()->set_texcoords(texturing->texcoords);
         PBDSPLAT_TRY(splats.value()->set_textures(texturing->textures));
@@ -249,7 +248,8 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
                                         std::span<const splat::GaussianRecord> records, render::FrameInputs frame,
                                         uint32_t width, uint32_t height, std::optional<Vec3f> albedo,
                                         std::span<const splat::GaussianShape> shapes, std::span<const Vec3f> colors,
-                                        const ReferenceTextures* textures, const SplatTexturing* texturing, size_t one_sided) {
+                                        const ReferenceTextures* textures, const SplatTexturing* texturing, size_t one_sided,
+                                        const OccluderInput* occluders) {
     Coverage c;
     auto raster = mesh_raster(ctx, x, triangles, width, height, colors);
     if (!raster.ok()) return raster.error();
@@ -265,7 +265,8 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
         c.shaded = std::move(shaded).value();
     }
 
-    auto splats = splat_image(ctx, x, triangles, records, frame, width, height, shapes, texturing, one_sided);
+    const OccluderInput mesh{x, triangles, one_sided};
+    auto splats = splat_image(ctx, occluders ? *occluders : mesh, records, frame, width, height, shapes, texturing);
     if (!splats.ok()) return splats.error();
     c.splats = std::move(splats).value();
 

@@ -7,6 +7,7 @@
 
 #include "core/image.h"
 #include "gpu/context.h"
+#include "passes/gpu_passes.h"
 #include "render/frame_inputs.h"
 #include "render/mesh_textures.h"
 #include "splat/gaussian_record.h"
@@ -79,9 +80,10 @@ core::Result<Coverage> measure_coverage(gpu::Context& ctx, std::span<const Vec4f
                                         uint32_t width, uint32_t height, std::optional<Vec3f> albedo = std::nullopt,
                                         std::span<const splat::GaussianShape> shapes = {}, std::span<const Vec3f> colors = {},
                                         const ReferenceTextures* textures = nullptr, const SplatTexturing* texturing = nullptr,
-                                        size_t one_sided = 0);
+                                        size_t one_sided = 0, const OccluderInput* occluders = nullptr);
 // `one_sided`: the leading triangles the splats' mesh occluders draw front faces only, as the
-// runtime does (render/occluder_pass.h). `colors`, when given (one per vertex of x, linear), is
+// runtime does (render/occluder_pass.h). `occluders`, when given, is what the splats' occluders
+// draw instead of the mesh (the runtime's simplified surface on a CPU device). `colors`, when given (one per vertex of x, linear), is
 // the model's own look: the lit mesh is drawn in it, as its splats are, instead of in `albedo`. `textures`, when given, draws a
 // textured model's look as its file does: each pixel samples the texture (colors then unused).
 

@@ -142,9 +142,19 @@ core::Status sample_coverage(SceneRuntime& rt, const Scene& scene, const CheckOp
     // The splats read the textures the runtime gives them: the first SPLAT_MAX_TEXTURES.
     const passes::SplatTexturing texturing{rt.texcoords(),
                                            std::span(textures).first(std::min<size_t>(textures.size(), SPLAT_MAX_TEXTURES))};
+    // The splats hidden by what the frames' occluders draw on this device.
+    std::vector<Vec4f> occluder_x;
+    std::vector<mesh::Triangle> occluder_triangles;
+    SolidOrder occluder_order;
+    const float simplify = rt.occluder_simplify_error(o.gpu->caps());
+    if (simplify > 0.0f) {
+        rt.occluder_surface(occluder_x, occluder_triangles, occluder_order, simplify);
+        rt.append_cut_faces(occluder_x, occluder_triangles, nullptr);
+    }
+    const passes::OccluderInput occluders{occluder_x, occluder_triangles, occluder_order.one_sided(occluder_triangles.size())};
     auto c = passes::measure_coverage(*o.gpu, x, triangles, rt.records(), frame, o.width, o.height, scene.material.color, rt.shapes(),
                                       colors, textures.empty() ? nullptr : &reference, rt.texcoords().empty() ? nullptr : &texturing,
-                                      order.one_sided(triangles.size()));
+                                      order.one_sided(triangles.size()), occluder_triangles.empty() ? nullptr : &occluders);
     if (!c.ok()) return core::make_error("frame " + std::to_string(s.frame) + ": " + c.error().to_string());
     s.hole_ratio = c->hole_ratio;
     s.thin_ratio = c->thin_ratio;

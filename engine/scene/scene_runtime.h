@@ -126,6 +126,13 @@ public:
     // the leading triangles they draw front faces only once the cut faces are appended
     // (scene/stages/solid_pieces.h), so a check's splat image is the runtime's.
     void deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, SolidOrder* one_sided = nullptr);
+    // The same surface as the mesh occluders of a device that simplifies it within
+    // `simplify_error` draw it (render::occluder_simplify_share; at once, where the frames wait
+    // for a cut's topology to hold): what a check's splat image is occluded by.
+    void occluder_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, SolidOrder& one_sided, float simplify_error);
+    // How far from the fine surface the mesh occluders on a device with these capabilities draw
+    // it (world units; 0: every triangle).
+    float occluder_simplify_error(const gpu::DeviceCaps& caps) const;
     // The faces cuts made, as drawn (splat/cut_faces.h): their triangles appended to `triangles`
     // on corners of their own appended to `x`, and with `colors`, each corner's colour. Nothing
     // before a cut.
@@ -232,6 +239,7 @@ private:
     std::vector<Vec3f> fine_colors_;  // the look on the fine surface's vertices, made when first asked
     surface::EmbeddingStats embedding_;
     std::optional<surface::BoundaryParticles> fine_vertices_;  // made on the first deformed_surface()
+    FineTriangles check_occluders_;  // occluder_surface()'s simplified fine triangles
     // The surface mesh as the mesh occluders draw it (render.visibility = "mesh"): the fine
     // surface where the body carries one, else the body's own triangles (not copied unless cut
     // faces are added to them).
