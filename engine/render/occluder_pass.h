@@ -32,9 +32,10 @@ constexpr VkFormat k_occluder_format = VK_FORMAT_R32_SFLOAT;
 // How finely a detailed model's surface is drawn as occluders on this device, as a share of the
 // occluders' tolerance (scene/stages/fine_surface.h, FineTriangles::simplify_error); 0: every
 // triangle. A CPU rasteriser pays per triangle: on Lavapipe the bunny's 69,451 triangles took
-// 20 ms of a 1280x720 frame, 8,869 within a tenth of the tolerance 6-8 ms, and the picture did not
-// change (docs/BENCHMARKS.md, "Mesh occluders"). A GPU draws the full surface for next to
-// nothing, and the 33-45 ms that simplifying the bunny takes after each cut would be a hitch.
+// 21-22 ms of a 1280x720 frame, 8,869 within a tenth of the tolerance 7.6-9.0 ms, and `check`'s
+// figures moved under 0.5 % (docs/BENCHMARKS.md, "Mesh occluders"). A GPU draws the full surface
+// for next to nothing, and the 33-45 ms that simplifying the bunny takes after a cut would be a
+// hitch there.
 float occluder_simplify_share(const gpu::DeviceCaps& caps);
 
 class OccluderPass {
