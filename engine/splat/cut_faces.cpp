@@ -17,6 +17,10 @@ size_t CutFaces::faces() const {
     return size_t(std::count_if(faces_.begin(), faces_.end(), [](const Face& f) { return !f.triangles.empty(); }));
 }
 
+bool CutFaces::fading() const {
+    return std::any_of(faces_.begin(), faces_.end(), [&](const Face& f) { return !f.triangles.empty() && f.age + 1 < fade_frames_; });
+}
+
 const std::vector<mesh::Triangle>* CutFaces::triangles_of(const std::vector<uint32_t>& loop) const {
     for (const Face& f : faces_)
         if (!f.triangles.empty() && f.loop == loop) return &f.triangles;

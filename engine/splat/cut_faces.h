@@ -53,6 +53,8 @@ public:
     // The triangles (over the body's particles) of the face drawn over `loop`; null if none is.
     const std::vector<mesh::Triangle>* triangles_of(const std::vector<uint32_t>& loop) const;
     size_t faces() const;  // drawn
+    // Some face is still fading in (its records change with each update).
+    bool fading() const;
     size_t samples() const;
 
 private:

@@ -247,6 +247,51 @@ TEST_SUITE("scene/runtime") {
         CHECK(rt.records().size() > before_cut);  // the new particles and the cut faces are drawn
     }
 
+    TEST_CASE("a cut face fading in on a body that came to rest still reaches full opacity") {
+        // Floating, the cut halves settle and sleep well within the faces' 90 frames of fade.
+        const char* text = R"(
+[model]
+mesh = "icosphere:5"
+scale = 0.3
+
+[simulation]
+particles = 500
+gravity = [0, 0, 0]
+fade_frames = 90
+
+[[events]]
+time = 0.1
+type = "cut"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 1.0, 0.0]
+)";
+        auto s = scene::parse_scene(text, "fading_face.toml");
+        REQUIRE_MESSAGE(s.ok(), test::why(s));
+        scene::RuntimeOptions options;
+        options.keep_records = true;
+        auto created = scene::SceneRuntime::create(s.value(), options);
+        REQUIRE_MESSAGE(created.ok(), test::why(created));
+        scene::SceneRuntime& rt = *created.value();
+        // A fine surface over a coarse body (the particles are not drawn) without its boundary
+        // splats: the cut faces are the only splats that fade in (the others' fades would keep the
+        // records changing anyway).
+        REQUIRE_FALSE(rt.particles_are_splats());
+        rt.set_boundary_visible(false);
+        int still_while_fading = 0;
+        for (int f = 0; f < 150; ++f) {
+            REQUIRE(rt.step().ok());
+            if (rt.body_still() && rt.cut_faces().fading()) ++still_while_fading;
+        }
+        REQUIRE(rt.cut_faces().faces() == 2);
+        MESSAGE(still_while_fading << " still frames while a face faded in");
+        CHECK(still_while_fading > 0);  // what this case is about
+        const size_t n = rt.cut_faces().samples();
+        REQUIRE(n > 0);
+        const auto& r = rt.records();
+        REQUIRE(r.size() == n);
+        for (size_t i = r.size() - n; i < r.size(); ++i) REQUIRE(int(r[i].color[3]) == 255);
+    }
+
     TEST_CASE("the ground darkens under each piece: two pieces apart cast two shadows, one piece one") {
         // Two unit squares of particles on the ground (y = 0), 4 m apart along x, as pieces 0 and 1.
         std::vector<Vec4f> x;

@@ -41,7 +41,7 @@ public:
     void map(const Sources& s, const splat::Appearance& look);
     // Whether the records the last map() made stand for this frame as they are: the body has not
     // moved since (`body_still`), nor have the samples (`samples_still`: nothing added, removed or
-    // fading), no particle fades in, and the same splats are drawn with the same look.
+    // fading), no particle or cut face fades in, and the same splats are drawn with the same look.
     bool stands(const Sources& s, const splat::Appearance& look, bool body_still, bool samples_still) const;
     void sort(const render::Camera& camera);
     // Hands the records (and shapes) to the GPU passes with what changed. `moved`: the body was
