@@ -55,6 +55,17 @@ point = [0.0, -0.75, 0.0]
 normal = [0.0, 1.0, 0.0]
 )";
 
+// A runtime of the scene in `text` that maps its splats every frame (no renderer).
+std::unique_ptr<scene::SceneRuntime> mapped_runtime(const char* text, const char* name) {
+    auto s = scene::parse_scene(text, name);
+    REQUIRE_MESSAGE(s.ok(), test::why(s));
+    scene::RuntimeOptions options;
+    options.keep_records = true;
+    auto created = scene::SceneRuntime::create(s.value(), options);
+    REQUIRE_MESSAGE(created.ok(), test::why(created));
+    return std::move(created).value();
+}
+
 // Pass name -> culled reason ("" when kept), for a simulation-only runtime.
 std::map<std::string, std::string> culling(const scene::Scene& s) {
     auto rt = scene::SceneRuntime::create(s, {});
@@ -203,13 +214,8 @@ TEST_SUITE("scene/runtime") {
     }
 
     TEST_CASE("a box at rest keeps its splats as they were made; dragged or cut, it makes them anew") {
-        auto s = scene::parse_scene(k_box_on_ground, "still.toml");
-        REQUIRE_MESSAGE(s.ok(), test::why(s));
-        scene::RuntimeOptions options;
-        options.keep_records = true;
-        auto created = scene::SceneRuntime::create(s.value(), options);
-        REQUIRE_MESSAGE(created.ok(), test::why(created));
-        scene::SceneRuntime& rt = *created.value();
+        const auto created = mapped_runtime(k_box_on_ground, "still.toml");
+        scene::SceneRuntime& rt = *created;
         REQUIRE(rt.particles_are_splats());
         // Every particle's splat sits on its particle (the particles' records come first).
         const auto on_body = [&rt] {
@@ -265,13 +271,8 @@ type = "cut"
 point = [0.0, 0.0, 0.0]
 normal = [0.0, 1.0, 0.0]
 )";
-        auto s = scene::parse_scene(text, "fading_face.toml");
-        REQUIRE_MESSAGE(s.ok(), test::why(s));
-        scene::RuntimeOptions options;
-        options.keep_records = true;
-        auto created = scene::SceneRuntime::create(s.value(), options);
-        REQUIRE_MESSAGE(created.ok(), test::why(created));
-        scene::SceneRuntime& rt = *created.value();
+        const auto created = mapped_runtime(text, "fading_face.toml");
+        scene::SceneRuntime& rt = *created;
         // A fine surface over a coarse body (the particles are not drawn) without its boundary
         // splats: the cut faces are the only splats that fade in (the others' fades would keep the
         // records changing anyway).
