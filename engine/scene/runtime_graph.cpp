@@ -190,8 +190,7 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
                                                                                         graph::ExecuteContext&) {
             // The body where it was: the mesh made from it then (whose spans the input keeps)
             // stands, unless the fine surface's simplification is still to come.
-            if (r.read(stillness).still() && (!fine || r.write(mesh).whole.simplified_current || !(r.write(mesh).whole.simplify_error > 0.0f)))
-                return;
+            if (r.read(stillness).still() && !(fine && r.write(mesh).whole.simplification_due())) return;
             const sim::SoftBody& bd = body.body(r);
             passes::OccluderInput& in = r.write(input);
             // A cut face hides what lies behind it as the shell does.

@@ -197,32 +197,33 @@ TriangleLooks SceneRuntime::triangle_looks(std::span<const mesh::Triangle> trian
 }
 
 void SceneRuntime::deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, SolidOrder* one_sided) {
-    if (!fine_) {
-        x = body_.particles.x;
-        triangles = body_.triangles;
-    } else {
-        deformed_fine_surface(body_, *fine_, fine_vertices_, x, triangles);
-    }
-    if (one_sided) *one_sided = order_solids_first(body_, solid_pieces(body_, &cut_faces_), triangles, fine_ ? &*fine_vertices_ : nullptr);
+    surface_as(x, triangles, one_sided, nullptr);
 }
 
 float SceneRuntime::occluder_simplify_error(const gpu::DeviceCaps& caps) const {
-    const render::SplatStyle& style = frame_input_.frame.style;
     // Where the device pays per triangle, the fine surface drawn simplified within a share of the
     // tolerance. Only on stiff bodies: a soft one bends inside a simplified triangle, away from
     // the surface it stood for (bunny_tear, a balloon: holes 0 -> 0.1 %, specks up 0.1 points in
     // `check`).
     if (!fine_ || !scene_.render.frame.style.mesh_occluders || scene_.simulation.solver.shape_stiffness < sim::k_rigid_response_stiffness) return 0.0f;
-    return render::occluder_simplify_share(caps) * style.occluder_tolerance;
+    return render::occluder_simplify_share(caps) * frame_input_.frame.style.occluder_tolerance;
 }
 
 void SceneRuntime::occluder_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, SolidOrder& one_sided,
                                     float simplify_error) {
-    if (!fine_ || !(simplify_error > 0.0f)) return deformed_surface(x, triangles, &one_sided);
     check_occluders_.simplify_error = simplify_error;
     check_occluders_.settle_frames = 0;
-    deformed_fine_surface(body_, *fine_, fine_vertices_, x, triangles, &check_occluders_);
-    one_sided = order_solids_first(body_, solid_pieces(body_, &cut_faces_), triangles, &*fine_vertices_);
+    surface_as(x, triangles, &one_sided, &check_occluders_);
+}
+
+void SceneRuntime::surface_as(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, SolidOrder* one_sided, FineTriangles* keep) {
+    if (!fine_) {
+        x = body_.particles.x;
+        triangles = body_.triangles;
+    } else {
+        deformed_fine_surface(body_, *fine_, fine_vertices_, x, triangles, keep);
+    }
+    if (one_sided) *one_sided = order_solids_first(body_, solid_pieces(body_, &cut_faces_), triangles, fine_ ? &*fine_vertices_ : nullptr);
 }
 
 core::Status SceneRuntime::step() {

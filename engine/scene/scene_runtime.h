@@ -240,6 +240,9 @@ private:
     surface::EmbeddingStats embedding_;
     std::optional<surface::BoundaryParticles> fine_vertices_;  // made on the first deformed_surface()
     FineTriangles check_occluders_;  // occluder_surface()'s simplified fine triangles
+    // The surface as deformed_surface() gives it, the fine triangles judged (and simplified) in
+    // `keep` where given.
+    void surface_as(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, SolidOrder* one_sided, FineTriangles* keep);
     // The surface mesh as the mesh occluders draw it (render.visibility = "mesh"): the fine
     // surface where the body carries one, else the body's own triangles (not copied unless cut
     // faces are added to them).

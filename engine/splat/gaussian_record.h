@@ -68,6 +68,7 @@ struct Appearance {
     Vec3f albedo{0.8f, 0.2f, 0.2f};  // linear rgb
     float opacity_logit = 4.0f;      // sigmoid(4) ~ 0.982
     float scale = 0.05f;             // s0, world units
+    bool operator==(const Appearance&) const = default;
 };
 
 GaussianRecord make_record(const Vec3f& position, const Vec3f& normal, const Appearance& a, float fade = 1.0f);

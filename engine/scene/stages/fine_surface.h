@@ -32,6 +32,8 @@ struct FineTriangles {
     bool simplified_current = false;
     std::vector<mesh::Triangle> simplified;
     std::vector<std::array<float, 3>> simplified_rest2;
+    // A simplification is asked for and not yet made (the topology has not held long enough).
+    bool simplification_due() const { return simplify_error > 0.0f && !simplified_current; }
 };
 
 void deformed_fine_surface(const sim::SoftBody& body, const mesh::TriangleMesh& fine, std::optional<surface::BoundaryParticles>& fine_vertices,

@@ -17,8 +17,7 @@ bool MappingStage::stands(const Sources& s, const splat::Appearance& look, bool 
     return made_.valid && body_still && (samples_still || !s.samples) && fade_.fading() == 0 &&
            (!s.cut_faces || !s.cut_faces->fading()) && made_.particles == s.particles &&
            made_.samples == (s.samples != nullptr) && made_.stretch == (s.stretch != nullptr) &&
-           made_.cut_faces == (s.cut_faces != nullptr) && made_.look.albedo == look.albedo &&
-           made_.look.opacity_logit == look.opacity_logit && made_.look.scale == look.scale;
+           made_.cut_faces == (s.cut_faces != nullptr) && made_.look == look;
 }
 
 void MappingStage::map(const Sources& s, const splat::Appearance& look) {
