@@ -48,9 +48,18 @@ struct BodyDesc {
 enum class SurfaceMode { boundary, vertices };
 inline constexpr core::EnumName<SurfaceMode> k_surface_mode_names[] = {{SurfaceMode::boundary, "boundary"}, {SurfaceMode::vertices, "vertices"}};
 
+// Twice the bunny's 69,000 samples. A detailed scan sampled at its own edge takes as many splats
+// as it has triangles: a 524,288-triangle sphere took 568,185 and 17.1 s to its first frame (the
+// Intel VM; sampling half of it), and the surface's update grows with every splat. Within the
+// budget: 149,465 splats, 7.9-8.2 s (the rest mostly the repair and decimation of the file).
+inline constexpr uint32_t k_default_sample_budget = 150000;
+
 struct SurfaceDesc {
     SurfaceMode mode = SurfaceMode::boundary;  // boundary particles, or mesh vertices only (Fig. 14a)
     float eta = 0.5f;            // h = eta * mean edge length; in vertices mode it sizes the splats alike
+    // Boundary particles the first sampling places at most (about): h grows past eta times the
+    // edge where the model's detail would take more (surface::spacing_for_budget). 0: no budget.
+    uint32_t sample_budget = k_default_sample_budget;
     bool stretch_scale = false;  // grow splats with the stretch of their triangle
     uint32_t seed = 1;           // sampling seed
     bool edge_samples = true;    // small samples every h/2 along open boundaries (cuts, tears, rims)

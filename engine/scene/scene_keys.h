@@ -57,6 +57,7 @@ inline const Key<MaterialDesc> k_material_keys[] = {
 // After `mode`.
 inline const Key<SurfaceDesc> k_surface_keys[] = {
     PBDSPLAT_KEY(SurfaceDesc, "eta", eta, 0.05, 4.0),
+    PBDSPLAT_KEY(SurfaceDesc, "sample_budget", sample_budget, 0, 1u << 26),
     PBDSPLAT_KEY(SurfaceDesc, "stretch_scale", stretch_scale),
     PBDSPLAT_KEY(SurfaceDesc, "seed", seed, 0, 0x7fffffff),
     PBDSPLAT_KEY(SurfaceDesc, "edge_samples", edge_samples),

@@ -64,7 +64,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     if (!surface.ok()) return surface.error();
     h_ = surface->h;
     splat_particles_ = surface->particles_are_splats;
-    warn_of_sample_count();
+    report_sampling(surface->eta_h);
     // A textured model's splats read its texture per pixel, as far as they reach (a Gaussian cut
     // at two standard deviations, and a margin) or to the nearest seam.
     if (paint_.textured() && boundary_.size() > 0) paint_.texture_reach = 2.5f * mat.splat_scale * h_;
@@ -97,27 +97,42 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
 }
 
 // Every body is sampled at the scene's one spacing (h from the mean edge of them all), so a large
-// body beside small ones (a table under a few models) holds most of the splats, and the frame
-// slows with its area. Said once at load, naming the body, so a slow scene has its reason.
-void SceneRuntime::warn_of_sample_count() const {
+// body beside small ones (a table under a few models) holds most of the splats, and a detailed
+// scan as many as it has triangles. The sample budget caps both by raising h; loading says so
+// once, naming the body that holds most, so a coarser look or a slow scene has its reason.
+void SceneRuntime::report_sampling(float eta_h) const {
     const size_t total = boundary_.size() + (splat_particles_ ? body_.particle_count() : 0);
-    if (total < k_many_samples || body_.model_of_particle.size() != body_.particle_count()) return;
-    std::vector<size_t> per_model;
-    for (uint32_t t : boundary_.triangle) {
-        const uint32_t m = body_.model_of_particle[body_.triangles[t][0]];
-        if (m >= per_model.size()) per_model.resize(m + 1, 0);
-        ++per_model[m];
+    const bool budgeted = h_ > eta_h * 1.0001f;
+    if ((!budgeted && total < k_many_samples) || total == 0) return;
+    std::string where;
+    if (body_.model_of_particle.size() == body_.particle_count() && !scene_.bodies.empty()) {
+        std::vector<size_t> per_model;
+        for (uint32_t t : boundary_.triangle) {
+            const uint32_t m = body_.model_of_particle[body_.triangles[t][0]];
+            if (m >= per_model.size()) per_model.resize(m + 1, 0);
+            ++per_model[m];
+        }
+        if (const auto largest = std::ranges::max_element(per_model); largest != per_model.end()) {
+            const size_t m = size_t(largest - per_model.begin());
+            const std::string name = m == 0 ? "[model] (" + scene_.model.mesh + ")"
+                                            : "bodies[" + std::to_string(m - 1) + "] (" + scene_.bodies[m - 1].model.mesh + ")";
+            char share[512];
+            std::snprintf(share, sizeof share, " (%.0f %% of them on %s: every body is sampled at one spacing, so a large one beside "
+                          "small ones costs in proportion to its area)", 100.0 * double(*largest) / double(total), name.c_str());
+            where = share;
+        }
     }
-    const auto largest = std::ranges::max_element(per_model);
-    if (largest == per_model.end()) return;
-    const size_t m = size_t(largest - per_model.begin());
-    const std::string name = m == 0 ? "[model] (" + scene_.model.mesh + ")"
-                                    : "bodies[" + std::to_string(m - 1) + "] (" + scene_.bodies[m - 1].model.mesh + ")";
-    std::fprintf(stderr,
-                 "warning: %zu splats at the scene's spacing h = %.4g m, %zu of them (%.0f %%) on %s. Every body is sampled at "
-                 "one spacing (eta times the mean simulation edge of them all), so a large body beside small ones costs in "
-                 "proportion to its area: make it smaller, give the small ones fewer simulation particles, or raise surface.eta\n",
-                 total, double(h_), *largest, 100.0 * double(*largest) / double(total), name.c_str());
+    const float eta = scene_.surface.eta;
+    if (budgeted) {
+        const double wanted = double(total) * double(h_ / eta_h) * double(h_ / eta_h);
+        std::fprintf(stderr,
+                     "note: sampled at h = %.4g m, %.2f times eta %.2f of the edge: at eta's spacing the surface would take about %.0f "
+                     "splats%s, past surface.sample_budget = %u. Raise the budget for the finer look\n",
+                     double(h_), double(h_ / eta_h), double(eta), wanted, where.c_str(), scene_.surface.sample_budget);
+        return;
+    }
+    std::fprintf(stderr, "warning: %zu splats at the scene's spacing h = %.4g m%s: set a surface.sample_budget or raise surface.eta\n", total,
+                 double(h_), where.c_str());
 }
 
 void SceneRuntime::set_up_look() {

@@ -199,7 +199,7 @@ public:
 private:
     SceneRuntime() = default;
     core::Status build(const RuntimeOptions& options);
-    void warn_of_sample_count() const;
+    void report_sampling(float eta_h) const;  // once at load, where the budget raised h or the splats are many
     void set_up_look();  // the splats' size, the occluders' tolerances, the lights from the material
     core::Status create_renderer(const SortChoice& sort);
     core::Status ensure_mesh_raster();  // made on first need (a mesh view, mesh_image())

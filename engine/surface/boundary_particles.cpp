@@ -179,6 +179,14 @@ void BoundaryParticles::clear() {
 
 float spacing(const mesh::TriangleMesh& m, float eta) { return eta * mesh::mean_edge_length(m); }
 
+float spacing_for_budget(const mesh::TriangleMesh& m, size_t budget) {
+    if (budget == 0) return 0.0f;
+    double area = 0.0;
+    for (const mesh::Triangle& t : m.triangles)
+        area += 0.5 * double((m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]).norm());
+    return area > 0.0 && std::isfinite(area) ? float(std::sqrt(area / (double(k_area_per_sample) * double(budget)))) : 0.0f;
+}
+
 BoundaryParticles sample_surface(const mesh::TriangleMesh& m, const SamplingOptions& o) {
     std::vector<uint32_t> all(m.triangles.size());
     for (uint32_t t = 0; t < all.size(); ++t) all[t] = t;

@@ -56,6 +56,7 @@ interior_color = [0.9, 0.8, 0.5]
 [surface]
 mode = "vertices"
 eta = 0.4
+sample_budget = 90000
 stretch_scale = true
 seed = 7
 edge_samples = false

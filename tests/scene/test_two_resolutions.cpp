@@ -38,6 +38,36 @@ TEST_SUITE("scene/two_resolutions") {
         CHECK(n_coarse < 1.25 * n_full);  // the same
     }
 
+    TEST_CASE("a sample budget raises the spacing of a model too detailed for it, and only then") {
+        scene::Scene sc = bumpy_scene(600);
+        auto free_rt = scene::SceneRuntime::create(sc, {});
+        REQUIRE(free_rt.ok());
+        const size_t unbudgeted = free_rt.value()->boundary_particles().size();
+        REQUIRE(unbudgeted > 8000);  // the fine sphere at its own edge
+        sc.surface.sample_budget = 2000;
+        auto budgeted = scene::SceneRuntime::create(sc, {});
+        REQUIRE(budgeted.ok());
+        const double share = double(budgeted.value()->boundary_particles().size()) / 2000.0;
+        MESSAGE(unbudgeted << " samples at eta's spacing; " << budgeted.value()->boundary_particles().size() << " within a budget of 2000");
+        CHECK(share > 0.85);  // measured 0.98: about what the budget asks for
+        CHECK(share < 1.05);  // and not past it
+        CHECK(budgeted.value()->spacing() > 1.5f * free_rt.value()->spacing());  // measured 3.4x: the budget is a tenth of the samples
+        // A budget the model is within changes nothing.
+        sc.surface.sample_budget = uint32_t(2 * unbudgeted);
+        auto roomy = scene::SceneRuntime::create(sc, {});
+        REQUIRE(roomy.ok());
+        CHECK(roomy.value()->spacing() == free_rt.value()->spacing());
+        CHECK(roomy.value()->boundary_particles().size() == unbudgeted);
+        // Vertices mode places no samples: its splats are the particles, at eta's size whatever the budget.
+        sc.surface.mode = scene::SurfaceMode::vertices;
+        auto vertices = scene::SceneRuntime::create(sc, {});
+        sc.surface.sample_budget = 10;
+        auto vertices_budgeted = scene::SceneRuntime::create(sc, {});
+        REQUIRE(vertices.ok());
+        REQUIRE(vertices_budgeted.ok());
+        CHECK(vertices_budgeted.value()->spacing() == vertices.value()->spacing());
+    }
+
     TEST_CASE("the thread count does not change the Gaussians: the samples' carry and mapping split over threads") {
         scene::Scene sc = bumpy_scene(500);
         sc.events.push_back({0.05f, scene::CutEvent{std::nullopt, {1280, 720}, std::make_pair(Vec3f(0.07f, 0, 0), Vec3f(1, 0.2f, 0))}});

@@ -75,6 +75,25 @@ TEST_SUITE("surface/boundary_particles") {
         CHECK(double(scaled.size() + big.vertex_count()) / double(coarse.size() + sphere.vertex_count()) > 3.3);  // four times the area: as above
     }
 
+    TEST_CASE("a sample budget sets the spacing at which a detailed surface holds about that many samples") {
+        // A fine sphere (81,920 triangles, edges far below the spacing the budget asks for), as
+        // a detailed model's own surface is sampled: no anchors.
+        const mesh::TriangleMesh fine = mesh::icosphere(6);
+        for (const size_t budget : {300u, 1000u, 3000u}) {
+            const float h = surface::spacing_for_budget(fine, budget);
+            REQUIRE(h > 1.5f * mesh::mean_edge_length(fine));  // each budget far below the sphere's own detail (1.8-5.8 edges)
+            const auto points = surface::sample_points(fine, {}, {h, 3});
+            const double share = double(points.size()) / double(budget);
+            MESSAGE("budget " << budget << ": h = " << h << ", " << points.size() << " samples (" << share << " of the budget)");
+            CHECK(share > 0.9);   // measured 0.98-1.005: the budget is what the user gets
+            CHECK(share < 1.05);  // and never much past it
+        }
+        CHECK(surface::spacing_for_budget(fine, 0) == 0.0f);  // no budget
+        auto twice = fine;
+        for (auto& p : twice.positions) p *= 2.0f;  // four times the area, the same budget: twice the spacing
+        CHECK(surface::spacing_for_budget(twice, 4000) == doctest::Approx(2.0f * surface::spacing_for_budget(fine, 4000)).epsilon(1e-4));
+    }
+
     TEST_CASE("samples stay exactly on their deformed triangles") {
         const float h = surface::spacing(sphere, 0.5f);
         auto s = surface::sample_surface(sphere, {h, 1});

@@ -24,8 +24,11 @@ core::Result<SurfaceSetup> setup_surface(const SurfaceDesc& desc, uint32_t fade_
     // simulation mesh; without a separate model surface they sample the simulation mesh. The
     // vertices-only mode keeps the same h, so its splats are as large as with boundary
     // particles and show the holes those close (the paper's Figure 14a against 14b).
-    out.h = boundary && fine ? surface::spacing(*fine, desc.eta) : surface::spacing(rest, desc.eta);
-    if (!(out.h > 0.0f)) return core::make_error("the mesh has no edges to derive the sampling spacing from");
+    const mesh::TriangleMesh& sampled = boundary && fine ? *fine : rest;
+    out.eta_h = surface::spacing(sampled, desc.eta);
+    if (!(out.eta_h > 0.0f)) return core::make_error("the mesh has no edges to derive the sampling spacing from");
+    // The budget holds only where samples are placed: in vertices mode the splats are the particles.
+    out.h = boundary ? std::max(out.eta_h, surface::spacing_for_budget(sampled, desc.sample_budget)) : out.eta_h;
     // With an embedded surface the samples are the splats: the simulation particles sit on the
     // coarse mesh, off the model's surface wherever it curves, and after a cut the new ones
     // lie on the coarse cut line, away from the fine samples: drawn, they float as strays.

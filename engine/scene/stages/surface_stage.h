@@ -1,7 +1,8 @@
 #pragma once
 // The boundary particles' setup and their follow-up to topology changes.
 //
-// Setup: spacing h from the model's edges (eta), a maximal sample set on the model's own
+// Setup: spacing h from the model's edges (eta) or, where that would place more samples than the
+// scene's budget, from the budget; a maximal sample set on the model's own
 // surface embedded in the simulation mesh (or on the simulation mesh itself), edge samples
 // along open boundaries, the density control.
 //
@@ -31,6 +32,7 @@ namespace pbdsplat::scene {
 
 struct SurfaceSetup {
     float h = 0.0f;                    // sampling spacing
+    float eta_h = 0.0f;                // eta times the edge: h unless the sample budget raised it
     bool particles_are_splats = true;  // not with an embedded model surface
 };
 
