@@ -32,6 +32,8 @@ struct ModelDesc {
     Vec3f rotate_degrees = Vec3f::Zero();  // applied x, then y, then z
     ModelScale scale;
     bool close_holes = false;  // cap the model's open boundary loops (a balloon needs a closed surface)
+    Vec3f velocity = Vec3f::Zero();  // m/s at the start
+    bool fixed = false;              // static: every particle pinned (a table, a bowl, a ramp)
 };
 
 // Another model beside [model] ([[bodies]] in a scene file): the pieces of one soft body, so
@@ -39,8 +41,6 @@ struct ModelDesc {
 // it takes the pieces of a cut. The simulation settings are the scene's.
 struct BodyDesc {
     ModelDesc model;
-    Vec3f velocity = Vec3f::Zero();  // m/s at the start
-    bool fixed = false;              // static: every particle pinned (a table, a bowl, a ramp)
     std::optional<Vec3f> color;      // linear rgb; the material's colour without it
     std::optional<uint32_t> particles;  // its simulation size, as simulation.particles says for [model]
 };

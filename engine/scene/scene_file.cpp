@@ -205,7 +205,6 @@ BodyDesc read_body(const Reader& r, const toml::node& n) {
     BodyDesc b;
     if (!t.has("mesh")) r.fail(n.source(), "a [[bodies]] entry needs 'mesh' (a model file or a procedural mesh such as \"box:1\")");
     read_keys<ModelDesc>(t, b.model, k_model_keys);
-    read_keys<BodyDesc>(t, b, k_body_keys);
     if (t.has("color")) b.color = t.vec<3>("color", Vec3f::Ones(), 0.0, 1.0);
     if (t.has("particles")) b.particles = t.count("particles", 0, 0, 10'000'000);
     t.finish();

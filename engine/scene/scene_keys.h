@@ -40,11 +40,8 @@ inline const Key<ModelDesc> k_model_keys[] = {
     PBDSPLAT_KEY(ModelDesc, "rotate_degrees", rotate_degrees, -3600, 3600),
     PBDSPLAT_KEY(ModelDesc, "scale", scale, 1e-6, 1e6),
     PBDSPLAT_KEY(ModelDesc, "close_holes", close_holes),
-};
-// One entry of [[bodies]], after the model keys; `color` and `particles` beside it.
-inline const Key<BodyDesc> k_body_keys[] = {
-    PBDSPLAT_KEY(BodyDesc, "velocity", velocity, -1e4, 1e4),
-    PBDSPLAT_KEY(BodyDesc, "static", fixed),
+    PBDSPLAT_KEY(ModelDesc, "velocity", velocity, -1e4, 1e4),
+    PBDSPLAT_KEY(ModelDesc, "static", fixed),
 };
 inline const Key<MaterialDesc> k_material_keys[] = {
     PBDSPLAT_KEY(MaterialDesc, "color", color, 0.0, 1.0),

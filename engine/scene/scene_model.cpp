@@ -140,10 +140,13 @@ core::Result<sim::SoftBody> make_body(const Scene& scene, mesh::TriangleMesh coa
 // [[bodies]] held still or thrown.
 void place_bodies(const Scene& scene, const std::vector<uint32_t>& part_start, sim::SoftBody& b) {
     b.model_of_particle.assign(b.particle_count(), 0);
-    for (size_t k = 0; k < scene.bodies.size(); ++k) {
-        const BodyDesc& d = scene.bodies[k];
-        for (uint32_t i = part_start[k + 1]; i < part_start[k + 2]; ++i) {
-            b.model_of_particle[i] = uint32_t(k + 1);
+    for (size_t m = 0; m <= scene.bodies.size(); ++m) {
+        const ModelDesc& d = m == 0 ? scene.model : scene.bodies[m - 1].model;
+        // A scene of one model lays no parts end to end: it is every particle.
+        const uint32_t begin = part_start.empty() ? 0u : part_start[m];
+        const uint32_t end = part_start.empty() ? uint32_t(b.particle_count()) : part_start[m + 1];
+        for (uint32_t i = begin; i < end; ++i) {
+            b.model_of_particle[i] = uint32_t(m);
             if (d.fixed) b.pin(i);
             else b.particles.v[i] = sim::to4(d.velocity);
         }
@@ -200,7 +203,7 @@ core::Status pin_particles(const Scene& scene, sim::SoftBody& b) {
             if ((x.array() >= region.min.array()).all() && (x.array() <= region.max.array()).all()) b.pin(i);
         }
     // Pins change the masses the shape clusters weigh the fit with.
-    const bool any_fixed = std::any_of(scene.bodies.begin(), scene.bodies.end(), [](const BodyDesc& d) { return d.fixed; });
+    const bool any_fixed = scene.model.fixed || std::any_of(scene.bodies.begin(), scene.bodies.end(), [](const BodyDesc& d) { return d.model.fixed; });
     if (!s.pins.empty() || !s.pin_regions.empty() || any_fixed) sim::rebuild_shape_clusters(b);
     return core::Status::success();
 }

@@ -72,7 +72,6 @@ void write_model_material_surface(std::ostream& o, const Scene& sc) {
     for (const BodyDesc& b : sc.bodies) {
         o << "\n[[bodies]]\n";
         write_keys<ModelDesc>(o, b.model, k_model_keys);
-        write_keys<BodyDesc>(o, b, k_body_keys);
         if (b.color) o << "color = [" << num(b.color->x()) << ", " << num(b.color->y()) << ", " << num(b.color->z()) << "]\n";
         if (b.particles) o << "particles = " << *b.particles << "\n";
     }

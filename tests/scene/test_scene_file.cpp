@@ -31,6 +31,8 @@ translate = [0.0, 1.0, 0.0]
 rotate_degrees = [10.0, 20.0, 30.0]
 scale = 0.5
 close_holes = true
+velocity = [0.5, 0.0, 0.0]
+static = true
 
 [[bodies]]
 mesh = "box:2"
@@ -612,11 +614,11 @@ particles = 0
             REQUIRE(sc->bodies.size() == 2);
             CHECK(sc->bodies[0].model.mesh == "icosphere:1");
             CHECK(sc->bodies[0].model.translate.isApprox(Vec3f(0, 2, 0)));
-            CHECK(sc->bodies[0].velocity.isApprox(Vec3f(1, -2, 0.5f)));
+            CHECK(sc->bodies[0].model.velocity.isApprox(Vec3f(1, -2, 0.5f)));
             REQUIRE(sc->bodies[0].color);
             CHECK(sc->bodies[0].color->isApprox(Vec3f(0.1f, 0.2f, 0.3f)));
-            CHECK_FALSE(sc->bodies[0].fixed);
-            CHECK(sc->bodies[1].fixed);
+            CHECK_FALSE(sc->bodies[0].model.fixed);
+            CHECK(sc->bodies[1].model.fixed);
             CHECK(sc->bodies[1].model.scale.axes.isApprox(Vec3f(0.5f, 0.25f, 1.0f)));
             REQUIRE(sc->bodies[1].particles);
             CHECK(*sc->bodies[1].particles == 0);
@@ -644,5 +646,34 @@ particles = 0
         CHECK(refusal("[model]\nscale = [1, 2]\n").find("bad.toml:2:9: 'model.scale' must be a number or an array of 3 numbers") == 0);
         CHECK(refusal("[model]\nscale = \"big\"\n").find("'model.scale' must be a number or an array of 3 numbers") != std::string::npos);
         CHECK(refusal("[model]\nscale = [1, 0, 1]\n").find("'model.scale' element 0 is out of range") != std::string::npos);
+    }
+
+    TEST_CASE("[model] takes 'static' and 'velocity' as a [[bodies]] entry does: a table written first holds still") {
+        const char* table_first = R"(
+[model]
+mesh = "box:4"
+scale = [2.0, 0.1, 1.2]
+static = true
+[[bodies]]
+mesh = "icosphere:2"
+translate = [0, 1, 0]
+velocity = [0, -1, 0]
+)";
+        auto sc = scene::parse_scene(table_first, "table_first.toml");
+        REQUIRE_MESSAGE(sc.ok(), test::why(sc));
+        CHECK(sc->model.fixed);
+        auto model = scene::load_scene_model(sc.value());
+        REQUIRE_MESSAGE(model.ok(), test::why(model));
+        const sim::SoftBody& b = model.value().body;
+        const std::vector<uint32_t>& start = model.value().part_start;
+        REQUIRE(start.size() == 3);
+        for (uint32_t i = start[0]; i < start[1]; ++i) CHECK(b.particles.w[i] == 0.0f);
+        for (uint32_t i = start[1]; i < start[2]; ++i) CHECK(b.particles.v[i].y() == doctest::Approx(-1.0f));
+        // A model alone, thrown.
+        auto thrown = scene::parse_scene("[model]\nmesh = \"icosphere:2\"\nvelocity = [2, 0, 0]\n", "thrown.toml");
+        REQUIRE(thrown.ok());
+        auto alone = scene::load_scene_model(thrown.value());
+        REQUIRE_MESSAGE(alone.ok(), test::why(alone));
+        for (size_t i = 0; i < alone.value().body.particle_count(); ++i) CHECK(alone.value().body.particles.v[i].x() == doctest::Approx(2.0f));
     }
 }
