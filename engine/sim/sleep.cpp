@@ -34,6 +34,7 @@ void wake_all(BodyStateT<Real>& state) {
     for (size_t i = 0; i < st.anchor.size(); ++i) st.anchor[i] = xyz(p.x[i]);
     st.sleeping = 0;
     st.movable = 0;
+    st.judged = false;
 }
 
 namespace {
@@ -88,7 +89,7 @@ void apply(SoftBodyT<Real>& body, SleepState& st, std::span<const uint8_t> kind,
             st.anchor[i] = xyz(p.x[i]);
         }
     }
-    st.sleeping = 0, st.movable = 0;
+    st.sleeping = 0, st.movable = 0, st.judged = true;
     for (size_t k = 0; k < kind.size(); ++k) {
         st.movable += kind[k] != k_static ? 1 : 0;
         if (change[k] == k_wakes) st.still[k] = 0.0f;

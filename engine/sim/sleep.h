@@ -52,9 +52,11 @@ struct SleepState {
     std::vector<float> still;     // per piece: seconds it has been still
     size_t sleeping = 0;          // pieces asleep
     size_t movable = 0;           // pieces that can move at all (not static), asleep or awake
+    bool judged = false;          // the pieces' kinds were read since the last wake (the counts hold)
     bool any() const { return sleeping > 0; }
-    // Every piece that can move sleeps: a frame has nothing to do but watch for a wake.
-    bool resting() const { return sleeping > 0 && sleeping == movable; }
+    // Every piece that can move sleeps, or none can (a static body alone, a table with nothing
+    // on it): a frame has nothing to do but watch for a wake.
+    bool resting() const { return judged && sleeping == movable; }
 };
 
 // Every piece awake, its still spell begun again: called before anything acts on the body, so a
