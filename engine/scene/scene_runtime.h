@@ -145,6 +145,7 @@ public:
     // The splats of the last frame: the particles' first, then the boundary particles'; with an
     // embedded model surface, the boundary particles' only.
     const std::vector<splat::GaussianRecord>& records() const { return mapping_->records(); }
+    const MappingStage& mapping() const { return *mapping_; }
     // The last frame found the body where it was on the frame before (asleep or paused): its
     // samples, records and occluder mesh were kept, not made again (stages/stillness.h).
     bool body_still() const { return stillness_.still(); }

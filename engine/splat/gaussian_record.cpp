@@ -98,11 +98,9 @@ float shape_reach(const Eigen::Matrix3f& axes) {
 
 namespace {
 template <class Point>
-void map_any(std::span<const Point> positions, std::span<const Vec3f> normals, const Appearance& a,
-             std::vector<GaussianRecord>& out) {
-    PBDSPLAT_ASSERT(positions.size() == normals.size(), "map_points: one normal per position");
+void map_any(std::span<const Point> positions, std::span<const Vec3f> normals, const Appearance& a, std::span<GaussianRecord> out) {
+    PBDSPLAT_ASSERT(positions.size() == normals.size() && out.size() == positions.size(), "map_points: one normal and one record per position");
     const GaussianRecord base = make_record(Vec3f::Zero(), Vec3f::UnitZ(), a);
-    out.resize(positions.size());
     for (size_t i = 0; i < positions.size(); ++i) {
         GaussianRecord r = base;
         r.position[0] = positions[i].x();
@@ -116,12 +114,18 @@ void map_any(std::span<const Point> positions, std::span<const Vec3f> normals, c
 
 void map_points(std::span<const Vec3f> positions, std::span<const Vec3f> normals, const Appearance& a,
                 std::vector<GaussianRecord>& out) {
+    out.resize(positions.size());
+    map_any(positions, normals, a, std::span<GaussianRecord>(out));
+}
+
+void map_points(std::span<const Vec4f> positions, std::span<const Vec3f> normals, const Appearance& a, std::span<GaussianRecord> out) {
     map_any(positions, normals, a, out);
 }
 
 void map_points(std::span<const Vec4f> positions, std::span<const Vec3f> normals, const Appearance& a,
                 std::vector<GaussianRecord>& out) {
-    map_any(positions, normals, a, out);
+    out.resize(positions.size());
+    map_any(positions, normals, a, std::span<GaussianRecord>(out));
 }
 
 } // namespace pbdsplat::splat

@@ -95,6 +95,8 @@ float shape_reach(const Eigen::Matrix3f& axes);
 void map_points(std::span<const Vec3f> positions, std::span<const Vec3f> normals, const Appearance& a,
                 std::vector<GaussianRecord>& out);
 // The same from float4 positions (the simulation's layout; w ignored).
+// The same into `out`, one record per position, without resizing it.
+void map_points(std::span<const Vec4f> positions, std::span<const Vec3f> normals, const Appearance& a, std::span<GaussianRecord> out);
 void map_points(std::span<const Vec4f> positions, std::span<const Vec3f> normals, const Appearance& a,
                 std::vector<GaussianRecord>& out);
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/assert.h"
 #include "mesh/deformation.h"
 #include "surface/thin_order.h"
 
@@ -70,11 +71,11 @@ constexpr size_t k_parallel_samples = 8192;
 void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const Vec3f> colors,
               std::span<const mesh::Triangle> triangles, const surface::BoundaryParticles* samples, const Appearance& look,
               const StretchScale* stretch, const NormalField* field, std::vector<GaussianRecord>& out,
-              core::ThreadPool* pool) {
+              core::ThreadPool* pool, std::span<const uint8_t> kept) {
     const size_t n = x.size(), m = samples ? samples->size() : 0;
+    PBDSPLAT_ASSERT(kept.empty() || (kept.size() == m && out.size() >= n + m), "map_body: kept records must be there");
     out.resize(n + m);
-    map_points(x, normals, look, out);  // resizes to n, keeps capacity
-    out.resize(n + m);
+    map_points(x, normals, look, std::span<GaussianRecord>(out.data(), n));
     const GaussianRecord base = make_record(Vec3f::Zero(), Vec3f::UnitZ(), look);
     auto color_bytes = [](const Vec3f& c, GaussianRecord& r) {
         for (int k = 0; k < 3; ++k) r.color[k] = uint8_t(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
@@ -88,6 +89,7 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
     // Each sample's record is its own: the threads take ranges of them.
     const auto map_samples = [&](size_t first, size_t last) {
     for (size_t k = first; k < last; ++k) {
+        if (!kept.empty() && kept[k]) continue;
         GaussianRecord r = base;
         const Vec3f& p = samples->position[k];
         r.position[0] = p.x(), r.position[1] = p.y(), r.position[2] = p.z();

@@ -38,10 +38,13 @@ private:
 // unless the samples carry a painted colour of their own: BoundaryParticles::color).
 // `stretch`, when not null, scales each splat by its stretch factor. `field`, when not null and
 // current, gives each splat how the normal turns across it (the particles' only when it has
-// vertices); else every splat is lit with one normal.
+// vertices); else every splat is lit with one normal. `kept` (one entry per sample, or empty):
+// the records of the samples marked 1 are those `out` holds from the last call, which made them
+// from the same sample at the same place, and are left as they are (the caller knows: their
+// piece has not moved, nothing was added or removed, they do not fade).
 void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::span<const Vec3f> colors,
               std::span<const mesh::Triangle> triangles, const surface::BoundaryParticles* samples, const Appearance& look,
               const StretchScale* stretch, const NormalField* field, std::vector<GaussianRecord>& out,
-              core::ThreadPool* pool = nullptr);
+              core::ThreadPool* pool = nullptr, std::span<const uint8_t> kept = {});
 
 } // namespace pbdsplat::splat

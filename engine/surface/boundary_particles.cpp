@@ -326,7 +326,8 @@ Mat3f surface_frame(const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f&
 constexpr size_t k_parallel_carry = 8192;
 
 void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::span<const Vec4f> x,
-                               std::span<const Vec3f> n, BoundaryParticles& s, size_t first, core::ThreadPool* pool) {
+                               std::span<const Vec3f> n, BoundaryParticles& s, size_t first, core::ThreadPool* pool,
+                               std::span<const uint8_t> moved) {
     const size_t count = s.size();
     s.position.resize(count);
     s.normal.resize(count);
@@ -340,6 +341,7 @@ void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::s
             // Each sample's normal in the frame of the interpolated normal at it (surface_frame), so
             // the frame is per sample, not per triangle.
             for (size_t i = begin; i < end; ++i) {
+                if (!moved.empty() && !moved[tri_index[i]]) continue;
                 const auto& t = triangles[tri_index[i]];
                 const float b1 = bary[i].x(), b2 = bary[i].y(), b0 = 1.0f - b1 - b2;
                 const Vec3f interpolated = b0 * n[t[0]] + b1 * n[t[1]] + b2 * n[t[2]];
@@ -349,6 +351,7 @@ void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::s
             return;
         }
         for (size_t i = begin; i < end; ++i) {
+            if (!moved.empty() && !moved[tri_index[i]]) continue;
             const auto& t = triangles[tri_index[i]];
             const float b1 = bary[i].x(), b2 = bary[i].y(), b0 = 1.0f - b1 - b2;
             const Vec4f p = b0 * x[t[0]] + b1 * x[t[1]] + b2 * x[t[2]];

@@ -148,10 +148,12 @@ Mat3f triangle_frame(const Vec3f& a, const Vec3f& b, const Vec3f& c);
 Mat3f surface_frame(const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& normal);
 
 // Samples [first, size()) only (the ones just added), when the others are current.
-// `pool`: threads that take ranges of the samples (the result is the same).
+// `pool`: threads that take ranges of the samples (the result is the same). `moved` (one entry
+// per triangle, or empty for all): the samples on a triangle marked 0 are current already and
+// are left as they are (their triangle's piece has not moved since they were carried).
 void update_boundary_particles(std::span<const mesh::Triangle> triangles, std::span<const Vec4f> x,
                                std::span<const Vec3f> vertex_normals, BoundaryParticles& samples, size_t first = 0,
-                               core::ThreadPool* pool = nullptr);
+                               core::ThreadPool* pool = nullptr, std::span<const uint8_t> moved = {});
 // Positions alone (what a mesh drawn from them needs): update_boundary_particles without the
 // normals' frames, most of its cost.
 void update_boundary_positions(std::span<const mesh::Triangle> triangles, std::span<const Vec4f> x, std::span<const Vec3f> n,

@@ -20,14 +20,34 @@ bool MappingStage::stands(const Sources& s, const splat::Appearance& look, bool 
            made_.cut_faces == (s.cut_faces != nullptr) && made_.look == look;
 }
 
-void MappingStage::map(const Sources& s, const splat::Appearance& look) {
+bool MappingStage::keeps(const Sources& s, const splat::Appearance& look, const Unmoved& unmoved) const {
+    return s.samples && !unmoved.moved_triangles.empty() && unmoved.samples_same && made_.valid && made_.particles == s.particles &&
+           made_.samples && made_.stretch == (s.stretch != nullptr) && made_.cut_faces == (s.cut_faces != nullptr) && made_.look == look &&
+           made_.particle_count == (s.particles ? s.body->particle_count() : 0) && made_.sample_count == s.samples->size() &&
+           unmoved.moved_triangles.size() == s.body->triangles.size();
+}
+
+void MappingStage::map(const Sources& s, const splat::Appearance& look) { map(s, look, Unmoved{}); }
+
+void MappingStage::map(const Sources& s, const splat::Appearance& look, const Unmoved& unmoved) {
     const sim::SoftBody& body = *s.body;
-    made_ = {true, s.particles, s.samples != nullptr, s.stretch != nullptr, s.cut_faces != nullptr, look};
+    kept_.clear(), kept_count_ = 0;
+    if (keeps(s, look, unmoved)) {
+        const surface::BoundaryParticles& sm = *s.samples;
+        kept_.resize(sm.size());
+        for (size_t k = 0; k < sm.size(); ++k) {
+            kept_[k] = !unmoved.moved_triangles[sm.triangle[k]] && !(k < sm.fade_step.size() && sm.fade_step[k] != 0.0f);
+            kept_count_ += kept_[k];
+        }
+        if (kept_count_ == 0) kept_.clear();
+    }
+    made_ = {true, s.particles, s.samples != nullptr, s.stretch != nullptr, s.cut_faces != nullptr, look,
+             s.particles ? body.particle_count() : 0, s.samples ? s.samples->size() : 0};
     if (varying_normals_)
         normal_field_.update(body.particles.x, body.normals, body.triangles, s.particles, splat::curvature_limit(look.scale));
     splat::map_body(s.particles ? std::span<const Vec4f>(body.particles.x) : std::span<const Vec4f>(),
                     s.particles ? std::span<const Vec3f>(body.normals) : std::span<const Vec3f>(), body.colors, body.triangles,
-                    s.samples, look, s.stretch, varying_normals_ ? &normal_field_ : nullptr, records_, pool_);
+                    s.samples, look, s.stretch, varying_normals_ ? &normal_field_ : nullptr, records_, pool_, kept_);
     if (!deformed_.empty()) {
         deformed_.update(body.particles.x, body.triangles);
         deformed_.map(s.particles ? body.particle_count() : 0, s.samples, records_, shapes_);
@@ -116,7 +136,15 @@ void map_frame(const MapPassOptions& o, const MapHandles& hh, const graph::PassR
     const bool stands = !o.sorted && mapping.stands(sources, look, body_still, quiet);
     if (!stands) {
         if (faces) faces->update(body);
-        mapping.map(sources, look);
+        MappingStage::Unmoved unmoved;
+        if (o.stillness && !o.sorted) {
+            unmoved.moved_triangles = r.read(hh.stillness).moved_triangles();
+            if (o.boundary) {
+                const surface::DensityStats& d = r.read(hh.density_stats);
+                unmoved.samples_same = d.inserted == 0 && d.removed == 0 && d.resampled == 0;
+            }
+        }
+        mapping.map(sources, look, unmoved);
     }
     BodyViewOptions view;
     view.cull_back = settings.cull_back;

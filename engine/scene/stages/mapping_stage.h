@@ -4,6 +4,7 @@
 // splats a cut added, the far-to-near CPU sort, and the hand-over to the GPU passes with the
 // byte ranges that changed since the last frame.
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "graph/blackboard.h"
@@ -38,7 +39,17 @@ public:
         const splat::StretchScale* stretch = nullptr;         // stretch-scaled splats, or null
         const splat::CutFaces* cut_faces = nullptr;           // the faces cuts made, drawn after the rest, or null
     };
+    // What a frame knows of what stood still since the last map(): the records of the samples on
+    // an unmoved triangle (Stillness::moved_triangles) are kept when no sample was added or
+    // removed since (`samples_same`) and they do not fade. Empty: every record is made.
+    struct Unmoved {
+        std::span<const uint8_t> moved_triangles;
+        bool samples_same = false;
+    };
+    void map(const Sources& s, const splat::Appearance& look, const Unmoved& unmoved);
     void map(const Sources& s, const splat::Appearance& look);
+    // Samples whose records the last map() kept as they were.
+    size_t kept() const { return kept_count_; }
     // Whether the records the last map() made stand for this frame as they are: the body has not
     // moved since (`body_still`), nor have the samples (`samples_still`: nothing added, removed or
     // fading), no particle or cut face fades in, and the same splats are drawn with the same look.
@@ -67,8 +78,13 @@ private:
         bool valid = false;
         bool particles = false, samples = false, stretch = false, cut_faces = false;
         splat::Appearance look;
+        size_t particle_count = 0, sample_count = 0;
     };
     Made made_;
+    // Per sample: its record stands from the last map() (see Unmoved).
+    std::vector<uint8_t> kept_;
+    size_t kept_count_ = 0;
+    bool keeps(const Sources& s, const splat::Appearance& look, const Unmoved& unmoved) const;
     std::vector<splat::GaussianRecord> records_;
     std::vector<splat::GaussianRecord> previous_;  // what the GPU holds, when previous_valid_: for the changed ranges
     bool previous_valid_ = false;

@@ -4,6 +4,8 @@
 // on an earlier frame, so on such a frame they let them stand and only the drawing is left (a
 // landed bunny_cut: its surface update 6 ms a frame before, about 0.1 ms now; docs/BENCHMARKS.md).
 #include <cstddef>
+#include <cstdint>
+#include <span>
 #include <vector>
 
 #include "graph/blackboard.h"
@@ -19,11 +21,19 @@ public:
     // this frame's surface passes make their outputs from it.
     void observe(const sim::BodyStructure& structure, const sim::BodyState& state);
     bool still() const { return still_; }
+    // On a frame that moved with the same triangles as the last: per triangle, whether a
+    // particle of its piece moved (a piece is a closed set: nothing outside it bends its
+    // normals). Empty when every triangle counts as moved (the first frame, a topology change).
+    // What a pass made on an unmoved piece's triangles last frame stands: a static table, the
+    // sleeping pieces of a pile.
+    std::span<const uint8_t> moved_triangles() const { return moved_triangles_; }
 
 private:
     std::vector<Vec4f> seen_;
     std::vector<mesh::Triangle> triangles_;
+    std::vector<uint8_t> moved_piece_, moved_triangles_;
     bool still_ = false;
+    void judge_pieces(const sim::BodyStructure& structure, const sim::BodyState& state);
 };
 
 namespace keys {

@@ -111,9 +111,10 @@ void add_surface_passes(graph::FrameGraph& g, graph::Blackboard& board, const Su
                                                                                                   graph::ExecuteContext&) {
                 // Where the body has not moved the samples are where its last carry (or the
                 // density control, for those it added since) put them.
-                if (r.read(still).still()) return;
+                const Stillness& stillness = r.read(still);
+                if (stillness.still()) return;
                 surface::update_boundary_particles(r.read(body.structure).triangles, r.read(body.state).particles.x,
-                                                   r.read(body.caches).normals, r.write(samples), 0, pool);
+                                                   r.read(body.caches).normals, r.write(samples), 0, pool, stillness.moved_triangles());
             };
         },
         config.tag);
