@@ -34,7 +34,10 @@ void Stillness::judge_pieces(const sim::BodyStructure& structure, const sim::Bod
         if (k < structure.pieces && !moved_piece_[k] && std::memcmp(&x[i], &seen_[i], sizeof(Vec4f)) != 0) moved_piece_[k] = 1;
     }
     for (uint8_t m : moved_piece_) any_unmoved = any_unmoved || !m;
-    if (!any_unmoved) return moved_triangles_.clear();
+    if (!any_unmoved) {  // every piece moved: as good as no marks
+        moved_triangles_.clear();
+        return;
+    }
     moved_triangles_.resize(structure.triangles.size());
     for (size_t t = 0; t < structure.triangles.size(); ++t) {
         const uint32_t k = structure.piece_of_particle[structure.triangles[t][0]];

@@ -25,7 +25,8 @@ public:
     // particle of its piece moved (a piece is a closed set: nothing outside it bends its
     // normals). Empty when every triangle counts as moved (the first frame, a topology change).
     // What a pass made on an unmoved piece's triangles last frame stands: a static table, the
-    // sleeping pieces of a pile.
+    // sleeping pieces of a pile. On a still frame the marks are the last moving frame's (what
+    // they call unmoved has still not moved).
     std::span<const uint8_t> moved_triangles() const { return moved_triangles_; }
 
 private:
