@@ -1,10 +1,11 @@
 #include "mesh/repair.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
+#include <tuple>
 #include <unordered_map>
-#include <unordered_set>
 
 #include "mesh/topology.h"
 
@@ -28,19 +29,56 @@ void remap_vertices(TriangleMesh& m, const std::vector<uint32_t>& source_of_new)
     remap_attribute(m.colors, source_of_new);
 }
 
+// The representatives welding has kept, by grid cell: an open-addressed table of cells, each
+// chaining its representatives in the order they were kept. A hash map of vectors allocated a
+// vector per cell, and a scan's million vertices spent a third of the weld in the allocator.
+class WeldCells {
+public:
+    static constexpr uint32_t k_none = UINT32_MAX;
+    explicit WeldCells(size_t expected) {
+        size_t cap = 16;
+        while (cap < 2 * expected) cap <<= 1;
+        cells_.assign(cap, Cell{});
+        mask_ = cap - 1;
+        next_.reserve(expected);
+    }
+    // The first representative of `cell` (k_none if none) and the one after `r`.
+    uint32_t first(const Eigen::Vector3i& cell) const {
+        const Cell& c = cells_[slot(cell)];
+        return c.used ? c.head : k_none;
+    }
+    uint32_t next(uint32_t r) const { return next_[r]; }
+    // Representative `r` (numbered in the order kept) joins the end of its cell's chain.
+    void add(const Eigen::Vector3i& cell, uint32_t r) {
+        Cell& c = cells_[slot(cell)];
+        next_.push_back(k_none);
+        if (!c.used) c = Cell{cell, r, r, true};
+        else next_[c.tail] = r, c.tail = r;
+    }
+
+private:
+    struct Cell {
+        Eigen::Vector3i key = Eigen::Vector3i::Zero();
+        uint32_t head = k_none, tail = k_none;
+        bool used = false;
+    };
+    // The slot holding `cell`, or the empty one where it would go. Never full: one cell at most
+    // per vertex, and the table holds twice as many slots.
+    size_t slot(const Eigen::Vector3i& cell) const {
+        size_t h = (size_t(uint32_t(cell.x())) * 73856093u ^ size_t(uint32_t(cell.y())) * 19349663u ^ size_t(uint32_t(cell.z())) * 83492791u);
+        h = (h * 0x9E3779B97F4A7C15ull) >> 20;
+        for (size_t s = h & mask_;; s = (s + 1) & mask_)
+            if (!cells_[s].used || cells_[s].key == cell) return s;
+    }
+    std::vector<Cell> cells_;
+    std::vector<uint32_t> next_;
+    size_t mask_ = 0;
+};
+
 // Welds vertices within `tol` of one another, keeping the first of each cluster.
 size_t weld(TriangleMesh& m, float tol) {
     if (tol <= 0.0f) return 0;
-    struct CellHash {
-        size_t operator()(const Eigen::Vector3i& c) const {
-            return size_t(c.x()) * 73856093u ^ size_t(c.y()) * 19349663u ^ size_t(c.z()) * 83492791u;
-        }
-    };
-    struct CellEq {
-        bool operator()(const Eigen::Vector3i& a, const Eigen::Vector3i& b) const { return a == b; }
-    };
-    std::unordered_map<Eigen::Vector3i, std::vector<uint32_t>, CellHash, CellEq> grid;
-    grid.reserve(m.positions.size());
+    WeldCells grid(m.positions.size());
     std::vector<uint32_t> rep(m.positions.size());
     std::vector<uint32_t> kept;  // representatives, in order
     const float tol2 = tol * tol;
@@ -50,19 +88,16 @@ size_t weld(TriangleMesh& m, float tol) {
         uint32_t found = UINT32_MAX;
         for (int dz = -1; dz <= 1 && found == UINT32_MAX; ++dz)
             for (int dy = -1; dy <= 1 && found == UINT32_MAX; ++dy)
-                for (int dx = -1; dx <= 1 && found == UINT32_MAX; ++dx) {
-                    auto it = grid.find(cell + Eigen::Vector3i(dx, dy, dz));
-                    if (it == grid.end()) continue;
-                    for (uint32_t r : it->second)
+                for (int dx = -1; dx <= 1 && found == UINT32_MAX; ++dx)
+                    for (uint32_t r = grid.first(cell + Eigen::Vector3i(dx, dy, dz)); r != WeldCells::k_none; r = grid.next(r))
                         if ((m.positions[kept[r]] - p).squaredNorm() <= tol2) {
                             found = r;
                             break;
                         }
-                }
         if (found == UINT32_MAX) {
             found = uint32_t(kept.size());
             kept.push_back(i);
-            grid[cell].push_back(found);
+            grid.add(cell, found);
         }
         rep[i] = found;
     }
@@ -123,52 +158,64 @@ bool same_turn(const Triangle& a, const Triangle& b) {
 // of the surface, breaking the sheet it belongs to.
 void drop_bad_triangles(TriangleMesh& m, float diag, RepairReport& r) {
     const double min_area2 = double(diag) * diag * 1e-14;  // (twice the area)^2 below this is zero
-    std::vector<Triangle> kept;
-    kept.reserve(m.triangles.size());
-    std::vector<uint8_t> fin;  // per kept triangle: its reverse came later
-    // sorted corners (compared exactly) -> the kept triangle's index
-    std::unordered_map<uint64_t, std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>>> by_hash;
-    for (const Triangle& t : m.triangles) {
+    // The triangles with corners and area, each with its corners sorted: copies of one triangle
+    // sort next to each other, the first written first.
+    struct Entry {
+        std::array<uint32_t, 3> sorted;
+        uint32_t index;
+        bool operator<(const Entry& o) const { return std::tie(sorted, index) < std::tie(o.sorted, o.index); }
+    };
+    std::vector<Entry> entries;
+    entries.reserve(m.triangles.size());
+    for (uint32_t i = 0; i < m.triangles.size(); ++i) {
+        const Triangle& t = m.triangles[i];
         if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) { ++r.degenerate_triangles; continue; }
         const Vec3d a = m.positions[t[0]].cast<double>();
         const double area2 = (m.positions[t[1]].cast<double>() - a).cross(m.positions[t[2]].cast<double>() - a).squaredNorm();
         if (area2 <= min_area2) { ++r.degenerate_triangles; continue; }
-        std::array<uint32_t, 3> s = t;
-        std::sort(s.begin(), s.end());
-        const uint64_t h = (uint64_t(s[0]) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(s[1]) << 21) ^ (uint64_t(s[2]) << 42);
-        auto& bucket = by_hash[h];
-        const auto seen = std::find_if(bucket.begin(), bucket.end(), [&](const auto& e) { return e.first == s; });
-        if (seen != bucket.end()) {
+        std::array<uint32_t, 3> sorted = t;
+        std::sort(sorted.begin(), sorted.end());
+        entries.push_back({sorted, i});
+    }
+    std::sort(entries.begin(), entries.end());
+    std::vector<uint8_t> keep(m.triangles.size(), 0);
+    for (size_t a = 0; a < entries.size();) {
+        size_t b = a + 1;
+        bool fin = false;
+        for (; b < entries.size() && entries[b].sorted == entries[a].sorted; ++b) {
             ++r.duplicate_triangles;
-            if (!same_turn(kept[seen->second], t)) fin[seen->second] = 1;
-            continue;
+            fin = fin || !same_turn(m.triangles[entries[a].index], m.triangles[entries[b].index]);
         }
-        bucket.push_back({s, uint32_t(kept.size())});
-        kept.push_back(t);
-        fin.push_back(0);
+        if (fin) ++r.duplicate_triangles;
+        else keep[entries[a].index] = 1;
+        a = b;
     }
-    size_t out = 0;
-    for (size_t k = 0; k < kept.size(); ++k) {
-        if (fin[k]) { ++r.duplicate_triangles; continue; }
-        kept[out++] = kept[k];
-    }
-    kept.resize(out);
+    std::vector<Triangle> kept;
+    kept.reserve(entries.size());
+    for (uint32_t i = 0; i < m.triangles.size(); ++i)
+        if (keep[i]) kept.push_back(m.triangles[i]);
     m.triangles = std::move(kept);
 }
 
 using Adjacency = std::unordered_map<uint64_t, std::array<uint32_t, 2>>;  // edge -> the two faces it joins
 
-// Face adjacency: an edge joins at most two triangles; a third and beyond are cut loose.
+// Face adjacency: an edge joins at most two triangles; a third and beyond are cut loose. The
+// edges are sorted once (each with its face, in face order) rather than gathered in a hash map of
+// vectors, which spent most of its time allocating on a scan of half a million triangles.
 Adjacency face_adjacency(const TriangleMesh& m, RepairReport& r) {
-    std::unordered_map<uint64_t, std::vector<uint32_t>> faces_of_edge;
-    faces_of_edge.reserve(m.triangles.size() * 2);
+    std::vector<std::pair<uint64_t, uint32_t>> edges;
+    edges.reserve(m.triangles.size() * 3);
     for (uint32_t f = 0; f < m.triangles.size(); ++f)
-        for (int k = 0; k < 3; ++k)
-            faces_of_edge[edge_key(m.triangles[f][size_t(k)], m.triangles[f][size_t((k + 1) % 3)])].push_back(f);
+        for (int k = 0; k < 3; ++k) edges.emplace_back(edge_key(m.triangles[f][size_t(k)], m.triangles[f][size_t((k + 1) % 3)]), f);
+    std::sort(edges.begin(), edges.end());
     Adjacency adjacent;
-    for (auto& [key, faces] : faces_of_edge) {
-        if (faces.size() > 2) ++r.nonmanifold_edges;
-        if (faces.size() >= 2) adjacent[key] = {faces[0], faces[1]};
+    adjacent.reserve(edges.size() / 2);
+    for (size_t a = 0; a < edges.size();) {
+        size_t b = a + 1;
+        while (b < edges.size() && edges[b].first == edges[a].first) ++b;
+        if (b - a > 2) ++r.nonmanifold_edges;
+        if (b - a >= 2) adjacent[edges[a].first] = {edges[a].second, edges[a + 1].second};
+        a = b;
     }
     return adjacent;
 }
@@ -225,13 +272,17 @@ void split_fans(TriangleMesh& m, const Adjacency& adjacent, RepairReport& r) {
     std::vector<uint32_t> source(m.positions.size());
     std::iota(source.begin(), source.end(), 0u);
     std::vector<Triangle> split = m.triangles;
-    std::unordered_map<uint32_t, uint32_t> parent, copy_of_root;
+    // Per vertex, over the positions of its fan (a handful of faces): a union-find, and the copy
+    // of v each group's root takes. Small arrays searched in place: hash maps cleared per vertex
+    // spent more on allocation than on the work.
+    std::vector<uint32_t> parent, copy_of;
     for (uint32_t v = 0; v < faces_at.size(); ++v) {
         const auto& fan = faces_at[v];
         if (fan.size() <= 1) continue;
+        const auto position = [&](uint32_t f) { return uint32_t(std::find(fan.begin(), fan.end(), f) - fan.begin()); };
         // Union the faces around v that are joined through an edge incident to v.
-        parent.clear();
-        for (uint32_t f : fan) parent[f] = f;
+        parent.resize(fan.size());
+        std::iota(parent.begin(), parent.end(), 0u);
         auto find = [&](uint32_t x) {
             while (parent[x] != x) x = parent[x] = parent[parent[x]];
             return x;
@@ -241,19 +292,21 @@ void split_fans(TriangleMesh& m, const Adjacency& adjacent, RepairReport& r) {
                 if (w == v) continue;
                 auto it = adjacent.find(edge_key(v, w));
                 if (it == adjacent.end()) continue;
-                const auto [g0, g1] = it->second;
-                if (parent.count(g0) && parent.count(g1)) parent[find(g0)] = find(g1);
+                const uint32_t p0 = position(it->second[0]), p1 = position(it->second[1]);
+                if (p0 < fan.size() && p1 < fan.size()) parent[find(p0)] = find(p1);
             }
-        copy_of_root.clear();
-        for (uint32_t f : fan) {  // the fan of the first face keeps v
-            auto [it, inserted] = copy_of_root.try_emplace(find(f), v);
-            if (inserted && copy_of_root.size() > 1) {
-                it->second = uint32_t(source.size());
-                source.push_back(v);
-                ++r.split_vertices;
+        copy_of.assign(fan.size(), UINT32_MAX);
+        bool first = true;
+        for (uint32_t q = 0; q < fan.size(); ++q) {  // the group of the first face keeps v
+            uint32_t& copy = copy_of[find(q)];
+            if (copy == UINT32_MAX) {
+                copy = first ? v : uint32_t(source.size());
+                if (!first) source.push_back(v), ++r.split_vertices;
+                first = false;
             }
+            const uint32_t f = fan[q];
             for (int k = 0; k < 3; ++k)
-                if (m.triangles[f][size_t(k)] == v) split[f][size_t(k)] = it->second;
+                if (m.triangles[f][size_t(k)] == v) split[f][size_t(k)] = copy;
         }
     }
     m.triangles = std::move(split);
