@@ -155,10 +155,6 @@ void place_bodies(const Scene& scene, const std::vector<uint32_t>& part_start, s
 
 // Two models placed into each other stay so (contact leaves alone what lay inside another at
 // load, which is how a model's own parts are made): said, since it is almost always a slip.
-// A model as a scene file names it (model 0: [model], k: bodies[k - 1]), with its mesh.
-std::string model_name(const Scene& scene, size_t m) {
-    return m == 0 ? "[model] (" + scene.model.mesh + ")" : "bodies[" + std::to_string(m - 1) + "] (" + scene.bodies[m - 1].model.mesh + ")";
-}
 
 void warn_crossing_models(const Scene& scene, const sim::SoftBody& b) {
     if (scene.bodies.empty()) return;
@@ -247,6 +243,10 @@ core::Result<sim::SoftBody> make_scene_body(const Scene& scene) {
     auto m = load_scene_model(scene);
     if (!m.ok()) return m.error();
     return std::move(m.value().body);
+}
+
+std::string model_name(const Scene& scene, size_t m) {
+    return m == 0 ? "[model] (" + scene.model.mesh + ")" : "bodies[" + std::to_string(m - 1) + "] (" + scene.bodies[m - 1].model.mesh + ")";
 }
 
 } // namespace pbdsplat::scene

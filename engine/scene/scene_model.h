@@ -2,6 +2,7 @@
 // The model of a scene brought into the simulation: the repaired full-resolution surface, the
 // simulation mesh decimated from it (or the model itself), and the body built on that.
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/result.h"
@@ -32,6 +33,9 @@ uint32_t simulation_particles(const Scene& scene);
 // Loads the mesh (next to the scene file first), applies the transform, decimates to the
 // simulation size, builds the body with its pins.
 core::Result<SceneModel> load_scene_model(const Scene& scene);
+
+// A model as the scene file names it (model 0: [model], m: bodies[m - 1]), with its mesh.
+std::string model_name(const Scene& scene, size_t m);
 
 // The body only: for the tools that only simulate.
 core::Result<sim::SoftBody> make_scene_body(const Scene& scene);

@@ -8,6 +8,7 @@
 #include "gpu/context.h"
 #include "mesh/topology.h"
 #include "render/occluder_pass.h"
+#include "scene/scene_model.h"
 #include "sim/rigid_response.h"
 #include "scene/stages/body_view.h"
 #include "scene/stages/fine_surface.h"
@@ -113,9 +114,7 @@ void SceneRuntime::report_sampling(float eta_h) const {
             ++per_model[m];
         }
         if (const auto largest = std::ranges::max_element(per_model); largest != per_model.end()) {
-            const size_t m = size_t(largest - per_model.begin());
-            const std::string name = m == 0 ? "[model] (" + scene_.model.mesh + ")"
-                                            : "bodies[" + std::to_string(m - 1) + "] (" + scene_.bodies[m - 1].model.mesh + ")";
+            const std::string name = model_name(scene_, size_t(largest - per_model.begin()));
             char share[512];
             std::snprintf(share, sizeof share, " (%.0f %% of them on %s: every body is sampled at one spacing, so a large one beside "
                           "small ones costs in proportion to its area)", 100.0 * double(*largest) / double(total), name.c_str());

@@ -13,16 +13,18 @@ MappingStage::MappingStage(const sim::SoftBody& body, uint32_t fade_frames, bool
     if (deformed) deformed_ = splat::DeformedShapes(body.rest_positions, body.triangles);
 }
 
+bool MappingStage::made_like(const Sources& s, const splat::Appearance& look) const {
+    return made_.valid && made_.particles == s.particles && made_.samples == (s.samples != nullptr) &&
+           made_.stretch == (s.stretch != nullptr) && made_.cut_faces == (s.cut_faces != nullptr) && made_.look == look;
+}
+
 bool MappingStage::stands(const Sources& s, const splat::Appearance& look, bool body_still, bool samples_still) const {
-    return made_.valid && body_still && (samples_still || !s.samples) && fade_.fading() == 0 &&
-           (!s.cut_faces || !s.cut_faces->fading()) && made_.particles == s.particles &&
-           made_.samples == (s.samples != nullptr) && made_.stretch == (s.stretch != nullptr) &&
-           made_.cut_faces == (s.cut_faces != nullptr) && made_.look == look;
+    return made_like(s, look) && body_still && (samples_still || !s.samples) && fade_.fading() == 0 &&
+           (!s.cut_faces || !s.cut_faces->fading());
 }
 
 bool MappingStage::keeps(const Sources& s, const splat::Appearance& look, const Unmoved& unmoved) const {
-    return s.samples && !unmoved.moved_triangles.empty() && unmoved.samples_same && made_.valid && made_.particles == s.particles &&
-           made_.samples && made_.stretch == (s.stretch != nullptr) && made_.cut_faces == (s.cut_faces != nullptr) && made_.look == look &&
+    return s.samples && !unmoved.moved_triangles.empty() && unmoved.samples_same && made_like(s, look) &&
            made_.particle_count == (s.particles ? s.body->particle_count() : 0) && made_.sample_count == s.samples->size() &&
            unmoved.moved_triangles.size() == s.body->triangles.size();
 }

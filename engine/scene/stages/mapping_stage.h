@@ -84,6 +84,7 @@ private:
     // Per sample: its record stands from the last map() (see Unmoved).
     std::vector<uint8_t> kept_;
     size_t kept_count_ = 0;
+    bool made_like(const Sources& s, const splat::Appearance& look) const;  // the same splats, the same look
     bool keeps(const Sources& s, const splat::Appearance& look, const Unmoved& unmoved) const;
     std::vector<splat::GaussianRecord> records_;
     std::vector<splat::GaussianRecord> previous_;  // what the GPU holds, when previous_valid_: for the changed ranges
