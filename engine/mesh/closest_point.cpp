@@ -58,10 +58,15 @@ TriangleGrid::TriangleGrid(std::span<const Vec3f> positions, std::span<const Tri
                 for (int x = lo.x(); x <= hi.x(); ++x) fn((size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x));
     };
     lowest_cell_.resize(triangles.size());
+    spheres_.resize(triangles.size());
     for (uint32_t i = 0; i < triangles.size(); ++i) {
         Eigen::AlignedBox3f tb;
         for (uint32_t v : triangles[i]) tb.extend(positions[v]);
         lowest_cell_[i] = cell_of(tb.min());
+        const Vec3f centre = tb.center();
+        float radius = 0.0f;
+        for (uint32_t v : triangles[i]) radius = std::max(radius, (positions[v] - centre).norm());
+        spheres_[i] = Vec4f(centre.x(), centre.y(), centre.z(), radius);
     }
     for (const Triangle& t : triangles) for_cells(t, [&](size_t c) { ++count[c + 1]; });
     for (size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
@@ -71,8 +76,9 @@ TriangleGrid::TriangleGrid(std::span<const Vec3f> positions, std::span<const Tri
 }
 
 Eigen::Vector3i TriangleGrid::cell_of(const Vec3f& p) const {
-    const Eigen::Vector3i c = ((p - origin_) / cell_).array().floor().cast<int>();
-    return c.cwiseMax(0).cwiseMin(dims_ - Eigen::Vector3i::Ones());
+    // Clamped before the conversion: a point far outside would overflow an int.
+    const Eigen::Array3f top = (dims_ - Eigen::Vector3i::Ones()).cast<float>().array();
+    return ((p - origin_) / cell_).array().floor().max(0.0f).min(top).cast<int>();
 }
 
 void TriangleGrid::near(const Vec3f& p, float radius, std::vector<uint32_t>& out) const {
@@ -98,13 +104,22 @@ void TriangleGrid::near(const Vec3f& p, float radius, std::vector<uint32_t>& out
 void TriangleGrid::closest(const Vec3f& p, float factor, float margin, std::vector<ClosestPoint>& out) const {
     out.clear();
     if (triangles_.empty()) return;
-    std::vector<uint32_t> cand;
-    const float reach = cell_ * float(dims_.maxCoeff() + 1);
-    for (float r = cell_;;) {
+    thread_local std::vector<uint32_t> cand;  // scratch: embedding asks this for every sample
+    if (!p.allFinite()) return;
+    // At this radius every triangle is gathered: the farthest corner of the grid's box, and a cell.
+    const Vec3f to_far = (p - origin_).cwiseAbs().cwiseMax((p - origin_ - dims_.cast<float>() * cell_).cwiseAbs());
+    const float reach = to_far.norm() + cell_;
+    for (float r = 0.5f * cell_;;) {
         near(p, r, cand);
         out.clear();
         float best = std::numeric_limits<float>::infinity();
         for (uint32_t t : cand) {
+            // A triangle whose sphere lies past the band around the nearest so far would be
+            // dropped below (the band only narrows): skipped before its closest point is solved.
+            // The slack keeps rounding from dropping one the exact test would keep.
+            const Vec4f& s = spheres_[t];
+            const float band = factor * best + margin;
+            if ((p - s.head<3>()).norm() - s.w() > band * 1.001f + 1e-5f * cell_) continue;
             const Triangle& tri = triangles_[t];
             const Vec3f &a = positions_[tri[0]], &b = positions_[tri[1]], &c = positions_[tri[2]];
             const Vec2f w = closest_point_barycentric(p, a, b, c);
@@ -114,14 +129,15 @@ void TriangleGrid::closest(const Vec3f& p, float factor, float margin, std::vect
         }
         // Everything within r was searched: done once the band we want fits inside it.
         const float wanted = factor * best + margin;
-        if (wanted <= r || r > reach) {
+        if (wanted <= r || r >= reach) {
             std::erase_if(out, [&](const ClosestPoint& c) { return c.distance > wanted; });
             std::sort(out.begin(), out.end(), [](const ClosestPoint& x, const ClosestPoint& y) {
                 return x.distance != y.distance ? x.distance < y.distance : x.triangle < y.triangle;
             });
             return;
         }
-        r = std::max(wanted, 2.0f * r);
+        // Nothing found yet (wanted is infinite): as far as the whole box at once.
+        r = std::min(std::max(wanted, 2.0f * r), reach);
     }
 }
 

@@ -46,6 +46,7 @@ private:
     std::vector<uint32_t> start_;  // per cell, into items_
     std::vector<uint32_t> items_;  // triangle indices
     std::vector<Eigen::Vector3i> lowest_cell_;  // per triangle: the cell of its box's low corner
+    std::vector<Vec4f> spheres_;  // per triangle: a sphere around it (centre, radius)
 };
 
 } // namespace pbdsplat::mesh

@@ -41,10 +41,20 @@ public:
         tags_.clear();
     }
     // Any point within h of p carrying the same tag (k_any matches every tag).
-    bool near(const Vec3f& p, uint32_t tag = k_any) const {
-        return !each_around(p, [&](uint32_t i) {
-            return !((tag == k_any || tags_[i] == k_any || tags_[i] == tag) && (points_[i] - p).squaredNorm() < h2_);
+    bool near(const Vec3f& p, uint32_t tag = k_any) const { return blocker(p, tag) != k_none; }
+    static constexpr uint32_t k_none = ~0u;
+    // A point within h of p carrying the same tag (as near()), or k_none.
+    uint32_t blocker(const Vec3f& p, uint32_t tag = k_any) const {
+        uint32_t found = k_none;
+        each_around(p, [&](uint32_t i) {
+            if (blocks(i, p, tag)) found = i;
+            return found == k_none;
         });
+        return found;
+    }
+    // Whether point i lies within h of p with a tag matching `tag`.
+    bool blocks(uint32_t i, const Vec3f& p, uint32_t tag = k_any) const {
+        return (tag == k_any || tags_[i] == k_any || tags_[i] == tag) && (points_[i] - p).squaredNorm() < h2_;
     }
     // Any point within r of p for which accept(i) holds, with cells at least 2r wide: such a
     // point lies in the 2x2x2 block of cells nearest p (on each axis, p's own cell and the one
