@@ -122,8 +122,14 @@ public:
     Acceptor(const SurfaceView& m, std::span<const uint32_t> piece, PointGrid& grid, BoundaryParticles& out)
         : m_(m), piece_(piece), grid_(grid), out_(out) {}
 
-    // Candidate `c`, tried in turn: kept when no point lies within h of it.
-    void try_one(const Candidate& c) { try_at(c, position(c)); }
+    // Candidate `c`, tried in turn: kept when no point lies within h of it. With `remember`, the
+    // test asks the triangle's last blockers first (worth its memory for many darts).
+    void try_one(const Candidate& c, bool remember) {
+        const Vec3f p = position(c);
+        if (!remember) return try_at(c, p);
+        if (last_blocker_.empty()) last_blocker_.assign(k_blockers_kept * m_.triangles.size(), PointGrid::k_none);
+        if (!blocked(c, p)) add(c, p);
+    }
 
     // Candidates [begin, end) of `order`, tried in turn with the same outcome as try_one on
     // each, the grid's test shared among threads: points are only ever added, so a candidate
@@ -173,9 +179,10 @@ private:
         return candidate_position(m_.positions[tri[0]], m_.positions[tri[1]], m_.positions[tri[2]], c.bary);
     }
     void try_at(const Candidate& c, const Vec3f& p) {
-        const uint32_t t = tag(c);
-        if (grid_.near(p, t)) return;
-        grid_.add(p, t);
+        if (!grid_.near(p, tag(c))) add(c, p);
+    }
+    void add(const Candidate& c, const Vec3f& p) {
+        grid_.add(p, tag(c));
         const auto& tri = m_.triangles[c.triangle];
         const Vec3f &a = m_.positions[tri[0]], &b = m_.positions[tri[1]], &d = m_.positions[tri[2]];
         out_.triangle.push_back(c.triangle);
@@ -189,7 +196,7 @@ private:
     BoundaryParticles& out_;
     std::vector<Vec3f> at_;
     std::vector<uint8_t> blocked_;
-    // Per triangle of m_, the points that last blocked darts there, newest first (batches only).
+    // Per triangle of m_, the points that last blocked darts there, newest first (made for many darts).
     std::vector<uint32_t> last_blocker_;
 };
 
@@ -206,7 +213,7 @@ void accept(const SurfaceView& m, const Candidates& cands, std::span<const uint3
     if (!pool || pool->size() < 2 || n < 4 * k_batch) {
         for (size_t i = 0; i < n; ++i) {
             prefetch(cands, i + k_ahead);
-            acceptor.try_one(cands.all[cands.order[i]]);
+            acceptor.try_one(cands.all[cands.order[i]], n >= k_batch);
         }
         return;
     }
