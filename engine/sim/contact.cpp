@@ -470,7 +470,7 @@ void ContactSolverT<Real>::build_patches(const SoftBodyT<Real>& body) {
 }
 
 template <class Real>
-bool ContactSolverT<Real>::candidates_hold(const SoftBodyT<Real>& body, const ContactSettings& s) const {
+bool ContactSolverT<Real>::candidates_hold(const SoftBodyT<Real>& body, const ContactSettings& s) {
     // The last search's candidates hold while no particle has moved half the slack since it (and
     // the topology is the same): every pair that could come within reach is among them. A body
     // at rest, or pieces resting on each other, search once in many frames.
@@ -480,8 +480,40 @@ bool ContactSolverT<Real>::candidates_hold(const SoftBodyT<Real>& body, const Co
         s.self != self_)
         return false;
     const float limit2 = 0.25f * scale_.slack * scale_.slack;
+    away_.assign(body.pieces, 0);
+    bool moved = false;
     for (size_t i = 0; i < n; ++i)
-        if (!((pos3(p.x[i]) - anchor_[i]).squaredNorm() < limit2)) return false;
+        if (!((pos3(p.x[i]) - anchor_[i]).squaredNorm() < limit2)) {
+            const uint32_t k = body.piece_of_particle[i];
+            if (k >= body.pieces || s.self) return false;
+            away_[k] = 1, moved = true;
+        }
+    return !moved || moved_pieces_apart(body);
+}
+
+template <class Real>
+bool ContactSolverT<Real>::moved_pieces_apart(const SoftBodyT<Real>& body) {
+    // A piece that moved (falling free after a cut, thrown, sliding off a stack) but whose path
+    // this substep lies two reaches from every other piece's meets no pair a search would find:
+    // without this, each of its substeps searched the whole body again. Pairs are only ever
+    // between pieces (self-contact, within one, returned above).
+    const ParticlesT<Real>& p = body.particles;
+    swept_box_.assign(body.pieces, Eigen::AlignedBox3f());
+    for (size_t i = 0; i < p.size(); ++i) {
+        const uint32_t k = body.piece_of_particle[i];
+        if (k < body.pieces) swept_box_[k].extend(pos3(p.x[i])).extend(pos3(p.x_prev[i]));
+    }
+    const float apart = 2.0f * (scale_.thickness + scale_.margin + scale_.slack);
+    for (size_t a = 0; a < body.pieces; ++a) {
+        if (!away_[a]) continue;
+        for (size_t b = 0; b < body.pieces; ++b)
+            if (b != a && !swept_box_[b].isEmpty() && !(swept_box_[a].exteriorDistance(swept_box_[b]) > apart)) return false;
+    }
+    // Such a piece's candidates were left behind when it moved off: out of reach, they would
+    // still name the pieces it touched (and wake them).
+    std::erase_if(contacts_, [&](const Contact& c) {
+        return away_[body.piece_of_particle[c.particle]] || away_[body.piece_of_particle[corners_of(body, c.triangle).ia]];
+    });
     return true;
 }
 

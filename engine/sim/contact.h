@@ -234,7 +234,13 @@ private:
     // False: the pair started inside each other, and is left alone.
     bool rest_gap(const SoftBodyT<Real>& body, uint32_t i, const Corners& tk, float side, float& thickness) const;
     // The steps of find(), in order.
-    bool candidates_hold(const SoftBodyT<Real>& body, const ContactSettings& s) const;
+    // False when the last search's candidates may miss a pair; true when they hold, with the
+    // pieces that moved past the slack but lie far from every other (`away_`), whose stale
+    // candidates are dropped.
+    bool candidates_hold(const SoftBodyT<Real>& body, const ContactSettings& s);
+    bool moved_pieces_apart(const SoftBodyT<Real>& body);
+    std::vector<uint8_t> away_;                    // per piece, from candidates_hold
+    std::vector<Eigen::AlignedBox3f> swept_box_;  // scratch: each piece's path this substep
     void box_patches(const SoftBodyT<Real>& body, float reach);
     void group_triangles(const SoftBodyT<Real>& body);
     void build_grid(const SoftBodyT<Real>& body);

@@ -239,6 +239,40 @@ TEST_SUITE("sim/contact") {
         CHECK(solver.contact().searches() > before);
     }
 
+    TEST_CASE("a piece moving far from every other runs no search; coming close, it does, and stops against the other") {
+        // Two stiff balls 4 m apart, the left one thrown at the right at 3 m/s without gravity:
+        // for its first second it is more than two reaches from the other, and the candidates of
+        // the last search hold (it searched every frame before); the contact still meets it.
+        mesh::TriangleMesh m = mesh::icosphere(2, 0.3f);
+        mesh::append(m, mesh::icosphere(2, 0.3f), placed_at({4.0f, 0.0f, 0.0f}));
+        sim::SoftBody b = separate_models(test::make_body(std::move(m), shape_matched_desc()));
+        REQUIRE(b.pieces == 2);
+        const uint32_t left = b.piece_of_particle[b.extreme_particle(0, false)];
+        for (size_t i = 0; i < b.particle_count(); ++i)
+            if (b.piece_of_particle[i] == left) b.particles.v[i] = sim::to4(Vec3f(3.0f, 0, 0));
+        sim::SolverSettings s = held_shape_settings();
+        s.gravity = Vec3f::Zero();
+        sim::Solver solver;
+        for (int f = 0; f < 60; ++f) solver.step(b, 1.0f / 60.0f, s, {}, {});
+        const size_t far_searches = solver.contact().searches();
+        MESSAGE("searches while the balls lay apart: " << far_searches);
+        CHECK(far_searches <= 1);
+        float closest = INFINITY;
+        for (int f = 0; f < 60; ++f) {
+            solver.step(b, 1.0f / 60.0f, s, {}, {});
+            float right_min = INFINITY, left_max = -INFINITY;
+            for (size_t i = 0; i < b.particle_count(); ++i) {
+                const float x = b.particles.x[i].x();
+                if (b.piece_of_particle[i] == left) left_max = std::max(left_max, x);
+                else right_min = std::min(right_min, x);
+            }
+            closest = std::min(closest, right_min - left_max);
+        }
+        MESSAGE("searches once they met: " << solver.contact().searches() - far_searches << "; closest gap " << closest);
+        CHECK(solver.contact().searches() > far_searches);
+        CHECK(closest > -0.05f);  // as two balls meeting head-on: never more than a fraction of an edge in
+    }
+
     TEST_CASE("a body of one piece without self-contact runs no search; with self-contact on, it does") {
         sim::SoftBody b = test::make_body(mesh::icosphere(3), shape_matched_desc());
         REQUIRE(b.pieces == 1);
