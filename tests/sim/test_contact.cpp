@@ -68,6 +68,26 @@ sim::SoftBody ball_over_pinned_sheet() {
     sim::rebuild_shape_clusters(b);
     return b;
 }
+// Two stiff balls of radius 0.3 on the x axis, `apart` between centres, the left one moving right
+// at `speed` and the right one left at `towards`, without gravity; returns the left one's piece.
+uint32_t two_balls(sim::SoftBody& b, float apart, float speed, float towards) {
+    mesh::TriangleMesh m = mesh::icosphere(2, 0.3f);
+    mesh::append(m, mesh::icosphere(2, 0.3f), placed_at({apart, 0.0f, 0.0f}));
+    b = separate_models(test::make_body(std::move(m), shape_matched_desc()));
+    const uint32_t left = b.piece_of_particle[b.extreme_particle(0, false)];
+    for (size_t i = 0; i < b.particle_count(); ++i) b.particles.v[i] = sim::to4(Vec3f(b.piece_of_particle[i] == left ? speed : -towards, 0, 0));
+    return left;
+}
+// The gap between the right ball's leftmost particle and the left ball's rightmost (< 0: overlap).
+float gap_between(const sim::SoftBody& b, uint32_t left) {
+    float right_min = INFINITY, left_max = -INFINITY;
+    for (size_t i = 0; i < b.particle_count(); ++i) {
+        const float x = b.particles.x[i].x();
+        if (b.piece_of_particle[i] == left) left_max = std::max(left_max, x);
+        else right_min = std::min(right_min, x);
+    }
+    return right_min - left_max;
+}
 void run_frames(sim::SoftBody& b, const sim::SolverSettings& s, const sim::Colliders& c, int frames) {
     sim::Solver solver;
     for (int f = 0; f < frames; ++f) solver.step(b, 1.0f / 60.0f, s, c, {});
@@ -163,12 +183,9 @@ TEST_SUITE("sim/contact") {
     }
 
     TEST_CASE("two equal balls meeting head-on conserve momentum, stop and do not pass through each other") {
-        mesh::TriangleMesh m = mesh::icosphere(2, 0.3f);
-        mesh::append(m, mesh::icosphere(2, 0.3f), placed_at({1.0f, 0.0f, 0.0f}));
-        sim::SoftBody b = separate_models(test::make_body(std::move(m), shape_matched_desc()));
+        sim::SoftBody b;
+        const uint32_t left = two_balls(b, 1.0f, 3.0f, 3.0f);
         REQUIRE(b.pieces == 2);
-        const uint32_t left = b.piece_of_particle[b.extreme_particle(0, false)];
-        for (size_t i = 0; i < b.particle_count(); ++i) b.particles.v[i] = sim::to4(Vec3f(b.piece_of_particle[i] == left ? 3.0f : -3.0f, 0, 0));
         sim::SolverSettings s = held_shape_settings();
         s.gravity = Vec3f::Zero();
         const Vec3d before = b.particles.linear_momentum();
@@ -177,13 +194,7 @@ TEST_SUITE("sim/contact") {
         sim::Solver solver;
         for (int f = 0; f < 60; ++f) {
             solver.step(b, 1.0f / 60.0f, s, {}, {});
-            float right_min = INFINITY, left_max = -INFINITY;
-            for (size_t i = 0; i < b.particle_count(); ++i) {
-                const float x = b.particles.x[i].x();
-                if (b.piece_of_particle[i] == left) left_max = std::max(left_max, x);
-                else right_min = std::min(right_min, x);
-            }
-            closest = std::min(closest, right_min - left_max);
+            closest = std::min(closest, gap_between(b, left));
         }
         const Vec3d after = b.particles.linear_momentum();
         MESSAGE("momentum before " << before.transpose() << ", after " << after.transpose() << "; closest gap " << closest);
@@ -243,13 +254,9 @@ TEST_SUITE("sim/contact") {
         // Two stiff balls 4 m apart, the left one thrown at the right at 3 m/s without gravity:
         // for its first second it is more than two reaches from the other, and the candidates of
         // the last search hold (it searched every frame before); the contact still meets it.
-        mesh::TriangleMesh m = mesh::icosphere(2, 0.3f);
-        mesh::append(m, mesh::icosphere(2, 0.3f), placed_at({4.0f, 0.0f, 0.0f}));
-        sim::SoftBody b = separate_models(test::make_body(std::move(m), shape_matched_desc()));
+        sim::SoftBody b;
+        const uint32_t left = two_balls(b, 4.0f, 3.0f, 0.0f);
         REQUIRE(b.pieces == 2);
-        const uint32_t left = b.piece_of_particle[b.extreme_particle(0, false)];
-        for (size_t i = 0; i < b.particle_count(); ++i)
-            if (b.piece_of_particle[i] == left) b.particles.v[i] = sim::to4(Vec3f(3.0f, 0, 0));
         sim::SolverSettings s = held_shape_settings();
         s.gravity = Vec3f::Zero();
         sim::Solver solver;
@@ -260,13 +267,7 @@ TEST_SUITE("sim/contact") {
         float closest = INFINITY;
         for (int f = 0; f < 60; ++f) {
             solver.step(b, 1.0f / 60.0f, s, {}, {});
-            float right_min = INFINITY, left_max = -INFINITY;
-            for (size_t i = 0; i < b.particle_count(); ++i) {
-                const float x = b.particles.x[i].x();
-                if (b.piece_of_particle[i] == left) left_max = std::max(left_max, x);
-                else right_min = std::min(right_min, x);
-            }
-            closest = std::min(closest, right_min - left_max);
+            closest = std::min(closest, gap_between(b, left));
         }
         MESSAGE("searches once they met: " << solver.contact().searches() - far_searches << "; closest gap " << closest);
         CHECK(solver.contact().searches() > far_searches);
