@@ -74,9 +74,16 @@ uint32_t two_balls(sim::SoftBody& b, float apart, float speed, float towards) {
     mesh::TriangleMesh m = mesh::icosphere(2, 0.3f);
     mesh::append(m, mesh::icosphere(2, 0.3f), placed_at({apart, 0.0f, 0.0f}));
     b = separate_models(test::make_body(std::move(m), shape_matched_desc()));
+    REQUIRE(b.pieces == 2);
     const uint32_t left = b.piece_of_particle[b.extreme_particle(0, false)];
     for (size_t i = 0; i < b.particle_count(); ++i) b.particles.v[i] = sim::to4(Vec3f(b.piece_of_particle[i] == left ? speed : -towards, 0, 0));
     return left;
+}
+// The stiff balls' settings, without gravity.
+sim::SolverSettings weightless_settings() {
+    sim::SolverSettings s = held_shape_settings();
+    s.gravity = Vec3f::Zero();
+    return s;
 }
 // The gap between the right ball's leftmost particle and the left ball's rightmost (< 0: overlap).
 float gap_between(const sim::SoftBody& b, uint32_t left) {
@@ -185,9 +192,7 @@ TEST_SUITE("sim/contact") {
     TEST_CASE("two equal balls meeting head-on conserve momentum, stop and do not pass through each other") {
         sim::SoftBody b;
         const uint32_t left = two_balls(b, 1.0f, 3.0f, 3.0f);
-        REQUIRE(b.pieces == 2);
-        sim::SolverSettings s = held_shape_settings();
-        s.gravity = Vec3f::Zero();
+        sim::SolverSettings s = weightless_settings();
         // Awake throughout: held asleep once they stop, the balls' particles would weigh nothing
         // in the momenta below, and the checks would read 0 whatever had happened.
         s.sleep.enabled = false;
@@ -259,9 +264,7 @@ TEST_SUITE("sim/contact") {
         // the last search hold (it searched every frame before); the contact still meets it.
         sim::SoftBody b;
         const uint32_t left = two_balls(b, 4.0f, 3.0f, 0.0f);
-        REQUIRE(b.pieces == 2);
-        sim::SolverSettings s = held_shape_settings();
-        s.gravity = Vec3f::Zero();
+        sim::SolverSettings s = weightless_settings();
         sim::Solver solver;
         for (int f = 0; f < 60; ++f) solver.step(b, 1.0f / 60.0f, s, {}, {});
         const size_t far_searches = solver.contact().searches();
