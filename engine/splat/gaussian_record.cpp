@@ -10,37 +10,12 @@
 
 namespace pbdsplat::splat {
 
-namespace {
-int16_t to_snorm16(float v) {
-    const float s = std::clamp(v, -1.0f, 1.0f) * 32767.0f;
-    return int16_t(s >= 0.0f ? s + 0.5f : s - 0.5f);  // round half away from zero, like lround
-}
-float sign_not_zero(float v) { return v >= 0.0f ? 1.0f : -1.0f; }
-uint8_t to_unorm8(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
-} // namespace
-
-void encode_octahedral(const Vec3f& n, int16_t out[2]) {
-    const float l1 = std::abs(n.x()) + std::abs(n.y()) + std::abs(n.z());
-    if (!(l1 > 0.0f)) {  // zero or NaN normal: encode +Z rather than propagate garbage
-        out[0] = out[1] = 0;
-        return;
-    }
-    float x = n.x() / l1, y = n.y() / l1;
-    if (n.z() < 0.0f) {
-        const float ox = (1.0f - std::abs(y)) * sign_not_zero(x);
-        const float oy = (1.0f - std::abs(x)) * sign_not_zero(y);
-        x = ox, y = oy;
-    }
-    out[0] = to_snorm16(x);
-    out[1] = to_snorm16(y);
-}
-
 Vec3f decode_octahedral(const int16_t in[2]) {
     const float x = std::max(float(in[0]) / 32767.0f, -1.0f), y = std::max(float(in[1]) / 32767.0f, -1.0f);
     Vec3f n(x, y, 1.0f - std::abs(x) - std::abs(y));
     if (n.z() < 0.0f) {
-        const float ox = (1.0f - std::abs(y)) * sign_not_zero(x);
-        const float oy = (1.0f - std::abs(x)) * sign_not_zero(y);
+        const float ox = (1.0f - std::abs(y)) * detail::sign_not_zero(x);
+        const float oy = (1.0f - std::abs(x)) * detail::sign_not_zero(y);
         n.x() = ox, n.y() = oy;
     }
     return n.normalized();
@@ -63,15 +38,11 @@ GaussianRecord make_record(const Vec3f& position, const Vec3f& normal, const App
 }
 
 namespace {
-// An integer below 2048, which a half holds exactly: 2 bits of axis, 3 of levels below the top
-// (0 in a record made without a place: never thinned), 6 of rank.
+// See pack_curvature_w (0 in a record made without a place: never thinned).
 int packed_curvature_w(const GaussianRecord& r) { return int(std::lround(half_to_float(r.curvature_half[3]))); }
 } // namespace
 
-void set_thin_level(GaussianRecord& r, int level, int rank) {
-    const int below_top = SPLAT_THIN_LEVELS - std::clamp(level, 0, SPLAT_THIN_LEVELS);
-    r.curvature_half[3] = float_to_half(float(curvature_axis(r) + 4 * below_top + 32 * std::clamp(rank, 0, 63)));
-}
+void set_thin_level(GaussianRecord& r, int level, int rank) { r.curvature_half[3] = pack_curvature_w(curvature_axis(r), level, rank); }
 int thin_level(const GaussianRecord& r) { return SPLAT_THIN_LEVELS - ((packed_curvature_w(r) >> 2) & 7); }
 int thin_rank(const GaussianRecord& r) { return packed_curvature_w(r) >> 5; }
 int curvature_axis(const GaussianRecord& r) { return std::min(packed_curvature_w(r) & 3, 2); }

@@ -1,6 +1,8 @@
 #pragma once
 // The contract between the simulation half and the renderer: one packed Gaussian per particle
 // or boundary particle (layout in shaders/shared/gpu_types.h, 32 bytes).
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -60,8 +62,39 @@ static_assert(sizeof(GaussianTexcoord) == SPLAT_TEXCOORD_SIZE, "GaussianTexcoord
 using core::float_to_half;
 using core::half_to_float;
 
-// Octahedral encoding of a unit vector into two snorm16 (error below 1e-4 rad).
-void encode_octahedral(const Vec3f& n, int16_t out[2]);
+namespace detail {
+inline int16_t to_snorm16(float v) {
+    const float s = std::clamp(v, -1.0f, 1.0f) * 32767.0f;
+    return int16_t(s >= 0.0f ? s + 0.5f : s - 0.5f);  // round half away from zero, like lround
+}
+inline float sign_not_zero(float v) { return v >= 0.0f ? 1.0f : -1.0f; }
+} // namespace detail
+
+// Octahedral encoding of a unit vector into two snorm16 (error below 1e-4 rad). Inline: the
+// mapping encodes every splat's normal every frame.
+inline void encode_octahedral(const Vec3f& n, int16_t out[2]) {
+    const float l1 = std::abs(n.x()) + std::abs(n.y()) + std::abs(n.z());
+    if (!(l1 > 0.0f)) {  // zero or NaN normal: encode +Z rather than propagate garbage
+        out[0] = out[1] = 0;
+        return;
+    }
+    float x = n.x() / l1, y = n.y() / l1;
+    if (n.z() < 0.0f) {
+        const float ox = (1.0f - std::abs(y)) * detail::sign_not_zero(x);
+        const float oy = (1.0f - std::abs(x)) * detail::sign_not_zero(y);
+        x = ox, y = oy;
+    }
+    out[0] = detail::to_snorm16(x);
+    out[1] = detail::to_snorm16(y);
+}
+// v in [0, 1] (clamped; NaN as 0) to unorm8, rounded as std::lround rounds: half away from zero.
+// Without the library call: the mapping converts every splat's colour every frame.
+inline uint8_t to_unorm8(float v) {
+    const float x = std::clamp(v, 0.0f, 1.0f) * 255.0f;
+    if (!(x >= 0.0f)) return 0;
+    const int i = int(x);  // x >= 0: truncation is floor, and x - i is exact
+    return uint8_t(i + (x - float(i) >= 0.5f ? 1 : 0));
+}
 Vec3f decode_octahedral(const int16_t in[2]);
 
 struct Appearance {
@@ -83,6 +116,12 @@ int thin_level(const GaussianRecord& r);
 int thin_rank(const GaussianRecord& r);
 // The curvature's left-out axis (0, 1 or 2).
 int curvature_axis(const GaussianRecord& r);
+// Entry 3 of the curvature as the shaders read it: an integer below 2048, which a half holds
+// exactly: 2 bits of axis, 3 of levels below the top (0: never thinned), 6 of rank.
+inline uint16_t pack_curvature_w(int axis, int level, int rank) {
+    const int below_top = SPLAT_THIN_LEVELS - std::clamp(level, 0, SPLAT_THIN_LEVELS);
+    return core::float_to_half_in_range(float(axis + 4 * below_top + 32 * std::clamp(rank, 0, 63)));
+}
 
 // The shape whose covariance is axes * axes^T (columns: the Gaussian's axes, world units).
 GaussianShape make_shape(const Eigen::Matrix3f& axes);

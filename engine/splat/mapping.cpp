@@ -78,14 +78,19 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
     map_points(x, normals, look, std::span<GaussianRecord>(out.data(), n));
     const GaussianRecord base = make_record(Vec3f::Zero(), Vec3f::UnitZ(), look);
     auto color_bytes = [](const Vec3f& c, GaussianRecord& r) {
-        for (int k = 0; k < 3; ++k) r.color[k] = uint8_t(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
+        for (int k = 0; k < 3; ++k) r.color[k] = to_unorm8(c[k]);
     };
     if (!colors.empty())
         for (size_t i = 0; i < n; ++i) color_bytes(colors[i], out[i]);
-    if (stretch && !stretch->empty())
+    const bool stretched = stretch && !stretch->empty();
+    if (stretched)
         for (size_t i = 0; i < n; ++i) out[i].scale_half = float_to_half(look.scale * stretch->vertex(uint32_t(i)));
     if (field && field->has_vertices())
         for (size_t i = 0; i < n; ++i) set_curvature(field->vertex(uint32_t(i)), normals[i], out[i]);
+    // What each sample has is known per body, not per sample.
+    const size_t with_color = std::min(m, samples ? samples->color.size() : 0);
+    const size_t with_fade = std::min(m, samples ? samples->fade.size() : 0);
+    const size_t with_level = std::min(m, samples ? samples->thin_level.size() : 0);
     // Each sample's record is its own: the threads take ranges of them.
     const auto map_samples = [&](size_t first, size_t last) {
     for (size_t k = first; k < last; ++k) {
@@ -95,7 +100,7 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
         r.position[0] = p.x(), r.position[1] = p.y(), r.position[2] = p.z();
         encode_octahedral(samples->normal[k], r.normal_oct);
         const uint32_t t = samples->triangle[k];
-        if (k < samples->color.size() && (samples->color[k] >> 24) != 0) {
+        if (k < with_color && (samples->color[k] >> 24) != 0) {
             const uint32_t c = samples->color[k];
             r.color[0] = uint8_t(c), r.color[1] = uint8_t(c >> 8), r.color[2] = uint8_t(c >> 16);
         } else if (!colors.empty()) {
@@ -103,12 +108,14 @@ void map_body(std::span<const Vec4f> x, std::span<const Vec3f> normals, std::spa
             const Vec2f b = samples->bary[k];
             color_bytes((1.0f - b.x() - b.y()) * colors[tri[0]] + b.x() * colors[tri[1]] + b.y() * colors[tri[2]], r);
         }
-        const float grown = std::max(samples->growth_of(t), stretch && !stretch->empty() ? stretch->triangle(t) : 1.0f);
+        const float grown = std::max(samples->growth_of(t), stretched ? stretch->triangle(t) : 1.0f);
         const float size = samples->size_of(k) * grown;
         if (size != 1.0f) r.scale_half = float_to_half(look.scale * size);
-        if (field) set_curvature(field->triangle(t), samples->normal[k], r);
-        if (k < samples->fade.size()) r.color[3] = uint8_t(std::lround(std::clamp(samples->fade[k], 0.0f, 1.0f) * 255.0f));
-        if (k < samples->thin_level.size()) set_thin_level(r, samples->thin_level[k], thin_rank_of(t, samples->bary[k]));
+        // The curvature's left-out axis and the thinning place share entry 3: written once.
+        const int axis = field ? set_curvature_entries(field->triangle(t), samples->normal[k], r) : 0;
+        if (k < with_fade) r.color[3] = to_unorm8(samples->fade[k]);
+        if (k < with_level) r.curvature_half[3] = pack_curvature_w(axis, samples->thin_level[k], thin_rank_of(t, samples->bary[k]));
+        else if (field) r.curvature_half[3] = pack_curvature_w(axis, SPLAT_THIN_LEVELS, 0);
         out[n + k] = r;
     }
     };

@@ -29,7 +29,7 @@ SymmetricCurvature to_symmetric(const Mat3f& m, float limit) {
     return s;
 }
 
-void set_curvature(const SymmetricCurvature& s, const Vec3f& n, GaussianRecord& r) {
+int set_curvature_entries(const SymmetricCurvature& s, const Vec3f& n, GaussianRecord& r) {
     // The axis left out is stored, so the shader never has to decide between two near-equal
     // components of its own (decoded) normal.
     const Vec3f a = n.cwiseAbs();
@@ -38,7 +38,12 @@ void set_curvature(const SymmetricCurvature& s, const Vec3f& n, GaussianRecord& 
     r.curvature_half[0] = core::float_to_half_in_range(s[size_t(k_index[i][i])]);
     r.curvature_half[1] = core::float_to_half_in_range(s[size_t(k_index[i][j])]);
     r.curvature_half[2] = core::float_to_half_in_range(s[size_t(k_index[j][j])]);
-    r.curvature_half[3] = core::float_to_half_in_range(float(d + 4 * (SPLAT_THIN_LEVELS - thin_level(r)) + 32 * thin_rank(r)));
+    return d;
+}
+
+void set_curvature(const SymmetricCurvature& s, const Vec3f& n, GaussianRecord& r) {
+    const int level = thin_level(r), rank = thin_rank(r);
+    r.curvature_half[3] = pack_curvature_w(set_curvature_entries(s, n, r), level, rank);
 }
 
 Mat3f decode_curvature(const GaussianRecord& r) {

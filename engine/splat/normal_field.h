@@ -45,6 +45,10 @@ SymmetricCurvature to_symmetric(const Mat3f& m, float limit);
 // Writes S into a record whose normal is `normal` (the unit normal it encodes), and back: the
 // full S the shader rebuilds from the record's decoded normal.
 void set_curvature(const SymmetricCurvature& s, const Vec3f& normal, GaussianRecord& r);
+// The three stored entries only, into r.curvature_half[0..2]; returns the left-out axis, which
+// the caller packs into entry 3 with the thinning place (pack_curvature_w): the mapping of many
+// samples writes that entry once instead of decoding and re-encoding it.
+int set_curvature_entries(const SymmetricCurvature& s, const Vec3f& normal, GaussianRecord& r);
 Mat3f decode_curvature(const GaussianRecord& r);
 // The limit for splats of std dev `scale`: the normal turns at most 45 degrees per std dev.
 inline float curvature_limit(float scale) { return scale > 0.0f ? 1.0f / scale : 0.0f; }
