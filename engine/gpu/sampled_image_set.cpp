@@ -10,14 +10,14 @@ core::Result<SampledImageSet> SampledImageSet::create(const Context& ctx, VkImag
     return create(ctx, std::span<const VkImageView>(&view, 1));
 }
 
-core::Result<SampledImageSet> SampledImageSet::create(const Context& ctx, std::span<const VkImageView> views) {
+core::Result<SampledImageSet> SampledImageSet::create(const Context& ctx, std::span<const VkImageView> views, VkShaderStageFlags stages) {
     VkSamplerCreateInfo sampler_info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     sampler_info.magFilter = sampler_info.minFilter = VK_FILTER_NEAREST;  // one texel per pixel
     sampler_info.addressModeU = sampler_info.addressModeV = sampler_info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
     VkSampler sampler = VK_NULL_HANDLE;
     PBDSPLAT_VK_TRY(vkCreateSampler(ctx.vk(), &sampler_info, nullptr, &sampler));
     Sampler owned(ctx.vk(), sampler);
-    auto s = create_with(ctx, views, sampler);
+    auto s = create_with(ctx, views, sampler, stages);
     if (s.ok()) s->sampler_ = std::move(owned);
     return s;
 }
@@ -26,12 +26,13 @@ core::Result<SampledImageSet> SampledImageSet::create(const Context& ctx, VkImag
     return create_with(ctx, std::span<const VkImageView>(&view, 1), sampler);
 }
 
-core::Result<SampledImageSet> SampledImageSet::create_with(const Context& ctx, std::span<const VkImageView> views, VkSampler sampler) {
+core::Result<SampledImageSet> SampledImageSet::create_with(const Context& ctx, std::span<const VkImageView> views, VkSampler sampler,
+                                                          VkShaderStageFlags stages) {
     SampledImageSet s;
     const uint32_t n = uint32_t(views.size());
 
     std::vector<VkDescriptorSetLayoutBinding> bindings;
-    for (uint32_t i = 0; i < n; ++i) bindings.push_back({i, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr});
+    for (uint32_t i = 0; i < n; ++i) bindings.push_back({i, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, stages, nullptr});
     VkDescriptorSetLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     layout_info.bindingCount = n;
     layout_info.pBindings = bindings.data();

@@ -152,7 +152,7 @@ struct GpuChain {
     void add_splat_over_occluders() {
         g.add_pass("splat over occluders", graph::PassKind::gpu, [&](graph::PassBuilder& b) {
             read_draw_records(b);
-            b.read(occluded, to_graph(render::uses::accumulation_sampled));
+            b.read(occluded, to_graph(renderer.occluder_read()));
             drawn = b.write(drawn, to_graph(render::uses::color_attachment));
             depth_drawn = b.write(depth_drawn, to_graph(render::uses::depth_attachment));
             b.side_effect();
@@ -173,7 +173,7 @@ struct GpuChain {
             b.read(input.frame);
             b.read(input.splats);
             b.read(uploaded, to_graph(records_read));
-            if (renderer.has_occluders()) b.read(occluded, to_graph(render::uses::accumulation_sampled));
+            if (renderer.has_occluders()) b.read(occluded, to_graph(renderer.occluder_read()));
             b.write(depth_drawn, to_graph(render::uses::depth_attachment));
             summed = b.write(accumulation, to_graph(render::uses::color_attachment));
             summed_inside = b.write(accumulation_inside, to_graph(render::uses::color_attachment));

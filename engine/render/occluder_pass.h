@@ -21,6 +21,7 @@
 #include "gpu/image.h"
 #include "gpu/pipeline.h"
 #include "gpu/sampled_image_set.h"
+#include "render/gpu_use.h"
 #include "render/frame_inputs.h"
 #include "render/gpu_use.h"
 
@@ -56,8 +57,10 @@ public:
     void record(VkCommandBuffer cmd, const Camera& camera, float push, VkImageView depth, uint32_t slot) const;
 
     const gpu::Image& image() const { return image_; }
-    // The distance image at binding 0 (SHADER_READ_ONLY layout), for the accumulation's set 1.
+    // The distance image at binding 0 (SHADER_READ_ONLY layout), for the accumulation's set 1,
+    // read by the stages `sampled()` says (the geometry stage too where the device has one).
     VkDescriptorSetLayout set_layout() const { return sampled_.layout(); }
+    Use sampled() const { return sampled_use_; }
     VkDescriptorSet set() const { return sampled_.set(); }
 
 private:
@@ -70,6 +73,7 @@ private:
     std::vector<Slot> slots_;
     gpu::Image image_;
     gpu::SampledImageSet sampled_;
+    Use sampled_use_;
     gpu::PipelineLayout layout_;
     gpu::Pipeline pipeline_, one_sided_;
     VkExtent2D extent_{};

@@ -191,6 +191,7 @@ void SplatPass::describe_sums(gpu::GraphicsPipelineDesc sums, VkFormat accumulat
     describe(Variant::accumulate, sums);
     if (!occluded_layout_) return;
     sums.stages.back().second = "splat_accumulate_occluded.frag";
+    if (path_ == SplatPath::geometry) sums.stages[1].second = "splat_occluded.geom";  // drops what the occluders hide whole
     sums.layout = occluded_layout_.get();
     describe(Variant::accumulate_occluded, sums);
 }

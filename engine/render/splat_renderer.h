@@ -161,6 +161,8 @@ public:
     size_t splat_pipelines_made() const { return splat_.pipelines_made(); }
     bool has_occluders() const { return static_cast<bool>(occluders_.image().handle()); }
     VkImage occluder_image() const { return occluders_.image().handle(); }
+    // How the splat passes read the occluders' distance image.
+    Use occluder_read() const { return occluders_.sampled(); }
     VkImage accumulation_image(SumLayer layer) const { return has_normalised() ? blend_.accumulation(layer).handle() : VK_NULL_HANDLE; }
     VkBuffer readback_buffer() const { return target_.readback_buffer(frames_.slot()); }
     bool has_gpu_sort() const { return sort_.capacity() > 0; }

@@ -3,6 +3,7 @@
 #include "scene/stages/body_parts.h"
 #include "scene/stages/body_view.h"
 #include "scene/stages/frame_keys.h"
+#include "scene/stages/solid_pieces.h"
 #include "scene/stages/stillness.h"
 #include "scene/stages/surface_stage.h"
 
@@ -150,7 +151,10 @@ void map_frame(const MapPassOptions& o, const MapHandles& hh, const graph::PassR
     }
     BodyViewOptions view;
     view.cull_back = settings.cull_back;
-    view.closed = settings.closed;
+    // A cut opens the simulation mesh, but a body whose every piece is a solid closed by its
+    // drawn cut faces (solid_pieces) still has a far side that cannot show, once those faces
+    // stand opaque: while one fades in, the inside shows through it.
+    view.closed = settings.closed || (faces && !faces->fading() && which_solid(solid_pieces(body, faces)) == Solids::all);
     view.opaque = frame.style.blend != render::Blend::additive && look.opacity_logit > math::logit(0.9f);
     view.draw_ground = settings.draw_ground;
     follow_body({body.particles.x, body.piece_of_particle, body.pieces}, settings.ground, view, frame);
