@@ -229,6 +229,7 @@ void SplatPass::describe_pipelines(gpu::GraphicsPipelineDesc desc, uint32_t sh_d
     if (occluded_layout_) {
         gpu::GraphicsPipelineDesc occluded = desc;
         occluded.stages.back().second = "splat_paper_occluded.frag";
+        if (path_ == SplatPath::geometry) occluded.stages[1].second = "splat_occluded.geom";
         occluded.layout = occluded_layout_.get();
         describe(Variant::paper_sorted_occluded, occluded);
         occluded.specialization[4] = 1u;
