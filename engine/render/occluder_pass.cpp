@@ -41,13 +41,21 @@ core::Result<OccluderPass> OccluderPass::create(gpu::Context& ctx, uint32_t widt
                                        VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
     if (!image.ok()) return image.error();
     o.image_ = std::move(image).value();
-    // The geometry path's front stage reads it too, to drop the splats it hides whole.
+    // The geometry and mesh paths' front stages read it too, to drop the splats it hides whole
+    // (SplatPass::cull_occluded).
     const VkImageView view = o.image_.view();
-    const bool geometry = ctx.caps().geometry_shader;
-    const VkShaderStageFlags readers = VK_SHADER_STAGE_FRAGMENT_BIT | (geometry ? VkShaderStageFlags(VK_SHADER_STAGE_GEOMETRY_BIT) : 0u);
-    o.sampled_use_ = {{VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | (geometry ? VK_PIPELINE_STAGE_2_GEOMETRY_SHADER_BIT : VkPipelineStageFlags2(0)),
-                       VK_ACCESS_2_SHADER_READ_BIT},
-                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    const gpu::DeviceCaps& caps = ctx.caps();
+    VkShaderStageFlags readers = VK_SHADER_STAGE_FRAGMENT_BIT;
+    VkPipelineStageFlags2 reading = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+    if (caps.geometry_shader) {
+        readers |= VK_SHADER_STAGE_GEOMETRY_BIT;
+        reading |= VK_PIPELINE_STAGE_2_GEOMETRY_SHADER_BIT;
+    }
+    if (caps.mesh_shader) {
+        readers |= VK_SHADER_STAGE_MESH_BIT_EXT;
+        reading |= VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT;
+    }
+    o.sampled_use_ = {{reading, VK_ACCESS_2_SHADER_READ_BIT}, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
     auto sampled = gpu::SampledImageSet::create(ctx, std::span<const VkImageView>(&view, 1), readers);
     if (!sampled.ok()) return sampled.error();
     o.sampled_ = std::move(sampled).value();

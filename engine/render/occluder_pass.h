@@ -21,7 +21,6 @@
 #include "gpu/image.h"
 #include "gpu/pipeline.h"
 #include "gpu/sampled_image_set.h"
-#include "render/gpu_use.h"
 #include "render/frame_inputs.h"
 #include "render/gpu_use.h"
 
@@ -58,7 +57,7 @@ public:
 
     const gpu::Image& image() const { return image_; }
     // The distance image at binding 0 (SHADER_READ_ONLY layout), for the accumulation's set 1,
-    // read by the stages `sampled()` says (the geometry stage too where the device has one).
+    // read by the stages `sampled()` says (the geometry and mesh paths' front stages too).
     VkDescriptorSetLayout set_layout() const { return sampled_.layout(); }
     Use sampled() const { return sampled_use_; }
     VkDescriptorSet set() const { return sampled_.set(); }

@@ -126,6 +126,8 @@ private:
     core::Status create_layouts(const gpu::Context& ctx, VkDescriptorSetLayout occluders);
     core::Status describe_front(const gpu::Context& ctx, gpu::GraphicsPipelineDesc& desc);
     void describe_pipelines(gpu::GraphicsPipelineDesc desc, uint32_t sh_degree, VkFormat accumulation);
+    // The front stage of `desc` (of this pass's path) swapped for its occluder-culling variant.
+    void cull_occluded(gpu::GraphicsPipelineDesc& desc) const;
     // The normalised blend's sums, from the Gaussian's "over" pipeline description.
     void describe_sums(gpu::GraphicsPipelineDesc sums, VkFormat accumulation);
 };
