@@ -76,6 +76,7 @@ DeviceCaps query_caps(VkPhysicalDevice pd, uint32_t family) {
     if (mesh_ext) features.pNext = &mesh;
     vkGetPhysicalDeviceFeatures2(pd, &features);
     c.geometry_shader = features.features.geometryShader == VK_TRUE;
+    c.pipeline_statistics = features.features.pipelineStatisticsQuery == VK_TRUE;
     c.mesh_shader = mesh_ext && mesh.meshShader == VK_TRUE;
 
     uint32_t n = 0;
@@ -178,6 +179,7 @@ core::Result<std::unique_ptr<Device>> Device::create(const Instance& instance, c
     VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     features.pNext = &v12;
     features.features.geometryShader = dev->caps_.geometry_shader ? VK_TRUE : VK_FALSE;
+    features.features.pipelineStatisticsQuery = dev->caps_.pipeline_statistics ? VK_TRUE : VK_FALSE;
 
     std::vector<const char*> extensions;
     if (dev->caps_.mesh_shader) {

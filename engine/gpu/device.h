@@ -16,6 +16,7 @@ struct DeviceCaps {
     bool mesh_shader = false;   // VK_EXT_mesh_shader with its meshShader feature
     bool timestamps = false;    // timestamp queries on the graphics queue
     float timestamp_period_ns = 0.0f;
+    bool pipeline_statistics = false;  // the pipelineStatisticsQuery feature (gpu/pipeline_counter.h)
     uint32_t subgroup_size = 0;
     uint32_t max_image_dimension = 0;  // the largest image and framebuffer side
     // Device-local memory that the CPU can write directly (CPU or integrated devices): uploads

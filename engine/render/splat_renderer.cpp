@@ -187,10 +187,18 @@ core::Status SplatRenderer::create_sets() {
         if (!sorted.ok()) return sorted.error();
         sorted_uniforms_ = std::move(sorted).value();
     }
+    return create_slot_state();
+}
+
+core::Status SplatRenderer::create_slot_state() {
+    const uint32_t n = options_.frames_in_flight;
     for (uint32_t i = 0; i < n; ++i) {
-        auto timer = gpu::GpuTimer::create(ctx, 10);
+        auto timer = gpu::GpuTimer::create(*ctx_, 10);
         if (!timer.ok()) return timer.error();
         timers_.push_back(std::move(timer).value());
+        auto counter = gpu::PipelineCounter::create(*ctx_, 3);  // the splat pass, discs over occluders, sums
+        if (!counter.ok()) return counter.error();
+        counters_.push_back(std::move(counter).value());
     }
     slot_pending_.assign(n, false);
     slot_bounds_.assign(n, SplatBounds{});
@@ -220,6 +228,9 @@ core::Status SplatRenderer::collect_timings(uint32_t slot) {
         else if (label == "readback") t.readback_ms = ms;
     }
     t.draw_ms = t.splat_ms + t.occluders_ms + t.over_occluders_ms + t.accumulate_ms + t.resolve_ms;
+    auto counts = counters_[slot].read(ctx_->vk());
+    if (!counts.ok()) return counts.error();
+    t.splat_counts = counts.value();
     timings_ = t;
     return core::Status::success();
 }
@@ -235,6 +246,7 @@ core::Result<VkCommandBuffer> SplatRenderer::begin_frame() {
     slot_read_back_[slot] = false;
     timers_[slot].begin(cmd_);
     timers_[slot].mark(cmd_, "start", VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT);
+    counters_[slot].reset(cmd_);
     return cmd_;
 }
 
@@ -334,7 +346,11 @@ void SplatRenderer::draw(const FrameInputs& inputs, uint32_t count) {
     target_.begin(cmd_, inputs.background.data(), normalised || occluded);
     // Under mesh occluders the ground comes after them (draw_occluders).
     if (inputs.ground.visible && !occluded) ground_.record(cmd_, sets.set(slot), inputs.ground);
-    if (prepared(inputs.style)) splat_.record(cmd_, inputs.style, sets.set(slot), splat_source(inputs, count));
+    if (prepared(inputs.style)) {
+        counters_[slot].begin(cmd_);
+        splat_.record(cmd_, inputs.style, sets.set(slot), splat_source(inputs, count));
+        counters_[slot].end(cmd_);
+    }
     target_.end(cmd_);
     timers_[slot].mark(cmd_, "splat", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
@@ -354,7 +370,9 @@ void SplatRenderer::draw_over_occluders(const FrameInputs& inputs, uint32_t coun
     if (!prepared(inputs.style)) return;
     const uint32_t slot = frames_.slot();
     target_.resume(cmd_);
+    counters_[slot].begin(cmd_);
     splat_.record_paper_occluded(cmd_, inputs.style, frame_sets(inputs.style).set(slot), splat_source(inputs, count), occluders_.set());
+    counters_[slot].end(cmd_);
     target_.end(cmd_);
     timers_[slot].mark(cmd_, "over occluders", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }
@@ -385,8 +403,10 @@ void SplatRenderer::accumulate(const FrameInputs& inputs, uint32_t count) {
     const PixelRect r = splat_screen_rect(slot_bounds_[slot], inputs, target_.width(), target_.height());
     normalised_area_ = {{int32_t(r.x), int32_t(r.y)}, {r.width, r.height}};
     blend_.begin_accumulation(cmd_, target_.depth().view(), normalised_area_);
+    counters_[slot].begin(cmd_);
     splat_.record_accumulation(cmd_, uniforms_.set(slot), {records_.buffer(slot), count},
                                render::occluded_style(inputs.style) ? occluders_.set() : VK_NULL_HANDLE);
+    counters_[slot].end(cmd_);
     blend_.end_accumulation(cmd_);
     timers_[slot].mark(cmd_, "accumulate", VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT);
 }

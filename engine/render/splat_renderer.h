@@ -11,6 +11,7 @@
 #include "core/image.h"
 #include "gpu/frame_ring.h"
 #include "gpu/gpu_timer.h"
+#include "gpu/pipeline_counter.h"
 #include "gpu/stream_buffer.h"
 #include "gpu/texture.h"
 #include "gpu/uniform_sets.h"
@@ -75,6 +76,10 @@ struct GpuTimings {
     double splat_ms = 0.0, occluders_ms = 0.0, over_occluders_ms = 0.0, accumulate_ms = 0.0, resolve_ms = 0.0;
     double readback_ms = 0.0;
     uint64_t uploaded_bytes = 0;
+    // What the splats' draws did (all zeros without pipeline-statistics queries): the splat pass
+    // proper, the discs over occluders and the normalised sums together; the occluder mesh, the
+    // ground and the resolve are left out.
+    gpu::PipelineCounts splat_counts;
 };
 
 // How each operation uses what it touches.
@@ -189,6 +194,7 @@ private:
     core::Status create_streams();
     core::Status create_passes();
     core::Status create_sets();
+    core::Status create_slot_state();  // per slot: timers, counters, pending flags
     core::Status collect_timings(uint32_t slot);
     // Frames drawn from the GPU sort's output, and the uniform sets that name it.
     static bool gpu_sorted(const SplatStyle& style);
@@ -220,6 +226,7 @@ private:
     GpuSort sort_;
     gpu::UniformSets sorted_uniforms_;  // the same, with the sorted records at the storage binding
     std::vector<gpu::GpuTimer> timers_;
+    std::vector<gpu::PipelineCounter> counters_;  // per slot
     std::vector<bool> slot_pending_;     // slot has a submitted frame whose timings are unread
     std::vector<bool> slot_read_back_;   // slot's frame copied its image out
     std::vector<GpuTimings> slot_cpu_;   // per slot, CPU-side figures measured while recording

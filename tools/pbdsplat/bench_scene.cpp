@@ -42,6 +42,8 @@ struct Samples {
     std::vector<double> frame, gpu_upload, gpu_sort, gpu_draw;
     // The splat pass's parts (render::GpuTimings).
     std::vector<double> gpu_splat, gpu_occluders, gpu_over_occluders, gpu_accumulate, gpu_resolve;
+    // What the splats' draws did per frame (pipeline statistics; empty without them).
+    std::vector<double> splat_primitives, splat_fragments;
     Split before, after;
     std::vector<std::vector<double>> per_pass;  // per kept pass, per frame
     // Frames after the first change, split by whether this frame changed the topology: what a
@@ -64,6 +66,10 @@ struct Samples {
         gpu_splat.push_back(s.gpu.splat_ms), gpu_occluders.push_back(s.gpu.occluders_ms);
         gpu_over_occluders.push_back(s.gpu.over_occluders_ms), gpu_accumulate.push_back(s.gpu.accumulate_ms);
         gpu_resolve.push_back(s.gpu.resolve_ms);
+        if (s.gpu.splat_counts.fragments > 0) {
+            splat_primitives.push_back(double(s.gpu.splat_counts.primitives));
+            splat_fragments.push_back(double(s.gpu.splat_counts.fragments));
+        }
         const auto& pm = runtime.pass_ms();
         if (per_pass.size() < pm.size()) per_pass.resize(pm.size());
         for (size_t k = 0; k < pm.size(); ++k) per_pass[k].push_back(pm[k]);
@@ -106,6 +112,9 @@ void report_stages(Report& report, const Samples& m, const gpu::DeviceCaps& caps
                                         {"accumulate", median(m.gpu_accumulate)},
                                         {"resolve", median(m.gpu_resolve)}}}};
     report.json()["gpu_timestamps"] = caps.timestamps;
+    // Work, not time: the same on a slow or busy machine, so the work guard can hold it.
+    if (!m.splat_fragments.empty())
+        report.json()["splat_work_median"] = {{"primitives", median(m.splat_primitives)}, {"fragments", median(m.splat_fragments)}};
     report.figures("", cpu);
     if (caps.timestamps) {
         std::vector<Figure> gpu = {{"upload", median(m.gpu_upload), "ms"},
@@ -118,6 +127,9 @@ void report_stages(Report& report, const Samples& m, const gpu::DeviceCaps& caps
         for (const auto& [name, samples] : parts)
             if (median(*samples) > 0.0) gpu.push_back({name, median(*samples), "ms"});
         report.figures("GPU Scene (timestamps):", gpu);
+        if (!m.splat_fragments.empty())
+            report.figures("Splat draws (pipeline statistics, median a frame):",
+                           {{"primitives", median(m.splat_primitives), "", 0}, {"fragments shaded", median(m.splat_fragments), "", 0}});
     } else
         report.line("GPU Scene: device '" + caps.name + "' has no timestamp queries");
 }

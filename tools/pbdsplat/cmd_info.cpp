@@ -68,6 +68,7 @@ int cmd_info(const std::vector<std::string>& argv) {
                                   {"geometry_shader", c.geometry_shader},
                                   {"mesh_shader", c.mesh_shader},
                                   {"timestamps", c.timestamps},
+                                  {"pipeline_statistics", c.pipeline_statistics},
                                   {"subgroup_size", c.subgroup_size},
                                   {"unified_memory", c.unified_memory}};
         std::printf("%s\n", j.dump().c_str());
@@ -78,6 +79,7 @@ int cmd_info(const std::vector<std::string>& argv) {
         std::printf("geometry shader  %s\n", c.geometry_shader ? "yes" : "no");
         std::printf("mesh shader      %s\n", c.mesh_shader ? "yes (VK_EXT_mesh_shader)" : "no (VK_EXT_mesh_shader missing)");
         std::printf("timestamps       %s\n", c.timestamps ? "yes" : "no");
+        std::printf("pipeline stats   %s\n", c.pipeline_statistics ? "yes (splat work counted)" : "no (splat work not counted)");
         std::printf("subgroup size    %u\n", c.subgroup_size);
         std::printf("uploads          %s\n", c.unified_memory ? "direct (unified memory: written in place)"
                                                                : "staged (copied from a host-visible ring)");
