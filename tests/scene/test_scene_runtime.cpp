@@ -338,6 +338,49 @@ normal = [0.0, 1.0, 0.0]
         for (size_t i = r.size() - n; i < r.size(); ++i) REQUIRE(int(r[i].color[3]) == 255);
     }
 
+    TEST_CASE("a body cut into capped solids drops its far side again once the cut faces stand; burst open, it keeps it") {
+        // Floating, so nothing but the cut changes what can show: each half is closed by its
+        // cut face (cap) once the face has faded in, or left open (burst).
+        const auto run = [](const char* volume) {
+            const std::string text = std::string(R"(
+[model]
+mesh = "icosphere:4"
+scale = 0.3
+
+[simulation]
+gravity = [0, 0, 0]
+fade_frames = 30
+cut_volume = ")") + volume + R"("
+
+[[events]]
+time = 0.5
+type = "cut"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 1.0, 0.0]
+)";
+            const auto created = mapped_runtime(text.c_str(), "closed_after_cut.toml");
+            scene::SceneRuntime& rt = *created;
+            struct Seen {
+                bool before = false, while_fading = true, after = false;
+            } seen;
+            const auto culls = [&rt] { return rt.frame_inputs().style.cull_facing > -1.0f; };
+            for (int f = 0; f < 90; ++f) {
+                REQUIRE(rt.step().ok());
+                if (f == 20) seen.before = culls();
+                if (rt.cut_faces().fading()) seen.while_fading = seen.while_fading && !culls();
+            }
+            REQUIRE(rt.stats().cuts == 1);
+            seen.after = culls();
+            return seen;
+        };
+        const auto capped = run("cap"), burst = run("burst");
+        CHECK(capped.before);
+        CHECK(capped.while_fading);  // the inside shows through a face fading in
+        CHECK(capped.after);
+        CHECK(burst.before);
+        CHECK_FALSE(burst.after);
+    }
+
     TEST_CASE("the ground darkens under each piece: two pieces apart cast two shadows, one piece one") {
         // Two unit squares of particles on the ground (y = 0), 4 m apart along x, as pieces 0 and 1.
         std::vector<Vec4f> x;
