@@ -24,7 +24,6 @@ public:
     // pipelineStatisticsQuery feature.
     static core::Result<PipelineCounter> create(const Context& ctx, uint32_t max_spans);
     PipelineCounter() = default;
-    bool enabled() const { return static_cast<bool>(pool_); }
 
     void reset(VkCommandBuffer cmd);  // outside a render pass, before the frame's spans
     // A span may lie inside one render pass instance or around whole ones, never across an edge.

@@ -331,11 +331,11 @@ const CommandSpec& command_spec() {
         "each on a copy of the body (in the same storage) along a plane through its centre at a\n"
         "different angle, median milliseconds of the cut (and of rebuilding the solver's derived data\n"
         "inside it), the crossed region, and Stage A ms per frame (paper solver defaults, median of F\n"
-        "frames) before and after the first cut, and of one frame timed before each cut; then the cost per crossed triangle and the median ms of\n"
-        "each step of the cut, in the order run. The body is stepped once by the solver first, as\n"
-        "a body in a scene always has been (a cut takes a piece's volume from the solver's last\n"
-        "measure), and each copy gets the spare capacity a live body keeps from its earlier edits\n"
-        "(sim::reserve_headroom), outside the timing.\n",
+        "frames) before and after the first cut, and of one frame timed before each cut; then the\n"
+        "cost per crossed triangle and the median ms of each step of the cut, in the order run. The\n"
+        "body is stepped once by the solver first, as a body in a scene always has been (a cut takes\n"
+        "a piece's volume from the solver's last measure), and each copy gets the spare capacity a\n"
+        "live body keeps from its earlier edits (sim::reserve_headroom), outside the timing.\n",
         {text("mesh", "SPEC", "", "the body: a model from ../shared/models, an OBJ, or a procedural spec")
              .default_from("teapot.obj; icosphere:4 with --sequence"),
          whole("cuts", "N", 20, 1, 10000, "cuts, each on a copy of the uncut body"),
