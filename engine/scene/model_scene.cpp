@@ -7,6 +7,7 @@
 #include "asset/file_kind.h"
 #include "asset/mesh_spec.h"
 #include "asset/model_file.h"
+#include "scene/framing.h"
 #include "scene/scene_file.h"
 
 namespace pbdsplat::scene {
@@ -49,12 +50,9 @@ core::Result<std::string> model_scene_text(const std::string& model_path, const 
     const mesh::Bounds b = mesh::bounds(model.value().repaired.mesh);
     // The ground a hair under the lowest point, so the model starts resting, not falling.
     const float ground = b.min.y() - 0.002f * b.diagonal();
-    // Framed with the default 45-degree lens: the bounding sphere fits the frame's height with a
-    // margin whichever side the orbit shows, seen from a little above.
-    const float radius = std::max(0.5f * b.diagonal(), 1e-3f);
-    const Vec3f target = b.center();
-    const float distance = 1.0f * radius / std::sin(math::radians(22.5f));
-    const Vec3f eye = target + distance * Vec3f(0.0f, 0.3f, 1.0f).normalized();
+    // Framed with the default lens, whichever side the orbit shows.
+    const render::Camera camera = framing_camera(b, render::Camera{}, 16.0f / 9.0f);
+    const Vec3f target = camera.target, eye = camera.eye;
     const std::string name = std::filesystem::path(model_path).filename().string();
     std::string t;
     t += "# The scene pbdsplat made for " + name + ": the model resting on the ground under the default\n";

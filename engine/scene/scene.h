@@ -170,6 +170,9 @@ struct RenderDesc {
     bool ground = true;
     CameraOrbit orbit;
     std::vector<CameraKey> path;  // sorted by time; when given, it replaces eye and target
+    // Whether the file placed the camera ([render.camera]); without it the runtime frames the
+    // models where the default view would miss them (scene/framing.h).
+    bool camera_given = false;
     std::optional<render::SplatPath> splat_path;  // empty: the best the device has
     std::string environment_map;  // equirectangular PNG or .hdr (next to the scene file); empty: procedural sky
 };
@@ -230,6 +233,10 @@ struct Scene {
     std::string name;        // file stem, or "default"
     std::string source_dir;  // directory of the scene file (models are looked up there first)
     ModelDesc model;
+    // [model]'s own colour and simulation size where it names them as a body does; a scene of
+    // [[bodies]] alone takes its first body as [model] with them.
+    std::optional<Vec3f> model_color;
+    std::optional<uint32_t> model_particles;
     std::vector<BodyDesc> bodies;  // beside `model`
     MaterialDesc material;
     SurfaceDesc surface;

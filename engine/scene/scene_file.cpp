@@ -193,10 +193,29 @@ Vec3f normalized_or_fail(const Reader& r, const toml::node* n, const Vec3f& v, c
     return v.normalized();
 }
 
-void read_model(const Reader& r, Reader::Table& t, ModelDesc& m) {
-    read_keys<ModelDesc>(t, m, k_model_keys);
+// [model]'s keys, and the two a body adds (its colour and simulation size).
+void read_model(const Reader& r, Reader::Table& t, Scene& scene) {
+    read_keys<ModelDesc>(t, scene.model, k_model_keys);
+    if (t.has("color")) scene.model_color = t.vec<3>("color", Vec3f::Ones(), 0.0, 1.0);
+    if (t.has("particles")) scene.model_particles = t.count("particles", 0, 0, 10'000'000);
     (void)r;
     t.finish();
+}
+
+// A scene of [[bodies]] alone: its first body is [model] (not a default icosphere beside them).
+// With one model, its colour is the material's.
+void settle_models(bool model_given, Scene& scene) {
+    if (!model_given && !scene.bodies.empty()) {
+        BodyDesc& first = scene.bodies.front();
+        scene.model = std::move(first.model);
+        scene.model_color = first.color;
+        scene.model_particles = first.particles;
+        scene.bodies.erase(scene.bodies.begin());
+    }
+    if (scene.bodies.empty() && scene.model_color) {
+        scene.material.color = *scene.model_color;
+        scene.model_color.reset();
+    }
 }
 
 BodyDesc read_body(const Reader& r, const toml::node& n) {
@@ -369,6 +388,7 @@ void read_camera(const Reader& r, Reader::Table& t, RenderDesc& d) {
                 d.path.push_back(key);
             }
         }
+        d.camera_given = c.has("eye") || c.has("target") || !d.path.empty();
         c.finish();
     }
 }
@@ -506,9 +526,10 @@ core::Result<Scene> parse_scene(const std::string& text, const std::string& name
             r.fail(e.source(), std::string(e.description()));
         }
         Reader::Table top(r, root, "");
-        if (const toml::table* t = top.table("model")) {
-            Reader::Table m(r, *t, "model");
-            read_model(r, m, scene.model);
+        const toml::table* model_table = top.table("model");
+        if (model_table) {
+            Reader::Table m(r, *model_table, "model");
+            read_model(r, m, scene);
         }
         if (const toml::array* bodies = top.array("bodies"))
             for (const toml::node& n : *bodies) scene.bodies.push_back(read_body(r, n));
@@ -539,6 +560,7 @@ core::Result<Scene> parse_scene(const std::string& text, const std::string& name
             read_expect(r, e, scene.expect);
         }
         top.finish();
+        settle_models(model_table != nullptr, scene);
     } catch (const ParseFailure& f) {
         // The location is in `file` ("name:line:column"); keep it as the error's file.
         return f.error;

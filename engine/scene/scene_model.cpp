@@ -16,6 +16,7 @@
 namespace pbdsplat::scene {
 
 uint32_t simulation_particles(const Scene& scene) {
+    if (scene.model_particles) return *scene.model_particles;
     if (scene.simulation.particles) return *scene.simulation.particles;
     return asset::is_procedural_spec(scene.model.mesh) ? 0u : k_default_simulation_particles;
 }
@@ -98,13 +99,14 @@ core::Status merge_parts(const Scene& scene, Part first, mesh::TriangleMesh& coa
         add_look(part.value().look, b.color ? *b.color : scene.material.color);
         parts.push_back(std::move(part).value());
     }
-    bool any_fine = false, any_color = false;
+    bool any_fine = false, any_color = scene.model_color.has_value();
     for (const Part& p : parts) any_fine = any_fine || p.fine.has_value();
     for (const BodyDesc& b : scene.bodies) any_color = any_color || b.color.has_value();
     mesh::TriangleMesh fine;
     for (size_t k = 0; k < parts.size(); ++k) {
         Part& p = parts[k];
-        const Vec3f color = k > 0 && scene.bodies[k - 1].color ? *scene.bodies[k - 1].color : scene.material.color;
+        const std::optional<Vec3f>& own = k == 0 ? scene.model_color : scene.bodies[k - 1].color;
+        const Vec3f color = own.value_or(scene.material.color);
         if (any_color) {
             p.coarse.colors.assign(p.coarse.vertex_count(), color);
             if (p.fine) p.fine->colors.assign(p.fine->vertex_count(), color);
@@ -214,7 +216,7 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
         out.paint.model.push_back(look ? std::make_shared<const asset::SurfaceColors>(std::move(*look)) : nullptr);
         out.paint.plain.push_back(plain);
     };
-    add_look(first.value().look, scene.material.color);
+    add_look(first.value().look, scene.model_color.value_or(scene.material.color));
     mesh::TriangleMesh coarse;
     if (scene.bodies.empty()) {
         coarse = std::move(first.value().coarse);

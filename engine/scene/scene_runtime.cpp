@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <thread>
 
 #include "core/timer.h"
 #include "gpu/context.h"
 #include "mesh/topology.h"
 #include "render/occluder_pass.h"
+#include "scene/framing.h"
 #include "scene/scene_model.h"
 #include "sim/rigid_response.h"
 #include "scene/stages/body_view.h"
@@ -36,11 +38,26 @@ core::Result<std::unique_ptr<SceneRuntime>> SceneRuntime::create(const Scene& sc
     rt->fine_ = std::move(model.value().fine);
     rt->decimation_ = model.value().decimation;
     rt->paint_ = std::move(model.value().paint);
+    rt->frame_unplaced_camera();
     PBDSPLAT_TRY(rt->build(options));
     return rt;
 }
 
 SceneRuntime::~SceneRuntime() = default;
+
+void SceneRuntime::frame_unplaced_camera() {
+    RenderDesc& rd = scene_.render;
+    if (rd.camera_given || body_.particle_count() == 0) return;
+    std::vector<Vec3f> points(body_.particle_count());
+    mesh::Bounds box{Vec3f::Constant(std::numeric_limits<float>::max()), Vec3f::Constant(-std::numeric_limits<float>::max())};
+    for (size_t i = 0; i < points.size(); ++i) {
+        points[i] = sim::xyz(body_.particles.x[i]);
+        box.min = box.min.cwiseMin(points[i]);
+        box.max = box.max.cwiseMax(points[i]);
+    }
+    const float aspect = float(rd.width) / float(std::max(rd.height, 1u));
+    if (!camera_sees(rd.frame.camera, points, aspect)) rd.frame.camera = framing_camera(box, rd.frame.camera, aspect);
+}
 
 core::Status SceneRuntime::build(const RuntimeOptions& options) {
     options_ = options;

@@ -200,6 +200,9 @@ public:
 private:
     SceneRuntime() = default;
     core::Status build(const RuntimeOptions& options);
+    // A scene that does not place its camera gets one framing its models where the default view
+    // misses them (scene/framing.h); before build, which hands the camera to the timeline.
+    void frame_unplaced_camera();
     void report_sampling(float eta_h) const;  // once at load, where the budget raised h or the splats are many
     void set_up_look();  // the splats' size, the occluders' tolerances, the lights from the material
     core::Status create_renderer(const SortChoice& sort);

@@ -69,6 +69,8 @@ void write_keys(std::ostream& o, const D& section, std::span<const Key<D>> keys,
 void write_model_material_surface(std::ostream& o, const Scene& sc) {
     o << "[model]\n";
     write_keys<ModelDesc>(o, sc.model, k_model_keys);
+    if (const auto& c = sc.model_color) o << "color = [" << num(c->x()) << ", " << num(c->y()) << ", " << num(c->z()) << "]\n";
+    if (sc.model_particles) o << "particles = " << *sc.model_particles << "\n";
     for (const BodyDesc& b : sc.bodies) {
         o << "\n[[bodies]]\n";
         write_keys<ModelDesc>(o, b.model, k_model_keys);
@@ -148,7 +150,9 @@ void write_render(std::ostream& o, const Scene& sc) {
         o << " }";
     }
     o << "]\n\n[render.camera]\n";
-    write_keys<render::Camera>(o, c, k_camera_keys);
+    // A camera the file did not place stays unplaced, so the models are framed again when read.
+    if (d.camera_given) write_keys<render::Camera>(o, c, k_camera_keys);
+    else o << "up = " << vec<3>(c.up) << "\nfov_degrees = " << num(c.fov_y_degrees) << "\n";
     o << "orbit_degrees_per_second = " << num(d.orbit.degrees_per_second)
       << "\npath = [";
     for (size_t i = 0; i < d.path.size(); ++i)

@@ -33,6 +33,8 @@ scale = 0.5
 close_holes = true
 velocity = [0.5, 0.0, 0.0]
 static = true
+color = [0.3, 0.6, 0.9]
+particles = 0
 
 [[bodies]]
 mesh = "box:2"
