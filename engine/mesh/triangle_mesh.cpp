@@ -18,16 +18,18 @@ std::unordered_map<uint64_t, int> edge_uses(const TriangleMesh& mesh) {
 }
 } // namespace
 
-Bounds bounds(const TriangleMesh& mesh) {
+Bounds bounds(std::span<const Vec3f> points) {
     Bounds b;
-    if (mesh.positions.empty()) return b;
-    b.min = b.max = mesh.positions[0];
-    for (const Vec3f& p : mesh.positions) {
+    if (points.empty()) return b;
+    b.min = b.max = points[0];
+    for (const Vec3f& p : points) {
         b.min = b.min.cwiseMin(p);
         b.max = b.max.cwiseMax(p);
     }
     return b;
 }
+
+Bounds bounds(const TriangleMesh& mesh) { return bounds(std::span<const Vec3f>(mesh.positions)); }
 
 std::vector<Vec3f> vertex_normals(const TriangleMesh& mesh) {
     std::vector<Vec3f> n(mesh.positions.size(), Vec3f::Zero());

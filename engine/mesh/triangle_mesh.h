@@ -2,6 +2,7 @@
 // An indexed triangle mesh: positions and counter-clockwise (outward) triangles.
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/math.h"
@@ -35,6 +36,7 @@ struct Bounds {
     Vec3f center() const { return 0.5f * (min + max); }
     float diagonal() const { return (max - min).norm(); }
 };
+Bounds bounds(std::span<const Vec3f> points);  // zero for none
 Bounds bounds(const TriangleMesh& mesh);
 
 // Area-weighted vertex normals (unit length; zero for a vertex no triangle uses).

@@ -3,7 +3,8 @@
 // from 3 units in front, which frames one model fitted to the default 2-unit diagonal; models
 // placed elsewhere (a few [[bodies]] spread on a table, one dropped from high up) would be out
 // of sight, so a scene without [render.camera] eye or target that the default view misses is
-// framed instead: the models' box seen from in front and a little above, as a model file's
+// framed instead: the box of the models and of where they would land on the ground, seen from in
+// front and a little above, as a model file's
 // default scene is (scene/model_scene.h).
 #include <span>
 

@@ -52,7 +52,6 @@ core::Result<std::string> model_scene_text(const std::string& model_path, const 
     const float ground = b.min.y() - 0.002f * b.diagonal();
     // Framed with the default lens, whichever side the orbit shows.
     const render::Camera camera = framing_camera(b, render::Camera{}, 16.0f / 9.0f);
-    const Vec3f target = camera.target, eye = camera.eye;
     const std::string name = std::filesystem::path(model_path).filename().string();
     std::string t;
     t += "# The scene pbdsplat made for " + name + ": the model resting on the ground under the default\n";
@@ -61,7 +60,7 @@ core::Result<std::string> model_scene_text(const std::string& model_path, const 
     t += "[simulation]\ncolliders = [{ type = \"plane\", normal = [0, 1, 0], offset = " + number(ground) + " }]\n\n";
     t += "[render]\n# Normalised blending of surfels: the look of the shipped scenes (docs/scene-format.md).\n";
     t += "footprint = \"gaussian\"\nblend = \"normalised\"\nkappa = 2.0\nsplat_shape = \"surfel\"\n\n";
-    t += "[render.camera]\neye = " + vec(eye) + "\ntarget = " + vec(target) + "\norbit_degrees_per_second = 15.0\n";
+    t += "[render.camera]\neye = " + vec(camera.eye) + "\ntarget = " + vec(camera.target) + "\norbit_degrees_per_second = 15.0\n";
     return t;
 }
 

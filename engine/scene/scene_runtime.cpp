@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <limits>
 #include <thread>
 
 #include "core/timer.h"
@@ -48,15 +47,16 @@ SceneRuntime::~SceneRuntime() = default;
 void SceneRuntime::frame_unplaced_camera() {
     RenderDesc& rd = scene_.render;
     if (rd.camera_given || body_.particle_count() == 0) return;
-    std::vector<Vec3f> points(body_.particle_count());
-    mesh::Bounds box{Vec3f::Constant(std::numeric_limits<float>::max()), Vec3f::Constant(-std::numeric_limits<float>::max())};
-    for (size_t i = 0; i < points.size(); ++i) {
-        points[i] = sim::xyz(body_.particles.x[i]);
-        box.min = box.min.cwiseMin(points[i]);
-        box.max = box.max.cwiseMax(points[i]);
-    }
+    const size_t n = body_.particle_count();
+    std::vector<Vec3f> points;
+    points.reserve(2 * n);
+    for (size_t i = 0; i < n; ++i) points.push_back(sim::xyz(body_.particles.x[i]));
+    // What is dropped comes to rest on the ground: where it lands is framed too.
+    if (const auto& ground = scene_.simulation.colliders.ground)
+        for (size_t i = 0; i < n; ++i)
+            if (const float h = ground->normal.dot(points[i]) - ground->offset; h > 0.0f) points.push_back(points[i] - h * ground->normal);
     const float aspect = float(rd.width) / float(std::max(rd.height, 1u));
-    if (!camera_sees(rd.frame.camera, points, aspect)) rd.frame.camera = framing_camera(box, rd.frame.camera, aspect);
+    if (!camera_sees(rd.frame.camera, points, aspect)) rd.frame.camera = framing_camera(mesh::bounds(points), rd.frame.camera, aspect);
 }
 
 core::Status SceneRuntime::build(const RuntimeOptions& options) {
