@@ -1,6 +1,7 @@
 #include "scene/scene_model.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -187,6 +188,22 @@ void warn_below_ground(const Scene& scene, const sim::SoftBody& b) {
     }
 }
 
+// A step in which gravity alone moves a particle by more than half an edge outruns what the
+// constraints and the contacts can hold in a few iterations: the skin tears into sheets and
+// strays (dt 0.1 s under 1000 m/s^2 moved the bunny 10 m a step). Said, with the substeps that
+// would do.
+void warn_coarse_step(const Scene& scene, const sim::SoftBody& b) {
+    const sim::SolverSettings& s = scene.simulation.solver;
+    const float edge = sim::mean_rest_edge(b), g = s.gravity.norm();
+    const float h = scene.simulation.dt / float(std::max(1u, s.substeps));
+    if (!(edge > 0.0f) || !(g * h * h > 0.5f * edge)) return;
+    const double needed = std::ceil(double(scene.simulation.dt) * std::sqrt(double(g) / (0.5 * double(edge))));
+    std::fprintf(stderr,
+                 "warning: scene '%s': gravity moves a particle %.3g a step (dt / substeps = %.3g s), %.3g times the mean edge: the "
+                 "body cannot hold its shape; set [simulation] substeps to %.0f or more\n",
+                 scene.name.c_str(), double(g * h * h), double(h), double(g * h * h / edge), needed);
+}
+
 core::Status pin_particles(const Scene& scene, sim::SoftBody& b) {
     const SimulationDesc& s = scene.simulation;
     for (uint32_t pin : s.pins) {
@@ -231,6 +248,7 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     place_bodies(scene, out.part_start, b);
     warn_crossing_models(scene, b);
     warn_below_ground(scene, b);
+    warn_coarse_step(scene, b);
     // A model's parts that touch at rest (a teapot's spout on its body) hold together: within an
     // edge of each other, the decimated surfaces' vertices no longer coincide where they met.
     // Welded parts are one object to shape matching too (sim/shape.h).

@@ -88,6 +88,30 @@ void update_vertex_rings(VertexRings& rings, std::span<const mesh::Triangle> tri
     }
 }
 
+void set_rest_ring_areas(VertexRings& rings, std::span<const Vec3f> rest, std::span<const uint32_t> vertices) {
+    rings.rest_area.resize(rings.size(), 0.0f);
+    rings.open_fan.resize(rings.size(), 0);
+    auto set = [&](uint32_t i) {
+        Vec3f acc = Vec3f::Zero();
+        const auto ring = rings.ring.of(i);
+        bool open = false;
+        float longest2 = 0.0f;
+        for (const auto& r : ring) {
+            acc += (rest[r[0]] - rest[i]).cross(rest[r[1]] - rest[i]);
+            longest2 = std::max({longest2, (rest[r[0]] - rest[i]).squaredNorm(), (rest[r[1]] - rest[i]).squaredNorm()});
+            // Closed: every neighbour that starts a triangle's pair ends another's.
+            open = open || std::none_of(ring.begin(), ring.end(), [&](const auto& q) { return q[1] == r[0]; });
+        }
+        // A fan of slivers at rest (a vertex a cut put near an edge's end) counts as the square of
+        // its longest edge: it is no stretched region when it opens up.
+        rings.rest_area[i] = std::max(acc.norm(), 0.25f * longest2);
+        rings.open_fan[i] = open;
+    };
+    if (vertices.empty())
+        for (uint32_t i = 0; i < rings.size(); ++i) set(i);
+    for (uint32_t i : vertices) set(i);
+}
+
 void update_normals(const VertexRings& rings, const Vec4Array& x, std::vector<Vec3f>& normals, size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
         Vec4f acc = Vec4f::Zero();

@@ -55,6 +55,7 @@ void rebuild_derived(SoftBodyT<Real>& b) {
     b.distance_groups = make_distance_groups(b.distance, n);
     b.distance_lambda.assign(b.distance.size(), Real(0));
     b.rings = build_vertex_rings(b.triangles, n);
+    if (b.rest_positions.size() == n) set_rest_ring_areas(b.rings, b.rest_positions);
     // A volume constraint follows its piece to the piece's new label, found through one of its
     // particles (labels that do not fit the body are taken as already fresh).
     std::vector<uint32_t> particle_of_volume(b.volumes.size(), UINT32_MAX);

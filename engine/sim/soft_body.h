@@ -117,6 +117,7 @@ constexpr uint32_t k_no_piece = UINT32_MAX;
 struct VolumeSlots {
     std::vector<uint32_t> slot_of_piece;
     std::vector<VolumeConstraint*> constraints;
+    std::vector<float> share;  // VolumeLayout::share's room
 };
 template <class Real>
 VolumeLayout volume_layout(SoftBodyT<Real>& b, VolumeSlots& slots) {
@@ -127,7 +128,12 @@ VolumeLayout volume_layout(SoftBodyT<Real>& b, VolumeSlots& slots) {
         slots.slot_of_piece[v.piece] = uint32_t(slots.constraints.size());
         slots.constraints.push_back(&v);
     }
-    return {&b.rings.ring, b.piece_of_particle, slots.slot_of_piece, slots.constraints.size()};
+    VolumeLayout l{&b.rings.ring, b.piece_of_particle, slots.slot_of_piece, slots.constraints.size()};
+    if (b.rings.rest_area.size() == b.particle_count()) {
+        slots.share.resize(b.particle_count());
+        l.rest_area = b.rings.rest_area, l.open_fan = b.rings.open_fan, l.share = slots.share;
+    }
+    return l;
 }
 // Projects every volume constraint once, in one thread (the solver's stage runs the same phases
 // on its threads).

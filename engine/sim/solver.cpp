@@ -119,7 +119,7 @@ void SolverT<Real>::project_volume(SoftBodyT<Real>& body, const SolverSettings& 
         VolumeSums& total = totals_[slot];
         VolumeSums caps;
         v.measured_six_v = total.eighteen_v / 3.0;  // before the caps: 3 x (6V of the triangles)
-        volume_caps<Real>(v, p, scratch_, caps);
+        volume_caps<Real>(l, v, p, scratch_, caps);
         v.measured_caps_six_v = caps.eighteen_v / 3.0;  // the caps' own 6V (their correction is 3 x that)
         total.eighteen_v += caps.eighteen_v, total.denom += caps.denom;
         steps_[slot] = volume_step<Real>(v, total, xpbd, k, Real(v.compliance) * inv_h2);

@@ -74,10 +74,22 @@ void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<
         const uint32_t s = l.slot_of(uint32_t(i));
         if (s == k_no_volume) continue;
         if (s != slot) switch_to(s);
-        const Vec4<Real> g = sum_of_cross3<Real>(l.ring->of(uint32_t(i)), [x](uint32_t k) -> const Vec4<Real>& { return x[k]; });
+        const auto ring = l.ring->of(uint32_t(i));
+        const Vec4<Real> g = sum_of_cross3<Real>(ring, [x](uint32_t k) -> const Vec4<Real>& { return x[k]; });
         grad[i] = g;
         eighteen_v += double(x[i].dot(g));
-        denom += double(w[i]) * double(g.squaredNorm());
+        float share = 1.0f;
+        if (!l.share.empty()) {
+            // The fan's own vector area: g, less for an open fan what it owes to where the origin is.
+            Vec4<Real> fan = g;
+            if (l.open_fan[i]) {
+                Vec4<Real> open = Vec4<Real>::Zero();
+                for (const auto& r : ring) open += x[r[1]] - x[r[0]];
+                fan -= cross3<Real>(x[i], open);
+            }
+            l.share[i] = share = push_share<Real>(l.rest_area[i], fan);
+        }
+        denom += double(w[i] * Real(share)) * double(g.squaredNorm());
     }
     if (slot != k_no_volume) sums[at].second = {eighteen_v, denom};
 }
@@ -89,7 +101,7 @@ void reduce_block_sums(std::span<const BlockSums> blocks, std::span<VolumeSums> 
 }
 
 template <class Real>
-void volume_caps(const VolumeConstraint& c, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, VolumeSums& sums) {
+void volume_caps(const VolumeLayout& l, const VolumeConstraint& c, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, VolumeSums& sums) {
     if (c.cap_loops.empty()) return;
     const Vec4<Real>* x = p.x.data();
     // The loop particles' sums were taken without the caps: take them out, add the caps' terms,
@@ -101,7 +113,7 @@ void volume_caps(const VolumeConstraint& c, const ParticlesT<Real>& p, Vec4Array
         for (const auto& loop : c.cap_loops)
             for (uint32_t i : loop) {
                 sums.eighteen_v += sign * double(x[i].dot(grad[i]));
-                sums.denom += sign * double(p.w[i]) * double(grad[i].squaredNorm());
+                sums.denom += sign * double(p.w[i] * Real(l.share_of(i))) * double(grad[i].squaredNorm());
             }
     };
     add_sums(-1.0);
@@ -125,7 +137,11 @@ void volume_caps(const VolumeConstraint& c, const ParticlesT<Real>& p, Vec4Array
 
 template <class Real>
 Real volume_step(VolumeConstraint& c, const VolumeSums& total, bool xpbd, Real stiffness, Real alpha_tilde) {
-    const double C = total.eighteen_v / 18.0 - double(c.pressure) * c.rest_volume;
+    // At most half the volume there is, per projection: a linear step toward a target far off (a
+    // pressure factor of 100 set at once) moved every particle tens of radii along its normal
+    // in one go, and the skin turned inside out. Ramps of pressure stay well inside this.
+    const double volume = total.eighteen_v / 18.0, reach = k_volume_reach * std::abs(volume);
+    const double C = std::clamp(volume - double(c.pressure) * c.rest_volume, -reach, reach);
     const double denom = total.denom / 36.0;  // |grad V|^2 = |grad 6V|^2 / 36
     if (denom < 1e-30) return Real(0);
     if (xpbd) {
@@ -141,7 +157,7 @@ void volume_apply(const VolumeLayout& l, ParticlesT<Real>& p, const Vec4ArrayT<R
     const size_t end = std::min(p.size(), (b + 1) * k_volume_block);
     for (size_t i = b * k_volume_block; i < end; ++i) {
         const uint32_t s = l.slot_of(uint32_t(i));
-        if (s != k_no_volume) p.x[i] += (steps[s] * p.w[i]) * grad[i];
+        if (s != k_no_volume) p.x[i] += (steps[s] * p.w[i] * Real(l.share_of(uint32_t(i)))) * grad[i];
     }
 }
 
@@ -157,7 +173,7 @@ void solve_volumes(std::span<VolumeConstraint* const> slot_constraints, const Vo
     for (size_t s = 0; s < slots; ++s) {
         VolumeSums caps;
         slot_constraints[s]->measured_six_v = totals[s].eighteen_v / 3.0;
-        volume_caps<Real>(*slot_constraints[s], p, scratch, caps);
+        volume_caps<Real>(l, *slot_constraints[s], p, scratch, caps);
         slot_constraints[s]->measured_caps_six_v = caps.eighteen_v / 3.0;
         totals[s].eighteen_v += caps.eighteen_v, totals[s].denom += caps.denom;
         steps[s] = volume_step<Real>(*slot_constraints[s], totals[s], xpbd, stiffness, Real(slot_constraints[s]->compliance) * inv_h2);
@@ -172,7 +188,8 @@ void solve_volumes(std::span<VolumeConstraint* const> slot_constraints, const Vo
     template float leak_rate<Real>(const VolumeConstraint&, const Vec4ArrayT<Real>&);                                \
     template double caps_six_volume<Real>(const std::vector<std::vector<uint32_t>>&, const Vec4ArrayT<Real>&);               \
     template void volume_gather<Real>(const VolumeLayout&, const ParticlesT<Real>&, Vec4ArrayT<Real>&, size_t, BlockSums&);  \
-    template void volume_caps<Real>(const VolumeConstraint&, const ParticlesT<Real>&, Vec4ArrayT<Real>&, VolumeSums&);       \
+    template void volume_caps<Real>(const VolumeLayout&, const VolumeConstraint&, const ParticlesT<Real>&, Vec4ArrayT<Real>&,  \
+                                    VolumeSums&);                                                                            \
     template Real volume_step<Real>(VolumeConstraint&, const VolumeSums&, bool, Real, Real);                                 \
     template void volume_apply<Real>(const VolumeLayout&, ParticlesT<Real>&, const Vec4ArrayT<Real>&, std::span<const Real>, \
                                      size_t);                                                                                \

@@ -7,6 +7,7 @@
 // particle. Pieces share no particle, so projecting them together is projecting them one after
 // another; fixed blocks make the result the same for any thread count.
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <span>
 #include <utility>
@@ -29,15 +30,36 @@ struct VolumeLayout {
     std::span<const uint32_t> piece_of_particle;
     std::span<const uint32_t> slot_of_piece;  // k_no_volume: the piece is not projected
     size_t slots = 0;
+    // VertexRings::rest_area per particle, and room for each particle's push_share (both empty:
+    // every particle moves along all of its gradient).
+    std::span<const float> rest_area;
+    std::span<const uint8_t> open_fan;  // VertexRings::open_fan, beside rest_area
+    std::span<float> share;
+    float share_of(uint32_t i) const { return share.empty() ? 1.0f : share[i]; }
     uint32_t slot_of(uint32_t i) const {
         const uint32_t p = piece_of_particle[i];
         return p < slot_of_piece.size() ? slot_of_piece[p] : k_no_volume;
     }
 };
 
+// How much of its gradient a particle is moved along: all of it, unless its fan of triangles
+// (twice their vector area, whose length is the gradient's at rest) has grown to more than
+// k_push_growth times its rest length, and then only that much. The projection's step spreads
+// the volume's error in proportion to w |g|^2 (eq. 9), so a region stretched far beyond its
+// neighbours takes ever more of it and grows faster still: a balloon with next to no stretch
+// stiffness grew spikes metres long within a second. A body inflating evenly is held everywhere
+// alike, which the step size undoes. The fan, not the gradient, is measured: a particle on a cut
+// also carries the virtual cap's term, which is as large as the cap is wide, not a stretch.
+inline constexpr float k_push_growth = 4.0f;
+template <class Real>
+float push_share(float rest_area, const Vec4<Real>& fan) {
+    const Real most = Real(k_push_growth * rest_area), f2 = fan.squaredNorm();
+    return f2 > most * most ? float(most / std::sqrt(f2)) : 1.0f;
+}
+
 struct VolumeSums {
     double eighteen_v = 0.0;  // sum of x_i . g_i = 18 V (Euler, V homogeneous of degree 3)
-    double denom = 0.0;       // sum of w_i |g_i|^2, g = gradient of 6V
+    double denom = 0.0;       // sum of w_i s_i |g_i|^2, g = gradient of 6V, s = push_share
 };
 // One block's partial sums: a block of neighbouring particles meets few pieces, so it keeps
 // (slot, sums) for those it met, in the order met, instead of an entry for every slot (a body
@@ -72,8 +94,8 @@ float leak_rate(const VolumeConstraint& c, const Vec4ArrayT<Real>& x);
 inline constexpr double k_open_area = 0.05;
 
 size_t volume_blocks(size_t particles);
-// Gradient of 6V at the particles of block `b` that a slot projects, into grad; their partial
-// sums into `sums` (cleared first).
+// Gradient of 6V at the particles of block `b` that a slot projects, into grad, and their
+// push_share into l.share; their partial sums into `sums` (cleared first).
 template <class Real>
 void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, size_t b, BlockSums& sums);
 // The blocks' sums added per slot, block by block in order (the same for any thread count).
@@ -81,11 +103,13 @@ void reduce_block_sums(std::span<const BlockSums> blocks, std::span<VolumeSums> 
 // Adds the virtual caps' terms of one constraint (serial: they are few) to grad, and to `sums`
 // what they change in that constraint's sums.
 template <class Real>
-void volume_caps(const VolumeConstraint& c, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, VolumeSums& sums);
+void volume_caps(const VolumeLayout& l, const VolumeConstraint& c, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, VolumeSums& sums);
 // The step size along the gradient; updates c.lambda in XPBD mode. 0 when nothing can move.
+// The error it answers is held to k_volume_reach of the present volume.
+inline constexpr double k_volume_reach = 0.5;
 template <class Real>
 Real volume_step(VolumeConstraint& c, const VolumeSums& total, bool xpbd, Real stiffness, Real alpha_tilde);
-// x_i += steps[slot] * w_i * g_i for the projected particles of block b.
+// x_i += steps[slot] * w_i * s_i * g_i for the projected particles of block b.
 template <class Real>
 void volume_apply(const VolumeLayout& l, ParticlesT<Real>& p, const Vec4ArrayT<Real>& grad, std::span<const Real> steps, size_t b);
 

@@ -276,7 +276,8 @@ expect("validate-scene scenes/" 0 validate-scene ${shipped})
 # No shipped scene places two models into each other (contact would keep them so) or below its ground...
 string(FIND "${last_err}" "placed into each other" crossing_at)
 string(FIND "${last_err}" "below the ground plane" below_at)
-if(NOT crossing_at EQUAL -1 OR NOT below_at EQUAL -1)
+string(FIND "${last_err}" "gravity moves a particle" coarse_at)
+if(NOT crossing_at EQUAL -1 OR NOT below_at EQUAL -1 OR NOT coarse_at EQUAL -1)
   record_failure("validate-scene scenes/: a shipped scene places a model badly:\n${last_err}")
 endif()
 # ... and one that does is told so, naming both.
@@ -287,6 +288,12 @@ expect_contains("validate-scene into_each_other" "${last_err}" "[model] (icosphe
 file(WRITE "${WORK_DIR}/below_ground.toml" "[model]\nmesh = \"icosphere:2\"\ntranslate = [0, -0.8, 0]\n[simulation]\ncolliders = [{ type = \"plane\", normal = [0, 1, 0], offset = -1.0 }]\n")
 expect("validate-scene below_ground" 0 validate-scene "${WORK_DIR}/below_ground.toml")
 expect_contains("validate-scene below_ground" "${last_err}" "[model] (icosphere:2) starts 0.8 below the ground plane")
+# ... and so is a step in which gravity alone carries a particle past half an edge (0.1 s under
+# 1000 m/s^2: 10 m a step), with the substeps that would hold it.
+file(WRITE "${WORK_DIR}/coarse_step.toml" "[model]\nmesh = \"icosphere:3\"\n[simulation]\ndt = 0.1\ngravity = [0, -1000, 0]\n")
+expect("validate-scene coarse_step" 0 validate-scene "${WORK_DIR}/coarse_step.toml")
+expect_contains("validate-scene coarse_step" "${last_err}" "gravity moves a particle 10 a step (dt / substeps = 0.1 s)")
+expect_contains("validate-scene coarse_step" "${last_err}" "set [simulation] substeps to")
 # A large body beside a small fine one is sampled at the small one's spacing (273,514 splats, 96 %
 # of them on the table): the sample budget raises h, and loading says so and where the splats
 # went, instead of leaving a coarser look or a slow scene unexplained.
