@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "core/assert.h"
 #include "core/radix_sort.h"
@@ -88,10 +89,10 @@ void update_vertex_rings(VertexRings& rings, std::span<const mesh::Triangle> tri
     }
 }
 
-void set_rest_ring_areas(VertexRings& rings, std::span<const Vec3f> rest, std::span<const uint32_t> vertices) {
+void update_rest_ring_areas(VertexRings& rings, std::span<const Vec3f> rest, std::span<const uint32_t> vertices) {
     rings.rest_area.resize(rings.size(), 0.0f);
     rings.open_fan.resize(rings.size(), 0);
-    auto set = [&](uint32_t i) {
+    for (uint32_t i : vertices) {
         Vec3f acc = Vec3f::Zero();
         const auto ring = rings.ring.of(i);
         bool open = false;
@@ -102,14 +103,17 @@ void set_rest_ring_areas(VertexRings& rings, std::span<const Vec3f> rest, std::s
             // Closed: every neighbour that starts a triangle's pair ends another's.
             open = open || std::none_of(ring.begin(), ring.end(), [&](const auto& q) { return q[1] == r[0]; });
         }
-        // A fan of slivers at rest (a vertex a cut put near an edge's end) counts as the square of
-        // its longest edge: it is no stretched region when it opens up.
+        // A fan of slivers at rest (a vertex a cut put near an edge's end) counts as a quarter of
+        // its longest edge squared: it is no stretched region when it opens up.
         rings.rest_area[i] = std::max(acc.norm(), 0.25f * longest2);
         rings.open_fan[i] = open;
-    };
-    if (vertices.empty())
-        for (uint32_t i = 0; i < rings.size(); ++i) set(i);
-    for (uint32_t i : vertices) set(i);
+    }
+}
+
+void set_rest_ring_areas(VertexRings& rings, std::span<const Vec3f> rest) {
+    std::vector<uint32_t> all(rings.size());
+    std::iota(all.begin(), all.end(), 0u);
+    update_rest_ring_areas(rings, rest, all);
 }
 
 void update_normals(const VertexRings& rings, const Vec4Array& x, std::vector<Vec3f>& normals, size_t begin, size_t end) {

@@ -24,11 +24,11 @@ void update_velocities(ParticlesT<Real>& p, Real dt, size_t begin, size_t end);
 struct VertexRings {
     SlackLists<std::array<uint32_t, 2>> ring;
     SlackLists<uint32_t> triangles;
-    // Per vertex, twice its ring's vector area at rest (the length of the volume gradient there
-    // when the body is at rest), at least its longest edge squared: the volume pass holds each
-    // particle's push to a few times it.
-    // Empty until set_rest_ring_areas is called. open_fan: 1 where the ring does not close (a
-    // vertex on a boundary), whose gradient depends on where the origin is.
+    // Per vertex, twice its fan's vector area at rest (the length of the volume gradient there
+    // when the body is at rest), at least a quarter of its longest edge squared: the volume pass
+    // holds each particle's push to a few times it. open_fan: 1 where the fan does not close (a
+    // vertex on a boundary), whose gradient depends on where the origin is. Both empty until
+    // set_rest_ring_areas is called.
     std::vector<float> rest_area;
     std::vector<uint8_t> open_fan;
     size_t size() const { return ring.keys(); }
@@ -40,8 +40,10 @@ VertexRings build_vertex_rings(std::span<const mesh::Triangle> triangles, size_t
 void update_vertex_rings(VertexRings& rings, std::span<const mesh::Triangle> triangles, size_t vertex_count,
                          std::span<const uint32_t> vertices, std::span<const uint32_t> extra);
 
-// rings.rest_area of `vertices` (all of them when empty), from the rest positions.
-void set_rest_ring_areas(VertexRings& rings, std::span<const Vec3f> rest, std::span<const uint32_t> vertices = {});
+// rings.rest_area and rings.open_fan of every vertex, from the rest positions; after an edit,
+// of the edited `vertices` only.
+void set_rest_ring_areas(VertexRings& rings, std::span<const Vec3f> rest);
+void update_rest_ring_areas(VertexRings& rings, std::span<const Vec3f> rest, std::span<const uint32_t> vertices);
 
 // Whether edge (a, b) of triangle t lies on the boundary: no other triangle has both ends.
 // Costs a's ring.

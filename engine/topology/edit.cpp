@@ -207,7 +207,7 @@ void Edit::update_rings() {
     for (uint32_t t : local_triangles_) region.insert(region.end(), b_.triangles[t].begin(), b_.triangles[t].end());
     core::radix_sort_unique(region);
     sim::update_vertex_rings(b_.rings, b_.triangles, b_.particle_count(), region, local_triangles_);
-    if (!b_.rings.rest_area.empty()) sim::set_rest_ring_areas(b_.rings, b_.rest_positions, region);
+    if (!b_.rings.rest_area.empty()) sim::update_rest_ring_areas(b_.rings, b_.rest_positions, region);
     region_ = std::move(region);
     b_.normals.resize(b_.particle_count(), Vec3f(0.0f, 1.0f, 0.0f));
 }
