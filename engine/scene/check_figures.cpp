@@ -19,6 +19,8 @@ const std::vector<FigureOf>& figure_table() {
         {{"shape_error_max", "the worst piece's shape error, any frame"}, [](const CheckReport& r) { return r.shape_error_max; }},
         {{"shape_error_before_topology", "the same before the first cut or tear"},
          [](const CheckReport& r) { return r.shape_error_before_topology; }},
+        {{"stretch_max", "the longest edge over its rest length (or the mean rest edge, if longer), the most: a spike or sheet shot out of the body"},
+         [](const CheckReport& r) { return r.stretch_max; }},
         {{"strays_max", "splats floating away from the surface, the most in a frame"},
          [](const CheckReport& r) { return double(r.strays_max); }},
         {{"hole_ratio_max", "share of the surface's pixels the splats leave open"}, [](const CheckReport& r) { return r.hole_ratio_max; }, true},

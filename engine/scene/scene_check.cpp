@@ -52,6 +52,7 @@ void sample_body_and_splats(const SceneRuntime& rt, double load_volume, CheckSam
     const sim::Crossings crossings = sim::surface_crossings(rt.body());
     s.crossing_ratio = crossings.ratio, s.self_crossings = crossings.self_pairs;
     s.shape_error = shape.max_error;
+    s.stretch = sim::edge_stretch_max(rt.body());
     s.pieces = shape.pieces.size();
     const sim::PoseReport pose = sim::pose_report(rt.body());
     s.tilt_degrees = pose.tilt_max_degrees;
@@ -179,6 +180,7 @@ void summarise(CheckReport& report, std::vector<double> stage_a) {
         report.shape_error_max = std::max(report.shape_error_max, s.shape_error);
         if (s.cuts == 0 && s.tears == 0) report.shape_error_before_topology = std::max(report.shape_error_before_topology, s.shape_error);
         report.strays_max = std::max(report.strays_max, s.strays);
+        report.stretch_max = std::max(report.stretch_max, s.stretch);
         report.gaussians_max = std::max(report.gaussians_max, s.gaussians);
         report.volume_error_max = std::max(report.volume_error_max, s.volume_error);
         report.penetration_max = std::max(report.penetration_max, s.penetration);

@@ -29,6 +29,7 @@ struct CheckSample {
     float time = 0.0f;
     size_t cuts = 0, tears = 0;
     double shape_error = 0.0;  // the worst piece
+    double stretch = 0.0;      // the longest edge over its rest length (sim::edge_stretch_max)
     size_t strays = 0;
     double hole_ratio = -1.0, iou = -1.0, speck_ratio = -1.0;  // -1: not measured (no GPU)
     double thin_ratio = -1.0;     // passes::Coverage::thin_ratio; -1 as above
@@ -70,6 +71,7 @@ struct CheckReport {
     std::vector<CheckSample> samples;
     double shape_error_max = 0.0;
     double shape_error_before_topology = 0.0;  // worst before the first cut or tear
+    double stretch_max = 0.0;                  // the most any edge was stretched (CheckSample::stretch)
     size_t strays_max = 0;
     double hole_ratio_max = -1.0, iou_min = -1.0, speck_ratio_max = -1.0, shading_error_max = -1.0, color_error_max = -1.0;
     double edge_excess_max = -1.0;

@@ -55,4 +55,21 @@ ShapeReport shape_report(const SoftBody& body, size_t min_particles) {
     return out;
 }
 
+double edge_stretch_max(const SoftBody& body) {
+    double rest_sum = 0.0;
+    size_t live = 0;
+    for (const DistanceConstraint& c : body.distance)
+        if (c.alive()) rest_sum += double(c.rest), ++live;
+    if (live == 0 || !(rest_sum > 0.0)) return 0.0;
+    // A sliver's edge, a hundredth of the mean, grown to a mean edge is no spike.
+    const double mean_rest = rest_sum / double(live);
+    double most = 0.0;
+    for (const DistanceConstraint& c : body.distance) {
+        if (!c.alive()) continue;
+        const double length = double((xyz(body.particles.x[c.i]) - xyz(body.particles.x[c.j])).norm());
+        most = std::max(most, length / std::max(double(c.rest), mean_rest));
+    }
+    return most;
+}
+
 } // namespace pbdsplat::sim

@@ -25,4 +25,11 @@ struct ShapeReport {
 // a handful of particles has no shape to keep.
 ShapeReport shape_report(const SoftBody& body, size_t min_particles = 8);
 
+// The most any edge is stretched: its present length over its rest length, over the live distance
+// constraints, a rest length under the mean taken as the mean (at most 1 for a body at rest; about
+// 1.6 for a balloon blown to four times its volume). A surface gone wrong (a sheet or spike shot
+// out of a body) reads here when its splats still lie on it and count as no strays. 0 for a body
+// without edges.
+double edge_stretch_max(const SoftBody& body);
+
 } // namespace pbdsplat::sim

@@ -69,6 +69,8 @@ void SolverT<Real>::begin_substep(SoftBodyT<Real>& body, const SolverSettings& s
     PBDSPLAT_ASSERT(body.rings.size() == p.size() && body.distance_lambda.size() == body.distance.size(),
                     "particles or triangles changed without rebuild_derived(body)");
     for_range(p.size(), k_particle_grain, [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, s.damping, h, b, e); });
+    if (!body.volumes.empty()) slots_.w_most = volume_weight_most<Real>(std::span<const Real>(p.w));
+    slots_.pressed.clear();  // find_contacts fills it where contact runs
     for (VolumeConstraint& v : body.volumes)
         if (v.leak > 0.0f)
             v.pressure = VolumeConstraint::k_emptied + (v.pressure - VolumeConstraint::k_emptied) * std::exp(-leak_rate(v, p.x) * float(h));
@@ -113,7 +115,7 @@ void SolverT<Real>::project_volume(SoftBodyT<Real>& body, const SolverSettings& 
     });
     totals_.resize(slots);
     reduce_block_sums(sums_, totals_);
-    steps_.resize(slots);
+    steps_.resize(slots), shifts_.resize(slots);
     for (size_t slot = 0; slot < slots; ++slot) {
         VolumeConstraint& v = *slots_.constraints[slot];
         VolumeSums& total = totals_[slot];
@@ -121,11 +123,13 @@ void SolverT<Real>::project_volume(SoftBodyT<Real>& body, const SolverSettings& 
         v.measured_six_v = total.eighteen_v / 3.0;  // before the caps: 3 x (6V of the triangles)
         volume_caps<Real>(l, v, p, scratch_, caps);
         v.measured_caps_six_v = caps.eighteen_v / 3.0;  // the caps' own 6V (their correction is 3 x that)
-        total.eighteen_v += caps.eighteen_v, total.denom += caps.denom;
+        total.add(caps);
         steps_[slot] = volume_step<Real>(v, total, xpbd, k, Real(v.compliance) * inv_h2);
+        const bool pressed = v.piece < slots_.pressed.size() && slots_.pressed[v.piece];
+        shifts_[slot] = pressed ? Vec4<Real>::Zero() : volume_shift<Real>(total, steps_[slot]);
     }
     for_range(blocks, 2, [&](size_t b, size_t e) {
-        for (size_t q = b; q < e; ++q) volume_apply<Real>(l, p, scratch_, steps_, q);
+        for (size_t q = b; q < e; ++q) volume_apply<Real>(l, p, scratch_, steps_, shifts_, q);
     });
 }
 
@@ -156,6 +160,11 @@ void SolverT<Real>::collide(BodyStateT<Real>& state, const Colliders& colliders)
 template <class Real>
 void SolverT<Real>::find_contacts(SoftBodyT<Real>& body, const SolverSettings& s) {
     contact_.find(body, s.contact);
+    // The pieces that meet another: the volume pass leaves their net impulse where it falls.
+    pressed_pairs_.clear();
+    contact_.touching_pieces(body, pressed_pairs_);
+    slots_.pressed.assign(body.pieces, 0);
+    for (const auto& [a, b] : pressed_pairs_) slots_.pressed[a] = slots_.pressed[b] = 1;
 }
 
 template <class Real>

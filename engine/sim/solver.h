@@ -105,6 +105,8 @@ private:
     std::vector<BlockSums> sums_;     // per block
     std::vector<VolumeSums> totals_;  // per slot
     std::vector<Real> steps_;       // per slot
+    std::vector<Vec4<Real>> shifts_;  // per slot: volume_shift
+    std::vector<std::pair<uint32_t, uint32_t>> pressed_pairs_;  // find_contacts' touching pieces
     VolumeSlots slots_;
     ContactSolverT<Real> contact_;  // this substep's candidates
     std::vector<std::pair<uint32_t, uint32_t>> touching_;  // pieces in contact, for sleep

@@ -46,7 +46,24 @@ float leak_rate(const VolumeConstraint& c, const Vec4ArrayT<Real>& x) {
     return c.leak * float(std::min(1.0, share));
 }
 
+template <class Real>
+float volume_weight_most(std::span<const Real> w) {
+    double mass = 0.0;
+    size_t moving = 0;
+    for (const Real wi : w)
+        if (wi > Real(0)) mass += 1.0 / double(wi), ++moving;
+    return moving ? float(double(k_volume_lightest) * double(moving) / mass) : INFINITY;
+}
+
 size_t volume_blocks(size_t particles) { return (particles + k_volume_block - 1) / k_volume_block; }
+
+namespace {
+// One moving particle's terms of VolumeSums::push and mass.
+void add_moments(VolumeSums& sums, const Vec3d& g, double w, double moved) {
+    sums.mass += 1.0 / w;
+    if (moved != w) sums.push += (moved / w - 1.0) * g;
+}
+} // namespace
 
 template <class Real>
 void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, size_t b, BlockSums& sums) {
@@ -61,13 +78,13 @@ void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<
     // additions happen in the same order as before, so the sums are the same to the bit.
     uint32_t slot = k_no_volume;
     size_t at = 0;
-    double eighteen_v = 0.0, denom = 0.0;
+    VolumeSums run;
     auto switch_to = [&](uint32_t next) {
-        if (slot != k_no_volume) sums[at].second = {eighteen_v, denom};
+        if (slot != k_no_volume) sums[at].second = run;
         at = 0;
         while (at < sums.size() && sums[at].first != next) ++at;
         if (at == sums.size()) sums.push_back({next, VolumeSums{}});
-        slot = next, eighteen_v = sums[at].second.eighteen_v, denom = sums[at].second.denom;
+        slot = next, run = sums[at].second;
     };
     const size_t end = std::min(p.size(), (b + 1) * k_volume_block);
     for (size_t i = b * k_volume_block; i < end; ++i) {
@@ -77,7 +94,7 @@ void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<
         const auto ring = l.ring->of(uint32_t(i));
         const Vec4<Real> g = sum_of_cross3<Real>(ring, [x](uint32_t k) -> const Vec4<Real>& { return x[k]; });
         grad[i] = g;
-        eighteen_v += double(x[i].dot(g));
+        run.eighteen_v += double(x[i].dot(g));
         float share = 1.0f;
         if (!l.share.empty()) {
             // The fan's own vector area: g, less for an open fan what it owes to where the origin is.
@@ -89,15 +106,17 @@ void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<
             }
             l.share[i] = share = push_share<Real>(l.rest_area[i], fan);
         }
-        denom += double(w[i] * Real(share)) * double(g.squaredNorm());
+        const Real moved = l.weight(w[i]) * Real(share);
+        run.denom += double(moved) * double(g.squaredNorm());
+        if (w[i] > Real(0)) add_moments(run, xyz(g).template cast<double>(), double(w[i]), double(moved));
     }
-    if (slot != k_no_volume) sums[at].second = {eighteen_v, denom};
+    if (slot != k_no_volume) sums[at].second = run;
 }
 
 void reduce_block_sums(std::span<const BlockSums> blocks, std::span<VolumeSums> totals) {
     std::fill(totals.begin(), totals.end(), VolumeSums{});
     for (const BlockSums& block : blocks)
-        for (const auto& [slot, s] : block) totals[slot].eighteen_v += s.eighteen_v, totals[slot].denom += s.denom;
+        for (const auto& [slot, s] : block) totals[slot].add(s);
 }
 
 template <class Real>
@@ -112,8 +131,10 @@ void volume_caps(const VolumeLayout& l, const VolumeConstraint& c, const Particl
     auto add_sums = [&](double sign) {
         for (const auto& loop : c.cap_loops)
             for (uint32_t i : loop) {
+                const Real w = p.w[i], moved = l.weight(w) * Real(l.share_of(i));
                 sums.eighteen_v += sign * double(x[i].dot(grad[i]));
-                sums.denom += sign * double(p.w[i] * Real(l.share_of(i))) * double(grad[i].squaredNorm());
+                sums.denom += sign * double(moved) * double(grad[i].squaredNorm());
+                if (w > Real(0) && moved != w) sums.push += sign * (double(moved) / double(w) - 1.0) * xyz(grad[i]).template cast<double>();
             }
     };
     add_sums(-1.0);
@@ -153,11 +174,20 @@ Real volume_step(VolumeConstraint& c, const VolumeSums& total, bool xpbd, Real s
 }
 
 template <class Real>
-void volume_apply(const VolumeLayout& l, ParticlesT<Real>& p, const Vec4ArrayT<Real>& grad, std::span<const Real> steps, size_t b) {
+Vec4<Real> volume_shift(const VolumeSums& total, Real step) {
+    if (total.push.isZero(0.0) || !(total.mass > 0.0)) return Vec4<Real>::Zero();
+    const Vec3d shift = (-double(step) / total.mass) * total.push;
+    return Vec4<Real>(Real(shift.x()), Real(shift.y()), Real(shift.z()), Real(0));
+}
+
+template <class Real>
+void volume_apply(const VolumeLayout& l, ParticlesT<Real>& p, const Vec4ArrayT<Real>& grad, std::span<const Real> steps,
+                  std::span<const Vec4<Real>> shifts, size_t b) {
     const size_t end = std::min(p.size(), (b + 1) * k_volume_block);
     for (size_t i = b * k_volume_block; i < end; ++i) {
         const uint32_t s = l.slot_of(uint32_t(i));
-        if (s != k_no_volume) p.x[i] += (steps[s] * p.w[i] * Real(l.share_of(uint32_t(i)))) * grad[i];
+        if (s == k_no_volume || !(p.w[i] > Real(0))) continue;
+        p.x[i] += (steps[s] * l.weight(p.w[i]) * Real(l.share_of(uint32_t(i)))) * grad[i] + shifts[s];
     }
 }
 
@@ -170,29 +200,33 @@ void solve_volumes(std::span<VolumeConstraint* const> slot_constraints, const Vo
     std::vector<VolumeSums> totals(slots);
     reduce_block_sums(sums, totals);
     std::vector<Real> steps(slots);
+    std::vector<Vec4<Real>> shifts(slots);
     for (size_t s = 0; s < slots; ++s) {
         VolumeSums caps;
         slot_constraints[s]->measured_six_v = totals[s].eighteen_v / 3.0;
         volume_caps<Real>(l, *slot_constraints[s], p, scratch, caps);
         slot_constraints[s]->measured_caps_six_v = caps.eighteen_v / 3.0;
-        totals[s].eighteen_v += caps.eighteen_v, totals[s].denom += caps.denom;
+        totals[s].add(caps);
         steps[s] = volume_step<Real>(*slot_constraints[s], totals[s], xpbd, stiffness, Real(slot_constraints[s]->compliance) * inv_h2);
+        shifts[s] = volume_shift<Real>(totals[s], steps[s]);
     }
-    for (size_t b = 0; b < blocks; ++b) volume_apply<Real>(l, p, scratch, steps, b);
+    for (size_t b = 0; b < blocks; ++b) volume_apply<Real>(l, p, scratch, steps, shifts, b);
 }
 
 #define PBDSPLAT_INSTANTIATE(Real)                                                                                          \
     template double triangles_six_volume<Real>(std::span<const mesh::Triangle>, std::span<const uint32_t>, uint32_t,         \
                                                const Vec4ArrayT<Real>&);                                                    \
     template double cap_six_volume<Real>(std::span<const uint32_t>, const Vec4ArrayT<Real>&);                                \
+    template float volume_weight_most<Real>(std::span<const Real>);                                                       \
     template float leak_rate<Real>(const VolumeConstraint&, const Vec4ArrayT<Real>&);                                \
     template double caps_six_volume<Real>(const std::vector<std::vector<uint32_t>>&, const Vec4ArrayT<Real>&);               \
     template void volume_gather<Real>(const VolumeLayout&, const ParticlesT<Real>&, Vec4ArrayT<Real>&, size_t, BlockSums&);  \
     template void volume_caps<Real>(const VolumeLayout&, const VolumeConstraint&, const ParticlesT<Real>&, Vec4ArrayT<Real>&,  \
                                     VolumeSums&);                                                                            \
     template Real volume_step<Real>(VolumeConstraint&, const VolumeSums&, bool, Real, Real);                                 \
+    template Vec4<Real> volume_shift<Real>(const VolumeSums&, Real);                                                            \
     template void volume_apply<Real>(const VolumeLayout&, ParticlesT<Real>&, const Vec4ArrayT<Real>&, std::span<const Real>, \
-                                     size_t);                                                                                \
+                                     std::span<const Vec4<Real>>, size_t);                                                   \
     template void solve_volumes<Real>(std::span<VolumeConstraint* const>, const VolumeLayout&, ParticlesT<Real>&,           \
                                       Vec4ArrayT<Real>&, bool, Real, Real);
 PBDSPLAT_INSTANTIATE(float)

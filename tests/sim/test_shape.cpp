@@ -40,6 +40,32 @@ TEST_SUITE("sim/shape") {
         CHECK(sim::shape_report(b).max_error > 0.05);  // a squash to half height: far past a rigid motions 1e-6
     }
 
+    TEST_CASE("edge stretch: 1 at rest and under a rigid motion, the ratio of a pulled particle's edges") {
+        auto body = sim::make_soft_body(mesh::icosphere(3), {});
+        REQUIRE(body.ok());
+        sim::SoftBody b = std::move(body.value());
+        CHECK(sim::edge_stretch_max(b) == doctest::Approx(1.0).epsilon(1e-5));
+        const Mat3f r = Eigen::AngleAxisf(0.7f, Vec3f(0, 1, 1).normalized()).toRotationMatrix();
+        for (auto& x : b.particles.x) x = sim::to4(r * sim::xyz(x) + Vec3f(1, 2, 3));
+        CHECK(sim::edge_stretch_max(b) == doctest::Approx(1.0).epsilon(1e-5));
+        // The whole body blown up twice about its centre reads 2.
+        const auto rest = b.particles.x;
+        for (auto& x : b.particles.x) x = sim::to4(Vec3f(1, 2, 3) + 2.0f * (sim::xyz(x) - Vec3f(1, 2, 3)));
+        CHECK(sim::edge_stretch_max(b) == doctest::Approx(2.0).epsilon(1e-4));
+        b.particles.x = rest;
+        // One particle pulled out along its own direction from the centre: its edges, nearly
+        // perpendicular to the pull at rest, grow to about the pull's length.
+        const Vec3f centre = Vec3f(1, 2, 3);
+        const Vec3f out = (sim::xyz(b.particles.x[0]) - centre).normalized();
+        float rest_edge = 0.0f;
+        for (const auto& c : b.distance)
+            if (c.i == 0 || c.j == 0) rest_edge = std::max(rest_edge, c.rest);
+        b.particles.x[0] = sim::to4(sim::xyz(b.particles.x[0]) + out * (10.0f * rest_edge));
+        const double stretch = sim::edge_stretch_max(b);
+        CHECK(stretch > 9.0);   // sqrt(10^2 + ~1) over rest, a rest edge at most the mean: about 10
+        CHECK(stretch < 11.5);  // and not more: the other edges stay at 1
+    }
+
     TEST_CASE("a body resting on the ground keeps its shape with shape matching, and sags without") {
         // No volume constraint either: shape matching alone must hold the shell up.
         const double sagged = resting_shape_error(0.0f, false, 2.0f);

@@ -42,7 +42,8 @@ int cmd_check(const std::vector<std::string>& argv) {
                   flag("no-gpu", "skip the coverage images (shape, strays, pieces and volume only)"),
                   text("images", "DIR", "", "write each measured frame's splat image and lit mesh as PNG into DIR")
                       .default_from("none"),
-                  save_scene_option(), json_option("one JSON object: shape_error_max, strays_max, hole_ratio_max, thin_ratio_max, iou_min,\n"
+                  save_scene_option(), json_option("one JSON object: shape_error_max, stretch_max (the longest edge over its rest\n"
+                              "length), strays_max, hole_ratio_max, thin_ratio_max, iou_min,\n"
                               "speck_ratio_max, shading_error_max, color_error_max, pieces, volume_error_max, penetration_max\n"
                               "(the deepest particle inside another piece, over h), crossing_ratio_max (the share of triangles\n"
                               "passing through another), tilt_max,\n"
@@ -94,7 +95,7 @@ int cmd_check(const std::vector<std::string>& argv) {
         nlohmann::json samples = nlohmann::json::array();
         for (const scene::CheckSample& s : r.samples)
             samples.push_back({{"frame", s.frame}, {"time", s.time}, {"cuts", s.cuts}, {"tears", s.tears},
-                               {"shape_error", s.shape_error}, {"strays", s.strays}, {"hole_ratio", s.hole_ratio}, {"thin_ratio", s.thin_ratio},
+                               {"shape_error", s.shape_error}, {"stretch", s.stretch}, {"strays", s.strays}, {"hole_ratio", s.hole_ratio}, {"thin_ratio", s.thin_ratio},
                                {"iou", s.iou}, {"speck_ratio", s.speck_ratio}, {"shading_error", s.shading_error}, {"color_error", s.color_error}, {"edge_excess", s.edge_excess}, {"spacing_within", s.spacing_within}, {"spacing_within_3d", s.spacing_within_3d}, {"spacing_p05", s.spacing_p05}, {"spacing_p95", s.spacing_p95}, {"area_ratio", s.area_ratio}, {"pieces", s.pieces}, {"particles", s.particles},
                                {"gaussians", s.gaussians}, {"volume_error", s.volume_error}, {"penetration", s.penetration},
                                {"crossing_ratio", s.crossing_ratio}, {"self_crossings", s.self_crossings},
@@ -106,6 +107,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                                   {"shape_error_max", r.shape_error_max},
                                   {"shape_error_before_topology", r.shape_error_before_topology},
                                   {"strays_max", r.strays_max},
+                                  {"stretch_max", r.stretch_max},
                                   {"hole_ratio_max", r.hole_ratio_max},
                                   {"thin_ratio_max", r.thin_ratio_max},
                                   {"iou_min", r.iou_min},
@@ -156,7 +158,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                     s.time, s.cuts, s.tears, s.shape_error, s.strays, percent(s.hole_ratio), s.iou, percent(s.speck_ratio),
                     s.shading_error, s.spacing_within, s.pieces, s.volume_error, s.area_ratio, s.penetration,
                     s.tilt_degrees, s.height_ratio, s.smallest_piece_triangles);
-    std::printf("worst: shape %.4f (%.4f before any cut or tear), strays %zu, holes %.3f %%, IoU %.3f, specks %.3f %%,\n"
+    std::printf("worst: shape %.4f (%.4f before any cut or tear), edges stretched %.2fx, strays %zu, holes %.3f %%, IoU %.3f, specks %.3f %%,\n"
                 "       shading error %.4f, colour error %.4f,\n"
                 "       spacing within [0.7 h, 1.4 h] %.3f along the surface, %.3f in space; %zu pieces at the end;\n"
                 "       %zu particles, %zu Gaussians; Stage A %.3f ms a frame (median); penetration %.3f h;\n"
@@ -164,7 +166,7 @@ int cmd_check(const std::vector<std::string>& argv) {
                 "       tilt %.1f degrees, height %.3f of rest; %zu tears; smallest piece %zu triangles;\n"
                 "       volume %.3f of load at least; 2 s after the first tear: openings %.2fx, volume %.3f;\n"
                 "       a pull stretched what it held %.2fx before tearing; at the end the free particles move %.3f m/s\n",
-                r.shape_error_max, r.shape_error_before_topology, r.strays_max, percent(r.hole_ratio_max), r.iou_min,
+                r.shape_error_max, r.shape_error_before_topology, r.stretch_max, r.strays_max, percent(r.hole_ratio_max), r.iou_min,
                 percent(r.speck_ratio_max), r.shading_error_max, r.color_error_max, r.spacing_within_min, r.spacing_within_3d_min, r.pieces, r.particles, r.gaussians, r.stage_a_ms, r.penetration_max, percent(r.crossing_ratio_max),
                 r.tilt_max, r.height_ratio_min, r.tears, r.smallest_piece_min, r.volume_ratio_min, r.rip_growth, r.burst_volume_ratio, r.pull_stretch, r.speed_rms_end);
     if (!expect.empty()) std::printf("what the scene's [expect] table claims:\n");
