@@ -58,10 +58,10 @@ float volume_weight_most(std::span<const Real> w) {
 size_t volume_blocks(size_t particles) { return (particles + k_volume_block - 1) / k_volume_block; }
 
 namespace {
-// One moving particle's terms of VolumeSums::push and mass.
-void add_moments(VolumeSums& sums, const Vec3d& g, double w, double moved) {
-    sums.mass += 1.0 / w;
-    if (moved != w) sums.push += (moved / w - 1.0) * g;
+// A moving particle's term of VolumeSums::push: (f - 1) g for a move scaled by f = moved / w.
+template <class Real>
+Vec3d unpaid_impulse(Real w, Real moved, const Vec4<Real>& g) {
+    return moved == w ? Vec3d::Zero() : ((double(moved) / double(w) - 1.0) * xyz(g).template cast<double>()).eval();
 }
 } // namespace
 
@@ -108,7 +108,7 @@ void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<
         }
         const Real moved = l.weight(w[i]) * Real(share);
         run.denom += double(moved) * double(g.squaredNorm());
-        if (w[i] > Real(0)) add_moments(run, xyz(g).template cast<double>(), double(w[i]), double(moved));
+        if (w[i] > Real(0)) run.mass += 1.0 / double(w[i]), run.push += unpaid_impulse<Real>(w[i], moved, g);
     }
     if (slot != k_no_volume) sums[at].second = run;
 }
@@ -134,7 +134,7 @@ void volume_caps(const VolumeLayout& l, const VolumeConstraint& c, const Particl
                 const Real w = p.w[i], moved = l.weight(w) * Real(l.share_of(i));
                 sums.eighteen_v += sign * double(x[i].dot(grad[i]));
                 sums.denom += sign * double(moved) * double(grad[i].squaredNorm());
-                if (w > Real(0) && moved != w) sums.push += sign * (double(moved) / double(w) - 1.0) * xyz(grad[i]).template cast<double>();
+                if (w > Real(0)) sums.push += sign * unpaid_impulse<Real>(w, moved, grad[i]);
             }
     };
     add_sums(-1.0);
