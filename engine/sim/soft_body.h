@@ -127,6 +127,10 @@ struct VolumeSlots {
     // came back as volume error: Suzanne's two cut halves pressed together until their edges
     // stretched four times and they flew apart at 10 m/s.
     std::vector<uint8_t> pressed;
+    // Per slot: its MassMoments, summed at most once a substep (at the first projection that
+    // scales its moves); `moments_ready` is cleared with each substep.
+    std::vector<MassMoments> moments;
+    std::vector<uint8_t> moments_ready;
 };
 template <class Real>
 VolumeLayout volume_layout(SoftBodyT<Real>& b, VolumeSlots& slots) {

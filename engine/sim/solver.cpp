@@ -71,6 +71,7 @@ void SolverT<Real>::begin_substep(SoftBodyT<Real>& body, const SolverSettings& s
     for_range(p.size(), k_particle_grain, [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, s.damping, h, b, e); });
     if (!body.volumes.empty()) slots_.w_most = volume_weight_most<Real>(std::span<const Real>(p.w));
     slots_.pressed.clear();  // find_contacts fills it where contact runs
+    slots_.moments_ready.clear();
     for (VolumeConstraint& v : body.volumes)
         if (v.leak > 0.0f)
             v.pressure = VolumeConstraint::k_emptied + (v.pressure - VolumeConstraint::k_emptied) * std::exp(-leak_rate(v, p.x) * float(h));
@@ -115,7 +116,7 @@ void SolverT<Real>::project_volume(SoftBodyT<Real>& body, const SolverSettings& 
     });
     totals_.resize(slots);
     reduce_block_sums(sums_, totals_);
-    steps_.resize(slots), shifts_.resize(slots);
+    steps_.resize(slots), nudges_.resize(slots);
     for (size_t slot = 0; slot < slots; ++slot) {
         VolumeConstraint& v = *slots_.constraints[slot];
         VolumeSums& total = totals_[slot];
@@ -125,12 +126,38 @@ void SolverT<Real>::project_volume(SoftBodyT<Real>& body, const SolverSettings& 
         v.measured_caps_six_v = caps.eighteen_v / 3.0;  // the caps' own 6V (their correction is 3 x that)
         total.add(caps);
         steps_[slot] = volume_step<Real>(v, total, xpbd, k, Real(v.compliance) * inv_h2);
-        const bool pressed = v.piece < slots_.pressed.size() && slots_.pressed[v.piece];
-        shifts_[slot] = pressed ? Vec4<Real>::Zero() : volume_shift<Real>(total, steps_[slot]);
     }
+    rigid_nudges(body, l);
     for_range(blocks, 2, [&](size_t b, size_t e) {
-        for (size_t q = b; q < e; ++q) volume_apply<Real>(l, p, scratch_, steps_, shifts_, q);
+        for (size_t q = b; q < e; ++q) volume_apply<Real>(l, p, scratch_, steps_, nudges_, q);
     });
+}
+
+template <class Real>
+void SolverT<Real>::rigid_nudges(const SoftBodyT<Real>& body, const VolumeLayout& l) {
+    const size_t slots = l.slots, blocks = volume_blocks(body.particles.size());
+    slots_.moments.resize(slots), slots_.moments_ready.resize(slots, 0), wanted_.assign(slots, 0);
+    bool any = false;
+    for (size_t slot = 0; slot < slots; ++slot) {
+        const uint32_t piece = slots_.constraints[slot]->piece;
+        const bool pressed = piece < slots_.pressed.size() && slots_.pressed[piece];
+        nudges_[slot] = RigidNudge<Real>{};
+        if (!pressed && totals_[slot].unbalanced() && !slots_.moments_ready[slot]) wanted_[slot] = 1, any = true;
+    }
+    if (any) {
+        moment_blocks_.resize(blocks), moments_.resize(slots);
+        for_range(blocks, 2, [&](size_t b, size_t e) {
+            for (size_t q = b; q < e; ++q) volume_moments<Real>(l, body.particles, wanted_, q, moment_blocks_[q]);
+        });
+        reduce_block_moments(moment_blocks_, moments_);
+        for (size_t slot = 0; slot < slots; ++slot)
+            if (wanted_[slot]) slots_.moments[slot] = moments_[slot], slots_.moments_ready[slot] = 1;
+    }
+    for (size_t slot = 0; slot < slots; ++slot) {
+        const uint32_t piece = slots_.constraints[slot]->piece;
+        const bool pressed = piece < slots_.pressed.size() && slots_.pressed[piece];
+        if (!pressed && slots_.moments_ready[slot]) nudges_[slot] = volume_shift<Real>(totals_[slot], slots_.moments[slot], steps_[slot]);
+    }
 }
 
 template <class Real>

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <Eigen/Eigenvalues>
+
 #include "sim/vec4_ops.h"
 
 namespace pbdsplat::sim {
@@ -58,10 +60,13 @@ float volume_weight_most(std::span<const Real> w) {
 size_t volume_blocks(size_t particles) { return (particles + k_volume_block - 1) / k_volume_block; }
 
 namespace {
-// A moving particle's term of VolumeSums::push: (f - 1) g for a move scaled by f = moved / w.
+// A moving particle's terms of VolumeSums::push and turn: (f - 1) g and its moment, for a move
+// scaled by f = moved / w; `sign` -1 takes them out again.
 template <class Real>
-Vec3d unpaid_impulse(Real w, Real moved, const Vec4<Real>& g) {
-    return moved == w ? Vec3d::Zero() : ((double(moved) / double(w) - 1.0) * xyz(g).template cast<double>()).eval();
+void add_unpaid(VolumeSums& sums, double sign, Real w, Real moved, const Vec4<Real>& x, const Vec4<Real>& g) {
+    if (moved == w) return;
+    const Vec3d unpaid = (sign * (double(moved) / double(w) - 1.0)) * xyz(g).template cast<double>();
+    sums.push += unpaid, sums.turn += xyz(x).template cast<double>().cross(unpaid);
 }
 } // namespace
 
@@ -108,9 +113,35 @@ void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<
         }
         const Real moved = l.weight(w[i]) * Real(share);
         run.denom += double(moved) * double(g.squaredNorm());
-        if (w[i] > Real(0)) run.mass += 1.0 / double(w[i]), run.push += unpaid_impulse<Real>(w[i], moved, g);
+        if (w[i] > Real(0)) add_unpaid<Real>(run, 1.0, w[i], moved, x[i], g);
     }
     if (slot != k_no_volume) sums[at].second = run;
+}
+
+template <class Real>
+void volume_moments(const VolumeLayout& l, const ParticlesT<Real>& p, std::span<const uint8_t> wanted, size_t b, BlockMoments& out) {
+    out.clear();
+    uint32_t slot = k_no_volume;
+    MassMoments* m = nullptr;
+    const size_t end = std::min(p.size(), (b + 1) * k_volume_block);
+    for (size_t i = b * k_volume_block; i < end; ++i) {
+        const uint32_t s = l.slot_of(uint32_t(i));
+        if (s == k_no_volume || !wanted[s] || !(p.w[i] > Real(0))) continue;
+        if (s != slot) {
+            auto it = std::find_if(out.begin(), out.end(), [s](const auto& e) { return e.first == s; });
+            if (it == out.end()) it = out.insert(out.end(), {s, MassMoments{}});
+            slot = s, m = &it->second;
+        }
+        const double mi = 1.0 / double(p.w[i]);
+        const Vec3d at = xyz(p.x[i]).template cast<double>();
+        m->mass += mi, m->first += mi * at, m->second.noalias() += (mi * at) * at.transpose();
+    }
+}
+
+void reduce_block_moments(std::span<const BlockMoments> blocks, std::span<MassMoments> totals) {
+    std::fill(totals.begin(), totals.end(), MassMoments{});
+    for (const BlockMoments& block : blocks)
+        for (const auto& [slot, m] : block) totals[slot].add(m);
 }
 
 void reduce_block_sums(std::span<const BlockSums> blocks, std::span<VolumeSums> totals) {
@@ -134,7 +165,7 @@ void volume_caps(const VolumeLayout& l, const VolumeConstraint& c, const Particl
                 const Real w = p.w[i], moved = l.weight(w) * Real(l.share_of(i));
                 sums.eighteen_v += sign * double(x[i].dot(grad[i]));
                 sums.denom += sign * double(moved) * double(grad[i].squaredNorm());
-                if (w > Real(0)) sums.push += sign * unpaid_impulse<Real>(w, moved, grad[i]);
+                if (w > Real(0)) add_unpaid<Real>(sums, sign, w, moved, x[i], grad[i]);
             }
     };
     add_sums(-1.0);
@@ -174,20 +205,31 @@ Real volume_step(VolumeConstraint& c, const VolumeSums& total, bool xpbd, Real s
 }
 
 template <class Real>
-Vec4<Real> volume_shift(const VolumeSums& total, Real step) {
-    if (total.push.isZero(0.0) || !(total.mass > 0.0)) return Vec4<Real>::Zero();
-    const Vec3d shift = (-double(step) / total.mass) * total.push;
-    return Vec4<Real>(Real(shift.x()), Real(shift.y()), Real(shift.z()), Real(0));
+RigidNudge<Real> volume_shift(const VolumeSums& total, const MassMoments& m, Real step) {
+    RigidNudge<Real> n;
+    if (!total.unbalanced() || !(m.mass > 0.0)) return n;
+    auto to4 = [](const Vec3d& v) { return Vec4<Real>(Real(v.x()), Real(v.y()), Real(v.z()), Real(0)); };
+    const Vec3d centre = m.first / m.mass;
+    n.shift = to4((-double(step) / m.mass) * total.push), n.centre = to4(centre), n.moves = true;
+    // The shift moves no moment about the centre; what the impulses turn about it is
+    // turn - centre x push, and a turn by a (small) angle a gives the piece I a of it.
+    const Eigen::Matrix3d spread = m.second - m.mass * centre * centre.transpose();  // sum m r r^T
+    const Eigen::Matrix3d inertia = spread.trace() * Eigen::Matrix3d::Identity() - spread;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(inertia);
+    if (eig.info() != Eigen::Success || !(eig.eigenvalues().minCoeff() > 1e-9 * eig.eigenvalues().maxCoeff())) return n;
+    const Vec3d moment = double(step) * (total.turn - centre.cross(total.push));
+    n.turn = to4(-(eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() * eig.eigenvectors().transpose() * moment));
+    return n;
 }
 
 template <class Real>
 void volume_apply(const VolumeLayout& l, ParticlesT<Real>& p, const Vec4ArrayT<Real>& grad, std::span<const Real> steps,
-                  std::span<const Vec4<Real>> shifts, size_t b) {
+                  std::span<const RigidNudge<Real>> nudges, size_t b) {
     const size_t end = std::min(p.size(), (b + 1) * k_volume_block);
     for (size_t i = b * k_volume_block; i < end; ++i) {
         const uint32_t s = l.slot_of(uint32_t(i));
         if (s == k_no_volume || !(p.w[i] > Real(0))) continue;
-        p.x[i] += (steps[s] * l.weight(p.w[i]) * Real(l.share_of(uint32_t(i)))) * grad[i] + shifts[s];
+        p.x[i] += (steps[s] * l.weight(p.w[i]) * Real(l.share_of(uint32_t(i)))) * grad[i] + nudges[s].at(p.x[i]);
     }
 }
 
@@ -200,7 +242,7 @@ void solve_volumes(std::span<VolumeConstraint* const> slot_constraints, const Vo
     std::vector<VolumeSums> totals(slots);
     reduce_block_sums(sums, totals);
     std::vector<Real> steps(slots);
-    std::vector<Vec4<Real>> shifts(slots);
+    std::vector<uint8_t> unbalanced(slots, 0);
     for (size_t s = 0; s < slots; ++s) {
         VolumeSums caps;
         slot_constraints[s]->measured_six_v = totals[s].eighteen_v / 3.0;
@@ -208,9 +250,15 @@ void solve_volumes(std::span<VolumeConstraint* const> slot_constraints, const Vo
         slot_constraints[s]->measured_caps_six_v = caps.eighteen_v / 3.0;
         totals[s].add(caps);
         steps[s] = volume_step<Real>(*slot_constraints[s], totals[s], xpbd, stiffness, Real(slot_constraints[s]->compliance) * inv_h2);
-        shifts[s] = volume_shift<Real>(totals[s], steps[s]);
+        unbalanced[s] = totals[s].unbalanced();
     }
-    for (size_t b = 0; b < blocks; ++b) volume_apply<Real>(l, p, scratch, steps, shifts, b);
+    std::vector<BlockMoments> block_moments(blocks);
+    for (size_t b = 0; b < blocks; ++b) volume_moments<Real>(l, p, unbalanced, b, block_moments[b]);
+    std::vector<MassMoments> moments(slots);
+    reduce_block_moments(block_moments, moments);
+    std::vector<RigidNudge<Real>> nudges(slots);
+    for (size_t s = 0; s < slots; ++s) nudges[s] = volume_shift<Real>(totals[s], moments[s], steps[s]);
+    for (size_t b = 0; b < blocks; ++b) volume_apply<Real>(l, p, scratch, steps, nudges, b);
 }
 
 #define PBDSPLAT_INSTANTIATE(Real)                                                                                          \
@@ -220,13 +268,15 @@ void solve_volumes(std::span<VolumeConstraint* const> slot_constraints, const Vo
     template float volume_weight_most<Real>(std::span<const Real>);                                                       \
     template float leak_rate<Real>(const VolumeConstraint&, const Vec4ArrayT<Real>&);                                \
     template double caps_six_volume<Real>(const std::vector<std::vector<uint32_t>>&, const Vec4ArrayT<Real>&);               \
+    template void volume_moments<Real>(const VolumeLayout&, const ParticlesT<Real>&, std::span<const uint8_t>, size_t,          \
+                                       BlockMoments&);                                                                      \
     template void volume_gather<Real>(const VolumeLayout&, const ParticlesT<Real>&, Vec4ArrayT<Real>&, size_t, BlockSums&);  \
     template void volume_caps<Real>(const VolumeLayout&, const VolumeConstraint&, const ParticlesT<Real>&, Vec4ArrayT<Real>&,  \
                                     VolumeSums&);                                                                            \
     template Real volume_step<Real>(VolumeConstraint&, const VolumeSums&, bool, Real, Real);                                 \
-    template Vec4<Real> volume_shift<Real>(const VolumeSums&, Real);                                                            \
+    template RigidNudge<Real> volume_shift<Real>(const VolumeSums&, const MassMoments&, Real);                                                 \
     template void volume_apply<Real>(const VolumeLayout&, ParticlesT<Real>&, const Vec4ArrayT<Real>&, std::span<const Real>, \
-                                     std::span<const Vec4<Real>>, size_t);                                                   \
+                                     std::span<const RigidNudge<Real>>, size_t);                                                 \
     template void solve_volumes<Real>(std::span<VolumeConstraint* const>, const VolumeLayout&, ParticlesT<Real>&,           \
                                       Vec4ArrayT<Real>&, bool, Real, Real);
 PBDSPLAT_INSTANTIATE(float)

@@ -18,6 +18,7 @@
 #include "sim/constraints.h"
 #include "sim/particles.h"
 #include "sim/slack_lists.h"
+#include "sim/vec4_ops.h"
 
 namespace pbdsplat::sim {
 
@@ -80,11 +81,23 @@ struct VolumeSums {
     // Eq. 9 gives particle i the impulse s g_i, and the g_i of a closed surface sum to 0: the
     // pass moves no centre of mass. Where push_share or the weight cap scale a particle's move by
     // f_i = weight(w_i) s_i / w_i, the impulses sum to s * push (exactly 0 where nothing is
-    // scaled), and a balloon blown up at once shot itself off (a Suzanne at 23 m/s).
-    // volume_shift takes it back by moving the piece as a whole, which changes no volume.
+    // scaled), and a balloon blown up at once shot itself off (a Suzanne at 23 m/s). Their
+    // moments about the origin likewise sum to s * turn (the g_i have none: a turned body has the
+    // same volume), and the bunny blown up at once tumbled and rolled out of the frame.
+    // volume_shift takes both back by moving the piece rigidly, which changes no volume.
     Vec3d push = Vec3d::Zero();  // sum (f_i - 1) g_i
-    double mass = 0.0;           // sum of 1 / w_i over the particles that move
-    void add(const VolumeSums& o) { eighteen_v += o.eighteen_v, denom += o.denom, push += o.push, mass += o.mass; }
+    Vec3d turn = Vec3d::Zero();  // sum (f_i - 1) x_i x g_i
+    void add(const VolumeSums& o) { eighteen_v += o.eighteen_v, denom += o.denom, push += o.push, turn += o.turn; }
+    bool unbalanced() const { return !push.isZero(0.0) || !turn.isZero(0.0); }
+};
+// A piece's mass and its first and second moments over the particles that move: its centre and
+// inertia for volume_shift. Summed once a substep, and only for pieces whose moves are scaled:
+// summed in the gather, they cost a hanging icosphere:6 a sixth more Stage A for nothing.
+struct MassMoments {
+    double mass = 0.0;                                 // sum of m_i = 1 / w_i
+    Vec3d first = Vec3d::Zero();                       // sum m_i x_i
+    Eigen::Matrix3d second = Eigen::Matrix3d::Zero();  // sum m_i x_i x_i^T
+    void add(const MassMoments& o) { mass += o.mass, first += o.first, second += o.second; }
 };
 // One block's partial sums: a block of neighbouring particles meets few pieces, so it keeps
 // (slot, sums) for those it met, in the order met, instead of an entry for every slot (a body
@@ -129,21 +142,34 @@ void reduce_block_sums(std::span<const BlockSums> blocks, std::span<VolumeSums> 
 // what they change in that constraint's sums.
 template <class Real>
 void volume_caps(const VolumeLayout& l, const VolumeConstraint& c, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, VolumeSums& sums);
+// The mass moments of the slots marked in `wanted` over the particles of block b, as
+// (slot, moments) in the order met; then added per slot, block by block in order.
+using BlockMoments = std::vector<std::pair<uint32_t, MassMoments>>;
+template <class Real>
+void volume_moments(const VolumeLayout& l, const ParticlesT<Real>& p, std::span<const uint8_t> wanted, size_t b, BlockMoments& out);
+void reduce_block_moments(std::span<const BlockMoments> blocks, std::span<MassMoments> totals);
 // The step size along the gradient; updates c.lambda in XPBD mode. 0 when nothing can move.
 // The error it answers is held to k_volume_reach of the present volume.
 inline constexpr double k_volume_reach = 0.5;
 template <class Real>
 Real volume_step(VolumeConstraint& c, const VolumeSums& total, bool xpbd, Real stiffness, Real alpha_tilde);
-// The translation that cancels a slot's net impulse for a step `step` (VolumeSums::push):
-// exactly 0 where nothing was scaled. The moments of the impulses are not taken back: a piece
-// blown up at once with uneven masses may turn.
+// A rigid move of a piece: x += shift + turn x (x - centre), turn a small angle.
 template <class Real>
-Vec4<Real> volume_shift(const VolumeSums& total, Real step);
-// x_i += steps[slot] * w_i * s_i * g_i + shifts[slot] for the projected particles of block b
-// that move.
+struct RigidNudge {
+    Vec4<Real> shift = Vec4<Real>::Zero(), turn = Vec4<Real>::Zero(), centre = Vec4<Real>::Zero();
+    bool moves = false;  // most pieces' moves are not scaled: no cross product a particle for them
+    Vec4<Real> at(const Vec4<Real>& x) const { return moves ? Vec4<Real>(shift + cross3<Real>(turn, x - centre)) : Vec4<Real>::Zero(); }
+};
+// The rigid move that cancels a slot's net impulse and its moment about the centre of mass for a
+// step `step` (VolumeSums::push, turn): none where nothing was scaled. The turn is left out for a
+// piece with no inertia to speak of in some direction (a particle, a line).
+template <class Real>
+RigidNudge<Real> volume_shift(const VolumeSums& total, const MassMoments& m, Real step);
+// x_i += steps[slot] * w_i * s_i * g_i + nudges[slot].at(x_i) for the projected particles of
+// block b that move.
 template <class Real>
 void volume_apply(const VolumeLayout& l, ParticlesT<Real>& p, const Vec4ArrayT<Real>& grad, std::span<const Real> steps,
-                  std::span<const Vec4<Real>> shifts, size_t b);
+                  std::span<const RigidNudge<Real>> nudges, size_t b);
 
 // All phases in one thread for the constraints `slot_constraints` (slot order). `scratch`
 // holds one gradient per particle.

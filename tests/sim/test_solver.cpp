@@ -84,39 +84,54 @@ TEST_SUITE("sim/solver") {
         }
     }
 
-    TEST_CASE("a balloon blown up at once with uneven masses does not push itself along") {
+    // The rotation that best maps `from` onto `to` (mass-weighted, about their centres of mass):
+    // what a viewer sees a deforming body turn by.
+    double turned_angle(const sim::Vec4Array& from, const sim::SoftBody& b) {
+        double m = 0.0;
+        Vec3d c = Vec3d::Zero(), c0 = Vec3d::Zero();
+        for (size_t i = 0; i < b.particle_count(); ++i) {
+            const double mi = 1.0 / double(b.particles.w[i]);
+            m += mi, c += mi * sim::xyz(b.particles.x[i]).cast<double>(), c0 += mi * sim::xyz(from[i]).cast<double>();
+        }
+        c /= m, c0 /= m;
+        Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+        for (size_t i = 0; i < b.particle_count(); ++i)
+            a += (1.0 / double(b.particles.w[i])) * (sim::xyz(b.particles.x[i]).cast<double>() - c) * (sim::xyz(from[i]).cast<double>() - c0).transpose();
+        const Eigen::JacobiSVD<Eigen::Matrix3d> svd(a, Eigen::ComputeFullU | Eigen::ComputeFullV);
+        const Eigen::Matrix3d r = svd.matrixU() * svd.matrixV().transpose();
+        return std::acos(std::clamp((r.trace() - 1.0) / 2.0, -1.0, 1.0));
+    }
+
+    TEST_CASE("a balloon blown up at once with uneven masses neither pushes itself along nor spins") {
         // One side a hundred times lighter than the rest (a model's slivers): the volume pass
         // holds their moves (weight cap) and the stretched fans' (push_share); the impulses it
-        // no longer gives them must not become a net thrust.
-        auto b = test::make_body(mesh::icosphere(3));
-        for (size_t i = 0; i < b.particle_count(); ++i)
-            if (b.particles.x[i].x() > 0.3f) b.particles.w[i] *= 100.0f;
-        b.volumes[0].pressure = 100.0f;
-        sim::SolverSettings s;
-        s.gravity = Vec3f::Zero();
-        s.sleep.enabled = false;
-        test::run(b, 60, 1.0f / 60.0f, s);
-        const Vec3d p = b.particles.linear_momentum();
-        double mass = 0.0;
-        Vec3d centre = Vec3d::Zero();
-        for (size_t i = 0; i < b.particle_count(); ++i) {
-            mass += 1.0 / double(b.particles.w[i]);
-            centre += sim::xyz(b.particles.x[i]).cast<double>() / double(b.particles.w[i]);
+        // no longer gives them must become neither a net thrust nor a spin.
+        for (const float pressure : {3.0f, 100.0f}) {
+            CAPTURE(pressure);
+            auto b = test::make_body(mesh::icosphere(3));
+            for (size_t i = 0; i < b.particle_count(); ++i)
+                if (b.particles.x[i].x() > 0.3f) b.particles.w[i] *= 100.0f;
+            b.volumes[0].pressure = pressure;
+            sim::SolverSettings s;
+            s.gravity = Vec3f::Zero();
+            s.sleep.enabled = false;
+            const sim::Vec4Array start = b.particles.x;
+            test::run(b, 60, 1.0f / 60.0f, s);
+            double mass = 0.0;
+            for (const float w : b.particles.w) mass += 1.0 / double(w);
+            const double drift = b.particles.linear_momentum().norm() / mass, angle = turned_angle(start, b);
+            MESSAGE("drift " << drift << " m/s, turned " << angle << " rad in 1 s, volume " << b.volume(0) / b.volumes[0].rest_volume);
+            // measured: drift 2e-6 m/s with the net impulse taken back (335 m/s without, at 100)
+            CHECK(drift < 1e-3);
+            // At 100 the paper's five iterations cannot hold this skin: it folds through itself
+            // and out again, so only the drift is asked of it.
+            if (pressure < 10.0f) {
+                // measured: 0.27 rad with the impulses' moment taken back, 0.49 without (what is
+                // left comes from PBD's later projections, made at moved positions)
+                CHECK(angle < 0.4);
+                CHECK(b.volume(0) / b.volumes[0].rest_volume == doctest::Approx(pressure).epsilon(0.02));
+            }
         }
-        centre /= mass;
-        Vec3d spin = Vec3d::Zero();  // angular momentum about the centre of mass
-        double inertia = 0.0;
-        for (size_t i = 0; i < b.particle_count(); ++i) {
-            const Vec3d r = sim::xyz(b.particles.x[i]).cast<double>() - centre;
-            spin += r.cross(sim::xyz(b.particles.v[i]).cast<double>()) / double(b.particles.w[i]);
-            inertia += r.squaredNorm() / double(b.particles.w[i]);
-        }
-        MESSAGE("drift " << p.norm() / mass << " m/s, turning " << spin.norm() / inertia << " rad/s, volume "
-                         << b.volume(0) / b.volumes[0].rest_volume);
-        // measured: 5e-6 m/s of drift with the net impulse taken back; 335 m/s without. It turns
-        // (0.9 rad/s, printed): the impulses' moments are not taken back.
-        CHECK(p.norm() / mass < 1e-3);
-        CHECK(b.volume(0) / b.volumes[0].rest_volume > 10.0);  // and it did blow up (measured 24 times in 1 s)
     }
 
     TEST_CASE("a pressurised icosphere resting on the ground keeps its volume within 1 % (paper mode)") {
