@@ -115,7 +115,7 @@ void SolverT<Real>::project_volume(SoftBodyT<Real>& body, const SolverSettings& 
         for (size_t q = b; q < e; ++q) volume_gather<Real>(l, p, scratch_, q, sums_[q]);
     });
     totals_.resize(slots);
-    reduce_block_sums(sums_, totals_);
+    reduce_blocks<VolumeSums>(sums_, totals_);
     steps_.resize(slots), nudges_.resize(slots);
     for (size_t slot = 0; slot < slots; ++slot) {
         VolumeConstraint& v = *slots_.constraints[slot];
@@ -137,27 +137,27 @@ template <class Real>
 void SolverT<Real>::rigid_nudges(const SoftBodyT<Real>& body, const VolumeLayout& l) {
     const size_t slots = l.slots, blocks = volume_blocks(body.particles.size());
     slots_.moments.resize(slots), slots_.moments_ready.resize(slots, 0), wanted_.assign(slots, 0);
+    // A pressed piece's impulse is the contact's to answer: no nudge for it.
+    const auto pressed = [&](size_t slot) {
+        const uint32_t piece = slots_.constraints[slot]->piece;
+        return piece < slots_.pressed.size() && slots_.pressed[piece] != 0;
+    };
     bool any = false;
     for (size_t slot = 0; slot < slots; ++slot) {
-        const uint32_t piece = slots_.constraints[slot]->piece;
-        const bool pressed = piece < slots_.pressed.size() && slots_.pressed[piece];
         nudges_[slot] = RigidNudge<Real>{};
-        if (!pressed && totals_[slot].unbalanced() && !slots_.moments_ready[slot]) wanted_[slot] = 1, any = true;
+        if (!pressed(slot) && totals_[slot].unbalanced() && !slots_.moments_ready[slot]) wanted_[slot] = 1, any = true;
     }
     if (any) {
         moment_blocks_.resize(blocks), moments_.resize(slots);
         for_range(blocks, 2, [&](size_t b, size_t e) {
             for (size_t q = b; q < e; ++q) volume_moments<Real>(l, body.particles, wanted_, q, moment_blocks_[q]);
         });
-        reduce_block_moments(moment_blocks_, moments_);
+        reduce_blocks<MassMoments>(moment_blocks_, moments_);
         for (size_t slot = 0; slot < slots; ++slot)
             if (wanted_[slot]) slots_.moments[slot] = moments_[slot], slots_.moments_ready[slot] = 1;
     }
-    for (size_t slot = 0; slot < slots; ++slot) {
-        const uint32_t piece = slots_.constraints[slot]->piece;
-        const bool pressed = piece < slots_.pressed.size() && slots_.pressed[piece];
-        if (!pressed && slots_.moments_ready[slot]) nudges_[slot] = volume_shift<Real>(totals_[slot], slots_.moments[slot], steps_[slot]);
-    }
+    for (size_t slot = 0; slot < slots; ++slot)
+        if (!pressed(slot) && slots_.moments_ready[slot]) nudges_[slot] = volume_nudge<Real>(totals_[slot], slots_.moments[slot], steps_[slot]);
 }
 
 template <class Real>

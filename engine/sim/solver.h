@@ -82,7 +82,7 @@ public:
     void begin_substep(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
     void project_distance(const BodyStructureT<Real>& structure, BodyStateT<Real>& state, const SolverSettings& s, Real h);
     void project_volume(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
-    // project_volume's rigid moves per slot (volume_shift), from totals_ and steps_: none for a
+    // project_volume's rigid moves per slot (volume_nudge), from totals_ and steps_: none for a
     // pressed piece; a piece's mass moments summed at its first unbalanced projection a substep.
     void rigid_nudges(const SoftBodyT<Real>& body, const VolumeLayout& l);
     void project_shape(BodyCachesT<Real>& caches, BodyStateT<Real>& state, const SolverSettings& s, Real h);
@@ -108,7 +108,7 @@ private:
     std::vector<BlockSums> sums_;     // per block
     std::vector<VolumeSums> totals_;  // per slot
     std::vector<Real> steps_;       // per slot
-    std::vector<RigidNudge<Real>> nudges_;  // per slot: volume_shift
+    std::vector<RigidNudge<Real>> nudges_;  // per slot: volume_nudge
     std::vector<uint8_t> wanted_;             // per slot: its mass moments are summed now
     std::vector<BlockMoments> moment_blocks_;
     std::vector<MassMoments> moments_;

@@ -138,17 +138,6 @@ void volume_moments(const VolumeLayout& l, const ParticlesT<Real>& p, std::span<
     }
 }
 
-void reduce_block_moments(std::span<const BlockMoments> blocks, std::span<MassMoments> totals) {
-    std::fill(totals.begin(), totals.end(), MassMoments{});
-    for (const BlockMoments& block : blocks)
-        for (const auto& [slot, m] : block) totals[slot].add(m);
-}
-
-void reduce_block_sums(std::span<const BlockSums> blocks, std::span<VolumeSums> totals) {
-    std::fill(totals.begin(), totals.end(), VolumeSums{});
-    for (const BlockSums& block : blocks)
-        for (const auto& [slot, s] : block) totals[slot].add(s);
-}
 
 template <class Real>
 void volume_caps(const VolumeLayout& l, const VolumeConstraint& c, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, VolumeSums& sums) {
@@ -205,7 +194,7 @@ Real volume_step(VolumeConstraint& c, const VolumeSums& total, bool xpbd, Real s
 }
 
 template <class Real>
-RigidNudge<Real> volume_shift(const VolumeSums& total, const MassMoments& m, Real step) {
+RigidNudge<Real> volume_nudge(const VolumeSums& total, const MassMoments& m, Real step) {
     RigidNudge<Real> n;
     if (!total.unbalanced() || !(m.mass > 0.0)) return n;
     auto to4 = [](const Vec3d& v) { return Vec4<Real>(Real(v.x()), Real(v.y()), Real(v.z()), Real(0)); };
@@ -240,7 +229,7 @@ void solve_volumes(std::span<VolumeConstraint* const> slot_constraints, const Vo
     std::vector<BlockSums> sums(blocks);
     for (size_t b = 0; b < blocks; ++b) volume_gather<Real>(l, p, scratch, b, sums[b]);
     std::vector<VolumeSums> totals(slots);
-    reduce_block_sums(sums, totals);
+    reduce_blocks<VolumeSums>(sums, totals);
     std::vector<Real> steps(slots);
     std::vector<uint8_t> unbalanced(slots, 0);
     for (size_t s = 0; s < slots; ++s) {
@@ -255,9 +244,9 @@ void solve_volumes(std::span<VolumeConstraint* const> slot_constraints, const Vo
     std::vector<BlockMoments> block_moments(blocks);
     for (size_t b = 0; b < blocks; ++b) volume_moments<Real>(l, p, unbalanced, b, block_moments[b]);
     std::vector<MassMoments> moments(slots);
-    reduce_block_moments(block_moments, moments);
+    reduce_blocks<MassMoments>(block_moments, moments);
     std::vector<RigidNudge<Real>> nudges(slots);
-    for (size_t s = 0; s < slots; ++s) nudges[s] = volume_shift<Real>(totals[s], moments[s], steps[s]);
+    for (size_t s = 0; s < slots; ++s) nudges[s] = volume_nudge<Real>(totals[s], moments[s], steps[s]);
     for (size_t b = 0; b < blocks; ++b) volume_apply<Real>(l, p, scratch, steps, nudges, b);
 }
 
@@ -274,7 +263,7 @@ void solve_volumes(std::span<VolumeConstraint* const> slot_constraints, const Vo
     template void volume_caps<Real>(const VolumeLayout&, const VolumeConstraint&, const ParticlesT<Real>&, Vec4ArrayT<Real>&,  \
                                     VolumeSums&);                                                                            \
     template Real volume_step<Real>(VolumeConstraint&, const VolumeSums&, bool, Real, Real);                                 \
-    template RigidNudge<Real> volume_shift<Real>(const VolumeSums&, const MassMoments&, Real);                                                 \
+    template RigidNudge<Real> volume_nudge<Real>(const VolumeSums&, const MassMoments&, Real);                                                 \
     template void volume_apply<Real>(const VolumeLayout&, ParticlesT<Real>&, const Vec4ArrayT<Real>&, std::span<const Real>, \
                                      std::span<const RigidNudge<Real>>, size_t);                                                 \
     template void solve_volumes<Real>(std::span<VolumeConstraint* const>, const VolumeLayout&, ParticlesT<Real>&,           \

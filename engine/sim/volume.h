@@ -84,14 +84,14 @@ struct VolumeSums {
     // scaled), and a balloon blown up at once shot itself off (a Suzanne at 23 m/s). Their
     // moments about the origin likewise sum to s * turn (the g_i have none: a turned body has the
     // same volume), and the bunny blown up at once tumbled and rolled out of the frame.
-    // volume_shift takes both back by moving the piece rigidly, which changes no volume.
+    // volume_nudge takes both back by moving the piece rigidly, which changes no volume.
     Vec3d push = Vec3d::Zero();  // sum (f_i - 1) g_i
     Vec3d turn = Vec3d::Zero();  // sum (f_i - 1) x_i x g_i
     void add(const VolumeSums& o) { eighteen_v += o.eighteen_v, denom += o.denom, push += o.push, turn += o.turn; }
     bool unbalanced() const { return !push.isZero(0.0) || !turn.isZero(0.0); }
 };
 // A piece's mass and its first and second moments over the particles that move: its centre and
-// inertia for volume_shift. Summed once a substep, and only for pieces whose moves are scaled:
+// inertia for volume_nudge. Summed once a substep, and only for pieces whose moves are scaled:
 // summed in the gather, they cost a hanging icosphere:6 a sixth more Stage A for nothing.
 struct MassMoments {
     double mass = 0.0;                                 // sum of m_i = 1 / w_i
@@ -136,18 +136,23 @@ size_t volume_blocks(size_t particles);
 // push_share into l.share; their partial sums into `sums` (cleared first).
 template <class Real>
 void volume_gather(const VolumeLayout& l, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, size_t b, BlockSums& sums);
-// The blocks' sums added per slot, block by block in order (the same for any thread count).
-void reduce_block_sums(std::span<const BlockSums> blocks, std::span<VolumeSums> totals);
+// Per-block partial sums, as (slot, sums) pairs, added per slot block by block in order (the
+// same for any thread count). Sums: VolumeSums or MassMoments.
+template <class Sums>
+void reduce_blocks(std::span<const std::vector<std::pair<uint32_t, Sums>>> blocks, std::span<Sums> totals) {
+    std::fill(totals.begin(), totals.end(), Sums{});
+    for (const auto& block : blocks)
+        for (const auto& [slot, sums] : block) totals[slot].add(sums);
+}
 // Adds the virtual caps' terms of one constraint (serial: they are few) to grad, and to `sums`
 // what they change in that constraint's sums.
 template <class Real>
 void volume_caps(const VolumeLayout& l, const VolumeConstraint& c, const ParticlesT<Real>& p, Vec4ArrayT<Real>& grad, VolumeSums& sums);
 // The mass moments of the slots marked in `wanted` over the particles of block b, as
-// (slot, moments) in the order met; then added per slot, block by block in order.
+// (slot, moments) in the order met; added per slot by reduce_blocks.
 using BlockMoments = std::vector<std::pair<uint32_t, MassMoments>>;
 template <class Real>
 void volume_moments(const VolumeLayout& l, const ParticlesT<Real>& p, std::span<const uint8_t> wanted, size_t b, BlockMoments& out);
-void reduce_block_moments(std::span<const BlockMoments> blocks, std::span<MassMoments> totals);
 // The step size along the gradient; updates c.lambda in XPBD mode. 0 when nothing can move.
 // The error it answers is held to k_volume_reach of the present volume.
 inline constexpr double k_volume_reach = 0.5;
@@ -164,7 +169,7 @@ struct RigidNudge {
 // step `step` (VolumeSums::push, turn): none where nothing was scaled. The turn is left out for a
 // piece with no inertia to speak of in some direction (a particle, a line).
 template <class Real>
-RigidNudge<Real> volume_shift(const VolumeSums& total, const MassMoments& m, Real step);
+RigidNudge<Real> volume_nudge(const VolumeSums& total, const MassMoments& m, Real step);
 // x_i += steps[slot] * w_i * s_i * g_i + nudges[slot].at(x_i) for the projected particles of
 // block b that move.
 template <class Real>
