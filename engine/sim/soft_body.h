@@ -118,9 +118,9 @@ struct VolumeSlots {
     std::vector<uint32_t> slot_of_piece;
     std::vector<VolumeConstraint*> constraints;
     std::vector<float> share;  // VolumeLayout::share's room
-    // VolumeLayout::w_most: set where the masses are known to be as they will be for the
-    // projections (once a substep: it costs a division a particle).
-    float w_most = INFINITY;
+    // VolumeLayout::w_most and skin_density: set where the masses are known to be as they will
+    // be for the projections (once a substep: it costs a division a particle).
+    VolumeWeights weights;
     // Per piece, 1 where this substep's contact candidates bring it against another piece: the
     // volume pass does not take back such a piece's net impulse (VolumeSums::push). Pressed into
     // its neighbour, the correction drove it further in every projection, and the contact's answer
@@ -142,7 +142,7 @@ VolumeLayout volume_layout(SoftBodyT<Real>& b, VolumeSlots& slots) {
         slots.constraints.push_back(&v);
     }
     VolumeLayout l{&b.rings.ring, b.piece_of_particle, slots.slot_of_piece, slots.constraints.size()};
-    l.w_most = slots.w_most;
+    l.w_most = slots.weights.w_most, l.skin_density = slots.weights.skin_density;
     if (b.rings.rest_area.size() == b.particle_count()) {
         slots.share.resize(b.particle_count());
         l.rest_area = b.rings.rest_area, l.open_fan = b.rings.open_fan, l.share = slots.share;
@@ -154,7 +154,7 @@ VolumeLayout volume_layout(SoftBodyT<Real>& b, VolumeSlots& slots) {
 template <class Real>
 void solve_volumes(SoftBodyT<Real>& b, Vec4ArrayT<Real>& scratch, bool xpbd, Real stiffness, Real inv_h2) {
     VolumeSlots slots;
-    slots.w_most = volume_weight_most<Real>(std::span<const Real>(b.particles.w));
+    slots.weights = volume_weights<Real>(std::span<const Real>(b.particles.w), b.rings.rest_area);
     const VolumeLayout l = volume_layout(b, slots);
     solve_volumes<Real>(slots.constraints, l, b.particles, scratch, xpbd, stiffness, inv_h2);
 }

@@ -69,7 +69,7 @@ void SolverT<Real>::begin_substep(SoftBodyT<Real>& body, const SolverSettings& s
     PBDSPLAT_ASSERT(body.rings.size() == p.size() && body.distance_lambda.size() == body.distance.size(),
                     "particles or triangles changed without rebuild_derived(body)");
     for_range(p.size(), k_particle_grain, [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, s.damping, h, b, e); });
-    if (!body.volumes.empty()) slots_.w_most = volume_weight_most<Real>(std::span<const Real>(p.w));
+    if (!body.volumes.empty()) slots_.weights = volume_weights<Real>(std::span<const Real>(p.w), body.rings.rest_area);
     slots_.pressed.clear();  // find_contacts fills it where contact runs
     slots_.moments_ready.clear();
     for (VolumeConstraint& v : body.volumes)

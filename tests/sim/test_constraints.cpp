@@ -113,6 +113,22 @@ TEST_SUITE("sim/constraints") {
         CHECK(b.volume(0) / b.volumes[0].rest_volume == doctest::Approx(0.5).epsilon(1e-4));
     }
 
+    TEST_CASE("the skin's density for the virtual caps is its mass over its area") {
+        // Area-lumped masses on a fine unit sphere: the density times the sphere's area is the
+        // body's mass (the fans' vector areas fall short of their areas only by their curvature).
+        auto b = test::make_body(mesh::icosphere(5));
+        double mass = 0.0;
+        for (const float w : b.particles.w) mass += 1.0 / double(w);
+        const sim::VolumeWeights weights = sim::volume_weights<float>(b.particles.w, b.rings.rest_area);
+        CHECK(double(weights.skin_density) * 4.0 * M_PI == doctest::Approx(mass).epsilon(0.01));
+        CHECK(double(weights.w_most) == doctest::Approx(sim::k_volume_lightest * double(b.particle_count()) / mass).epsilon(1e-5));
+        // Nothing that moves: no density, no cap on the weight.
+        std::vector<float> pinned(b.particle_count(), 0.0f);
+        const sim::VolumeWeights none = sim::volume_weights<float>(pinned, b.rings.rest_area);
+        CHECK(none.skin_density == 0.0f);
+        CHECK(std::isinf(none.w_most));
+    }
+
     TEST_CASE("a volume projection whose moves are scaled gives the body no impulse and no moment") {
         // One side a hundred times lighter (weight cap) and the skin stretched unevenly
         // (push_share), off the origin: eq. 9's impulses sum to nothing and have no moment about
