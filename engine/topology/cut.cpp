@@ -181,6 +181,27 @@ private:
     std::unordered_set<uint64_t> large_;
 };
 
+// Puts a fragment on side `s` over to the other side, so the cut passes it by and it stays on
+// what lies beyond: its corners on side `s` change sides, where every corner of side `s` that
+// touches them is among them (an edge between a corner that changed and one that did not would be
+// crossed with both its ends on one side of the plane). False, and nothing changed, otherwise.
+bool join_fragment(const sim::SoftBody& b, std::span<int8_t> sign, const std::vector<SideGraph::Node>& fragment, int8_t s,
+                   std::vector<uint32_t>& corners) {
+    corners.clear();
+    for (const auto& [u, side] : fragment)
+        for (uint32_t w : b.triangles[u])
+            if (sign[w] == s && std::ranges::find(corners, w) == corners.end()) corners.push_back(w);
+    const bool closed = !corners.empty() && std::ranges::all_of(corners, [&](uint32_t w) {
+        for (uint32_t u : b.rings.triangles.of(w))
+            for (uint32_t x : b.triangles[u])
+                if (sign[x] == s && std::ranges::find(corners, x) == corners.end()) return false;
+        return true;
+    });
+    if (closed)
+        for (uint32_t w : corners) sign[w] = int8_t(-s);
+    return closed;
+}
+
 // The smallest child the re-triangulation makes of triangle `t` at these sides, in rest area
 // (crossings clamped to [snap, 1 - snap] as add_crossings does); the triangle's own when the
 // sides do not cross it.
@@ -207,7 +228,7 @@ float smallest_child(const sim::SoftBody& b, const mesh::Triangle& t, std::span<
 // Such a fragment is a fleck no user drew: its snapped corners go back to their sides (the cut
 // crosses the edges beside them instead), unless that would make a child below `min_child`
 // (the snaps exist to keep cuts repeated through one region from whittling triangles down).
-// A piece that was small before the cut is left alone.
+// A piece that was small before the cut is left to pass_small_pieces.
 void keep_fragments(const sim::SoftBody& b, const CutSurface& cut, std::span<const float> d, std::span<int8_t> sign,
                     std::span<const uint8_t> snapped, const std::vector<uint32_t>& on_cut, uint32_t min_fragment, float snap,
                     float min_child) {
@@ -240,7 +261,10 @@ void keep_fragments(const sim::SoftBody& b, const CutSurface& cut, std::span<con
                     for (const auto& [u, side] : *fragment)
                         for (uint32_t w : b.triangles[u])
                             if (snapped[w] && sign[w] == 0 && std::ranges::find(corners, w) == corners.end()) corners.push_back(w);
-                    changed = unsnap() || changed;
+                    // Where unsnapping would make a sliver, the fragment goes over to the other
+                    // side whole instead (a teapot cut by 40 planes kept 6 such flecks, the
+                    // smallest of one triangle).
+                    changed = unsnap() || join_fragment(b, sign, *fragment, s, corners) || changed;
                 }
             }
         }
@@ -251,10 +275,8 @@ void keep_fragments(const sim::SoftBody& b, const CutSurface& cut, std::span<con
 
 // A cut can close off a few triangles where nothing snapped: a stroke across the rim of a
 // model's small part (a monkey's eye decimated to a few dozen triangles) parts a cap of three
-// from it, which flies off as a speck. Such a cap changes sides instead, its corners with it, so
-// the cut passes it by and it stays on the part. Only where every corner of the cap's side that
-// touches it changes too: an edge between a corner that changed and one that did not would be
-// crossed with both its ends on one side of the plane.
+// from it, which flies off as a speck. Such a cap changes sides instead (join_fragment), so the
+// cut passes it by and it stays on the part.
 void join_crossed_fragments(const sim::SoftBody& b, const CutSurface& cut, std::span<const float> d, std::span<int8_t> sign,
                             const std::vector<uint32_t>& crossed, uint32_t min_fragment, float snap) {
     const SideGraph graph(b, cut, d, sign, snap);
@@ -264,20 +286,36 @@ void join_crossed_fragments(const sim::SoftBody& b, const CutSurface& cut, std::
         for (int8_t s : {int8_t(-1), int8_t(1)}) {
             if (!graph.has_side(t, s) || !graph.has_side(t, int8_t(-s))) continue;
             const std::vector<SideGraph::Node>* fragment = search.at({t, s});
-            if (!fragment) continue;
-            corners.clear();
-            for (const auto& [u, side] : *fragment)
-                for (uint32_t w : b.triangles[u])
-                    if (sign[w] == s && std::ranges::find(corners, w) == corners.end()) corners.push_back(w);
-            const bool closed = !corners.empty() && std::ranges::all_of(corners, [&](uint32_t w) {
-                for (uint32_t u : b.rings.triangles.of(w))
-                    for (uint32_t x : b.triangles[u])
-                        if (sign[x] == s && std::ranges::find(corners, x) == corners.end()) return false;
-                return true;
-            });
-            if (closed)
-                for (uint32_t w : corners) sign[w] = int8_t(-s);
+            if (fragment) join_fragment(b, sign, *fragment, s, corners);
         }
+}
+
+// A fleck (a piece of fewer than `min_fragment` triangles: one an earlier cut could not help
+// leaving) is passed by, every corner of it put on the side most of it lies on: parted, it only
+// makes smaller flecks (a teapot cut by 40 planes ended with pieces of one triangle among its 122).
+void pass_small_pieces(const sim::SoftBody& b, std::span<const float> d, std::span<int8_t> sign, const std::vector<uint32_t>& crossed,
+                       std::span<const uint32_t> on_cut, uint32_t min_fragment) {
+    const size_t most = min_fragment;
+    std::vector<uint32_t> seeds = crossed, piece_triangles, seen_pieces;
+    for (uint32_t v : on_cut)
+        for (uint32_t t : b.rings.triangles.of(v)) seeds.push_back(t);
+    for (uint32_t seed : seeds) {
+        const uint32_t piece = b.piece_of_particle[b.triangles[seed][0]];
+        if (std::ranges::find(seen_pieces, piece) != seen_pieces.end()) continue;
+        seen_pieces.push_back(piece);
+        // Its triangles, flooded through shared corners until there are too many to matter.
+        piece_triangles.assign(1, seed);
+        for (size_t k = 0; k < piece_triangles.size() && piece_triangles.size() < most; ++k)
+            for (uint32_t v : b.triangles[piece_triangles[k]])
+                for (uint32_t t : b.rings.triangles.of(v))
+                    if (std::ranges::find(piece_triangles, t) == piece_triangles.end()) piece_triangles.push_back(t);
+        if (piece_triangles.size() >= most) continue;
+        double side = 0.0;
+        for (uint32_t t : piece_triangles)
+            for (uint32_t v : b.triangles[t]) side += double(d[v]);
+        for (uint32_t t : piece_triangles)
+            for (uint32_t v : b.triangles[t]) sign[v] = side < 0.0 ? int8_t(-1) : int8_t(1);
+    }
 }
 
 // The vertices a cut moves onto itself: a byte per particle, and the list of those set.
@@ -370,6 +408,7 @@ void classify(const sim::SoftBody& b, const CutSurface& s, float snap, float ref
     if (min_fragment > 0 && out.all) {
         keep_fragments(b, s, d, sign, snapped.flag, on_cut, min_fragment, snap, k_fragment_child_share * min_corner_area);
         join_crossed_fragments(b, s, d, sign, out.crossed, min_fragment, snap);
+        pass_small_pieces(b, d, sign, out.crossed, on_cut, min_fragment);
     }
     snaps.give_back(on_cut);
     std::erase_if(on_cut, [&](uint32_t v) { return sign[v] != 0; });

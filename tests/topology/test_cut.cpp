@@ -424,6 +424,37 @@ TEST_SUITE("topology/cut") {
         CHECK(sim::smallest_piece_triangles(deeper) >= 8);
     }
 
+    TEST_CASE("a plane through a fleck (a piece under 8 triangles) passes it by") {
+        // A ball and, beside it, a tetrahedron (what an earlier cut may have left), one plane
+        // through both: the ball parts, the fleck stays whole whichever way it is crossed (parted,
+        // it made pieces of one or two triangles: 122 pieces of a teapot cut by 40 planes, the
+        // smallest of one triangle).
+        const auto ball_and_fleck = [] {
+            mesh::TriangleMesh m = mesh::icosphere(3, 0.5f);
+            mesh::TriangleMesh tetra;
+            tetra.positions = {Vec3f(0.0f, -0.1f, -0.1f), Vec3f(0.15f, 0.1f, 0.0f), Vec3f(-0.1f, 0.1f, 0.1f), Vec3f(0.0f, 0.1f, -0.15f)};
+            tetra.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+            mesh::append(m, tetra, test::moved_by(Vec3f(1.0f, 0.0f, 0.0f)));
+            return test::make_body(std::move(m));
+        };
+        for (const float tilt : {0.0f, 0.3f, 1.0f}) {
+            CAPTURE(tilt);
+            const topology::CutSurface cut = plane(Vec3f(0.0f, 0.01f, 0.02f), Vec3f(0.0f, 1.0f, tilt).normalized());
+            sim::SoftBody b = ball_and_fleck();
+            REQUIRE(b.pieces == 2);
+            REQUIRE(topology::cut(b, cut).ok());
+            require_invariants(b);
+            CHECK(b.pieces == 3);  // the ball's halves and the fleck
+            CHECK(sim::smallest_piece_triangles(b) == 4);
+            // With no fleck size the tetrahedron parts.
+            sim::SoftBody loose = ball_and_fleck();
+            topology::CutOptions o;
+            o.min_fragment_triangles = 0;
+            REQUIRE(topology::cut(loose, cut, o).ok());
+            CHECK(loose.pieces == 4);
+        }
+    }
+
     TEST_CASE("bad input is refused with a reason") {
         sim::SoftBody b = test::make_body(mesh::icosphere(1));
         topology::CutSurface s;
