@@ -151,7 +151,7 @@ void weigh_cap(const VolumeLayout& l, std::span<const uint32_t> loop, const Part
     if (l.share.empty() || !(l.skin_density > 0.0f)) return;
     const size_t n = loop.size();
     const Vec4<Real>* x = p.x.data();
-    // Twice each cap triangle's area, (loop[k], loop[k+1], centroid): the scratch is the loop's.
+    // Twice the area cap triangle k, (loop[k], loop[k+1], centroid), has as it lies now.
     Real whole = Real(0);
     const auto doubled = [&](size_t k) { return cross3<Real>(x[loop[k]] - centroid, x[loop[(k + 1) % n]] - centroid).norm(); };
     for (size_t k = 0; k < n; ++k) whole += doubled(k);

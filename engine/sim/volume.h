@@ -76,10 +76,11 @@ inline constexpr float k_volume_lightest = 4.0f;
 // The cap of one of the model's own holes is skin the model lacks, and it pushes its rim as skin
 // would (its triangles' terms of the gradient), so it weighs as skin would too: each rim particle
 // carries the mass of its two cap triangles' thirds and its 1/n of the centre's third, at the
-// skin's mean density. Weighing only its own fans, a rim took the whole cap's push: a vase blown
-// to twice its volume had its mouth drawn up into a jagged crown, the teapot's lid rose as a torn
-// tower, and the Stanford bunny's base holes (rims of slivers, 1/100 to 1/5 of the mean mass) grew
-// spikes at a pressure factor of 3.
+// skin's mean density (over the cap's present area: a hole stretched open weighs more, which holds
+// it as push_share holds a stretched fan). Weighing only its own fans, a rim took the whole cap's
+// push: a vase blown to twice its volume had its mouth drawn up into a jagged crown, the teapot's
+// lid rose as a torn tower, and the Stanford bunny's base holes (rims of slivers, 1/100 to 1/5 of
+// the mean mass) grew spikes at a pressure factor of 3.
 struct VolumeWeights {
     float w_most = INFINITY;    // k_volume_lightest over the mean mass; INFINITY for none that moves
     float skin_density = 0.0f;  // the moving particles' mass over their fans' area (0: none)
