@@ -186,7 +186,8 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
         if (cut_faces_on) b.read(cut_faces);
         input = b.write(input);
         const mesh::TriangleMesh* fine = fine_ ? &*fine_ : nullptr;  // the model's surface: fixed at load
-        return [fine, mesh, embedding, body, cut_faces, input, cut_faces_on, stillness](const graph::PassResources& r,
+        const FineCopies* copies = &fine_copies_;
+        return [fine, copies, mesh, embedding, body, cut_faces, input, cut_faces_on, stillness](const graph::PassResources& r,
                                                                                         graph::ExecuteContext&) {
             // The body where it was: the mesh made from it then (whose spans the input keeps)
             // stands, unless the fine surface's simplification is still to come.
@@ -205,7 +206,7 @@ void SceneRuntime::add_occluder_mesh_pass(GraphAssembly& h) {
             }
             OccluderMesh& m = r.write(mesh);
             if (fine) {
-                deformed_fine_surface(bd, *fine, r.write(embedding), m.x, m.triangles, &m.whole);
+                deformed_fine_surface(bd, *fine, *copies, r.write(embedding), m.x, m.triangles, &m.whole);
             } else {
                 m.x = bd.particles.x;
                 m.triangles = bd.triangles;

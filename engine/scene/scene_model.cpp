@@ -114,7 +114,12 @@ core::Status merge_parts(const Scene& scene, Part first, mesh::TriangleMesh& coa
         }
         mesh::reorder_for_locality(p.coarse);
         out.part_start.push_back(uint32_t(coarse.vertex_count()));
-        if (any_fine) mesh::append(fine, p.fine ? *p.fine : p.coarse, Eigen::Affine3f::Identity(), color);
+        if (any_fine) {
+            const uint32_t first_triangle = uint32_t(fine.triangle_count());
+            mesh::append(fine, p.fine ? *p.fine : p.coarse, Eigen::Affine3f::Identity(), color);
+            if (!p.fine) out.fine_copies.triangles.emplace_back(first_triangle, uint32_t(fine.triangle_count()));
+            out.fine_copies.model.push_back(p.fine ? 0 : 1);
+        }
         mesh::append(coarse, p.coarse, Eigen::Affine3f::Identity(), color);
         out.decimation.input_vertices += p.decimation.input_vertices;
         out.decimation.output_vertices += p.decimation.output_vertices;

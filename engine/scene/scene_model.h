@@ -9,6 +9,7 @@
 #include "mesh/decimate.h"
 #include "mesh/triangle_mesh.h"
 #include "scene/scene.h"
+#include "scene/stages/fine_surface.h"
 #include "scene/stages/paint.h"
 #include "sim/soft_body.h"
 
@@ -19,6 +20,7 @@ struct SceneModel {
     // The model's own surface, transformed into the scene, when the body is a decimated copy
     // of it; empty when the body simulates the model's vertices.
     std::optional<mesh::TriangleMesh> fine;
+    FineCopies fine_copies;  // the models it holds only a copy of (simulated on their own vertices)
     mesh::DecimateReport decimation;  // summed over the models
     // With [[bodies]]: where each model's particles start ([model] first, then the bodies in
     // order), and the particle count last. Empty for one model.

@@ -35,6 +35,7 @@ core::Result<std::unique_ptr<SceneRuntime>> SceneRuntime::create(const Scene& sc
     if (!model.ok()) return model.error();
     rt->body_ = std::move(model.value().body);
     rt->fine_ = std::move(model.value().fine);
+    rt->fine_copies_ = std::move(model.value().fine_copies);
     rt->decimation_ = model.value().decimation;
     rt->paint_ = std::move(model.value().paint);
     rt->frame_unplaced_camera();
@@ -207,7 +208,11 @@ std::span<const Vec3f> SceneRuntime::surface_colors() {
         }
         fine_colors_ = paint_vertices(paint_, body_, *fine_, *fine_vertices_);
     }
-    return fine_colors_;
+    if (!fine_copies_.any()) return fine_colors_;
+    // The body's particles follow the fine vertices (FineCopies).
+    surface_colors_.assign(fine_colors_.begin(), fine_colors_.end());
+    surface_colors_.insert(surface_colors_.end(), body_.colors.begin(), body_.colors.end());
+    return surface_colors_;
 }
 
 TriangleLooks SceneRuntime::triangle_looks(std::span<const mesh::Triangle> triangles) {
@@ -224,7 +229,13 @@ TriangleLooks SceneRuntime::triangle_looks(std::span<const mesh::Triangle> trian
         const uint32_t particle = body_.triangles[fine_vertices_->triangle[v]][0];
         if (particle < body_.model_of_particle.size()) model[v] = body_.model_of_particle[particle];
     }
-    return paint_triangles(paint_, fine_->positions, model, triangles);
+    if (!fine_copies_.any()) return paint_triangles(paint_, fine_->positions, model, triangles);
+    // The body's particles follow the fine vertices, at their rest places (FineCopies).
+    std::vector<Vec3f> rest(fine_->positions);
+    rest.insert(rest.end(), body_.rest_positions.begin(), body_.rest_positions.end());
+    model.insert(model.end(), body_.model_of_particle.begin(), body_.model_of_particle.end());
+    model.resize(rest.size(), 0u);
+    return paint_triangles(paint_, rest, model, triangles);
 }
 
 void SceneRuntime::deformed_surface(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, SolidOrder* one_sided) {
@@ -252,7 +263,7 @@ void SceneRuntime::surface_as(std::vector<Vec4f>& x, std::vector<mesh::Triangle>
         x = body_.particles.x;
         triangles = body_.triangles;
     } else {
-        deformed_fine_surface(body_, *fine_, fine_vertices_, x, triangles, keep);
+        deformed_fine_surface(body_, *fine_, fine_copies_, fine_vertices_, x, triangles, keep);
     }
     if (one_sided) *one_sided = order_solids_first(body_, solid_pieces(body_, &cut_faces_), triangles, fine_ ? &*fine_vertices_ : nullptr);
 }

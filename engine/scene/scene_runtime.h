@@ -238,8 +238,10 @@ private:
     Scene scene_;
     sim::SoftBody body_;
     std::optional<mesh::TriangleMesh> fine_;  // the model's surface when the body is decimated
+    FineCopies fine_copies_;  // the models fine_ holds only a copy of
     mesh::DecimateReport decimation_;
     SurfacePaint paint_;  // the models' looks; empty for plain materials (no paint pass then)
+    std::vector<Vec3f> surface_colors_;  // with FineCopies: fine_colors_, then the particles'
     std::vector<Vec3f> fine_colors_;  // the look on the fine surface's vertices, made when first asked
     surface::EmbeddingStats embedding_;
     std::optional<surface::BoundaryParticles> fine_vertices_;  // made on the first deformed_surface()

@@ -33,7 +33,8 @@ void simplify_whole(const mesh::TriangleMesh& fine, bool changed, FineTriangles&
 // them: two body triangles that met at rest (a corner at the same rest position) but share no
 // vertex now were torn or cut apart there, and a fine triangle with corners on both would bridge
 // the opening (a tear that has not yet split the piece leaves both in one component).
-void judge_whole(const sim::SoftBody& body, const mesh::TriangleMesh& fine, const surface::BoundaryParticles& fv, FineTriangles& out) {
+void judge_whole(const sim::SoftBody& body, const mesh::TriangleMesh& fine, const FineCopies& copies, const surface::BoundaryParticles& fv,
+                 FineTriangles& out) {
     const auto piece = [&](uint32_t triangle) { return body.piece_of_particle[body.triangles[triangle][0]]; };
     const auto torn_apart = [&](uint32_t a, uint32_t b) {
         if (a == b) return false;
@@ -47,7 +48,9 @@ void judge_whole(const sim::SoftBody& body, const mesh::TriangleMesh& fine, cons
         return met;
     };
     out.whole.clear(), out.rest2.clear();
-    for (const mesh::Triangle& t : fine.triangles) {
+    for (uint32_t k = 0; k < fine.triangles.size(); ++k) {
+        if (copies.copied(k)) continue;
+        const mesh::Triangle& t = fine.triangles[k];
         const uint32_t e0 = fv.triangle[t[0]], e1 = fv.triangle[t[1]], e2 = fv.triangle[t[2]];
         const uint32_t c = piece(e0);
         if (piece(e1) != c || piece(e2) != c) continue;
@@ -58,10 +61,28 @@ void judge_whole(const sim::SoftBody& body, const mesh::TriangleMesh& fine, cons
     out.body_triangles = body.triangles.size(), out.particles = body.particle_count(), out.pieces = body.pieces;
 }
 
+// The body's triangles of the copied models, their corners at `base` + particle in `x`.
+void append_copied(const sim::SoftBody& body, const FineCopies& copies, std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles) {
+    const uint32_t base = uint32_t(x.size());
+    x.insert(x.end(), body.particles.x.begin(), body.particles.x.end());
+    const bool models = body.model_of_particle.size() == body.particle_count();
+    for (const mesh::Triangle& t : body.triangles) {
+        const uint32_t m = models ? body.model_of_particle[t[0]] : 0u;
+        if (m < copies.model.size() && copies.model[m]) triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    }
+}
+
 } // namespace
 
-void deformed_fine_surface(const sim::SoftBody& body, const mesh::TriangleMesh& fine, std::optional<surface::BoundaryParticles>& fine_vertices,
-                           std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, FineTriangles* keep) {
+bool FineCopies::copied(uint32_t fine_triangle) const {
+    for (const auto& [first, last] : triangles)
+        if (fine_triangle >= first && fine_triangle < last) return true;
+    return false;
+}
+
+void deformed_fine_surface(const sim::SoftBody& body, const mesh::TriangleMesh& fine, const FineCopies& copies,
+                           std::optional<surface::BoundaryParticles>& fine_vertices, std::vector<Vec4f>& x,
+                           std::vector<mesh::Triangle>& triangles, FineTriangles* keep) {
     if (!fine_vertices) {
         // Embedded on demand: only coverage checks ask. Before any cut the rest mesh is the
         // one the samples were embedded in; after one, its children hold the same surface.
@@ -86,7 +107,7 @@ void deformed_fine_surface(const sim::SoftBody& body, const mesh::TriangleMesh& 
     FineTriangles& judged = keep ? *keep : local;
     const bool changed =
         judged.body_triangles != body.triangles.size() || judged.particles != body.particle_count() || judged.pieces != body.pieces;
-    if (changed) judge_whole(body, fine, fv, judged);
+    if (changed) judge_whole(body, fine, copies, fv, judged);
     simplify_whole(fine, changed, judged);
     const bool simple = judged.simplified_current;
     const std::vector<mesh::Triangle>& drawn = simple ? judged.simplified : judged.whole;
@@ -100,6 +121,7 @@ void deformed_fine_surface(const sim::SoftBody& body, const mesh::TriangleMesh& 
             torn = torn || (x[t[size_t(e)]] - x[t[size_t((e + 1) % 3)]]).squaredNorm() > rest2[k][size_t(e)] + 1e-12f;
         if (!torn) triangles.push_back(t);
     }
+    if (copies.any()) append_copied(body, copies, x, triangles);
 }
 
 } // namespace pbdsplat::scene

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "mesh/triangle_mesh.h"
@@ -36,7 +37,23 @@ struct FineTriangles {
     bool simplification_due() const { return simplify_error > 0.0f && !simplified_current; }
 };
 
-void deformed_fine_surface(const sim::SoftBody& body, const mesh::TriangleMesh& fine, std::optional<surface::BoundaryParticles>& fine_vertices,
-                           std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, FineTriangles* keep = nullptr);
+// The models of a scene that the fine surface holds only a copy of: simulated on their own
+// vertices beside a decimated model (a procedural table under a teapot), their meshes as they
+// were at load. The body's own triangles stand for them: a fine triangle that a cut crossed is
+// left out whole, and a copied one is as large as the body's (a stroke across the table left a
+// hole of two of its triangles in the occluders, and the splats there were dropped).
+struct FineCopies {
+    std::vector<std::pair<uint32_t, uint32_t>> triangles;  // the copies' fine triangles, [first, last)
+    std::vector<uint8_t> model;                           // per model: the fine surface copies it
+    bool any() const { return !triangles.empty(); }
+    bool copied(uint32_t fine_triangle) const;
+};
+
+// The fine surface as the body carries it now, in `x` and `triangles`. Where `copies` has any,
+// the body's particles follow the fine vertices in `x`, and its triangles of the copied models
+// (their indices past the fine vertices) follow the fine ones.
+void deformed_fine_surface(const sim::SoftBody& body, const mesh::TriangleMesh& fine, const FineCopies& copies,
+                           std::optional<surface::BoundaryParticles>& fine_vertices, std::vector<Vec4f>& x,
+                           std::vector<mesh::Triangle>& triangles, FineTriangles* keep = nullptr);
 
 } // namespace pbdsplat::scene

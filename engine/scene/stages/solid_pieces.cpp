@@ -26,9 +26,11 @@ SolidOrder order_solids_first(const sim::SoftBody& body, const std::vector<uint8
     const Solids kind = which_solid(solid);
     if (kind == Solids::none) return {};
     if (kind == Solids::all) return {true, triangles.size()};
-    // A fine triangle's piece is that of the body triangle its first corner rides on.
+    // A fine triangle's piece is that of the body triangle its first corner rides on; past the
+    // fine vertices come the body's particles (FineCopies).
     const auto piece_of = [&](const mesh::Triangle& t) {
-        const uint32_t i = fine_vertices ? body.triangles[fine_vertices->triangle[t[0]]][0] : t[0];
+        const size_t fine = fine_vertices ? fine_vertices->size() : 0;
+        const uint32_t i = t[0] < fine ? body.triangles[fine_vertices->triangle[t[0]]][0] : uint32_t(t[0] - fine);
         return body.piece_of_particle[i];
     };
     std::vector<mesh::Triangle> open;
