@@ -160,6 +160,7 @@ struct Ground {
     float offset = 0.0f;             // dot(normal, x) = offset on the plane
     Vec3f centre = Vec3f::Zero();    // of the drawn disc, on the plane
     float radius = 10.0f;
+    bool fitted = false;             // centre and radius hold an earlier frame's disc
     // A contact shadow under each of the largest pieces (strength 0: unused).
     struct Shadow {
         Vec3f centre = Vec3f::Zero();  // the piece's centre dropped onto the plane

@@ -405,6 +405,38 @@ normal = [0.0, 1.0, 0.0]
         CHECK(one.shadows[0].radius > 2.0f);  // the pair reaches 2.5 from their common centre
     }
 
+    TEST_CASE("the ground's disc holds its place while the body moves within it, and follows it out") {
+        // A unit square of particles on the ground (y = 0) and a second one, moved about.
+        const sim::GroundPlane plane{Vec3f::UnitY(), 0.0f};
+        const auto square = [](const Vec3f& at, float side) {
+            std::vector<Vec4f> x;
+            for (int i = 0; i <= 4; ++i)
+                for (int j = 0; j <= 4; ++j) x.push_back(Vec4f(at.x() + side * 0.25f * float(i), 0.0f, at.z() + side * 0.25f * float(j), 1.0f));
+            return x;
+        };
+        const auto fit = [&](render::Ground& g, const std::vector<Vec4f>& x) {
+            Vec3f c = Vec3f::Zero();
+            for (const Vec4f& p : x) c += p.head<3>();
+            scene::fit_ground(plane, {x, {}, 1}, c / float(x.size()), g);
+        };
+        render::Ground g;
+        fit(g, square(Vec3f(-1.0f, 0.0f, -1.0f), 2.0f));  // reach 1.41: a disc of 17 m about the origin
+        const Vec3f centre = g.centre;
+        const float radius = g.radius;
+        CHECK(radius == doctest::Approx(12.0f * std::sqrt(2.0f)));
+        // Shrunk to a tenth and moved 2 m aside: the disc stands as it was.
+        fit(g, square(Vec3f(2.0f, 0.0f, 0.0f), 0.2f));
+        CHECK(g.centre == centre);
+        CHECK(g.radius == radius);
+        // Carried 20 m away: the disc follows, keeping it in its inner third.
+        fit(g, square(Vec3f(20.0f, 0.0f, 0.0f), 0.2f));
+        CHECK(g.radius == radius);
+        CHECK((g.centre - Vec3f(20.1f, 0.0f, 0.1f)).norm() == doctest::Approx(radius / 3.0f - 0.1414f).epsilon(0.01));
+        // Grown past it: the disc grows at once.
+        fit(g, square(Vec3f(15.0f, 0.0f, -5.0f), 10.0f));
+        CHECK(g.radius == doctest::Approx(12.0f * 5.0f * std::sqrt(2.0f)));
+    }
+
     TEST_CASE("a spin turns what moves about its centre and leaves a static body where it stands") {
         auto parsed = scene::parse_scene(R"([model]
 mesh = "box:4"

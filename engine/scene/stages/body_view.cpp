@@ -74,8 +74,20 @@ void fit_ground(const sim::GroundPlane& plane, const BodyPoints& body, const Vec
     std::ranges::stable_sort(shadows, [&](const auto& a, const auto& b) { return weight(a) > weight(b); });
     g.shadows = {};
     for (size_t k = 0; k < std::min(shadows.size(), g.shadows.size()); ++k) g.shadows[k] = shadows[k];
-    g.centre = centre - (n.dot(centre) - plane.offset) * n;
-    g.radius = 12.0f * std::max(reach, 0.1f);
+    // The disc keeps its place while the body's footprint stays in its inner third, and grows
+    // with it but never shrinks, so the floor's fading rim neither slides nor breathes as pieces
+    // move: three models thrown at each other from 3 m apart pulled it in from 36 m to 7 m
+    // within ten frames. Where the footprint leaves the inner third, the disc moves just enough.
+    const Vec3f c = centre - (n.dot(centre) - plane.offset) * n;
+    const float foot = std::max(reach, 0.1f);
+    if (!g.fitted) {
+        g.centre = c, g.radius = 12.0f * foot, g.fitted = true;
+        return;
+    }
+    g.radius = std::max(g.radius, 12.0f * foot);
+    const Vec3f d = c - g.centre;
+    const float room = g.radius / 3.0f - foot, dist = d.norm();
+    if (dist > room) g.centre += d * ((dist - room) / dist);
 }
 
 } // namespace pbdsplat::scene
