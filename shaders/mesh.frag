@@ -15,6 +15,7 @@ layout(location = 0) in vec3 v_world;
 layout(location = 1) in vec3 v_normal;
 layout(location = 2) in vec3 v_color;
 layout(location = 3) in vec2 v_uv;
+layout(location = 4) flat in uint v_model;
 layout(location = 0) out vec4 out_color;
 
 void main() {
@@ -28,5 +29,5 @@ void main() {
     // A cut opens the body: its inside faces the camera too, lit from the side that is seen.
     const vec3 n = seen_side(normalize(v_normal), v_world);
     const vec3 texel = push.albedo.w > 0.5 ? texture(base_color, v_uv).rgb : vec3(1.0);
-    out_color = vec4(shade(push.albedo.rgb * v_color * texel, n, v_world), 1.0);
+    out_color = vec4(shade(push.albedo.rgb * v_color * texel, n, v_world, v_model), 1.0);
 }

@@ -14,6 +14,7 @@ layout(location = 1) out vec4 v_color;
 layout(location = 2) out vec2 v_scale_opacity;
 layout(location = 3) out mat3 v_curvature;  // locations 3-5
 layout(location = 6) out vec2 v_thin;  // splat_thin_place()
+layout(location = 7) flat out uint v_model;
 
 void main() {
     gl_Position = vec4(in_position, 1.0);  // world position; the geometry shader projects
@@ -22,4 +23,5 @@ void main() {
     v_scale_opacity = in_scale_opacity;
     v_curvature = splat_curvature(in_curvature, v_normal);
     v_thin = splat_thin_place(in_curvature);
+    v_model = splat_model_of(in_normal_oct);
 }

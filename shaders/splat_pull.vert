@@ -22,6 +22,7 @@ layout(location = 4) out float g_depth;  // distance to the splat's surface alon
 layout(location = 5) out vec3 g_tex;     // see corner_texcoord()
 layout(location = 6) flat out vec3 g_tex_centre;  // see texcoord_centre()
 layout(location = 7) flat out vec3 g_tex_metric;  // see texcoord_metric()
+layout(location = 8) flat out uint g_model;       // whose centre the environment lookups look out from
 
 // Strip corners (0, 1, 2) and (2, 1, 3): the quad strip's two triangles.
 const int k_corner_of_vertex[6] = int[6](0, 1, 2, 2, 1, 3);
@@ -32,6 +33,7 @@ void main() {
     const float alpha = splat_alpha(r.color.a, r.opacity_logit);
     if (!splat_thin(r.position, r.thin, s0)) s0 = 0.0;
     g_normal = r.normal;
+    g_model = r.model;
     if (!(s0 > 0.0)) {  // nothing to draw: a point outside the clip volume
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
         g_uv = vec2(0.0);
@@ -49,7 +51,7 @@ void main() {
     splat_corner(q, r.position, k_corner_of_vertex[gl_VertexIndex % 6], gl_Position, g_world, g_uv, g_depth);
     g_normal = corner_normal(r.normal, r.curvature, r.position, g_world);
     const SplatTexcoord tex = read_texcoord(uint(gl_VertexIndex) / 6u);
-    g_color = corner_color(textured_albedo(tex, splat_albedo(r.color.rgb, uint(gl_VertexIndex) / 6u, r.position)), alpha, g_normal, g_world);
+    g_color = corner_color(textured_albedo(tex, splat_albedo(r.color.rgb, uint(gl_VertexIndex) / 6u, r.position)), alpha, g_normal, g_world, r.model);
     g_tex = corner_texcoord(tex, r.normal, r.position, g_world);
     g_tex_centre = texcoord_centre(tex);
     g_tex_metric = texcoord_metric(tex);

@@ -35,6 +35,9 @@ struct Environment {
     float specular = 1.0f;   // scales the material's specular strength for the reflection
     float intensity = 1.0f;  // of the whole map
     Vec3f center = Vec3f::Zero();  // the body's centre, updated every frame by the scene
+    // With several models, each one's centre (the record's model picks it, gpu_types.h): a model
+    // is lit from its own, so another one moving does not relight it. Empty: `center` for all.
+    std::vector<Vec3f> model_centers;
 };
 
 enum class LightType { directional, point, spot };

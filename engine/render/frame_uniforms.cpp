@@ -49,6 +49,7 @@ gpu_types::FrameUniforms make_frame_uniforms(const FrameInputs& in, uint32_t wid
     const size_t lights = std::min<size_t>(l.lights.size(), PBDSPLAT_MAX_LIGHTS);
     u.env_center = to_gpu(e.center, float(lights));
     for (size_t k = 0; k < 9; ++k) u.env_sh[k] = to_gpu(sh ? (*sh)[k] : Vec3f::Zero(), 0.0f);
+    for (size_t k = 0; k < SPLAT_ENV_CENTERS; ++k) u.env_centers[k] = to_gpu(k < e.model_centers.size() ? e.model_centers[k] : e.center, 0.0f);
     for (size_t k = 0; k < lights; ++k) {
         const Light& g = l.lights[k];
         const bool directional = g.type == LightType::directional;

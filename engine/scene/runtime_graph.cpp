@@ -245,7 +245,7 @@ graph::Handle<graph::GpuImageRef> SceneRuntime::add_mesh_view_pass(GraphAssembly
             render::MeshRaster& mesh = r.write(raster);
             const sim::SoftBody& bd = body.body(r);
             const uint32_t slot = r.read(splats).slot();
-            if (const core::Status s = mesh.set_mesh(bd.particles.x, bd.triangles, bd.normals, slot, bd.colors); !s.ok())
+            if (const core::Status s = mesh.set_mesh(particles_with_models(bd), bd.triangles, bd.normals, slot, bd.colors); !s.ok())
                 r.write(note) = "mesh view: " + s.error().to_string();  // drawn with the last mesh that fitted
             // Drawn in the body's own colours where it has them, as its splats are.
             const Vec3f albedo = bd.colors.empty() ? r.read(appearance).albedo : Vec3f::Ones();

@@ -265,6 +265,7 @@ void SceneRuntime::surface_as(std::vector<Vec4f>& x, std::vector<mesh::Triangle>
     } else {
         deformed_fine_surface(body_, *fine_, fine_copies_, fine_vertices_, x, triangles, keep);
     }
+    mark_vertex_models(body_, fine_ ? &*fine_vertices_ : nullptr, x);
     if (one_sided) *one_sided = order_solids_first(body_, solid_pieces(body_, &cut_faces_), triangles, fine_ ? &*fine_vertices_ : nullptr);
 }
 

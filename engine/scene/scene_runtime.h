@@ -138,7 +138,7 @@ public:
     // before a cut.
     const splat::CutFaces& cut_faces() const { return cut_faces_; }
     void append_cut_faces(std::vector<Vec4f>& x, std::vector<mesh::Triangle>& triangles, std::vector<Vec3f>* colors = nullptr) const {
-        cut_faces_.append_surface(body_.particles.x, x, triangles, body_.colors, colors);
+        cut_faces_.append_surface(particles_with_models(body_), x, triangles, body_.colors, colors);
     }
     const surface::BoundaryParticles& boundary_particles() const { return boundary_; }
     bool particles_are_splats() const { return splat_particles_; }

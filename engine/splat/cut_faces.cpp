@@ -140,7 +140,8 @@ std::pair<Vec3f, float> CutFaces::measure(const std::vector<uint32_t>& loop, std
 }
 
 void CutFaces::append_records(std::span<const Vec4f> x, std::span<const Vec3f> colors, const Appearance& look,
-                              std::vector<GaussianRecord>& out, std::vector<GaussianShape>* shapes) const {
+                              std::vector<GaussianRecord>& out, std::vector<GaussianShape>* shapes,
+                              std::span<const uint32_t> model_of_particle) const {
     Appearance inside = look;
     std::vector<Vec3f> normals;  // one face's, at its shared corners
     for (const Face& f : faces_) {
@@ -168,6 +169,7 @@ void CutFaces::append_records(std::span<const Vec4f> x, std::span<const Vec3f> c
             const Vec3f nt = blend.norm() > 1e-6f ? Vec3f(blend.normalized()) : n;
             out.push_back(make_record(p, nt, inside, std::min(1.0f, fade)));
             out.back().scale_half = float_to_half(scale);
+            if (t[0] < model_of_particle.size()) set_model(out.back(), model_of_particle[t[0]]);
             if (shapes) {
                 const Vec3f t1 = nt.unitOrthogonal(), t2 = nt.cross(t1);
                 Eigen::Matrix3f axes;

@@ -39,8 +39,9 @@ public:
     // One record per sample for positions `x` (the body's particles), appended to `out`; with
     // `shapes`, a flat disc in the face's plane appended for each too.
     // `colors`: the particles' colours, or empty.
+    // `model_of_particle` (a scene of several models): each record takes its face's model.
     void append_records(std::span<const Vec4f> x, std::span<const Vec3f> colors, const Appearance& look, std::vector<GaussianRecord>& out,
-                        std::vector<GaussianShape>* shapes) const;
+                        std::vector<GaussianShape>* shapes, std::span<const uint32_t> model_of_particle = {}) const;
 
     // The faces as a surface: their triangles appended to `triangles`, on corners of their own
     // appended to `out_x`, one per particle of each part of a face (so a mesh drawn from them is

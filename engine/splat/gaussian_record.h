@@ -97,6 +97,20 @@ inline uint8_t to_unorm8(float v) {
 }
 Vec3f decode_octahedral(const int16_t in[2]);
 
+// The record's model (gpu_types.h: the lowest two bits of each normal component; models past
+// SPLAT_ENV_CENTERS - 1 are stored as it). Two bits of a 16-bit octahedral component move the
+// normal by at most 7e-4 rad (0.04 degrees, where the octahedron folds at -z). -32768 is kept
+// out: the shaders read the snorm as a float, which takes -32768 and -32767 alike to -1.
+inline void set_model(GaussianRecord& r, uint32_t model) {
+    const uint32_t m = std::min<uint32_t>(model, SPLAT_ENV_CENTERS - 1);
+    for (int k = 0; k < 2; ++k) {
+        int c = (int(r.normal_oct[k]) & ~3) | int((m >> (2 * k)) & 3u);
+        if (c < -32767) c += 4;
+        r.normal_oct[k] = int16_t(c);
+    }
+}
+inline uint32_t record_model(const GaussianRecord& r) { return uint32_t(r.normal_oct[0] & 3) | (uint32_t(r.normal_oct[1] & 3) << 2); }
+
 struct Appearance {
     Vec3f albedo{0.8f, 0.2f, 0.2f};  // linear rgb
     float opacity_logit = 4.0f;      // sigmoid(4) ~ 0.982

@@ -17,7 +17,9 @@ struct alignas(16) mat4 { float m[16]; };  // column-major, as GLSL reads it
 
 // ---- One Gaussian as the splat pass reads it (vertex attributes, binding 0) -----------------
 // position   : R32G32B32_SFLOAT  world-space centre mu (the particle position, eq. 12)
-// normal     : R16G16_SNORM      octahedral-encoded unit normal
+// normal     : R16G16_SNORM      octahedral-encoded unit normal; the lowest two bits of each
+//              component hold the record's model (x's its low bits, y's its high bits), whose
+//              centre its position-based environment lookups look out from (env_centers)
 // color      : R8G8B8A8_UNORM    linear albedo rgb; a = fade-in factor (1 when settled)
 // scale_opac : R16G16_SFLOAT     x = isotropic std-dev s0 in world units, y = opacity logit o
 // curvature  : R16G16B16A16_SFLOAT how the surface's normal turns across the splat: the
@@ -36,6 +38,9 @@ struct alignas(16) mat4 { float m[16]; };  // column-major, as GLSL reads it
 #define SPLAT_OFFSET_SCALE_OPACITY 20
 #define SPLAT_OFFSET_CURVATURE 24
 #define SPLAT_THIN_LEVELS 4
+// A scene's models are lit from their own centres (the record's model, above); in a scene of
+// more models, those past the last share its entry, which then holds the centre of them all.
+#define SPLAT_ENV_CENTERS 16
 
 // ---- Anisotropic splats (optional storage stream, binding 3 of the splat pass) --------------
 // Per record, the three axes of its Gaussian in world units (columns of R S, so the covariance
@@ -96,13 +101,14 @@ struct FrameUniforms {
                        // y: diffuse weight k_d; z: specular weight; w: intensity
     vec4 env_center;   // xyz: the point position-based lookups look out from; w: light count
     vec4 env_sh[9];    // irradiance as 9 spherical-harmonic coefficients (rgb), cosine lobe applied
+    vec4 env_centers[SPLAT_ENV_CENTERS];  // xyz: each model's centre, for its position-based lookups
     // Extra direct lights (eq. 25), besides the key light above.
     vec4 light_position[PBDSPLAT_MAX_LIGHTS];  // xyz: position, or direction to the light; w: 0 dir, 1 point, 2 spot
     vec4 light_radiance[PBDSPLAT_MAX_LIGHTS];  // rgb: colour * intensity; w: range (point, spot)
     vec4 light_spot[PBDSPLAT_MAX_LIGHTS];      // xyz: spot axis, away from the light; w: unused
     vec4 light_cone[PBDSPLAT_MAX_LIGHTS];      // x: cos of the inner angle, y: cos of the outer angle
 };
-PBDSPLAT_GPU_SIZE(FrameUniforms, 2 * 64 + 9 * 16 + 11 * 16 + 4 * PBDSPLAT_MAX_LIGHTS * 16);
+PBDSPLAT_GPU_SIZE(FrameUniforms, 2 * 64 + 9 * 16 + 11 * 16 + SPLAT_ENV_CENTERS * 16 + 4 * PBDSPLAT_MAX_LIGHTS * 16);
 
 // ---- The ground pass (render/ground.h): push constants ----------------------------------------
 #define GROUND_SHADOWS 4

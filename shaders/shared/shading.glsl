@@ -55,7 +55,10 @@ vec3 splat_lit_normal(vec3 n, vec3 world, bool opaque_disc, bool opaque_surface)
     return normalize(mix(laid, -n, smoothstep(0.15, 0.45, -d)));
 }
 
-vec3 shade(vec3 albedo, vec3 n, vec3 world) {
+// The centre a model's position-based lookups look out from.
+vec3 env_centre(uint model) { return frame.env_centers[min(model, uint(SPLAT_ENV_CENTERS - 1))].xyz; }
+
+vec3 shade(vec3 albedo, vec3 n, vec3 world, uint model) {
     const vec3 t = normalize(frame.camera_pos.xyz - world);  // towards the eye
     vec3 color = direct_light(albedo, n, t, frame.light_dir.xyz, frame.light_color.rgb * frame.light_dir.w);
 
@@ -63,8 +66,8 @@ vec3 shade(vec3 albedo, vec3 n, vec3 world) {
     if (mode == 0) {
         color += albedo * frame.ambient.rgb;
     } else {
-        // Eq. 24: p is the world position seen from the body's centre.
-        const vec3 rel = world - frame.env_center.xyz;
+        // Eq. 24: p is the world position seen from the body's centre (its model's).
+        const vec3 rel = world - env_centre(model);
         const vec3 p = dot(rel, rel) > 1e-12 ? normalize(rel) : n;
         const vec3 diffuse_dir = mode == 1 ? p : n;
         const vec3 specular_dir = mode == 2 ? n : p;

@@ -9,6 +9,14 @@ vec3 decode_octahedral(vec2 e) {
     return normalize(n);
 }
 
+// The record's model (gpu_types.h: the lowest two bits of each normal component), from the
+// normal's two snorm16 as read through a vertex attribute, and from its raw word.
+uint splat_model_of(vec2 oct) {
+    const ivec2 c = ivec2(round(oct * 32767.0));
+    return uint(c.x & 3) | (uint(c.y & 3) << 2);
+}
+uint splat_model_bits(uint word) { return (word & 3u) | (((word >> 16) & 3u) << 2); }
+
 // The record's symmetric curvature S from its 2x2 block (c.xyz on axes i, j) and the axis d it
 // leaves out (c.w), with S n = 0 (splat::decode_curvature on the CPU).
 mat3 splat_curvature(vec4 c, vec3 n) {

@@ -48,10 +48,10 @@ vec3 corner_normal(vec3 n, mat3 curvature, vec3 centre_world, vec3 corner_world)
 }
 
 // rgb: the albedo, or the shaded colour; a: the splat's opacity (splat_alpha).
-vec4 corner_color(vec3 albedo, float alpha, vec3 normal, vec3 corner_world) {
+vec4 corner_color(vec3 albedo, float alpha, vec3 normal, vec3 corner_world, uint model) {
     const vec3 rgb = k_shade_per_corner
                          ? shade(albedo, splat_lit_normal(normalize(normal), corner_world, k_footprint == SPLAT_FOOTPRINT_PAPER, k_opaque_surface),
-                                 corner_world)
+                                 corner_world, model)
                          : albedo;
     return vec4(rgb, alpha);
 }

@@ -32,6 +32,7 @@ layout(location = 5) in vec3 g_tex;
 // the metric of the coordinates along the surface (texcoord_centre(), texcoord_metric()).
 layout(location = 6) flat in vec3 g_tex_centre;
 layout(location = 7) flat in vec3 g_tex_metric;
+layout(location = 8) flat in uint g_model;
 layout(constant_id = 8) const uint k_texture_count = 0u;  // as in splat_texture.glsl
 const bool k_textured = k_texture_count > 0u;
 layout(set = 0, binding = 7) uniform sampler2D splat_textures[SPLAT_MAX_TEXTURES];
@@ -158,7 +159,7 @@ void main() {
     // Shaded at the corners, the texture multiplies the shaded colour (its highlights too).
     const vec3 surface_color = g_color.rgb * texel(tex_dx, tex_dy);
     const vec3 albedo = mix(surface_color, frame.interior.rgb, frame.interior.a * inside);
-    const vec3 color = k_shade_per_corner ? surface_color : shade(albedo, n, g_world);
+    const vec3 color = k_shade_per_corner ? surface_color : shade(albedo, n, g_world, g_model);
 #ifdef PBDSPLAT_WEIGHTED_OUTPUT
     // Normalised blending's weight: -ln(1 - alpha) adds up like a log transmittance (the resolve
     // recovers the coverage from the sum), and weighs each splat's colour by how much it covers,

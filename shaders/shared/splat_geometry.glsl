@@ -27,6 +27,7 @@ layout(location = 1) in vec4 v_color[];
 layout(location = 2) in vec2 v_scale_opacity[];
 layout(location = 3) in mat3 v_curvature[];
 layout(location = 6) in vec2 v_thin[];
+layout(location = 7) flat in uint v_model[];
 
 layout(location = 0) out vec2 g_uv;         // see splat_quad(): std devs, or the paper's [-1,1]
 layout(location = 1) out vec3 g_world;      // world position of the fragment (for env lookups)
@@ -36,6 +37,7 @@ layout(location = 4) out float g_depth;  // distance to the splat's surface alon
 layout(location = 5) out vec3 g_tex;     // see corner_texcoord()
 layout(location = 6) flat out vec3 g_tex_centre;  // see texcoord_centre()
 layout(location = 7) flat out vec3 g_tex_metric;  // see texcoord_metric()
+layout(location = 8) flat out uint g_model;       // whose centre the environment lookups look out from
 
 void main() {
     const vec3 world = gl_in[0].gl_Position.xyz;
@@ -54,10 +56,11 @@ void main() {
     for (int i = 0; i < k_carrier_corners; ++i) {
         splat_corner(q, world, i, gl_Position, g_world, g_uv, g_depth);
         g_normal = corner_normal(v_normal[0], v_curvature[0], world, g_world);
-        g_color = corner_color(albedo, alpha, g_normal, g_world);
+        g_color = corner_color(albedo, alpha, g_normal, g_world, v_model[0]);
         g_tex = corner_texcoord(tex, v_normal[0], world, g_world);
         g_tex_centre = texcoord_centre(tex);
         g_tex_metric = texcoord_metric(tex);
+        g_model = v_model[0];
         EmitVertex();
     }
     EndPrimitive();

@@ -33,6 +33,7 @@ layout(location = 4) out float g_depth[];  // distance to the splat's surface al
 layout(location = 5) out vec3 g_tex[];     // see corner_texcoord()
 layout(location = 6) flat out vec3 g_tex_centre[];  // see texcoord_centre()
 layout(location = 7) flat out vec3 g_tex_metric[];  // see texcoord_metric()
+layout(location = 8) flat out uint g_model[];       // whose centre the environment lookups look out from
 
 void main() {
     const uint first = gl_WorkGroupID.x * SPLATS_PER_GROUP;
@@ -60,10 +61,11 @@ void main() {
         splat_corner(q, r.position, int(i), clip, g_world[v], g_uv[v], g_depth[v]);
         gl_MeshVerticesEXT[v].gl_Position = clip;
         g_normal[v] = corner_normal(r.normal, r.curvature, r.position, g_world[v]);
-        g_color[v] = corner_color(albedo, alpha, g_normal[v], g_world[v]);
+        g_color[v] = corner_color(albedo, alpha, g_normal[v], g_world[v], r.model);
         g_tex[v] = corner_texcoord(tex, r.normal, r.position, g_world[v]);
         g_tex_centre[v] = texcoord_centre(tex);
         g_tex_metric[v] = texcoord_metric(tex);
+        g_model[v] = r.model;
     }
     // The strip as a triangle list, every other triangle flipped to keep one winding.
     for (uint j = 0; j < nt; ++j) {

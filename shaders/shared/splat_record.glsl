@@ -15,6 +15,7 @@ struct SplatRecord {
     float opacity_logit;
     mat3 curvature;  // S: a step p in the tangent plane turns the normal by S p
     vec2 thin;  // its place in the thinning order (splat_thin_place)
+    uint model;  // whose centre its environment lookups look out from
 };
 
 SplatRecord read_record(uint i) {
@@ -22,7 +23,9 @@ SplatRecord read_record(uint i) {
     SplatRecord r;
     r.position = vec3(uintBitsToFloat(record_words[base + 0]), uintBitsToFloat(record_words[base + 1]),
                       uintBitsToFloat(record_words[base + 2]));
-    r.normal = decode_octahedral(unpackSnorm2x16(record_words[base + SPLAT_OFFSET_NORMAL / 4]));
+    const uint normal_word = record_words[base + SPLAT_OFFSET_NORMAL / 4];
+    r.normal = decode_octahedral(unpackSnorm2x16(normal_word));
+    r.model = splat_model_bits(normal_word);
     r.color = unpackUnorm4x8(record_words[base + SPLAT_OFFSET_COLOR / 4]);
     const vec2 so = unpackHalf2x16(record_words[base + SPLAT_OFFSET_SCALE_OPACITY / 4]);
     r.scale = so.x;

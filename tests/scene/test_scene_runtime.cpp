@@ -286,10 +286,13 @@ damping = 0.5
             bool on_samples = true;
             for (size_t k = 0; k < s.size(); ++k) {
                 const splat::GaussianRecord& rec = r[n + k];
-                int16_t oct[2];
-                splat::encode_octahedral(s.normal[k], oct);
+                // Its normal, with its model (its triangle's) in the lowest bits.
+                splat::GaussianRecord expected{};
+                splat::encode_octahedral(s.normal[k], expected.normal_oct);
+                splat::set_model(expected, b.model_of_particle[b.triangles[s.triangle[k]][0]]);
                 on_samples = on_samples && rec.position[0] == s.position[k].x() && rec.position[1] == s.position[k].y() &&
-                             rec.position[2] == s.position[k].z() && rec.normal_oct[0] == oct[0] && rec.normal_oct[1] == oct[1];
+                             rec.position[2] == s.position[k].z() && rec.normal_oct[0] == expected.normal_oct[0] &&
+                             rec.normal_oct[1] == expected.normal_oct[1];
             }
             CHECK(on_samples);
             kept_frames += rt.mapping().kept() > 0 ? 1 : 0;

@@ -5,6 +5,22 @@
 
 namespace pbdsplat::scene {
 
+namespace {
+// Each model's centre (position-based lookups look out from a model's own: another moving does
+// not relight it); none for a body of one model. Past the last entry the shaders hold, the
+// models share it, which then holds the centre of them all.
+void model_centres(const BodyPoints& body, const Vec3f& all, std::vector<Vec3f>& out) {
+    const uint32_t models = body.model.size() == body.x.size() ? *std::max_element(body.model.begin(), body.model.end()) + 1 : 1;
+    if (models < 2) return;
+    std::vector<Vec3f> sum(models, Vec3f::Zero());
+    std::vector<uint32_t> count(models, 0);
+    for (size_t i = 0; i < body.x.size(); ++i) sum[body.model[i]] += body.x[i].head<3>(), ++count[body.model[i]];
+    out.resize(std::min<size_t>(models, SPLAT_ENV_CENTERS));
+    for (size_t m = 0; m < out.size(); ++m) out[m] = count[m] > 0 ? Vec3f(sum[m] / float(count[m])) : all;
+    if (models > SPLAT_ENV_CENTERS) out.back() = all;
+}
+} // namespace
+
 void follow_body(const BodyPoints& body, const std::optional<sim::GroundPlane>& plane, const BodyViewOptions& o,
                  render::FrameInputs& frame) {
     // The far side of a closed, opaque body cannot show: its splats are skipped. The threshold
@@ -21,6 +37,8 @@ void follow_body(const BodyPoints& body, const std::optional<sim::GroundPlane>& 
         centre /= float(std::max<size_t>(1, body.x.size()));
     }
     if (env_centre) env.center = centre;
+    env.model_centers.clear();
+    if (env_centre && !body.model.empty()) model_centres(body, centre, env.model_centers);
     frame.ground.visible = ground;
     if (ground) fit_ground(*plane, body, centre, frame.ground);
 }

@@ -18,11 +18,13 @@ struct BodyViewOptions {
     bool draw_ground = true;   // the scene draws its plane collider
 };
 
-// The particles and which piece each is in (`piece` may be empty: one piece).
+// The particles, which piece each is in (`piece` may be empty: one piece) and which model
+// (`model` may be empty: one model).
 struct BodyPoints {
     std::span<const Vec4f> x;
     std::span<const uint32_t> piece;
     size_t pieces = 1;
+    std::span<const uint32_t> model = {};
 };
 
 // Updates `frame`'s culling threshold, environment centre and ground from the body's particles.

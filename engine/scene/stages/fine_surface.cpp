@@ -1,5 +1,7 @@
 #include "scene/stages/fine_surface.h"
 
+#include <algorithm>
+
 #include "mesh/decimate.h"
 #include "mesh/topology.h"
 #include "sim/integrate.h"
@@ -73,6 +75,20 @@ void append_copied(const sim::SoftBody& body, const FineCopies& copies, std::vec
 }
 
 } // namespace
+
+void mark_vertex_models(const sim::SoftBody& body, const surface::BoundaryParticles* fine_vertices, std::span<Vec4f> x) {
+    const std::vector<uint32_t>& model = body.model_of_particle;
+    if (model.size() != body.particle_count() || std::all_of(model.begin(), model.end(), [](uint32_t m) { return m == 0; })) return;
+    const size_t fine = fine_vertices ? std::min(fine_vertices->size(), x.size()) : 0;
+    for (size_t i = 0; i < fine; ++i) x[i].w() = float(model[body.triangles[fine_vertices->triangle[i]][0]]);
+    for (size_t i = fine; i < x.size() && i - fine < model.size(); ++i) x[i].w() = float(model[i - fine]);
+}
+
+std::vector<Vec4f> particles_with_models(const sim::SoftBody& body) {
+    std::vector<Vec4f> x(body.particles.x.begin(), body.particles.x.end());
+    mark_vertex_models(body, nullptr, x);
+    return x;
+}
 
 bool FineCopies::copied(uint32_t fine_triangle) const {
     for (const auto& [first, last] : triangles)

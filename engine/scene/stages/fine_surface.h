@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -55,5 +56,12 @@ struct FineCopies {
 void deformed_fine_surface(const sim::SoftBody& body, const mesh::TriangleMesh& fine, const FineCopies& copies,
                            std::optional<surface::BoundaryParticles>& fine_vertices, std::vector<Vec4f>& x,
                            std::vector<mesh::Triangle>& triangles, FineTriangles* keep = nullptr);
+
+// The surface's vertices marked with their model in w (the mesh raster lights each model from its
+// own centre, as the splats are: gpu_types.h): `x` as deformed_fine_surface gives it, or the
+// body's particles where `fine_vertices` is null. Nothing changes for a body of one model.
+void mark_vertex_models(const sim::SoftBody& body, const surface::BoundaryParticles* fine_vertices, std::span<Vec4f> x);
+// The body's particles so marked.
+std::vector<Vec4f> particles_with_models(const sim::SoftBody& body);
 
 } // namespace pbdsplat::scene

@@ -1,5 +1,7 @@
 #include "scene/stages/mapping_stage.h"
 
+#include <algorithm>
+
 #include "scene/stages/body_parts.h"
 #include "scene/stages/body_view.h"
 #include "scene/stages/frame_keys.h"
@@ -30,6 +32,24 @@ bool MappingStage::keeps(const Sources& s, const splat::Appearance& look, const 
            unmoved.moved_triangles.size() == s.body->triangles.size();
 }
 
+namespace {
+bool several_models(const sim::SoftBody& body) {
+    return body.model_of_particle.size() == body.particle_count() &&
+           std::any_of(body.model_of_particle.begin(), body.model_of_particle.end(), [](uint32_t m) { return m != 0; });
+}
+
+// Each record's model, whose centre its environment lookups look out from (gpu_types.h): a
+// particle's own, a sample's that of its triangle's.
+void mark_models(const sim::SoftBody& body, const MappingStage::Sources& s, std::span<const uint8_t> kept,
+                 std::vector<splat::GaussianRecord>& records) {
+    const size_t n = s.particles ? body.particle_count() : 0;
+    for (size_t i = 0; i < n; ++i) splat::set_model(records[i], body.model_of_particle[i]);
+    if (!s.samples) return;
+    for (size_t k = 0; k < s.samples->size(); ++k)
+        if (kept.empty() || !kept[k]) splat::set_model(records[n + k], body.model_of_particle[body.triangles[s.samples->triangle[k]][0]]);
+}
+} // namespace
+
 void MappingStage::map(const Sources& s, const splat::Appearance& look) { map(s, look, Unmoved{}); }
 
 void MappingStage::map(const Sources& s, const splat::Appearance& look, const Unmoved& unmoved) {
@@ -56,7 +76,9 @@ void MappingStage::map(const Sources& s, const splat::Appearance& look, const Un
         deformed_.map(s.particles ? body.particle_count() : 0, s.samples, records_, shapes_);
     }
     fade_.apply(records_);
-    if (s.cut_faces) s.cut_faces->append_records(body.particles.x, body.colors, look, records_, deformed_.empty() ? nullptr : &shapes_);
+    const std::span<const uint32_t> models = several_models(body) ? std::span<const uint32_t>(body.model_of_particle) : std::span<const uint32_t>();
+    if (!models.empty()) mark_models(body, s, kept_, records_);
+    if (s.cut_faces) s.cut_faces->append_records(body.particles.x, body.colors, look, records_, deformed_.empty() ? nullptr : &shapes_, models);
     // Once a frame drew textured splats, every later one hands entries over too (untextured where
     // nothing is, as when the boundary splats are hidden): the renderer would read the last ones.
     static const surface::BoundaryParticles no_samples;
@@ -157,7 +179,7 @@ void map_frame(const MapPassOptions& o, const MapHandles& hh, const graph::PassR
     view.closed = settings.closed || (faces && !faces->fading() && which_solid(solid_pieces(body, faces)) == Solids::all);
     view.opaque = frame.style.blend != render::Blend::additive && look.opacity_logit > math::logit(0.9f);
     view.draw_ground = settings.draw_ground;
-    follow_body({body.particles.x, body.piece_of_particle, body.pieces}, settings.ground, view, frame);
+    follow_body({body.particles.x, body.piece_of_particle, body.pieces, body.model_of_particle}, settings.ground, view, frame);
     if (o.sorted) return;  // the sort pass reorders them first
     if (stands) mapping.publish_unchanged(r.write(hh.splats));
     else mapping.publish(r.write(hh.splats), o.moved);
