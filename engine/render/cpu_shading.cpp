@@ -15,7 +15,7 @@ Vec3f direct_light(const Vec3f& albedo, const Vec3f& n, const Vec3f& t, const Ve
 }
 } // namespace
 
-Vec3f shade_cpu(const CpuShading& s, const Vec3f& albedo, const Vec3f& normal, const Vec3f& world) {
+Vec3f shade_cpu(const CpuShading& s, const Vec3f& albedo, const Vec3f& normal, const Vec3f& world, uint32_t model) {
     const Lighting& l = *s.lighting;
     const Vec3f t = (s.eye - world).normalized();  // towards the eye
     // A normal facing away is lit as the splat pass lights it (shading.glsl, splat_lit_normal):
@@ -27,8 +27,8 @@ Vec3f shade_cpu(const CpuShading& s, const Vec3f& albedo, const Vec3f& normal, c
     if (e.sampling == EnvSampling::off) {
         color += albedo.cwiseProduct(l.ambient);
     } else {
-        // Eq. 24: p is the world position seen from the body's centre.
-        const Vec3f rel = world - e.center;
+        // Eq. 24: p is the world position seen from the body's centre (its model's).
+        const Vec3f rel = world - (model < e.model_centers.size() ? e.model_centers[model] : e.center);
         const Vec3f p = rel.squaredNorm() > 1e-12f ? Vec3f(rel.normalized()) : n;
         const Vec3f diffuse_dir = e.sampling == EnvSampling::position ? p : n;
         const Vec3f specular_dir = e.sampling == EnvSampling::normal ? n : p;

@@ -4,6 +4,7 @@
 // paper's lighting show as they looked here. The environment's specular lookup takes the
 // nearest texel where the GPU filters: the two differ by a fraction of a texel's change.
 #include <array>
+#include <cstdint>
 
 #include "render/environment.h"
 #include "render/frame_inputs.h"
@@ -19,7 +20,8 @@ struct CpuShading {
 };
 
 // The lit colour of a surface point of `albedo` with unit normal `n` at `world`, seen from eye
-// (a normal facing away from the eye is lit as the splat pass lights it: `opaque_discs`).
-Vec3f shade_cpu(const CpuShading& s, const Vec3f& albedo, const Vec3f& n, const Vec3f& world);
+// (a normal facing away from the eye is lit as the splat pass lights it: `opaque_discs`), of
+// `model` (its position-based lookups look out from that model's centre, as the shaders' do).
+Vec3f shade_cpu(const CpuShading& s, const Vec3f& albedo, const Vec3f& n, const Vec3f& world, uint32_t model = 0);
 
 } // namespace pbdsplat::render

@@ -74,7 +74,7 @@ void bake_shading(const render::FrameInputs& frame, const render::EnvironmentMap
     for (splat::GaussianRecord& r : records) {
         const Vec3f albedo = Vec3f(r.color[0], r.color[1], r.color[2]) / 255.0f;
         const Vec3f lit = render::shade_cpu(shading, albedo, splat::decode_octahedral(r.normal_oct),
-                                            Vec3f(r.position[0], r.position[1], r.position[2]));
+                                            Vec3f(r.position[0], r.position[1], r.position[2]), splat::record_model(r));
         for (int c = 0; c < 3; ++c) r.color[c] = uint8_t(std::lround(std::clamp(lit[c], 0.0f, 1.0f) * 255.0f));
     }
 }

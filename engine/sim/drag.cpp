@@ -27,6 +27,11 @@ DragConstraint grab_region(const SoftBody& body, uint32_t centre, float radius, 
     d.target = grab;
     d.active = true;
     const uint32_t piece = centre < body.piece_of_particle.size() ? body.piece_of_particle[centre] : k_no_piece;
+    // A piece pinned whole (a static body: a table, a bowl) stands as it is; dragged, the region
+    // around the grab left it as a spike while the rest held.
+    bool free = body.particles.w[centre] > 0.0f;
+    for (uint32_t i = 0; i < body.particle_count() && !free; ++i) free = body.piece_of_particle[i] == piece && body.particles.w[i] > 0.0f;
+    if (!free) return DragConstraint{};
     for (uint32_t i = 0; i < body.particle_count(); ++i) {
         if (i != centre && (radius <= 0.0f || body.piece_of_particle[i] != piece)) continue;
         const Vec3f offset = xyz(body.particles.x[i]) - grab;

@@ -13,7 +13,8 @@ std::optional<uint32_t> pick_particle(const Particles& p, const Vec3f& origin, c
 
 // The grab of the region of `centre`'s piece within `radius` of it (the centre alone when the
 // radius is 0), pulled with `stiffness` (fraction of the gap per iteration) over the inner half
-// and less toward the rim. The grab point is the centre particle's position.
+// and less toward the rim. The grab point is the centre particle's position. A piece whose every
+// particle is pinned (a static body) is not grabbed: the drag is inactive.
 DragConstraint grab_region(const SoftBody& body, uint32_t centre, float radius, float stiffness);
 
 // A drag's radius when its scene or the demo does not say: two rest edges (four sampling
@@ -21,7 +22,7 @@ DragConstraint grab_region(const SoftBody& body, uint32_t centre, float radius, 
 float default_grab_radius(const SoftBody& body);
 
 // Moves every held particle toward its place in the moved region (pinned particles are moved
-// too: a drag can reposition a pin).
+// too: a drag can reposition a pin on a piece that is not pinned whole).
 template <class Real>
 void solve_drag(const DragConstraint& drag, ParticlesT<Real>& p) {
     if (!drag.active) return;

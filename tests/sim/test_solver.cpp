@@ -341,6 +341,18 @@ TEST_SUITE("sim/solver") {
         CHECK(height > 2.4f);  // measured 2.5: the sphere plus the pull of 0.5
     }
 
+    TEST_CASE("a drag leaves a piece pinned whole (a static body) as it stands, and moves a pin of a free one") {
+        auto b = test::make_body(mesh::icosphere(3));
+        const uint32_t top = b.extreme_particle(1);
+        for (uint32_t i = 0; i < b.particle_count(); ++i) b.pin(i);
+        CHECK_FALSE(sim::grab_region(b, top, 0.4f, 1.0f).active);  // dragged, its top was drawn up as a spike
+        // One particle free: the piece is not static, and its pins may be dragged as before.
+        b.particles.w[b.extreme_particle(1, false)] = 1.0f;
+        const sim::DragConstraint drag = sim::grab_region(b, top, 0.4f, 1.0f);
+        CHECK(drag.active);
+        CHECK(drag.particles.size() > 10);
+    }
+
     TEST_CASE("welds hold an open part where it touches another part of its model; closed parts are not welded") {
         // A sheet lying on a box's top face (separate surfaces, one model), the box pinned.
         auto build = [](bool sheet) {
