@@ -23,16 +23,18 @@ render::Camera framing_camera(const mesh::Bounds& box, const render::Camera& len
     return c;
 }
 
-bool camera_sees(const render::Camera& camera, std::span<const Vec3f> points, float aspect, float margin) {
+bool camera_sees(const render::Camera& camera, std::span<const Vec3f> points, float aspect, float margin, float least_span) {
     const Mat4f view_projection = math::perspective(math::radians(camera.fov_y_degrees), aspect, camera.z_near, camera.z_far) *
                                   math::look_at(camera.eye, camera.target, camera.up);
+    Vec2f lo = Vec2f::Constant(1.0f), hi = Vec2f::Constant(-1.0f);
     for (const Vec3f& p : points) {
         const Vec4f clip = view_projection * Vec4f(p.x(), p.y(), p.z(), 1.0f);
         if (!(clip.w() > camera.z_near)) return false;
-        const float x = clip.x() / clip.w(), y = clip.y() / clip.w();
-        if (std::abs(x) > margin || std::abs(y) > margin) return false;
+        const Vec2f ndc(clip.x() / clip.w(), clip.y() / clip.w());
+        if (std::abs(ndc.x()) > margin || std::abs(ndc.y()) > margin) return false;
+        lo = lo.cwiseMin(ndc), hi = hi.cwiseMax(ndc);
     }
-    return true;
+    return points.empty() || 0.5f * (hi - lo).maxCoeff() >= least_span;
 }
 
 } // namespace pbdsplat::scene

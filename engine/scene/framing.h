@@ -18,7 +18,8 @@ namespace pbdsplat::scene {
 render::Camera framing_camera(const mesh::Bounds& box, const render::Camera& lens, float aspect);
 
 // Whether every point projects inside the central `margin` of the image, in front of the near
-// plane.
-bool camera_sees(const render::Camera& camera, std::span<const Vec3f> points, float aspect, float margin = 0.95f);
+// plane, and (with `least_span` above 0) the points span at least that share of the image's
+// width or height: a model of 2 cm in the default view is a dot.
+bool camera_sees(const render::Camera& camera, std::span<const Vec3f> points, float aspect, float margin = 0.95f, float least_span = 0.0f);
 
 } // namespace pbdsplat::scene

@@ -57,7 +57,8 @@ void SceneRuntime::frame_unplaced_camera() {
         for (size_t i = 0; i < n; ++i)
             if (const float h = ground->normal.dot(points[i]) - ground->offset; h > 0.0f) points.push_back(points[i] - h * ground->normal);
     const float aspect = float(rd.width) / float(std::max(rd.height, 1u));
-    if (!camera_sees(rd.frame.camera, points, aspect)) rd.frame.camera = framing_camera(mesh::bounds(points), rd.frame.camera, aspect);
+    // Framed too where the models would show as a speck: spanning under a tenth of the view.
+    if (!camera_sees(rd.frame.camera, points, aspect, 0.95f, 0.1f)) rd.frame.camera = framing_camera(mesh::bounds(points), rd.frame.camera, aspect);
 }
 
 core::Status SceneRuntime::build(const RuntimeOptions& options) {

@@ -33,6 +33,10 @@ TEST_SUITE("scene/framing") {
         CHECK_FALSE(scene::camera_sees(lens, corners(box(Vec3f(0.0f, 3.0f, 0.0f), 0.5f)), k_aspect));   // above the view
         CHECK_FALSE(scene::camera_sees(lens, corners(box(Vec3f(0.0f, 0.0f, 4.0f), 0.5f)), k_aspect));   // behind the eye
         CHECK_FALSE(scene::camera_sees(lens, corners(box(Vec3f::Zero(), 3.0f)), k_aspect));             // around the eye
+        // A 2 cm model at the origin is in view, but a speck: asked to span a tenth of the view, it does not.
+        CHECK(scene::camera_sees(lens, corners(box(Vec3f::Zero(), 0.01f)), k_aspect));
+        CHECK_FALSE(scene::camera_sees(lens, corners(box(Vec3f::Zero(), 0.01f)), k_aspect, 0.95f, 0.1f));
+        CHECK(scene::camera_sees(lens, corners(box(Vec3f::Zero(), 0.58f)), k_aspect, 0.95f, 0.1f));
         for (const float half : {0.01f, 0.5f, 3.0f, 50.0f})
             for (const Vec3f& c : {Vec3f(Vec3f::Zero()), Vec3f(10.0f, 2.0f, -7.0f), Vec3f(-3.0f, 40.0f, 5.0f)})
                 for (const float aspect : {k_aspect, 0.5f}) {
