@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <string>
 
 #include "asset/mesh_spec.h"
 #include "mesh/reorder.h"
@@ -196,17 +197,31 @@ void warn_below_ground(const Scene& scene, const sim::SoftBody& b) {
 // A step in which gravity alone moves a particle by more than half an edge outruns what the
 // constraints and the contacts can hold in a few iterations: the skin tears into sheets and
 // strays (dt 0.1 s under 1000 m/s^2 moved the bunny 10 m a step). Said, with the substeps that
-// would do.
+// would do; and, for a solid on the ground, those that let it stand.
 void warn_coarse_step(const Scene& scene, const sim::SoftBody& b) {
     const sim::SolverSettings& s = scene.simulation.solver;
     const float edge = sim::mean_rest_edge(b), g = s.gravity.norm();
     const float h = scene.simulation.dt / float(std::max(1u, s.substeps));
-    if (!(edge > 0.0f) || !(g * h * h > 0.5f * edge)) return;
-    const double needed = std::ceil(double(scene.simulation.dt) * std::sqrt(double(g) / (0.5 * double(edge))));
-    std::fprintf(stderr,
-                 "warning: scene '%s': gravity moves a particle %.3g a step (dt / substeps = %.3g s), %.3g times the mean edge: the "
-                 "body cannot hold its shape; set [simulation] substeps to %.0f or more\n",
-                 scene.name.c_str(), double(g * h * h), double(h), double(g * h * h / edge), needed);
+    if (!(edge > 0.0f)) return;
+    const auto substeps_for = [&](double share) { return std::ceil(double(scene.simulation.dt) * std::sqrt(double(g) / (share * double(edge)))); };
+    // A solid resting on the ground tips over where gravity's step passes about a tenth of an
+    // edge (a bunny fitted to 0.2 m, 0.55 edges a step: 80 degrees at one substep, 11 at four,
+    // 4 at eight; at 0.5 m, 0.22: 17 degrees at one, 4 at three; docs/BENCHMARKS.md, "Solids
+    // that stand"). Substeps that keep it to 0.03 of an edge stand both.
+    const bool stands = s.shape_stiffness > 0.0f && scene.simulation.colliders.ground.has_value();
+    if (g * h * h > 0.5f * edge) {
+        std::fprintf(stderr,
+                     "warning: scene '%s': gravity moves a particle %.3g a step (dt / substeps = %.3g s), %.3g times the mean edge: the "
+                     "body cannot hold its shape; set [simulation] substeps to %.0f or more%s\n",
+                     scene.name.c_str(), double(g * h * h), double(h), double(g * h * h / edge), substeps_for(0.5),
+                     stands ? (" (" + std::to_string(int(substeps_for(0.03))) + " for a solid to stand on the ground)").c_str() : "");
+        return;
+    }
+    if (stands && g * h * h > 0.1f * edge)
+        std::fprintf(stderr,
+                     "note: scene '%s': gravity moves a particle %.2g times the mean edge a step: a solid this small may not stand on "
+                     "the ground; [simulation] substeps = %.0f keeps it to 0.03\n",
+                     scene.name.c_str(), double(g * h * h / edge), substeps_for(0.03));
 }
 
 core::Status pin_particles(const Scene& scene, sim::SoftBody& b) {
