@@ -3,6 +3,7 @@
 // repaired mesh; its structure, state and caches apart (below). The solver stages operate on it; the topology stage (cuts) is the only other
 // code that changes it. SoftBody is the float body the engine runs; SoftBodyT<double> exists
 // for accuracy references.
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -87,6 +88,12 @@ struct BodyCachesT {
 template <class Real>
 struct SoftBodyT : BodyStructureT<Real>, BodyStateT<Real>, BodyCachesT<Real> {
     size_t particle_count() const { return this->particles.size(); }
+    // How many models the particles were loaded from (a scene's [model] and [[bodies]]); 1 where
+    // the body does not say.
+    size_t model_count() const {
+        const std::vector<uint32_t>& m = this->model_of_particle;
+        return m.empty() || m.size() != particle_count() ? 1 : size_t(*std::max_element(m.begin(), m.end())) + 1;
+    }
     // Current volume of a volume constraint (caps included), over the whole body's triangles.
     double volume(size_t constraint) const {
         const VolumeConstraint& c = this->volumes[constraint];

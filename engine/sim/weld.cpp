@@ -10,8 +10,7 @@
 namespace pbdsplat::sim {
 
 size_t weld_touching_parts(SoftBody& b, float reach) {
-    const size_t models = b.model_of_particle.empty() ? 1 : size_t(*std::max_element(b.model_of_particle.begin(), b.model_of_particle.end())) + 1;
-    const std::vector<float> same(models, reach);
+    const std::vector<float> same(b.model_count(), reach);
     return weld_touching_parts(b, same);
 }
 

@@ -77,8 +77,8 @@ void append_copied(const sim::SoftBody& body, const FineCopies& copies, std::vec
 } // namespace
 
 void mark_vertex_models(const sim::SoftBody& body, const surface::BoundaryParticles* fine_vertices, std::span<Vec4f> x) {
+    if (body.model_count() < 2) return;
     const std::vector<uint32_t>& model = body.model_of_particle;
-    if (model.size() != body.particle_count() || std::all_of(model.begin(), model.end(), [](uint32_t m) { return m == 0; })) return;
     const size_t fine = fine_vertices ? std::min(fine_vertices->size(), x.size()) : 0;
     for (size_t i = 0; i < fine; ++i) x[i].w() = float(model[body.triangles[fine_vertices->triangle[i]][0]]);
     for (size_t i = fine; i < x.size() && i - fine < model.size(); ++i) x[i].w() = float(model[i - fine]);

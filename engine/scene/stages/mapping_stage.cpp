@@ -1,7 +1,5 @@
 #include "scene/stages/mapping_stage.h"
 
-#include <algorithm>
-
 #include "scene/stages/body_parts.h"
 #include "scene/stages/body_view.h"
 #include "scene/stages/frame_keys.h"
@@ -33,11 +31,6 @@ bool MappingStage::keeps(const Sources& s, const splat::Appearance& look, const 
 }
 
 namespace {
-bool several_models(const sim::SoftBody& body) {
-    return body.model_of_particle.size() == body.particle_count() &&
-           std::any_of(body.model_of_particle.begin(), body.model_of_particle.end(), [](uint32_t m) { return m != 0; });
-}
-
 // Each record's model, whose centre its environment lookups look out from (gpu_types.h): a
 // particle's own, a sample's that of its triangle's.
 void mark_models(const sim::SoftBody& body, const MappingStage::Sources& s, std::span<const uint8_t> kept,
@@ -76,7 +69,7 @@ void MappingStage::map(const Sources& s, const splat::Appearance& look, const Un
         deformed_.map(s.particles ? body.particle_count() : 0, s.samples, records_, shapes_);
     }
     fade_.apply(records_);
-    const std::span<const uint32_t> models = several_models(body) ? std::span<const uint32_t>(body.model_of_particle) : std::span<const uint32_t>();
+    const std::span<const uint32_t> models = body.model_count() > 1 ? std::span<const uint32_t>(body.model_of_particle) : std::span<const uint32_t>();
     if (!models.empty()) mark_models(body, s, kept_, records_);
     if (s.cut_faces) s.cut_faces->append_records(body.particles.x, body.colors, look, records_, deformed_.empty() ? nullptr : &shapes_, models);
     // Once a frame drew textured splats, every later one hands entries over too (untextured where
