@@ -98,6 +98,9 @@ inline sim::SolverSettings default_scene_solver() {
 
 struct SimulationDesc {
     sim::SolverSettings solver = default_scene_solver();
+    // Whether the scene file set `substeps`. Where it did not, loading raises them for a solid
+    // too small to stand at one (load_scene_model, SceneModel::substeps).
+    bool substeps_given = false;
     // Particles of the simulation mesh (quadric decimation of the model); the model's own
     // surface rides on it as embedded samples. Empty: model files are decimated to
     // k_default_simulation_particles, procedural meshes keep theirs. 0: the model's vertices.

@@ -277,6 +277,7 @@ void read_simulation(const Reader& r, Reader::Table& t, SimulationDesc& s) {
     sim::SolverSettings& solver = s.solver;
     solver.mode = t.named<sim::SolverMode>("mode", sim::SolverMode::paper, sim::k_solver_mode_names);
     read_keys<SimulationDesc>(t, s, k_simulation_keys);
+    s.substeps_given = t.has("substeps");
     if (t.has("particles")) s.particles = t.count("particles", 0, 0, 10'000'000);
     s.cut.volume = t.named<topology::VolumePolicy>("cut_volume", topology::VolumePolicy::cap, topology::k_volume_policy_names);
     if (const toml::array* pins = t.array("pins"))

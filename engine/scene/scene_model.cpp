@@ -13,6 +13,7 @@
 #include "mesh/subdivide.h"
 #include "sim/contact.h"
 #include "sim/crossings.h"
+#include "sim/solver.h"
 #include "sim/weld.h"
 
 namespace pbdsplat::scene {
@@ -197,31 +198,71 @@ void warn_below_ground(const Scene& scene, const sim::SoftBody& b) {
 // A step in which gravity alone moves a particle by more than half an edge outruns what the
 // constraints and the contacts can hold in a few iterations: the skin tears into sheets and
 // strays (dt 0.1 s under 1000 m/s^2 moved the bunny 10 m a step). Said, with the substeps that
-// would do; and, for a solid on the ground, those that let it stand.
-void warn_coarse_step(const Scene& scene, const sim::SoftBody& b) {
+// would do.
+void warn_coarse_step(const Scene& scene, const sim::SoftBody& b, uint32_t substeps) {
     const sim::SolverSettings& s = scene.simulation.solver;
     const float edge = sim::mean_rest_edge(b), g = s.gravity.norm();
-    const float h = scene.simulation.dt / float(std::max(1u, s.substeps));
-    if (!(edge > 0.0f)) return;
-    const auto substeps_for = [&](double share) { return std::ceil(double(scene.simulation.dt) * std::sqrt(double(g) / (share * double(edge)))); };
-    // A solid resting on the ground tips over where gravity's step passes about a tenth of an
-    // edge (a bunny fitted to 0.2 m, 0.55 edges a step: 80 degrees at one substep, 11 at four,
-    // 4 at eight; at 0.5 m, 0.22: 17 degrees at one, 4 at three; docs/BENCHMARKS.md, "Solids
-    // that stand"). Substeps that keep it to 0.03 of an edge stand both.
-    const bool stands = s.shape_stiffness > 0.0f && scene.simulation.colliders.ground.has_value();
-    if (g * h * h > 0.5f * edge) {
-        std::fprintf(stderr,
-                     "warning: scene '%s': gravity moves a particle %.3g a step (dt / substeps = %.3g s), %.3g times the mean edge: the "
-                     "body cannot hold its shape; set [simulation] substeps to %.0f or more%s\n",
-                     scene.name.c_str(), double(g * h * h), double(h), double(g * h * h / edge), substeps_for(0.5),
-                     stands ? (" (" + std::to_string(int(substeps_for(0.03))) + " for a solid to stand on the ground)").c_str() : "");
-        return;
+    const float h = scene.simulation.dt / float(std::max(1u, substeps));
+    if (!(edge > 0.0f) || !(g * h * h > 0.5f * edge)) return;
+    const double enough = std::ceil(double(scene.simulation.dt) * std::sqrt(double(g) / (0.5 * double(edge))));
+    std::fprintf(stderr,
+                 "warning: scene '%s': gravity moves a particle %.3g a step (dt / substeps = %.3g s), %.3g times the mean edge: the "
+                 "body cannot hold its shape; set [simulation] substeps to %.0f or more\n",
+                 scene.name.c_str(), double(g * h * h), double(h), double(g * h * h / edge), enough);
+}
+
+// The smallest mean rest edge of a model that can move (not fixed), or 0 where none can.
+float smallest_moving_edge(const Scene& scene, const sim::SoftBody& b) {
+    const std::vector<float> edges = sim::mean_rest_edge_of_models(b);
+    float least = 0.0f;
+    for (size_t m = 0; m < edges.size(); ++m) {
+        const bool fixed = m == 0 ? scene.model.fixed : m - 1 < scene.bodies.size() && scene.bodies[m - 1].model.fixed;
+        if (!fixed && edges[m] > 0.0f && (least == 0.0f || edges[m] < least)) least = edges[m];
     }
-    if (stands && g * h * h > 0.1f * edge)
+    return least;
+}
+
+// A solid stands on what holds it up while gravity's share of a frame, g dt^2 / substeps, stays
+// near a tenth of its mean edge. Linear in the substeps, not quadratic: shape matching's
+// stiffness is a share of a frame (spread over its iterations and substeps), so what a frame
+// leaves of the sag is its substeps' g (dt / n)^2 summed, and the body tips by it frame after
+// frame. Measured on the bunny dropped a quarter of its size (docs/BENCHMARKS.md, "Solids that
+// stand"): fitted to 0.2 m it stands at 5 substeps (0.11 edges) and tips at 4 (0.14) and 3; to
+// 2 cm at 48 (0.11) and not at 32 (0.17); at the 2 m the defaults are tuned at, 0.05 at one.
+constexpr double k_standing_share = 0.1;
+
+uint32_t standing_substeps(const Scene& scene, float edge) {
+    const SimulationDesc& sim = scene.simulation;
+    const sim::Colliders& c = sim.colliders;
+    const bool held_up = c.ground.has_value() || !c.spheres.empty() || !c.boxes.empty() || !scene.bodies.empty();
+    const double g = sim.solver.gravity.norm(), dt = sim.dt;
+    if (!(sim.solver.shape_stiffness > 0.0f) || !held_up || !(edge > 0.0f) || !(g > 0.0)) return 1;
+    return uint32_t(std::min(1e6, std::ceil(g * dt * dt / (k_standing_share * double(edge)))));
+}
+
+// The substeps a frame takes: the scene's, or, where the file left them out, as many as let its
+// smallest solid stand (said, as they cost Stage A in proportion), within the sweeps a frame may take.
+uint32_t choose_substeps(const Scene& scene, const sim::SoftBody& b) {
+    const sim::SolverSettings& s = scene.simulation.solver;
+    const float edge = smallest_moving_edge(scene, b);
+    const uint32_t need = standing_substeps(scene, edge), have = std::max(1u, s.substeps);
+    if (need <= have) return have;
+    const double share = double(s.gravity.norm()) * double(scene.simulation.dt) * double(scene.simulation.dt) / double(edge);
+    if (scene.simulation.substeps_given) {
         std::fprintf(stderr,
-                     "note: scene '%s': gravity moves a particle %.2g times the mean edge a step: a solid this small may not stand on "
-                     "the ground; [simulation] substeps = %.0f keeps it to 0.03\n",
-                     scene.name.c_str(), double(g * h * h / edge), substeps_for(0.03));
+                     "note: scene '%s': gravity moves a particle %.2g times the smallest model's mean edge a frame: a solid this small "
+                     "may not stand; [simulation] substeps = %u lets it\n",
+                     scene.name.c_str(), share, need);
+        return have;
+    }
+    const uint32_t room = std::max(1u, sim::k_max_sweeps / std::max(1u, s.iterations));
+    const uint32_t n = std::min(need, room);
+    std::fprintf(stderr,
+                 "note: scene '%s': gravity moves a particle %.2g times the smallest model's mean edge a frame; it steps in %u "
+                 "substeps so that a solid this small stands (set [simulation] substeps to choose)%s\n",
+                 scene.name.c_str(), share, n,
+                 n < need ? (": it would take " + std::to_string(need) + ", more than a frame's sweeps allow").c_str() : "");
+    return n;
 }
 
 core::Status pin_particles(const Scene& scene, sim::SoftBody& b) {
@@ -268,7 +309,8 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     place_bodies(scene, out.part_start, b);
     warn_crossing_models(scene, b);
     warn_below_ground(scene, b);
-    warn_coarse_step(scene, b);
+    out.substeps = choose_substeps(scene, b);
+    warn_coarse_step(scene, b, out.substeps);
     // A model's parts that touch at rest (a teapot's spout on its body) hold together: within an
     // edge of each other, the decimated surfaces' vertices no longer coincide where they met.
     // Welded parts are one object to shape matching too (sim/shape.h).

@@ -27,6 +27,9 @@ struct SceneModel {
     std::vector<uint32_t> part_start;
     // The models' looks (textures, materials, vertex colours); empty when every model is plain.
     SurfacePaint paint;
+    // Substeps a frame: the scene's, raised where the file left them out and a solid is too
+    // small to stand at them (docs/BENCHMARKS.md, "Solids that stand").
+    uint32_t substeps = 1;
 };
 
 // The simulation size a scene asks for: 0 keeps the model's vertices.

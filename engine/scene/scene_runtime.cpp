@@ -33,6 +33,7 @@ core::Result<std::unique_ptr<SceneRuntime>> SceneRuntime::create(const Scene& sc
     rt->scene_ = scene;
     auto model = load_scene_model(scene);
     if (!model.ok()) return model.error();
+    rt->scene_.simulation.solver.substeps = model.value().substeps;
     rt->body_ = std::move(model.value().body);
     rt->fine_ = std::move(model.value().fine);
     rt->fine_copies_ = std::move(model.value().fine_copies);

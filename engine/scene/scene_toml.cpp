@@ -3,6 +3,8 @@
 #include <ostream>
 #include <span>
 #include <sstream>
+#include <string_view>
+#include <vector>
 
 #include "scene/scene_file.h"
 #include "scene/scene_keys.h"
@@ -91,7 +93,11 @@ void write_model_material_surface(std::ostream& o, const Scene& sc) {
 void write_simulation(std::ostream& o, const Scene& sc) {
     const SimulationDesc& s = sc.simulation;
     o << "[simulation]\nmode = \"" << core::name_of<sim::SolverMode>(sim::k_solver_mode_names, s.solver.mode) << "\"\n";
-    write_keys<SimulationDesc>(o, s, k_simulation_keys);
+    // Substeps the file did not set stay unset: loading chooses them for the model's size.
+    std::vector<Key<SimulationDesc>> keys;
+    for (const Key<SimulationDesc>& k : k_simulation_keys)
+        if (s.substeps_given || std::string_view(k.name) != "substeps") keys.push_back(k);
+    write_keys<SimulationDesc>(o, s, keys);
     o << "cut_volume = \"" << topology::volume_policy_name(s.cut.volume) << "\"";
     if (s.particles) o << "\nparticles = " << *s.particles;
     o << "\npins = [";

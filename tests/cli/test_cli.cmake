@@ -294,11 +294,16 @@ file(WRITE "${WORK_DIR}/coarse_step.toml" "[model]\nmesh = \"icosphere:3\"\n[sim
 expect("validate-scene coarse_step" 0 validate-scene "${WORK_DIR}/coarse_step.toml")
 expect_contains("validate-scene coarse_step" "${last_err}" "gravity moves a particle 10 a step (dt / substeps = 0.1 s)")
 expect_contains("validate-scene coarse_step" "${last_err}" "set [simulation] substeps to")
-# ... and one where a solid this small would tip over on its ground (docs/BENCHMARKS.md, "Solids
-# that stand": a 0.2 m bunny at one substep), with the substeps that let it stand.
-file(WRITE "${WORK_DIR}/small_solid.toml" "[model]\nmesh = \"icosphere:3\"\nscale = 0.1\n[simulation]\ncolliders = [{ type = \"plane\", normal = [0, 1, 0], offset = -0.2 }]\n")
+# A solid this small would tip over on its ground at one substep (docs/BENCHMARKS.md, "Solids that
+# stand": a 0.2 m bunny): where the file leaves the substeps out, loading takes as many as let it
+# stand and says so (they cost Stage A in proportion); where the file sets too few, it is told.
+set(small_solid "[model]\nmesh = \"icosphere:3\"\nscale = 0.1\n[simulation]\ncolliders = [{ type = \"plane\", normal = [0, 1, 0], offset = -0.2 }]\n")
+file(WRITE "${WORK_DIR}/small_solid.toml" "${small_solid}")
 expect("validate-scene small_solid" 0 validate-scene "${WORK_DIR}/small_solid.toml")
-expect_contains("validate-scene small_solid" "${last_err}" "a solid this small may not stand on the ground; [simulation] substeps = ")
+expect_contains("validate-scene small_solid" "${last_err}" "substeps so that a solid this small stands (set [simulation] substeps to choose)")
+file(WRITE "${WORK_DIR}/small_solid_given.toml" "${small_solid}substeps = 1\n")
+expect("validate-scene small_solid_given" 0 validate-scene "${WORK_DIR}/small_solid_given.toml")
+expect_contains("validate-scene small_solid_given" "${last_err}" "a solid this small may not stand; [simulation] substeps = ")
 # A large body beside a small fine one is sampled at the small one's spacing (273,514 splats, 96 %
 # of them on the table): the sample budget raises h, and loading says so and where the splats
 # went, instead of leaving a coarser look or a slow scene unexplained.

@@ -592,6 +592,30 @@ TEST_SUITE("scene/scene_file") {
         CHECK(four.value().body.particle_count() == 6 * 4 * 4 + 2);  // a cube's surface of 4 x 4 quads a face
     }
 
+    TEST_CASE("substeps left out of the file are raised for a solid too small to stand at one, and only then") {
+        const auto substeps = [](const std::string& text) {
+            auto scene = scene::parse_scene(text, "small.toml");
+            REQUIRE_MESSAGE(scene.ok(), test::why(scene));
+            auto model = scene::load_scene_model(scene.value());
+            REQUIRE_MESSAGE(model.ok(), test::why(model));
+            return model.value().substeps;
+        };
+        const std::string ground = "colliders = [{ type = \"plane\", normal = [0, 1, 0], offset = -0.5 }]\n";
+        const std::string small = "[model]\nmesh = \"quadruped:4\"\nscale = 0.1\n[simulation]\n";
+        // A 0.2 m quadruped: gravity's frame is 0.67 of its mean edge, so 7 substeps keep it to a
+        // tenth (it tips onto its side at one: tests/scenes/rest_small_quadruped.toml).
+        CHECK(substeps(small + ground) == 7);
+        CHECK(substeps(small + ground + "substeps = 2\n") == 2);   // the file's choice stands
+        CHECK(substeps(small + ground + "shape_stiffness = 0\n") == 1);  // a balloon does not stand
+        CHECK(substeps(small) == 1);                                 // nothing to stand on
+        CHECK(substeps("[model]\nmesh = \"quadruped:4\"\n[simulation]\n" + ground) == 1);  // at 2 m: 0.07
+        // Written back, substeps the file left out stay out (and chosen again on loading).
+        auto scene = scene::parse_scene(small + ground, "small.toml");
+        REQUIRE(scene.ok());
+        CHECK(scene::to_toml(scene.value()).find("\nsubsteps =") == std::string::npos);
+        CHECK(scene::to_toml(scene::parse_scene(small + ground + "substeps = 3\n", "s.toml").value()).find("\nsubsteps = 3\n") != std::string::npos);
+    }
+
     TEST_CASE("[[bodies]]: read, printed and read again field by field; each model its own piece, static ones pinned") {
         const char* text = R"(
 [model]
