@@ -15,7 +15,6 @@
 #include "splat/strays.h"
 #include "surface/density.h"
 #include "surface/spacing_report.h"
-#include "topology/invariants.h"
 
 namespace pbdsplat::scene {
 
@@ -219,16 +218,6 @@ void summarise(CheckReport& report, std::vector<double> stage_a) {
     }
 }
 
-// What the mesh as loaded breaks of the topology invariants (empty: nothing), so that every cut
-// and tear can be checked against them where it meets them (a model the repair could not make
-// fully manifold is reported, and run unchecked).
-core::Result<std::string> invariants_at_load(const Scene& scene) {
-    auto probe = load_scene_model(scene);
-    if (!probe.ok()) return probe.error();
-    if (auto s = topology::check_invariants(probe.value().body); !s.ok()) return s.error().to_string();
-    return std::string();
-}
-
 // A burst's figures, read every frame from the first frame that tore, for 2 s.
 class BurstWatch {
 public:
@@ -309,17 +298,16 @@ double rest_area_of(SceneRuntime& rt) {
 } // namespace
 
 core::Result<CheckReport> check_scene(const Scene& scene, const CheckOptions& o) {
-    auto loaded_invariants = invariants_at_load(scene);
-    if (!loaded_invariants.ok()) return loaded_invariants.error();
-    const std::string& invariants = loaded_invariants.value();
     RuntimeOptions ro;  // simulation and mapping only: coverage renders its own pair of images
     ro.keep_records = true;
-    ro.check_topology = invariants.empty();
+    // Every cut and tear checked against the invariants, where the mesh as loaded keeps them (a
+    // model the repair could not make fully manifold is reported, and run unchecked).
+    ro.check_topology = true;
     auto created = SceneRuntime::create(scene, ro);
     if (!created.ok()) return created.error();
     SceneRuntime& rt = *created.value();
     CheckReport report;
-    report.invariants_at_load = invariants;
+    report.invariants_at_load = rt.invariants_at_load();
     report.model_vertices = rt.decimation().input_vertices;
     report.simulation_particles = rt.body().particle_count();
     if (rt.fine_surface())

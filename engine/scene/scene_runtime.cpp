@@ -112,6 +112,8 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
 #ifndef NDEBUG
     check_topology = true;
 #endif
+    if (check_topology)
+        if (auto s = topology::check_invariants(body_); !s.ok()) invariants_at_load_ = s.error().to_string(), check_topology = false;
     topology_ = std::make_unique<TopologyStage>(check_topology);
     order_ = order;
     return build_graph();

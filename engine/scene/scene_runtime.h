@@ -47,7 +47,8 @@ struct RuntimeOptions {
     unsigned threads = 1;
     std::optional<gpu::UploadPath> upload_path;
     uint32_t frames_in_flight = 2;
-    // Check every mesh invariant after each topology change (always on in debug builds).
+    // Check every mesh invariant after each topology change (always on in debug builds), where
+    // the body as loaded keeps them (invariants_at_load()).
     bool check_topology = false;
     std::optional<render::SplatPath> splat_path;  // overrides the scene's
     std::optional<render::SplatOrder> sort_on;    // overrides the scene's (and the device's choice)
@@ -155,6 +156,10 @@ public:
     const std::vector<splat::GaussianTexcoord>& texcoords() const { return mapping_->texcoords(); }
     float spacing() const { return h_; }
     const Scene& scene() const { return scene_; }
+    // What the body as loaded breaks of the topology invariants, where they were to be checked
+    // (RuntimeOptions::check_topology): a model the repair could not make fully manifold runs
+    // unchecked, and this says why. Empty: nothing, or not checked.
+    const std::string& invariants_at_load() const { return invariants_at_load_; }
     // What the most recent cut or tear did (empty before any).
     const topology::TopologyChange& last_topology_change() const { return topology_->last_change(); }
     float time() const { return control_.time; }
@@ -223,6 +228,7 @@ private:
     graph::Handle<graph::GpuImageRef> add_mesh_view_pass(GraphAssembly& h);
     void fingerprint_resources(const GraphAssembly& h);
     RuntimeOptions options_;
+    std::string invariants_at_load_;
     render::SplatOrder order_ = render::SplatOrder::unsorted;
     render::SplatOrder sorted_order_ = render::SplatOrder::cpu;  // what set_sorted(true) picks
     float drag_depth_ = 0.0f;
