@@ -231,13 +231,13 @@ float smallest_moving_edge(const Scene& scene, const sim::SoftBody& b) {
 // 2 cm at 48 (0.11) and not at 32 (0.17); at the 2 m the defaults are tuned at, 0.05 at one.
 constexpr double k_standing_share = 0.1;
 
-uint32_t standing_substeps(const Scene& scene, float edge) {
+// `share`: gravity's step over a frame at one substep, g dt^2, over the solid's mean edge.
+uint32_t standing_substeps(const Scene& scene, double share) {
     const SimulationDesc& sim = scene.simulation;
     const sim::Colliders& c = sim.colliders;
     const bool held_up = c.ground.has_value() || !c.spheres.empty() || !c.boxes.empty() || !scene.bodies.empty();
-    const double g = sim.solver.gravity.norm(), dt = sim.dt;
-    if (!(sim.solver.shape_stiffness > 0.0f) || !held_up || !(edge > 0.0f) || !(g > 0.0)) return 1;
-    return uint32_t(std::min(1e6, std::ceil(g * dt * dt / (k_standing_share * double(edge)))));
+    if (!(sim.solver.shape_stiffness > 0.0f) || !held_up || !(share > 0.0) || !std::isfinite(share)) return 1;
+    return uint32_t(std::min(1e6, std::ceil(share / k_standing_share)));
 }
 
 // The substeps a frame takes: the scene's, or, where the file left them out, as many as let its
@@ -245,9 +245,10 @@ uint32_t standing_substeps(const Scene& scene, float edge) {
 uint32_t choose_substeps(const Scene& scene, const sim::SoftBody& b) {
     const sim::SolverSettings& s = scene.simulation.solver;
     const float edge = smallest_moving_edge(scene, b);
-    const uint32_t need = standing_substeps(scene, edge), have = std::max(1u, s.substeps);
+    const double dt = scene.simulation.dt;
+    const double share = edge > 0.0f ? double(s.gravity.norm()) * dt * dt / double(edge) : 0.0;
+    const uint32_t need = standing_substeps(scene, share), have = std::max(1u, s.substeps);
     if (need <= have) return have;
-    const double share = double(s.gravity.norm()) * double(scene.simulation.dt) * double(scene.simulation.dt) / double(edge);
     if (scene.simulation.substeps_given) {
         std::fprintf(stderr,
                      "note: scene '%s': gravity moves a particle %.2g times the smallest model's mean edge a frame: a solid this small "

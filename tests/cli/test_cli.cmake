@@ -28,6 +28,18 @@ function(expect_contains name haystack needle)
   endif()
 endfunction()
 
+# Loading a scene of `text` (written to WORK_DIR/`name`.toml) succeeds and says each of the
+# further arguments (read one by one: a message may hold a semicolon, which ARGN would split at).
+function(expect_loading_says name text)
+  file(WRITE "${WORK_DIR}/${name}.toml" "${text}")
+  expect("validate-scene ${name}" 0 validate-scene "${WORK_DIR}/${name}.toml")
+  math(EXPR last "${ARGC} - 1")
+  foreach(i RANGE 2 ${last})
+    expect_contains("validate-scene ${name}" "${last_err}" "${ARGV${i}}")
+  endforeach()
+  set(failures ${failures} PARENT_SCOPE)
+endfunction()
+
 # The last command printed one JSON object holding every key named after `name`.
 function(expect_json_keys name)
   foreach(key IN LISTS ARGN)
@@ -281,29 +293,21 @@ if(NOT crossing_at EQUAL -1 OR NOT below_at EQUAL -1 OR NOT coarse_at EQUAL -1)
   record_failure("validate-scene scenes/: a shipped scene places a model badly:\n${last_err}")
 endif()
 # ... and one that does is told so, naming both.
-file(WRITE "${WORK_DIR}/into_each_other.toml" "[model]\nmesh = \"icosphere:2\"\n[[bodies]]\nmesh = \"box:4\"\nscale = 0.8\ntranslate = [0.5, 0.1, 0.0]\n")
-expect("validate-scene into_each_other" 0 validate-scene "${WORK_DIR}/into_each_other.toml")
-expect_contains("validate-scene into_each_other" "${last_err}" "[model] (icosphere:2) and bodies[0] (box:4) are placed into each other")
+expect_loading_says(into_each_other "[model]\nmesh = \"icosphere:2\"\n[[bodies]]\nmesh = \"box:4\"\nscale = 0.8\ntranslate = [0.5, 0.1, 0.0]\n"
+                    "[model] (icosphere:2) and bodies[0] (box:4) are placed into each other")
 # ... and so is one placed partly below its ground plane (pushed out at once, it would leap).
-file(WRITE "${WORK_DIR}/below_ground.toml" "[model]\nmesh = \"icosphere:2\"\ntranslate = [0, -0.8, 0]\n[simulation]\ncolliders = [{ type = \"plane\", normal = [0, 1, 0], offset = -1.0 }]\n")
-expect("validate-scene below_ground" 0 validate-scene "${WORK_DIR}/below_ground.toml")
-expect_contains("validate-scene below_ground" "${last_err}" "[model] (icosphere:2) starts 0.8 below the ground plane")
+expect_loading_says(below_ground "[model]\nmesh = \"icosphere:2\"\ntranslate = [0, -0.8, 0]\n[simulation]\ncolliders = [{ type = \"plane\", normal = [0, 1, 0], offset = -1.0 }]\n"
+                    "[model] (icosphere:2) starts 0.8 below the ground plane")
 # ... and so is a step in which gravity alone carries a particle past half an edge (0.1 s under
 # 1000 m/s^2: 10 m a step), with the substeps that would hold it.
-file(WRITE "${WORK_DIR}/coarse_step.toml" "[model]\nmesh = \"icosphere:3\"\n[simulation]\ndt = 0.1\ngravity = [0, -1000, 0]\n")
-expect("validate-scene coarse_step" 0 validate-scene "${WORK_DIR}/coarse_step.toml")
-expect_contains("validate-scene coarse_step" "${last_err}" "gravity moves a particle 10 a step (dt / substeps = 0.1 s)")
-expect_contains("validate-scene coarse_step" "${last_err}" "set [simulation] substeps to")
+expect_loading_says(coarse_step "[model]\nmesh = \"icosphere:3\"\n[simulation]\ndt = 0.1\ngravity = [0, -1000, 0]\n"
+                    "gravity moves a particle 10 a step (dt / substeps = 0.1 s)" "set [simulation] substeps to")
 # A solid this small would tip over on its ground at one substep (docs/BENCHMARKS.md, "Solids that
 # stand": a 0.2 m bunny): where the file leaves the substeps out, loading takes as many as let it
 # stand and says so (they cost Stage A in proportion); where the file sets too few, it is told.
 set(small_solid "[model]\nmesh = \"icosphere:3\"\nscale = 0.1\n[simulation]\ncolliders = [{ type = \"plane\", normal = [0, 1, 0], offset = -0.2 }]\n")
-file(WRITE "${WORK_DIR}/small_solid.toml" "${small_solid}")
-expect("validate-scene small_solid" 0 validate-scene "${WORK_DIR}/small_solid.toml")
-expect_contains("validate-scene small_solid" "${last_err}" "substeps so that a solid this small stands (set [simulation] substeps to choose)")
-file(WRITE "${WORK_DIR}/small_solid_given.toml" "${small_solid}substeps = 1\n")
-expect("validate-scene small_solid_given" 0 validate-scene "${WORK_DIR}/small_solid_given.toml")
-expect_contains("validate-scene small_solid_given" "${last_err}" "a solid this small may not stand; [simulation] substeps = ")
+expect_loading_says(small_solid "${small_solid}" "substeps so that a solid this small stands (set [simulation] substeps to choose)")
+expect_loading_says(small_solid_given "${small_solid}substeps = 1\n" "a solid this small may not stand; [simulation] substeps = ")
 # A large body beside a small fine one is sampled at the small one's spacing (273,514 splats, 96 %
 # of them on the table): the sample budget raises h, and loading says so and where the splats
 # went, instead of leaving a coarser look or a slow scene unexplained.
