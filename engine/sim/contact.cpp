@@ -846,20 +846,33 @@ void ContactSolverT<Real>::separate(ParticlesT<Real>& p, const ContactSettings& 
 }
 
 template <class Real>
-void ContactSolverT<Real>::project_rigid(ParticlesT<Real>& p, const ContactSettings& s, const Contact& ct,
-                                         const std::array<uint32_t, 3>& k, Sides sd) {
+void ContactSolverT<Real>::note_push(const SoftBodyT<Real>& body, uint32_t i, const std::array<uint32_t, 3>& k, float depth) {
+    const float thickness = scale_.thickness;
+    const SleepState& st = body.sleep;
+    if (!(depth > thickness) || st.sleeping == 0) return;
+    for (uint32_t j : {i, k[0], k[1], k[2]}) {
+        if (j >= st.held_w.size() || !(st.held_w[j] > 0.0f)) continue;
+        const uint32_t piece = body.piece_of_particle[j];
+        if (std::find(pressed_sleepers_.begin(), pressed_sleepers_.end(), piece) == pressed_sleepers_.end()) pressed_sleepers_.push_back(piece);
+    }
+}
+
+template <class Real>
+float ContactSolverT<Real>::project_rigid(ParticlesT<Real>& p, const ContactSettings& s, const Contact& ct,
+                                          const std::array<uint32_t, 3>& k, Sides sd) {
     const Vec3f xi = pos3(p.x[ct.particle]);
     const Vec3f a = pos3(p.x[k[0]]), b = pos3(p.x[k[1]]), c = pos3(p.x[k[2]]);
     const Vec3f nf = unit_normal(a, b, c);
-    if (nf.isZero() || ct.side * (xi - a).dot(nf) >= ct.thickness) return;
+    if (nf.isZero() || ct.side * (xi - a).dot(nf) >= ct.thickness) return 0.0f;
     const Over o = over_triangle(xi, a, b, c, nf);
-    if (o.lateral > k_over * scale_.edge) return;  // as in project()
+    if (o.lateral > k_over * scale_.edge) return 0.0f;  // as in project()
     const float C = ct.side * o.height - ct.thickness;
-    if (C >= 0.0f) return;
+    if (C >= 0.0f) return 0.0f;
     // How far inside the thickness it lay when the substep began, over the triangle's plane then.
     const Vec3f a0 = pos3(p.x_prev[k[0]]), n0 = unit_normal(a0, pos3(p.x_prev[k[1]]), pos3(p.x_prev[k[2]]));
     const float overlap = n0.isZero() ? 0.0f : std::max(0.0f, ct.thickness - ct.side * (pos3(p.x_prev[ct.particle]) - a0).dot(n0));
     separate(p, s, ct.particle, k, {o.wa, o.wb, o.wc}, sd, ct.side * nf, -C, std::min(overlap, -C));
+    return -C;
 }
 
 template <class Real>
@@ -876,7 +889,7 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
         const uint32_t ia = ck.ia, ib = ck.ib, ic = ck.ic;
         if (rigid) {
             if (const Sides sd = pair_sides_[size_t(&ct - contacts_.data())]; sd.any()) {
-                project_rigid(p, s, ct, {ia, ib, ic}, sd);
+                note_push(body, i, {ia, ib, ic}, project_rigid(p, s, ct, {ia, ib, ic}, sd));
                 continue;
             }
         }
@@ -909,6 +922,7 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
             p.x[ic] -= p.w[ic] * uc * d;
         };
         const Real depth = -C;
+        note_push(body, i, {ia, ib, ic}, float(depth));
         apply((depth / denom) * n);
         // Friction on the particle's motion relative to the surface point since the substep began.
         Vec4<Real> rel = (p.x[i] - p.x_prev[i]) - ub * (p.x[ib] - p.x_prev[ib]) - uc * (p.x[ic] - p.x_prev[ic]);

@@ -116,6 +116,11 @@ public:
     void project(SoftBodyT<Real>& body, const ContactSettings& s, bool stiff_bodies = false);
 
     const std::vector<Contact>& contacts() const { return contacts_; }
+    // The sleeping pieces a sweep pressed harder than a resting contact presses (deeper than the
+    // thickness), each once: they must wake and give, or the awake side alone takes the whole
+    // push, against its own constraints, sweep after sweep (sim/sleep.h).
+    const std::vector<uint32_t>& pressed_sleepers() const { return pressed_sleepers_; }
+    void clear_pressed_sleepers() { pressed_sleepers_.clear(); }
     // The pieces the candidates bring together (a particle's and its triangle's), each pair once
     // with the smaller first, appended to `out`.
     void touching_pieces(const SoftBodyT<Real>& body, std::vector<std::pair<uint32_t, uint32_t>>& out) const;
@@ -171,7 +176,12 @@ private:
     void separate(ParticlesT<Real>& p, const ContactSettings& s, uint32_t i, const std::array<uint32_t, 3>& corners,
                   const std::array<float, 3>& u, Sides sides, const Vec3f& n, float depth, float overlap);
     // A candidate of which a side answers with its cluster.
-    void project_rigid(ParticlesT<Real>& p, const ContactSettings& s, const Contact& ct, const std::array<uint32_t, 3>& corners, Sides sides);
+    // Returns the depth it pushed out (0: none).
+    float project_rigid(ParticlesT<Real>& p, const ContactSettings& s, const Contact& ct, const std::array<uint32_t, 3>& corners, Sides sides);
+    std::vector<uint32_t> pressed_sleepers_;
+    // A push `depth` deep between particle i and `corners`: a sleeping side pressed past the
+    // scale's thickness (not the pair's, which is 0 across a cut) joins pressed_sleepers_.
+    void note_push(const SoftBodyT<Real>& body, uint32_t i, const std::array<uint32_t, 3>& corners, float depth);
     std::vector<uint8_t> on_rim_;  // per particle: on a loop of faces_
     void build_seam_pairs(const SoftBodyT<Real>& body);
     void project_seams(SoftBodyT<Real>& body, const ContactSettings& s, bool rigid);

@@ -37,6 +37,29 @@ void wake_all(BodyStateT<Real>& state) {
     st.judged = false;
 }
 
+template <class Real>
+void wake_pieces(SoftBodyT<Real>& body, std::span<const uint32_t> pieces) {
+    SleepState& st = body.sleep;
+    if (pieces.empty() || st.sleeping == 0) return;
+    std::vector<uint8_t> wake(body.pieces, 0);
+    for (uint32_t k : pieces)
+        if (k < wake.size()) wake[k] = 1;
+    ParticlesT<Real>& p = body.particles;
+    std::vector<uint8_t> woken(body.pieces, 0);
+    for (size_t i = 0; i < st.held_w.size() && i < p.size(); ++i) {
+        const uint32_t k = body.piece_of_particle[i];
+        if (k >= wake.size() || !wake[k] || !(st.held_w[i] > 0.0f)) continue;
+        p.w[i] = Real(st.held_w[i]), st.held_w[i] = 0.0f;
+        st.anchor[i] = xyz(p.x[i]);
+        woken[k] = 1;
+    }
+    for (uint32_t k = 0; k < woken.size(); ++k)
+        if (woken[k]) {
+            if (k < st.still.size()) st.still[k] = 0.0f;
+            st.sleeping -= st.sleeping > 0 ? 1 : 0;
+        }
+}
+
 namespace {
 // Each piece's kind this frame: static (nothing in it can move), asleep, still or moving. Sleep
 // is read off the particles (a held mass), so it follows a piece through relabelling.
@@ -128,6 +151,8 @@ void update_sleep(SoftBodyT<Real>& body, std::span<const std::pair<uint32_t, uin
 
 template void wake_all<float>(BodyStateT<float>&);
 template void wake_all<double>(BodyStateT<double>&);
+template void wake_pieces<float>(SoftBodyT<float>&, std::span<const uint32_t>);
+template void wake_pieces<double>(SoftBodyT<double>&, std::span<const uint32_t>);
 template void update_sleep<float>(SoftBodyT<float>&, std::span<const std::pair<uint32_t, uint32_t>>, const SleepSettings&, float);
 template void update_sleep<double>(SoftBodyT<double>&, std::span<const std::pair<uint32_t, uint32_t>>, const SleepSettings&, float);
 

@@ -7,7 +7,8 @@
 //
 // A piece is still while none of its particles leaves a ball of `radius` mean rest edges about
 // where it was when the still spell began; still for `time`, it sleeps. A sleeping piece wakes
-// when a piece touching it moves (one dropped onto it, or what it rests on sliding away); a
+// when a piece touching it moves (one dropped onto it, or what it rests on sliding away), at the
+// frame's end, or at once when a contact presses it deeper than the thickness (wake_pieces); a
 // static body never sleeps, being held already. Whatever acts on the body from outside (a cut, a
 // tear, a drag, a spin, a pressure ramp) wakes every piece first: sim::wake_all, called where it
 // acts. Pieces sleep one by one, not as islands: a piece that keeps creeping beside a resting
@@ -63,6 +64,13 @@ struct SleepState {
 // cut copies true masses and a drag moves what it grabs.
 template <class Real>
 void wake_all(BodyStateT<Real>& state);
+
+// Wakes the named pieces now, in the middle of a frame: a sleeping piece pressed harder than a
+// resting contact presses (ContactSolver::pressed_sleepers). Held, it gave nothing, and a small
+// piece pressed against it and its own constraints at once was answered by its light particles
+// alone, sweep after sweep, and flung off at up to 50 m/s (docs/BENCHMARKS.md, "Contact").
+template <class Real>
+void wake_pieces(SoftBodyT<Real>& body, std::span<const uint32_t> pieces);
 
 // After a frame of `dt`: updates the still spells from the particles' positions, puts the pieces
 // still long enough to sleep and wakes those a moving piece touches. `touching`: pairs of pieces

@@ -197,6 +197,10 @@ void SolverT<Real>::find_contacts(SoftBodyT<Real>& body, const SolverSettings& s
 template <class Real>
 void SolverT<Real>::project_contacts(SoftBodyT<Real>& body, const SolverSettings& s) {
     contact_.project(body, s.contact, s.shape_stiffness >= k_rigid_response_stiffness);
+    if (!contact_.pressed_sleepers().empty()) {
+        wake_pieces<Real>(body, contact_.pressed_sleepers());
+        contact_.clear_pressed_sleepers();
+    }
 }
 
 template <class Real>
