@@ -37,24 +37,33 @@ void wake_all(BodyStateT<Real>& state) {
     st.judged = false;
 }
 
+namespace {
+// Gives particle i back the mass it had when its piece fell asleep; its still spell begins where
+// it is now.
+template <class Real>
+void release(ParticlesT<Real>& p, SleepState& st, size_t i) {
+    if (st.held_w[i] > 0.0f) p.w[i] = Real(st.held_w[i]);
+    st.held_w[i] = 0.0f;
+    st.anchor[i] = xyz(p.x[i]);
+}
+} // namespace
+
 template <class Real>
 void wake_pieces(SoftBodyT<Real>& body, std::span<const uint32_t> pieces) {
     SleepState& st = body.sleep;
     if (pieces.empty() || st.sleeping == 0) return;
+    constexpr uint8_t asked = 1, woken = 2;
     std::vector<uint8_t> wake(body.pieces, 0);
     for (uint32_t k : pieces)
-        if (k < wake.size()) wake[k] = 1;
-    ParticlesT<Real>& p = body.particles;
-    std::vector<uint8_t> woken(body.pieces, 0);
-    for (size_t i = 0; i < st.held_w.size() && i < p.size(); ++i) {
+        if (k < wake.size()) wake[k] = asked;
+    for (size_t i = 0; i < st.held_w.size() && i < body.particles.size(); ++i) {
         const uint32_t k = body.piece_of_particle[i];
-        if (k >= wake.size() || !wake[k] || !(st.held_w[i] > 0.0f)) continue;
-        p.w[i] = Real(st.held_w[i]), st.held_w[i] = 0.0f;
-        st.anchor[i] = xyz(p.x[i]);
-        woken[k] = 1;
+        if (k >= wake.size() || wake[k] == 0 || !(st.held_w[i] > 0.0f)) continue;
+        release(body.particles, st, i);
+        wake[k] = woken;
     }
-    for (uint32_t k = 0; k < woken.size(); ++k)
-        if (woken[k]) {
+    for (uint32_t k = 0; k < wake.size(); ++k)
+        if (wake[k] == woken) {
             if (k < st.still.size()) st.still[k] = 0.0f;
             st.sleeping -= st.sleeping > 0 ? 1 : 0;
         }
@@ -105,9 +114,7 @@ void apply(SoftBodyT<Real>& body, SleepState& st, std::span<const uint8_t> kind,
             st.held_w[i] = float(p.w[i]);
             p.w[i] = Real(0), p.v[i].setZero(), p.x_prev[i] = p.x[i];
         } else if (change[k] == k_wakes) {
-            if (st.held_w[i] > 0.0f) p.w[i] = Real(st.held_w[i]);
-            st.held_w[i] = 0.0f;
-            st.anchor[i] = xyz(p.x[i]);
+            release(p, st, i);
         } else if (kind[k] == k_awake_moving) {
             st.anchor[i] = xyz(p.x[i]);
         }
