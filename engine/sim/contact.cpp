@@ -8,6 +8,7 @@
 
 #include "mesh/closest_point.h"
 #include "mesh/polygon.h"
+#include "sim/over_triangle.h"
 
 namespace pbdsplat::sim {
 
@@ -87,29 +88,6 @@ inline uint32_t cell_hash(int x, int y, int z) {
 }
 inline Eigen::Vector3i cell_of(const Vec3f& p, float inv_cell) {
     return {int(std::floor(p.x() * inv_cell)), int(std::floor(p.y() * inv_cell)), int(std::floor(p.z() * inv_cell))};
-}
-
-template <class Real>
-inline Vec3f pos3(const Vec4<Real>& v) { return v.template head<3>().template cast<float>(); }
-
-// Where p lies over triangle (a, b, c): the closest point's weights of a, b, c, the signed
-// distance along the unit normal n, and how far the closest point lies beside p's projection.
-struct Over {
-    float wa, wb, wc;
-    float height;   // (p - q) . n
-    float lateral;  // |(p - q) - height n|
-};
-inline Over over_triangle(const Vec3f& p, const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& n) {
-    const Vec2f w = mesh::closest_point_barycentric(p, a, b, c);
-    const Vec3f q = a + w.x() * (b - a) + w.y() * (c - a);
-    const Vec3f d = p - q;
-    const float height = d.dot(n);
-    return {1.0f - w.x() - w.y(), w.x(), w.y(), height, (d - height * n).norm()};
-}
-inline Vec3f unit_normal(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
-    const Vec3f n = (b - a).cross(c - a);
-    const float len = n.norm();
-    return len > 0.0f ? Vec3f(n / len) : Vec3f::Zero();
 }
 
 } // namespace

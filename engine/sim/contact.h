@@ -46,6 +46,7 @@ inline constexpr uint32_t k_contact_substeps_default = 4;
 struct ContactSettings {
     bool enabled = true;     // a user expects the pieces of a cut to be solid
     bool self = k_self_contact_default;  // a piece against itself, away from its neighbourhood (folds)
+    bool folds = true;       // a soft skin against its own neighbourhood, where it folds through it (sim/fold_guard.h)
     uint32_t substeps = k_contact_substeps_default;  // a frame's substeps while pieces are stacked (at least the solver's)
     bool approach = true;    // finer substeps while stiff pieces close in fast (sim/approach.h)
     float thickness = 0.0f;  // metres kept between a particle and a surface; 0: auto (see below)

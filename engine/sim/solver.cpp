@@ -187,6 +187,7 @@ void SolverT<Real>::collide(BodyStateT<Real>& state, const Colliders& colliders)
 template <class Real>
 void SolverT<Real>::find_contacts(SoftBodyT<Real>& body, const SolverSettings& s) {
     contact_.find(body, s.contact);
+    folds_.find(body, s.contact, s.shape_stiffness >= k_rigid_response_stiffness);
     // The pieces that meet another: the volume pass leaves their net impulse where it falls.
     pressed_pairs_.clear();
     contact_.touching_pieces(body, pressed_pairs_);
@@ -197,6 +198,7 @@ void SolverT<Real>::find_contacts(SoftBodyT<Real>& body, const SolverSettings& s
 template <class Real>
 void SolverT<Real>::project_contacts(SoftBodyT<Real>& body, const SolverSettings& s) {
     contact_.project(body, s.contact, s.shape_stiffness >= k_rigid_response_stiffness);
+    folds_.project(body.particles);
     if (!contact_.pressed_sleepers().empty()) {
         wake_pieces<Real>(body, contact_.pressed_sleepers());
         contact_.clear_pressed_sleepers();

@@ -9,6 +9,7 @@
 #include "core/thread_pool.h"
 #include "sim/colliders.h"
 #include "sim/contact.h"
+#include "sim/fold_guard.h"
 #include "sim/constraints.h"
 #include "sim/schedule.h"
 #include "sim/sleep.h"
@@ -91,6 +92,7 @@ public:
     void find_contacts(SoftBodyT<Real>& body, const SolverSettings& s);
     void project_contacts(SoftBodyT<Real>& body, const SolverSettings& s);
     const ContactSolverT<Real>& contact() const { return contact_; }
+    const FoldGuardT<Real>& folds() const { return folds_; }
     void end_substep(SoftBodyT<Real>& body, Real h);
     void update_normals(SoftBodyT<Real>& body);
     // After a frame of `dt`: islands of pieces at rest fall asleep, disturbed ones wake.
@@ -115,6 +117,7 @@ private:
     std::vector<std::pair<uint32_t, uint32_t>> pressed_pairs_;  // find_contacts' touching pieces
     VolumeSlots slots_;
     ContactSolverT<Real> contact_;  // this substep's candidates
+    FoldGuardT<Real> folds_;        // and a skin's folds through its own neighbourhood
     std::vector<std::pair<uint32_t, uint32_t>> touching_;  // pieces in contact, for sleep
 };
 using Solver = SolverT<float>;

@@ -101,6 +101,7 @@ contact_thickness = 0.02
 contact_substeps = 6
 sleep = false
 self_contact = true
+fold_guard = false
 weld_parts = false
 cut_volume = "burst"
 cut_snap = 0.2

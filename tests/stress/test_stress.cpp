@@ -146,17 +146,26 @@ TEST_SUITE("stress/solver") {
     TEST_CASE("1 to 100 iterations: finite, and the volume error does not grow with more iterations") {
         double error_at_1 = 0.0;
         for (const uint32_t iterations : {1u, 2u, 10u, 100u}) {
-            auto b = test::make_body(mesh::icosphere(3));
-            b.volumes[0].pressure = 0.6f;
-            sim::SolverSettings s;
-            s.gravity = Vec3f::Zero();
-            s.iterations = iterations;
-            run_checked(b, 90, 1.0f / 60.0f, s);
-            const double error = std::abs(volume_ratio(b) - 0.6);
-            MESSAGE(iterations << " iterations: volume error " << error);
-            if (iterations == 1) error_at_1 = error;
-            else CHECK(error <= error_at_1 + 1e-7);  // float rounding of the volume ratio (about 3e-8 measured)
-            CHECK(error < 1e-6);  // measured 2.3e-8 to 3.1e-8 at every count
+            for (const bool folds : {false, true}) {
+                auto b = test::make_body(mesh::icosphere(3));
+                b.volumes[0].pressure = 0.6f;
+                sim::SolverSettings s;
+                s.gravity = Vec3f::Zero();
+                s.iterations = iterations;
+                s.contact.folds = folds;
+                run_checked(b, 90, 1.0f / 60.0f, s);
+                const double error = std::abs(volume_ratio(b) - 0.6);
+                MESSAGE(iterations << " iterations, fold guard " << folds << ": volume error " << error);
+                if (folds) {
+                    // The ball creases at 0.6 of its volume, and the fold guard, last in each
+                    // sweep, holds its creases' layers apart against the volume's last step.
+                    CHECK(error < 1e-4);  // measured 2e-6 to 1.5e-5
+                    continue;
+                }
+                if (iterations == 1) error_at_1 = error;
+                else CHECK(error <= error_at_1 + 1e-7);  // float rounding of the volume ratio (about 3e-8 measured)
+                CHECK(error < 1e-6);  // measured 2.3e-8 to 3.1e-8 at every count
+            }
         }
     }
 

@@ -1,0 +1,167 @@
+#include "sim/fold_guard.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sim/over_triangle.h"
+
+namespace pbdsplat::sim {
+namespace {
+
+// How far beside a triangle (over the mean edge) a candidate still counts as over it: a
+// particle's projection rounded onto the edge two triangles share.
+constexpr float k_over = 0.01f;
+
+bool live(const mesh::Triangle& t, size_t n, const std::vector<uint32_t>& piece_of) {
+    return t[0] < n && t[1] < n && t[2] < n && piece_of[t[0]] != k_no_piece;
+}
+
+} // namespace
+
+template <class Real>
+bool FoldGuardT<Real>::stale(const SoftBodyT<Real>& body, const ContactSettings& s) const {
+    return body.particle_count() != built_particles_ || body.triangles.size() != built_triangles_ || body.pieces != built_pieces_ ||
+           s.thickness != settings_thickness_ || start_.size() != body.particle_count() + 1;
+}
+
+template <class Real>
+void FoldGuardT<Real>::gather(const SoftBodyT<Real>& body, uint32_t i, float radius) {
+    // Outward from i through the triangles' corners, as far as `radius` at rest: its rest
+    // neighbourhood on its own piece (a slit's other side, at the same rest place, left out).
+    const std::vector<Vec3f>& rest = body.rest_positions;
+    const size_t n = body.particle_count();
+    const float r2 = radius * radius;
+    const Vec3f& ri = rest[i];
+    queue_.clear();
+    queue_.push_back(i);
+    vertex_stamp_[i] = i;
+    for (size_t q = 0; q < queue_.size(); ++q) {
+        for (const uint32_t t : body.rings.triangles.of(queue_[q])) {
+            if (triangle_stamp_[t] == i) continue;
+            triangle_stamp_[t] = i;
+            const mesh::Triangle& tri = body.triangles[t];
+            if (!live(tri, n, body.piece_of_particle)) continue;
+            bool own = false;
+            for (const uint32_t k : tri) {
+                own = own || k == i || rest[k] == ri;
+                if (vertex_stamp_[k] != i && (rest[k] - ri).squaredNorm() < r2) vertex_stamp_[k] = i, queue_.push_back(k);
+            }
+            if (own) continue;
+            const Vec3f& a = rest[tri[0]];
+            const Vec3f& b = rest[tri[1]];
+            const Vec3f& c = rest[tri[2]];
+            const Over o = over_triangle(ri, a, b, c, unit_normal(a, b, c));
+            if (o.height * o.height + o.lateral * o.lateral >= r2) continue;
+            // On the triangle at rest (a flat face's vertex over a sliver beside it): one surface
+            // with it, on no side of it.
+            if (o.lateral <= on_ && std::abs(o.height) <= on_) continue;
+            near_.push_back(t);
+        }
+    }
+}
+
+template <class Real>
+void FoldGuardT<Real>::build(const SoftBodyT<Real>& body, const ContactSettings& s) {
+    const size_t n = body.particle_count();
+    scale_ = contact_scale(mean_rest_edge(body), s);
+    const float radius = scale_.exclusion;
+    // As far as a candidate may be from a triangle (the gap and the search's slack).
+    on_ = k_fold_thickness * scale_.edge + scale_.slack;
+    start_.assign(n + 1, 0);
+    near_.clear();
+    vertex_stamp_.assign(n, UINT32_MAX);
+    triangle_stamp_.assign(body.triangles.size(), UINT32_MAX);
+    const bool known = body.rest_positions.size() == n && body.rings.triangles.keys() >= n;
+    for (uint32_t i = 0; i < n; ++i) {
+        start_[i] = uint32_t(near_.size());
+        if (known && body.piece_of_particle[i] != k_no_piece) gather(body, i, radius);
+    }
+    start_[n] = uint32_t(near_.size());
+    built_particles_ = n, built_triangles_ = body.triangles.size(), built_pieces_ = body.pieces, settings_thickness_ = s.thickness;
+}
+
+template <class Real>
+void FoldGuardT<Real>::frame_triangles(const SoftBodyT<Real>& body) {
+    const ParticlesT<Real>& p = body.particles;
+    const size_t n = p.size();
+    frames_.resize(body.triangles.size());
+    for (size_t t = 0; t < body.triangles.size(); ++t) {
+        const mesh::Triangle& tri = body.triangles[t];
+        TriangleFrame& f = frames_[t];
+        f.sphere = Vec4f(0.0f, 0.0f, 0.0f, -1.0f);
+        if (!live(tri, n, body.piece_of_particle)) continue;
+        const Vec3f a = pos3(p.x[tri[0]]), b = pos3(p.x[tri[1]]), c = pos3(p.x[tri[2]]);
+        const Vec3f a0 = pos3(p.x_prev[tri[0]]), b0 = pos3(p.x_prev[tri[1]]), c0 = pos3(p.x_prev[tri[2]]);
+        const Vec3f nrm = unit_normal(a, b, c), nrm0 = unit_normal(a0, b0, c0);
+        if (nrm.isZero() || nrm0.isZero()) continue;  // degenerate: no side to keep
+        const Vec3f m = (a + b + c) / 3.0f;
+        const float r = std::sqrt(std::max({(a - m).squaredNorm(), (b - m).squaredNorm(), (c - m).squaredNorm()}));
+        f.sphere = Vec4f(m.x(), m.y(), m.z(), r);
+        f.plane = Vec4f(nrm.x(), nrm.y(), nrm.z(), nrm.dot(a));
+        f.plane0 = Vec4f(nrm0.x(), nrm0.y(), nrm0.z(), nrm0.dot(a0));
+    }
+}
+
+template <class Real>
+void FoldGuardT<Real>::find(const SoftBodyT<Real>& body, const ContactSettings& s, bool stiff_bodies) {
+    active_.clear();
+    if (!s.enabled || !s.folds || stiff_bodies) return;
+    if (stale(body, s)) build(body, s);
+    if (!(scale_.edge > 0.0f)) return;
+    thickness_ = std::min(k_fold_thickness * scale_.edge, scale_.thickness);
+    const float reach = thickness_ + scale_.slack;
+    frame_triangles(body);
+    const ParticlesT<Real>& p = body.particles;
+    for (uint32_t i = 0; i < p.size(); ++i) {
+        if (!(p.w[i] > Real(0))) continue;  // pinned or asleep: a fold reaches it through its neighbours
+        const Vec3f xi = pos3(p.x[i]), xi0 = pos3(p.x_prev[i]);
+        for (uint32_t k = start_[i]; k < start_[i + 1]; ++k) {
+            const uint32_t t = near_[k];
+            const TriangleFrame& f = frames_[t];
+            const float r = f.sphere.w() + reach;
+            if (f.sphere.w() < 0.0f || (xi - f.sphere.template head<3>()).squaredNorm() > r * r) continue;
+            const float side = xi0.dot(f.plane0.template head<3>()) >= f.plane0.w() ? 1.0f : -1.0f;
+            if (side * (xi.dot(f.plane.template head<3>()) - f.plane.w()) > reach) continue;  // clear of it, on its side
+            // Its side is known only where it was over the triangle when the substep began: one
+            // beside it then may have come round its edge, not through it.
+            const mesh::Triangle& tri = body.triangles[t];
+            const Over then = over_triangle(xi0, pos3(p.x_prev[tri[0]]), pos3(p.x_prev[tri[1]]), pos3(p.x_prev[tri[2]]),
+                                            f.plane0.template head<3>());
+            if (then.lateral > reach) continue;
+            active_.push_back({i, tri[0], tri[1], tri[2], side});
+        }
+    }
+}
+
+template <class Real>
+void FoldGuardT<Real>::project(ParticlesT<Real>& p) const {
+    for (const Candidate& ct : active_) {
+        const uint32_t i = ct.particle;
+        const Vec3f a = pos3(p.x[ct.a]), b = pos3(p.x[ct.b]), c = pos3(p.x[ct.c]);
+        const Vec3f nf = unit_normal(a, b, c);
+        if (nf.isZero()) continue;
+        const Vec3f xi = pos3(p.x[i]);
+        if (ct.side * (xi - a).dot(nf) >= thickness_) continue;
+        const Over o = over_triangle(xi, a, b, c, nf);
+        // Only over it: beside it, the particle is over a neighbour of it or clear of the fold.
+        if (o.lateral > k_over * scale_.edge) continue;
+        const Real C = Real(ct.side) * Real(o.height) - Real(thickness_);
+        if (C >= Real(0)) continue;
+        // Far through it already: it came there some other way (round an edge, pushed by a
+        // constraint), and pulling it back across would tear its neighbourhood apart.
+        if (C < -Real(thickness_ + scale_.slack)) continue;
+        const Real ua = Real(o.wa), ub = Real(o.wb), uc = Real(o.wc);
+        const Real denom = p.w[i] + ua * ua * p.w[ct.a] + ub * ub * p.w[ct.b] + uc * uc * p.w[ct.c];
+        if (!(denom > Real(0))) continue;
+        const Vec4<Real> d = (-C / denom) * Real(ct.side) * to4<Real>(nf);
+        p.x[i] += p.w[i] * d;
+        p.x[ct.a] -= p.w[ct.a] * ua * d;
+        p.x[ct.b] -= p.w[ct.b] * ub * d;
+        p.x[ct.c] -= p.w[ct.c] * uc * d;
+    }
+}
+
+template class FoldGuardT<float>;
+template class FoldGuardT<double>;
+
+} // namespace pbdsplat::sim
