@@ -25,7 +25,7 @@ bool FoldGuardT<Real>::stale(const SoftBodyT<Real>& body, const ContactSettings&
 }
 
 template <class Real>
-void FoldGuardT<Real>::gather(const SoftBodyT<Real>& body, uint32_t i, float radius) {
+void FoldGuardT<Real>::gather(const SoftBodyT<Real>& body, uint32_t i, float radius, std::vector<uint32_t>& out) {
     // Outward from i through the triangles' corners, as far as `radius` at rest: its rest
     // neighbourhood on its own piece (a slit's other side, at the same rest place, left out).
     const std::vector<Vec3f>& rest = body.rest_positions;
@@ -55,18 +55,23 @@ void FoldGuardT<Real>::gather(const SoftBodyT<Real>& body, uint32_t i, float rad
             // On the triangle at rest (a flat face's vertex over a sliver beside it): one surface
             // with it, on no side of it.
             if (o.lateral <= on_ && std::abs(o.height) <= on_) continue;
-            near_.push_back(t);
+            out.push_back(t);
         }
     }
 }
 
 template <class Real>
 void FoldGuardT<Real>::build(const SoftBodyT<Real>& body, const ContactSettings& s) {
-    const size_t n = body.particle_count();
     scale_ = contact_scale(mean_rest_edge(body), s);
-    const float radius = scale_.exclusion;
     // As far as a candidate may be from a triangle (the gap and the search's slack).
     on_ = k_fold_thickness * scale_.edge + scale_.slack;
+    settings_thickness_ = s.thickness;
+    rebuild(body);
+}
+
+template <class Real>
+void FoldGuardT<Real>::rebuild(const SoftBodyT<Real>& body) {
+    const size_t n = body.particle_count();
     start_.assign(n + 1, 0);
     near_.clear();
     vertex_stamp_.assign(n, UINT32_MAX);
@@ -74,21 +79,77 @@ void FoldGuardT<Real>::build(const SoftBodyT<Real>& body, const ContactSettings&
     const bool known = body.rest_positions.size() == n && body.rings.triangles.keys() >= n;
     for (uint32_t i = 0; i < n; ++i) {
         start_[i] = uint32_t(near_.size());
-        if (known && body.piece_of_particle[i] != k_no_piece) gather(body, i, radius);
+        if (known && body.piece_of_particle[i] != k_no_piece) gather(body, i, scale_.exclusion, near_);
     }
     start_[n] = uint32_t(near_.size());
-    built_particles_ = n, built_triangles_ = body.triangles.size(), built_pieces_ = body.pieces, settings_thickness_ = s.thickness;
+    built_particles_ = n, built_triangles_ = body.triangles.size(), built_pieces_ = body.pieces;
+    built_triangles_list_ = body.triangles;
+}
+
+template <class Real>
+void FoldGuardT<Real>::mark_around(const SoftBodyT<Real>& body, uint32_t t, std::vector<uint8_t>& redo) {
+    // Every particle whose neighbourhood may hold t: within the radius of it at rest, reached
+    // through the corners as gather() reaches it.
+    const std::vector<Vec3f>& rest = body.rest_positions;
+    const mesh::Triangle& tri = body.triangles[t];
+    const Vec3f &a = rest[tri[0]], &b = rest[tri[1]], &c = rest[tri[2]];
+    const float r2 = scale_.exclusion * scale_.exclusion;
+    const auto within = [&](uint32_t v) {
+        const Vec2f w = mesh::closest_point_barycentric(rest[v], a, b, c);
+        return (a + w.x() * (b - a) + w.y() * (c - a) - rest[v]).squaredNorm() < r2;
+    };
+    queue_.clear();
+    for (const uint32_t k : tri)
+        if (vertex_stamp_[k] != t) vertex_stamp_[k] = t, queue_.push_back(k);
+    for (size_t q = 0; q < queue_.size(); ++q) {
+        redo[queue_[q]] = 1;
+        for (const uint32_t u : body.rings.triangles.of(queue_[q]))
+            for (const uint32_t k : body.triangles[u])
+                if (k < redo.size() && vertex_stamp_[k] != t && within(k)) vertex_stamp_[k] = t, queue_.push_back(k);
+    }
+}
+
+template <class Real>
+bool FoldGuardT<Real>::update(const SoftBodyT<Real>& body) {
+    const size_t n = body.particle_count(), nt = body.triangles.size();
+    if (start_.empty() || !(scale_.edge > 0.0f) || n < built_particles_ || nt < built_triangles_ || built_triangles_list_.size() != built_triangles_ ||
+        body.rest_positions.size() != n || body.rings.triangles.keys() < n)
+        return false;
+    std::vector<uint8_t> redo(n, 0);
+    for (size_t i = built_particles_; i < n; ++i) redo[i] = 1;
+    vertex_stamp_.assign(n, UINT32_MAX);
+    for (uint32_t t = 0; t < nt; ++t)
+        if (t >= built_triangles_ || body.triangles[t] != built_triangles_list_[t]) {
+            if (t < built_triangles_)
+                for (const uint32_t k : built_triangles_list_[t]) redo[k] = 1;
+            if (live(body.triangles[t], n, body.piece_of_particle)) mark_around(body, t, redo);
+        }
+    std::swap(start_, old_start_), std::swap(near_, old_near_);
+    start_.assign(n + 1, 0);
+    near_.clear();
+    vertex_stamp_.assign(n, UINT32_MAX);
+    triangle_stamp_.assign(nt, UINT32_MAX);
+    for (uint32_t i = 0; i < n; ++i) {
+        start_[i] = uint32_t(near_.size());
+        if (!redo[i]) near_.insert(near_.end(), old_near_.begin() + old_start_[i], old_near_.begin() + old_start_[i + 1]);
+        else if (body.piece_of_particle[i] != k_no_piece) gather(body, i, scale_.exclusion, near_);
+    }
+    start_[n] = uint32_t(near_.size());
+    built_particles_ = n, built_triangles_ = nt, built_pieces_ = body.pieces;
+    built_triangles_list_ = body.triangles;
+    return true;
 }
 
 template <class Real>
 void FoldGuardT<Real>::frame_triangles(const SoftBodyT<Real>& body) {
     const ParticlesT<Real>& p = body.particles;
     const size_t n = p.size();
-    frames_.resize(body.triangles.size());
+    spheres_.resize(body.triangles.size());
+    planes_.resize(body.triangles.size());
     for (size_t t = 0; t < body.triangles.size(); ++t) {
         const mesh::Triangle& tri = body.triangles[t];
-        TriangleFrame& f = frames_[t];
-        f.sphere = Vec4f(0.0f, 0.0f, 0.0f, -1.0f);
+        TrianglePlanes& f = planes_[t];
+        spheres_[t] = Vec4f(0.0f, 0.0f, 0.0f, -1.0f);
         if (!live(tri, n, body.piece_of_particle)) continue;
         const Vec3f a = pos3(p.x[tri[0]]), b = pos3(p.x[tri[1]]), c = pos3(p.x[tri[2]]);
         const Vec3f a0 = pos3(p.x_prev[tri[0]]), b0 = pos3(p.x_prev[tri[1]]), c0 = pos3(p.x_prev[tri[2]]);
@@ -96,7 +157,7 @@ void FoldGuardT<Real>::frame_triangles(const SoftBodyT<Real>& body) {
         if (nrm.isZero() || nrm0.isZero()) continue;  // degenerate: no side to keep
         const Vec3f m = (a + b + c) / 3.0f;
         const float r = std::sqrt(std::max({(a - m).squaredNorm(), (b - m).squaredNorm(), (c - m).squaredNorm()}));
-        f.sphere = Vec4f(m.x(), m.y(), m.z(), r);
+        spheres_[t] = Vec4f(m.x(), m.y(), m.z(), r);
         f.plane = Vec4f(nrm.x(), nrm.y(), nrm.z(), nrm.dot(a));
         f.plane0 = Vec4f(nrm0.x(), nrm0.y(), nrm0.z(), nrm0.dot(a0));
     }
@@ -106,7 +167,7 @@ template <class Real>
 void FoldGuardT<Real>::find(const SoftBodyT<Real>& body, const ContactSettings& s, bool stiff_bodies) {
     active_.clear();
     if (!s.enabled || !s.folds || stiff_bodies) return;
-    if (stale(body, s)) build(body, s);
+    if (stale(body, s) && (s.thickness != settings_thickness_ || !update(body))) build(body, s);
     if (!(scale_.edge > 0.0f)) return;
     thickness_ = std::min(k_fold_thickness * scale_.edge, scale_.thickness);
     const float reach = thickness_ + scale_.slack;
@@ -117,9 +178,10 @@ void FoldGuardT<Real>::find(const SoftBodyT<Real>& body, const ContactSettings& 
         const Vec3f xi = pos3(p.x[i]), xi0 = pos3(p.x_prev[i]);
         for (uint32_t k = start_[i]; k < start_[i + 1]; ++k) {
             const uint32_t t = near_[k];
-            const TriangleFrame& f = frames_[t];
-            const float r = f.sphere.w() + reach;
-            if (f.sphere.w() < 0.0f || (xi - f.sphere.template head<3>()).squaredNorm() > r * r) continue;
+            const Vec4f& sphere = spheres_[t];
+            const float r = sphere.w() + reach;
+            if (sphere.w() < 0.0f || (xi - sphere.head<3>()).squaredNorm() > r * r) continue;
+            const TrianglePlanes& f = planes_[t];
             const float side = xi0.dot(f.plane0.template head<3>()) >= f.plane0.w() ? 1.0f : -1.0f;
             if (side * (xi.dot(f.plane.template head<3>()) - f.plane.w()) > reach) continue;  // clear of it, on its side
             // Its side is known only where it was over the triangle when the substep began: one

@@ -9,6 +9,7 @@
 // triangles, never over them, so a resting or smoothly bending surface is never pushed: only a
 // fold closing on itself is.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "sim/contact.h"
@@ -32,6 +33,13 @@ public:
     // Rest-neighbourhood pairs known, and this substep's candidates among them.
     size_t pairs() const { return near_.size(); }
     size_t candidates() const { return active_.size(); }
+    // Every list made again from `body` at the scale of the last build (what the lists kept
+    // through topology edits must equal).
+    void rebuild(const SoftBodyT<Real>& body);
+    // The triangles particle i is guarded against (as last built or updated).
+    std::span<const uint32_t> neighbourhood(uint32_t i) const {
+        return i + 1 < start_.size() ? std::span<const uint32_t>(near_.data() + start_[i], start_[i + 1] - start_[i]) : std::span<const uint32_t>();
+    }
 
 private:
     struct Candidate {
@@ -41,22 +49,31 @@ private:
     };
     bool stale(const SoftBodyT<Real>& body, const ContactSettings& s) const;
     void build(const SoftBodyT<Real>& body, const ContactSettings& s);
-    void gather(const SoftBodyT<Real>& body, uint32_t i, float radius);
+    // After a topology edit: the lists of the particles within the neighbourhood of a triangle it
+    // changed or added made again, the rest kept. False where it cannot (the body shrank).
+    bool update(const SoftBodyT<Real>& body);
+    void mark_around(const SoftBodyT<Real>& body, uint32_t t, std::vector<uint8_t>& redo);
+    void gather(const SoftBodyT<Real>& body, uint32_t i, float radius, std::vector<uint32_t>& out);
     void frame_triangles(const SoftBodyT<Real>& body);
 
-    // Per particle, the live triangles of its piece within `radius_` of it at rest, not its own
-    // (CSR: near_[start_[i] .. start_[i + 1]]); rebuilt when the topology changes.
+    // Per particle, the live triangles of its piece within the scale's exclusion radius of it at
+    // rest, not its own (CSR: near_[start_[i] .. start_[i + 1]]); made when the body is first
+    // seen, remade around each topology edit at that scale.
     std::vector<uint32_t> start_, near_;
+    std::vector<mesh::Triangle> built_triangles_list_;  // the triangles they were made from
+    std::vector<uint32_t> old_start_, old_near_;        // update's scratch
     size_t built_particles_ = 0, built_triangles_ = 0, built_pieces_ = 0;
     float settings_thickness_ = 0.0f;
     ContactScale scale_;  // the body's, as last built
     std::vector<uint32_t> vertex_stamp_, triangle_stamp_, queue_;  // build scratch
-    // Per triangle this substep: its bounding sphere (radius < 0: dead or degenerate) and its
-    // plane (unit normal, offset) predicted, and its plane at the substep's start.
-    struct TriangleFrame {
-        Vec4f sphere, plane, plane0;
+    // Per triangle this substep: its bounding sphere predicted (radius < 0: dead or degenerate),
+    // apart from its planes (unit normal, offset) predicted and at the substep's start, since
+    // most pairs need the sphere alone.
+    struct TrianglePlanes {
+        Vec4f plane, plane0;
     };
-    std::vector<TriangleFrame> frames_;
+    std::vector<Vec4f> spheres_;
+    std::vector<TrianglePlanes> planes_;
     float on_ = 0.0f;         // within this of a triangle at rest, a particle lies on it
     float thickness_ = 0.0f;  // kept between a fold's layers
     std::vector<Candidate> active_;

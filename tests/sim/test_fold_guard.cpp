@@ -5,6 +5,10 @@
 #include "mesh/procedural.h"
 #include "sim/crossings.h"
 #include "sim/sim_fixtures.h"
+#include "topology/cut.h"
+
+#include <algorithm>
+#include <vector>
 
 using namespace pbdsplat;
 
@@ -58,6 +62,22 @@ sim::ContactSettings contact(bool folds, bool self) {
     return c;
 }
 
+// Whether the lists `kept` updated through the edits equal those remade from the whole of `b`.
+void check_same_lists(const sim::SoftBody& b, const sim::FoldGuard& kept) {
+    sim::FoldGuard fresh = kept;
+    fresh.rebuild(b);
+    REQUIRE(fresh.pairs() > 0);
+    size_t differ = 0;
+    for (uint32_t i = 0; i < b.particle_count(); ++i) {
+        std::vector<uint32_t> x(kept.neighbourhood(i).begin(), kept.neighbourhood(i).end());
+        std::vector<uint32_t> y(fresh.neighbourhood(i).begin(), fresh.neighbourhood(i).end());
+        std::sort(x.begin(), x.end()), std::sort(y.begin(), y.end());
+        differ += x != y ? 1 : 0;
+    }
+    CHECK(differ == 0);
+    CHECK(kept.pairs() == fresh.pairs());
+}
+
 } // namespace
 
 TEST_SUITE("sim/fold_guard") {
@@ -94,6 +114,24 @@ TEST_SUITE("sim/fold_guard") {
         off.contact.folds = false;
         plain.step(other, 1.0f / 60.0f, off, {}, {});
         for (size_t i = 0; i < b.particle_count(); ++i) CHECK(b.particles.x[i] == other.particles.x[i]);
+    }
+
+    TEST_CASE("after a slit and a cut, the lists kept and remade around the edit equal lists made afresh") {
+        sim::SoftBody b = test::make_body(mesh::icosphere(3, 0.5f));
+        sim::Solver solver;
+        const sim::SolverSettings s;
+        solver.step(b, 1.0f / 60.0f, s, {}, {});
+        topology::CutOptions cut;
+        cut.reference_edge_length = float(b.distance_groups.mean_rest());
+        const uint32_t top = b.extreme_particle(1, true);
+        auto slit = topology::cut(b, topology::local_cut_on(b, top, Vec3f::UnitX(), 1.5f * cut.reference_edge_length), cut);
+        REQUIRE(slit.ok());
+        REQUIRE(slit.value().changed());
+        solver.step(b, 1.0f / 60.0f, s, {}, {});
+        check_same_lists(b, solver.folds());
+        test::cut_in_two(b, Vec3f(0.0f, -0.1f, 0.0f), Vec3f(0.2f, 1.0f, 0.1f));
+        solver.step(b, 1.0f / 60.0f, s, {}, {});
+        check_same_lists(b, solver.folds());
     }
 
     TEST_CASE("stiff bodies keep no pairs: their pieces do not fold") {
