@@ -170,10 +170,27 @@ void FoldGuardT<Real>::find(const SoftBodyT<Real>& body, const ContactSettings& 
     if (stale(body, s) && (s.thickness != settings_thickness_ || !update(body))) build(body, s);
     if (!(scale_.edge > 0.0f)) return;
     thickness_ = std::min(k_fold_thickness * scale_.edge, scale_.thickness);
-    const float reach = thickness_ + scale_.slack;
     frame_triangles(body);
+    // Particles in contiguous chunks, one list each, joined in chunk order: the candidates and
+    // their order are one thread's for any thread count.
+    const size_t n = body.particle_count();
+    const unsigned chunks = pool_ && pool_->size() > 1 && n >= k_particles_per_chunk * pool_->chunks() ? pool_->chunks() : 1u;
+    chunk_.resize(chunks);
+    const auto run = [&](unsigned chunk, size_t begin, size_t end) {
+        chunk_[chunk].clear();
+        scan(body, uint32_t(begin), uint32_t(end), chunk_[chunk]);
+    };
+    if (chunks > 1) pool_->parallel_for(n, run);
+    else run(0, 0, n);
+    if (chunks == 1) return active_.swap(chunk_[0]);
+    for (const std::vector<Candidate>& c : chunk_) active_.insert(active_.end(), c.begin(), c.end());
+}
+
+template <class Real>
+void FoldGuardT<Real>::scan(const SoftBodyT<Real>& body, uint32_t first, uint32_t last, std::vector<Candidate>& out) const {
     const ParticlesT<Real>& p = body.particles;
-    for (uint32_t i = 0; i < p.size(); ++i) {
+    const float reach = thickness_ + scale_.slack;
+    for (uint32_t i = first; i < last; ++i) {
         if (!(p.w[i] > Real(0))) continue;  // pinned or asleep: a fold reaches it through its neighbours
         const Vec3f xi = pos3(p.x[i]), xi0 = pos3(p.x_prev[i]);
         for (uint32_t k = start_[i]; k < start_[i + 1]; ++k) {
@@ -190,7 +207,7 @@ void FoldGuardT<Real>::find(const SoftBodyT<Real>& body, const ContactSettings& 
             const Over then = over_triangle(xi0, pos3(p.x_prev[tri[0]]), pos3(p.x_prev[tri[1]]), pos3(p.x_prev[tri[2]]),
                                             f.plane0.template head<3>());
             if (then.lateral > reach) continue;
-            active_.push_back({i, tri[0], tri[1], tri[2], side});
+            out.push_back({i, tri[0], tri[1], tri[2], side});
         }
     }
 }

@@ -12,6 +12,7 @@
 #include <span>
 #include <vector>
 
+#include "core/thread_pool.h"
 #include "sim/contact.h"
 #include "sim/soft_body.h"
 
@@ -29,6 +30,9 @@ public:
     void find(const SoftBodyT<Real>& body, const ContactSettings& s, bool stiff_bodies);
     // One sweep over them (every iteration).
     void project(ParticlesT<Real>& p) const;
+    // Threads for the scan (the caller's pool; null: the calling thread alone). The candidates
+    // do not depend on it.
+    void set_pool(core::ThreadPool* pool) { pool_ = pool; }
 
     // Rest-neighbourhood pairs known, and this substep's candidates among them.
     size_t pairs() const { return near_.size(); }
@@ -55,6 +59,11 @@ private:
     void mark_around(const SoftBodyT<Real>& body, uint32_t t, std::vector<uint8_t>& redo);
     void gather(const SoftBodyT<Real>& body, uint32_t i, float radius, std::vector<uint32_t>& out);
     void frame_triangles(const SoftBodyT<Real>& body);
+    void scan(const SoftBodyT<Real>& body, uint32_t first, uint32_t last, std::vector<Candidate>& out) const;
+    core::ThreadPool* pool_ = nullptr;
+    std::vector<std::vector<Candidate>> chunk_;  // the scan's candidates per chunk
+    // Fewer particles than this a chunk cost more to hand out than they take to scan.
+    static constexpr uint32_t k_particles_per_chunk = 256;
 
     // Per particle, the live triangles of its piece within the scale's exclusion radius of it at
     // rest, not its own (CSR: near_[start_[i] .. start_[i + 1]]); made when the body is first

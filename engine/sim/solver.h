@@ -65,7 +65,7 @@ public:
     // With a pool, each stage splits its arrays over the threads: particles in ranges, distance
     // constraints colour by colour, the volume constraint in fixed blocks. The result does not
     // depend on the thread count.
-    explicit SolverT(core::ThreadPool* pool = nullptr) : pool_(pool) { contact_.set_pool(pool); }
+    explicit SolverT(core::ThreadPool* pool = nullptr) : pool_(pool) { contact_.set_pool(pool), folds_.set_pool(pool); }
 
     // Advances `body` by `dt` seconds (one frame): frame_schedule(settings) (sim/schedule.h),
     // stage by stage. `drag` may be inactive. Normals are updated for float bodies (the ones
