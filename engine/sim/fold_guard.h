@@ -3,9 +3,9 @@
 // own surface within a few edges alone (at rest it lies on it: sim/contact.h), yet that is where
 // a deflating balloon creases and lays one fold through the next (docs/BENCHMARKS.md, "Surfaces
 // through each other"). There, nearness says nothing; passing through does. Each substep pairs
-// every particle with the triangles of its rest neighbourhood (not its own fan) that it lies over
-// or near; each iteration keeps it on the side of the triangle it was on when the substep began,
-// at a fraction of the contact thickness. A particle at rest lies beside its neighbours'
+// every particle with the triangles of its rest neighbourhood (not its own fan, nor one it lay on
+// at rest) that it was over when the substep began and lies near; each iteration keeps it on the
+// side it was on then, at a fraction of the contact thickness. A particle at rest lies beside its neighbours'
 // triangles, never over them, so a resting or smoothly bending surface is never pushed: only a
 // fold closing on itself is.
 #include <cstdint>
