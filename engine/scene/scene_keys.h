@@ -95,6 +95,7 @@ inline const Key<SimulationDesc> k_simulation_keys[] = {
     PBDSPLAT_KEY(SimulationDesc, "contact_thickness", solver.contact.thickness, 0.0, 10.0),
     PBDSPLAT_KEY(SimulationDesc, "self_contact", solver.contact.self),
     PBDSPLAT_KEY(SimulationDesc, "fold_guard", solver.contact.folds),
+    PBDSPLAT_KEY(SimulationDesc, "fold_edges", solver.contact.fold_edges),
     PBDSPLAT_KEY(SimulationDesc, "contact_substeps", solver.contact.substeps, 1, 64),
     PBDSPLAT_KEY(SimulationDesc, "sleep", solver.sleep.enabled),
     PBDSPLAT_KEY(SimulationDesc, "weld_parts", weld_parts),

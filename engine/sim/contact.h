@@ -47,6 +47,7 @@ struct ContactSettings {
     bool enabled = true;     // a user expects the pieces of a cut to be solid
     bool self = k_self_contact_default;  // a piece against itself, away from its neighbourhood (folds)
     bool folds = true;       // a soft skin against its own neighbourhood, where it folds through it (sim/fold_guard.h)
+    bool fold_edges = false; // and its edges against each other there (sim/fold_edges.h): fewer crossings, more cost
     uint32_t substeps = k_contact_substeps_default;  // a frame's substeps while pieces are stacked (at least the solver's)
     bool approach = true;    // finer substeps while stiff pieces close in fast (sim/approach.h)
     float thickness = 0.0f;  // metres kept between a particle and a surface; 0: auto (see below)

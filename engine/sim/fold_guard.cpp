@@ -12,6 +12,15 @@ namespace {
 // particle's projection rounded onto the edge two triangles share.
 constexpr float k_over = 0.01f;
 
+// A neighbourhood folded over itself turns some triangle of it past a right angle from the
+// particle's normal (two layers meeting face each other); this much short of it already counts.
+constexpr float k_folded = 0.25f;
+
+// How far apart at rest (over the mean edge) two edges may lie and still be held apart: a
+// crease's two sides within this of each other. Nearly all that the whole neighbourhood gave
+// (docs/BENCHMARKS.md, "Surfaces through each other") for a third of its pairs.
+constexpr float k_edge_radius = 1.5f;
+
 bool live(const mesh::Triangle& t, size_t n, const std::vector<uint32_t>& piece_of) {
     return t[0] < n && t[1] < n && t[2] < n && piece_of[t[0]] != k_no_piece;
 }
@@ -84,6 +93,13 @@ void FoldGuardT<Real>::rebuild(const SoftBodyT<Real>& body) {
     start_[n] = uint32_t(near_.size());
     built_particles_ = n, built_triangles_ = body.triangles.size(), built_pieces_ = body.pieces;
     built_triangles_list_ = body.triangles;
+    build_edges(body);
+}
+
+template <class Real>
+void FoldGuardT<Real>::build_edges(const SoftBodyT<Real>& body) {
+    if (edges_wanted_) edges_.build(body, start_, near_, k_edge_radius * scale_.edge, on_);
+    else edges_.reset();
 }
 
 template <class Real>
@@ -137,6 +153,7 @@ bool FoldGuardT<Real>::update(const SoftBodyT<Real>& body) {
     start_[n] = uint32_t(near_.size());
     built_particles_ = n, built_triangles_ = nt, built_pieces_ = body.pieces;
     built_triangles_list_ = body.triangles;
+    build_edges(body);
     return true;
 }
 
@@ -149,7 +166,7 @@ void FoldGuardT<Real>::frame_triangles(const SoftBodyT<Real>& body) {
     for (size_t t = 0; t < body.triangles.size(); ++t) {
         const mesh::Triangle& tri = body.triangles[t];
         TrianglePlanes& f = planes_[t];
-        spheres_[t] = Vec4f(0.0f, 0.0f, 0.0f, -1.0f);
+        spheres_[t] = {Vec4f(0.0f, 0.0f, 0.0f, -1.0f), Vec4f::Zero()};
         if (!live(tri, n, body.piece_of_particle)) continue;
         const Vec3f a = pos3(p.x[tri[0]]), b = pos3(p.x[tri[1]]), c = pos3(p.x[tri[2]]);
         const Vec3f a0 = pos3(p.x_prev[tri[0]]), b0 = pos3(p.x_prev[tri[1]]), c0 = pos3(p.x_prev[tri[2]]);
@@ -157,7 +174,7 @@ void FoldGuardT<Real>::frame_triangles(const SoftBodyT<Real>& body) {
         if (nrm.isZero() || nrm0.isZero()) continue;  // degenerate: no side to keep
         const Vec3f m = (a + b + c) / 3.0f;
         const float r = std::sqrt(std::max({(a - m).squaredNorm(), (b - m).squaredNorm(), (c - m).squaredNorm()}));
-        spheres_[t] = Vec4f(m.x(), m.y(), m.z(), r);
+        spheres_[t] = {Vec4f(m.x(), m.y(), m.z(), r), Vec4f(nrm.x(), nrm.y(), nrm.z(), 0.0f)};
         f.plane = Vec4f(nrm.x(), nrm.y(), nrm.z(), nrm.dot(a));
         f.plane0 = Vec4f(nrm0.x(), nrm0.y(), nrm0.z(), nrm0.dot(a0));
     }
@@ -166,11 +183,15 @@ void FoldGuardT<Real>::frame_triangles(const SoftBodyT<Real>& body) {
 template <class Real>
 void FoldGuardT<Real>::find(const SoftBodyT<Real>& body, const ContactSettings& s, bool stiff_bodies) {
     active_.clear();
+    edges_.clear_candidates();
     if (!s.enabled || !s.folds || stiff_bodies) return;
+    edges_wanted_ = s.fold_edges;
     if (stale(body, s) && (s.thickness != settings_thickness_ || !update(body))) build(body, s);
     if (!(scale_.edge > 0.0f)) return;
+    if (edges_wanted_ && !edges_.built()) build_edges(body);
     thickness_ = std::min(k_fold_thickness * scale_.edge, scale_.thickness);
     frame_triangles(body);
+    if (edges_wanted_) folded_.assign(body.particle_count(), 1);
     // Particles in contiguous chunks, one list each, joined in chunk order: the candidates and
     // their order are one thread's for any thread count.
     const size_t n = body.particle_count();
@@ -182,20 +203,30 @@ void FoldGuardT<Real>::find(const SoftBodyT<Real>& body, const ContactSettings& 
     };
     if (chunks > 1) pool_->parallel_for(n, run);
     else run(0, 0, n);
+    if (edges_wanted_) edges_.find(body, folded_, thickness_, thickness_ + scale_.slack);
     if (chunks == 1) return active_.swap(chunk_[0]);
     for (const std::vector<Candidate>& c : chunk_) active_.insert(active_.end(), c.begin(), c.end());
 }
 
 template <class Real>
-void FoldGuardT<Real>::scan(const SoftBodyT<Real>& body, uint32_t first, uint32_t last, std::vector<Candidate>& out) const {
+void FoldGuardT<Real>::scan(const SoftBodyT<Real>& body, uint32_t first, uint32_t last, std::vector<Candidate>& out) {
     const ParticlesT<Real>& p = body.particles;
     const float reach = thickness_ + scale_.slack;
+    const bool normals = body.normals.size() == body.particle_count();
     for (uint32_t i = first; i < last; ++i) {
+        // Without its normal (a body not yet stepped), any neighbourhood may be folded.
+        if (edges_wanted_) {
+            const Vec3f ni = normals ? body.normals[i] : Vec3f::Zero();
+            float turn = normals ? 1.0f : -1.0f;
+            for (uint32_t k = start_[i]; k < start_[i + 1] && turn >= k_folded; ++k)
+                turn = std::min(turn, ni.dot(spheres_[near_[k]].normal.template head<3>()));
+            folded_[i] = turn < k_folded ? 1 : 0;
+        }
         if (!(p.w[i] > Real(0))) continue;  // pinned or asleep: a fold reaches it through its neighbours
         const Vec3f xi = pos3(p.x[i]), xi0 = pos3(p.x_prev[i]);
         for (uint32_t k = start_[i]; k < start_[i + 1]; ++k) {
             const uint32_t t = near_[k];
-            const Vec4f& sphere = spheres_[t];
+            const Vec4f& sphere = spheres_[t].sphere;
             const float r = sphere.w() + reach;
             if (sphere.w() < 0.0f || (xi - sphere.head<3>()).squaredNorm() > r * r) continue;
             const TrianglePlanes& f = planes_[t];
@@ -238,6 +269,7 @@ void FoldGuardT<Real>::project(ParticlesT<Real>& p) const {
         p.x[ct.b] -= p.w[ct.b] * ub * d;
         p.x[ct.c] -= p.w[ct.c] * uc * d;
     }
+    edges_.project(p);
 }
 
 template class FoldGuardT<float>;

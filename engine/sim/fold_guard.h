@@ -14,6 +14,7 @@
 
 #include "core/thread_pool.h"
 #include "sim/contact.h"
+#include "sim/fold_edges.h"
 #include "sim/soft_body.h"
 
 namespace pbdsplat::sim {
@@ -32,11 +33,14 @@ public:
     void project(ParticlesT<Real>& p) const;
     // Threads for the scan (the caller's pool; null: the calling thread alone). The candidates
     // do not depend on it.
-    void set_pool(core::ThreadPool* pool) { pool_ = pool; }
+    void set_pool(core::ThreadPool* pool) { pool_ = pool, edges_.set_pool(pool); }
 
     // Rest-neighbourhood pairs known, and this substep's candidates among them.
     size_t pairs() const { return near_.size(); }
     size_t candidates() const { return active_.size(); }
+    // Edge pairs known, and this substep's candidates among them (sim/fold_edges.h).
+    size_t edge_pairs() const { return edges_.pairs(); }
+    size_t edge_candidates() const { return edges_.candidates(); }
     // Every list made again from `body` at the scale of the last build (what the lists kept
     // through topology edits must equal).
     void rebuild(const SoftBodyT<Real>& body);
@@ -56,10 +60,11 @@ private:
     // After a topology edit: the lists of the particles within the neighbourhood of a triangle it
     // changed or added made again, the rest kept. False where it cannot (the body shrank).
     bool update(const SoftBodyT<Real>& body);
+    void build_edges(const SoftBodyT<Real>& body);
     void mark_around(const SoftBodyT<Real>& body, uint32_t t, std::vector<uint8_t>& redo);
     void gather(const SoftBodyT<Real>& body, uint32_t i, float radius, std::vector<uint32_t>& out);
     void frame_triangles(const SoftBodyT<Real>& body);
-    void scan(const SoftBodyT<Real>& body, uint32_t first, uint32_t last, std::vector<Candidate>& out) const;
+    void scan(const SoftBodyT<Real>& body, uint32_t first, uint32_t last, std::vector<Candidate>& out);
     core::ThreadPool* pool_ = nullptr;
     std::vector<std::vector<Candidate>> chunk_;  // the scan's candidates per chunk
     // Fewer particles than this a chunk cost more to hand out than they take to scan.
@@ -81,11 +86,20 @@ private:
     struct TrianglePlanes {
         Vec4f plane, plane0;
     };
-    std::vector<Vec4f> spheres_;
+    struct TriangleBound {
+        Vec4f sphere;  // centre, radius
+        Vec4f normal;  // unit, predicted (w unused)
+    };
+    std::vector<TriangleBound> spheres_;
+    // Per particle this substep: whether its neighbourhood bends back on itself (a triangle of it
+    // turned more than a right angle from the particle's normal), where alone a fold can close.
+    std::vector<uint8_t> folded_;
     std::vector<TrianglePlanes> planes_;
     float on_ = 0.0f;         // within this of a triangle at rest, a particle lies on it
     float thickness_ = 0.0f;  // kept between a fold's layers
     std::vector<Candidate> active_;
+    FoldEdgesT<Real> edges_;  // the same neighbourhoods' edges against each other
+    bool edges_wanted_ = false;
 };
 using FoldGuard = FoldGuardT<float>;
 

@@ -102,6 +102,7 @@ contact_substeps = 6
 sleep = false
 self_contact = true
 fold_guard = false
+fold_edges = true
 weld_parts = false
 cut_volume = "burst"
 cut_snap = 0.2
