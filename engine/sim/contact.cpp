@@ -75,9 +75,6 @@ std::vector<uint32_t> loop_particles(std::span<const std::vector<uint32_t>* cons
 
 namespace {
 
-// How far beside a triangle (over its mean edge length) a particle still counts as over it: the
-// rounding of a point projected onto an edge two triangles share.
-constexpr float k_over = 0.01f;
 // How far behind a surface (over the mean edge) a particle may lie at rest and still count as on
 // it: the copies a cut made of one vertex lie on each other's cut faces, behind them by rounding.
 constexpr float k_on_surface = 1e-3f;
@@ -206,6 +203,7 @@ void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSet
                 const float C = d.dot(nu);
                 if (C < 0.0f && -C <= scale_.edge && (d - C * nu).squaredNorm() <= reach2) {
                     const float overlap = std::max(0.0f, -(pos3(p.x_prev[sp.a]) - pos3(p.x_prev[sp.b])).dot(nu));
+                    note_push(body, sp.a, {sp.b, sp.b, sp.b}, -C);
                     separate(p, s, sp.a, {sp.b, sp.b, sp.b}, {1.0f, 0.0f, 0.0f}, sd, nu, -C, std::min(overlap, -C));
                 }
                 continue;
@@ -218,6 +216,7 @@ void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSet
         if (C >= Real(0) || !(w > Real(0)) || float(-C) > scale_.edge) continue;
         if (float((d - C * n).squaredNorm()) > reach2) continue;
         const Real depth = -C;
+        note_push(body, sp.a, {sp.b, sp.b, sp.b}, float(depth));
         const auto apply = [&](const Vec4<Real>& v) {
             p.x[sp.a] += p.w[sp.a] * v;
             p.x[sp.b] -= p.w[sp.b] * v;

@@ -8,10 +8,6 @@
 namespace pbdsplat::sim {
 namespace {
 
-// How far beside a triangle (over the mean edge) a candidate still counts as over it: a
-// particle's projection rounded onto the edge two triangles share.
-constexpr float k_over = 0.01f;
-
 // A neighbourhood folded over itself turns some triangle of it past a right angle from the
 // particle's normal (two layers meeting face each other); this much short of it already counts.
 constexpr float k_folded = 0.25f;

@@ -22,6 +22,9 @@ inline Over over_triangle(const Vec3f& p, const Vec3f& a, const Vec3f& b, const 
     const float height = d.dot(n);
     return {1.0f - w.x() - w.y(), w.x(), w.y(), height, (d - height * n).norm()};
 }
+// How far beside a triangle (over the mean edge length) a point still counts as over it: the
+// rounding of a point projected onto an edge two triangles share.
+inline constexpr float k_over = 0.01f;
 inline Vec3f unit_normal(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
     const Vec3f n = (b - a).cross(c - a);
     const float len = n.norm();
