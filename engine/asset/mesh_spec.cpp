@@ -1,5 +1,6 @@
 #include "asset/mesh_spec.h"
 
+#include <algorithm>
 #include <charconv>
 #include <filesystem>
 #include <mutex>
@@ -138,7 +139,8 @@ core::Result<LoadedModel> load_file(const std::string& spec, const MeshSpecOptio
     out.repaired = std::move(repaired).value();
     if (out.look)
         for (Vec3f& p : out.look->positions) p = (p + out.repaired.shift) * out.repaired.scale;
-    out.refined_levels = mesh::refine_to(out.repaired.mesh, k_min_file_vertices);
+    out.refined_levels = mesh::refine_coarse_parts(out.repaired.mesh, k_part_edge_over_size, k_part_levels, k_refined_triangles);
+    out.refined_levels = std::max(out.refined_levels, mesh::refine_to(out.repaired.mesh, k_min_file_vertices));
     remember_file_load(*path, options, out);
     return out;
 }

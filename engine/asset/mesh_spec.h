@@ -23,6 +23,14 @@ struct MeshSpecOptions {
 // A model file of fewer vertices than this is subdivided (flat) until it has them: the sampling
 // spacing follows the edge length, and an 8-vertex cube would be drawn as eight huge splats.
 inline constexpr size_t k_min_file_vertices = 200;
+// And a part of a file whose longest edge passes 0.35 of its own size (its bounding diagonal) is
+// subdivided (flat) until none does (at most 4 times; the file kept within 100,000 triangles):
+// an 8-vertex box among finer parts takes 2 levels, as a box alone does above; suzanne's
+// low-poly eyes (0.30) and every part of the shared models are left as they are
+// (mesh::refine_coarse_parts).
+inline constexpr float k_part_edge_over_size = 0.35f;
+inline constexpr uint32_t k_part_levels = 4;
+inline constexpr size_t k_refined_triangles = 100000;
 // A procedural mesh's parameter is its resolution, chosen by the user, and kept; below this many
 // vertices (a box of one to three divisions, an icosahedron) every splat would span a face, so a
 // scene subdivides it flat until it has them (asset users that ask for the mesh itself get it).

@@ -9,6 +9,7 @@
 #include "asset/mesh_spec.h"
 #include "asset/model_file.h"
 #include "core/image.h"
+#include "mesh/procedural.h"
 #include "mesh/repair.h"
 #include "support/why.h"
 
@@ -259,6 +260,32 @@ TEST_SUITE("asset/model_files") {
         // Still a cube: flat faces, the same volume.
         const double side = 2.0 / std::sqrt(3.0);  // fitted to a diagonal of 2
         CHECK(mesh::signed_volume(cube) == doctest::Approx(side * side * side).epsilon(1e-4));
+    }
+
+    TEST_CASE("a low-poly part of a larger model is refined; the model's fine part and the shared models are not") {
+        // A fine ball (642 vertices, past k_min_file_vertices) beside an 8-vertex box: as a whole
+        // the file is not tiny, but the box alone would be eight particles lit as a ball.
+        const mesh::TriangleMesh ball = mesh::icosphere(3);
+        std::string obj;
+        for (const Vec3f& p : ball.positions) obj += "v " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + "\n";
+        for (int k = 0; k < 8; ++k) obj += "v " + std::to_string(3 + (k & 1)) + " " + std::to_string((k >> 1) & 1) + " " + std::to_string((k >> 2) & 1) + "\n";
+        for (const mesh::Triangle& t : ball.triangles) obj += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+        const size_t o = ball.vertex_count() + 1;
+        const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+        for (const auto& f : faces) obj += "f " + std::to_string(o + f[0]) + " " + std::to_string(o + f[1]) + " " + std::to_string(o + f[2]) + " " + std::to_string(o + f[3]) + "\n";
+        test::Corpus c("lowpoly_part");
+        auto m = asset::load_model(c.write("ball_and_box.obj", obj));
+        REQUIRE(m.ok());
+        CHECK(m->refined_levels == 2);
+        CHECK(m->repaired.mesh.triangle_count() == ball.triangle_count() + 12 * 16);
+        CHECK(mesh::is_closed_and_oriented(m->repaired.mesh));
+        // The shared models keep their own resolution (suzanne's eyes, the coarsest part there,
+        // reach 0.30 of their size).
+        for (const char* name : {"suzanne.obj", "teapot.obj"}) {
+            auto shared = asset::load_model(name);
+            if (!shared.ok()) continue;  // not installed: nothing to hold
+            CHECK_MESSAGE(shared->refined_levels == 0, name);
+        }
     }
 }
 

@@ -35,7 +35,7 @@ int model_info(const std::string& path, bool json) {
     std::printf("colours          %s%s\n", m.vertex_colors ? "vertex colours" : "no vertex colours",
                 m.texture_coordinates ? ", texture coordinates" : "");
     std::printf("repaired         %s\n", m.repair.c_str());
-    if (m.refined_levels) std::printf("refined          subdivided %u times (a small model)\n", m.refined_levels);
+    if (m.refined_levels) std::printf("refined          subdivided %u times (a small model, or its low-poly parts)\n", m.refined_levels);
     for (const std::string& w : m.warnings) std::printf("warning          %s\n", w.c_str());
     return 0;
 }
