@@ -16,6 +16,9 @@ void main() {
     const vec3 t = normalize(abs(n.y) < 0.9 ? cross(n, vec3(0, 1, 0)) : cross(n, vec3(1, 0, 0)));
     const vec3 b = cross(n, t);
     const vec2 c = k_corners[gl_VertexIndex] * ground.disc.w;
-    v_world = ground.disc.xyz + c.x * t + c.y * b;
+    // Drawn a thousandth of its radius below the plane: a sheet or a flat face lying on the
+    // plane (where the collider holds its particles) would otherwise share its depth, and the
+    // ground's shadow show through it in streaks wherever the two depths round the other way.
+    v_world = ground.disc.xyz + c.x * t + c.y * b - n * (1e-3 * ground.disc.w);
     gl_Position = frame.proj * frame.view * vec4(v_world, 1.0);
 }
