@@ -1,8 +1,9 @@
 #include "mesh/subdivide.h"
 
 #include <algorithm>
-#include <numeric>
 #include <unordered_map>
+
+#include "mesh/topology.h"
 
 namespace pbdsplat::mesh {
 
@@ -65,30 +66,9 @@ uint32_t refine_to(TriangleMesh& mesh, size_t min_vertices, uint32_t max_levels)
     return levels;
 }
 
-namespace {
-
-// Each triangle's part (connected component through shared vertices), numbered from 0.
-std::vector<uint32_t> triangle_parts(const TriangleMesh& m, uint32_t& parts) {
-    std::vector<uint32_t> parent(m.positions.size());
-    std::iota(parent.begin(), parent.end(), 0u);
-    const auto root = [&](uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    };
-    for (const Triangle& t : m.triangles) parent[root(t[1])] = root(t[0]), parent[root(t[2])] = root(t[0]);
-    std::unordered_map<uint32_t, uint32_t> number;
-    std::vector<uint32_t> part(m.triangles.size());
-    for (size_t t = 0; t < m.triangles.size(); ++t)
-        part[t] = number.try_emplace(root(m.triangles[t][0]), uint32_t(number.size())).first->second;
-    parts = uint32_t(number.size());
-    return part;
-}
-
-} // namespace
-
 uint32_t refine_coarse_parts(TriangleMesh& m, float edge_over_size, uint32_t max_levels, size_t max_triangles) {
-    uint32_t parts = 0;
-    const std::vector<uint32_t> part = triangle_parts(m, parts);
+    std::vector<uint32_t> part;
+    const uint32_t parts = vertex_components(m.triangles, m.positions.size(), part);
     std::vector<Eigen::AlignedBox3f> box(parts);
     std::vector<float> longest(parts, 0.0f);
     std::vector<size_t> count(parts, 0);
