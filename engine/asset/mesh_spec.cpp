@@ -95,7 +95,7 @@ const Procedural* find_procedural(const std::string& kind) {
 }
 
 // `parts`: the spec split at ':'; each parameter read against its range.
-core::Result<LoadedModel> load_procedural(const Procedural& p, const std::string& spec, const std::vector<std::string>& parts) {
+core::Result<std::vector<uint32_t>> procedural_arguments(const Procedural& p, const std::string& spec, const std::vector<std::string>& parts) {
     if (parts.size() != p.ranges.size() + 1)
         return core::make_error("mesh '" + spec + "': " + p.kind + " takes " + std::to_string(p.ranges.size()) + " parameter(s)");
     std::vector<uint32_t> args;
@@ -104,9 +104,15 @@ core::Result<LoadedModel> load_procedural(const Procedural& p, const std::string
         if (!v.ok()) return v.error();
         args.push_back(v.value());
     }
+    return args;
+}
+
+core::Result<LoadedModel> load_procedural(const Procedural& p, const std::string& spec, const std::vector<std::string>& parts) {
+    auto args = procedural_arguments(p, spec, parts);
+    if (!args.ok()) return args.error();
     mesh::RepairOptions o;
     o.weld_tolerance = 1e-6f;
-    auto repaired = mesh::repair(p.make(args), o, spec);
+    auto repaired = mesh::repair(p.make(args.value()), o, spec);
     if (!repaired.ok()) return repaired.error();
     return LoadedModel{std::move(repaired).value(), std::nullopt, {}, 0};
 }
@@ -153,6 +159,15 @@ void forget_loads() {
 }
 
 bool is_procedural_spec(const std::string& spec) { return find_procedural(split(spec, ':')[0]) != nullptr; }
+
+core::Status check_procedural_spec(const std::string& spec) {
+    const auto parts = split(spec, ':');
+    const Procedural* p = find_procedural(parts[0]);
+    if (!p) return core::make_error("mesh '" + spec + "' is not a procedural mesh");
+    auto args = procedural_arguments(*p, spec, parts);
+    if (!args.ok()) return args.error();
+    return core::Status::success();
+}
 
 core::Result<LoadedModel> load_model(const std::string& spec, const MeshSpecOptions& options) {
     const auto parts = split(spec, ':');

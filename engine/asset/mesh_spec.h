@@ -38,6 +38,9 @@ inline constexpr size_t k_min_procedural_vertices = 64;
 
 // True for the procedural kinds above (whatever their parameters), false for a file.
 bool is_procedural_spec(const std::string& spec);
+// Whether a procedural spec's parameters are in range, without making the mesh: what a scene
+// file's reader asks, so that the refusal names the file and line.
+core::Status check_procedural_spec(const std::string& spec);
 
 struct LoadedModel {
     mesh::RepairedMesh repaired;

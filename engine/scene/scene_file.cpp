@@ -15,6 +15,7 @@
 #include "scene/check_figures.h"
 #include "scene/scene_keys.h"
 
+#include "asset/mesh_spec.h"
 #include "render/environment.h"
 
 namespace pbdsplat::scene {
@@ -193,9 +194,17 @@ Vec3f normalized_or_fail(const Reader& r, const toml::node* n, const Vec3f& v, c
     return v.normalized();
 }
 
+// A procedural mesh's parameters are refused here, where the key's line is known; a file is
+// read when the scene is built.
+void check_mesh(Reader::Table& t, const ModelDesc& m) {
+    if (!t.has("mesh") || !asset::is_procedural_spec(m.mesh)) return;
+    if (const core::Status st = asset::check_procedural_spec(m.mesh); !st.ok()) t.fail("mesh", st.error().message);
+}
+
 // [model]'s keys, and the two a body adds (its colour and simulation size).
 void read_model(const Reader& r, Reader::Table& t, Scene& scene) {
     read_keys<ModelDesc>(t, scene.model, k_model_keys);
+    check_mesh(t, scene.model);
     if (t.has("color")) scene.model_color = t.vec<3>("color", Vec3f::Ones(), 0.0, 1.0);
     if (t.has("particles")) scene.model_particles = t.count("particles", 0, 0, 10'000'000);
     (void)r;
@@ -224,6 +233,7 @@ BodyDesc read_body(const Reader& r, const toml::node& n) {
     BodyDesc b;
     if (!t.has("mesh")) r.fail(n.source(), "a [[bodies]] entry needs 'mesh' (a model file or a procedural mesh such as \"box:1\")");
     read_keys<ModelDesc>(t, b.model, k_model_keys);
+    check_mesh(t, b.model);
     if (t.has("color")) b.color = t.vec<3>("color", Vec3f::Ones(), 0.0, 1.0);
     if (t.has("particles")) b.particles = t.count("particles", 0, 0, 10'000'000);
     t.finish();

@@ -510,6 +510,10 @@ TEST_SUITE("scene/scene_file") {
         CHECK(refusal("[render]\nblend = \"multiply\"\n") == "bad.toml:2:9: 'render.blend' must be one of over, additive, normalised, not 'multiply'");
         CHECK(refusal("[material]\ncolor = [1, 0]\n") == "bad.toml:2:9: 'material.color' must be an array of 3 numbers");
         CHECK(refusal("[[events]]\ntime = 1\ntype = \"cut\"\n").find("bad.toml:1:1: a cut event needs either") == 0);
+        // A procedural mesh's parameters are read with the file, so the refusal has its line.
+        CHECK(refusal("[model]\nmesh = \"icosphere:-1\"\n") == "bad.toml:2:8: mesh 'icosphere:-1': '-1' must be a whole number from 0 to 8");
+        CHECK(refusal("[model]\nmesh = \"box:1\"\n[[bodies]]\nmesh = \"torus:12\"\n") == "bad.toml:4:8: mesh 'torus:12': torus takes 2 parameter(s)");
+        CHECK(scene::parse_scene("[model]\nmesh = \"uvsphere:8:16\"\n", "good.toml").ok());
         // A half-specified event is an error, not a silent no-op.
         CHECK(refusal("[[events]]\ntime = 1\ntype = \"pressure\"\n") ==
               "bad.toml:1:1: a pressure event needs 'value' (the pressure factor k to reach, 0.01 to 100)");
