@@ -49,7 +49,7 @@ bool encloses_face(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x,
     double area = 0.0;
     for (const std::array<uint32_t, 3>& t : mesh::triangulate_least_area(outline))
         area += 0.5 * double((outline[t[1]] - outline[t[0]]).cross(outline[t[2]] - outline[t[0]]).norm());
-    return area >= 0.02 * double(perimeter) * double(perimeter);
+    return area >= 0.002 * double(perimeter) * double(perimeter);
 }
 
 template <class Real>

@@ -72,9 +72,12 @@ float mean_rest_edge(const SoftBodyT<Real>& body);
 
 // Whether a cap loop encloses a face worth resting on (a cut's cross-section), not a slit (a
 // tear's, whose two sides lie on each other at rest): the least area spanning the loop against
-// its perimeter squared, at least 0.02 (a circle's 1 / (4 pi) = 0.08, a square's 0.06, a 10:1
-// rectangle's 0.02). A loop that runs over two planes (a cut across the face an earlier cut
-// left) counts both planes' area; its projected (Newell) area alone made such a face a slit.
+// its perimeter squared, at least 0.002 (a circle's 1 / (4 pi) = 0.08, a square's 0.06, a 10:1
+// rectangle's 0.02, a 100:1 one's 0.0025; a slit's 0). A thin slice a later cut takes off a
+// piece's edge is a face: judged a slit at 0.02, a ball cut by three planes left two hollow
+// slivers, and a bunny cut by ten random planes shell-like shards. A loop that runs over two
+// planes (a cut across the face an earlier cut left) counts both planes' area; its projected
+// (Newell) area alone made such a face a slit.
 // Judged in rest space where `rest` holds every particle's rest position: a face crumpled by the
 // pieces' motion would otherwise come and go, and what rested on it fall through while it was
 // gone. Cubic in the loop's corners (mesh::triangulate_least_area): callers keep the answer.

@@ -261,7 +261,7 @@ TEST_SUITE("splat/cut_faces") {
         CHECK(faces.samples() == 0);
     }
 
-    TEST_CASE("a loop encloses a face unless it is a slit; a loop that runs up and down encloses its spanning area") {
+    TEST_CASE("a loop encloses a face unless it is a slit: a thin slice is a face; a loop that runs up and down encloses its spanning area") {
         const auto loop_of = [](const std::vector<Vec3f>& corners, std::vector<uint32_t>& loop, sim::Vec4Array& x) {
             loop.clear(), x.clear();
             for (uint32_t k = 0; k < corners.size(); ++k) loop.push_back(k), x.push_back(Vec4f(corners[k].x(), corners[k].y(), corners[k].z(), 1.0f));
@@ -278,6 +278,13 @@ TEST_SUITE("splat/cut_faces") {
         CHECK(sim::encloses_face(loop, x, rest));
         // A slit: out and back along one line, its two sides at the same rest places (a tear's).
         rest = loop_of({{0, 0, 0}, {0.5f, 0, 0}, {1, 0, 0}, {0.5f, 0, 0}}, loop, x);
+        CHECK_FALSE(sim::encloses_face(loop, x, rest));
+        // A thin slice a later cut takes off a piece's edge, 20 times as long as it is wide
+        // (least area over perimeter squared 0.011), is a face; one as thin as a cut's rounding
+        // (10,000 to 1: 2.5e-5) is a slit.
+        rest = loop_of({{0, 0, 0}, {0.5f, 0, 0}, {1, 0, 0}, {1, 0.05f, 0}, {0.5f, 0.05f, 0}, {0, 0.05f, 0}}, loop, x);
+        CHECK(sim::encloses_face(loop, x, rest));
+        rest = loop_of({{0, 0, 0}, {0.5f, 0, 0}, {1, 0, 0}, {1, 1e-4f, 0}, {0.5f, 1e-4f, 0}, {0, 1e-4f, 0}}, loop, x);
         CHECK_FALSE(sim::encloses_face(loop, x, rest));
     }
 }
