@@ -52,7 +52,7 @@ const std::vector<FigureOf>& figure_table() {
          [](const CheckReport& r) { return r.pull_stretch; }},
         {{"speed_rms_end", "the free particles' RMS speed at the end, m/s (a pile at rest: 0)"},
          [](const CheckReport& r) { return r.speed_rms_end; }},
-        {{"volume_ratio_min", "the least enclosed volume over the volume at load (openings closed by fans)"},
+        {{"volume_ratio_min", "the least enclosed volume over the volume at load (cut loops closed by their drawn faces, other openings by fans)"},
          [](const CheckReport& r) { return r.volume_ratio_min; }},
         {{"smallest_piece_min", "triangles in the smallest piece any sample saw"},
          [](const CheckReport& r) { return double(r.smallest_piece_min); }},

@@ -41,12 +41,12 @@ void sample_motion(const sim::SoftBody& body, CheckSample& s) {
 
 // Shape and volume error, strays and sample spacing of the frame the runtime just stepped.
 void sample_body_and_splats(const SceneRuntime& rt, double load_volume, CheckSample& s) {
-    const sim::OpeningReport opening = sim::opening_report(rt.body());
+    // Each cut face as drawn and met (folded where a second cut crossed it).
+    const auto faces = [&rt](const std::vector<uint32_t>& loop) { return rt.cut_faces().triangles_of(loop); };
+    const sim::OpeningReport opening = sim::opening_report(rt.body(), faces);
     s.volume_ratio = load_volume != 0.0 ? opening.volume / load_volume : 1.0;
     s.open_length = opening.open_length;
     const sim::ShapeReport shape = sim::shape_report(rt.body());
-    // Each cut face as drawn and met (folded where a second cut crossed it).
-    const auto faces = [&rt](const std::vector<uint32_t>& loop) { return rt.cut_faces().triangles_of(loop); };
     s.penetration = rt.spacing() > 0.0f ? double(sim::deepest_penetration(rt.body(), faces).depth) / double(rt.spacing()) : 0.0;
     const sim::Crossings crossings = sim::surface_crossings(rt.body());
     s.crossing_ratio = crossings.ratio, s.self_crossings = crossings.self_pairs;
@@ -224,7 +224,8 @@ public:
     explicit BurstWatch(const sim::OpeningReport& at_load) : at_load_(at_load) {}
     void frame(const SceneRuntime& rt, const FrameStats& st, CheckReport& report) {
         if (st.tears == 0 || (start_ >= 0.0f && st.time > start_ + 2.0f)) return;
-        const sim::OpeningReport opening = sim::opening_report(rt.body());
+        const auto faces = [&rt](const std::vector<uint32_t>& loop) { return rt.cut_faces().triangles_of(loop); };
+        const sim::OpeningReport opening = sim::opening_report(rt.body(), faces);
         // Openings made since load: the model's own holes are not a rip.
         const double opened = opening.open_length - at_load_.open_length;
         if (start_ < 0.0f) {
