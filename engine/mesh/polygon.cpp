@@ -165,11 +165,11 @@ void chord_ends(std::span<const Vec3f> corners, const std::vector<uint32_t>& run
 }
 } // namespace
 
-std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Vec3f> corners, std::span<const uint32_t> older,
+std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Vec3f> corners, std::span<const uint8_t> older,
                                                               std::vector<uint8_t>* parts) {
     const size_t n = corners.size();
-    const auto fresh = std::find(older.begin(), older.end(), 0u);
-    if (older.size() != n || fresh == older.end() || std::all_of(older.begin(), older.end(), [](uint32_t l) { return l == 0; })) {
+    const auto fresh = std::find(older.begin(), older.end(), uint8_t(0));
+    if (older.size() != n || fresh == older.end() || std::find(older.begin(), older.end(), uint8_t(1)) == older.end()) {
         std::vector<std::array<uint32_t, 3>> out = triangulate_least_area(corners);
         if (parts) parts->assign(out.size(), 0);
         return out;
@@ -184,17 +184,16 @@ std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Ve
         for (const std::array<uint32_t, 3>& t : triangulate_least_area(outline)) out.push_back({part[t[0]], part[t[1]], part[t[2]]});
     };
     std::vector<uint8_t> inside_run(n, 0);  // strictly between a run's chord ends
-    // Walk from a new corner. A run of one older part's corners spans that part, closed by the
-    // chord between the corners where the cut crossed its rim, or where it meets the next part
-    // (chord_ends).
+    // Walk from a new corner. A run of older corners spans the older face's part, closed by the
+    // chord between the corners where the cut crossed the older rim (chord_ends).
     const size_t start = size_t(fresh - older.begin());
     size_t runs = 0;
     for (size_t step = 0; step < n; ++step) {
         const size_t k = (start + step) % n;
-        if (!older[k] || older[(k + n - 1) % n] == older[k]) continue;
+        if (!older[k] || older[(k + n - 1) % n]) continue;
         size_t j = k;
         part.clear();
-        while (older[j] == older[k]) part.push_back(uint32_t(j)), j = (j + 1) % n;
+        while (older[j]) part.push_back(uint32_t(j)), j = (j + 1) % n;
         size_t first = (k + n - 1) % n, last = j;
         chord_ends(corners, part, first, last);
         part.clear();

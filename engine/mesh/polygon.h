@@ -24,18 +24,16 @@ std::vector<std::array<uint32_t, 3>> triangulate_polygon(std::span<const Vec3f> 
 inline constexpr size_t k_max_least_area_corners = 400;
 std::vector<std::array<uint32_t, 3>> triangulate_least_area(std::span<const Vec3f> corners);
 
-// The face of a loop a cut made across older faces: `older[k]` is 0 where corner k is the cut's,
-// else the older face part it lay on (one label per part: the plane it lies in). Each run of
-// corners of one older part, closed by the chord between the corners at its ends, spans that
-// part; the new corners, those chords in place of the runs, span the cut's part; each part with
-// the least area. The face folds along the chords, where the cut crossed the older face. The
-// least area over the whole loop does not: where the piece is the wedge between the two planes,
-// a surface cutting across the wedge has less area than its two faces, and it would leave the
-// wedge's shell open to the eye and to contact. So does a run over two older parts taken as one:
-// a third cut across a quarter's two faces made one surface across their fold. No older corner,
+// The face of a loop a cut made across an older face: `older[k]` says corner k lay on the older
+// face's loop. Each run of older corners, closed by the chord between the new corners at its
+// ends, spans the older face's part; the new corners, those chords in place of the runs, span the
+// cut's part; each part with the least area. The face folds along the chords, where the cut
+// crossed the older face. The least area over the whole loop does not: where the piece is the
+// wedge between the two planes, a surface cutting across the wedge has less area than its two
+// faces, and it would leave the wedge's shell open to the eye and to contact. No older corner,
 // or no new one: triangulate_least_area's. `parts`, when given, gets each triangle's part: 0 the
-// cut's, k the k-th run's.
-std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Vec3f> corners, std::span<const uint32_t> older,
+// cut's, k the k-th run's (the planes the face folds between).
+std::vector<std::array<uint32_t, 3>> triangulate_across_older(std::span<const Vec3f> corners, std::span<const uint8_t> older,
                                                               std::vector<uint8_t>* parts = nullptr);
 
 } // namespace pbdsplat::mesh

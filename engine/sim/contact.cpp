@@ -52,45 +52,25 @@ bool encloses_face(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x,
     return area >= 0.002 * double(perimeter) * double(perimeter);
 }
 
-void OlderCorners::add(const std::vector<uint32_t>& loop, std::span<const uint8_t> corner_parts) {
-    uint32_t top = 0;
-    for (size_t k = 0; k < loop.size(); ++k) {
-        const uint32_t part = k < corner_parts.size() ? corner_parts[k] : 0u;
-        entries_.emplace_back(loop[k], next_ + part), top = std::max(top, part);
-    }
-    next_ += top + 1;
-}
-
-void OlderCorners::finish() {
-    std::stable_sort(entries_.begin(), entries_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    entries_.erase(std::unique(entries_.begin(), entries_.end(), [](const auto& a, const auto& b) { return a.first == b.first; }), entries_.end());
-}
-
-uint32_t OlderCorners::label(uint32_t i) const {
-    const auto it = std::lower_bound(entries_.begin(), entries_.end(), i, [](const auto& e, uint32_t v) { return e.first < v; });
-    return it != entries_.end() && it->first == i ? it->second : 0u;
-}
-
-std::vector<uint8_t> corner_parts(size_t corners, std::span<const std::array<uint32_t, 3>> triangles, std::span<const uint8_t> parts) {
-    std::vector<uint8_t> out(corners, 0);
-    if (parts.size() != triangles.size()) return out;
-    for (size_t t = 0; t < triangles.size(); ++t)
-        for (uint32_t c : triangles[t])
-            if (c < corners) out[c] = std::max(out[c], parts[t]);
-    return out;
-}
-
 template <class Real>
-std::vector<std::array<uint32_t, 3>> face_triangles(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x, const OlderCorners& older,
-                                                    std::vector<uint8_t>* parts) {
+std::vector<std::array<uint32_t, 3>> face_triangles(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x,
+                                                    std::span<const uint32_t> older, std::vector<uint8_t>* parts) {
     std::vector<Vec3f> outline;
-    std::vector<uint32_t> on_older;
+    std::vector<uint8_t> on_older;
     outline.reserve(loop.size()), on_older.reserve(loop.size());
     for (uint32_t i : loop) {
         outline.push_back(Vec3f(x[i].template head<3>().template cast<float>()));
-        on_older.push_back(older.label(i));
+        on_older.push_back(std::binary_search(older.begin(), older.end(), i) ? 1 : 0);
     }
     return mesh::triangulate_across_older(outline, on_older, parts);
+}
+
+std::vector<uint32_t> loop_particles(std::span<const std::vector<uint32_t>* const> loops) {
+    std::vector<uint32_t> out;
+    for (const std::vector<uint32_t>* loop : loops) out.insert(out.end(), loop->begin(), loop->end());
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
 }
 
 namespace {
@@ -118,14 +98,15 @@ const typename ContactSolverT<Real>::CapFace& ContactSolverT<Real>::cap_face(con
             return f;
         }
     // The loops known before this one: a cut across one of their faces folds the new face there.
-    OlderCorners older;
-    for (const CapFace& k : cap_faces_) older.add(k.loop, corner_parts(k.loop.size(), k.triangles, k.parts));
-    older.finish();
+    std::vector<const std::vector<uint32_t>*> known;
+    known.reserve(cap_faces_.size());
+    for (const CapFace& k : cap_faces_) known.push_back(&k.loop);
+    const std::vector<uint32_t> older = loop_particles(known);
     CapFace& f = cap_faces_.emplace_back();
     f.loop = loop;
     f.used = true;
     f.encloses = encloses_face(loop, x, body.rest_positions);
-    if (f.encloses) f.triangles = face_triangles(loop, x, older, &f.parts);
+    if (f.encloses) f.triangles = face_triangles(loop, x, older);
     return f;
 }
 
@@ -933,9 +914,9 @@ template float mean_rest_edge<float>(const SoftBodyT<float>&);
 template float mean_rest_edge<double>(const SoftBodyT<double>&);
 template bool encloses_face<float>(const std::vector<uint32_t>&, const Vec4ArrayT<float>&, const std::vector<Vec3f>&);
 template bool encloses_face<double>(const std::vector<uint32_t>&, const Vec4ArrayT<double>&, const std::vector<Vec3f>&);
-template std::vector<std::array<uint32_t, 3>> face_triangles<float>(const std::vector<uint32_t>&, const Vec4ArrayT<float>&, const OlderCorners&,
+template std::vector<std::array<uint32_t, 3>> face_triangles<float>(const std::vector<uint32_t>&, const Vec4ArrayT<float>&, std::span<const uint32_t>,
                                                                     std::vector<uint8_t>*);
-template std::vector<std::array<uint32_t, 3>> face_triangles<double>(const std::vector<uint32_t>&, const Vec4ArrayT<double>&, const OlderCorners&,
+template std::vector<std::array<uint32_t, 3>> face_triangles<double>(const std::vector<uint32_t>&, const Vec4ArrayT<double>&, std::span<const uint32_t>,
                                                                      std::vector<uint8_t>*);
 template class ContactSolverT<float>;
 template class ContactSolverT<double>;

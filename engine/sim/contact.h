@@ -84,33 +84,15 @@ float mean_rest_edge(const SoftBodyT<Real>& body);
 template <class Real>
 bool encloses_face(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x, const std::vector<Vec3f>& rest);
 
-// The corners of the faces known before a change, each labelled with the part of its face it
-// lies on (each face's parts their own labels, from 1): what face_triangles folds a new face by.
-class OlderCorners {
-public:
-    // One known face: its loop and, per loop corner, its part (corner_parts; empty: one part).
-    void add(const std::vector<uint32_t>& loop, std::span<const uint8_t> corner_parts = {});
-    // Call once every face is added. A corner on two parts (the fold between them) keeps the
-    // first's label.
-    void finish();
-    // The label of the part particle i lies on; 0: on none (a corner the change made).
-    uint32_t label(uint32_t i) const;
-
-private:
-    std::vector<std::pair<uint32_t, uint32_t>> entries_;  // particle, label
-    uint32_t next_ = 1;
-};
-// Per loop corner, the part of a triangle it is a corner of (`triangles`: corner triples into
-// the loop, `parts` each one's); 0 where `parts` is empty or the corner is in none.
-std::vector<uint8_t> corner_parts(size_t corners, std::span<const std::array<uint32_t, 3>> triangles, std::span<const uint8_t> parts);
-
 // The triangles spanning a face's loop (corner triples into `loop`, wound like it), as it lies in
-// `x`: mesh::triangulate_across_older, each of the loop's particles labelled by `older` (the
-// faces known before the change that made this one), so a face a second cut crossed folds along
-// the cut, and one a third cut crossed keeps the fold the second made (`parts`: as there).
+// `x`: mesh::triangulate_across_older, the loop's particles found in `older` (sorted: the
+// particles of every loop known before the change that made this one) taken as the older face's
+// corners, so a face a second cut crossed folds along the cut (`parts`: as there).
 template <class Real>
 std::vector<std::array<uint32_t, 3>> face_triangles(const std::vector<uint32_t>& loop, const Vec4ArrayT<Real>& x,
-                                                    const OlderCorners& older, std::vector<uint8_t>* parts = nullptr);
+                                                    std::span<const uint32_t> older, std::vector<uint8_t>* parts = nullptr);
+// The sorted particles of these loops, for face_triangles.
+std::vector<uint32_t> loop_particles(std::span<const std::vector<uint32_t>* const> loops);
 
 // A particle keeps at most this many candidates, its nearest (by height over the triangle's plane
 // plus distance beside it). In the random-cut stress test's heap of a thousand crushed flakes a
@@ -225,7 +207,6 @@ private:
     struct CapFace {
         std::vector<uint32_t> loop;
         std::vector<std::array<uint32_t, 3>> triangles;
-        std::vector<uint8_t> parts;  // per triangle (face_triangles)
         bool encloses = false;  // a face, not a slit (encloses_face)
         bool used = false;
     };

@@ -33,7 +33,7 @@ size_t CutFaces::samples() const {
     return n;
 }
 
-CutFaces::Face CutFaces::make_face(const std::vector<uint32_t>& loop, const sim::SoftBody& body, const sim::OlderCorners& older) const {
+CutFaces::Face CutFaces::make_face(const std::vector<uint32_t>& loop, const sim::SoftBody& body, std::span<const uint32_t> older) const {
     Face f;
     f.loop = loop;
     // A slit is kept, undrawn, so that it is judged once.
@@ -45,7 +45,6 @@ CutFaces::Face CutFaces::make_face(const std::vector<uint32_t>& loop, const sim:
     // loops this follows; contact counts the model's own capped holes too, which a cut rarely
     // crosses).
     const std::vector<mesh::Triangle> local = sim::face_triangles(loop, body.particles.x, older, &f.part);
-    f.corner_part = sim::corner_parts(loop.size(), local, f.part);
     f.triangles.reserve(local.size());
     for (const mesh::Triangle& t : local) f.triangles.push_back({loop[t[0]], loop[t[1]], loop[t[2]]});
     share_corners(f);
@@ -98,7 +97,7 @@ void CutFaces::update(const sim::SoftBody& body) {
     if (!(h_ > 0.0f)) return;
     for (Face& f : faces_) f.seen = false;
     const size_t before = faces_.size();
-    sim::OlderCorners older;  // made when a new loop needs it
+    std::vector<uint32_t> older;  // made when a new loop needs it
     bool older_made = false;
     for (const sim::VolumeConstraint& v : body.volumes) {
         // A burst piece is open: its openings are where its air went, not faces.
@@ -113,8 +112,9 @@ void CutFaces::update(const sim::SoftBody& body) {
             }
             if (cut_pending_) {
                 if (!older_made) {
-                    for (size_t k = 0; k < before; ++k) older.add(faces_[k].loop, faces_[k].corner_part);
-                    older.finish(), older_made = true;
+                    std::vector<const std::vector<uint32_t>*> loops;
+                    for (size_t k = 0; k < before; ++k) loops.push_back(&faces_[k].loop);
+                    older = sim::loop_particles(loops), older_made = true;
                 }
                 faces_.push_back(make_face(loop, body, older));
             } else {  // not a cut's: kept undrawn, so that it is judged once

@@ -18,10 +18,6 @@
 #include "sim/soft_body.h"
 #include "splat/gaussian_record.h"
 
-namespace pbdsplat::sim {
-class OlderCorners;
-}
-
 namespace pbdsplat::splat {
 
 class CutFaces {
@@ -69,7 +65,6 @@ private:
         // Per triangle, the part of the face it spans (mesh::triangulate_across_older): 0 the
         // cut's own, k > 0 an older face's that a second cut folded it from.
         std::vector<uint8_t> part;
-        std::vector<uint8_t> corner_part;  // per loop corner, its part (sim::corner_parts): what a later cut folds by
         // The face's corners, one per particle of each part (share_corners): their particles,
         // and per triangle corner (3 t + j) which one it is.
         std::vector<uint32_t> corner_particles, corner_of;
@@ -79,8 +74,8 @@ private:
         uint32_t age = 0;                       // frames since it appeared
         bool seen = false;
     };
-    // `older`: the corners of the faces known before, by part (sim::face_triangles).
-    Face make_face(const std::vector<uint32_t>& loop, const sim::SoftBody& body, const sim::OlderCorners& older) const;
+    // `older`: the sorted particles of the loops known before (sim::face_triangles).
+    Face make_face(const std::vector<uint32_t>& loop, const sim::SoftBody& body, std::span<const uint32_t> older) const;
     // Fills f.corner_particles and f.corner_of from its triangles and parts (fixed for its life).
     static void share_corners(Face& f);
     // The face's normal at each of its corners, for positions `x` (its Newell normal `n`, its
