@@ -8,6 +8,7 @@
 
 #include "mesh/closest_point.h"
 #include "mesh/polygon.h"
+#include "sim/enclosure.h"
 #include "sim/over_triangle.h"
 
 namespace pbdsplat::sim {
@@ -293,7 +294,10 @@ namespace {
 // substep's start: outside a closed piece, or shallowly inside it (pushed out); an open piece
 // keeps a particle on the side it started on. A particle of the same piece that started behind
 // is in a fold that was there before: which way is out is not known, so it is left alone (0).
-float side_kept(bool closed, bool same_piece, float h_then, float margin) {
+// A part that lay wholly inside a closed part at load (`enclosed`) is kept inside it, as the
+// rest are kept out: left alone only once it is further out than the margin.
+float side_kept(bool closed, bool same_piece, bool enclosed, float h_then, float margin) {
+    if (closed && !same_piece && enclosed) return h_then > margin ? 0.0f : -1.0f;
     if (closed && !same_piece) return h_then < -margin ? 0.0f : 1.0f;
     const float side = h_then >= 0.0f ? 1.0f : -1.0f;
     return closed && side < 0.0f ? 0.0f : side;
@@ -328,7 +332,12 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             const uint32_t pi = body.piece_of_particle[i];
             if (pi == k_no_piece) continue;
             if (!self_ && pi == piece) continue;
-            const Neighbourhood nb = neighbourhood_of(body, i, pi, piece, tk, closed, r_ex2);
+            // An enclosed part is met by its container wherever it comes, near at rest or not:
+            // left alone near the wall, it fell through the container's floor.
+            const bool nested = !body.enclosed_parts.empty();
+            const bool enclosed = nested && part_encloses(body.enclosed_parts, part_[tk.ia], part_[i]);
+            const bool container = nested && !enclosed && part_encloses(body.enclosed_parts, part_[i], part_[tk.ia]);
+            const Neighbourhood nb = enclosed || container ? Neighbourhood{} : neighbourhood_of(body, i, pi, piece, tk, closed, r_ex2);
             if (nb.skip) continue;
             if (!planes) {
                 nrm = unit_normal(a, b, c), nrm0 = unit_normal(a0, b0, c0);
@@ -342,7 +351,7 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             if (tk.face && nrm.dot(tk.face->normal) < 0.0f) break;
             // Heights over the planes first (cheap), the closest points after.
             const float h_then = then_[i].dot(nrm0) - d_then, h_now = now_[i].dot(nrm) - d_now;
-            const float side = side_kept(closed, pi == piece, h_then, scale_.margin);
+            const float side = side_kept(closed, pi == piece, enclosed, h_then, scale_.margin);
             if (side == 0.0f) continue;
             if (side * h_now > reach) continue;  // clear of it at the end of the sweep
             if (std::abs(h_now) >= farthest_kept(i)) continue;

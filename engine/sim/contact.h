@@ -16,7 +16,8 @@
 // substep's start, so a particle that was in front of a triangle stays in front however far it
 // moved since (no tunnelling through a surface at any speed the hash's sweep covers); against a
 // closed piece (one with a volume constraint) it is always the outside, so a particle that ended
-// up shallowly inside is pushed out.
+// up shallowly inside is pushed out, except for a part that lay wholly inside that piece at load
+// (a stone in a fruit, sim/enclosure.h): that one is kept inside.
 #include <array>
 #include <cstdint>
 #include <span>

@@ -9,9 +9,9 @@
 // test against the nearest triangles only (what the contact search sees) cannot tell that
 // from a particle just outside the far side.
 #include <cstdint>
-#include <functional>
 #include <limits>
 
+#include "sim/closed_surface.h"
 #include "sim/soft_body.h"
 
 namespace pbdsplat::sim {
@@ -29,7 +29,6 @@ struct Penetration {
 // `faces`, where given, spans a cap loop as it is drawn and met (the triangles over the body's
 // particles, or null: the loop's least-area span), so a face a second cut folded is measured
 // folded.
-using FaceLookup = std::function<const std::vector<mesh::Triangle>*(const std::vector<uint32_t>& loop)>;
 Penetration deepest_penetration(const SoftBody& body, const FaceLookup& faces = {});
 
 } // namespace pbdsplat::sim

@@ -6,6 +6,7 @@
 #include "mesh/reorder.h"
 #include "mesh/topology.h"
 #include "sim/constraint_order.h"
+#include "sim/enclosure.h"
 #include "sim/integrate.h"
 #include "sim/volume.h"
 
@@ -144,6 +145,7 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     d.texcoords = b.texcoords;
     d.model_of_particle = b.model_of_particle;
     d.part_of_particle = b.part_of_particle;
+    d.enclosed_parts = b.enclosed_parts;
     return d;
 }
 
@@ -221,6 +223,7 @@ core::Result<SoftBody> make_soft_body(mesh::TriangleMesh m, const SoftBodyDesc& 
     update_normals(b.rings, b.particles.x, b.normals, 0, n);
     b.part_of_particle = b.piece_of_particle;
     b.model_of_particle.assign(n, 0);  // one mesh, one model
+    b.enclosed_parts = find_enclosed_parts(b);
     return b;
 }
 

@@ -5,6 +5,7 @@
 // for accuracy references.
 #include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/result.h"
@@ -66,6 +67,9 @@ struct BodyStructureT {
     // The connected component each particle was in when the body was built (a particle a
     // topology edit adds takes its source's): the two sides of a cut are one part.
     std::vector<uint32_t> part_of_particle;
+    // (inner part, outer part), sorted: a part that lay wholly inside another closed part when the
+    // body was built (a stone in a fruit; sim/enclosure.h). Contact keeps it inside.
+    std::vector<std::pair<uint32_t, uint32_t>> enclosed_parts;
 };
 
 // Where the body is: what the solver writes every step.

@@ -11,6 +11,7 @@
 #include "mesh/procedural.h"
 #include "sim/contact.h"
 #include "sim/drag.h"
+#include "sim/enclosure.h"
 #include "sim/penetration.h"
 #include "sim/sim_fixtures.h"
 #include "support/why.h"
@@ -554,5 +555,68 @@ TEST_SUITE("sim/contact") {
             CHECK(e.size() > 10);  // the soup touches
             CHECK(a == e);
         }
+    }
+}
+
+TEST_SUITE("sim/enclosure") {
+    namespace {
+    // A 1 m box standing on the ground with `inner` placed at its centre, all one model.
+    sim::SoftBody box_holding(mesh::TriangleMesh inner, sim::SoftBodyDesc desc = shape_matched_desc()) {
+        mesh::TriangleMesh m = mesh::box(Vec3f(1.0f, 1.0f, 1.0f), 4);
+        mesh::append(m, inner, Eigen::Affine3f::Identity());
+        for (Vec3f& p : m.positions) p.y() += 0.5f;
+        return test::make_body(std::move(m), desc);
+    }
+    } // namespace
+
+    TEST_CASE("a part wholly inside another is found enclosed; one partly inside, or beside, is not") {
+        const sim::SoftBody stone = box_holding(mesh::icosphere(2, 0.2f));
+        REQUIRE(stone.enclosed_parts.size() == 1);
+        const uint32_t box_part = stone.part_of_particle[stone.extreme_particle(0, true)];
+        CHECK(stone.enclosed_parts[0].second == box_part);
+        CHECK(sim::part_encloses(stone.enclosed_parts, box_part, stone.enclosed_parts[0].first));
+        CHECK_FALSE(sim::part_encloses(stone.enclosed_parts, stone.enclosed_parts[0].first, box_part));
+
+        mesh::TriangleMesh eye = mesh::icosphere(2, 0.2f);
+        for (Vec3f& p : eye.positions) p.x() += 0.45f;  // pokes out of the box's side
+        CHECK(box_holding(eye).enclosed_parts.empty());
+        mesh::TriangleMesh beside = mesh::icosphere(2, 0.2f);
+        for (Vec3f& p : beside.positions) p.x() += 1.0f;
+        CHECK(box_holding(beside).enclosed_parts.empty());
+
+        // Nested twice: the innermost is enclosed by both.
+        mesh::TriangleMesh two = mesh::box(Vec3f(0.6f, 0.6f, 0.6f), 3);
+        mesh::append(two, mesh::icosphere(2, 0.15f), Eigen::Affine3f::Identity());
+        CHECK(box_holding(std::move(two)).enclosed_parts.size() == 3);
+    }
+
+    TEST_CASE("a stone inside a fruit stays inside it: it rests on the floor from within, and the fruit on the ground") {
+        // Left alone as parts that lie in each other are, the stone fell through the box's floor
+        // onto the ground and lifted the box off it.
+        sim::SoftBody b = box_holding(mesh::box(Vec3f(0.4f, 0.4f, 0.4f), 2));
+        REQUIRE(b.enclosed_parts.size() == 1);
+        const uint32_t stone = b.enclosed_parts[0].first;
+        sim::Colliders c;
+        c.ground = sim::GroundPlane{Vec3f::UnitY(), 0.0f};
+        sim::SolverSettings s = held_shape_settings();
+        s.damping = 0.5f;
+        run_frames(b, s, c, 120);
+        float stone_low = INFINITY, box_low = INFINITY;
+        for (size_t i = 0; i < b.particle_count(); ++i) {
+            const float y = b.particles.x[i].y();
+            if (b.part_of_particle[i] == stone) stone_low = std::min(stone_low, y);
+            else box_low = std::min(box_low, y);
+        }
+        const std::vector<sim::ClosedSurface> surfaces = sim::closed_surfaces(b, false);
+        const uint32_t box_piece = b.piece_of_particle[b.extreme_particle(0, true)];
+        const auto fruit = std::find_if(surfaces.begin(), surfaces.end(), [&](const sim::ClosedSurface& x) { return x.piece == box_piece; });
+        REQUIRE(fruit != surfaces.end());
+        size_t out = 0;
+        for (size_t i = 0; i < b.particle_count(); ++i)
+            if (b.part_of_particle[i] == stone && !sim::inside(*fruit, sim::xyz(b.particles.x[i]))) ++out;
+        MESSAGE("after 2 s: the box's lowest point " << box_low << ", the stone's " << stone_low << "; stone particles outside the box " << out);
+        CHECK(out == 0);
+        CHECK(box_low < 0.02f);          // the box still stands on the ground
+        CHECK(stone_low > box_low);      // the stone above its floor
     }
 }
