@@ -325,6 +325,7 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
         float d_now = 0.0f, d_then = 0.0f;
         bool planes = false;
         const bool closed = closed_[piece] != 0;
+        const bool nested = !body.enclosed_parts.empty();
         for (uint32_t e = patch_start_[patch]; e < patch_start_[patch + 1]; ++e) {
             const uint32_t i = patch_particles_[e];
             if (!box.contains(now_[i]) && !box.contains(then_[i])) continue;
@@ -334,7 +335,6 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             if (!self_ && pi == piece) continue;
             // An enclosed part is met by its container wherever it comes, near at rest or not:
             // left alone near the wall, it fell through the container's floor.
-            const bool nested = !body.enclosed_parts.empty();
             const bool enclosed = nested && part_encloses(body.enclosed_parts, part_[tk.ia], part_[i]);
             const bool container = nested && !enclosed && part_encloses(body.enclosed_parts, part_[i], part_[tk.ia]);
             const Neighbourhood nb = enclosed || container ? Neighbourhood{} : neighbourhood_of(body, i, pi, piece, tk, closed, r_ex2);

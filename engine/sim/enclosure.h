@@ -4,6 +4,7 @@
 // container. Contact keeps such a part on the inside of its container (sim/contact.h). Parts that
 // lie only partly in each other (an eye in its socket, a lid in its pot) are not enclosed:
 // contact leaves those to their own shells.
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <utility>
@@ -21,14 +22,7 @@ std::vector<std::pair<uint32_t, uint32_t>> find_enclosed_parts(const SoftBody& b
 
 // Whether `inner` lay wholly inside `outer` (`pairs` as find_enclosed_parts returns them).
 inline bool part_encloses(std::span<const std::pair<uint32_t, uint32_t>> pairs, uint32_t outer, uint32_t inner) {
-    const std::pair<uint32_t, uint32_t> key(inner, outer);
-    auto lo = pairs.begin(), hi = pairs.end();
-    while (lo < hi) {
-        const auto mid = lo + (hi - lo) / 2;
-        if (*mid < key) lo = mid + 1;
-        else hi = mid;
-    }
-    return lo != pairs.end() && *lo == key;
+    return std::binary_search(pairs.begin(), pairs.end(), std::pair<uint32_t, uint32_t>(inner, outer));
 }
 
 } // namespace pbdsplat::sim

@@ -1,11 +1,8 @@
 #include "sim/penetration.h"
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
 #include <map>
 #include <vector>
-
 
 namespace pbdsplat::sim {
 
