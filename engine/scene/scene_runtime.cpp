@@ -18,6 +18,7 @@
 #include "scene/stages/render_setup.h"
 #include "scene/stages/simulation_stage.h"
 #include "scene/stages/surface_stage.h"
+#include "surface/thin_parts.h"
 #include "topology/cut.h"
 #include "topology/invariants.h"
 
@@ -85,7 +86,7 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
     if (!surface.ok()) return surface.error();
     h_ = surface->h;
     splat_particles_ = surface->particles_are_splats;
-    report_sampling(surface->eta_h);
+    report_sampling(surface->edge_h, surface->eta_h);
     // A textured model's splats read its texture per pixel, as far as they reach (a Gaussian cut
     // at two standard deviations, and a margin) or to the nearest seam.
     if (paint_.textured() && boundary_.size() > 0) paint_.texture_reach = 2.5f * mat.splat_scale * h_;
@@ -123,7 +124,12 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
 // body beside small ones (a table under a few models) holds most of the splats, and a detailed
 // scan as many as it has triangles. The sample budget caps both by raising h; loading says so
 // once, naming the body that holds most, so a coarser look or a slow scene has its reason.
-void SceneRuntime::report_sampling(float eta_h) const {
+void SceneRuntime::report_sampling(float edge_h, float eta_h) const {
+    if (eta_h < edge_h * 0.9999f && h_ < edge_h * 0.9999f)
+        std::fprintf(stderr,
+                     "note: sampled at h = %.4g m, %.2f of eta's spacing by the edge: a closed part about %.3g m thick would "
+                     "otherwise get samples on one face only and show gaps from the side\n",
+                     double(h_), double(h_ / edge_h), double(eta_h / surface::k_spacing_over_thickness));
     const size_t total = boundary_.size() + (splat_particles_ ? body_.particle_count() : 0);
     const bool budgeted = h_ > eta_h * 1.0001f;
     if ((!budgeted && total < k_many_samples) || total == 0) return;

@@ -208,7 +208,7 @@ private:
     // A scene that does not place its camera gets one framing its models where the default view
     // misses them (scene/framing.h); before build, which hands the camera to the timeline.
     void frame_unplaced_camera();
-    void report_sampling(float eta_h) const;  // once at load, where the budget raised h or the splats are many
+    void report_sampling(float edge_h, float eta_h) const;  // once at load, where h is not eta's or the splats are many
     void set_up_look();  // the splats' size, the occluders' tolerances, the lights from the material
     core::Status create_renderer(const SortChoice& sort);
     core::Status ensure_mesh_raster();  // made on first need (a mesh view, mesh_image())

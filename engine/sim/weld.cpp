@@ -9,9 +9,9 @@
 
 namespace pbdsplat::sim {
 
-size_t weld_touching_parts(SoftBody& b, float reach) {
+size_t weld_touching_parts(SoftBody& b, float reach, WeldFrom from) {
     const std::vector<float> same(b.model_count(), reach);
-    return weld_touching_parts(b, same);
+    return weld_touching_parts(b, same, from);
 }
 
 std::vector<float> mean_rest_edge_of_models(const SoftBody& b) {
@@ -30,7 +30,7 @@ std::vector<float> mean_rest_edge_of_models(const SoftBody& b) {
     return out;
 }
 
-size_t weld_touching_parts(SoftBody& b, std::span<const float> reach_of_model) {
+size_t weld_touching_parts(SoftBody& b, std::span<const float> reach_of_model, WeldFrom from) {
     const size_t n = b.particle_count();
     auto model = [&](size_t i) { return i < b.model_of_particle.size() ? b.model_of_particle[i] : 0u; };
     const auto reach_of = [&](size_t i) { return model(i) < reach_of_model.size() ? reach_of_model[model(i)] : 0.0f; };
@@ -46,11 +46,21 @@ size_t weld_touching_parts(SoftBody& b, std::span<const float> reach_of_model) {
     std::vector<char> used(n, 0);
     for (const mesh::Triangle& t : b.triangles)
         for (uint32_t v : t) used[v] = 1;
-    // A weld starts at an open edge of its part: where a spout or a handle ends on the body, or a
-    // lid's rim sits on the pot's. Closed parts that merely touch (a ball on a box) stay apart.
+    // A weld starts at an open edge of its part (where a spout or a handle ends on the body, or a
+    // lid's rim sits on the pot's) or, where `from` says, anywhere on a closed part.
     std::vector<char> open_end(n, 0);
+    uint32_t parts = 0;
+    for (uint32_t i = 0; i < n; ++i)
+        if (used[i]) parts = std::max(parts, b.part_of_particle[i] + 1);
+    std::vector<char> open_part(parts, 0);
     for (const auto& loop : mesh::boundary_loops(b.triangles, n))
-        for (uint32_t v : loop) open_end[v] = 1;
+        for (uint32_t v : loop) {
+            open_end[v] = 1;
+            if (b.part_of_particle[v] < open_part.size()) open_part[b.part_of_particle[v]] = 1;
+        }
+    if (from == WeldFrom::open_edges_and_closed_parts)
+        for (uint32_t i = 0; i < n; ++i)
+            if (used[i] && b.part_of_particle[i] < open_part.size() && !open_part[b.part_of_particle[i]]) open_end[i] = 1;
     std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
     for (uint32_t i = 0; i < n; ++i)
         if (used[i]) grid[key(cell(xyz(b.particles.x[i])))].push_back(i);

@@ -13,16 +13,26 @@
 
 namespace pbdsplat::sim {
 
-// Adds a weld from every particle on an open edge of its part to the nearest particle of another
-// part of its model within `reach` (where the particles are at the call), once per pair: a
-// spout's end to the body it stands on, a lid's rim to the pot's. Closed parts that touch (a
-// model's eyeballs in their sockets) are not welded: held to a balloon head that deflates and
-// re-inflates, suzanne's eyes tore its surface apart (volume error 9, measured). Returns how many.
-size_t weld_touching_parts(SoftBody& body, float reach);
+// Which parts a weld may start from.
+enum class WeldFrom {
+    // Open parts only, from their open edges: a spout's end to the body it stands on, a lid's
+    // rim to the pot's. Closed parts that touch (a model's eyeballs in their sockets) are left
+    // apart: held to a balloon head that deflates and re-inflates, suzanne's eyes tore its
+    // surface apart (volume error 9, measured).
+    open_edges,
+    // Also every surface particle of a closed part: for a solid, whose parts keep their shape,
+    // a table modelled as a top on four closed legs is one table (left apart, the top slid down
+    // between its legs, which contact leaves alone where parts lay on each other at load).
+    open_edges_and_closed_parts,
+};
+
+// Adds a weld from every particle `from` admits to the nearest particle of another part of its
+// model within `reach` (where the particles are at the call), once per pair. Returns how many.
+size_t weld_touching_parts(SoftBody& body, float reach, WeldFrom from = WeldFrom::open_edges);
 // The same with each model's own reach (`reach_of_model[m]` for model m): a scene's models
 // differ in size, and one mean edge over all of them (a small bunny's beside a teapot's) left
 // the larger model's lid unwelded.
-size_t weld_touching_parts(SoftBody& body, std::span<const float> reach_of_model);
+size_t weld_touching_parts(SoftBody& body, std::span<const float> reach_of_model, WeldFrom from = WeldFrom::open_edges);
 // Per model: the mean rest length of the live distance constraints within it (0 for a model
 // without any), the reach weld_touching_parts takes.
 std::vector<float> mean_rest_edge_of_models(const SoftBody& body);

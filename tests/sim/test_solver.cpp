@@ -384,6 +384,42 @@ TEST_SUITE("sim/solver") {
         CHECK(run(sheet, false) < 0.0f);  // nothing holds it: it falls past the box's top
     }
 
+    TEST_CASE("a solid's closed parts that touch are welded too: a ball on a box's top is held there as one object") {
+        // A table's legs under its top: closed parts, one model. Welded from open edges only
+        // (a balloon's eyes), nothing holds them; from closed parts too, they are one cluster.
+        mesh::TriangleMesh m = mesh::box(Vec3f(1, 1, 1), 4);
+        mesh::append(m, mesh::icosphere(2, 0.25f), Eigen::Affine3f(Eigen::Translation3f(0.0f, 0.75f, 0.0f)));
+        sim::SoftBodyDesc d;
+        d.shape_matching = true;
+        sim::SoftBody b = test::make_body(std::move(m), d);
+        REQUIRE(b.pieces == 2);
+        const uint32_t box_part = b.part_of_particle[b.extreme_particle(1, false)];
+        for (uint32_t i = 0; i < b.particle_count(); ++i)
+            if (b.part_of_particle[i] == box_part) b.pin(i);
+        sim::SoftBody open_only = b;
+        CHECK(sim::weld_touching_parts(open_only, sim::mean_rest_edge_of_models(open_only), sim::WeldFrom::open_edges) == 0);
+        const size_t welds = sim::weld_touching_parts(b, sim::mean_rest_edge_of_models(b), sim::WeldFrom::open_edges_and_closed_parts);
+        CHECK(welds > 0);
+        for (const sim::DistanceConstraint& w : b.welds) CHECK(b.part_of_particle[w.i] != b.part_of_particle[w.j]);
+        sim::rebuild_shape_clusters(b);
+        CHECK(b.shapes.size() == 1);
+        auto lowest_after_a_second = [&](sim::SoftBody body) {
+            sim::SolverSettings s;
+            s.contact.enabled = false;
+            s.shape_stiffness = 0.9f;
+            sim::Solver solver;
+            for (int f = 0; f < 60; ++f) solver.step(body, 1.0f / 60.0f, s, {}, {});
+            float lowest = INFINITY;
+            for (uint32_t i = 0; i < body.particle_count(); ++i)
+                if (body.part_of_particle[i] != box_part) lowest = std::min(lowest, body.particles.x[i].y());
+            return lowest;
+        };
+        const float held = lowest_after_a_second(b), loose = lowest_after_a_second(open_only);
+        MESSAGE(welds << " welds; the ball's lowest point after 1 s: " << held << " welded, " << loose << " loose");
+        CHECK(held > 0.45f);  // it rests at 0.5
+        CHECK(loose < 0.0f);  // contact is off: it falls through the box
+    }
+
     TEST_CASE("welded parts are one shape-matching cluster: a ledge welded to a box's side does not hinge down") {
         // A sheet a metre long standing out from a pinned box's +x face, its inner edge on the
         // face (a spout on a pot): welded into the box's cluster it keeps level; in a cluster of

@@ -9,6 +9,7 @@
 #include "scene/stages/stillness.h"
 #include "surface/edges.h"
 #include "surface/remap.h"
+#include "surface/thin_parts.h"
 #include "surface/thin_order.h"
 
 namespace pbdsplat::scene {
@@ -25,8 +26,10 @@ core::Result<SurfaceSetup> setup_surface(const SurfaceDesc& desc, uint32_t fade_
     // vertices-only mode keeps the same h, so its splats are as large as with boundary
     // particles and show the holes those close (the paper's Figure 14a against 14b).
     const mesh::TriangleMesh& sampled = boundary && fine ? *fine : rest;
-    out.eta_h = surface::spacing(sampled, desc.eta);
-    if (!(out.eta_h > 0.0f)) return core::make_error("the mesh has no edges to derive the sampling spacing from");
+    out.edge_h = surface::spacing(sampled, desc.eta);
+    if (!(out.edge_h > 0.0f)) return core::make_error("the mesh has no edges to derive the sampling spacing from");
+    // A closed part thinner than the edge's spacing would be sampled on one face only.
+    out.eta_h = boundary ? std::min(out.edge_h, surface::spacing_for_thin_parts(sampled)) : out.edge_h;
     // The budget holds only where samples are placed: in vertices mode the splats are the particles.
     out.h = boundary ? std::max(out.eta_h, surface::spacing_for_budget(sampled, desc.sample_budget)) : out.eta_h;
     // With an embedded surface the samples are the splats: the simulation particles sit on the

@@ -32,7 +32,8 @@ namespace pbdsplat::scene {
 
 struct SurfaceSetup {
     float h = 0.0f;                    // sampling spacing
-    float eta_h = 0.0f;                // eta times the edge: h unless the sample budget raised it
+    float edge_h = 0.0f;               // eta times the edge
+    float eta_h = 0.0f;                // edge_h, or less where a thin part needs it: h unless the sample budget raised it
     bool particles_are_splats = true;  // not with an embedded model surface
 };
 

@@ -1,0 +1,67 @@
+#include "surface/thin_parts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "mesh/topology.h"
+
+namespace pbdsplat::surface {
+
+float mean_thickness(double volume, double area) { return area > 0.0 ? float(4.0 * std::abs(volume) / area) : 0.0f; }
+
+namespace {
+
+// Per part: whether every edge of it is shared by exactly two of its triangles. Each directed
+// edge of a closed, consistently wound part has its reverse in the part exactly once.
+std::vector<char> closed_parts(const mesh::TriangleMesh& m, const std::vector<uint32_t>& part, uint32_t parts) {
+    std::vector<uint64_t> forward, reverse;
+    std::vector<uint32_t> part_of_forward;
+    forward.reserve(m.triangles.size() * 3);
+    for (size_t t = 0; t < m.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = m.triangles[t][k], b = m.triangles[t][(k + 1) % 3];
+            forward.push_back((uint64_t(a) << 32) | b);
+            reverse.push_back((uint64_t(b) << 32) | a);
+        }
+    std::vector<uint64_t> sorted = forward;
+    std::sort(sorted.begin(), sorted.end());
+    std::vector<char> closed(parts, 1);
+    for (size_t e = 0; e < forward.size(); ++e) {
+        const auto [lo, hi] = std::equal_range(sorted.begin(), sorted.end(), reverse[e]);
+        const auto [dup_lo, dup_hi] = std::equal_range(sorted.begin(), sorted.end(), forward[e]);
+        if (hi - lo != 1 || dup_hi - dup_lo != 1) closed[part[e / 3]] = 0;
+    }
+    return closed;
+}
+
+} // namespace
+
+float spacing_for_thin_parts(const mesh::TriangleMesh& m) {
+    constexpr float none = std::numeric_limits<float>::infinity();
+    std::vector<uint32_t> part;
+    const uint32_t parts = mesh::vertex_components(m.triangles, m.positions.size(), part);
+    if (parts == 0) return none;
+    std::vector<double> volume(parts, 0.0), area(parts, 0.0);
+    double total = 0.0;
+    for (size_t t = 0; t < m.triangles.size(); ++t) {
+        const Vec3d a = m.positions[m.triangles[t][0]].cast<double>(), b = m.positions[m.triangles[t][1]].cast<double>(),
+                    c = m.positions[m.triangles[t][2]].cast<double>();
+        const double da = 0.5 * (b - a).cross(c - a).norm();
+        volume[part[t]] += a.dot(b.cross(c)) / 6.0;
+        area[part[t]] += da;
+        total += da;
+    }
+    if (!(total > 0.0) || !std::isfinite(total)) return none;
+    const std::vector<char> closed = closed_parts(m, part, parts);
+    float thinnest = none;
+    for (uint32_t c = 0; c < parts; ++c) {
+        if (!closed[c] || area[c] < double(k_thin_part_area_share) * total) continue;
+        const float t = mean_thickness(volume[c], area[c]);
+        if (t > 0.0f && std::isfinite(t)) thinnest = std::min(thinnest, t);
+    }
+    return thinnest < none ? k_spacing_over_thickness * thinnest : none;
+}
+
+} // namespace pbdsplat::surface
