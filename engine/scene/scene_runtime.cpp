@@ -125,41 +125,50 @@ core::Status SceneRuntime::build(const RuntimeOptions& options) {
 // scan as many as it has triangles. The sample budget caps both by raising h; loading says so
 // once, naming the body that holds most, so a coarser look or a slow scene has its reason.
 void SceneRuntime::report_sampling(float edge_h, float eta_h) const {
-    if (eta_h < edge_h * 0.9999f && h_ < edge_h * 0.9999f)
-        std::fprintf(stderr,
-                     "note: sampled at h = %.4g m, %.2f of eta's spacing by the edge: a closed part about %.3g m thick would "
-                     "otherwise get samples on one face only and show gaps from the side\n",
-                     double(h_), double(h_ / edge_h), double(eta_h / surface::k_spacing_over_thickness));
+    const bool thin = eta_h < edge_h * 0.9999f;
     const size_t total = boundary_.size() + (splat_particles_ ? body_.particle_count() : 0);
     const bool budgeted = h_ > eta_h * 1.0001f;
+    if (thin && !budgeted)
+        std::fprintf(stderr,
+                     "note: sampled at h = %.4g m, %.2f of eta's spacing by the edge: a closed part about %.3g m thick (4 x volume / "
+                     "area) would otherwise get samples on one face only and show gaps from the side\n",
+                     double(h_), double(h_ / edge_h), double(eta_h / surface::k_spacing_over_thickness));
     if ((!budgeted && total < k_many_samples) || total == 0) return;
-    std::string where;
-    if (body_.model_of_particle.size() == body_.particle_count() && !scene_.bodies.empty()) {
-        std::vector<size_t> per_model;
-        for (uint32_t t : boundary_.triangle) {
-            const uint32_t m = body_.model_of_particle[body_.triangles[t][0]];
-            if (m >= per_model.size()) per_model.resize(m + 1, 0);
-            ++per_model[m];
-        }
-        if (const auto largest = std::ranges::max_element(per_model); largest != per_model.end()) {
-            const std::string name = model_name(scene_, size_t(largest - per_model.begin()));
-            char share[512];
-            std::snprintf(share, sizeof share, " (%.0f %% of them on %s: every body is sampled at one spacing, so a large one beside "
-                          "small ones costs in proportion to its area)", 100.0 * double(*largest) / double(total), name.c_str());
-            where = share;
-        }
-    }
-    const float eta = scene_.surface.eta;
+    const std::string where = largest_body_share(total);
     if (budgeted) {
+        char asked[160];
+        if (thin)
+            std::snprintf(asked, sizeof asked, "%.4g m, held within a closed part %.3g m thick", double(eta_h),
+                          double(eta_h / surface::k_spacing_over_thickness));
+        else
+            std::snprintf(asked, sizeof asked, "%.4g m, eta %.2f of the edge", double(eta_h), double(scene_.surface.eta));
         const double wanted = double(total) * double(h_ / eta_h) * double(h_ / eta_h);
         std::fprintf(stderr,
-                     "note: sampled at h = %.4g m, %.2f times eta %.2f of the edge: at eta's spacing the surface would take about %.0f "
-                     "splats%s, past surface.sample_budget = %u. Raise the budget for the finer look\n",
-                     double(h_), double(h_ / eta_h), double(eta), wanted, where.c_str(), scene_.surface.sample_budget);
+                     "note: sampled at h = %.4g m, %.2f times the spacing asked for (%s): at that spacing the surface would take "
+                     "about %.0f splats%s, past surface.sample_budget = %u. Raise the budget for the finer look\n",
+                     double(h_), double(h_ / eta_h), asked, wanted, where.c_str(), scene_.surface.sample_budget);
         return;
     }
     std::fprintf(stderr, "warning: %zu splats at the scene's spacing h = %.4g m%s: set a surface.sample_budget or raise surface.eta\n", total,
                  double(h_), where.c_str());
+}
+
+// Where a scene has several bodies: " (N % of them on BODY: ...)" for the one holding most samples.
+std::string SceneRuntime::largest_body_share(size_t total) const {
+    if (body_.model_of_particle.size() != body_.particle_count() || scene_.bodies.empty()) return {};
+    std::vector<size_t> per_model;
+    for (uint32_t t : boundary_.triangle) {
+        const uint32_t m = body_.model_of_particle[body_.triangles[t][0]];
+        if (m >= per_model.size()) per_model.resize(m + 1, 0);
+        ++per_model[m];
+    }
+    const auto largest = std::ranges::max_element(per_model);
+    if (largest == per_model.end()) return {};
+    const std::string name = model_name(scene_, size_t(largest - per_model.begin()));
+    char share[512];
+    std::snprintf(share, sizeof share, " (%.0f %% of them on %s: every body is sampled at one spacing, so a large one beside "
+                  "small ones costs in proportion to its area)", 100.0 * double(*largest) / double(total), name.c_str());
+    return share;
 }
 
 void SceneRuntime::set_up_look() {

@@ -209,6 +209,7 @@ private:
     // misses them (scene/framing.h); before build, which hands the camera to the timeline.
     void frame_unplaced_camera();
     void report_sampling(float edge_h, float eta_h) const;  // once at load, where h is not eta's or the splats are many
+    std::string largest_body_share(size_t total) const;
     void set_up_look();  // the splats' size, the occluders' tolerances, the lights from the material
     core::Status create_renderer(const SortChoice& sort);
     core::Status ensure_mesh_raster();  // made on first need (a mesh view, mesh_image())

@@ -38,8 +38,8 @@ TEST_SUITE("surface/thin_parts") {
     TEST_CASE("a rod 2 cm thick, one box of 12 triangles, is sampled on every long face") {
         const mesh::TriangleMesh rod = mesh::box(Vec3f(1.0f, 0.02f, 0.02f), 1);
         const float thin = surface::spacing_for_thin_parts(rod);
-        // V = 0.0004, A = 0.0808: 4 V / A = 0.0198, half of it.
-        CHECK(thin == doctest::Approx(0.5f * 4.0f * 0.0004f / 0.0808f).epsilon(0.01));
+        // V = 0.0004, A = 0.0808: 4 V / A = 0.0198.
+        CHECK(thin == doctest::Approx(surface::k_spacing_over_thickness * 4.0f * 0.0004f / 0.0808f).epsilon(0.01));
         const float by_edge = surface::spacing(rod, 0.5f);
         REQUIRE(by_edge > 10.0f * thin);  // its edges are a metre long
         const auto coarse = samples_on_long_faces(rod, surface::sample_surface(rod, {by_edge, 1}));
@@ -48,7 +48,7 @@ TEST_SUITE("surface/thin_parts") {
                 << ", at the thin part's spacing " << fine[0] << " " << fine[1] << " " << fine[2] << " " << fine[3]);
         // At the edge's spacing a sample blocks the rod across: some face is left bare.
         CHECK(*std::min_element(coarse.begin(), coarse.end()) == 0);
-        // A metre of face 2 cm wide at spacing 1 cm: about 130 samples; each face is covered.
+        // A metre of face 2 cm wide at spacing 7 mm: about 260 samples; each face is covered.
         for (size_t c : fine) CHECK(c > 60);
     }
 
@@ -58,9 +58,9 @@ TEST_SUITE("surface/thin_parts") {
         mesh::TriangleMesh m = mesh::icosphere(3, 1.0f);
         mesh::append(m, mesh::box(Vec3f(0.1f, 0.01f, 0.01f), 1), Eigen::Affine3f(Eigen::Translation3f(3.0f, 0.0f, 0.0f)));
         const float h = surface::spacing_for_thin_parts(m);
-        CHECK(h == doctest::Approx(0.5f * 4.0f / 3.0f).epsilon(0.05));  // the ball's 4 r / 3
+        CHECK(h == doctest::Approx(surface::k_spacing_over_thickness * 4.0f / 3.0f).epsilon(0.05));  // the ball's 4 r / 3
         // A rod as thin, long enough to hold 3 % of the area, sets the spacing.
         mesh::append(m, mesh::box(Vec3f(10.0f, 0.01f, 0.01f), 1), Eigen::Affine3f(Eigen::Translation3f(0.0f, 5.0f, 0.0f)));
-        CHECK(surface::spacing_for_thin_parts(m) == doctest::Approx(0.005f).epsilon(0.01));
+        CHECK(surface::spacing_for_thin_parts(m) == doctest::Approx(surface::k_spacing_over_thickness * 0.01f).epsilon(0.01));
     }
 }
