@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "mesh/topology.h"
@@ -38,7 +39,7 @@ std::vector<char> closed_parts(const mesh::TriangleMesh& m, const std::vector<ui
 
 } // namespace
 
-float spacing_for_thin_parts(const mesh::TriangleMesh& m) {
+float spacing_for_thin_parts(const mesh::TriangleMesh& m, float below) {
     constexpr float none = std::numeric_limits<float>::infinity();
     std::vector<uint32_t> part;
     const uint32_t parts = mesh::vertex_components(m.triangles, m.positions.size(), part);
@@ -54,13 +55,22 @@ float spacing_for_thin_parts(const mesh::TriangleMesh& m) {
         total += da;
     }
     if (!(total > 0.0) || !std::isfinite(total)) return none;
+    // The parts that would ask for less than `below`, thinnest first to be tested for closure.
+    std::vector<std::pair<float, uint32_t>> asking;
+    for (uint32_t c = 0; c < parts; ++c) {
+        if (area[c] < double(k_thin_part_area_share) * total) continue;
+        const float t = mean_thickness(volume[c], area[c]);
+        if (t > 0.0f && std::isfinite(t) && k_spacing_over_thickness * t < below) asking.emplace_back(t, c);
+    }
+    if (asking.empty()) return none;
+    std::sort(asking.begin(), asking.end());
     const std::vector<char> closed = closed_parts(m, part, parts);
     float thinnest = none;
-    for (uint32_t c = 0; c < parts; ++c) {
-        if (!closed[c] || area[c] < double(k_thin_part_area_share) * total) continue;
-        const float t = mean_thickness(volume[c], area[c]);
-        if (t > 0.0f && std::isfinite(t)) thinnest = std::min(thinnest, t);
-    }
+    for (const auto& [t, c] : asking)
+        if (closed[c]) {
+            thinnest = t;
+            break;
+        }
     return thinnest < none ? k_spacing_over_thickness * thinnest : none;
 }
 

@@ -5,6 +5,7 @@
 // part shows gaps, and the mesh occluders behind them show as black. The spacing is held to a
 // fraction of the thinnest part's thickness so that every face of it carries samples.
 #include <cstddef>
+#include <limits>
 
 #include "mesh/triangle_mesh.h"
 
@@ -25,7 +26,9 @@ float mean_thickness(double volume, double area);
 // The largest spacing that puts samples on every face of each closed part of `mesh` (connected
 // through shared vertices, every edge shared by two of its triangles) that holds at least
 // k_thin_part_area_share of the area: k_spacing_over_thickness times the thinnest such part's
-// mean thickness. Infinity where no part counts (open surfaces have no thickness to keep).
-float spacing_for_thin_parts(const mesh::TriangleMesh& mesh);
+// mean thickness. Infinity where no part counts (open surfaces have no thickness to keep) or
+// none would ask for less than `below`: only parts that would are tested for being closed, so a
+// model whose parts are all thick beside its edges (nearly every scan) costs one pass.
+float spacing_for_thin_parts(const mesh::TriangleMesh& mesh, float below = std::numeric_limits<float>::infinity());
 
 } // namespace pbdsplat::surface

@@ -40,6 +40,8 @@ TEST_SUITE("surface/thin_parts") {
         const float thin = surface::spacing_for_thin_parts(rod);
         // V = 0.0004, A = 0.0808: 4 V / A = 0.0198.
         CHECK(thin == doctest::Approx(surface::k_spacing_over_thickness * 4.0f * 0.0004f / 0.0808f).epsilon(0.01));
+        CHECK(std::isinf(surface::spacing_for_thin_parts(rod, 0.5f * thin)));  // asks for no less than given
+        CHECK(surface::spacing_for_thin_parts(rod, 2.0f * thin) == thin);
         const float by_edge = surface::spacing(rod, 0.5f);
         REQUIRE(by_edge > 10.0f * thin);  // its edges are a metre long
         const auto coarse = samples_on_long_faces(rod, surface::sample_surface(rod, {by_edge, 1}));

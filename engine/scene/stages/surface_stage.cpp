@@ -29,7 +29,7 @@ core::Result<SurfaceSetup> setup_surface(const SurfaceDesc& desc, uint32_t fade_
     out.edge_h = surface::spacing(sampled, desc.eta);
     if (!(out.edge_h > 0.0f)) return core::make_error("the mesh has no edges to derive the sampling spacing from");
     // A closed part thinner than the edge's spacing would be sampled on one face only.
-    out.eta_h = boundary ? std::min(out.edge_h, surface::spacing_for_thin_parts(sampled)) : out.edge_h;
+    out.eta_h = boundary ? std::min(out.edge_h, surface::spacing_for_thin_parts(sampled, out.edge_h)) : out.edge_h;
     // The budget holds only where samples are placed: in vertices mode the splats are the particles.
     out.h = boundary ? std::max(out.eta_h, surface::spacing_for_budget(sampled, desc.sample_budget)) : out.eta_h;
     // With an embedded surface the samples are the splats: the simulation particles sit on the
