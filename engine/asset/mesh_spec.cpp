@@ -45,6 +45,7 @@ struct FileLoad {
     uintmax_t size = 0;
     float fit = 0.0f;
     bool close_holes = false;
+    UpAxis up = UpAxis::file_default;
     LoadedModel model;
 };
 std::mutex g_last_load_mutex;
@@ -52,7 +53,7 @@ std::optional<FileLoad> g_last_load;
 
 bool same_file(const FileLoad& f, const std::string& path, const MeshSpecOptions& o) {
     std::error_code ec;
-    return f.path == path && f.fit == o.file_fit_diagonal && f.close_holes == o.close_holes &&
+    return f.path == path && f.fit == o.file_fit_diagonal && f.close_holes == o.close_holes && f.up == o.up &&
            std::filesystem::last_write_time(path, ec) == f.written && std::filesystem::file_size(path, ec) == f.size && !ec;
 }
 
@@ -64,7 +65,7 @@ std::optional<LoadedModel> last_file_load(const std::string& path, const MeshSpe
 
 void remember_file_load(const std::string& path, const MeshSpecOptions& o, const LoadedModel& m) {
     std::error_code ec;
-    FileLoad f{path, std::filesystem::last_write_time(path, ec), std::filesystem::file_size(path, ec), o.file_fit_diagonal, o.close_holes, m};
+    FileLoad f{path, std::filesystem::last_write_time(path, ec), std::filesystem::file_size(path, ec), o.file_fit_diagonal, o.close_holes, o.up, m};
     if (ec) return;
     std::lock_guard lock(g_last_load_mutex);
     g_last_load = std::move(f);
@@ -117,6 +118,22 @@ core::Result<LoadedModel> load_procedural(const Procedural& p, const std::string
     return LoadedModel{std::move(repaired).value(), std::nullopt, {}, 0};
 }
 
+// z-up to y-up: a quarter turn about x, so +z becomes +y and +y (a z-up file's back) becomes -z.
+void turn_z_up_to_y_up(ModelAsset& a) {
+    const auto turn = [](std::vector<Vec3f>& v) {
+        for (Vec3f& p : v) p = Vec3f(p.x(), p.z(), -p.y());
+    };
+    turn(a.mesh.positions);
+    turn(a.mesh.normals);
+    if (a.look) turn(a.look->positions);
+}
+
+UpAxis resolve_up(UpAxis asked, const std::string& path) {
+    if (asked != UpAxis::file_default) return asked;
+    const auto kind = sniff_file(path);
+    return kind.ok() ? default_up_axis(kind.value()) : UpAxis::y;
+}
+
 // A model file: found on the search path, read, repaired and fitted, its look moved with it,
 // refined when it has too few vertices to simulate; the last one kept for the next load.
 core::Result<LoadedModel> load_file(const std::string& spec, const MeshSpecOptions& options) {
@@ -133,6 +150,7 @@ core::Result<LoadedModel> load_file(const std::string& spec, const MeshSpecOptio
     if (auto cached = last_file_load(*path, options)) return std::move(*cached);
     auto raw = load_model_file(*path);
     if (!raw.ok()) return raw.error();
+    if (resolve_up(options.up, *path) == UpAxis::z) turn_z_up_to_y_up(raw.value());
     mesh::RepairOptions o;
     o.center = options.file_fit_diagonal > 0.0f;
     o.fit_diagonal = options.file_fit_diagonal;
@@ -152,6 +170,8 @@ core::Result<LoadedModel> load_file(const std::string& spec, const MeshSpecOptio
 }
 
 } // namespace
+
+UpAxis default_up_axis(FileKind kind) { return kind == FileKind::stl_ascii || kind == FileKind::stl_binary ? UpAxis::z : UpAxis::y; }
 
 void forget_loads() {
     std::lock_guard lock(g_last_load_mutex);

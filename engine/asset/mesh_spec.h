@@ -8,16 +8,27 @@
 #include <string>
 #include <vector>
 
+#include "asset/file_kind.h"
 #include "asset/look.h"
+#include "core/names.h"
 #include "mesh/repair.h"
 
 namespace pbdsplat::asset {
+
+// Which way is up in a model file. The scene is y-up, as glTF's convention and most OBJ exports
+// are; STL files come from CAD and 3D printing, which are z-up (a print stands on z = 0), so a
+// figurine read as y-up lay on its back.
+enum class UpAxis { file_default, y, z };
+inline constexpr core::EnumName<UpAxis> k_up_axis_names[] = {{UpAxis::file_default, "auto"}, {UpAxis::y, "y"}, {UpAxis::z, "z"}};
+// The axis a file of `kind` is read with when nothing says: z for STL, y for the rest.
+UpAxis default_up_axis(FileKind kind);
 
 struct MeshSpecOptions {
     // Files are centred and scaled to this bounding-box diagonal (0 keeps their own scale), so
     // scenes behave alike whatever units a model was saved in. Procedural shapes keep theirs.
     float file_fit_diagonal = 2.0f;
     bool close_holes = false;  // files: cap every boundary loop (RepairOptions::close_holes)
+    UpAxis up = UpAxis::file_default;  // files: turned so that this axis is the scene's +y
 };
 
 // A model file of fewer vertices than this is subdivided (flat) until it has them: the sampling

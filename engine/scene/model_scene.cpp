@@ -81,6 +81,8 @@ core::Result<ModelSummary> summarize_model(const std::string& path) {
     if (!raw.ok()) return raw.error();
     ModelSummary s;
     s.format = asset::file_kind_name(kind.value());
+    s.up = asset::default_up_axis(kind.value()) == asset::UpAxis::z ? "z, turned to the scene's y (STL's convention: CAD and 3D printing; up = \"y\" in [model] reads it as y-up)"
+                                                                    : "y (up = \"z\" in [model] for a z-up file)";
     s.vertices = raw->mesh.vertex_count();
     s.triangles = raw->mesh.triangle_count();
     if (raw->look) {

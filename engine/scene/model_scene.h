@@ -24,6 +24,7 @@ core::Result<Scene> scene_for_model(const std::string& model_path);
 // materials, textures and colours were found before running it.
 struct ModelSummary {
     std::string format;
+    std::string up;  // the axis read as up, and why
     size_t vertices = 0, triangles = 0;  // as read (before welding)
     size_t materials = 0;
     std::vector<std::string> textures;  // "file (W x H)"

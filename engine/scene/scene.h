@@ -6,6 +6,7 @@
 #include <variant>
 #include <vector>
 
+#include "asset/mesh_spec.h"
 #include "core/names.h"
 #include "core/math.h"
 #include "render/frame_inputs.h"
@@ -32,6 +33,7 @@ struct ModelDesc {
     Vec3f rotate_degrees = Vec3f::Zero();  // applied x, then y, then z
     ModelScale scale;
     bool close_holes = false;  // cap the model's open boundary loops (a balloon needs a closed surface)
+    asset::UpAxis up = asset::UpAxis::file_default;  // files: which axis is up in the file (z for STL)
     Vec3f velocity = Vec3f::Zero();  // m/s at the start
     bool fixed = false;              // static: every particle pinned (a table, a bowl, a ramp)
 };

@@ -195,8 +195,9 @@ Vec3f normalized_or_fail(const Reader& r, const toml::node* n, const Vec3f& v, c
 }
 
 // A procedural mesh's parameters are refused here, where the key's line is known; a file is
-// read when the scene is built.
-void check_mesh(Reader::Table& t, const ModelDesc& m) {
+// read when the scene is built. The model's up axis is read here too, beside the plain keys.
+void check_mesh(Reader::Table& t, ModelDesc& m) {
+    m.up = t.named<asset::UpAxis>("up", asset::UpAxis::file_default, asset::k_up_axis_names);
     if (!t.has("mesh") || !asset::is_procedural_spec(m.mesh)) return;
     if (const core::Status st = asset::check_procedural_spec(m.mesh); !st.ok()) t.fail("mesh", st.error().message);
 }

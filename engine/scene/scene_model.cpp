@@ -41,6 +41,7 @@ core::Result<Part> load_part(const ModelDesc& md, uint32_t target, const std::st
     asset::MeshSpecOptions mo;
     mo.file_fit_diagonal = md.fit;
     mo.close_holes = md.close_holes;
+    mo.up = md.up;
     std::string spec = md.mesh;
     // A model file is looked up next to the scene first.
     if (!source_dir.empty()) {

@@ -67,15 +67,21 @@ void write_keys(std::ostream& o, const D& section, std::span<const Key<D>> keys,
     }
 }
 
+void write_up(std::ostream& o, const ModelDesc& m) {
+    if (m.up != asset::UpAxis::file_default) o << "up = \"" << core::name_of<asset::UpAxis>(asset::k_up_axis_names, m.up) << "\"\n";
+}
+
 // One writer per section, in the order a reader meets them.
 void write_model_material_surface(std::ostream& o, const Scene& sc) {
     o << "[model]\n";
     write_keys<ModelDesc>(o, sc.model, k_model_keys);
+    write_up(o, sc.model);
     if (const auto& c = sc.model_color) o << "color = [" << num(c->x()) << ", " << num(c->y()) << ", " << num(c->z()) << "]\n";
     if (sc.model_particles) o << "particles = " << *sc.model_particles << "\n";
     for (const BodyDesc& b : sc.bodies) {
         o << "\n[[bodies]]\n";
         write_keys<ModelDesc>(o, b.model, k_model_keys);
+        write_up(o, b.model);
         if (b.color) o << "color = [" << num(b.color->x()) << ", " << num(b.color->y()) << ", " << num(b.color->z()) << "]\n";
         if (b.particles) o << "particles = " << *b.particles << "\n";
     }

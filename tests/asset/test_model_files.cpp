@@ -120,6 +120,38 @@ TEST_SUITE("asset/model_files") {
         }
     }
 
+    TEST_CASE("an STL is read z-up unless the scene says y, other files y-up") {
+        // A box three times as tall along z as it is wide: as STL (CAD and 3D printing are z-up)
+        // it stands along the scene's y; up = y keeps it lying along z, as an OBJ of it does.
+        test::Corpus c("up");
+        auto corners = test::cube_triangles();
+        for (size_t i = 2; i < corners.size(); i += 3) corners[i] *= 3.0f;
+        std::string obj;
+        for (size_t i = 0; i < corners.size(); i += 3)
+            obj += "v " + std::to_string(corners[i]) + " " + std::to_string(corners[i + 1]) + " " + std::to_string(corners[i + 2]) + "\n";
+        for (size_t t = 0; t < corners.size() / 9; ++t)
+            obj += "f " + std::to_string(3 * t + 1) + " " + std::to_string(3 * t + 2) + " " + std::to_string(3 * t + 3) + "\n";
+        const std::string stl = c.write("tall.stl", test::binary_stl(corners)), ascii = c.write("tall_ascii.stl", test::ascii_stl(corners)),
+                          plain = c.write("tall.obj", obj);
+        auto tallest = [](const std::string& path, asset::UpAxis up) {
+            asset::MeshSpecOptions o;
+            o.up = up;
+            auto m = asset::load_model(path, o);
+            REQUIRE_MESSAGE(m.ok(), test::why(m));
+            const mesh::Bounds b = mesh::bounds(m->repaired.mesh);
+            int axis = 0;
+            (b.max - b.min).maxCoeff(&axis);
+            return axis;
+        };
+        CHECK(asset::default_up_axis(asset::FileKind::stl_binary) == asset::UpAxis::z);
+        CHECK(asset::default_up_axis(asset::FileKind::glb) == asset::UpAxis::y);
+        CHECK(tallest(stl, asset::UpAxis::file_default) == 1);
+        CHECK(tallest(ascii, asset::UpAxis::file_default) == 1);
+        CHECK(tallest(stl, asset::UpAxis::y) == 2);
+        CHECK(tallest(plain, asset::UpAxis::file_default) == 2);
+        CHECK(tallest(plain, asset::UpAxis::z) == 1);
+    }
+
     TEST_CASE("a PLY mesh, ASCII and big-endian binary, with sRGB vertex colours") {
         test::Corpus c("ply");
         const std::string head = "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"

@@ -31,6 +31,7 @@ translate = [0.0, 1.0, 0.0]
 rotate_degrees = [10.0, 20.0, 30.0]
 scale = 0.5
 close_holes = true
+up = "z"
 velocity = [0.5, 0.0, 0.0]
 static = true
 color = [0.3, 0.6, 0.9]
@@ -43,6 +44,7 @@ translate = [0.0, 3.0, 0.0]
 rotate_degrees = [0.0, 45.0, 0.0]
 scale = 0.25
 close_holes = true
+up = "y"
 velocity = [0.0, -1.0, 0.0]
 static = true
 color = [0.1, 0.2, 0.3]
@@ -678,6 +680,22 @@ particles = 0
         CHECK(refusal("[model]\nscale = [1, 2]\n").find("bad.toml:2:9: 'model.scale' must be a number or an array of 3 numbers") == 0);
         CHECK(refusal("[model]\nscale = \"big\"\n").find("'model.scale' must be a number or an array of 3 numbers") != std::string::npos);
         CHECK(refusal("[model]\nscale = [1, 0, 1]\n").find("'model.scale' element 0 is out of range") != std::string::npos);
+    }
+
+    TEST_CASE("a model's up axis is read, written back and refused by name") {
+        auto sc = scene::parse_scene("[model]\nmesh = \"part.stl\"\nup = \"y\"\n[[bodies]]\nmesh = \"box:2\"\nup = \"z\"\n", "up.toml");
+        REQUIRE_MESSAGE(sc.ok(), test::why(sc));
+        CHECK(sc->model.up == asset::UpAxis::y);
+        CHECK(sc->bodies.at(0).model.up == asset::UpAxis::z);
+        auto again = scene::parse_scene(scene::to_toml(sc.value()), "printed.toml");
+        REQUIRE_MESSAGE(again.ok(), test::why(again));
+        CHECK(again->model.up == asset::UpAxis::y);
+        CHECK(again->bodies.at(0).model.up == asset::UpAxis::z);
+        auto plain = scene::parse_scene("[model]\nmesh = \"part.stl\"\n", "plain.toml");
+        REQUIRE(plain.ok());
+        CHECK(plain->model.up == asset::UpAxis::file_default);
+        CHECK(scene::to_toml(plain.value()).find("\nup = \"") == std::string::npos);  // the camera has an up of its own
+        CHECK(refusal("[model]\nmesh = \"part.stl\"\nup = \"x\"\n") == "bad.toml:3:6: 'model.up' must be one of auto, y, z, not 'x'");
     }
 
     TEST_CASE("[model] takes 'static' and 'velocity' as a [[bodies]] entry does: a table written first holds still") {

@@ -20,7 +20,7 @@ int model_info(const std::string& path, bool json) {
     if (!s.ok()) return fail("info", s.error().to_string());
     const scene::ModelSummary& m = s.value();
     if (json) {
-        const nlohmann::json j = {{"file", path}, {"format", m.format}, {"vertices", m.vertices}, {"triangles", m.triangles},
+        const nlohmann::json j = {{"file", path}, {"format", m.format}, {"up", m.up}, {"vertices", m.vertices}, {"triangles", m.triangles},
                                   {"materials", m.materials}, {"textures", m.textures}, {"vertex_colors", m.vertex_colors},
                                   {"texture_coordinates", m.texture_coordinates}, {"repair", m.repair},
                                   {"refined_levels", m.refined_levels}, {"warnings", m.warnings}};
@@ -29,6 +29,7 @@ int model_info(const std::string& path, bool json) {
     }
     std::printf("file             %s\n", path.c_str());
     std::printf("format           %s\n", m.format.c_str());
+    std::printf("up               %s\n", m.up.c_str());
     std::printf("as read          %zu vertices, %zu triangles\n", m.vertices, m.triangles);
     std::printf("materials        %zu\n", m.materials);
     for (const std::string& t : m.textures) std::printf("texture          %s\n", t.c_str());
