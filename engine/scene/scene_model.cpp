@@ -14,7 +14,6 @@
 #include "sim/contact.h"
 #include "sim/crossings.h"
 #include "sim/solver.h"
-#include "sim/rigid_response.h"
 #include "sim/weld.h"
 
 namespace pbdsplat::scene {
@@ -316,10 +315,11 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     warn_coarse_step(scene, b, out.substeps);
     // A model's parts that touch at rest (a teapot's spout on its body) hold together: within an
     // edge of each other, the decimated surfaces' vertices no longer coincide where they met.
-    // Welded parts are one object to shape matching too (sim/shape.h). A solid's closed parts are
-    // welded as well (a table's legs to its top); a soft body's are not (a balloon's eyes).
-    const sim::WeldFrom from = scene.simulation.solver.shape_stiffness >= sim::k_rigid_response_stiffness
-                                   ? sim::WeldFrom::open_edges_and_closed_parts : sim::WeldFrom::open_edges;
+    // Welded parts are one object to shape matching too (sim/shape.h). The closed parts of a body
+    // that keeps a shape are welded as well (a table's legs to its top, stiff or wobbly); a
+    // balloon's (no shape matching) are not: its eyes would tear the skin as it deflates.
+    const sim::WeldFrom from = scene.simulation.solver.shape_stiffness > 0.0f ? sim::WeldFrom::open_edges_and_closed_parts
+                                                                              : sim::WeldFrom::open_edges;
     if (scene.simulation.weld_parts && sim::weld_touching_parts(b, sim::mean_rest_edge_of_models(b), from) > 0)
         sim::rebuild_shape_clusters(b);
     if (!out.paint.empty()) paint_particles(out.paint, b);

@@ -20,8 +20,8 @@ enum class WeldFrom {
     // apart: held to a balloon head that deflates and re-inflates, suzanne's eyes tore its
     // surface apart (volume error 9, measured).
     open_edges,
-    // Also every surface particle of a closed part: for a solid, whose parts keep their shape,
-    // a table modelled as a top on four closed legs is one table (left apart, the top slid down
+    // Also every surface particle of a closed part: for a body that keeps a shape (shape
+    // matching on), a table modelled as a top on four closed legs is one table (left apart, the top slid down
     // between its legs, which contact leaves alone where parts lay on each other at load).
     open_edges_and_closed_parts,
 };
