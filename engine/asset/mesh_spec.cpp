@@ -86,6 +86,7 @@ const std::vector<Procedural>& procedurals() {
         {"capsule", {{2, 2048}, {3, 4096}}, [](const std::vector<uint32_t>& a) { return mesh::capsule(0.5f, 1.0f, a[0], a[1]); }},
         {"grid", {{1, 2048}}, [](const std::vector<uint32_t>& a) { return mesh::grid_sheet(a[0], 2.0f); }},
         {"quadruped", {{1, 64}}, [](const std::vector<uint32_t>& a) { return mesh::quadruped(a[0]); }},
+        {"table", {{1, 64}}, [](const std::vector<uint32_t>& a) { return mesh::table(a[0]); }},
     };
     return p;
 }
@@ -145,7 +146,7 @@ core::Result<LoadedModel> load_file(const std::string& spec, const MeshSpecOptio
         std::string where;
         for (const auto& d : model_search_path()) where += (where.empty() ? "" : ", ") + d;
         return core::make_error(spec + ": no such file, and not a procedural mesh (icosphere:L, uvsphere:R:S, "
-                                       "torus:S:T, box:D, capsule:R:S, grid:N, quadruped:D); searched " + where);
+                                       "torus:S:T, box:D, capsule:R:S, grid:N, quadruped:D, table:D); searched " + where);
     }
     if (auto cached = last_file_load(*path, options)) return std::move(*cached);
     auto raw = load_model_file(*path);

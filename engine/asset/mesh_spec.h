@@ -3,7 +3,7 @@
 // model file of any kind asset/model_file.h reads (found along the model search path). Always
 // returned repaired.
 //   icosphere:LEVEL   uvsphere:RINGS:SEGMENTS   torus:SEGMENTS:SIDES   box:DIVISIONS
-//   capsule:RINGS:SEGMENTS   grid:N   quadruped:DIVISIONS   path/to/file.obj or a model name like teapot.obj
+//   capsule:RINGS:SEGMENTS   grid:N   quadruped:DIVISIONS   table:DIVISIONS   path/to/file.obj or a model name like teapot.obj
 #include <optional>
 #include <string>
 #include <vector>

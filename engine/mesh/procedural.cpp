@@ -1,5 +1,6 @@
 #include "mesh/procedural.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/assert.h"
@@ -189,6 +190,52 @@ TriangleMesh quadruped(uint32_t d) {
                     }
             }
     return finish(std::move(m));  // drops the interior grid points; checks orientation
+}
+
+namespace {
+// An axis-aligned box from `lo` to `hi`, its faces split into cells of about `cell` on each
+// axis (at least one), so a long thin box has square quads, not slivers.
+TriangleMesh cuboid(const Vec3f& lo, const Vec3f& hi, float cell) {
+    TriangleMesh m;
+    const Vec3f size = hi - lo;
+    int n[3];
+    for (int a = 0; a < 3; ++a) n[a] = std::max(1, int(std::lround(size[a] / cell)));
+    for (int axis = 0; axis < 3; ++axis)
+        for (float side : {0.0f, 1.0f}) {
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            const uint32_t base = uint32_t(m.positions.size());
+            for (int i = 0; i <= n[u]; ++i)
+                for (int j = 0; j <= n[v]; ++j) {
+                    Vec3f p;
+                    p[axis] = lo[axis] + side * size[axis];
+                    p[u] = lo[u] + size[u] * float(i) / float(n[u]);
+                    p[v] = lo[v] + size[v] * float(j) / float(n[v]);
+                    m.positions.push_back(p);
+                }
+            for (int i = 0; i < n[u]; ++i)
+                for (int j = 0; j < n[v]; ++j) {
+                    const uint32_t a = base + uint32_t(i * (n[v] + 1) + j), b = a + uint32_t(n[v] + 1);
+                    m.triangles.push_back({a, b, b + 1});
+                    m.triangles.push_back({a, b + 1, a + 1});
+                }
+        }
+    return finish(std::move(m));  // welds the shared edges; orients all faces outward
+}
+} // namespace
+
+TriangleMesh table(uint32_t d) {
+    PBDSPLAT_ASSERT(d >= 1 && d <= 64, "table: divisions in [1, 64]");
+    const float cell = 0.05f / float(d), top = 0.375f, thick = 0.05f, leg = 0.05f, inset = 0.05f;
+    TriangleMesh m = cuboid(Vec3f(-0.6f, top - thick, -0.4f), Vec3f(0.6f, top, 0.4f), cell);
+    // The legs stop a fiftieth of a cell under the top: touching, but sharing no vertex with it.
+    const float leg_top = top - thick - 0.02f * cell;
+    for (float sx : {-1.0f, 1.0f})
+        for (float sz : {-1.0f, 1.0f}) {
+            const Vec3f outer(sx * (0.6f - inset), -top, sz * (0.4f - inset));
+            const Vec3f inner(sx * (0.6f - inset - leg), leg_top, sz * (0.4f - inset - leg));
+            append(m, cuboid(outer.cwiseMin(inner), outer.cwiseMax(inner), cell));
+        }
+    return m;
 }
 
 TriangleMesh grid_sheet(uint32_t n, float size) {

@@ -30,6 +30,12 @@ TriangleMesh capsule(float radius, float length, uint32_t rings, uint32_t segmen
 // the test of whether a solid stands under its own weight.
 TriangleMesh quadruped(uint32_t divisions);
 
+// A table of five closed parts that share no vertex, as furniture is modelled: a top 1.2 x 0.05
+// x 0.8 on four legs 0.05 square and 0.7 tall, inset 0.05 from its corners, each leg a
+// hair (a fiftieth of a cell) under the top; centred on the origin, its faces in square cells
+// of 0.05 / `divisions`. The case of a model whose thin parts are held to the rest by welds.
+TriangleMesh table(uint32_t divisions);
+
 // Open square sheet in the xz plane, `n` x `n` quads, side `size`, centred at the origin.
 TriangleMesh grid_sheet(uint32_t n, float size = 1.0f);
 

@@ -1,6 +1,8 @@
 #include "sim/sleep.h"
 
 #include <algorithm>
+#include <span>
+#include <vector>
 
 #include "sim/soft_body.h"
 
@@ -20,6 +22,29 @@ void fit_to(SleepState& st, const SoftBodyT<Real>& body) {
 }
 
 constexpr uint8_t k_static = 0, k_awake_still = 1, k_awake_moving = 2, k_sleeping = 3;
+
+// Per piece, the lowest piece it is welded to through any chain of live welds (itself where it
+// has none): welded pieces sleep and wake as one. A leg asleep under a table top still settling
+// held its end of the welds and the top's shape cluster still, while the rest pulled on it: the
+// table flew apart at 100 m/s within a second of its legs falling asleep.
+template <class Real>
+std::vector<uint32_t> weld_groups(const SoftBodyT<Real>& body) {
+    std::vector<uint32_t> up(body.pieces);
+    for (uint32_t k = 0; k < up.size(); ++k) up[k] = k;
+    const auto root = [&](uint32_t k) {
+        while (up[k] != k) k = up[k] = up[up[k]];
+        return k;
+    };
+    for (const DistanceConstraint& w : body.welds) {
+        if (!w.alive() || w.i >= body.piece_of_particle.size() || w.j >= body.piece_of_particle.size()) continue;
+        const uint32_t a = body.piece_of_particle[w.i], b = body.piece_of_particle[w.j];
+        if (a >= up.size() || b >= up.size()) continue;
+        const uint32_t ra = root(a), rb = root(b);
+        if (ra != rb) up[std::max(ra, rb)] = std::min(ra, rb);
+    }
+    for (uint32_t k = 0; k < up.size(); ++k) up[k] = root(k);
+    return up;
+}
 } // namespace
 
 template <class Real>
@@ -54,8 +79,12 @@ void wake_pieces(SoftBodyT<Real>& body, std::span<const uint32_t> pieces) {
     if (pieces.empty() || st.sleeping == 0) return;
     constexpr uint8_t asked = 1, woken = 2;
     std::vector<uint8_t> wake(body.pieces, 0);
+    std::vector<uint8_t> group_asked(body.pieces, 0);
+    const std::vector<uint32_t> group = weld_groups(body);
     for (uint32_t k : pieces)
-        if (k < wake.size()) wake[k] = asked;
+        if (k < wake.size()) group_asked[group[k]] = 1;
+    for (uint32_t k = 0; k < wake.size(); ++k)
+        if (group_asked[group[k]]) wake[k] = asked;
     for (size_t i = 0; i < st.held_w.size() && i < body.particles.size(); ++i) {
         const uint32_t k = body.piece_of_particle[i];
         if (k >= wake.size() || wake[k] == 0 || !(st.held_w[i] > 0.0f)) continue;
@@ -129,6 +158,25 @@ void apply(SoftBodyT<Real>& body, SleepState& st, std::span<const uint8_t> kind,
 }
 } // namespace
 
+namespace {
+// Welded pieces as one: a group sleeps only when every awake piece of it falls asleep, and wakes
+// whole when any piece of it wakes or moves.
+void join_welded(std::span<const uint32_t> group, std::span<const uint8_t> kind, std::vector<uint8_t>& change) {
+    const size_t pieces = change.size();
+    std::vector<uint8_t> stays_awake(pieces, 0), wakes(pieces, 0);
+    for (uint32_t k = 0; k < pieces; ++k) {
+        const bool awake = kind[k] == k_awake_still || kind[k] == k_awake_moving;
+        if (awake && change[k] != k_falls_asleep) stays_awake[group[k]] = 1;
+        if (change[k] == k_wakes) wakes[group[k]] = 1;
+    }
+    for (uint32_t k = 0; k < pieces; ++k) {
+        const uint32_t g = group[k];
+        if (kind[k] == k_sleeping && (wakes[g] || stays_awake[g])) change[k] = k_wakes;
+        else if (change[k] == k_falls_asleep && (stays_awake[g] || wakes[g])) change[k] = k_stays;
+    }
+}
+} // namespace
+
 template <class Real>
 void update_sleep(SoftBodyT<Real>& body, std::span<const std::pair<uint32_t, uint32_t>> touching, const SleepSettings& s, float dt) {
     SleepState& st = body.sleep;
@@ -153,6 +201,7 @@ void update_sleep(SoftBodyT<Real>& body, std::span<const std::pair<uint32_t, uin
         if (kind[a] == k_sleeping && kind[b] == k_awake_moving) change[a] = k_wakes;
         if (kind[b] == k_sleeping && kind[a] == k_awake_moving) change[b] = k_wakes;
     }
+    if (!body.welds.empty()) join_welded(weld_groups(body), kind, change);
     apply(body, st, kind, change);
 }
 

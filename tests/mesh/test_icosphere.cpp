@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "mesh/procedural.h"
+#include "mesh/topology.h"
 
 using namespace pbdsplat;
 
@@ -28,6 +29,22 @@ TEST_SUITE("mesh/procedural") {
             CHECK(v < sphere);
             if (level == 4) CHECK(v / sphere > 0.99);  // level 4: 0.998 of the sphere
         }
+    }
+
+    TEST_CASE("the table is five closed parts that touch without sharing a vertex, in square cells") {
+        const auto m = mesh::table(2);
+        CHECK(mesh::is_closed_and_oriented(m));
+        std::vector<uint32_t> part;
+        REQUIRE(mesh::vertex_components(m.triangles, m.positions.size(), part) == 5);
+        // Top 1.2 x 0.05 x 0.8 and four legs 0.05 x (0.7 - a hair) x 0.05.
+        const double legs = 4.0 * 0.05 * 0.05 * (0.7 - 0.02 * 0.025);
+        CHECK(mesh::signed_volume(m) == doctest::Approx(1.2 * 0.05 * 0.8 + legs).epsilon(1e-4));
+        const mesh::Bounds b = mesh::bounds(m);
+        CHECK(b.min.y() == doctest::Approx(-0.375f));
+        CHECK(b.max.y() == doctest::Approx(0.375f));
+        // Square cells: no edge longer than a cell's diagonal (0.025 * sqrt 2).
+        for (const auto& t : m.triangles)
+            for (int k = 0; k < 3; ++k) CHECK((m.positions[t[k]] - m.positions[t[(k + 1) % 3]]).norm() < 0.0355f);  // measured: 0.0354 at most
     }
 
     TEST_CASE("flipping one triangle breaks the orientation check") {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <span>
+#include <string>
+#include <utility>
 
 #include "mesh/procedural.h"
 #include "sim/sim_fixtures.h"
@@ -165,6 +167,45 @@ TEST_SUITE("sim/sleep") {
             REQUIRE(!piece_held(b, slider));
         }
         CHECK(b.sleep.sleeping == 1);  // the box at rest
+    }
+
+    TEST_CASE("welded pieces sleep and wake as one") {
+        // Two boxes, one still and one moved by hand, a weld between them (a table's leg and its
+        // top). Asleep, the still one would hold its end of the weld while the other pulls: a
+        // table of welded parts flew apart at 100 m/s within a second of its legs falling asleep.
+        auto run = [](bool welded) {
+            sim::SoftBody b = boxes({{0.0f, 0.16f, 0.0f}, {0.0f, 0.47f, 0.0f}});
+            const uint32_t low = b.piece_of_particle[b.extreme_particle(1, false)], high = 1 - low;
+            if (welded) {
+                const uint32_t i = b.extreme_particle(1, false), j = b.extreme_particle(1, true);
+                b.welds.push_back({i, j, float((b.particles.x[i] - b.particles.x[j]).norm()), 0.0f});
+            }
+            const sim::SleepSettings s;
+            int low_asleep_at = -1, high_asleep_at = -1;
+            for (int f = 0; f < 120; ++f) {
+                if (f < 60)
+                    for (size_t i = 0; i < b.particle_count(); ++i)
+                        if (b.piece_of_particle[i] == high) b.particles.x[i] += sim::to4(Vec3f(0.02f, 0.0f, 0.0f));
+                sim::update_sleep(b, {}, s, 1.0f / 60.0f);
+                if (low_asleep_at < 0 && piece_held(b, low)) low_asleep_at = f;
+                if (high_asleep_at < 0 && piece_held(b, high)) high_asleep_at = f;
+            }
+            MESSAGE(std::string(welded ? "welded" : "apart") << ": the still box asleep at frame " << low_asleep_at << ", the moved one at "
+                                                  << high_asleep_at);
+            return std::make_pair(std::make_pair(low_asleep_at, high_asleep_at), b);
+        };
+        const auto [apart, apart_body] = run(false);
+        CHECK(apart.first >= 0);
+        CHECK(apart.first < 60);  // alone, the still box sleeps while the other moves
+        auto [welded, b] = run(true);
+        CHECK(welded.first >= 60);  // welded to a moving box, it waits for it
+        CHECK(welded.first == welded.second);  // and they fall asleep together
+        REQUIRE(b.sleep.sleeping == 2);
+        const uint32_t low = b.piece_of_particle[b.extreme_particle(1, false)];
+        const uint32_t named[] = {low};
+        sim::wake_pieces(b, std::span<const uint32_t>(named));
+        CHECK(b.sleep.sleeping == 0);  // waking one wakes the piece welded to it
+        CHECK_FALSE(piece_held(b, 1 - low));
     }
 
     TEST_CASE("a static body alone rests from its first frame: nothing can move, so nothing is computed") {
