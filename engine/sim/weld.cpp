@@ -48,25 +48,25 @@ size_t weld_touching_parts(SoftBody& b, std::span<const float> reach_of_model, W
         for (uint32_t v : t) used[v] = 1;
     // A weld starts at an open edge of its part (where a spout or a handle ends on the body, or a
     // lid's rim sits on the pot's) or, where `from` says, anywhere on a closed part.
-    std::vector<char> open_end(n, 0);
+    std::vector<char> seed(n, 0);
     uint32_t parts = 0;
     for (uint32_t i = 0; i < n; ++i)
         if (used[i]) parts = std::max(parts, b.part_of_particle[i] + 1);
     std::vector<char> open_part(parts, 0);
     for (const auto& loop : mesh::boundary_loops(b.triangles, n))
         for (uint32_t v : loop) {
-            open_end[v] = 1;
+            seed[v] = 1;
             if (b.part_of_particle[v] < open_part.size()) open_part[b.part_of_particle[v]] = 1;
         }
     if (from == WeldFrom::open_edges_and_closed_parts)
         for (uint32_t i = 0; i < n; ++i)
-            if (used[i] && b.part_of_particle[i] < open_part.size() && !open_part[b.part_of_particle[i]]) open_end[i] = 1;
+            if (used[i] && b.part_of_particle[i] < open_part.size() && !open_part[b.part_of_particle[i]]) seed[i] = 1;
     std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
     for (uint32_t i = 0; i < n; ++i)
         if (used[i]) grid[key(cell(xyz(b.particles.x[i])))].push_back(i);
     std::vector<std::pair<uint32_t, uint32_t>> pairs;
     for (uint32_t i = 0; i < n; ++i) {
-        if (!open_end[i]) continue;
+        if (!seed[i]) continue;
         const Vec3f xi = xyz(b.particles.x[i]);
         const Eigen::Vector3i c = cell(xi);
         float best = reach_of(i) * reach_of(i);
