@@ -12,7 +12,9 @@
 // static body never sleeps, being held already. Whatever acts on the body from outside (a cut, a
 // tear, a drag, a spin, a pressure ramp) wakes every piece first: sim::wake_all, called where it
 // acts. Pieces sleep one by one, not as islands: a piece that keeps creeping beside a resting
-// one would keep the island awake, and in the pile that was every island.
+// one would keep the island awake, and in the pile that was every island. Pieces joined by welds
+// (a model's parts held together: sim/weld.h) are the exception: they sleep and wake as one, since
+// a held piece would hold its end of the welds while the rest pulls on it.
 #include <cstdint>
 #include <span>
 #include <utility>
