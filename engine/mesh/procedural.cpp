@@ -1,6 +1,7 @@
 #include "mesh/procedural.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/assert.h"
@@ -112,30 +113,46 @@ TriangleMesh torus(uint32_t segments, uint32_t sides, float major, float minor) 
     return finish(std::move(m));
 }
 
-TriangleMesh box(const Vec3f& size, uint32_t divisions) {
-    PBDSPLAT_ASSERT(divisions >= 1 && (size.array() > 0.0f).all(), "box: need positive size and divisions >= 1");
+namespace {
+// An axis-aligned box from `lo` to `hi`, each face split into cells, `n[a]` along axis a.
+TriangleMesh cuboid(const Vec3f& lo, const Vec3f& hi, const std::array<int, 3>& n) {
     TriangleMesh m;
-    const Vec3f h = 0.5f * size;
+    const Vec3f size = hi - lo;
     for (int axis = 0; axis < 3; ++axis)
-        for (float side : {-1.0f, 1.0f}) {
+        for (float side : {0.0f, 1.0f}) {
             const int u = (axis + 1) % 3, v = (axis + 2) % 3;
             const uint32_t base = uint32_t(m.positions.size());
-            for (uint32_t i = 0; i <= divisions; ++i)
-                for (uint32_t j = 0; j <= divisions; ++j) {
+            for (int i = 0; i <= n[u]; ++i)
+                for (int j = 0; j <= n[v]; ++j) {
                     Vec3f p;
-                    p[axis] = side * h[axis];
-                    p[u] = -h[u] + size[u] * float(i) / float(divisions);
-                    p[v] = -h[v] + size[v] * float(j) / float(divisions);
+                    p[axis] = lo[axis] + side * size[axis];
+                    p[u] = lo[u] + size[u] * float(i) / float(n[u]);
+                    p[v] = lo[v] + size[v] * float(j) / float(n[v]);
                     m.positions.push_back(p);
                 }
-            for (uint32_t i = 0; i < divisions; ++i)
-                for (uint32_t j = 0; j < divisions; ++j) {
-                    const uint32_t a = base + i * (divisions + 1) + j, b = a + divisions + 1;
+            for (int i = 0; i < n[u]; ++i)
+                for (int j = 0; j < n[v]; ++j) {
+                    const uint32_t a = base + uint32_t(i * (n[v] + 1) + j), b = a + uint32_t(n[v] + 1);
                     m.triangles.push_back({a, b, b + 1});
                     m.triangles.push_back({a, b + 1, a + 1});
                 }
         }
     return finish(std::move(m));  // welds the shared edges; orients all faces outward
+}
+
+// The same with cells of about `cell` on each axis (at least one): a long thin box gets square
+// quads, not slivers.
+TriangleMesh cuboid(const Vec3f& lo, const Vec3f& hi, float cell) {
+    std::array<int, 3> n;
+    for (int a = 0; a < 3; ++a) n[a] = std::max(1, int(std::lround((hi[a] - lo[a]) / cell)));
+    return cuboid(lo, hi, n);
+}
+} // namespace
+
+TriangleMesh box(const Vec3f& size, uint32_t divisions) {
+    PBDSPLAT_ASSERT(divisions >= 1 && (size.array() > 0.0f).all(), "box: need positive size and divisions >= 1");
+    const int d = int(divisions);
+    return cuboid(-0.5f * size, 0.5f * size, {d, d, d});
 }
 
 TriangleMesh quadruped(uint32_t d) {
@@ -191,37 +208,6 @@ TriangleMesh quadruped(uint32_t d) {
             }
     return finish(std::move(m));  // drops the interior grid points; checks orientation
 }
-
-namespace {
-// An axis-aligned box from `lo` to `hi`, its faces split into cells of about `cell` on each
-// axis (at least one), so a long thin box has square quads, not slivers.
-TriangleMesh cuboid(const Vec3f& lo, const Vec3f& hi, float cell) {
-    TriangleMesh m;
-    const Vec3f size = hi - lo;
-    int n[3];
-    for (int a = 0; a < 3; ++a) n[a] = std::max(1, int(std::lround(size[a] / cell)));
-    for (int axis = 0; axis < 3; ++axis)
-        for (float side : {0.0f, 1.0f}) {
-            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-            const uint32_t base = uint32_t(m.positions.size());
-            for (int i = 0; i <= n[u]; ++i)
-                for (int j = 0; j <= n[v]; ++j) {
-                    Vec3f p;
-                    p[axis] = lo[axis] + side * size[axis];
-                    p[u] = lo[u] + size[u] * float(i) / float(n[u]);
-                    p[v] = lo[v] + size[v] * float(j) / float(n[v]);
-                    m.positions.push_back(p);
-                }
-            for (int i = 0; i < n[u]; ++i)
-                for (int j = 0; j < n[v]; ++j) {
-                    const uint32_t a = base + uint32_t(i * (n[v] + 1) + j), b = a + uint32_t(n[v] + 1);
-                    m.triangles.push_back({a, b, b + 1});
-                    m.triangles.push_back({a, b + 1, a + 1});
-                }
-        }
-    return finish(std::move(m));  // welds the shared edges; orients all faces outward
-}
-} // namespace
 
 TriangleMesh table(uint32_t d) {
     PBDSPLAT_ASSERT(d >= 1 && d <= 64, "table: divisions in [1, 64]");

@@ -14,26 +14,15 @@ float mean_thickness(double volume, double area) { return area > 0.0 ? float(4.0
 
 namespace {
 
-// Per part: whether every edge of it is shared by exactly two of its triangles. Each directed
-// edge of a closed, consistently wound part has its reverse in the part exactly once.
-std::vector<char> closed_parts(const mesh::TriangleMesh& m, const std::vector<uint32_t>& part, uint32_t parts) {
-    std::vector<uint64_t> forward, reverse;
-    std::vector<uint32_t> part_of_forward;
-    forward.reserve(m.triangles.size() * 3);
+// Per part: closed where none of its vertices lies on an open boundary loop.
+std::vector<char> closed_parts(const mesh::TriangleMesh& m, const std::vector<uint32_t>& part_of_triangle, uint32_t parts) {
+    std::vector<uint32_t> part_of_vertex(m.positions.size(), parts);
     for (size_t t = 0; t < m.triangles.size(); ++t)
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t a = m.triangles[t][k], b = m.triangles[t][(k + 1) % 3];
-            forward.push_back((uint64_t(a) << 32) | b);
-            reverse.push_back((uint64_t(b) << 32) | a);
-        }
-    std::vector<uint64_t> sorted = forward;
-    std::sort(sorted.begin(), sorted.end());
+        for (uint32_t v : m.triangles[t]) part_of_vertex[v] = part_of_triangle[t];
     std::vector<char> closed(parts, 1);
-    for (size_t e = 0; e < forward.size(); ++e) {
-        const auto [lo, hi] = std::equal_range(sorted.begin(), sorted.end(), reverse[e]);
-        const auto [dup_lo, dup_hi] = std::equal_range(sorted.begin(), sorted.end(), forward[e]);
-        if (hi - lo != 1 || dup_hi - dup_lo != 1) closed[part[e / 3]] = 0;
-    }
+    for (const auto& loop : mesh::boundary_loops(m))
+        for (uint32_t v : loop)
+            if (part_of_vertex[v] < parts) closed[part_of_vertex[v]] = 0;
     return closed;
 }
 
