@@ -309,7 +309,7 @@ template <class Real>
 void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch, uint32_t group, float r_ex2,
                                      std::vector<Contact>& out) {
     const bool rest_known = body.rest_positions.size() == body.particles.size();
-    const float reach = scale_.thickness + scale_.margin + scale_.slack;
+    const float reach = scale_.thickness + scale_.margin + scale_.slack + extra_reach_;
     const Eigen::AlignedBox3f& patch_box = particle_box_[patch];
     for (uint32_t q = group_start_[group]; q < group_start_[group + 1]; ++q) {
         const uint32_t t = group_triangles_[q];
@@ -356,11 +356,12 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             if (side * h_now > reach) continue;  // clear of it at the end of the sweep
             if (std::abs(h_now) >= farthest_kept(i)) continue;
             const Over now = over_triangle(now_[i], a, b, c, nrm), then = over_triangle(then_[i], a0, b0, c0, nrm0);
-            const float beside = scale_.thickness + scale_.slack;
+            const float beside = scale_.thickness + scale_.slack + extra_reach_;
             if (now.lateral > beside && then.lateral > beside) continue;  // beside it
             float thickness = nb.seam ? 0.0f : scale_.thickness;
             if (!nb.near && rest_known && !rest_gap(body, i, tk, side, thickness)) continue;
-            keep(out, {i, t, side, thickness}, std::abs(h_now) + std::min(now.lateral, then.lateral));
+            const float key = std::abs(h_now) + std::min(now.lateral, then.lateral);
+            keep(out, {i, t, side, thickness, key}, key);
         }
     }
 }
@@ -456,7 +457,7 @@ void ContactSolverT<Real>::build_patches(const SoftBodyT<Real>& body) {
 }
 
 template <class Real>
-bool ContactSolverT<Real>::candidates_hold(const SoftBodyT<Real>& body, const ContactSettings& s) {
+typename ContactSolverT<Real>::Worth ContactSolverT<Real>::candidates_hold(const SoftBodyT<Real>& body, const ContactSettings& s) {
     // The last search's candidates hold while no particle has moved half the slack since it (and
     // the topology is the same): every pair that could come within reach is among them. A body
     // at rest, or pieces resting on each other, search once in many frames.
@@ -464,17 +465,42 @@ bool ContactSolverT<Real>::candidates_hold(const SoftBodyT<Real>& body, const Co
     const size_t n = p.size();
     if (!s.enabled || n == 0 || n != anchor_.size() || body.triangles.size() != anchor_triangles_ || body.pieces != anchor_pieces_ ||
         s.self != self_)
-        return false;
+        return Worth::none;
     const float limit2 = 0.25f * scale_.slack * scale_.slack;
     away_.assign(body.pieces, 0);
     bool moved = false;
     for (size_t i = 0; i < n; ++i)
         if (!((pos3(p.x[i]) - anchor_[i]).squaredNorm() < limit2)) {
             const uint32_t k = body.piece_of_particle[i];
-            if (k >= body.pieces || s.self) return false;
+            if (k >= body.pieces || s.self) return Worth::none;
             away_[k] = 1, moved = true;
         }
-    return !moved || moved_pieces_apart(body);
+    if (!moved || moved_pieces_apart(body)) return Worth::hold;
+    // A heap of many pieces keeps a few of them rocking at any time: searching the moved ones
+    // alone costs what they hold. Past half the particles a whole search is as cheap.
+    size_t in_moved = 0;
+    for (size_t i = 0; i < n; ++i) in_moved += body.piece_of_particle[i] < body.pieces && away_[body.piece_of_particle[i]];
+    return 2 * in_moved <= n ? Worth::moved_only : Worth::none;
+}
+
+template <class Real>
+void ContactSolverT<Real>::hold_unmoved(const SoftBodyT<Real>& body) {
+    // The candidates between pieces that did not move, by the patch of their particle: each
+    // patch's are kept again as its search begins, so the nearest still win and the order is
+    // the patch order of a whole search.
+    const uint32_t patches = uint32_t(patch_start_.size() - 1);
+    const auto unmoved = [&](uint32_t piece) { return piece < away_.size() && !away_[piece]; };
+    held_start_.assign(patches + 2, 0);
+    held_.clear();
+    for (const Contact& c : contacts_) {
+        const Corners k = corners_of(body, c.triangle);
+        if (unmoved(body.piece_of_particle[c.particle]) && unmoved(k.face ? k.face->piece : body.piece_of_particle[k.ia]))
+            ++held_start_[patch_of_[c.particle] + 2], held_.push_back(c);
+    }
+    for (uint32_t g = 0; g < patches; ++g) held_start_[g + 2] += held_start_[g + 1];
+    std::vector<Contact> sorted(held_.size());
+    for (const Contact& c : held_) sorted[held_start_[patch_of_[c.particle] + 1]++] = c;
+    held_.swap(sorted);
 }
 
 template <class Real>
@@ -519,13 +545,18 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
         return;
     }
     scale_ = contact_scale(mean_rest_edge(body), s);
-    if (candidates_hold(body, s)) return;
-    contacts_.clear();
+    const Worth worth = candidates_hold(body, s);
+    if (worth == Worth::hold) return;
+    partial_ = worth == Worth::moved_only;
+    extra_reach_ = partial_ ? 0.5f * scale_.slack : 0.0f;
     seam_pairs_.clear();
-    anchor_.clear();
     stacked_ = false;
-    if (!s.enabled || n == 0 || body.triangles.empty() || !(scale_.edge > 0.0f)) return;
+    if (!s.enabled || n == 0 || body.triangles.empty() || !(scale_.edge > 0.0f)) {
+        contacts_.clear(), anchor_.clear();
+        return;
+    }
     ++searches_;
+    partial_searches_ += partial_ ? 1 : 0;
     build_faces(body);
     update_faces(p);
 
@@ -537,7 +568,7 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     // exclusion radius (a surface resting against itself, everywhere on a body at rest: that is
     // what makes the search cost next to nothing where nothing touches). So the parts of a piece
     // that never touch are those within 1 to 2.2 exclusion radii of each other at rest.
-    const float reach = scale_.thickness + scale_.margin + scale_.slack;
+    const float reach = scale_.thickness + scale_.margin + scale_.slack + extra_reach_;
     now_.resize(n), then_.resize(n);
     for (size_t i = 0; i < n; ++i) now_[i] = pos3(p.x[i]), then_[i] = pos3(p.x_prev[i]);
     self_ = s.self;
@@ -546,10 +577,17 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     for (uint32_t i : face_vertices_) on_rim_[i] = 1;
     build_seam_pairs(body);
     build_patches(body);
+    if (partial_) hold_unmoved(body);
     box_patches(body, reach);
     group_triangles(body);
     build_grid(body);
     search_pairs(body);
+    note_search(body);
+}
+
+template <class Real>
+void ContactSolverT<Real>::note_search(const SoftBodyT<Real>& body) {
+    const size_t n = body.particles.size();
     // Stacked: a piece on another's cut face, or one model on another. Not the parts of one
     // model on each other's own capped holes (a teapot's lid in its pot). A burst piece has no
     // faces (counted, the random-cut stress test's heap of burst flakes ran 150 times slower).
@@ -558,7 +596,10 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
                    const Corners k = corners_of(body, c.triangle);
                    return k.face ? k.face->cut && k.face->piece != body.piece_of_particle[c.particle] : model_[c.particle] != model_[k.ia];
                });
-    anchor_ = now_;
+    if (!partial_) anchor_ = now_;
+    else
+        for (size_t i = 0; i < n; ++i)
+            if (body.piece_of_particle[i] < body.pieces && away_[body.piece_of_particle[i]]) anchor_[i] = now_[i];
     anchor_triangles_ = body.triangles.size(), anchor_pieces_ = body.pieces;
 }
 
@@ -734,11 +775,23 @@ void ContactSolverT<Real>::search_patches(const SoftBodyT<Real>& body, uint32_t 
     const bool rest_known = body.rest_positions.size() == body.particles.size();
     c.seen.assign(groups, UINT32_MAX);
     const float r_ex2 = scale_.exclusion * scale_.exclusion;
+    const auto moved = [&](uint32_t piece) { return !partial_ || (piece < away_.size() && away_[piece]); };
+    const auto near_moved = [&](const Eigen::AlignedBox3f& box) {
+        for (uint32_t k = 0; k < away_.size(); ++k)
+            if (away_[k] && box.intersects(swept_box_[k])) return true;
+        return false;
+    };
     for (uint32_t A = first; A < last; ++A) {
+        if (partial_)
+            for (uint32_t e = held_start_[A]; e < held_start_[A + 1]; ++e) keep(c.contacts, held_[e], held_[e].key);
         if (particle_box_[A].isEmpty() || !in_play_[A]) continue;
+        // A patch of a piece that did not move meets only the moved pieces' groups anew.
+        const bool a_moved = moved(patch_piece_[A]);
+        if (!a_moved && !near_moved(particle_box_[A])) continue;
         const auto visit = [&](uint32_t B) {
             if (c.seen[B] == A) return;
             c.seen[B] = A;
+            if (!a_moved && !moved(patch_piece_[B])) return;
             if (!particle_box_[A].intersects(group_box_[B])) return;
             if (patch_piece_[A] == patch_piece_[B] && (B >= patches || !self_)) return;  // a piece's own cap closes it along its rim
             if (B < patches && patch_piece_[A] == patch_piece_[B] && rest_known && rest_box_[A].exteriorDistance(rest_box_[B]) < 0.5f * scale_.exclusion)

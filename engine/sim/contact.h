@@ -8,8 +8,10 @@
 // cut face of the piece below instead of falling into it.
 //
 // Each substep finds candidate (particle, triangle) pairs after prediction, through a hash grid
-// of the particles (keeping the last search's while no particle has moved half the slack since,
-// and none for a body of one piece without self-contact, which has nothing to meet); each
+// of the particles (keeping the last search's while no particle has moved half the slack since;
+// where some pieces have, and they hold at most half the particles, searching those pieces
+// alone against everything and keeping the rest's pairs among themselves; none for a body of
+// one piece without self-contact, which has nothing to meet); each
 // iteration then projects them as one-sided PBD constraints
 //   side * (x_p - q(a, b, c)) . n  >=  thickness
 // with Coulomb friction on the relative motion since the substep began. The side is read at the
@@ -110,6 +112,7 @@ struct Contact {
     uint32_t triangle;
     float side;
     float thickness;  // the scale's, or less where the two started closer at rest
+    float key = 0.0f; // its distance when found (height plus distance beside): the nearest are kept
 };
 
 template <class Real>
@@ -139,8 +142,10 @@ public:
     // Into how many chunks the last search split its patches (1: it ran on the calling thread).
     size_t search_chunks() const { return chunk_.size(); }
     const ContactScale& scale() const { return scale_; }
-    // Searches run (a find that kept the last candidates runs none).
+    // Searches run (a find that kept the last candidates runs none), and of them those of the
+    // moved pieces alone.
     size_t searches() const { return searches_; }
+    size_t partial_searches() const { return partial_searches_; }
     // Whether the last search found a piece within reach of another's cut face, or one model
     // within reach of another: what stacks, and needs the contact substeps.
     bool stacked() const { return stacked_; }
@@ -250,17 +255,30 @@ private:
     // False: the pair started inside each other, and is left alone.
     bool rest_gap(const SoftBodyT<Real>& body, uint32_t i, const Corners& tk, float side, float& thickness) const;
     // The steps of find(), in order.
-    // False when the last search's candidates may miss a pair; true when they hold, with the
-    // pieces that moved past the slack but lie far from every other (`away_`), whose stale
-    // candidates are dropped.
-    bool candidates_hold(const SoftBodyT<Real>& body, const ContactSettings& s);
+    // What the last search's candidates are worth now: every pair (`hold`; the pieces that moved
+    // past the slack but lie far from every other, `away_`, have their stale candidates dropped),
+    // the pairs between pieces that did not move (`moved_only`: the pieces in `away_` are searched
+    // again against everything, the rest keep their candidates among themselves), or nothing.
+    enum class Worth { hold, moved_only, none };
+    Worth candidates_hold(const SoftBodyT<Real>& body, const ContactSettings& s);
     bool moved_pieces_apart(const SoftBodyT<Real>& body);
     std::vector<uint8_t> away_;                    // per piece, from candidates_hold
+    // A search of the moved pieces alone. A pair it finds has one side where it now anchors and
+    // the other up to half the slack from its older anchor, so up to the whole slack from here:
+    // it reaches half a slack further than a full search, whose pairs are both freshly anchored.
+    bool partial_ = false;
+    float extra_reach_ = 0.0f;
+    std::vector<uint32_t> held_start_;   // per patch, CSR into held_: the candidates it keeps
+    std::vector<Contact> held_;
+    void hold_unmoved(const SoftBodyT<Real>& body);
+    void search_all(const SoftBodyT<Real>& body);
     std::vector<Eigen::AlignedBox3f> swept_box_;  // scratch: each piece's path this substep
     void box_patches(const SoftBodyT<Real>& body, float reach);
     void group_triangles(const SoftBodyT<Real>& body);
     void build_grid(const SoftBodyT<Real>& body);
     void search_pairs(const SoftBodyT<Real>& body);
+    // After a search: whether pieces are stacked, and where the searched particles anchor.
+    void note_search(const SoftBodyT<Real>& body);
     // What one chunk of the patches finds, and the groups it has visited for its current patch.
     struct ChunkScratch {
         std::vector<Contact> contacts;
@@ -306,7 +324,7 @@ private:
     void keep(std::vector<Contact>& out, const Contact& c, float distance);
     std::vector<uint32_t> cursor_;  // fill position per bucket while a counting sort fills it
     bool brute_force_ = false;
-    size_t searches_ = 0;
+    size_t searches_ = 0, partial_searches_ = 0;
     std::vector<Vec3f> anchor_;  // positions at the last search
     size_t anchor_triangles_ = 0, anchor_pieces_ = 0;
     bool self_ = false;

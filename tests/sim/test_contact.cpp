@@ -556,6 +556,54 @@ TEST_SUITE("sim/contact") {
             CHECK(a == e);
         }
     }
+    TEST_CASE("a search of the moved pieces alone keeps every pair a whole search finds") {
+        // A heap where a few pieces move while the rest rock in place: each round moves six of
+        // sixty pieces past the slack and jitters the rest well within half of it, so the search
+        // keeps the still pieces' pairs among themselves and searches the moved ones again.
+        // Over rounds a still piece's anchor ages while its neighbours' are renewed.
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+        mesh::TriangleMesh m;
+        // Balls in a grid, 2 cm apart (about the contact's thickness): each meets its neighbours.
+        for (int k = 0; k < 60; ++k)
+            mesh::append(m, mesh::icosphere(1, 0.14f), placed_at(0.3f * Vec3f(float(k % 4), float(k / 4 % 4), float(k / 16))));
+        sim::SoftBody b = separate_models(test::make_body(std::move(m), {}));
+        REQUIRE(b.pieces == 60);
+        sim::ContactSettings cs;
+        sim::ContactSolver solver;
+        for (size_t i = 0; i < b.particle_count(); ++i) b.particles.x_prev[i] = b.particles.x[i];
+        solver.find(b, cs);
+        const float slack = solver.scale().slack;
+        REQUIRE(slack > 0.0f);
+        size_t pairs = 0;
+        for (int round = 0; round < 6; ++round) {
+            std::vector<Vec3f> shift(b.pieces);
+            for (uint32_t k = 0; k < b.pieces; ++k) shift[k] = Vec3f(u(rng), u(rng), u(rng)).normalized() * (k % 10 == size_t(round) ? 1.5f * slack : 0.0f);
+            for (size_t i = 0; i < b.particle_count(); ++i) {
+                b.particles.x_prev[i] = b.particles.x[i];
+                const Vec3f jitter = Vec3f(u(rng), u(rng), u(rng)) * (0.05f * slack);  // at most 0.09 slack a round
+                b.particles.x[i] += sim::to4(Vec3f(shift[b.piece_of_particle[i]] + jitter));
+            }
+            const size_t partial_before = solver.partial_searches();
+            solver.find(b, cs);
+            CHECK(solver.partial_searches() == partial_before + 1);  // the moved pieces alone
+            sim::ContactSolver whole;
+            whole.set_brute_force(true);
+            whole.find(b, cs);
+            std::set<std::pair<uint32_t, uint32_t>> kept, wanted;
+            for (const sim::Contact& c : solver.contacts()) kept.emplace(c.particle, c.triangle);
+            // The pairs that matter now: within the thickness (a whole search reaches a slack
+            // further, for the candidates to last; the kept ones were found that far ahead).
+            for (const sim::Contact& c : whole.contacts())
+                if (c.key <= whole.scale().thickness) wanted.emplace(c.particle, c.triangle);
+            size_t missing = 0;
+            for (const auto& pair : wanted) missing += kept.count(pair) == 0;
+            CHECK(missing == 0);
+            pairs += wanted.size();
+        }
+        MESSAGE(pairs << " pairs over the rounds");
+        CHECK(pairs > 100);  // the heap touches
+    }
 }
 
 TEST_SUITE("sim/enclosure") {
