@@ -360,8 +360,7 @@ void ContactSolverT<Real>::test_pair(const SoftBodyT<Real>& body, uint32_t patch
             if (now.lateral > beside && then.lateral > beside) continue;  // beside it
             float thickness = nb.seam ? 0.0f : scale_.thickness;
             if (!nb.near && rest_known && !rest_gap(body, i, tk, side, thickness)) continue;
-            const float key = std::abs(h_now) + std::min(now.lateral, then.lateral);
-            keep(out, {i, t, side, thickness, key}, key);
+            keep(out, {i, t, side, thickness, std::abs(h_now) + std::min(now.lateral, then.lateral)});
         }
     }
 }
@@ -374,7 +373,8 @@ float ContactSolverT<Real>::farthest_kept(uint32_t i) const {
 }
 
 template <class Real>
-void ContactSolverT<Real>::keep(std::vector<Contact>& out, const Contact& c, float distance) {
+void ContactSolverT<Real>::keep(std::vector<Contact>& out, const Contact& c) {
+    const float distance = c.key;
     const size_t base = size_t(c.particle) * k_max_candidates;
     uint32_t& kept = kept_[c.particle];
     if (kept < k_max_candidates) {
@@ -498,9 +498,9 @@ void ContactSolverT<Real>::hold_unmoved(const SoftBodyT<Real>& body) {
             ++held_start_[patch_of_[c.particle] + 2], held_.push_back(c);
     }
     for (uint32_t g = 0; g < patches; ++g) held_start_[g + 2] += held_start_[g + 1];
-    std::vector<Contact> sorted(held_.size());
-    for (const Contact& c : held_) sorted[held_start_[patch_of_[c.particle] + 1]++] = c;
-    held_.swap(sorted);
+    held_sorted_.resize(held_.size());
+    for (const Contact& c : held_) held_sorted_[held_start_[patch_of_[c.particle] + 1]++] = c;
+    held_.swap(held_sorted_);
 }
 
 template <class Real>
@@ -783,7 +783,7 @@ void ContactSolverT<Real>::search_patches(const SoftBodyT<Real>& body, uint32_t 
     };
     for (uint32_t A = first; A < last; ++A) {
         if (partial_)
-            for (uint32_t e = held_start_[A]; e < held_start_[A + 1]; ++e) keep(c.contacts, held_[e], held_[e].key);
+            for (uint32_t e = held_start_[A]; e < held_start_[A + 1]; ++e) keep(c.contacts, held_[e]);
         if (particle_box_[A].isEmpty() || !in_play_[A]) continue;
         // A patch of a piece that did not move meets only the moved pieces' groups anew.
         const bool a_moved = moved(patch_piece_[A]);

@@ -269,9 +269,8 @@ private:
     bool partial_ = false;
     float extra_reach_ = 0.0f;
     std::vector<uint32_t> held_start_;   // per patch, CSR into held_: the candidates it keeps
-    std::vector<Contact> held_;
+    std::vector<Contact> held_, held_sorted_;  // the latter: scratch for sorting them by patch
     void hold_unmoved(const SoftBodyT<Real>& body);
-    void search_all(const SoftBodyT<Real>& body);
     std::vector<Eigen::AlignedBox3f> swept_box_;  // scratch: each piece's path this substep
     void box_patches(const SoftBodyT<Real>& body, float reach);
     void group_triangles(const SoftBodyT<Real>& body);
@@ -321,11 +320,12 @@ private:
     // The distance of the particle's farthest kept candidate once it has them all (else infinity):
     // a triangle whose plane is as far from it is no nearer.
     float farthest_kept(uint32_t particle) const;
-    void keep(std::vector<Contact>& out, const Contact& c, float distance);
+    // Adds `c` among its particle's candidates if it is among the k_max_candidates nearest by key.
+    void keep(std::vector<Contact>& out, const Contact& c);
     std::vector<uint32_t> cursor_;  // fill position per bucket while a counting sort fills it
     bool brute_force_ = false;
     size_t searches_ = 0, partial_searches_ = 0;
-    std::vector<Vec3f> anchor_;  // positions at the last search
+    std::vector<Vec3f> anchor_;  // per particle: where it was at the last search that searched its piece
     size_t anchor_triangles_ = 0, anchor_pieces_ = 0;
     bool self_ = false;
     bool stacked_ = false;
