@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <tuple>
 #include <unordered_map>
@@ -373,6 +374,14 @@ core::Status check_input(const TriangleMesh& m, const std::string& name) {
     return core::Status::success();
 }
 
+std::string largest_coordinate(const TriangleMesh& m) {
+    float largest = 0.0f;
+    for (const Vec3f& p : m.positions) largest = std::max(largest, p.cwiseAbs().maxCoeff());
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", double(largest));
+    return text;
+}
+
 } // namespace
 
 std::string RepairReport::summary() const {
@@ -396,6 +405,9 @@ core::Result<RepairedMesh> repair(TriangleMesh m, const RepairOptions& options, 
     // Only vertices that triangles use define the scale (the bunny has stray ones).
     r.unreferenced_vertices = drop_unreferenced(m);
     const float diag = bounds(m).diagonal();
+    if (std::isinf(diag))  // each coordinate is finite (check_input) but the extent is not a float
+        return core::make_error(name, 0, "the mesh's extent overflows single precision (coordinates near " + largest_coordinate(m) +
+                                             "): scale the model down before loading it");
     if (!(diag > 0.0f)) return core::make_error(name, 0, "all vertices coincide: the mesh has no extent");
     r.welded_vertices = weld(m, options.weld_tolerance * diag);
     drop_bad_triangles(m, diag, r);

@@ -411,6 +411,8 @@ if(NOT EXISTS "${WORK_DIR}/out/tetra.png" OR NOT EXISTS "${WORK_DIR}/out/tetra.t
   math(EXPR failures "${failures} + 1")
 endif()
 expect("the saved scene validates" 0 validate-scene out/tetra.toml)
+expect("validate-scene on a model file" 0 validate-scene out/tetra.dat)
+expect_contains("validate-scene on a model file" "${last_out}" "ok: out/tetra.dat")
 expect("info on a model" 0 info out/tetra.dat --json)
 expect_contains("info on a model" "${last_out}" "\"vertex_colors\":true")
 expect("info on a scene" 1 info "${SCENES_DIR}/sorted.toml")

@@ -116,6 +116,13 @@ TEST_SUITE("mesh/repair") {
         CHECK_FALSE(mesh::repair(mesh::TriangleMesh{}, {}, "empty.obj").ok());
         flat.positions[1].x() = std::nanf("");
         CHECK(mesh::repair(flat, {}, "nan.obj").error().to_string() == "nan.obj: vertex 2 has a non-finite coordinate");
+        // Finite coordinates whose extent a float cannot hold: said so, not called degenerate.
+        mesh::TriangleMesh huge = mesh::icosphere(0, 1e30f);
+        auto h = mesh::repair(huge, {}, "huge.obj");
+        REQUIRE_FALSE(h.ok());
+        INFO(h.error().to_string());
+        CHECK(h.error().to_string().find("huge.obj: the mesh's extent overflows single precision (coordinates near 8.51e+29)") == 0);
+        CHECK(mesh::repair(mesh::icosphere(0, 1e10f), {}, "large.obj").ok());
     }
 
     TEST_CASE("centre and fit") {
