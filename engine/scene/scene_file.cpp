@@ -13,6 +13,7 @@
 #include <toml++/toml.h>
 
 #include "scene/check_figures.h"
+#include "scene/key_hints.h"
 #include "scene/scene_keys.h"
 
 #include "asset/mesh_spec.h"
@@ -43,9 +44,13 @@ public:
         Table(const Reader& r, const toml::table& t, std::string path) : r_(r), t_(t), path_(std::move(path)) {}
         ~Table() = default;
 
-        bool has(const std::string& key) const { return t_.contains(key); }
+        bool has(const std::string& key) const {
+            known_.insert(key);
+            return t_.contains(key);
+        }
         const toml::node* node(const std::string& key) {
             used_.insert(key);
+            known_.insert(key);
             return t_.get(key);
         }
         std::string where(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
@@ -154,7 +159,8 @@ public:
         void finish() const {
             for (const auto& [k, v] : t_)
                 if (!used_.count(std::string(k.str())))
-                    r_.fail(k.source().begin.line ? k.source() : v.source(), "unknown key '" + where(std::string(k.str())) + "'");
+                    r_.fail(k.source().begin.line ? k.source() : v.source(),
+                            "unknown key '" + where(std::string(k.str())) + "'" + unknown_key_hint(k.str(), known_, path_));
         }
         const toml::table& raw() const { return t_; }
         const toml::source_region& source_of(const std::string& key) const { return t_.get(key)->source(); }
@@ -169,6 +175,8 @@ public:
         const toml::table& t_;
         std::string path_;
         std::set<std::string> used_;
+        // Every key looked up, read or only asked about: what a misspelt key is compared with.
+        mutable std::set<std::string> known_;
     };
 
 private:

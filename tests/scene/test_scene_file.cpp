@@ -506,7 +506,7 @@ TEST_SUITE("scene/scene_file") {
     }
 
     TEST_CASE("malformed scenes are refused with file, line and column") {
-        CHECK(refusal("[model]\nmesh = \"icosphere:3\"\ncolour = 1\n") == "bad.toml:3:1: unknown key 'model.colour'");
+        CHECK(refusal("[model]\nmesh = \"icosphere:3\"\ncolour = 1\n") == "bad.toml:3:1: unknown key 'model.colour' (did you mean 'color'?)");
         CHECK(refusal("[simulation]\niterations = \"five\"\n") == "bad.toml:2:14: 'simulation.iterations' must be a whole number");
         CHECK(refusal("[simulation]\n  dt = 2.0\n") == "bad.toml:2:8: 'simulation.dt' = 2 is out of range [0.001, 0.1]");
         CHECK(refusal("[render]\nblend = \"multiply\"\n") == "bad.toml:2:9: 'render.blend' must be one of over, additive, normalised, not 'multiply'");
@@ -531,9 +531,24 @@ TEST_SUITE("scene/scene_file") {
         // The density control's internals live in [advanced]; where they used to be, a pointer.
         CHECK(refusal("[surface]\ndensity_grow = 1.2\n") ==
               "bad.toml:2:16: 'surface.density_grow' is one of the density control's internals: it belongs in the [advanced] table");
-        CHECK(refusal("frames = 10\n") == "bad.toml:1:1: unknown key 'frames'");
+        CHECK(refusal("frames = 10\n") == "bad.toml:1:1: unknown key 'frames' (a key of [expect])");
         CHECK(refusal("[render.camera]\npath = [{ time = 2, eye = [0, 0, 3] }, { time = 1, eye = [0, 0, 4] }]\n")
                   .find("bad.toml:2:40: camera path keys must be in increasing time") == 0);
+    }
+
+    TEST_CASE("an unknown key says what was probably meant") {
+        // A near spelling of a key its own table reads: case, dashes, a letter dropped or swapped.
+        CHECK(refusal("[simulation]\niteration = 5\n") == "bad.toml:2:1: unknown key 'simulation.iteration' (did you mean 'iterations'?)");
+        CHECK(refusal("[material]\nSplat-Scale = 1\n") == "bad.toml:2:1: unknown key 'material.Splat-Scale' (did you mean 'splat_scale'?)");
+        CHECK(refusal("[simulation]\ngarvity = [0, 0, 0]\n").find("(did you mean 'gravity'?)") != std::string::npos);
+        CHECK(refusal("[[events]]\ntime = 1\ntype = \"drag\"\nfrom = [0, 0, 0]\nto = [0, 1, 0]\nduraton = 2\n")
+                  .find("unknown key 'events.duraton' (did you mean 'duration'?)") != std::string::npos);
+        // The right name in the wrong table.
+        CHECK(refusal("[[colliders]]\ntype = \"sphere\"\n") == "bad.toml:1:3: unknown key 'colliders' (a key of [simulation])");
+        CHECK(refusal("[simulation]\neta = 0.5\n") == "bad.toml:2:1: unknown key 'simulation.eta' (a key of [surface])");
+        CHECK(refusal("[render]\nfriction = 1\n") == "bad.toml:2:1: unknown key 'render.friction' (a key of [simulation])");
+        // Nothing near: no guess.
+        CHECK(refusal("[render]\nwobble = 1\n") == "bad.toml:2:1: unknown key 'render.wobble'");
     }
 
     TEST_CASE("every scene in scenes/ validates, and states what it shows in an [expect] table over a timeline") {
