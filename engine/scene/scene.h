@@ -45,6 +45,7 @@ struct BodyDesc {
     ModelDesc model;
     std::optional<Vec3f> color;      // linear rgb; the material's colour without it
     std::optional<uint32_t> particles;  // its simulation size, as simulation.particles says for [model]
+    std::optional<float> mass;          // kg, its own total; else its area's share of simulation.mass
 };
 
 enum class SurfaceMode { boundary, vertices };
@@ -238,10 +239,11 @@ struct Scene {
     std::string name;        // file stem, or "default"
     std::string source_dir;  // directory of the scene file (models are looked up there first)
     ModelDesc model;
-    // [model]'s own colour and simulation size where it names them as a body does; a scene of
+    // [model]'s own colour, simulation size and mass where it names them as a body does; a scene of
     // [[bodies]] alone takes its first body as [model] with them.
     std::optional<Vec3f> model_color;
     std::optional<uint32_t> model_particles;
+    std::optional<float> model_mass;
     std::vector<BodyDesc> bodies;  // beside `model`
     MaterialDesc material;
     SurfaceDesc surface;

@@ -216,6 +216,7 @@ void read_model(const Reader& r, Reader::Table& t, Scene& scene) {
     check_mesh(t, scene.model);
     if (t.has("color")) scene.model_color = t.vec<3>("color", Vec3f::Ones(), 0.0, 1.0);
     if (t.has("particles")) scene.model_particles = t.count("particles", 0, 0, 10'000'000);
+    if (t.has("mass")) scene.model_mass = t.real("mass", 1.0f, 1e-6, 1e6);
     (void)r;
     t.finish();
 }
@@ -228,6 +229,7 @@ void settle_models(bool model_given, Scene& scene) {
         scene.model = std::move(first.model);
         scene.model_color = first.color;
         scene.model_particles = first.particles;
+        scene.model_mass = first.mass;
         scene.bodies.erase(scene.bodies.begin());
     }
     if (scene.bodies.empty() && scene.model_color) {
@@ -245,6 +247,7 @@ BodyDesc read_body(const Reader& r, const toml::node& n) {
     check_mesh(t, b.model);
     if (t.has("color")) b.color = t.vec<3>("color", Vec3f::Ones(), 0.0, 1.0);
     if (t.has("particles")) b.particles = t.count("particles", 0, 0, 10'000'000);
+    if (t.has("mass")) b.mass = t.real("mass", 1.0f, 1e-6, 1e6);
     t.finish();
     return b;
 }

@@ -78,12 +78,14 @@ void write_model_material_surface(std::ostream& o, const Scene& sc) {
     write_up(o, sc.model);
     if (const auto& c = sc.model_color) o << "color = [" << num(c->x()) << ", " << num(c->y()) << ", " << num(c->z()) << "]\n";
     if (sc.model_particles) o << "particles = " << *sc.model_particles << "\n";
+    if (sc.model_mass) o << "mass = " << num(*sc.model_mass) << "\n";
     for (const BodyDesc& b : sc.bodies) {
         o << "\n[[bodies]]\n";
         write_keys<ModelDesc>(o, b.model, k_model_keys);
         write_up(o, b.model);
         if (b.color) o << "color = [" << num(b.color->x()) << ", " << num(b.color->y()) << ", " << num(b.color->z()) << "]\n";
         if (b.particles) o << "particles = " << *b.particles << "\n";
+        if (b.mass) o << "mass = " << num(*b.mass) << "\n";
     }
     o << "\n[material]\n";
     write_keys<MaterialDesc>(o, sc.material, k_material_keys);

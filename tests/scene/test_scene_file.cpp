@@ -36,6 +36,7 @@ velocity = [0.5, 0.0, 0.0]
 static = true
 color = [0.3, 0.6, 0.9]
 particles = 0
+mass = 2.5
 
 [[bodies]]
 mesh = "box:2"
@@ -49,6 +50,7 @@ velocity = [0.0, -1.0, 0.0]
 static = true
 color = [0.1, 0.2, 0.3]
 particles = 300
+mass = 0.75
 
 [material]
 color = [0.2, 0.6, 0.9]
