@@ -194,36 +194,6 @@ void warn_crossing_models(const Scene& scene, const sim::SoftBody& b) {
 }
 
 // A model placed partly below the ground plane is pushed out of it on the first step, and leaps.
-// Past this ratio of two models' mean particle masses contact is said to give way (measured below).
-constexpr double k_contact_mass_ratio_warning = 10.0;
-
-// Position-based contact splits each correction by the particles' inverse masses, so where one
-// model's particles outweigh another's many times, the light side takes nearly all of it and
-// its own constraints cannot hold the weight within the iterations: a 20 kg ball on a 0.5 kg box
-// (24x a particle) sank into it and both slid away; at 6x a stiff pair rested, a soft one
-// (shape_stiffness 0.3) sank 2 spacings deep. A light body on a heavy one is unharmed.
-void warn_mass_ratio(const Scene& scene, const sim::SoftBody& b) {
-    // Only where the scene names masses: shares by area weigh a large body's particles more too
-    // (the pile's box on the ground 27x a quadruped's), but it is the user's choice that is told.
-    const bool named = scene.model_mass || std::any_of(scene.bodies.begin(), scene.bodies.end(), [](const BodyDesc& d) { return d.mass.has_value(); });
-    if (scene.bodies.empty() || !named) return;
-    std::vector<double> mass(scene.bodies.size() + 1, 0.0);
-    std::vector<size_t> moving(mass.size(), 0);
-    for (size_t i = 0; i < b.particle_count(); ++i)
-        if (b.particles.w[i] > 0.0f) mass[b.model_of_particle[i]] += 1.0 / double(b.particles.w[i]), ++moving[b.model_of_particle[i]];
-    size_t light = mass.size(), heavy = mass.size();
-    for (size_t m = 0; m < mass.size(); ++m) {
-        if (!moving[m]) continue;
-        mass[m] /= double(moving[m]);
-        if (light == mass.size() || mass[m] < mass[light]) light = m;
-        if (heavy == mass.size() || mass[m] > mass[heavy]) heavy = m;
-    }
-    if (light == mass.size() || !(mass[heavy] > k_contact_mass_ratio_warning * mass[light])) return;
-    std::fprintf(stderr, "warning: scene '%s': a particle of %s weighs %.0fx one of %s; resting on it, the heavier sinks in past about %.0fx: set their masses closer or give the light one more particles\n",
-                 scene.name.c_str(), model_name(scene, heavy).c_str(), mass[heavy] / mass[light], model_name(scene, light).c_str(),
-                 double(k_contact_mass_ratio_warning));
-}
-
 void warn_below_ground(const Scene& scene, const sim::SoftBody& b) {
     const std::optional<sim::GroundPlane>& ground = scene.simulation.colliders.ground;
     if (!ground || b.particle_count() == 0) return;
@@ -360,7 +330,6 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     place_bodies(scene, out.part_start, b);
     warn_crossing_models(scene, b);
     warn_below_ground(scene, b);
-    warn_mass_ratio(scene, b);
     out.substeps = choose_substeps(scene, b);
     warn_coarse_step(scene, b, out.substeps);
     // A model's parts that touch at rest (a teapot's spout on its body) hold together: within an

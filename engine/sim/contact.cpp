@@ -205,7 +205,7 @@ void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSet
                 if (C < 0.0f && -C <= scale_.edge && (d - C * nu).squaredNorm() <= reach2) {
                     const float overlap = std::max(0.0f, -(pos3(p.x_prev[sp.a]) - pos3(p.x_prev[sp.b])).dot(nu));
                     note_push(body, sp.a, {sp.b, sp.b, sp.b}, -C);
-                    separate(p, s, sp.a, {sp.b, sp.b, sp.b}, {1.0f, 0.0f, 0.0f}, sd, nu, -C, std::min(overlap, -C));
+                    separate(p, s, sp.a, {sp.b, sp.b, sp.b}, {1.0f, 0.0f, 0.0f}, sd, nu, -C, std::min(overlap, -C), lift(body, sp.a, sp.b));
                 }
                 continue;
             }
@@ -213,14 +213,16 @@ void ContactSolverT<Real>::project_seams(SoftBodyT<Real>& body, const ContactSet
         const Vec4<Real> n = to4<Real>(Vec3f(nf / len));
         const Vec4<Real> d = p.x[sp.a] - p.x[sp.b];
         const Real C = d.dot(n);
-        const Real w = p.w[sp.a] + p.w[sp.b];
+        const Lift l = lift(body, sp.a, sp.b);
+        const Real wa = Real(l.particle) * p.w[sp.a], wb = Real(l.surface) * p.w[sp.b];
+        const Real w = wa + wb;
         if (C >= Real(0) || !(w > Real(0)) || float(-C) > scale_.edge) continue;
         if (float((d - C * n).squaredNorm()) > reach2) continue;
         const Real depth = -C;
         note_push(body, sp.a, {sp.b, sp.b, sp.b}, float(depth));
         const auto apply = [&](const Vec4<Real>& v) {
-            p.x[sp.a] += p.w[sp.a] * v;
-            p.x[sp.b] -= p.w[sp.b] * v;
+            p.x[sp.a] += wa * v;
+            p.x[sp.b] -= wb * v;
         };
         apply((depth / w) * n);
         // Coulomb friction on their relative motion since the substep began, as for contacts.
@@ -535,6 +537,7 @@ void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettin
     const size_t n = p.size();
     rigid_.map(body.shapes, p.w);
     rigid_ready_ = false;
+    heights_ready_ = false;
     // One piece without self-contact has nothing to meet (its own cap faces close it along its
     // rim), so a body alone pays for no search; its loops' faces are still made as they appear,
     // since a face keeps the shape it had then.
@@ -846,27 +849,29 @@ typename ContactSolverT<Real>::Sides ContactSolverT<Real>::sides_of(uint32_t i, 
 
 template <class Real>
 void ContactSolverT<Real>::separate(ParticlesT<Real>& p, const ContactSettings& s, uint32_t i, const std::array<uint32_t, 3>& k,
-                                    const std::array<float, 3>& u, Sides sd, const Vec3f& n, float depth, float overlap) {
+                                    const std::array<float, 3>& u, Sides sd, const Vec3f& n, float depth, float overlap, Lift lift) {
     constexpr uint32_t none = RigidResponseT<Real>::k_none;
     const Vec3f xi = pos3(p.x[i]);
     Vec3f q = Vec3f::Zero();
     for (int j = 0; j < 3; ++j)
         if (u[j] != 0.0f) q += u[j] * pos3(p.x[k[j]]);
     const auto inverse_mass = [&](const Vec3f& dir) {
-        float w = sd.particle != none ? rigid_.inverse_mass(sd.particle, xi, dir) : float(p.w[i]);
-        if (sd.surface != none) return w + rigid_.inverse_mass(sd.surface, q, dir);
-        for (int j = 0; j < 3; ++j) w += u[j] * u[j] * float(p.w[k[j]]);
+        float w = lift.particle * (sd.particle != none ? rigid_.inverse_mass(sd.particle, xi, dir) : float(p.w[i]));
+        if (sd.surface != none) return w + lift.surface * rigid_.inverse_mass(sd.surface, q, dir);
+        for (int j = 0; j < 3; ++j) w += lift.surface * u[j] * u[j] * float(p.w[k[j]]);
         return w;
     };
     // `impulse` on the particle, its opposite on the surface point.
     const auto move = [&](const Vec3f& impulse, bool vote, float settle) {
-        const Vec4<Real> j4 = to4<Real>(impulse), s4 = to4<Real>(settle * impulse);
-        if (sd.particle != none) rigid_.push(sd.particle, xi, impulse, vote, settle);
+        const Vec3f up_side = lift.particle * impulse, down_side = lift.surface * impulse;
+        const Vec4<Real> j4 = to4<Real>(up_side), s4 = to4<Real>(settle * up_side);
+        if (sd.particle != none) rigid_.push(sd.particle, xi, up_side, vote, settle);
         else p.x[i] += p.w[i] * j4, p.x_prev[i] += p.w[i] * s4;
-        if (sd.surface != none) rigid_.push(sd.surface, q, -impulse, vote, settle);
+        const Vec4<Real> k4 = to4<Real>(down_side), t4 = to4<Real>(settle * down_side);
+        if (sd.surface != none) rigid_.push(sd.surface, q, -down_side, vote, settle);
         else
             for (int j = 0; j < 3; ++j)
-                if (u[j] != 0.0f) p.x[k[j]] -= (p.w[k[j]] * Real(u[j])) * j4, p.x_prev[k[j]] -= (p.w[k[j]] * Real(u[j])) * s4;
+                if (u[j] != 0.0f) p.x[k[j]] -= (p.w[k[j]] * Real(u[j])) * k4, p.x_prev[k[j]] -= (p.w[k[j]] * Real(u[j])) * t4;
     };
     const float denom = inverse_mass(n);
     if (!(denom > 0.0f)) return;
@@ -885,6 +890,42 @@ void ContactSolverT<Real>::separate(ParticlesT<Real>& p, const ContactSettings& 
 }
 
 template <class Real>
+void ContactSolverT<Real>::take_heights(const SoftBodyT<Real>& body) {
+    heights_ready_ = true;
+    piece_height_.assign(body.pieces, 0.0f);
+    piece_weight_.assign(body.pieces, 0.0f);
+    if (up_.isZero()) return;
+    std::vector<uint32_t> count(body.pieces, 0);
+    std::vector<uint8_t> pinned(body.pieces, 0);
+    for (size_t i = 0; i < body.particles.size(); ++i) {
+        const uint32_t piece = body.piece_of_particle[i];
+        if (piece >= body.pieces) continue;
+        const float w = float(body.particles.w[i]);
+        piece_height_[piece] += pos3(body.particles.x[i]).dot(up_), ++count[piece];
+        if (w > 0.0f) piece_weight_[piece] += 1.0f / w;
+        else pinned[piece] = 1;
+    }
+    for (uint32_t k = 0; k < body.pieces; ++k) {
+        if (count[k]) piece_height_[k] /= float(count[k]), piece_weight_[k] /= float(count[k]);
+        if (pinned[k]) piece_weight_[k] = 0.0f;
+    }
+}
+
+template <class Real>
+typename ContactSolverT<Real>::Lift ContactSolverT<Real>::lift(const SoftBodyT<Real>& body, uint32_t particle, uint32_t corner) const {
+    if (up_.isZero()) return {};
+    const uint32_t a = body.piece_of_particle[particle], b = body.piece_of_particle[corner];
+    if (a == b || a >= piece_height_.size() || b >= piece_height_.size()) return {};
+    const float mp = piece_weight_[a], ms = piece_weight_[b];
+    if (!(mp > 0.0f && ms > 0.0f)) return {};
+    const float d = std::clamp((piece_height_[a] - piece_height_[b]) / (k_lift_span * scale_.edge), -1.0f, 1.0f);
+    Lift out;
+    if (d > 0.0f && mp > ms) out.surface = std::pow(ms / mp, d);
+    if (d < 0.0f && ms > mp) out.particle = std::pow(mp / ms, -d);
+    return out;
+}
+
+template <class Real>
 void ContactSolverT<Real>::note_push(const SoftBodyT<Real>& body, uint32_t i, const std::array<uint32_t, 3>& k, float depth) {
     const float thickness = scale_.thickness;
     const SleepState& st = body.sleep;
@@ -898,7 +939,7 @@ void ContactSolverT<Real>::note_push(const SoftBodyT<Real>& body, uint32_t i, co
 
 template <class Real>
 float ContactSolverT<Real>::project_rigid(ParticlesT<Real>& p, const ContactSettings& s, const Contact& ct,
-                                          const std::array<uint32_t, 3>& k, Sides sd) {
+                                          const std::array<uint32_t, 3>& k, Sides sd, Lift lift) {
     const Vec3f xi = pos3(p.x[ct.particle]);
     const Vec3f a = pos3(p.x[k[0]]), b = pos3(p.x[k[1]]), c = pos3(p.x[k[2]]);
     const Vec3f nf = unit_normal(a, b, c);
@@ -910,7 +951,7 @@ float ContactSolverT<Real>::project_rigid(ParticlesT<Real>& p, const ContactSett
     // How far inside the thickness it lay when the substep began, over the triangle's plane then.
     const Vec3f a0 = pos3(p.x_prev[k[0]]), n0 = unit_normal(a0, pos3(p.x_prev[k[1]]), pos3(p.x_prev[k[2]]));
     const float overlap = n0.isZero() ? 0.0f : std::max(0.0f, ct.thickness - ct.side * (pos3(p.x_prev[ct.particle]) - a0).dot(n0));
-    separate(p, s, ct.particle, k, {o.wa, o.wb, o.wc}, sd, ct.side * nf, -C, std::min(overlap, -C));
+    separate(p, s, ct.particle, k, {o.wa, o.wb, o.wc}, sd, ct.side * nf, -C, std::min(overlap, -C), lift);
     return -C;
 }
 
@@ -920,6 +961,7 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
     ParticlesT<Real>& p = body.particles;
     const bool rigid = stiff_bodies && rigid_.any();
     if (rigid && !rigid_ready_) touch_clusters(body), rigid_.begin(body.shapes, p, touch_), rigid_ready_ = true;
+    if (!heights_ready_) take_heights(body);
     update_faces(p);
     project_seams(body, s, rigid);
     for (const Contact& ct : contacts_) {
@@ -928,13 +970,15 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
         const uint32_t ia = ck.ia, ib = ck.ib, ic = ck.ic;
         if (rigid) {
             if (const Sides sd = pair_sides_[size_t(&ct - contacts_.data())]; sd.any()) {
-                note_push(body, i, {ia, ib, ic}, project_rigid(p, s, ct, {ia, ib, ic}, sd));
+                note_push(body, i, {ia, ib, ic}, project_rigid(p, s, ct, {ia, ib, ic}, sd, lift(body, i, ia)));
                 continue;
             }
         }
         const Vec4<Real>& xa = p.x[ia];
 
-        const Real wa = p.w[ia];
+        const Lift l = lift(body, i, ia);
+        const Real up_w = Real(l.particle), down_w = Real(l.surface);
+        const Real wp = up_w * p.w[i], wa = down_w * p.w[ia], wb = down_w * p.w[ib], wc = down_w * p.w[ic];
         const Vec3f a = pos3(xa), b = pos3(p.x[ib]), c = pos3(p.x[ic]);
         const Vec3f nf = unit_normal(a, b, c);
         if (nf.isZero()) continue;
@@ -950,15 +994,15 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
         const Real C = side * Real(o.height) - Real(ct.thickness);
         if (C >= Real(0)) continue;
         const Real ua = Real(o.wa), ub = Real(o.wb), uc = Real(o.wc);
-        const Real denom = p.w[i] + ua * ua * wa + ub * ub * p.w[ib] + uc * uc * p.w[ic];
+        const Real denom = wp + ua * ua * wa + ub * ub * wb + uc * uc * wc;
         if (!(denom > Real(0))) continue;
         const Vec4<Real> n = side * to4<Real>(nf);
         // Moves the particle by wp * d and each corner by -w * weight * d.
         const auto apply = [&](const Vec4<Real>& d) {
-            p.x[i] += p.w[i] * d;
+            p.x[i] += wp * d;
             p.x[ia] -= wa * ua * d;
-            p.x[ib] -= p.w[ib] * ub * d;
-            p.x[ic] -= p.w[ic] * uc * d;
+            p.x[ib] -= wb * ub * d;
+            p.x[ic] -= wc * uc * d;
         };
         const Real depth = -C;
         note_push(body, i, {ia, ib, ic}, float(depth));

@@ -139,6 +139,8 @@ public:
     // Threads for the search (the caller's pool; null: the calling thread alone). The candidates
     // do not depend on it.
     void set_pool(core::ThreadPool* pool) { pool_ = pool; }
+    // Which way is up (against gravity; zero: no stacks).
+    void set_up(const Vec3f& up) { up_ = up; }
     // Into how many chunks the last search split its patches (1: it ran on the calling thread).
     size_t search_chunks() const { return chunk_.size(); }
     const ContactScale& scale() const { return scale_; }
@@ -179,16 +181,35 @@ private:
     };
     Sides sides_of(uint32_t i, const std::array<uint32_t, 3>& corners) const;
     std::vector<Sides> pair_sides_;
+    // A heavy piece on a light one. Each pair's correction is split by inverse mass, so where the
+    // upper piece's particles weigh many times the lower's, the lower takes nearly all of it and
+    // its own constraints, a fraction of the way each iteration, cannot carry the weight: a 20 kg
+    // ball on a 0.5 kg box (24x a particle) sank into it and both slid off. In such a pair the
+    // lower side's inverse mass is scaled down toward the upper's, fully once their pieces' centres
+    // lie k_lift_span edges apart along up_ (so side by side, nothing changes, and a collision
+    // between equals keeps its momentum): the 24x ball and a 600x one rest on the box (penetration
+    // 0, asleep). A light piece on a heavy one, or pieces of like weight (a cut's), are unchanged.
+    struct Lift {
+        float particle = 1.0f, surface = 1.0f;  // scales on the two sides' inverse masses
+    };
+    static constexpr float k_lift_span = 2.0f;
     // Pushes particle i `depth` along the unit `n` off the point of weights `u` on `corners`, each
     // side alone or with its cluster, then Coulomb friction on their relative motion since the
     // substep began. Of the depth, `overlap` was there when the substep began (two sides a cut
     // just made, lying on each other within the thickness): it is taken out of the start
     // positions too. Pushed out as motion, it flung a cut bunny's hindquarters off at 2 m/s.
     void separate(ParticlesT<Real>& p, const ContactSettings& s, uint32_t i, const std::array<uint32_t, 3>& corners,
-                  const std::array<float, 3>& u, Sides sides, const Vec3f& n, float depth, float overlap);
+                  const std::array<float, 3>& u, Sides sides, const Vec3f& n, float depth, float overlap, Lift lift);
     // A candidate of which a side answers with its cluster.
     // Returns the depth it pushed out (0: none).
-    float project_rigid(ParticlesT<Real>& p, const ContactSettings& s, const Contact& ct, const std::array<uint32_t, 3>& corners, Sides sides);
+    float project_rigid(ParticlesT<Real>& p, const ContactSettings& s, const Contact& ct, const std::array<uint32_t, 3>& corners, Sides sides,
+                        Lift lift);
+    Vec3f up_ = Vec3f::Zero();
+    std::vector<float> piece_height_;  // each piece's mean height along up_, this substep
+    std::vector<float> piece_weight_;  // its particles' mean mass (0: it holds a pinned one)
+    bool heights_ready_ = false;
+    void take_heights(const SoftBodyT<Real>& body);
+    Lift lift(const SoftBodyT<Real>& body, uint32_t particle, uint32_t corner) const;
     std::vector<uint32_t> pressed_sleepers_;
     // A push `depth` deep between particle i and `corners`: a sleeping side pressed past the
     // scale's thickness (not the pair's, which is 0 across a cut) joins pressed_sleepers_.

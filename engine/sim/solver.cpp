@@ -186,6 +186,8 @@ void SolverT<Real>::collide(BodyStateT<Real>& state, const Colliders& colliders)
 
 template <class Real>
 void SolverT<Real>::find_contacts(SoftBodyT<Real>& body, const SolverSettings& s) {
+    const float g = s.gravity.norm();
+    contact_.set_up(g > 0.0f ? Vec3f(-s.gravity / g) : Vec3f::Zero());
     contact_.find(body, s.contact);
     folds_.find(body, s.contact, s.shape_stiffness >= k_rigid_response_stiffness);
     // The pieces that meet another: the volume pass leaves their net impulse where it falls.
