@@ -1,36 +1,14 @@
 #include "scene/key_hints.h"
 
 #include <algorithm>
-#include <cctype>
 #include <vector>
+
+#include "core/spelling.h"
 
 #include "scene/scene_keys.h"
 
 namespace pbdsplat::scene {
 namespace {
-
-// Lower case, '-' and ' ' as '_': "Splat-Scale" is plainly splat_scale.
-std::string folded(std::string_view s) {
-    std::string out(s);
-    for (char& c : out) {
-        c = char(std::tolower(static_cast<unsigned char>(c)));
-        if (c == '-' || c == ' ') c = '_';
-    }
-    return out;
-}
-
-// Edits (insert, delete, substitute, swap two neighbours) from a to b.
-size_t edit_distance(std::string_view a, std::string_view b) {
-    std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
-    for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-    for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
-    for (size_t i = 1; i <= a.size(); ++i)
-        for (size_t j = 1; j <= b.size(); ++j) {
-            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-        }
-    return d[a.size()][b.size()];
-}
 
 struct Section {
     const char* path;
@@ -67,21 +45,13 @@ const std::vector<Section>& sections() {
 } // namespace
 
 std::string unknown_key_hint(std::string_view key, const std::set<std::string>& asked, std::string_view path) {
-    const std::string k = folded(key);
-    // A typo: one edit in a short name, two in a longer one, the nearest first.
-    const size_t allowed = k.size() < 5 ? 1 : 2;
-    std::string best;
-    size_t best_distance = allowed + 1;
-    for (const std::string& a : asked) {
-        const size_t d = edit_distance(k, a);
-        if (d < best_distance) best_distance = d, best = a;
-    }
-    if (!best.empty()) return " (did you mean '" + best + "'?)";
+    const std::vector<std::string> known(asked.begin(), asked.end());
+    if (const auto near = core::nearest_spelling(key, known)) return " (did you mean '" + *near + "'?)";
     // The right name in the wrong table.
     std::string where;
     for (const Section& s : sections()) {
         if (s.path == path) continue;
-        if (std::find(s.keys.begin(), s.keys.end(), k) != s.keys.end())
+        if (std::find(s.keys.begin(), s.keys.end(), key) != s.keys.end())
             where += std::string(where.empty() ? "" : " or ") + "[" + s.path + "]";
     }
     return where.empty() ? std::string() : " (a key of " + where + ")";

@@ -1,6 +1,8 @@
 #include <cstdio>
 
 #include "pbdsplat/bench_suites.h"
+
+#include "core/spelling.h"
 #include "pbdsplat/commands.h"
 
 namespace pbdsplat::cli {
@@ -33,7 +35,11 @@ int cmd_bench(const std::vector<std::string>& argv) {
     const std::vector<std::string> rest(argv.begin() + 1, argv.end());
     for (const BenchSuite* s : k_suites)
         if (argv[0] == s->name) return run_bench(*s, rest);
-    return usage_error("bench", "unknown suite '" + argv[0] + "' (see pbdsplat bench --help)");
+    std::vector<std::string> names;
+    for (const BenchSuite* s : k_suites) names.emplace_back(s->name);
+    const auto near = core::nearest_spelling(argv[0], names);
+    return usage_error("bench", "unknown suite '" + argv[0] + "'" + (near ? "; did you mean '" + *near + "'?" : std::string()) +
+                                    " (see pbdsplat bench --help)");
 }
 
 } // namespace pbdsplat::cli

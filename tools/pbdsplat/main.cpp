@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/spelling.h"
 #include "pbdsplat/commands.h"
 #include "pbdsplat/progress.h"
 
@@ -69,6 +70,10 @@ int main(int argc, char** argv) {
     }
     for (const Command& c : k_commands)
         if (std::strcmp(argv[1], c.name) == 0) return c.run(args);
-    std::fprintf(stderr, "pbdsplat: unknown command '%s' (see pbdsplat --help)\n", argv[1]);
+    std::vector<std::string> names;
+    for (const Command& c : k_commands) names.emplace_back(c.name);
+    const auto near = pbdsplat::core::nearest_spelling(argv[1], names);
+    std::fprintf(stderr, "pbdsplat: unknown command '%s'%s (see pbdsplat --help)\n", argv[1],
+                 near ? ("; did you mean '" + *near + "'?").c_str() : "");
     return 2;
 }

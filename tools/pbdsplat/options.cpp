@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "core/result.h"
+#include "core/spelling.h"
 
 namespace pbdsplat::cli {
 
@@ -82,6 +83,14 @@ const Option* find(const std::vector<Option>& table, const std::string& name) {
     return nullptr;
 }
 
+// "; did you mean --frames?" for a near spelling of one of the command's options, else "".
+std::string option_hint(const std::vector<Option>& table, const std::string& name) {
+    std::vector<std::string> names{"help"};
+    for (const Option& o : table) names.push_back(o.name);
+    const auto near = core::nearest_spelling(name, names);
+    return near ? "; did you mean --" + *near + "?" : std::string();
+}
+
 bool is_choice(const Option& o, const std::string& v) {
     for (const auto& c : o.choices)
         if (c == v) return true;
@@ -143,7 +152,7 @@ struct OptionsParser {
             const bool inline_value = eq != std::string::npos;
             if (inline_value) value = name.substr(eq + 1), name = name.substr(0, eq);
             const Option* o = find(spec.options, name);
-            if (!o) return core::make_error("unknown option --" + name + " (see --help)");
+            if (!o) return core::make_error("unknown option --" + name + option_hint(spec.options, name) + " (see --help)");
             if (out.given_.count(name)) return core::make_error("--" + name + " given twice");
             out.given_.insert(name);
             if (o->kind == OptionKind::flag) {
