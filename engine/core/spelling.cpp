@@ -38,7 +38,8 @@ std::optional<std::string> nearest_spelling(std::string_view word, std::span<con
     size_t best_distance = allowed + 1;
     for (const std::string& c : candidates) {
         const size_t d = edit_distance(w, folded(c));
-        if (d < best_distance) best_distance = d, best = c;
+        // A word of one or two letters one edit from another is no more like it than unlike ("x", "y").
+        if (d < best_distance && 2 * d < w.size()) best_distance = d, best = c;
     }
     return best;
 }

@@ -12,6 +12,7 @@
 
 #include <toml++/toml.h>
 
+#include "core/spelling.h"
 #include "scene/check_figures.h"
 #include "scene/key_hints.h"
 #include "scene/scene_keys.h"
@@ -98,18 +99,22 @@ public:
         E named(const std::string& key, E fallback, std::span<const core::EnumName<E>> table) {
             const std::string v = text(key, core::name_of(table, fallback));
             if (auto e = core::from_name(table, v)) return *e;
-            std::string all;
-            for (const auto& n : core::names_of(table)) all += (all.empty() ? "" : ", ") + n;
-            r_.fail(t_.get(key)->source(), "'" + where(key) + "' must be one of " + all + ", not '" + v + "'");
+            not_one_of(key, v, core::names_of(table));
         }
         std::string choice(const std::string& key, const std::string& fallback, std::initializer_list<const char*> options) {
             const std::string v = text(key, fallback);
-            std::string all;
-            for (const char* o : options) {
+            for (const char* o : options)
                 if (v == o) return v;
-                all += (all.empty() ? "" : ", ") + std::string(o);
-            }
-            r_.fail(t_.get(key)->source(), "'" + where(key) + "' must be one of " + all + ", not '" + v + "'");
+            not_one_of(key, v, std::vector<std::string>(options.begin(), options.end()));
+        }
+        // "'render.blend' must be one of over, additive, normalised, not 'normalized' (did you
+        // mean 'normalised'?)".
+        [[noreturn]] void not_one_of(const std::string& key, const std::string& v, const std::vector<std::string>& options) const {
+            std::string all;
+            for (const std::string& o : options) all += (all.empty() ? "" : ", ") + o;
+            const auto near = core::nearest_spelling(v, options);
+            r_.fail(t_.get(key)->source(), "'" + where(key) + "' must be one of " + all + ", not '" + v + "'" +
+                                               (near ? " (did you mean '" + *near + "'?)" : std::string()));
         }
         template <int N>
         Eigen::Matrix<float, N, 1> vec(const std::string& key, const Eigen::Matrix<float, N, 1>& fallback, double lo = -1e6,

@@ -19,6 +19,7 @@ TEST_SUITE("core/spelling") {
         CHECK(core::nearest_spelling("etta", names) == "eta");         // a short word: one edit
         CHECK_FALSE(core::nearest_spelling("ea_x", names).has_value());  // two from eta: too far for four letters
         CHECK_FALSE(core::nearest_spelling("wobble", names).has_value());
+        CHECK_FALSE(core::nearest_spelling("x", std::vector<std::string>{"y", "z"}).has_value());  // one letter: no likeness
         CHECK_FALSE(core::nearest_spelling("frames", std::vector<std::string>{}).has_value());
     }
 

@@ -549,6 +549,9 @@ TEST_SUITE("scene/scene_file") {
         CHECK(refusal("[[colliders]]\ntype = \"sphere\"\n") == "bad.toml:1:3: unknown key 'colliders' (a key of [simulation])");
         CHECK(refusal("[simulation]\neta = 0.5\n") == "bad.toml:2:1: unknown key 'simulation.eta' (a key of [surface])");
         CHECK(refusal("[render]\nfriction = 1\n") == "bad.toml:2:1: unknown key 'render.friction' (a key of [simulation])");
+        // A value's near spelling, as a key's.
+        CHECK(refusal("[render]\nblend = \"normalized\"\n") ==
+              "bad.toml:2:9: 'render.blend' must be one of over, additive, normalised, not 'normalized' (did you mean 'normalised'?)");
         // Nothing near: no guess.
         CHECK(refusal("[render]\nwobble = 1\n") == "bad.toml:2:1: unknown key 'render.wobble'");
     }

@@ -120,7 +120,9 @@ core::Status accept(const Option& o, const std::string& v, std::map<std::string,
         {
             std::string all;
             for (const auto& c : o.choices) all += (all.empty() ? "" : ", ") + c;
-            return core::make_error("--" + o.name + " must be one of " + all + ", not '" + v + "'");
+            const auto near = core::nearest_spelling(v, o.choices);
+            return core::make_error("--" + o.name + " must be one of " + all + ", not '" + v + "'" +
+                                    (near ? "; did you mean '" + *near + "'?" : std::string()));
         }
         texts[o.name] = v;
     }
