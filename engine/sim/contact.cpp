@@ -918,6 +918,8 @@ typename ContactSolverT<Real>::Lift ContactSolverT<Real>::lift(const SoftBodyT<R
     if (a == b || a >= piece_height_.size() || b >= piece_height_.size()) return {};
     const float mp = piece_weight_[a], ms = piece_weight_[b];
     if (!(mp > 0.0f && ms > 0.0f)) return {};
+    // Pieces of like weight (a cut's, one model's parts) are left alone, and cost no more.
+    if (mp <= k_lift_ratio * ms && ms <= k_lift_ratio * mp) return {};
     const float d = std::clamp((piece_height_[a] - piece_height_[b]) / (k_lift_span * scale_.edge), -1.0f, 1.0f);
     Lift out;
     if (d > 0.0f && mp > ms) out.surface = std::pow(ms / mp, d);
