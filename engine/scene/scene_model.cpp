@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "asset/mesh_spec.h"
 #include "mesh/reorder.h"
@@ -147,6 +148,13 @@ core::Result<sim::SoftBody> make_body(const Scene& scene, mesh::TriangleMesh coa
     return sim::make_soft_body(std::move(coarse), desc);
 }
 
+// Model m's particles, [first, last): a scene of one model lays no parts end to end, so it is
+// every particle.
+std::pair<uint32_t, uint32_t> model_range(const std::vector<uint32_t>& part_start, size_t m, const sim::SoftBody& b) {
+    if (part_start.empty()) return {0u, uint32_t(b.particle_count())};
+    return {part_start[m], part_start[m + 1]};
+}
+
 // A model's own `mass`: its particles' masses scaled to that total, each keeping its share by
 // area. Returns whether any changed (the shape clusters weigh their fits by them).
 bool weigh_models(const Scene& scene, const std::vector<uint32_t>& part_start, sim::SoftBody& b) {
@@ -154,8 +162,7 @@ bool weigh_models(const Scene& scene, const std::vector<uint32_t>& part_start, s
     for (size_t m = 0; m <= scene.bodies.size(); ++m) {
         const std::optional<float>& mass = m == 0 ? scene.model_mass : scene.bodies[m - 1].mass;
         if (!mass) continue;
-        const uint32_t begin = part_start.empty() ? 0u : part_start[m];
-        const uint32_t end = part_start.empty() ? uint32_t(b.particle_count()) : part_start[m + 1];
+        const auto [begin, end] = model_range(part_start, m, b);
         double now = 0.0;
         for (uint32_t i = begin; i < end; ++i) now += 1.0 / double(b.particles.w[i]);
         const double factor = now / double(*mass);  // on the inverse masses
@@ -171,9 +178,7 @@ void place_bodies(const Scene& scene, const std::vector<uint32_t>& part_start, s
     b.model_of_particle.assign(b.particle_count(), 0);
     for (size_t m = 0; m <= scene.bodies.size(); ++m) {
         const ModelDesc& d = m == 0 ? scene.model : scene.bodies[m - 1].model;
-        // A scene of one model lays no parts end to end: it is every particle.
-        const uint32_t begin = part_start.empty() ? 0u : part_start[m];
-        const uint32_t end = part_start.empty() ? uint32_t(b.particle_count()) : part_start[m + 1];
+        const auto [begin, end] = model_range(part_start, m, b);
         for (uint32_t i = begin; i < end; ++i) {
             b.model_of_particle[i] = uint32_t(m);
             if (d.fixed) b.pin(i);

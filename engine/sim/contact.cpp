@@ -895,20 +895,18 @@ void ContactSolverT<Real>::take_heights(const SoftBodyT<Real>& body) {
     piece_height_.assign(body.pieces, 0.0f);
     piece_weight_.assign(body.pieces, 0.0f);
     if (up_.isZero()) return;
-    std::vector<uint32_t> count(body.pieces, 0);
-    std::vector<uint8_t> pinned(body.pieces, 0);
+    // Once a substep: the counts reuse a kept buffer; a pinned particle marks its piece with -1.
+    piece_count_.assign(body.pieces, 0);
     for (size_t i = 0; i < body.particles.size(); ++i) {
         const uint32_t piece = body.piece_of_particle[i];
         if (piece >= body.pieces) continue;
         const float w = float(body.particles.w[i]);
-        piece_height_[piece] += pos3(body.particles.x[i]).dot(up_), ++count[piece];
-        if (w > 0.0f) piece_weight_[piece] += 1.0f / w;
-        else pinned[piece] = 1;
+        piece_height_[piece] += pos3(body.particles.x[i]).dot(up_), ++piece_count_[piece];
+        if (!(w > 0.0f)) piece_weight_[piece] = -INFINITY;
+        else piece_weight_[piece] += 1.0f / w;
     }
-    for (uint32_t k = 0; k < body.pieces; ++k) {
-        if (count[k]) piece_height_[k] /= float(count[k]), piece_weight_[k] /= float(count[k]);
-        if (pinned[k]) piece_weight_[k] = 0.0f;
-    }
+    for (uint32_t k = 0; k < body.pieces; ++k)
+        if (piece_count_[k]) piece_height_[k] /= float(piece_count_[k]), piece_weight_[k] = std::max(0.0f, piece_weight_[k] / float(piece_count_[k]));
 }
 
 template <class Real>

@@ -211,6 +211,7 @@ private:
     Vec3f up_ = Vec3f::Zero();
     std::vector<float> piece_height_;  // each piece's mean height along up_, this substep
     std::vector<float> piece_weight_;  // its particles' mean mass (0: it holds a pinned one)
+    std::vector<uint32_t> piece_count_;
     bool heights_ready_ = false;
     void take_heights(const SoftBodyT<Real>& body);
     Lift lift(const SoftBodyT<Real>& body, uint32_t particle, uint32_t corner) const;
