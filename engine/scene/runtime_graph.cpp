@@ -42,7 +42,7 @@ void SceneRuntime::import_resources(GraphAssembly& h) {
     // Sorting only matters when splats are composited with "over" and the scene asks for it.
     h.sorted = order_ == render::SplatOrder::cpu;  // the GPU sort is a GPU pass
     const bool has_volume = sd.solver.volume && !body_.volumes.empty();
-    const bool has_shape = sd.solver.shape_stiffness > 0.0f && body_.shape_matching;
+    const bool has_shape = stiffest_shape(scene_) > 0.0f && body_.shape_matching;
     const bool topology_events = queue_->any(is_topology_event) || options_.interactive;
     graph::Blackboard& board = h.board;
     // The body in its three parts (scene/stages/body_parts.h), each a base of the one body.

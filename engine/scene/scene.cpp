@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include <algorithm>
+
 namespace pbdsplat::scene {
 
 bool Scene::has_topology_events() const {
@@ -27,6 +29,17 @@ const char* event_type_name(const EventData& e) {
         const char* operator()(const OpacityEvent&) const { return "opacity"; }
     };
     return std::visit(Visitor{}, e);
+}
+
+float shape_stiffness_of(const Scene& scene, size_t m) {
+    const std::optional<float>& own = m == 0 ? scene.model_shape_stiffness : scene.bodies[m - 1].shape_stiffness;
+    return own.value_or(scene.simulation.solver.shape_stiffness);
+}
+
+float stiffest_shape(const Scene& scene) {
+    float most = 0.0f;
+    for (size_t m = 0; m <= scene.bodies.size(); ++m) most = std::max(most, shape_stiffness_of(scene, m));
+    return most;
 }
 
 } // namespace pbdsplat::scene

@@ -46,6 +46,7 @@ struct BodyDesc {
     std::optional<Vec3f> color;      // linear rgb; the material's colour without it
     std::optional<uint32_t> particles;  // its simulation size, as simulation.particles says for [model]
     std::optional<float> mass;          // kg, its own total; else its area's share of simulation.mass
+    std::optional<float> shape_stiffness;  // its own; else simulation.shape_stiffness
 };
 
 enum class SurfaceMode { boundary, vertices };
@@ -239,11 +240,12 @@ struct Scene {
     std::string name;        // file stem, or "default"
     std::string source_dir;  // directory of the scene file (models are looked up there first)
     ModelDesc model;
-    // [model]'s own colour, simulation size and mass where it names them as a body does; a scene of
+    // [model]'s own colour, simulation size, mass and shape stiffness where it names them as a body does; a scene of
     // [[bodies]] alone takes its first body as [model] with them.
     std::optional<Vec3f> model_color;
     std::optional<uint32_t> model_particles;
     std::optional<float> model_mass;
+    std::optional<float> model_shape_stiffness;
     std::vector<BodyDesc> bodies;  // beside `model`
     MaterialDesc material;
     SurfaceDesc surface;
@@ -256,5 +258,10 @@ struct Scene {
 };
 
 const char* event_type_name(const EventData& e);
+
+// Model m's shape stiffness (0: [model], then the [[bodies]] in order): its own, or the
+// simulation's. And the stiffest model's: whether anything keeps a shape or answers as a solid.
+float shape_stiffness_of(const Scene& scene, size_t m);
+float stiffest_shape(const Scene& scene);
 
 } // namespace pbdsplat::scene

@@ -215,13 +215,14 @@ void check_mesh(Reader::Table& t, ModelDesc& m) {
     if (const core::Status st = asset::check_procedural_spec(m.mesh); !st.ok()) t.fail("mesh", st.error().message);
 }
 
-// [model]'s keys, and the two a body adds (its colour and simulation size).
+// [model]'s keys, and those a body adds (its colour, simulation size, mass and shape stiffness).
 void read_model(const Reader& r, Reader::Table& t, Scene& scene) {
     read_keys<ModelDesc>(t, scene.model, k_model_keys);
     check_mesh(t, scene.model);
     if (t.has("color")) scene.model_color = t.vec<3>("color", Vec3f::Ones(), 0.0, 1.0);
     if (t.has("particles")) scene.model_particles = t.count("particles", 0, 0, 10'000'000);
     if (t.has("mass")) scene.model_mass = t.real("mass", 1.0f, 1e-6, 1e6);
+    if (t.has("shape_stiffness")) scene.model_shape_stiffness = t.real("shape_stiffness", 0.0f, 0.0, 1.0);
     (void)r;
     t.finish();
 }
@@ -235,6 +236,7 @@ void settle_models(bool model_given, Scene& scene) {
         scene.model_color = first.color;
         scene.model_particles = first.particles;
         scene.model_mass = first.mass;
+        scene.model_shape_stiffness = first.shape_stiffness;
         scene.bodies.erase(scene.bodies.begin());
     }
     if (scene.bodies.empty() && scene.model_color) {
@@ -253,6 +255,7 @@ BodyDesc read_body(const Reader& r, const toml::node& n) {
     if (t.has("color")) b.color = t.vec<3>("color", Vec3f::Ones(), 0.0, 1.0);
     if (t.has("particles")) b.particles = t.count("particles", 0, 0, 10'000'000);
     if (t.has("mass")) b.mass = t.real("mass", 1.0f, 1e-6, 1e6);
+    if (t.has("shape_stiffness")) b.shape_stiffness = t.real("shape_stiffness", 0.0f, 0.0, 1.0);
     t.finish();
     return b;
 }

@@ -143,7 +143,7 @@ core::Result<sim::SoftBody> make_body(const Scene& scene, mesh::TriangleMesh coa
     desc.volume = s.solver.volume;
     desc.pressure = s.pressure;
     desc.volume_compliance = s.volume_compliance;
-    desc.shape_matching = s.solver.shape_stiffness > 0.0f;
+    desc.shape_matching = stiffest_shape(scene) > 0.0f;
     desc.reorder = scene.bodies.empty();  // the parts were ordered one by one, and keep their ranges
     return sim::make_soft_body(std::move(coarse), desc);
 }
@@ -173,9 +173,14 @@ bool weigh_models(const Scene& scene, const std::vector<uint32_t>& part_start, s
 }
 
 // Each model's particles, so that contact tells two models apart from two parts of one; the
-// [[bodies]] held still or thrown.
+// [[bodies]] held still or thrown; the shape stiffness of those that name their own.
 void place_bodies(const Scene& scene, const std::vector<uint32_t>& part_start, sim::SoftBody& b) {
     b.model_of_particle.assign(b.particle_count(), 0);
+    b.model_shape_stiffness.clear();
+    for (size_t m = 0; m <= scene.bodies.size(); ++m) {
+        const std::optional<float>& own = m == 0 ? scene.model_shape_stiffness : scene.bodies[m - 1].shape_stiffness;
+        if (own) b.model_shape_stiffness.resize(scene.bodies.size() + 1, -1.0f), b.model_shape_stiffness[m] = *own;
+    }
     for (size_t m = 0; m <= scene.bodies.size(); ++m) {
         const ModelDesc& d = m == 0 ? scene.model : scene.bodies[m - 1].model;
         const auto [begin, end] = model_range(part_start, m, b);
@@ -260,7 +265,7 @@ uint32_t standing_substeps(const Scene& scene, double share) {
     const SimulationDesc& sim = scene.simulation;
     const sim::Colliders& c = sim.colliders;
     const bool held_up = c.ground.has_value() || !c.spheres.empty() || !c.boxes.empty() || !scene.bodies.empty();
-    if (!(sim.solver.shape_stiffness > 0.0f) || !held_up || !(share > 0.0) || !std::isfinite(share)) return 1;
+    if (!(stiffest_shape(scene) > 0.0f) || !held_up || !(share > 0.0) || !std::isfinite(share)) return 1;
     return uint32_t(std::min(1e6, std::ceil(share / k_standing_share)));
 }
 
@@ -333,6 +338,7 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     sim::SoftBody b = std::move(body).value();
     if (weigh_models(scene, out.part_start, b)) sim::rebuild_shape_clusters(b);
     place_bodies(scene, out.part_start, b);
+    if (!b.model_shape_stiffness.empty()) sim::rebuild_shape_clusters(b);
     warn_crossing_models(scene, b);
     warn_below_ground(scene, b);
     out.substeps = choose_substeps(scene, b);
@@ -342,7 +348,7 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     // Welded parts are one object to shape matching too (sim/shape.h). The closed parts of a body
     // that keeps a shape are welded as well (a table's legs to its top, stiff or wobbly); a
     // balloon's (no shape matching) are not: its eyes would tear the skin as it deflates.
-    const sim::WeldFrom from = scene.simulation.solver.shape_stiffness > 0.0f ? sim::WeldFrom::open_edges_and_closed_parts
+    const sim::WeldFrom from = stiffest_shape(scene) > 0.0f ? sim::WeldFrom::open_edges_and_closed_parts
                                                                               : sim::WeldFrom::open_edges;
     if (scene.simulation.weld_parts && sim::weld_touching_parts(b, sim::mean_rest_edge_of_models(b), from) > 0)
         sim::rebuild_shape_clusters(b);

@@ -266,7 +266,7 @@ float SceneRuntime::occluder_simplify_error(const gpu::DeviceCaps& caps) const {
     // tolerance. Only on stiff bodies: a soft one bends inside a simplified triangle, away from
     // the surface it stood for (bunny_tear, a balloon: holes 0 -> 0.1 %, specks up 0.1 points in
     // `check`).
-    if (!fine_ || !scene_.render.frame.style.mesh_occluders || scene_.simulation.solver.shape_stiffness < sim::k_rigid_response_stiffness) return 0.0f;
+    if (!fine_ || !scene_.render.frame.style.mesh_occluders || stiffest_shape(scene_) < sim::k_rigid_response_stiffness) return 0.0f;
     return render::occluder_simplify_share(caps) * frame_input_.frame.style.occluder_tolerance;
 }
 

@@ -79,6 +79,7 @@ void write_model_material_surface(std::ostream& o, const Scene& sc) {
     if (const auto& c = sc.model_color) o << "color = [" << num(c->x()) << ", " << num(c->y()) << ", " << num(c->z()) << "]\n";
     if (sc.model_particles) o << "particles = " << *sc.model_particles << "\n";
     if (sc.model_mass) o << "mass = " << num(*sc.model_mass) << "\n";
+    if (sc.model_shape_stiffness) o << "shape_stiffness = " << num(*sc.model_shape_stiffness) << "\n";
     for (const BodyDesc& b : sc.bodies) {
         o << "\n[[bodies]]\n";
         write_keys<ModelDesc>(o, b.model, k_model_keys);
@@ -86,6 +87,7 @@ void write_model_material_surface(std::ostream& o, const Scene& sc) {
         if (b.color) o << "color = [" << num(b.color->x()) << ", " << num(b.color->y()) << ", " << num(b.color->z()) << "]\n";
         if (b.particles) o << "particles = " << *b.particles << "\n";
         if (b.mass) o << "mass = " << num(*b.mass) << "\n";
+        if (b.shape_stiffness) o << "shape_stiffness = " << num(*b.shape_stiffness) << "\n";
     }
     o << "\n[material]\n";
     write_keys<MaterialDesc>(o, sc.material, k_material_keys);

@@ -53,7 +53,7 @@ uint32_t frame_substeps(const SolverSettings& s, const SoftBodyT<Real>& body, co
     const uint32_t room = max_sweeps / std::max(1u, s.iterations);  // substeps within the sweeps
     uint32_t n = s.substeps;
     if (contact.stacked()) n = std::max(n, std::min(s.contact.substeps, room));
-    if (!approach_steps(s)) return n;
+    if (!approach_steps(s, body)) return n;
     return std::max(n, approach_substeps(body, dt, contact.scale().edge, std::min(k_max_approach_substeps, room)));
 }
 

@@ -16,8 +16,9 @@ namespace pbdsplat::sim {
 // wholes). A soft body's stiffness hangs on its substeps (PBD converges per step), so a balloon
 // stepped finer as its torn scraps flew about tore 88 times instead of 141 and crumpled
 // otherwise: its frames keep the scene's substeps.
-inline bool approach_steps(const SolverSettings& s) {
-    return s.contact.enabled && s.contact.approach && s.shape_stiffness >= k_rigid_response_stiffness;
+template <class Real>
+bool approach_steps(const SolverSettings& s, const SoftBodyT<Real>& body) {
+    return s.contact.enabled && s.contact.approach && stiffest_shape(body.shapes, s.shape_stiffness) >= k_rigid_response_stiffness;
 }
 
 // The substeps (a power of two, 1 to `most`) in which no two pieces whose paths over the frame

@@ -532,10 +532,10 @@ bool ContactSolverT<Real>::moved_pieces_apart(const SoftBodyT<Real>& body) {
 }
 
 template <class Real>
-void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettings& s) {
+void ContactSolverT<Real>::find(const SoftBodyT<Real>& body, const ContactSettings& s, float shape_stiffness) {
     const ParticlesT<Real>& p = body.particles;
     const size_t n = p.size();
-    rigid_.map(body.shapes, p.w);
+    rigid_.map(body.shapes, p.w, shape_stiffness);
     rigid_ready_ = false;
     heights_ready_ = false;
     // One piece without self-contact has nothing to meet (its own cap faces close it along its
@@ -840,6 +840,8 @@ void ContactSolverT<Real>::touch_clusters(const SoftBodyT<Real>& body) {
 template <class Real>
 typename ContactSolverT<Real>::Sides ContactSolverT<Real>::sides_of(uint32_t i, const std::array<uint32_t, 3>& corners) const {
     constexpr uint32_t none = RigidResponseT<Real>::k_none;
+    // A soft body on either side: both answer particle by particle (RigidResponseT::k_soft).
+    if (rigid_.soft(i) || rigid_.soft(corners[0]) || rigid_.soft(corners[1]) || rigid_.soft(corners[2])) return Sides{};
     Sides sd{rigid_.cluster_of(i), rigid_.cluster_of(corners[0])};
     if (rigid_.cluster_of(corners[1]) != sd.surface || rigid_.cluster_of(corners[2]) != sd.surface) sd.surface = none;
     // Both in one cluster (a fold, two welded parts): a rigid answer would move both alike.

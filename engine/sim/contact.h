@@ -119,7 +119,9 @@ template <class Real>
 class ContactSolverT {
 public:
     // After prediction (x_prev: the substep's start, x: predicted): the candidates of this substep.
-    void find(const SoftBodyT<Real>& body, const ContactSettings& s);
+    // `shape_stiffness`: the settings', for the clusters whose body names none of its own; a
+    // cluster below k_rigid_response_stiffness answers particle by particle.
+    void find(const SoftBodyT<Real>& body, const ContactSettings& s, float shape_stiffness = 1.0f);
     // One Gauss-Seidel sweep over the candidates (call every iteration). With `stiff_bodies`,
     // a particle of a shape cluster answers with its whole cluster (sim/rigid_response.h).
     void project(SoftBodyT<Real>& body, const ContactSettings& s, bool stiff_bodies = false);

@@ -5,7 +5,7 @@
 namespace pbdsplat::sim {
 
 template <class Real>
-void RigidResponseT<Real>::map(const std::vector<ShapeCluster>& clusters, std::span<const Real> inverse_mass) {
+void RigidResponseT<Real>::map(const std::vector<ShapeCluster>& clusters, std::span<const Real> inverse_mass, float shape_stiffness) {
     // Called every substep: a body without shape matching (a balloon) pays nothing.
     if (clusters.empty()) {
         of_.clear(), frame_.clear(), is_touched_.clear(), touched_.clear();
@@ -23,6 +23,10 @@ void RigidResponseT<Real>::map(const std::vector<ShapeCluster>& clusters, std::s
         bool free = true;
         for (uint32_t i : members) free = free && i < inverse_mass.size() && inverse_mass[i] > Real(0);
         if (!free) continue;
+        if (stiffness_of(clusters[c], shape_stiffness) < k_rigid_response_stiffness) {
+            for (uint32_t i : members) of_[i] = k_soft;
+            continue;
+        }
         for (uint32_t i : members) of_[i] = uint32_t(c);
         any_ = true;
     }

@@ -35,12 +35,19 @@ template <class Real>
 class RigidResponseT {
 public:
     static constexpr uint32_t k_none = UINT32_MAX;
+    // A particle of a free cluster softer than k_rigid_response_stiffness: what it meets answers
+    // particle by particle too (a stiff ball answering a soft cushion as a whole pressed its
+    // weight into the few particles under it, crushed the cushion and burst through it).
+    static constexpr uint32_t k_soft = UINT32_MAX - 1;
 
     // Which cluster each particle answers with: none for a particle in no cluster, or in one with
-    // a pinned particle (held by the scene, not free to move as one) or under four particles.
-    void map(const std::vector<ShapeCluster>& clusters, std::span<const Real> inverse_mass);
+    // a pinned particle (held by the scene, not free to move as one), under four particles or
+    // softer than k_rigid_response_stiffness (`shape_stiffness`: the settings', for clusters of
+    // no stiffness of their own).
+    void map(const std::vector<ShapeCluster>& clusters, std::span<const Real> inverse_mass, float shape_stiffness = 1.0f);
     uint32_t cluster_of(uint32_t particle) const { return particle < of_.size() ? of_[particle] : k_none; }
     bool any() const { return any_; }
+    bool soft(uint32_t particle) const { return cluster_of(particle) == k_soft; }
 
     // Before a substep's first sweep: the clusters `touch` names (repeats allowed) take their
     // centres, masses and inertias from the particles as they are.

@@ -35,6 +35,19 @@ uint32_t join_welded(std::vector<uint32_t>& comp_of_vertex, uint32_t components,
 
 } // namespace
 
+float stiffest_shape(std::span<const ShapeCluster> clusters, float settings) {
+    float most = 0.0f;
+    for (const ShapeCluster& c : clusters) most = std::max(most, stiffness_of(c, settings));
+    return most;
+}
+
+float softest_shape(std::span<const ShapeCluster> clusters, float settings) {
+    if (clusters.empty()) return 0.0f;
+    float least = 1.0f;
+    for (const ShapeCluster& c : clusters) least = std::min(least, stiffness_of(c, settings));
+    return least;
+}
+
 std::vector<ShapeCluster> build_shape_clusters(std::span<const mesh::Triangle> triangles, std::span<const Vec3f> rest,
                                                std::span<const float> w, std::span<const std::pair<uint32_t, uint32_t>> welds) {
     std::vector<uint32_t> comp;

@@ -23,7 +23,16 @@ struct ShapeCluster {
     std::vector<float> mass;  // weights of the fit: 1/w, pinned particles heavy
     Eigen::Quaternionf rotation = Eigen::Quaternionf::Identity();  // the last fit's: warm start
     bool fresh = true;  // no fit yet: the first one starts from a full polar decomposition
+    // Its body's own shape stiffness (a scene's per-body `shape_stiffness`: a soft cushion under
+    // a stiff ball); negative: the solver settings'.
+    float own_stiffness = -1.0f;
 };
+
+inline float stiffness_of(const ShapeCluster& c, float settings) { return c.own_stiffness >= 0.0f ? c.own_stiffness : settings; }
+// The stiffest cluster's: whether anything keeps a shape, or answers contact as a solid; and the
+// softest's (0 for none): whether any skin may fold.
+float stiffest_shape(std::span<const ShapeCluster> clusters, float settings);
+float softest_shape(std::span<const ShapeCluster> clusters, float settings);
 
 // One cluster per connected component of `triangles` (through shared vertices), components
 // joined by a weld (a pair of particles: a teapot's spout, handle and lid held to its body) in

@@ -87,6 +87,13 @@ void rebuild_shape_clusters(SoftBodyT<Real>& b) {
     for (const DistanceConstraint& c : b.welds)
         if (c.alive()) welds.emplace_back(c.i, c.j);
     b.shapes = build_shape_clusters(b.triangles, b.rest_positions, w, welds);
+    const std::vector<float>& own = b.model_shape_stiffness;
+    if (own.empty() || b.model_of_particle.size() != w.size()) return;
+    // A cluster never spans two models: they share no triangle, and welds join parts of one.
+    for (ShapeCluster& c : b.shapes) {
+        const uint32_t m = c.particles.empty() ? 0u : b.model_of_particle[c.particles.front()];
+        c.own_stiffness = m < own.size() ? own[m] : -1.0f;
+    }
 }
 template void rebuild_shape_clusters<float>(SoftBodyT<float>&);
 template void rebuild_shape_clusters<double>(SoftBodyT<double>&);
@@ -144,6 +151,7 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     d.colors = b.colors;
     d.texcoords = b.texcoords;
     d.model_of_particle = b.model_of_particle;
+    d.model_shape_stiffness = b.model_shape_stiffness;
     d.part_of_particle = b.part_of_particle;
     d.enclosed_parts = b.enclosed_parts;
     return d;

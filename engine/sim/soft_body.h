@@ -64,6 +64,9 @@ struct BodyStructureT {
     // The model each particle was loaded from (a scene's [model] and [[bodies]]; a particle a
     // topology edit adds takes its source's). make_soft_body makes the whole mesh one model.
     std::vector<uint32_t> model_of_particle;
+    // Per model, its own shape stiffness (negative: the solver settings'); empty: every model
+    // the settings'. Each shape cluster takes its model's (ShapeCluster::own_stiffness).
+    std::vector<float> model_shape_stiffness;
     // The connected component each particle was in when the body was built (a particle a
     // topology edit adds takes its source's): the two sides of a cut are one part.
     std::vector<uint32_t> part_of_particle;

@@ -162,13 +162,18 @@ void SolverT<Real>::rigid_nudges(const SoftBodyT<Real>& body, const VolumeLayout
 
 template <class Real>
 void SolverT<Real>::project_shape(BodyCachesT<Real>& caches, BodyStateT<Real>& state, const SolverSettings& s, Real h) {
-    if (!(s.shape_stiffness > 0.0f) || caches.shapes.empty()) return;
+    if (caches.shapes.empty()) return;
     const bool xpbd = s.mode == SolverMode::xpbd && s.shape_compliance > 0.0f;
-    const Real k = Real(per_iteration(s.shape_stiffness, s.iterations * s.substeps));
     const Real alpha = Real(s.shape_compliance) / (h * h);
-    // Pieces are independent: one per thread when there are several large ones.
+    const uint32_t sweeps = s.iterations * s.substeps;
+    // Pieces are independent: one per thread when there are several large ones. Each keeps its
+    // body's stiffness (a soft body beside a stiff one); one of none is left to its constraints.
     for_range(caches.shapes.size(), 2, [&](size_t b, size_t e) {
-        for (size_t c = b; c < e; ++c) sim::project_shape<Real>(caches.shapes[c], state.particles, k, xpbd, alpha);
+        for (size_t c = b; c < e; ++c) {
+            const float stiffness = stiffness_of(caches.shapes[c], s.shape_stiffness);
+            if (!(stiffness > 0.0f)) continue;
+            sim::project_shape<Real>(caches.shapes[c], state.particles, Real(per_iteration(stiffness, sweeps)), xpbd, alpha);
+        }
     });
 }
 
@@ -188,8 +193,10 @@ template <class Real>
 void SolverT<Real>::find_contacts(SoftBodyT<Real>& body, const SolverSettings& s) {
     const float g = s.gravity.norm();
     contact_.set_up(g > 0.0f ? Vec3f(-s.gravity / g) : Vec3f::Zero());
-    contact_.find(body, s.contact);
-    folds_.find(body, s.contact, s.shape_stiffness >= k_rigid_response_stiffness);
+    contact_.find(body, s.contact, s.shape_stiffness);
+    // A soft body beside stiff ones is guarded with them (a stiff surface is never pushed: it does
+    // not fold); stiff bodies alone pay nothing.
+    folds_.find(body, s.contact, softest_shape(body.shapes, s.shape_stiffness) >= k_rigid_response_stiffness);
     // The pieces that meet another: the volume pass leaves their net impulse where it falls.
     pressed_pairs_.clear();
     contact_.touching_pieces(body, pressed_pairs_);
@@ -199,7 +206,7 @@ void SolverT<Real>::find_contacts(SoftBodyT<Real>& body, const SolverSettings& s
 
 template <class Real>
 void SolverT<Real>::project_contacts(SoftBodyT<Real>& body, const SolverSettings& s) {
-    contact_.project(body, s.contact, s.shape_stiffness >= k_rigid_response_stiffness);
+    contact_.project(body, s.contact, stiffest_shape(body.shapes, s.shape_stiffness) >= k_rigid_response_stiffness);
     folds_.project(body.particles);
     if (!contact_.pressed_sleepers().empty()) {
         wake_pieces<Real>(body, contact_.pressed_sleepers());

@@ -37,6 +37,7 @@ static = true
 color = [0.3, 0.6, 0.9]
 particles = 0
 mass = 2.5
+shape_stiffness = 0.4
 
 [[bodies]]
 mesh = "box:2"
@@ -51,6 +52,7 @@ static = true
 color = [0.1, 0.2, 0.3]
 particles = 300
 mass = 0.75
+shape_stiffness = 0.2
 
 [material]
 color = [0.2, 0.6, 0.9]

@@ -56,6 +56,24 @@ TEST_SUITE("sim/rigid_response") {
         CHECK(s.p.x_prev[0] == sim::to4(Vec3f(1, 0, 0)));  // no settle share: the start stays
     }
 
+    TEST_CASE("a soft cluster answers particle by particle: the settings' stiffness, or its body's own") {
+        Star s = star();
+        sim::RigidResponse r;
+        r.map(s.clusters, s.p.w, 0.3f);  // soft settings, the cluster naming none
+        CHECK(r.soft(0));
+        CHECK_FALSE(r.any());
+        s.clusters[0].own_stiffness = 0.9f;  // its body stiff in soft settings
+        r.map(s.clusters, s.p.w, 0.3f);
+        CHECK(r.cluster_of(0) == 0);
+        s.clusters[0].own_stiffness = 0.2f;  // its body soft in stiff settings
+        r.map(s.clusters, s.p.w, 0.9f);
+        CHECK(r.soft(0));
+        CHECK(r.cluster_of(0) == sim::RigidResponse::k_soft);
+        CHECK(sim::stiffest_shape(s.clusters, 0.9f) == 0.2f);
+        CHECK(sim::softest_shape(s.clusters, 0.9f) == 0.2f);
+        CHECK(sim::softest_shape({}, 0.9f) == 0.0f);  // no clusters: nothing keeps a shape
+    }
+
     TEST_CASE("a push that would turn a cluster further than k_max_turn in one sweep turns it that far") {
         Star s = star();
         sim::RigidResponse r;
