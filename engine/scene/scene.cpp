@@ -31,9 +31,10 @@ const char* event_type_name(const EventData& e) {
     return std::visit(Visitor{}, e);
 }
 
+const OwnSettings& own_settings(const Scene& scene, size_t m) { return m == 0 ? scene.model_own : scene.bodies[m - 1].own; }
+
 float shape_stiffness_of(const Scene& scene, size_t m) {
-    const std::optional<float>& own = m == 0 ? scene.model_shape_stiffness : scene.bodies[m - 1].shape_stiffness;
-    return own.value_or(scene.simulation.solver.shape_stiffness);
+    return own_settings(scene, m).shape_stiffness.value_or(scene.simulation.solver.shape_stiffness);
 }
 
 float stiffest_shape(const Scene& scene) {

@@ -38,15 +38,22 @@ struct ModelDesc {
     bool fixed = false;              // static: every particle pinned (a table, a bowl, a ramp)
 };
 
+// What a model may set for itself, in [model] or a [[bodies]] entry; each unset one is the
+// scene's.
+struct OwnSettings {
+    std::optional<Vec3f> color;            // linear rgb; the material's colour without it
+    std::optional<uint32_t> particles;     // its simulation size; else simulation.particles
+    std::optional<float> mass;             // kg, its own total; else its area's share of simulation.mass
+    std::optional<float> shape_stiffness;  // else simulation.shape_stiffness
+    std::optional<float> damping;          // 1/s, its velocity's decay; else simulation.damping
+};
+
 // Another model beside [model] ([[bodies]] in a scene file): the pieces of one soft body, so
 // every stage (sampling, density, mapping, cuts, tears, contact, checks, export) takes them as
-// it takes the pieces of a cut. The simulation settings are the scene's.
+// it takes the pieces of a cut. The simulation settings are the scene's but for its own.
 struct BodyDesc {
     ModelDesc model;
-    std::optional<Vec3f> color;      // linear rgb; the material's colour without it
-    std::optional<uint32_t> particles;  // its simulation size, as simulation.particles says for [model]
-    std::optional<float> mass;          // kg, its own total; else its area's share of simulation.mass
-    std::optional<float> shape_stiffness;  // its own; else simulation.shape_stiffness
+    OwnSettings own;
 };
 
 enum class SurfaceMode { boundary, vertices };
@@ -240,12 +247,9 @@ struct Scene {
     std::string name;        // file stem, or "default"
     std::string source_dir;  // directory of the scene file (models are looked up there first)
     ModelDesc model;
-    // [model]'s own colour, simulation size, mass and shape stiffness where it names them as a body does; a scene of
-    // [[bodies]] alone takes its first body as [model] with them.
-    std::optional<Vec3f> model_color;
-    std::optional<uint32_t> model_particles;
-    std::optional<float> model_mass;
-    std::optional<float> model_shape_stiffness;
+    // [model]'s own settings, as a body's; a scene of [[bodies]] alone takes its first body as
+    // [model] with them.
+    OwnSettings model_own;
     std::vector<BodyDesc> bodies;  // beside `model`
     MaterialDesc material;
     SurfaceDesc surface;
@@ -259,8 +263,10 @@ struct Scene {
 
 const char* event_type_name(const EventData& e);
 
-// Model m's shape stiffness (0: [model], then the [[bodies]] in order): its own, or the
-// simulation's. And the stiffest model's: whether anything keeps a shape or answers as a solid.
+// Model m's own settings (0: [model], then the [[bodies]] in order).
+const OwnSettings& own_settings(const Scene& scene, size_t m);
+// Model m's shape stiffness: its own, or the simulation's. And the stiffest model's: whether
+// anything keeps a shape or answers as a solid.
 float shape_stiffness_of(const Scene& scene, size_t m);
 float stiffest_shape(const Scene& scene);
 

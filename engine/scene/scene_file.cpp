@@ -215,14 +215,21 @@ void check_mesh(Reader::Table& t, ModelDesc& m) {
     if (const core::Status st = asset::check_procedural_spec(m.mesh); !st.ok()) t.fail("mesh", st.error().message);
 }
 
-// [model]'s keys, and those a body adds (its colour, simulation size, mass and shape stiffness).
+// The settings a model may name for itself, in [model] or a [[bodies]] entry.
+OwnSettings read_own(Reader::Table& t) {
+    OwnSettings o;
+    if (t.has("color")) o.color = t.vec<3>("color", Vec3f::Ones(), 0.0, 1.0);
+    if (t.has("particles")) o.particles = t.count("particles", 0, 0, 10'000'000);
+    if (t.has("mass")) o.mass = t.real("mass", 1.0f, 1e-6, 1e6);
+    if (t.has("shape_stiffness")) o.shape_stiffness = t.real("shape_stiffness", 0.0f, 0.0, 1.0);
+    if (t.has("damping")) o.damping = t.real("damping", 0.0f, 0.0, 1e3);
+    return o;
+}
+
 void read_model(const Reader& r, Reader::Table& t, Scene& scene) {
     read_keys<ModelDesc>(t, scene.model, k_model_keys);
     check_mesh(t, scene.model);
-    if (t.has("color")) scene.model_color = t.vec<3>("color", Vec3f::Ones(), 0.0, 1.0);
-    if (t.has("particles")) scene.model_particles = t.count("particles", 0, 0, 10'000'000);
-    if (t.has("mass")) scene.model_mass = t.real("mass", 1.0f, 1e-6, 1e6);
-    if (t.has("shape_stiffness")) scene.model_shape_stiffness = t.real("shape_stiffness", 0.0f, 0.0, 1.0);
+    scene.model_own = read_own(t);
     (void)r;
     t.finish();
 }
@@ -233,15 +240,12 @@ void settle_models(bool model_given, Scene& scene) {
     if (!model_given && !scene.bodies.empty()) {
         BodyDesc& first = scene.bodies.front();
         scene.model = std::move(first.model);
-        scene.model_color = first.color;
-        scene.model_particles = first.particles;
-        scene.model_mass = first.mass;
-        scene.model_shape_stiffness = first.shape_stiffness;
+        scene.model_own = first.own;
         scene.bodies.erase(scene.bodies.begin());
     }
-    if (scene.bodies.empty() && scene.model_color) {
-        scene.material.color = *scene.model_color;
-        scene.model_color.reset();
+    if (scene.bodies.empty() && scene.model_own.color) {
+        scene.material.color = *scene.model_own.color;
+        scene.model_own.color.reset();
     }
 }
 
@@ -252,10 +256,7 @@ BodyDesc read_body(const Reader& r, const toml::node& n) {
     if (!t.has("mesh")) r.fail(n.source(), "a [[bodies]] entry needs 'mesh' (a model file or a procedural mesh such as \"box:1\")");
     read_keys<ModelDesc>(t, b.model, k_model_keys);
     check_mesh(t, b.model);
-    if (t.has("color")) b.color = t.vec<3>("color", Vec3f::Ones(), 0.0, 1.0);
-    if (t.has("particles")) b.particles = t.count("particles", 0, 0, 10'000'000);
-    if (t.has("mass")) b.mass = t.real("mass", 1.0f, 1e-6, 1e6);
-    if (t.has("shape_stiffness")) b.shape_stiffness = t.real("shape_stiffness", 0.0f, 0.0, 1.0);
+    b.own = read_own(t);
     t.finish();
     return b;
 }

@@ -20,7 +20,7 @@
 namespace pbdsplat::scene {
 
 uint32_t simulation_particles(const Scene& scene) {
-    if (scene.model_particles) return *scene.model_particles;
+    if (scene.model_own.particles) return *scene.model_own.particles;
     if (scene.simulation.particles) return *scene.simulation.particles;
     return asset::is_procedural_spec(scene.model.mesh) ? 0u : k_default_simulation_particles;
 }
@@ -99,19 +99,18 @@ core::Status merge_parts(const Scene& scene, Part first, mesh::TriangleMesh& coa
     parts.push_back(std::move(first));
     for (size_t k = 0; k < scene.bodies.size(); ++k) {
         const BodyDesc& b = scene.bodies[k];
-        auto part = load_part(b.model, part_particles(b.model, b.particles), scene.source_dir);
+        auto part = load_part(b.model, part_particles(b.model, b.own.particles), scene.source_dir);
         if (!part.ok()) return core::make_error("bodies[" + std::to_string(k) + "] (" + b.model.mesh + "): " + part.error().to_string());
-        add_look(part.value().look, b.color ? *b.color : scene.material.color);
+        add_look(part.value().look, b.own.color.value_or(scene.material.color));
         parts.push_back(std::move(part).value());
     }
-    bool any_fine = false, any_color = scene.model_color.has_value();
+    bool any_fine = false, any_color = scene.model_own.color.has_value();
     for (const Part& p : parts) any_fine = any_fine || p.fine.has_value();
-    for (const BodyDesc& b : scene.bodies) any_color = any_color || b.color.has_value();
+    for (const BodyDesc& b : scene.bodies) any_color = any_color || b.own.color.has_value();
     mesh::TriangleMesh fine;
     for (size_t k = 0; k < parts.size(); ++k) {
         Part& p = parts[k];
-        const std::optional<Vec3f>& own = k == 0 ? scene.model_color : scene.bodies[k - 1].color;
-        const Vec3f color = own.value_or(scene.material.color);
+        const Vec3f color = own_settings(scene, k).color.value_or(scene.material.color);
         if (any_color) {
             p.coarse.colors.assign(p.coarse.vertex_count(), color);
             if (p.fine) p.fine->colors.assign(p.fine->vertex_count(), color);
@@ -160,7 +159,7 @@ std::pair<uint32_t, uint32_t> model_range(const std::vector<uint32_t>& part_star
 bool weigh_models(const Scene& scene, const std::vector<uint32_t>& part_start, sim::SoftBody& b) {
     bool changed = false;
     for (size_t m = 0; m <= scene.bodies.size(); ++m) {
-        const std::optional<float>& mass = m == 0 ? scene.model_mass : scene.bodies[m - 1].mass;
+        const std::optional<float>& mass = own_settings(scene, m).mass;
         if (!mass) continue;
         const auto [begin, end] = model_range(part_start, m, b);
         double now = 0.0;
@@ -173,13 +172,15 @@ bool weigh_models(const Scene& scene, const std::vector<uint32_t>& part_start, s
 }
 
 // Each model's particles, so that contact tells two models apart from two parts of one; the
-// [[bodies]] held still or thrown; the shape stiffness of those that name their own.
+// [[bodies]] held still or thrown; the shape stiffness and damping of those that name their own.
 void place_bodies(const Scene& scene, const std::vector<uint32_t>& part_start, sim::SoftBody& b) {
     b.model_of_particle.assign(b.particle_count(), 0);
-    b.model_shape_stiffness.clear();
-    for (size_t m = 0; m <= scene.bodies.size(); ++m) {
-        const std::optional<float>& own = m == 0 ? scene.model_shape_stiffness : scene.bodies[m - 1].shape_stiffness;
-        if (own) b.model_shape_stiffness.resize(scene.bodies.size() + 1, -1.0f), b.model_shape_stiffness[m] = *own;
+    const size_t models = scene.bodies.size() + 1;
+    b.model_shape_stiffness.clear(), b.model_damping.clear();
+    for (size_t m = 0; m < models; ++m) {
+        const OwnSettings& own = own_settings(scene, m);
+        if (own.shape_stiffness) b.model_shape_stiffness.resize(models, -1.0f), b.model_shape_stiffness[m] = *own.shape_stiffness;
+        if (own.damping) b.model_damping.resize(models, -1.0f), b.model_damping[m] = *own.damping;
     }
     for (size_t m = 0; m <= scene.bodies.size(); ++m) {
         const ModelDesc& d = m == 0 ? scene.model : scene.bodies[m - 1].model;
@@ -324,7 +325,7 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
         out.paint.model.push_back(look ? std::make_shared<const asset::SurfaceColors>(std::move(*look)) : nullptr);
         out.paint.plain.push_back(plain);
     };
-    add_look(first.value().look, scene.model_color.value_or(scene.material.color));
+    add_look(first.value().look, scene.model_own.color.value_or(scene.material.color));
     mesh::TriangleMesh coarse;
     if (scene.bodies.empty()) {
         coarse = std::move(first.value().coarse);

@@ -71,23 +71,26 @@ void write_up(std::ostream& o, const ModelDesc& m) {
     if (m.up != asset::UpAxis::file_default) o << "up = \"" << core::name_of<asset::UpAxis>(asset::k_up_axis_names, m.up) << "\"\n";
 }
 
+// A model's own settings, those it names.
+void write_own(std::ostream& o, const OwnSettings& own) {
+    if (const auto& c = own.color) o << "color = [" << num(c->x()) << ", " << num(c->y()) << ", " << num(c->z()) << "]\n";
+    if (own.particles) o << "particles = " << *own.particles << "\n";
+    if (own.mass) o << "mass = " << num(*own.mass) << "\n";
+    if (own.shape_stiffness) o << "shape_stiffness = " << num(*own.shape_stiffness) << "\n";
+    if (own.damping) o << "damping = " << num(*own.damping) << "\n";
+}
+
 // One writer per section, in the order a reader meets them.
 void write_model_material_surface(std::ostream& o, const Scene& sc) {
     o << "[model]\n";
     write_keys<ModelDesc>(o, sc.model, k_model_keys);
     write_up(o, sc.model);
-    if (const auto& c = sc.model_color) o << "color = [" << num(c->x()) << ", " << num(c->y()) << ", " << num(c->z()) << "]\n";
-    if (sc.model_particles) o << "particles = " << *sc.model_particles << "\n";
-    if (sc.model_mass) o << "mass = " << num(*sc.model_mass) << "\n";
-    if (sc.model_shape_stiffness) o << "shape_stiffness = " << num(*sc.model_shape_stiffness) << "\n";
+    write_own(o, sc.model_own);
     for (const BodyDesc& b : sc.bodies) {
         o << "\n[[bodies]]\n";
         write_keys<ModelDesc>(o, b.model, k_model_keys);
         write_up(o, b.model);
-        if (b.color) o << "color = [" << num(b.color->x()) << ", " << num(b.color->y()) << ", " << num(b.color->z()) << "]\n";
-        if (b.particles) o << "particles = " << *b.particles << "\n";
-        if (b.mass) o << "mass = " << num(*b.mass) << "\n";
-        if (b.shape_stiffness) o << "shape_stiffness = " << num(*b.shape_stiffness) << "\n";
+        write_own(o, b.own);
     }
     o << "\n[material]\n";
     write_keys<MaterialDesc>(o, sc.material, k_material_keys);

@@ -14,6 +14,10 @@ namespace pbdsplat::sim {
 // x_prev = x; x += dt * v (eq. 5).
 template <class Real>
 void apply_forces_and_predict(ParticlesT<Real>& p, const Vec3f& gravity, float damping, Real dt, size_t begin, size_t end);
+// The same with each particle's own decay: rate[model[i]], or `damping` where that is negative.
+template <class Real>
+void apply_forces_and_predict(ParticlesT<Real>& p, const Vec3f& gravity, float damping, std::span<const float> rate,
+                              std::span<const uint32_t> model, Real dt, size_t begin, size_t end);
 // v = (x - x_prev) / dt (eq. 10); pinned particles keep no velocity, even when dragged.
 template <class Real>
 void update_velocities(ParticlesT<Real>& p, Real dt, size_t begin, size_t end);

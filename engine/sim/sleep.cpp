@@ -19,6 +19,7 @@ void fit_to(SleepState& st, const SoftBodyT<Real>& body) {
     while (st.anchor.size() < n) st.anchor.push_back(xyz(body.particles.x[st.anchor.size()]));
     st.anchor.resize(n);
     st.still.resize(body.pieces, 0.0f);
+    st.calm.resize(body.pieces, 0.0f);
 }
 
 constexpr uint8_t k_static = 0, k_awake_still = 1, k_awake_moving = 2, k_sleeping = 3;
@@ -55,6 +56,7 @@ void wake_all(BodyStateT<Real>& state) {
         for (size_t i = 0; i < st.held_w.size() && i < p.size(); ++i)
             if (st.held_w[i] > 0.0f) p.w[i] = Real(st.held_w[i]), st.held_w[i] = 0.0f;
     std::fill(st.still.begin(), st.still.end(), 0.0f);
+    std::fill(st.calm.begin(), st.calm.end(), 0.0f);
     st.anchor.resize(std::min(st.anchor.size(), p.size()));
     for (size_t i = 0; i < st.anchor.size(); ++i) st.anchor[i] = xyz(p.x[i]);
     st.sleeping = 0;
@@ -102,13 +104,16 @@ namespace {
 // Each piece's kind this frame: static (nothing in it can move), asleep, still or moving. Sleep
 // is read off the particles (a held mass), so it follows a piece through relabelling.
 template <class Real>
-std::vector<uint8_t> piece_kinds(const SoftBodyT<Real>& body, const SleepState& st, const SleepSettings& s) {
+std::vector<uint8_t> piece_kinds(const SoftBodyT<Real>& body, const SleepState& st, const SleepSettings& s, std::vector<uint8_t>& fast) {
     const ParticlesT<Real>& p = body.particles;
     const size_t pieces = body.pieces;
     const float edge = float(body.distance_groups.mean_rest());
     const float drift = s.drift * edge, reach = s.radius * edge;
     std::vector<uint8_t> kind(pieces, k_static);
+    const float limit = s.speed * edge;
+    fast.assign(pieces, 0);
     std::vector<Vec3f> shift(pieces, Vec3f::Zero());  // the free particles' mean way from their anchors
+    std::vector<float> speed2(pieces, 0.0f);         // and their squared speeds' sum
     std::vector<uint32_t> count(pieces, 0);
     for (size_t i = 0; i < p.size(); ++i) {
         const uint32_t k = body.piece_of_particle[i];
@@ -117,12 +122,16 @@ std::vector<uint8_t> piece_kinds(const SoftBodyT<Real>& body, const SleepState& 
             kind[k] = k_sleeping;
         } else if (p.w[i] > Real(0)) {
             const Vec3f d = xyz(p.x[i]) - st.anchor[i];
-            shift[k] += d, ++count[k];
+            shift[k] += d, speed2[k] += float(p.v[i].squaredNorm()), ++count[k];
             kind[k] = d.squaredNorm() > reach * reach ? k_awake_moving : std::max(kind[k], k_awake_still);
         }
     }
-    for (uint32_t k = 0; k < pieces; ++k)
-        if (kind[k] == k_awake_still && (shift[k] / float(count[k])).squaredNorm() > drift * drift) kind[k] = k_awake_moving;
+    for (uint32_t k = 0; k < pieces; ++k) {
+        if (kind[k] != k_awake_still && kind[k] != k_awake_moving) continue;
+        const float n = float(count[k]);
+        fast[k] = speed2[k] / n > limit * limit;
+        if (kind[k] == k_awake_still && ((shift[k] / n).squaredNorm() > drift * drift || fast[k])) kind[k] = k_awake_moving;
+    }
     // A leaking piece changes by itself: it never sleeps.
     for (const VolumeConstraint& v : body.volumes)
         if (v.leak > 0.0f && v.piece < pieces && kind[v.piece] != k_static) kind[v.piece] = k_awake_moving;
@@ -186,20 +195,27 @@ void update_sleep(SoftBodyT<Real>& body, std::span<const std::pair<uint32_t, uin
     }
     fit_to(st, body);
     const size_t pieces = body.pieces;
-    const std::vector<uint8_t> kind = piece_kinds(body, st, s);
+    std::vector<uint8_t> fast;
+    const std::vector<uint8_t> kind = piece_kinds(body, st, s, fast);
     for (uint32_t k = 0; k < pieces; ++k) {
         if (kind[k] == k_awake_moving) st.still[k] = 0.0f;
         else if (kind[k] == k_awake_still) st.still[k] += dt;
+        st.calm[k] = fast[k] ? 0.0f : st.calm[k] + dt;
     }
     // A piece still long enough falls asleep; a sleeping piece wakes when a piece touching it
     // moves (one dropped onto it, or what it rests on sliding away).
     std::vector<uint8_t> change(pieces, k_stays);
     for (uint32_t k = 0; k < pieces; ++k)
         if ((kind[k] == k_awake_still || kind[k] == k_awake_moving) && st.still[k] >= s.time) change[k] = k_falls_asleep;
+    // It stays awake while a piece touching it moved fast within a still spell's time: held under
+    // a piece bouncing on it, it would give nothing at the bounce's turn and fling it off.
+    const auto restless = [&](uint32_t k) { return (kind[k] == k_awake_still || kind[k] == k_awake_moving) && st.calm[k] < s.time; };
     for (const auto& [a, b] : touching) {
         if (a >= pieces || b >= pieces) continue;
         if (kind[a] == k_sleeping && kind[b] == k_awake_moving) change[a] = k_wakes;
         if (kind[b] == k_sleeping && kind[a] == k_awake_moving) change[b] = k_wakes;
+        if (change[a] == k_falls_asleep && restless(b)) change[a] = k_stays;
+        if (change[b] == k_falls_asleep && restless(a)) change[b] = k_stays;
     }
     if (!body.welds.empty()) join_welded(weld_groups(body), kind, change);
     apply(body, st, kind, change);

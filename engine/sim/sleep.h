@@ -6,9 +6,9 @@
 // body is to every stage (pushed against, never moved), so nothing else changes.
 //
 // A piece is still while none of its particles leaves a ball of `radius` mean rest edges about
-// where it was when the still spell began; still for `time`, it sleeps. A sleeping piece wakes
-// when a piece touching it moves (one dropped onto it, or what it rests on sliding away), at the
-// frame's end, or at once when a contact presses it deeper than the thickness (wake_pieces); a
+// where it was when the still spell began and they move slowly; still for `time`, it sleeps,
+// unless a piece touching it moved fast within that time. A sleeping piece wakes when a piece touching it moves (one
+// dropped onto it, or what it rests on sliding away), at the frame's end, or at once when a contact presses it deeper than the thickness (wake_pieces); a
 // static body never sleeps, being held already. Whatever acts on the body from outside (a cut, a
 // tear, a drag, a spin, a pressure ramp) wakes every piece first: sim::wake_all, called where it
 // acts. Pieces sleep one by one, not as islands: a piece that keeps creeping beside a resting
@@ -45,6 +45,12 @@ struct SleepSettings {
     // mu 0.5: 8 cm in half a second, a third of its 25 cm edges) and must not be held; at 0.1
     // edges resting stacks creeping a centimetre a second seldom slept.
     float drift = 0.25f;
+    // Mean rest edges a second the piece's particles may move at (their rms speed) and count as
+    // still: a piece swinging within the radius is not at rest. A 0.2 kg ball bouncing on a soft
+    // box (0.45 m/s, 7 edges a second) kept it awake by the radius alone; the box fell asleep
+    // under it, deformed, and flung it 1.5 m/s up, again and again. Resting pieces in the shipped
+    // stacks fall asleep at up to 2 edges a second.
+    float speed = 3.0f;
 };
 
 // The sleep of a body's pieces: part of its state (the solver writes it; what acts on the body
@@ -53,6 +59,7 @@ struct SleepState {
     std::vector<float> held_w;    // per particle: its inverse mass while its piece sleeps, else 0
     std::vector<Vec3f> anchor;    // per particle: where it was when its piece's still spell began
     std::vector<float> still;     // per piece: seconds it has been still
+    std::vector<float> calm;      // per piece: seconds since it last moved faster than SleepSettings::speed
     size_t sleeping = 0;          // pieces asleep
     size_t movable = 0;           // pieces that can move at all (not static), asleep or awake
     bool judged = false;          // the pieces' kinds were read since the last wake (the counts hold)

@@ -67,6 +67,9 @@ struct BodyStructureT {
     // Per model, its own shape stiffness (negative: the solver settings'); empty: every model
     // the settings'. Each shape cluster takes its model's (ShapeCluster::own_stiffness).
     std::vector<float> model_shape_stiffness;
+    // Per model, its own velocity decay rate in 1/s (negative: the solver settings'); empty:
+    // every model the settings'.
+    std::vector<float> model_damping;
     // The connected component each particle was in when the body was built (a particle a
     // topology edit adds takes its source's): the two sides of a cut are one part.
     std::vector<uint32_t> part_of_particle;

@@ -68,7 +68,12 @@ void SolverT<Real>::begin_substep(SoftBodyT<Real>& body, const SolverSettings& s
                     "distance constraints changed without rebuild_derived(body)");
     PBDSPLAT_ASSERT(body.rings.size() == p.size() && body.distance_lambda.size() == body.distance.size(),
                     "particles or triangles changed without rebuild_derived(body)");
-    for_range(p.size(), k_particle_grain, [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, s.damping, h, b, e); });
+    const std::vector<float>& rate = body.model_damping;
+    if (rate.empty() || body.model_of_particle.size() != p.size())
+        for_range(p.size(), k_particle_grain, [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, s.damping, h, b, e); });
+    else
+        for_range(p.size(), k_particle_grain,
+                  [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, s.damping, rate, body.model_of_particle, h, b, e); });
     if (!body.volumes.empty()) slots_.weights = volume_weights<Real>(std::span<const Real>(p.w), body.rings.rest_area);
     slots_.pressed.clear();  // find_contacts fills it where contact runs
     slots_.moments_ready.clear();
@@ -231,8 +236,9 @@ void SolverT<Real>::update_normals(SoftBodyT<Real>& body) {
 template <class Real>
 void SolverT<Real>::settle(SoftBodyT<Real>& body, const SolverSettings& s, float dt) {
     touching_.clear();
-    // The pairs only wake a sleeping piece beside an awake one.
-    if (s.contact.enabled && body.sleep.any() && !body.sleep.resting()) contact_.touching_pieces(body, touching_);
+    // The pairs wake a sleeping piece beside a moving one and keep a piece awake beside one that
+    // moved fast: one pass over the candidates a frame, against their projection every sweep.
+    if (s.contact.enabled && s.sleep.enabled && !body.sleep.resting()) contact_.touching_pieces(body, touching_);
     update_sleep<Real>(body, touching_, s.sleep, dt);
 }
 

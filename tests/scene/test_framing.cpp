@@ -68,17 +68,17 @@ translate = [6, 3, -2]
         CHECK(sc->model.mesh == "icosphere:2");
         REQUIRE(sc->bodies.size() == 1);
         CHECK(sc->bodies[0].model.mesh == "box:4");
-        REQUIRE(sc->model_color);
-        CHECK(sc->model_color->isApprox(Vec3f(0.1f, 0.2f, 0.3f)));
-        CHECK(sc->model_particles == 0u);
+        REQUIRE(sc->model_own.color);
+        CHECK(sc->model_own.color->isApprox(Vec3f(0.1f, 0.2f, 0.3f)));
+        CHECK(sc->model_own.particles == 0u);
         CHECK_FALSE(sc->render.camera_given);
         // Printed and read again, the same two models with the first one's colour.
         auto again = scene::parse_scene(scene::to_toml(sc.value()), "again.toml");
         REQUIRE_MESSAGE(again.ok(), test::why(again));
         CHECK(again->model.mesh == "icosphere:2");
         CHECK(again->bodies.size() == 1);
-        REQUIRE(again->model_color);
-        CHECK(again->model_color->isApprox(Vec3f(0.1f, 0.2f, 0.3f)));
+        REQUIRE(again->model_own.color);
+        CHECK(again->model_own.color->isApprox(Vec3f(0.1f, 0.2f, 0.3f)));
         CHECK_FALSE(again->render.camera_given);
 
         auto rt = scene::SceneRuntime::create(sc.value(), {});
@@ -114,7 +114,7 @@ translate = [6, 3, -2]
             auto sc = scene::parse_scene(text, "one.toml");
             REQUIRE_MESSAGE(sc.ok(), test::why(sc));
             CHECK(sc->bodies.empty());
-            CHECK_FALSE(sc->model_color);
+            CHECK_FALSE(sc->model_own.color);
             CHECK(sc->material.color.isApprox(Vec3f(0.2f, 0.4f, 0.6f)));
         }
     }

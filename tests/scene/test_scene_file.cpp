@@ -38,6 +38,7 @@ color = [0.3, 0.6, 0.9]
 particles = 0
 mass = 2.5
 shape_stiffness = 0.4
+damping = 0.3
 
 [[bodies]]
 mesh = "box:2"
@@ -53,6 +54,7 @@ color = [0.1, 0.2, 0.3]
 particles = 300
 mass = 0.75
 shape_stiffness = 0.2
+damping = 0.7
 
 [material]
 color = [0.2, 0.6, 0.9]
@@ -671,13 +673,13 @@ particles = 0
             CHECK(sc->bodies[0].model.mesh == "icosphere:1");
             CHECK(sc->bodies[0].model.translate.isApprox(Vec3f(0, 2, 0)));
             CHECK(sc->bodies[0].model.velocity.isApprox(Vec3f(1, -2, 0.5f)));
-            REQUIRE(sc->bodies[0].color);
-            CHECK(sc->bodies[0].color->isApprox(Vec3f(0.1f, 0.2f, 0.3f)));
+            REQUIRE(sc->bodies[0].own.color);
+            CHECK(sc->bodies[0].own.color->isApprox(Vec3f(0.1f, 0.2f, 0.3f)));
             CHECK_FALSE(sc->bodies[0].model.fixed);
             CHECK(sc->bodies[1].model.fixed);
             CHECK(sc->bodies[1].model.scale.axes.isApprox(Vec3f(0.5f, 0.25f, 1.0f)));
-            REQUIRE(sc->bodies[1].particles);
-            CHECK(*sc->bodies[1].particles == 0);
+            REQUIRE(sc->bodies[1].own.particles);
+            CHECK(*sc->bodies[1].own.particles == 0);
         }
         auto model = scene::load_scene_model(first.value());
         REQUIRE_MESSAGE(model.ok(), test::why(model));
