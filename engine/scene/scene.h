@@ -46,6 +46,7 @@ struct OwnSettings {
     std::optional<float> mass;             // kg, its own total; else its area's share of simulation.mass
     std::optional<float> shape_stiffness;  // else simulation.shape_stiffness
     std::optional<float> damping;          // 1/s, its velocity's decay; else simulation.damping
+    std::optional<float> deform_damping;   // 1/s, its wobble's decay; else simulation.deform_damping
 };
 
 // Another model beside [model] ([[bodies]] in a scene file): the pieces of one soft body, so

@@ -223,6 +223,7 @@ OwnSettings read_own(Reader::Table& t) {
     if (t.has("mass")) o.mass = t.real("mass", 1.0f, 1e-6, 1e6);
     if (t.has("shape_stiffness")) o.shape_stiffness = t.real("shape_stiffness", 0.0f, 0.0, 1.0);
     if (t.has("damping")) o.damping = t.real("damping", 0.0f, 0.0, 1e3);
+    if (t.has("deform_damping")) o.deform_damping = t.real("deform_damping", 0.0f, 0.0, 1e3);
     return o;
 }
 

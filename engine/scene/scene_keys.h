@@ -88,6 +88,7 @@ inline const Key<SimulationDesc> k_simulation_keys[] = {
     PBDSPLAT_KEY(SimulationDesc, "pressure", pressure, 0.01, 100.0),
     PBDSPLAT_KEY(SimulationDesc, "gravity", solver.gravity, -1000, 1000),
     PBDSPLAT_KEY(SimulationDesc, "damping", solver.damping, 0.0, 1000.0),
+    PBDSPLAT_KEY(SimulationDesc, "deform_damping", solver.deform_damping, 0.0, 1000.0),
     PBDSPLAT_KEY(SimulationDesc, "mass", mass, 1e-6, 1e6),
     PBDSPLAT_KEY(SimulationDesc, "friction", friction, 0.0, 10.0),
     PBDSPLAT_KEY(SimulationDesc, "static_friction", static_friction, 0.0, 10.0),

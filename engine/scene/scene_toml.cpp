@@ -78,6 +78,7 @@ void write_own(std::ostream& o, const OwnSettings& own) {
     if (own.mass) o << "mass = " << num(*own.mass) << "\n";
     if (own.shape_stiffness) o << "shape_stiffness = " << num(*own.shape_stiffness) << "\n";
     if (own.damping) o << "damping = " << num(*own.damping) << "\n";
+    if (own.deform_damping) o << "deform_damping = " << num(*own.deform_damping) << "\n";
 }
 
 // One writer per section, in the order a reader meets them.

@@ -153,6 +153,7 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     d.model_of_particle = b.model_of_particle;
     d.model_shape_stiffness = b.model_shape_stiffness;
     d.model_damping = b.model_damping;
+    d.model_deform_damping = b.model_deform_damping;
     d.part_of_particle = b.part_of_particle;
     d.enclosed_parts = b.enclosed_parts;
     return d;

@@ -22,6 +22,7 @@ core::Status validate(const SolverSettings& s) {
     if (s.contact.substeps < 1 || s.contact.substeps > 1000) return core::make_error("contact substeps must be 1 to 1000");
     if (!s.gravity.allFinite()) return core::make_error("gravity must be finite");
     if (!(s.damping >= 0.0f) || !std::isfinite(s.damping)) return core::make_error("damping must be >= 0");
+    if (!(s.deform_damping >= 0.0f) || !std::isfinite(s.deform_damping)) return core::make_error("deform_damping must be >= 0");
     if (!(s.stretch_stiffness > 0.0f && s.stretch_stiffness <= 1.0f))
         return core::make_error("stretch stiffness must be in (0, 1]");
     if (!(s.volume_stiffness > 0.0f && s.volume_stiffness <= 1.0f))
@@ -220,8 +221,20 @@ void SolverT<Real>::project_contacts(SoftBodyT<Real>& body, const SolverSettings
 }
 
 template <class Real>
-void SolverT<Real>::end_substep(SoftBodyT<Real>& body, Real h) {
+void SolverT<Real>::end_substep(SoftBodyT<Real>& body, const SolverSettings& s, Real h) {
     for_range(body.particles.size(), k_particle_grain, [&](size_t b, size_t e) { update_velocities<Real>(body.particles, h, b, e); });
+    const std::vector<float>& own = body.model_deform_damping;
+    const bool models_known = body.model_of_particle.size() == body.particles.size();
+    if (!(s.deform_damping > 0.0f) && (own.empty() || !models_known)) return;
+    // Each piece the rate of its model (a piece never spans two).
+    piece_rate_.assign(body.pieces, -1.0f);
+    for (size_t i = 0; i < body.particles.size(); ++i) {
+        const uint32_t k = body.piece_of_particle[i];
+        if (k >= piece_rate_.size() || piece_rate_[k] >= 0.0f) continue;
+        const uint32_t m = models_known ? body.model_of_particle[i] : 0u;
+        piece_rate_[k] = m < own.size() && own[m] >= 0.0f ? own[m] : s.deform_damping;
+    }
+    damp_deformation<Real>(body.particles, body.piece_of_particle, piece_rate_, h, piece_moments_);
 }
 
 template <class Real>
@@ -259,7 +272,7 @@ void SolverT<Real>::run(Stage stage, SoftBodyT<Real>& body, const SolverSettings
     case Stage::collide: collide(body, colliders); break;
     case Stage::find_contacts: find_contacts(body, s); break;
     case Stage::contact: project_contacts(body, s); break;
-    case Stage::velocities: end_substep(body, h); break;
+    case Stage::velocities: end_substep(body, s, h); break;
     case Stage::normals: update_normals(body); break;
     case Stage::sleep: settle(body, s, float(h) * float(s.substeps)); break;
     }

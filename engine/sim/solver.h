@@ -9,6 +9,7 @@
 #include "core/thread_pool.h"
 #include "sim/colliders.h"
 #include "sim/contact.h"
+#include "sim/deform_damping.h"
 #include "sim/fold_guard.h"
 #include "sim/constraints.h"
 #include "sim/schedule.h"
@@ -30,6 +31,7 @@ struct SolverSettings {
     uint32_t substeps = 1;    // S: each frame is S steps of dt / S
     Vec3f gravity{0.0f, -9.81f, 0.0f};
     float damping = 0.0f;             // velocity decay rate, 1/s
+    float deform_damping = 0.0f;      // 1/s: decay of each piece's motion apart from its rigid motion (sim/deform_damping.h)
     float stretch_stiffness = 1.0f;   // PBD, per frame's worth of iterations
     float volume_stiffness = 1.0f;    // PBD
     // Shape matching toward each piece's rest shape (bodies built with shape_matching): PBD
@@ -93,7 +95,7 @@ public:
     void project_contacts(SoftBodyT<Real>& body, const SolverSettings& s);
     const ContactSolverT<Real>& contact() const { return contact_; }
     const FoldGuardT<Real>& folds() const { return folds_; }
-    void end_substep(SoftBodyT<Real>& body, Real h);
+    void end_substep(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
     void update_normals(SoftBodyT<Real>& body);
     // After a frame of `dt`: islands of pieces at rest fall asleep, disturbed ones wake.
     void settle(SoftBodyT<Real>& body, const SolverSettings& s, float dt);
@@ -119,6 +121,8 @@ private:
     ContactSolverT<Real> contact_;  // this substep's candidates
     FoldGuardT<Real> folds_;        // and a skin's folds through its own neighbourhood
     std::vector<std::pair<uint32_t, uint32_t>> touching_;  // pieces in contact, for sleep
+    std::vector<float> piece_rate_;                        // deform_damping per piece
+    std::vector<PieceMoments> piece_moments_;
 };
 using Solver = SolverT<float>;
 

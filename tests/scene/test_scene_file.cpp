@@ -39,6 +39,7 @@ particles = 0
 mass = 2.5
 shape_stiffness = 0.4
 damping = 0.3
+deform_damping = 2.5
 
 [[bodies]]
 mesh = "box:2"
@@ -55,6 +56,7 @@ particles = 300
 mass = 0.75
 shape_stiffness = 0.2
 damping = 0.7
+deform_damping = 4
 
 [material]
 color = [0.2, 0.6, 0.9]
@@ -101,6 +103,7 @@ volume_compliance = 1e-5
 pressure = 1.2
 gravity = [0.0, -5.0, 0.0]
 damping = 0.1
+deform_damping = 1.5
 mass = 2.0
 friction = 0.3
 static_friction = 0.6
