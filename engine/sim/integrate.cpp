@@ -23,18 +23,11 @@ void apply_forces_and_predict(ParticlesT<Real>& p, const Vec3f& gravity, float d
 }
 
 template <class Real>
-void apply_forces_and_predict(ParticlesT<Real>& p, const Vec3f& gravity, float damping, std::span<const float> rate,
-                              std::span<const uint32_t> model, Real dt, size_t begin, size_t end) {
-    // A scene has a handful of models: each one's factor once, not an exp per particle.
-    constexpr size_t k_kept = 16;
-    Real keep[k_kept];
-    const auto keep_of = [&](float r) { return r > 0.0f ? std::exp(-Real(r) * dt) : Real(1); };
-    for (size_t m = 0; m < std::min(k_kept, rate.size()); ++m) keep[m] = keep_of(rate[m] >= 0.0f ? rate[m] : damping);
+void apply_forces_and_predict(ParticlesT<Real>& p, const Vec3f& gravity, std::span<const Real> keep, std::span<const uint32_t> model, Real dt,
+                              size_t begin, size_t end) {
     const Vec4<Real> dv = dt * to4<Real>(gravity);
     for (size_t i = begin; i < end; ++i) {
-        const uint32_t m = model[i];
-        const Real k = m < std::min(k_kept, rate.size()) ? keep[m] : keep_of(m < rate.size() && rate[m] >= 0.0f ? rate[m] : damping);
-        if (p.w[i] != Real(0)) p.v[i] = (p.v[i] + dv) * k;
+        if (p.w[i] != Real(0)) p.v[i] = (p.v[i] + dv) * keep[model[i]];
         p.x_prev[i] = p.x[i];
         p.x[i] += dt * p.v[i];
     }
@@ -146,10 +139,10 @@ void update_normals(const VertexRings& rings, const Vec4Array& x, std::vector<Ve
 
 template void apply_forces_and_predict<float>(ParticlesT<float>&, const Vec3f&, float, float, size_t, size_t);
 template void apply_forces_and_predict<double>(ParticlesT<double>&, const Vec3f&, float, double, size_t, size_t);
-template void apply_forces_and_predict<float>(ParticlesT<float>&, const Vec3f&, float, std::span<const float>, std::span<const uint32_t>, float,
-                                             size_t, size_t);
-template void apply_forces_and_predict<double>(ParticlesT<double>&, const Vec3f&, float, std::span<const float>, std::span<const uint32_t>,
-                                              double, size_t, size_t);
+template void apply_forces_and_predict<float>(ParticlesT<float>&, const Vec3f&, std::span<const float>, std::span<const uint32_t>, float, size_t,
+                                             size_t);
+template void apply_forces_and_predict<double>(ParticlesT<double>&, const Vec3f&, std::span<const double>, std::span<const uint32_t>, double,
+                                              size_t, size_t);
 template void update_velocities<float>(ParticlesT<float>&, float, size_t, size_t);
 template void update_velocities<double>(ParticlesT<double>&, double, size_t, size_t);
 

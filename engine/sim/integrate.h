@@ -14,10 +14,11 @@ namespace pbdsplat::sim {
 // x_prev = x; x += dt * v (eq. 5).
 template <class Real>
 void apply_forces_and_predict(ParticlesT<Real>& p, const Vec3f& gravity, float damping, Real dt, size_t begin, size_t end);
-// The same with each particle's own decay: rate[model[i]], or `damping` where that is negative.
+// The same with each model's own decay: particle i's velocity is scaled by keep[model[i]]
+// (e^(-rate dt), taken once a substep per model, not once per particle).
 template <class Real>
-void apply_forces_and_predict(ParticlesT<Real>& p, const Vec3f& gravity, float damping, std::span<const float> rate,
-                              std::span<const uint32_t> model, Real dt, size_t begin, size_t end);
+void apply_forces_and_predict(ParticlesT<Real>& p, const Vec3f& gravity, std::span<const Real> keep, std::span<const uint32_t> model, Real dt,
+                              size_t begin, size_t end);
 // v = (x - x_prev) / dt (eq. 10); pinned particles keep no velocity, even when dragged.
 template <class Real>
 void update_velocities(ParticlesT<Real>& p, Real dt, size_t begin, size_t end);

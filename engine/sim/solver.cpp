@@ -69,12 +69,19 @@ void SolverT<Real>::begin_substep(SoftBodyT<Real>& body, const SolverSettings& s
                     "distance constraints changed without rebuild_derived(body)");
     PBDSPLAT_ASSERT(body.rings.size() == p.size() && body.distance_lambda.size() == body.distance.size(),
                     "particles or triangles changed without rebuild_derived(body)");
-    const std::vector<float>& rate = body.model_damping;
-    if (rate.empty() || body.model_of_particle.size() != p.size())
+    if (body.model_damping.empty() || body.model_of_particle.size() != p.size()) {
         for_range(p.size(), k_particle_grain, [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, s.damping, h, b, e); });
-    else
+    } else {
+        // Each model's own rate, or the settings'; a model past the list (none is) the settings'.
+        const std::vector<float>& rate = body.model_damping;
+        model_keep_.assign(body.model_count(), Real(1));
+        for (size_t m = 0; m < model_keep_.size(); ++m) {
+            const float r = m < rate.size() && rate[m] >= 0.0f ? rate[m] : s.damping;
+            model_keep_[m] = r > 0.0f ? std::exp(-Real(r) * h) : Real(1);
+        }
         for_range(p.size(), k_particle_grain,
-                  [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, s.damping, rate, body.model_of_particle, h, b, e); });
+                  [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, model_keep_, body.model_of_particle, h, b, e); });
+    }
     if (!body.volumes.empty()) slots_.weights = volume_weights<Real>(std::span<const Real>(p.w), body.rings.rest_area);
     slots_.pressed.clear();  // find_contacts fills it where contact runs
     slots_.moments_ready.clear();

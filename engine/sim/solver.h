@@ -122,6 +122,7 @@ private:
     FoldGuardT<Real> folds_;        // and a skin's folds through its own neighbourhood
     std::vector<std::pair<uint32_t, uint32_t>> touching_;  // pieces in contact, for sleep
     std::vector<float> piece_rate_;                        // deform_damping per piece
+    std::vector<Real> model_keep_;                         // velocity kept per model a substep (own damping)
     std::vector<PieceMoments> piece_moments_;
 };
 using Solver = SolverT<float>;
