@@ -15,11 +15,13 @@
 namespace pbdsplat::sim {
 
 // Per piece, the sums its rigid motion is read from (double: positions in metres, masses in
-// grams, summed over thousands of particles).
+// grams, summed over thousands of particles), and that motion.
 struct PieceMoments {
     double m = 0.0;
     Eigen::Vector3d mx = Eigen::Vector3d::Zero(), mv = Eigen::Vector3d::Zero(), mxv = Eigen::Vector3d::Zero();
     Eigen::Matrix3d mxx = Eigen::Matrix3d::Zero();  // sum of m x x^T
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero(), velocity = Eigen::Vector3d::Zero(), spin = Eigen::Vector3d::Zero();
+    double take = 0.0;  // the share of each particle's deviation taken off this substep
 };
 
 // Draws the free particles' velocities toward their piece's rigid motion by 1 - e^(-rate h),

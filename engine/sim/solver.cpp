@@ -207,6 +207,7 @@ void SolverT<Real>::find_contacts(SoftBodyT<Real>& body, const SolverSettings& s
     const float g = s.gravity.norm();
     contact_.set_up(g > 0.0f ? Vec3f(-s.gravity / g) : Vec3f::Zero());
     contact_.find(body, s.contact, s.shape_stiffness);
+    stiff_contact_ = stiffest_shape(body.shapes, s.shape_stiffness) >= k_rigid_response_stiffness;
     // A soft body beside stiff ones is guarded with them (a stiff surface is never pushed: it does
     // not fold); stiff bodies alone pay nothing.
     folds_.find(body, s.contact, softest_shape(body.shapes, s.shape_stiffness) >= k_rigid_response_stiffness);
@@ -219,7 +220,7 @@ void SolverT<Real>::find_contacts(SoftBodyT<Real>& body, const SolverSettings& s
 
 template <class Real>
 void SolverT<Real>::project_contacts(SoftBodyT<Real>& body, const SolverSettings& s) {
-    contact_.project(body, s.contact, stiffest_shape(body.shapes, s.shape_stiffness) >= k_rigid_response_stiffness);
+    contact_.project(body, s.contact, stiff_contact_);
     folds_.project(body.particles);
     if (!contact_.pressed_sleepers().empty()) {
         wake_pieces<Real>(body, contact_.pressed_sleepers());

@@ -119,6 +119,7 @@ private:
     std::vector<std::pair<uint32_t, uint32_t>> pressed_pairs_;  // find_contacts' touching pieces
     VolumeSlots slots_;
     ContactSolverT<Real> contact_;  // this substep's candidates
+    bool stiff_contact_ = false;    // this substep: some cluster answers contact as a solid
     FoldGuardT<Real> folds_;        // and a skin's folds through its own neighbourhood
     std::vector<std::pair<uint32_t, uint32_t>> touching_;  // pieces in contact, for sleep
     std::vector<float> piece_rate_;                        // deform_damping per piece
