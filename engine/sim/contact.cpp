@@ -958,12 +958,77 @@ float ContactSolverT<Real>::project_rigid(ParticlesT<Real>& p, const ContactSett
 }
 
 template <class Real>
+void ContactSolverT<Real>::project_soft(const SoftBodyT<Real>& body, const ContactSettings& s, const Contact& ct, const Corners& ck) {
+    const ParticlesT<Real>& p = body.particles;
+    const uint32_t i = ct.particle, ia = ck.ia, ib = ck.ib, ic = ck.ic;
+    const Lift l = lift(body, i, ia);
+    const Real up_w = Real(l.particle), down_w = Real(l.surface);
+    const Real wp = up_w * p.w[i], wa = down_w * p.w[ia], wb = down_w * p.w[ib], wc = down_w * p.w[ic];
+    const Vec3f a = pos3(p.x[ia]), b = pos3(p.x[ib]), c = pos3(p.x[ic]);
+    const Vec3f nf = unit_normal(a, b, c);
+    if (nf.isZero()) return;
+    const Vec3f xi = pos3(p.x[i]);
+    // Clear of the plane: clear of the triangle (most candidates, most iterations).
+    if (ct.side * (xi - a).dot(nf) >= ct.thickness) return;
+    const Over o = over_triangle(xi, a, b, c, nf);
+    // Pushed along this triangle's normal only while over it: beside it (over a convex edge or
+    // corner) its neighbour takes over, and pushing along this one's normal there would shove the
+    // particle sideways off a face it rests on.
+    if (o.lateral > k_over * scale_.edge) return;
+    const Real C = Real(ct.side) * Real(o.height) - Real(ct.thickness);
+    if (C >= Real(0)) return;
+    const Real ua = Real(o.wa), ub = Real(o.wb), uc = Real(o.wc);
+    const Real denom = wp + ua * ua * wa + ub * ub * wb + uc * uc * wc;
+    if (!(denom > Real(0))) return;
+    const Vec4<Real> n = Real(ct.side) * to4<Real>(nf);
+    const Real depth = -C;
+    note_push(body, i, {ia, ib, ic}, float(depth));
+    // Friction on the particle's motion relative to the surface point since the substep began;
+    // the push along n leaves its tangential part as it is.
+    const Vec4<Real> rel = (p.x[i] - p.x_prev[i]) - ua * (p.x[ia] - p.x_prev[ia]) - ub * (p.x[ib] - p.x_prev[ib]) - uc * (p.x[ic] - p.x_prev[ic]);
+    const Vec4<Real> tangential = rel - rel.dot(n) * n;
+    const Vec4<Real> push = (depth / denom) * n;
+    const Vec4<Real> d = push - (friction_share(s.friction, tangential.norm(), depth) / denom) * tangential;
+    // Of the depth, what lay within the thickness when the substep began is taken out of the
+    // start positions too (as separate() does): a resting pair keeps a little overlap that its
+    // constraints press back each sweep, and where one side stops giving (it falls asleep, or
+    // turns out pinned) the other would leave with all of it as speed: a 5 kg ball resting on a
+    // soft box flew up at 1.5 m/s the frame the box fell asleep.
+    const Vec3f a0 = pos3(p.x_prev[ia]), n0 = unit_normal(a0, pos3(p.x_prev[ib]), pos3(p.x_prev[ic]));
+    const float overlap = n0.isZero() ? 0.0f : std::max(0.0f, ct.thickness - ct.side * (pos3(p.x_prev[i]) - a0).dot(n0));
+    const Vec4<Real> settle = Real(std::clamp(overlap / float(depth), 0.0f, 1.0f)) * push;
+    add_soft(i, wp * d, wp * settle);
+    add_soft(ia, -(wa * ua) * d, -(wa * ua) * settle), add_soft(ib, -(wb * ub) * d, -(wb * ub) * settle);
+    add_soft(ic, -(wc * uc) * d, -(wc * uc) * settle);
+}
+
+template <class Real>
+void ContactSolverT<Real>::add_soft(uint32_t i, const Vec4<Real>& d, const Vec4<Real>& settle) {
+    if (d.isZero()) return;
+    if (soft_count_[i]++ == 0) soft_touched_.push_back(i), soft_delta_[i] = d, soft_settle_[i] = settle;
+    else soft_delta_[i] += d, soft_settle_[i] += settle;
+}
+
+template <class Real>
+void ContactSolverT<Real>::apply_soft(ParticlesT<Real>& p) {
+    // Each particle's mean correction: every candidate it meets says where it should go, and a
+    // sum would push it as far again for each (a corner under three particles thrice).
+    for (const uint32_t i : soft_touched_) {
+        const Real share = Real(1) / Real(soft_count_[i]);
+        p.x[i] += share * soft_delta_[i], p.x_prev[i] += share * soft_settle_[i];
+        soft_count_[i] = 0;
+    }
+    soft_touched_.clear();
+}
+
+template <class Real>
 void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings& s, bool stiff_bodies) {
     if (contacts_.empty() && seam_pairs_.empty()) return;
     ParticlesT<Real>& p = body.particles;
     const bool rigid = stiff_bodies && rigid_.any();
     if (rigid && !rigid_ready_) touch_clusters(body), rigid_.begin(body.shapes, p, touch_), rigid_ready_ = true;
     if (!heights_ready_) take_heights(body);
+    if (soft_count_.size() != p.size()) soft_count_.assign(p.size(), 0), soft_delta_.resize(p.size()), soft_settle_.resize(p.size());
     update_faces(p);
     project_seams(body, s, rigid);
     for (const Contact& ct : contacts_) {
@@ -976,45 +1041,9 @@ void ContactSolverT<Real>::project(SoftBodyT<Real>& body, const ContactSettings&
                 continue;
             }
         }
-        const Vec4<Real>& xa = p.x[ia];
-
-        const Lift l = lift(body, i, ia);
-        const Real up_w = Real(l.particle), down_w = Real(l.surface);
-        const Real wp = up_w * p.w[i], wa = down_w * p.w[ia], wb = down_w * p.w[ib], wc = down_w * p.w[ic];
-        const Vec3f a = pos3(xa), b = pos3(p.x[ib]), c = pos3(p.x[ic]);
-        const Vec3f nf = unit_normal(a, b, c);
-        if (nf.isZero()) continue;
-        const Vec3f xi = pos3(p.x[i]);
-        // Clear of the plane: clear of the triangle (most candidates, most iterations).
-        if (ct.side * (xi - a).dot(nf) >= ct.thickness) continue;
-        const Over o = over_triangle(xi, a, b, c, nf);
-        // Pushed along this triangle's normal only while over it: beside it (over a convex edge
-        // or corner) its neighbour takes over, and pushing along this one's normal there would
-        // shove the particle sideways off a face it rests on.
-        if (o.lateral > k_over * scale_.edge) continue;
-        const Real side = Real(ct.side);
-        const Real C = side * Real(o.height) - Real(ct.thickness);
-        if (C >= Real(0)) continue;
-        const Real ua = Real(o.wa), ub = Real(o.wb), uc = Real(o.wc);
-        const Real denom = wp + ua * ua * wa + ub * ub * wb + uc * uc * wc;
-        if (!(denom > Real(0))) continue;
-        const Vec4<Real> n = side * to4<Real>(nf);
-        // Moves the particle by wp * d and each corner by -w * weight * d.
-        const auto apply = [&](const Vec4<Real>& d) {
-            p.x[i] += wp * d;
-            p.x[ia] -= wa * ua * d;
-            p.x[ib] -= wb * ub * d;
-            p.x[ic] -= wc * uc * d;
-        };
-        const Real depth = -C;
-        note_push(body, i, {ia, ib, ic}, float(depth));
-        apply((depth / denom) * n);
-        // Friction on the particle's motion relative to the surface point since the substep began.
-        Vec4<Real> rel = (p.x[i] - p.x_prev[i]) - ub * (p.x[ib] - p.x_prev[ib]) - uc * (p.x[ic] - p.x_prev[ic]);
-        rel -= ua * (p.x[ia] - p.x_prev[ia]);
-        const Vec4<Real> tangential = rel - rel.dot(n) * n;
-        apply((-friction_share(s.friction, tangential.norm(), depth) / denom) * tangential);
+        project_soft(body, s, ct, ck);
     }
+    apply_soft(p);
     if (rigid) rigid_.finish(body.shapes, p);
 }
 

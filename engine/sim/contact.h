@@ -122,8 +122,9 @@ public:
     // `shape_stiffness`: the settings', for the clusters whose body names none of its own; a
     // cluster below k_rigid_response_stiffness answers particle by particle.
     void find(const SoftBodyT<Real>& body, const ContactSettings& s, float shape_stiffness = 1.0f);
-    // One Gauss-Seidel sweep over the candidates (call every iteration). With `stiff_bodies`,
-    // a particle of a shape cluster answers with its whole cluster (sim/rigid_response.h).
+    // One sweep over the candidates (call every iteration): those answered particle by particle
+    // as each particle's mean correction (project_soft). With `stiff_bodies`, a particle of a
+    // shape cluster answers with its whole cluster (sim/rigid_response.h).
     void project(SoftBodyT<Real>& body, const ContactSettings& s, bool stiff_bodies = false);
 
     const std::vector<Contact>& contacts() const { return contacts_; }
@@ -236,6 +237,17 @@ private:
         const CutFace* face;  // the cut face a cap triangle belongs to; null for the body's triangles
     };
     Corners corners_of(const SoftBodyT<Real>& body, uint32_t triangle) const;
+    // A candidate that both sides answer particle by particle: its push and friction summed into
+    // soft_delta_ and applied as each particle's mean once the sweep has seen every candidate
+    // (Jacobi), so that no order among them is preferred. Applied one at a time, the result hangs
+    // on their order: a ball resting in the dent of a soft box rolls out of it one way, and the
+    // other way with the candidates reversed; without friction it slides off within a second.
+    void project_soft(const SoftBodyT<Real>& body, const ContactSettings& s, const Contact& ct, const Corners& corners);
+    void add_soft(uint32_t i, const Vec4<Real>& d, const Vec4<Real>& settle);
+    void apply_soft(ParticlesT<Real>& p);
+    Vec4ArrayT<Real> soft_delta_, soft_settle_;  // summed moves of x and of x_prev
+    std::vector<uint32_t> soft_count_;  // per particle: the candidates that moved it this sweep
+    std::vector<uint32_t> soft_touched_;
     // Each cap loop's triangles (loop positions), made when the loop first appears: a loop keeps
     // its face while it lives, as a cut made it, however the piece deforms since.
     struct CapFace {

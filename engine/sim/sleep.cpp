@@ -186,8 +186,28 @@ void join_welded(std::span<const uint32_t> group, std::span<const uint8_t> kind,
 }
 } // namespace
 
+namespace {
+// A giving piece about to fall asleep stays awake while a piece it touches stays awake (through
+// chains of such pieces: each pass settles one more link).
+void hold_giving_awake(std::span<const std::pair<uint32_t, uint32_t>> touching, std::span<const uint8_t> gives, std::span<const uint8_t> kind,
+                       std::vector<uint8_t>& change) {
+    const size_t pieces = change.size();
+    const auto stays_awake = [&](uint32_t k) { return (kind[k] == k_awake_still || kind[k] == k_awake_moving) && change[k] != k_falls_asleep; };
+    const auto held = [&](uint32_t k, uint32_t other) { return k < gives.size() && gives[k] && change[k] == k_falls_asleep && stays_awake(other); };
+    for (bool again = true; again;) {
+        again = false;
+        for (const auto& [a, b] : touching) {
+            if (a >= pieces || b >= pieces) continue;
+            if (held(a, b)) change[a] = k_stays, again = true;
+            if (held(b, a)) change[b] = k_stays, again = true;
+        }
+    }
+}
+} // namespace
+
 template <class Real>
-void update_sleep(SoftBodyT<Real>& body, std::span<const std::pair<uint32_t, uint32_t>> touching, const SleepSettings& s, float dt) {
+void update_sleep(SoftBodyT<Real>& body, std::span<const std::pair<uint32_t, uint32_t>> touching, const SleepSettings& s, float dt,
+                  std::span<const uint8_t> gives) {
     SleepState& st = body.sleep;
     if (!s.enabled) {
         if (st.any()) wake_all<Real>(body);
@@ -217,6 +237,7 @@ void update_sleep(SoftBodyT<Real>& body, std::span<const std::pair<uint32_t, uin
         if (change[a] == k_falls_asleep && restless(b)) change[a] = k_stays;
         if (change[b] == k_falls_asleep && restless(a)) change[b] = k_stays;
     }
+    if (!gives.empty()) hold_giving_awake(touching, gives, kind, change);
     if (!body.welds.empty()) join_welded(weld_groups(body), kind, change);
     apply(body, st, kind, change);
 }
@@ -225,7 +246,7 @@ template void wake_all<float>(BodyStateT<float>&);
 template void wake_all<double>(BodyStateT<double>&);
 template void wake_pieces<float>(SoftBodyT<float>&, std::span<const uint32_t>);
 template void wake_pieces<double>(SoftBodyT<double>&, std::span<const uint32_t>);
-template void update_sleep<float>(SoftBodyT<float>&, std::span<const std::pair<uint32_t, uint32_t>>, const SleepSettings&, float);
-template void update_sleep<double>(SoftBodyT<double>&, std::span<const std::pair<uint32_t, uint32_t>>, const SleepSettings&, float);
+template void update_sleep<float>(SoftBodyT<float>&, std::span<const std::pair<uint32_t, uint32_t>>, const SleepSettings&, float, std::span<const uint8_t>);
+template void update_sleep<double>(SoftBodyT<double>&, std::span<const std::pair<uint32_t, uint32_t>>, const SleepSettings&, float, std::span<const uint8_t>);
 
 } // namespace pbdsplat::sim

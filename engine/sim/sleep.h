@@ -83,8 +83,14 @@ void wake_pieces(SoftBodyT<Real>& body, std::span<const uint32_t> pieces);
 
 // After a frame of `dt`: updates the still spells from the particles' positions, puts the pieces
 // still long enough to sleep and wakes those a moving piece touches. `touching`: pairs of pieces
-// in contact (the contact search's candidates); pieces are the body's labels.
+// in contact (the contact search's candidates); pieces are the body's labels. `gives`: per piece,
+// 1 where it answers contact particle by particle (a soft body): such a piece falls asleep only
+// together with the awake pieces it touches. Pressed into a dent, it holds the piece on it up
+// with a give that sleep would take away at once: a 5 kg ball resting on a soft box was flung
+// 1.5 m/s up each time the box fell asleep under it (within a frame, its own shape pushing off
+// the held dent), and bounced on it for ever. Stiff pieces barely give, and sleep one by one.
 template <class Real>
-void update_sleep(SoftBodyT<Real>& body, std::span<const std::pair<uint32_t, uint32_t>> touching, const SleepSettings& s, float dt);
+void update_sleep(SoftBodyT<Real>& body, std::span<const std::pair<uint32_t, uint32_t>> touching, const SleepSettings& s, float dt,
+                  std::span<const uint8_t> gives = {});
 
 } // namespace pbdsplat::sim

@@ -260,7 +260,17 @@ void SolverT<Real>::settle(SoftBodyT<Real>& body, const SolverSettings& s, float
     // The pairs wake a sleeping piece beside a moving one and keep a piece awake beside one that
     // moved fast: one pass over the candidates a frame, against their projection every sweep.
     if (s.contact.enabled && s.sleep.enabled && !body.sleep.resting()) contact_.touching_pieces(body, touching_);
-    update_sleep<Real>(body, touching_, s.sleep, dt);
+    // The pieces that give under contact (sim/sleep.h): those of no cluster, or of a soft one.
+    piece_gives_.clear();
+    if (!touching_.empty()) {
+        piece_gives_.assign(body.pieces, 1);
+        for (const ShapeCluster& c : body.shapes) {
+            if (stiffness_of(c, s.shape_stiffness) < k_rigid_response_stiffness) continue;
+            for (const uint32_t i : c.particles)
+                if (body.piece_of_particle[i] < body.pieces) piece_gives_[body.piece_of_particle[i]] = 0;
+        }
+    }
+    update_sleep<Real>(body, touching_, s.sleep, dt, piece_gives_);
 }
 
 template <class Real>

@@ -122,6 +122,7 @@ private:
     bool stiff_contact_ = false;    // this substep: some cluster answers contact as a solid
     FoldGuardT<Real> folds_;        // and a skin's folds through its own neighbourhood
     std::vector<std::pair<uint32_t, uint32_t>> touching_;  // pieces in contact, for sleep
+    std::vector<uint8_t> piece_gives_;                     // per piece: soft under contact, for sleep
     std::vector<float> piece_rate_;                        // deform_damping per piece
     std::vector<Real> model_keep_;                         // velocity kept per model a substep (own damping)
     std::vector<PieceMoments> piece_moments_;

@@ -596,7 +596,7 @@ mass = 1.0
         MESSAGE("lowest ball point: on the soft box " << soft_least << ", on the stiff box " << stiff_least);
         // The boxes' tops rest at -0.5 on the ground: the ball presses into the soft one only.
         CHECK(stiff_least > -0.52f);              // measured -0.496
-        CHECK(soft_least < stiff_least - 0.08f);  // measured -0.657: 0.16 deeper
+        CHECK(soft_least < stiff_least - 0.02f);  // measured -0.536: 0.04 deeper
         CHECK(soft_least > -0.95f);               // not through the box to the ground
         const scene::CheckReport r = checked(text, "soft.toml", 180, 30);
         MESSAGE("penetration " << r.penetration_max << " h, crossing " << r.crossing_ratio_max << ", rms speed at 3 s " << r.speed_rms_end);
@@ -677,9 +677,42 @@ mass = 1.0
         for (const scene::CheckSample& c : r.samples)
             if (c.frame >= 150) late = std::max(late, c.speed_rms);
         MESSAGE("rms speed after 2.5 s at most " << late << " m/s, at 5 s " << r.speed_rms_end << "; penetration " << r.penetration_max);
-        CHECK(late < 0.3);               // measured 0.10
+        CHECK(late < 0.3);               // measured 0 (0.10 while soft contacts were answered one by one)
         CHECK(r.speed_rms_end < 0.01);   // measured 0: both asleep
         CHECK(r.penetration_max < 0.1);  // measured 0
+    }
+
+    TEST_CASE("a heavy ball in the dent of a soft box stays there and comes to rest, with friction and without") {
+        // Answered candidate by candidate, the order of the soft pair's candidates pushed the ball
+        // one way: with friction it rolled out of its dent and off the box after 4.5 s (the other
+        // way with the candidates reversed), without friction it slid off within 1.5 s; and the box
+        // falling asleep under it flung it 1.5 m/s up each time, so it bounced for ever.
+        const auto ball_on_box = [](const char* friction, const char* name, int frames) {
+            const std::string text = std::string(k_on_ground) + friction +
+                                     body_entry("box:8", "0, -0.7, 0", "scale = [0.8, 0.5, 0.8]\nshape_stiffness = 0.3\n") +
+                                     body_entry("icosphere:3", "0, 0.1, 0", "scale = 0.3\nmass = 5\n");
+            auto s = scene::parse_scene(text, name);
+            REQUIRE_MESSAGE(s.ok(), test::why(s));
+            auto rt = scene::SceneRuntime::create(s.value(), {});
+            REQUIRE_MESSAGE(rt.ok(), test::why(rt));
+            for (int f = 0; f < frames; ++f) REQUIRE(rt.value()->step().ok());
+            const sim::SoftBody& b = rt.value()->body();
+            Vec3f centre = Vec3f::Zero();
+            float speed = 0.0f;
+            size_t n = 0;
+            for (size_t i = 0; i < b.particle_count(); ++i)
+                if (b.model_of_particle[i] == 1) centre += sim::xyz(b.particles.x[i]), speed = std::max(speed, b.particles.v[i].norm()), ++n;
+            centre /= float(n);
+            MESSAGE(std::string(name) << ": ball centre (" << centre.x() << ", " << centre.y() << ", " << centre.z() << "), fastest particle " << speed
+                         << " m/s, pieces asleep " << b.sleep.sleeping);
+            // The box's top face spans x, z in [-0.4, 0.4] at y = -0.45 before it gives.
+            CHECK(std::abs(centre.x()) < 0.35f);  // measured 0.24 and 0.01 (rolled off: 0.5 and more)
+            CHECK(std::abs(centre.z()) < 0.35f);  // measured 0.09 and 0.03
+            CHECK(centre.y() > -0.3f);            // on the box (measured -0.22), not beside it (-0.74)
+            CHECK(speed < 0.01f);                 // measured 0: both asleep
+        };
+        ball_on_box("", "rough.toml", 420);
+        ball_on_box("friction = 0.0\n", "smooth.toml", 200);
     }
 
     TEST_CASE("pull_stretch: a body dragged whole reads 1; one held at its far side reads how far it was drawn out") {

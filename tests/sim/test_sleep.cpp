@@ -5,6 +5,7 @@
 #include <span>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "mesh/procedural.h"
 #include "sim/sim_fixtures.h"
@@ -43,6 +44,25 @@ bool piece_held(const sim::SoftBody& b, uint32_t piece) {
     for (size_t i = 0; i < b.particle_count(); ++i)
         if (b.piece_of_particle[i] == piece && b.particles.w[i] > 0.0f) return false;
     return true;
+}
+
+// Two boxes stacked (boxes() at y 0.16 and 0.47), the upper moved by hand for the first second
+// (awake, its particles' speeds left at 0): the frames of two seconds of update_sleep at which
+// the lower and the upper first fall asleep (-1: never).
+std::pair<int, int> asleep_frames(sim::SoftBody& b, std::span<const std::pair<uint32_t, uint32_t>> touching = {},
+                                  std::span<const uint8_t> gives = {}) {
+    const uint32_t low = b.piece_of_particle[b.extreme_particle(1, false)], high = 1 - low;
+    const sim::SleepSettings s;
+    int low_asleep_at = -1, high_asleep_at = -1;
+    for (int f = 0; f < 120; ++f) {
+        if (f < 60)
+            for (size_t i = 0; i < b.particle_count(); ++i)
+                if (b.piece_of_particle[i] == high) b.particles.x[i] += sim::to4(Vec3f(0.02f, 0.0f, 0.0f));
+        sim::update_sleep(b, touching, s, 1.0f / 60.0f, gives);
+        if (low_asleep_at < 0 && piece_held(b, low)) low_asleep_at = f;
+        if (high_asleep_at < 0 && piece_held(b, high)) high_asleep_at = f;
+    }
+    return {low_asleep_at, high_asleep_at};
 }
 
 } // namespace
@@ -175,21 +195,11 @@ TEST_SUITE("sim/sleep") {
         // table of welded parts flew apart at 100 m/s within a second of its legs falling asleep.
         auto run = [](bool welded) {
             sim::SoftBody b = boxes({{0.0f, 0.16f, 0.0f}, {0.0f, 0.47f, 0.0f}});
-            const uint32_t low = b.piece_of_particle[b.extreme_particle(1, false)], high = 1 - low;
             if (welded) {
                 const uint32_t i = b.extreme_particle(1, false), j = b.extreme_particle(1, true);
                 b.welds.push_back({i, j, float((b.particles.x[i] - b.particles.x[j]).norm()), 0.0f});
             }
-            const sim::SleepSettings s;
-            int low_asleep_at = -1, high_asleep_at = -1;
-            for (int f = 0; f < 120; ++f) {
-                if (f < 60)
-                    for (size_t i = 0; i < b.particle_count(); ++i)
-                        if (b.piece_of_particle[i] == high) b.particles.x[i] += sim::to4(Vec3f(0.02f, 0.0f, 0.0f));
-                sim::update_sleep(b, {}, s, 1.0f / 60.0f);
-                if (low_asleep_at < 0 && piece_held(b, low)) low_asleep_at = f;
-                if (high_asleep_at < 0 && piece_held(b, high)) high_asleep_at = f;
-            }
+            const auto [low_asleep_at, high_asleep_at] = asleep_frames(b);
             MESSAGE(std::string(welded ? "welded" : "apart") << ": the still box asleep at frame " << low_asleep_at << ", the moved one at "
                                                   << high_asleep_at);
             return std::make_pair(std::make_pair(low_asleep_at, high_asleep_at), b);
@@ -206,6 +216,29 @@ TEST_SUITE("sim/sleep") {
         sim::wake_pieces(b, std::span<const uint32_t>(named));
         CHECK(b.sleep.sleeping == 0);  // waking one wakes the piece welded to it
         CHECK_FALSE(piece_held(b, 1 - low));
+    }
+
+    TEST_CASE("a piece that gives under contact falls asleep only with the awake pieces it touches") {
+        // A still box touching one moved by hand for a second. A stiff box sleeps while the other
+        // moves; one that gives (a soft body, answered particle by particle) waits for it: held
+        // under a ball pressed into its dent, it flung the ball 1.5 m/s up each time it fell asleep.
+        auto run = [](uint8_t gives) {
+            sim::SoftBody b = boxes({{0.0f, 0.16f, 0.0f}, {0.0f, 0.47f, 0.0f}});
+            const uint32_t low = b.piece_of_particle[b.extreme_particle(1, false)];
+            const std::pair<uint32_t, uint32_t> touching[] = {{0u, 1u}};
+            std::vector<uint8_t> giving(2, 0);
+            giving[low] = gives;
+            const auto [low_asleep_at, high_asleep_at] = asleep_frames(b, touching, giving);
+            MESSAGE(std::string(gives ? "giving" : "stiff") << ": the still box asleep at frame " << low_asleep_at << ", the moved one at "
+                                                  << high_asleep_at);
+            return std::make_pair(low_asleep_at, high_asleep_at);
+        };
+        const auto stiff_box = run(0);
+        CHECK(stiff_box.first >= 0);
+        CHECK(stiff_box.first < 60);  // it sleeps while the other moves
+        const auto giving = run(1);
+        CHECK(giving.first >= 60);               // it waits for the moved one
+        CHECK(giving.first == giving.second);  // and they fall asleep together
     }
 
     TEST_CASE("a static body alone rests from its first frame: nothing can move, so nothing is computed") {
