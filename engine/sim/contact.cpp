@@ -990,10 +990,8 @@ void ContactSolverT<Real>::project_soft(const SoftBodyT<Real>& body, const Conta
     const Vec4<Real> push = (depth / denom) * n;
     const Vec4<Real> d = push - (friction_share(s.friction, tangential.norm(), depth) / denom) * tangential;
     // Of the depth, what lay within the thickness when the substep began is taken out of the
-    // start positions too (as separate() does): a resting pair keeps a little overlap that its
-    // constraints press back each sweep, and where one side stops giving (it falls asleep, or
-    // turns out pinned) the other would leave with all of it as speed: a 5 kg ball resting on a
-    // soft box flew up at 1.5 m/s the frame the box fell asleep.
+    // start positions too, as separate() does for a stiff side and for the same reason: the two
+    // sides of a cut begin inside each other's thickness, and pushed apart as motion they fly.
     const Vec3f a0 = pos3(p.x_prev[ia]), n0 = unit_normal(a0, pos3(p.x_prev[ib]), pos3(p.x_prev[ic]));
     const float overlap = n0.isZero() ? 0.0f : std::max(0.0f, ct.thickness - ct.side * (pos3(p.x_prev[i]) - a0).dot(n0));
     const Vec4<Real> settle = Real(std::clamp(overlap / float(depth), 0.0f, 1.0f)) * push;
