@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <tuple>
 
 #include "mesh/closest_point.h"
@@ -939,21 +940,47 @@ void ContactSolverT<Real>::note_push(const SoftBodyT<Real>& body, uint32_t i, co
     }
 }
 
+namespace {
+
+// Candidate `ct` against the triangle of particles `k` as they lie now: its unit normal and where
+// the particle is over it, or nothing where the particle is clear of its plane or beside it (past
+// `beside` of it: over a convex edge or corner a neighbour takes over, and pushing along this
+// triangle's normal there would shove the particle sideways off a face it rests on).
+struct Touch {
+    Vec3f normal;
+    Over over;
+};
 template <class Real>
-float ContactSolverT<Real>::project_rigid(ParticlesT<Real>& p, const ContactSettings& s, const Contact& ct,
-                                          const std::array<uint32_t, 3>& k, Sides sd, Lift lift) {
+std::optional<Touch> touch_of(const ParticlesT<Real>& p, const Contact& ct, const std::array<uint32_t, 3>& k, float beside) {
     const Vec3f xi = pos3(p.x[ct.particle]);
     const Vec3f a = pos3(p.x[k[0]]), b = pos3(p.x[k[1]]), c = pos3(p.x[k[2]]);
     const Vec3f nf = unit_normal(a, b, c);
-    if (nf.isZero() || ct.side * (xi - a).dot(nf) >= ct.thickness) return 0.0f;
+    // Clear of the plane: clear of the triangle (most candidates, most iterations).
+    if (nf.isZero() || ct.side * (xi - a).dot(nf) >= ct.thickness) return std::nullopt;
     const Over o = over_triangle(xi, a, b, c, nf);
-    if (o.lateral > k_over * scale_.edge) return 0.0f;  // as in project()
+    if (o.lateral > beside) return std::nullopt;
+    return Touch{nf, o};
+}
+
+// How far inside the thickness the candidate's particle lay when the substep began, over the
+// triangle's plane then.
+template <class Real>
+float start_overlap(const ParticlesT<Real>& p, const Contact& ct, const std::array<uint32_t, 3>& k) {
+    const Vec3f a0 = pos3(p.x_prev[k[0]]), n0 = unit_normal(a0, pos3(p.x_prev[k[1]]), pos3(p.x_prev[k[2]]));
+    return n0.isZero() ? 0.0f : std::max(0.0f, ct.thickness - ct.side * (pos3(p.x_prev[ct.particle]) - a0).dot(n0));
+}
+
+} // namespace
+
+template <class Real>
+float ContactSolverT<Real>::project_rigid(ParticlesT<Real>& p, const ContactSettings& s, const Contact& ct,
+                                          const std::array<uint32_t, 3>& k, Sides sd, Lift lift) {
+    const std::optional<Touch> t = touch_of(p, ct, k, k_over * scale_.edge);
+    if (!t) return 0.0f;
+    const Over& o = t->over;
     const float C = ct.side * o.height - ct.thickness;
     if (C >= 0.0f) return 0.0f;
-    // How far inside the thickness it lay when the substep began, over the triangle's plane then.
-    const Vec3f a0 = pos3(p.x_prev[k[0]]), n0 = unit_normal(a0, pos3(p.x_prev[k[1]]), pos3(p.x_prev[k[2]]));
-    const float overlap = n0.isZero() ? 0.0f : std::max(0.0f, ct.thickness - ct.side * (pos3(p.x_prev[ct.particle]) - a0).dot(n0));
-    separate(p, s, ct.particle, k, {o.wa, o.wb, o.wc}, sd, ct.side * nf, -C, std::min(overlap, -C), lift);
+    separate(p, s, ct.particle, k, {o.wa, o.wb, o.wc}, sd, ct.side * t->normal, -C, std::min(start_overlap(p, ct, k), -C), lift);
     return -C;
 }
 
@@ -964,23 +991,15 @@ void ContactSolverT<Real>::project_soft(const SoftBodyT<Real>& body, const Conta
     const Lift l = lift(body, i, ia);
     const Real up_w = Real(l.particle), down_w = Real(l.surface);
     const Real wp = up_w * p.w[i], wa = down_w * p.w[ia], wb = down_w * p.w[ib], wc = down_w * p.w[ic];
-    const Vec3f a = pos3(p.x[ia]), b = pos3(p.x[ib]), c = pos3(p.x[ic]);
-    const Vec3f nf = unit_normal(a, b, c);
-    if (nf.isZero()) return;
-    const Vec3f xi = pos3(p.x[i]);
-    // Clear of the plane: clear of the triangle (most candidates, most iterations).
-    if (ct.side * (xi - a).dot(nf) >= ct.thickness) return;
-    const Over o = over_triangle(xi, a, b, c, nf);
-    // Pushed along this triangle's normal only while over it: beside it (over a convex edge or
-    // corner) its neighbour takes over, and pushing along this one's normal there would shove the
-    // particle sideways off a face it rests on.
-    if (o.lateral > k_over * scale_.edge) return;
+    const std::optional<Touch> t = touch_of(p, ct, {ia, ib, ic}, k_over * scale_.edge);
+    if (!t) return;
+    const Over& o = t->over;
     const Real C = Real(ct.side) * Real(o.height) - Real(ct.thickness);
     if (C >= Real(0)) return;
     const Real ua = Real(o.wa), ub = Real(o.wb), uc = Real(o.wc);
     const Real denom = wp + ua * ua * wa + ub * ub * wb + uc * uc * wc;
     if (!(denom > Real(0))) return;
-    const Vec4<Real> n = Real(ct.side) * to4<Real>(nf);
+    const Vec4<Real> n = Real(ct.side) * to4<Real>(t->normal);
     const Real depth = -C;
     note_push(body, i, {ia, ib, ic}, float(depth));
     // Friction on the particle's motion relative to the surface point since the substep began;
@@ -992,9 +1011,7 @@ void ContactSolverT<Real>::project_soft(const SoftBodyT<Real>& body, const Conta
     // Of the depth, what lay within the thickness when the substep began is taken out of the
     // start positions too, as separate() does for a stiff side and for the same reason: the two
     // sides of a cut begin inside each other's thickness, and pushed apart as motion they fly.
-    const Vec3f a0 = pos3(p.x_prev[ia]), n0 = unit_normal(a0, pos3(p.x_prev[ib]), pos3(p.x_prev[ic]));
-    const float overlap = n0.isZero() ? 0.0f : std::max(0.0f, ct.thickness - ct.side * (pos3(p.x_prev[i]) - a0).dot(n0));
-    const Vec4<Real> settle = Real(std::clamp(overlap / float(depth), 0.0f, 1.0f)) * push;
+    const Vec4<Real> settle = Real(std::clamp(start_overlap(p, ct, {ia, ib, ic}) / float(depth), 0.0f, 1.0f)) * push;
     add_soft(i, wp * d, wp * settle);
     add_soft(ia, -(wa * ua) * d, -(wa * ua) * settle), add_soft(ib, -(wb * ub) * d, -(wb * ub) * settle);
     add_soft(ic, -(wc * uc) * d, -(wc * uc) * settle);

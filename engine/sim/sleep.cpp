@@ -184,15 +184,16 @@ void join_welded(std::span<const uint32_t> group, std::span<const uint8_t> kind,
         else if (change[k] == k_falls_asleep && (stays_awake[g] || wakes[g])) change[k] = k_stays;
     }
 }
-} // namespace
 
-namespace {
 // A giving piece about to fall asleep stays awake while a piece it touches stays awake (through
 // chains of such pieces: each pass settles one more link).
 void hold_giving_awake(std::span<const std::pair<uint32_t, uint32_t>> touching, std::span<const uint8_t> gives, std::span<const uint8_t> kind,
                        std::vector<uint8_t>& change) {
     const size_t pieces = change.size();
-    const auto stays_awake = [&](uint32_t k) { return (kind[k] == k_awake_still || kind[k] == k_awake_moving) && change[k] != k_falls_asleep; };
+    const auto stays_awake = [&](uint32_t k) {
+        const bool awake = kind[k] == k_awake_still || kind[k] == k_awake_moving;
+        return (awake && change[k] != k_falls_asleep) || change[k] == k_wakes;
+    };
     const auto held = [&](uint32_t k, uint32_t other) { return k < gives.size() && gives[k] && change[k] == k_falls_asleep && stays_awake(other); };
     for (bool again = true; again;) {
         again = false;
