@@ -37,6 +37,8 @@ float shape_stiffness_of(const Scene& scene, size_t m) {
     return own_settings(scene, m).shape_stiffness.value_or(scene.simulation.solver.shape_stiffness);
 }
 
+float pressure_of(const Scene& scene, size_t m) { return own_settings(scene, m).pressure.value_or(scene.simulation.pressure); }
+
 float stiffest_shape(const Scene& scene) {
     float most = 0.0f;
     for (size_t m = 0; m <= scene.bodies.size(); ++m) most = std::max(most, shape_stiffness_of(scene, m));

@@ -47,6 +47,7 @@ struct OwnSettings {
     std::optional<float> shape_stiffness;  // else simulation.shape_stiffness
     std::optional<float> damping;          // 1/s, its velocity's decay; else simulation.damping
     std::optional<float> deform_damping;   // 1/s, its wobble's decay; else simulation.deform_damping
+    std::optional<float> pressure;         // its pieces' pressure factor k; else simulation.pressure
 };
 
 // Another model beside [model] ([[bodies]] in a scene file): the pieces of one soft body, so
@@ -196,6 +197,9 @@ struct RenderDesc {
 struct PressureEvent {
     float value = 1.0f;     // target k
     float duration = 0.0f;  // linear ramp from the current k; 0 = at once
+    // The model whose pieces it ramps (0: [model], then the [[bodies]] in order); none: every
+    // model that holds air.
+    std::optional<uint32_t> body;
 };
 struct DragEvent {
     Vec3f from = Vec3f::Zero(), to = Vec3f::Zero();  // world points: the region about the particle nearest `from` is moved by to - from
@@ -266,6 +270,8 @@ const char* event_type_name(const EventData& e);
 
 // Model m's own settings (0: [model], then the [[bodies]] in order).
 const OwnSettings& own_settings(const Scene& scene, size_t m);
+// Model m's pressure factor k: its own, or the simulation's.
+float pressure_of(const Scene& scene, size_t m);
 // Model m's shape stiffness: its own, or the simulation's. And the stiffest model's: whether
 // anything keeps a shape or answers as a solid.
 float shape_stiffness_of(const Scene& scene, size_t m);

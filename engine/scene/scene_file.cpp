@@ -224,6 +224,7 @@ OwnSettings read_own(Reader::Table& t) {
     if (t.has("shape_stiffness")) o.shape_stiffness = t.real("shape_stiffness", 0.0f, 0.0, 1.0);
     if (t.has("damping")) o.damping = t.real("damping", 0.0f, 0.0, 1e3);
     if (t.has("deform_damping")) o.deform_damping = t.real("deform_damping", 0.0f, 0.0, 1e3);
+    if (t.has("pressure")) o.pressure = t.real("pressure", 1.0f, 0.01, 100.0);
     return o;
 }
 
@@ -485,7 +486,23 @@ void read_render(const Reader& r, Reader::Table& t, RenderDesc& d) {
     t.finish();
 }
 
-Event read_event(const Reader& r, const toml::node& n) {
+PressureEvent read_pressure(const Reader& r, Reader::Table& t, const toml::node& n, size_t models) {
+    PressureEvent p;
+    if (!t.has("value")) r.fail(n.source(), "a pressure event needs 'value' (the pressure factor k to reach, 0.01 to 100)");
+    p.value = t.real("value", p.value, 0.01, 100.0);
+    p.duration = t.real("duration", p.duration, 0.0, 1e6);
+    if (t.has("body")) {
+        p.body = t.count("body", 0, 0, 1'000'000);
+        if (*p.body >= models)
+            r.fail(t.source_of("body"), "'events.body' = " + std::to_string(*p.body) + " names no model: the scene has " + std::to_string(models) +
+                                            " (0 is [model], or the first [[bodies]] entry without one; then the [[bodies]] in order)");
+    }
+    return p;
+}
+
+// `models`: how many models the scene holds ([model] and the [[bodies]]), which a pressure
+// event's `body` names.
+Event read_event(const Reader& r, const toml::node& n, size_t models) {
     if (!n.is_table()) r.fail(n.source(), "each [[events]] entry must be a table");
     Reader::Table t(r, *n.as_table(), "events");
     Event e;
@@ -499,11 +516,7 @@ Event read_event(const Reader& r, const toml::node& n) {
         o.duration = t.real("duration", o.duration, 0.0, 1e6);
         e.data = o;
     } else if (type == "pressure") {
-        PressureEvent p;
-        if (!t.has("value")) r.fail(n.source(), "a pressure event needs 'value' (the pressure factor k to reach, 0.01 to 100)");
-        p.value = t.real("value", p.value, 0.01, 100.0);
-        p.duration = t.real("duration", p.duration, 0.0, 1e6);
-        e.data = p;
+        e.data = read_pressure(r, t, n, models);
     } else if (type == "drag") {
         DragEvent d;
         if (!t.has("from") || !t.has("to")) r.fail(n.source(), "a drag event needs 'from' and 'to'");
@@ -586,8 +599,10 @@ core::Result<Scene> parse_scene(const std::string& text, const std::string& name
             Reader::Table d(r, *t, "render");
             read_render(r, d, scene.render);
         }
+        // Without [model], the first [[bodies]] entry is model 0 (settle_models).
+        const size_t models = model_table || scene.bodies.empty() ? 1 + scene.bodies.size() : scene.bodies.size();
         if (const toml::array* events = top.array("events"))
-            for (const toml::node& n : *events) scene.events.push_back(read_event(r, n));
+            for (const toml::node& n : *events) scene.events.push_back(read_event(r, n, models));
         if (const toml::table* t = top.table("expect")) {
             Reader::Table e(r, *t, "expect");
             read_expect(r, e, scene.expect);

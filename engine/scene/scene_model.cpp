@@ -196,6 +196,14 @@ void place_bodies(const Scene& scene, const std::vector<uint32_t>& part_start, s
     }
 }
 
+// Each model's own pressure factor: a balloon blown up beside solids at their own volume.
+void set_model_pressures(const Scene& scene, sim::SoftBody& b) {
+    std::vector<uint32_t> model_of_piece(b.pieces, 0);
+    for (size_t i = 0; i < b.particle_count(); ++i)
+        if (b.piece_of_particle[i] < b.pieces) model_of_piece[b.piece_of_particle[i]] = b.model_of_particle[i];
+    for (sim::VolumeConstraint& v : b.volumes) v.pressure = pressure_of(scene, model_of_piece[v.piece]);
+}
+
 // Two models placed into each other stay so (contact leaves alone what lay inside another at
 // load, which is how a model's own parts are made): said, since it is almost always a slip.
 
@@ -342,6 +350,7 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     sim::SoftBody b = std::move(body).value();
     if (weigh_models(scene, out.part_start, b)) sim::rebuild_shape_clusters(b);
     place_bodies(scene, out.part_start, b);
+    set_model_pressures(scene, b);
     if (!b.model_shape_stiffness.empty()) sim::rebuild_shape_clusters(b);
     warn_crossing_models(scene, b);
     warn_below_ground(scene, b);

@@ -79,6 +79,7 @@ void write_own(std::ostream& o, const OwnSettings& own) {
     if (own.shape_stiffness) o << "shape_stiffness = " << num(*own.shape_stiffness) << "\n";
     if (own.damping) o << "damping = " << num(*own.damping) << "\n";
     if (own.deform_damping) o << "deform_damping = " << num(*own.deform_damping) << "\n";
+    if (own.pressure) o << "pressure = " << num(*own.pressure) << "\n";
 }
 
 // One writer per section, in the order a reader meets them.
@@ -186,7 +187,10 @@ void write_render(std::ostream& o, const Scene& sc) {
 void write_events(std::ostream& o, const Scene& sc) {
     for (const Event& e : sc.events) {
         o << "\n[[events]]\ntime = " << num(e.time) << "\ntype = \"" << event_type_name(e.data) << "\"\n";
-        if (auto* p = std::get_if<PressureEvent>(&e.data)) o << "value = " << num(p->value) << "\nduration = " << num(p->duration) << "\n";
+        if (auto* p = std::get_if<PressureEvent>(&e.data)) {
+            o << "value = " << num(p->value) << "\nduration = " << num(p->duration) << "\n";
+            if (p->body) o << "body = " << *p->body << "\n";
+        }
         if (auto* dr = std::get_if<DragEvent>(&e.data))
             o << "from = " << vec<3>(dr->from) << "\nto = " << vec<3>(dr->to) << "\nduration = " << num(dr->duration)
               << "\nstiffness = " << num(dr->stiffness) << "\nradius = " << num(dr->radius) << "\n";

@@ -11,7 +11,7 @@ Timeline::Timeline(const Scene& scene, const render::Camera& camera)
     : orbit_degrees_per_second_(scene.render.orbit.degrees_per_second), path_(scene.render.path), base_camera_(camera) {}
 
 void Timeline::start(const Event& e) {
-    if (auto* p = std::get_if<PressureEvent>(&e.data)) pressure_.push_back({e.time, p->duration, -1.0f, p->value});
+    if (auto* p = std::get_if<PressureEvent>(&e.data)) pressure_.push_back({e.time, p->duration, p->value, p->body, {}, false});
     if (auto* o = std::get_if<OpacityEvent>(&e.data)) opacity_.push_back({e.time, o->duration, -1.0f, o->value});
     if (auto* d = std::get_if<DragEvent>(&e.data)) drags_.push_back({e.time, *d, false});
     if (auto* s = std::get_if<SpinEvent>(&e.data)) spins_.push_back({e.time, *s});
@@ -36,7 +36,7 @@ void Timeline::advance(EventQueue& queue, float t, float dt, sim::SoftBody& body
 }
 
 bool Timeline::acts_on_body(float t, float dt) const {
-    for (const PressureRamp& r : pressure_)
+    for (const ModelPressureRamp& r : pressure_)
         if (t >= r.start && t - r.start <= r.duration + dt) return true;
     for (const ActiveDrag& d : drags_)
         if (t >= d.start && t <= d.start + d.event.duration) return true;
@@ -59,15 +59,36 @@ void Timeline::advance_opacity(float t, float dt, float& opacity) {
     }
 }
 
+namespace {
+// The model of each piece (a piece never spans two models: they share no triangles).
+std::vector<uint32_t> models_of_pieces(const sim::SoftBody& body) {
+    std::vector<uint32_t> out(body.pieces, 0);
+    if (body.model_of_particle.size() != body.particle_count()) return out;
+    for (size_t i = 0; i < body.particle_count(); ++i)
+        if (body.piece_of_particle[i] < body.pieces) out[body.piece_of_particle[i]] = body.model_of_particle[i];
+    return out;
+}
+} // namespace
+
 void Timeline::advance_pressure(float t, float dt, sim::SoftBody& body) {
-    // Each ramp starts from whatever k is when it begins.
-    for (PressureRamp& r : pressure_) {
+    // Each ramp starts each model from whatever its k is when the ramp begins: a balloon blown
+    // up beside another at its own pressure keeps the difference until the ramp ends.
+    for (ModelPressureRamp& r : pressure_) {
         if (t < r.start || body.volumes.empty()) continue;
-        if (r.from < 0.0f) r.from = body.volumes[0].pressure;
+        const std::vector<uint32_t> model_of = models_of_pieces(body);
+        if (!r.begun) {
+            r.from.assign(body.model_count(), -1.0f);
+            for (const sim::VolumeConstraint& v : body.volumes)
+                if (float& f = r.from[std::min<size_t>(model_of[v.piece], r.from.size() - 1)]; f < 0.0f || v.leak == 0.0f) f = v.pressure;
+            r.begun = true;
+        }
         const float u = r.duration > 0.0f ? std::min(1.0f, (t - r.start) / r.duration) : 1.0f;
         if (t - r.start > r.duration + dt) continue;  // finished: leave k to later events
-        for (sim::VolumeConstraint& v : body.volumes)
-            if (v.leak == 0.0f) v.pressure = r.from + (r.to - r.from) * u;  // an opened piece holds no pressure
+        for (sim::VolumeConstraint& v : body.volumes) {
+            const size_t m = std::min<size_t>(model_of[v.piece], r.from.size() - 1);
+            if (r.body && m != *r.body) continue;
+            if (v.leak == 0.0f) v.pressure = r.from[m] + (r.to - r.from[m]) * u;  // an opened piece holds no pressure
+        }
     }
 }
 

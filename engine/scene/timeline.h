@@ -44,7 +44,14 @@ private:
         bool picked = false;
         sim::DragConstraint grab;  // the region, once picked
     };
-    std::vector<PressureRamp> pressure_;
+    // A pressure ramp: each model's pieces from the pressure that model had when it began.
+    struct ModelPressureRamp {
+        float start, duration, to;
+        std::optional<uint32_t> body;  // the one model it ramps; none: every model
+        std::vector<float> from;       // per model, once begun
+        bool begun = false;
+    };
+    std::vector<ModelPressureRamp> pressure_;
     std::vector<PressureRamp> opacity_;  // the same shape: from what it is when the ramp starts
     std::vector<ActiveDrag> drags_;
     std::vector<std::pair<float, SpinEvent>> spins_;

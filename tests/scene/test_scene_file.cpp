@@ -40,6 +40,7 @@ mass = 2.5
 shape_stiffness = 0.4
 damping = 0.3
 deform_damping = 2.5
+pressure = 1.4
 
 [[bodies]]
 mesh = "box:2"
@@ -57,6 +58,7 @@ mass = 0.75
 shape_stiffness = 0.2
 damping = 0.7
 deform_damping = 4
+pressure = 0.6
 
 [material]
 color = [0.2, 0.6, 0.9]
@@ -176,6 +178,7 @@ time = 2.0
 type = "pressure"
 value = 0.5
 duration = 1.0
+body = 1
 
 [[events]]
 time = 0.5

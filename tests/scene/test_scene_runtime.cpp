@@ -665,6 +665,55 @@ mass = 1.0
         CHECK(damped < 0.6f * free);  // measured 0.047 against 0.19
     }
 
+
+    TEST_CASE("a body's own pressure: a balloon blown up beside a solid at its own volume; a pressure event names the one it ramps") {
+        // Three models apart in zero gravity: a balloon at twice its volume, a solid box at the
+        // scene's pressure, and a balloon that a pressure event naming it (body = 2) deflates.
+        const std::string text = "[simulation]\ngravity = [0, 0, 0]\nstiffness = 0.05\ndamping = 0.5\n" +
+                                 body_entry("icosphere:3", "-0.8, 0, 0", "scale = 0.5\nshape_stiffness = 0\npressure = 2.0\n") +
+                                 body_entry("box:6", "0.8, 0, 0", "scale = 0.6\n") +
+                                 body_entry("icosphere:3", "0, 1.0, 0", "scale = 0.4\nshape_stiffness = 0\n") +
+                                 "[[events]]\ntime = 0.5\ntype = \"pressure\"\nbody = 2\nvalue = 0.4\nduration = 1.0\n";
+        const auto [parsed, again] = read_and_reread(text.c_str(), "air.toml");
+        for (const scene::Scene* sc : {&parsed, &again}) {
+            REQUIRE(sc->bodies.size() == 2);  // the first [[bodies]] entry is [model]
+            CHECK(sc->model_own.pressure == 2.0f);
+            CHECK_FALSE(sc->bodies[0].own.pressure);
+            REQUIRE(sc->events.size() == 1);
+            CHECK(std::get<scene::PressureEvent>(sc->events[0].data).body == 2u);
+        }
+        auto rt = scene::SceneRuntime::create(parsed, {});
+        REQUIRE_MESSAGE(rt.ok(), test::why(rt));
+        const sim::SoftBody& b = rt.value()->body();
+        // Each model's volume over its rest volume, and the pressure factor its pieces hold.
+        const auto air = [&](uint32_t m) {
+            double v = 0.0, v0 = 0.0;
+            float k = 0.0f;
+            for (size_t c = 0; c < b.volumes.size(); ++c) {
+                uint32_t model = UINT32_MAX;
+                for (size_t i = 0; i < b.particle_count() && model == UINT32_MAX; ++i)
+                    if (b.piece_of_particle[i] == b.volumes[c].piece) model = b.model_of_particle[i];
+                if (model == m) v += b.volume(c), v0 += b.volumes[c].rest_volume, k = b.volumes[c].pressure;
+            }
+            return std::pair<double, float>(v0 > 0.0 ? v / v0 : 0.0, k);
+        };
+        CHECK(air(0).second == 2.0f);
+        CHECK(air(1).second == 1.0f);
+        CHECK(air(2).second == 1.0f);
+        for (int f = 0; f < 180; ++f) REQUIRE(rt.value()->step().ok());
+        MESSAGE("volumes after 3 s: balloon " << air(0).first << ", box " << air(1).first << ", deflated balloon " << air(2).first);
+        CHECK(air(0).second == 2.0f);  // the event named another model
+        CHECK(air(1).second == 1.0f);
+        CHECK(air(2).second == doctest::Approx(0.4f));
+        // Measured 2.000, 1.000 and 0.400: each at its own target.
+        CHECK(air(0).first == doctest::Approx(2.0).epsilon(0.05));
+        CHECK(air(1).first == doctest::Approx(1.0).epsilon(0.02));
+        CHECK(air(2).first == doctest::Approx(0.4).epsilon(0.05));
+        // A body the scene does not hold is refused with the event's line.
+        auto bad = scene::parse_scene(text + "[[events]]\ntime = 1\ntype = \"pressure\"\nvalue = 2\nbody = 3\n", "bad.toml");
+        REQUIRE_FALSE(bad.ok());
+        CHECK(bad.error().to_string().find("bad.toml:30:8: 'events.body' = 3 names no model: the scene has 3") == 0);
+    }
     TEST_CASE("a light ball on a soft box comes to rest: the box does not fall asleep under it while it bounces") {
         // Held still under a ball still bouncing on it (swinging within the still radius), the box
         // gave nothing at the bounce's turn and flung the ball 1.5 m/s up, again and again: 1.1 m/s
