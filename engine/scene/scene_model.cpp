@@ -172,18 +172,18 @@ bool weigh_models(const Scene& scene, const std::vector<uint32_t>& part_start, s
 }
 
 // Each model's particles, so that contact tells two models apart from two parts of one; the
-// [[bodies]] held still or thrown; the shape stiffness and dampings of those that name their own.
+// [[bodies]] held still or thrown; the stiffnesses and dampings of those that name their own.
 void place_bodies(const Scene& scene, const std::vector<uint32_t>& part_start, sim::SoftBody& b) {
     b.model_of_particle.assign(b.particle_count(), 0);
     const size_t models = scene.bodies.size() + 1;
-    b.model_shape_stiffness.clear(), b.model_damping.clear(), b.model_deform_damping.clear();
+    b.model_shape_stiffness.clear(), b.model_damping.clear(), b.model_deform_damping.clear(), b.model_stretch_stiffness.clear();
     const auto set = [&](std::vector<float>& per_model, size_t m, const std::optional<float>& own) {
         if (own) per_model.resize(models, -1.0f), per_model[m] = *own;
     };
     for (size_t m = 0; m < models; ++m) {
         const OwnSettings& own = own_settings(scene, m);
         set(b.model_shape_stiffness, m, own.shape_stiffness), set(b.model_damping, m, own.damping);
-        set(b.model_deform_damping, m, own.deform_damping);
+        set(b.model_deform_damping, m, own.deform_damping), set(b.model_stretch_stiffness, m, own.stiffness);
     }
     for (size_t m = 0; m <= scene.bodies.size(); ++m) {
         const ModelDesc& d = m == 0 ? scene.model : scene.bodies[m - 1].model;

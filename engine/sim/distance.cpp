@@ -85,6 +85,20 @@ bool project_distance_pbd_sse(std::span<const DistanceConstraint> constraints, P
     return false;
 #endif
 }
+
+bool project_distance_pbd_sse(std::span<const DistanceConstraint> constraints, std::span<const float> stiffness, Particles& p) {
+#if defined(__SSE__)
+    const float* w = p.w.data();
+    float* xs = p.x.data()->data();
+    size_t n = 0;
+    for (; n + 4 <= constraints.size(); n += 4) project_four_sse(constraints.data() + n, xs, w, _mm_loadu_ps(stiffness.data() + n));
+    for (; n < constraints.size(); ++n) project_one_sse(constraints[n], xs, w, _mm_set1_ps(stiffness[n]));
+    return true;
+#else
+    (void)constraints, (void)stiffness, (void)p;
+    return false;
+#endif
+}
 } // namespace
 
 template <class Real>
@@ -105,6 +119,13 @@ void project_distance_pbd(std::span<const DistanceConstraint> constraints, Parti
         x[c.i] -= wi * corr;
         x[c.j] += wj * corr;
     }
+}
+
+template <class Real>
+void project_distance_pbd(std::span<const DistanceConstraint> constraints, std::span<const Real> stiffness, ParticlesT<Real>& p) {
+    if constexpr (std::is_same_v<Real, float>)
+        if (project_distance_pbd_sse(constraints, stiffness, p)) return;
+    for (size_t k = 0; k < constraints.size(); ++k) project_distance_pbd<Real>(constraints.subspan(k, 1), p, stiffness[k]);
 }
 
 template <class Real>
@@ -133,6 +154,8 @@ void project_distance_xpbd(std::span<const DistanceConstraint> constraints, std:
 
 template void project_distance_pbd<float>(std::span<const DistanceConstraint>, ParticlesT<float>&, float);
 template void project_distance_pbd<double>(std::span<const DistanceConstraint>, ParticlesT<double>&, double);
+template void project_distance_pbd<float>(std::span<const DistanceConstraint>, std::span<const float>, ParticlesT<float>&);
+template void project_distance_pbd<double>(std::span<const DistanceConstraint>, std::span<const double>, ParticlesT<double>&);
 template void project_distance_xpbd<float>(std::span<const DistanceConstraint>, std::span<float>, ParticlesT<float>&, float);
 template void project_distance_xpbd<double>(std::span<const DistanceConstraint>, std::span<double>, ParticlesT<double>&,
                                             double);

@@ -13,6 +13,11 @@ namespace pbdsplat::sim {
 template <class Real>
 void project_distance_pbd(std::span<const DistanceConstraint> constraints, ParticlesT<Real>& p, Real stiffness);
 
+// PBD with a stiffness per constraint (`stiffness[k]` for constraints[k]): the models of a scene
+// that name their own stretch stiffness. The same arithmetic, lane by lane.
+template <class Real>
+void project_distance_pbd(std::span<const DistanceConstraint> constraints, std::span<const Real> stiffness, ParticlesT<Real>& p);
+
 // XPBD: compliance per constraint, multipliers accumulated in `lambda` (reset each substep).
 template <class Real>
 void project_distance_xpbd(std::span<const DistanceConstraint> constraints, std::span<Real> lambda, ParticlesT<Real>& p,

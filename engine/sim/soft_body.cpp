@@ -154,6 +154,7 @@ SoftBodyT<double> to_double(const SoftBody& b) {
     d.model_shape_stiffness = b.model_shape_stiffness;
     d.model_damping = b.model_damping;
     d.model_deform_damping = b.model_deform_damping;
+    d.model_stretch_stiffness = b.model_stretch_stiffness;
     d.part_of_particle = b.part_of_particle;
     d.enclosed_parts = b.enclosed_parts;
     return d;

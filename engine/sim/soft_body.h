@@ -72,6 +72,9 @@ struct BodyStructureT {
     std::vector<float> model_damping;
     // Per model, its own deform_damping (1/s; negative: the solver settings'); empty: the settings'.
     std::vector<float> model_deform_damping;
+    // Per model, its own PBD stretch stiffness per frame (negative: the solver settings'); empty:
+    // every model the settings'.
+    std::vector<float> model_stretch_stiffness;
     // The connected component each particle was in when the body was built (a particle a
     // topology edit adds takes its source's): the two sides of a cut are one part.
     std::vector<uint32_t> part_of_particle;

@@ -63,6 +63,23 @@ constexpr size_t k_particle_grain = 4096;  // below this a loop is cheaper than 
 }
 
 template <class Real>
+void SolverT<Real>::stretch_per_constraint(const SoftBodyT<Real>& body, const SolverSettings& s) {
+    // Once a substep: a cut between frames re-points and adds constraints, and the frame's
+    // substeps (so each projection's share) may change.
+    const std::vector<float>& own = body.model_stretch_stiffness;
+    if (own.empty() || s.mode == SolverMode::xpbd || body.model_of_particle.size() != body.particles.size()) {
+        distance_k_.clear();
+        return;
+    }
+    std::vector<Real> per_model(body.model_count());
+    for (size_t m = 0; m < per_model.size(); ++m)
+        per_model[m] = Real(per_iteration(m < own.size() && own[m] > 0.0f ? own[m] : s.stretch_stiffness, s.iterations * s.substeps));
+    distance_k_.resize(body.distance.size());
+    for (size_t c = 0; c < body.distance.size(); ++c)
+        distance_k_[c] = per_model[std::min<size_t>(body.model_of_particle[body.distance[c].i], per_model.size() - 1)];
+}
+
+template <class Real>
 void SolverT<Real>::begin_substep(SoftBodyT<Real>& body, const SolverSettings& s, Real h) {
     ParticlesT<Real>& p = body.particles;
     PBDSPLAT_ASSERT(body.distance_groups.start.empty() ? body.distance.empty() : body.distance_groups.start.back() == body.distance.size(),
@@ -82,6 +99,7 @@ void SolverT<Real>::begin_substep(SoftBodyT<Real>& body, const SolverSettings& s
         for_range(p.size(), k_particle_grain,
                   [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, model_keep_, body.model_of_particle, h, b, e); });
     }
+    stretch_per_constraint(body, s);
     if (!body.volumes.empty()) slots_.weights = volume_weights<Real>(std::span<const Real>(p.w), body.rings.rest_area);
     slots_.pressed.clear();  // find_contacts fills it where contact runs
     slots_.moments_ready.clear();
@@ -102,11 +120,14 @@ void SolverT<Real>::project_distance(const BodyStructureT<Real>& structure, Body
     const bool xpbd = s.mode == SolverMode::xpbd;
     const Real k = Real(per_iteration(s.stretch_stiffness, s.iterations * s.substeps));
     const Real inv_h2 = Real(1) / (h * h);
+    const bool each = !xpbd && distance_k_.size() == distance.size();  // models of their own stiffness
+    const std::span<const Real> each_k(distance_k_);
     // Colour by colour: inside a colour no two constraints share a particle.
     for (size_t c = 0; c + 1 < structure.distance_groups.start.size(); ++c) {
         const size_t first = structure.distance_groups.start[c], count = structure.distance_groups.start[c + 1] - first;
         for_range(count, 2048, [&](size_t b, size_t e) {
             if (xpbd) project_distance_xpbd<Real>(distance.subspan(first + b, e - b), lambda.subspan(first + b, e - b), p, inv_h2);
+            else if (each) project_distance_pbd<Real>(distance.subspan(first + b, e - b), each_k.subspan(first + b, e - b), p);
             else project_distance_pbd<Real>(distance.subspan(first + b, e - b), p, k);
         });
     }

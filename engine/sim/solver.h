@@ -83,6 +83,8 @@ public:
     // The stages themselves. forces = begin_substep, velocities = end_substep. Those that move
     // only the state take the body's parts apart, the structure (or caches) they read const.
     void begin_substep(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
+    // distance_k_ for this substep: each constraint its model's stretch stiffness per projection.
+    void stretch_per_constraint(const SoftBodyT<Real>& body, const SolverSettings& s);
     void project_distance(const BodyStructureT<Real>& structure, BodyStateT<Real>& state, const SolverSettings& s, Real h);
     void project_volume(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
     // project_volume's rigid moves per slot (volume_nudge), from totals_ and steps_: none for a
@@ -125,6 +127,7 @@ private:
     std::vector<uint8_t> piece_gives_;                     // per piece: soft under contact, for sleep
     std::vector<float> piece_rate_;                        // deform_damping per piece
     std::vector<Real> model_keep_;                         // velocity kept per model a substep (own damping)
+    std::vector<Real> distance_k_;  // PBD stiffness per projection, per distance constraint, where models name their own
     std::vector<PieceMoments> piece_moments_;
 };
 using Solver = SolverT<float>;

@@ -41,6 +41,7 @@ shape_stiffness = 0.4
 damping = 0.3
 deform_damping = 2.5
 pressure = 1.4
+stiffness = 0.3
 
 [[bodies]]
 mesh = "box:2"
@@ -59,6 +60,7 @@ shape_stiffness = 0.2
 damping = 0.7
 deform_damping = 4
 pressure = 0.6
+stiffness = 0.05
 
 [material]
 color = [0.2, 0.6, 0.9]

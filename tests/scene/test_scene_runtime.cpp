@@ -714,6 +714,33 @@ mass = 1.0
         REQUIRE_FALSE(bad.ok());
         CHECK(bad.error().to_string().find("bad.toml:30:8: 'events.body' = 3 names no model: the scene has 3") == 0);
     }
+    TEST_CASE("a body's own stretch stiffness: of two like balloons dropped side by side, the one of soft edges sags") {
+        // Far apart on the ground, the left naming stiffness = 0.05 (the scene's edges hold: 1).
+        const auto balloon = [](const std::string& x, const std::string& own) {
+            return body_entry("icosphere:3", x + ", -0.45, 0", "scale = 0.5\nshape_stiffness = 0\n" + own);
+        };
+        const std::string text = std::string(k_on_ground) + balloon("-1.5", "stiffness = 0.05\n") + balloon("1.5", "");
+        const auto [parsed, again] = read_and_reread(text.c_str(), "stretch.toml");
+        CHECK(again.model_own.stiffness == 0.05f);
+        CHECK_FALSE(again.bodies[0].own.stiffness);
+        auto rt = scene::SceneRuntime::create(parsed, {});
+        REQUIRE_MESSAGE(rt.ok(), test::why(rt));
+        const sim::SoftBody& b = rt.value()->body();
+        const auto height = [&](uint32_t m) {
+            float lo = 1e9f, hi = -1e9f;
+            for (size_t i = 0; i < b.particle_count(); ++i)
+                if (b.model_of_particle[i] == m) lo = std::min(lo, b.particles.x[i].y()), hi = std::max(hi, b.particles.x[i].y());
+            return hi - lo;
+        };
+        float soft = 1e9f, stiff = 1e9f;  // the lowest each gets over 1.5 s
+        for (int f = 0; f < 90; ++f) {
+            REQUIRE(rt.value()->step().ok());
+            soft = std::min(soft, height(0)), stiff = std::min(stiff, height(1));
+        }
+        MESSAGE("lowest height over 1.5 s (rest 1): soft edges " << soft << ", stiff edges " << stiff);
+        CHECK(soft < 0.5f * stiff);  // measured 0.15 against 0.57
+    }
+
     TEST_CASE("a light ball on a soft box comes to rest: the box does not fall asleep under it while it bounces") {
         // Held still under a ball still bouncing on it (swinging within the still radius), the box
         // gave nothing at the bounce's turn and flung the ball 1.5 m/s up, again and again: 1.1 m/s

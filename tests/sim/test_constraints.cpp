@@ -10,6 +10,51 @@
 
 using namespace pbdsplat;
 
+namespace {
+// Projects an icosphere's colours four at a time, with one stiffness or one per constraint, and
+// one at a time with the arithmetic written out in its order; returns how many particles differ.
+size_t differing_from_one_at_a_time(bool per_constraint) {
+    auto body = test::make_body(mesh::icosphere(3));
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-0.05f, 0.05f);
+    for (Vec4f& x : body.particles.x) x += Vec4f(u(rng), u(rng), u(rng), 0.0f);
+    body.particles.w[3] = 0.0f;                                     // a pin
+    body.particles.x[7] = body.particles.x[body.distance[0].j];   // nothing else: coincident pairs are possible too
+    // Dead slots (i == i) in the middle of colours, naming particles live lanes move.
+    for (size_t k = 5; k < body.distance.size(); k += 37) body.distance[k] = {body.distance[k].i, body.distance[k].i, 0.0f, 0.0f};
+    std::vector<float> stiffness(body.distance.size(), 0.9f);
+    if (per_constraint)
+        for (size_t k = 0; k < stiffness.size(); ++k) stiffness[k] = 0.2f + 0.35f * float(k % 3);
+    sim::Particles reference = body.particles;
+    for (size_t c = 0; c + 1 < body.distance_groups.start.size(); ++c) {
+        const size_t first = body.distance_groups.start[c], count = body.distance_groups.start[c + 1] - first;
+        const auto colour = std::span(body.distance).subspan(first, count);
+        if (per_constraint) sim::project_distance_pbd<float>(colour, std::span<const float>(stiffness).subspan(first, count), body.particles);
+        else sim::project_distance_pbd<float>(colour, body.particles, 0.9f);
+        for (size_t k = first; k < first + count; ++k) {
+            const sim::DistanceConstraint& con = body.distance[k];
+            Vec4f& a = reference.x[con.i];
+            Vec4f& b = reference.x[con.j];
+            const float wi = reference.w[con.i], wj = reference.w[con.j], wsum = wi + wj;
+            if (wsum == 0.0f) continue;
+            const Vec4f d = a - b;
+            const float len2 = (d.x() * d.x() + d.z() * d.z()) + (d.y() * d.y() + d.w() * d.w());
+            if (len2 < 1e-24f) continue;
+            const float len = std::sqrt(len2);
+            const float s = stiffness[k] * ((len - con.rest) / (len * wsum));
+            const Vec4f corr = Vec4f(s * d.x(), s * d.y(), s * d.z(), s * d.w());
+            a = Vec4f(a.x() - wi * corr.x(), a.y() - wi * corr.y(), a.z() - wi * corr.z(), a.w() - wi * corr.w());
+            b = Vec4f(b.x() + wj * corr.x(), b.y() + wj * corr.y(), b.z() + wj * corr.z(), b.w() + wj * corr.w());
+        }
+    }
+    size_t differing = 0;
+    for (size_t i = 0; i < reference.size(); ++i)
+        differing += std::memcmp(reference.x[i].data(), body.particles.x[i].data(), sizeof(Vec4f)) != 0 ? 1 : 0;
+    CHECK(body.particles.x[3] == reference.x[3]);
+    return differing;
+}
+} // namespace
+
 TEST_SUITE("sim/constraints") {
     TEST_CASE("a single pair projects to its rest length, heavier particle moving less") {
         sim::Particles p;
@@ -42,40 +87,9 @@ TEST_SUITE("sim/constraints") {
     }
 
     TEST_CASE("a colour projected four at a time moves every particle as one at a time does, to the bit") {
-        auto body = test::make_body(mesh::icosphere(3));
-        std::mt19937 rng(5);
-        std::uniform_real_distribution<float> u(-0.05f, 0.05f);
-        for (Vec4f& x : body.particles.x) x += Vec4f(u(rng), u(rng), u(rng), 0.0f);
-        body.particles.w[3] = 0.0f;                                     // a pin
-        body.particles.x[7] = body.particles.x[body.distance[0].j];   // nothing else: coincident pairs are possible too
-        // Dead slots (i == i) in the middle of colours, naming particles live lanes move.
-        for (size_t k = 5; k < body.distance.size(); k += 37) body.distance[k] = {body.distance[k].i, body.distance[k].i, 0.0f, 0.0f};
-        sim::Particles reference = body.particles;
-        for (size_t c = 0; c + 1 < body.distance_groups.start.size(); ++c) {
-            const size_t first = body.distance_groups.start[c], count = body.distance_groups.start[c + 1] - first;
-            sim::project_distance_pbd<float>(std::span(body.distance).subspan(first, count), body.particles, 0.9f);
-            // One at a time, the arithmetic written out in its order.
-            for (size_t k = first; k < first + count; ++k) {
-                const sim::DistanceConstraint& con = body.distance[k];
-                Vec4f& a = reference.x[con.i];
-                Vec4f& b = reference.x[con.j];
-                const float wi = reference.w[con.i], wj = reference.w[con.j], wsum = wi + wj;
-                if (wsum == 0.0f) continue;
-                const Vec4f d = a - b;
-                const float len2 = (d.x() * d.x() + d.z() * d.z()) + (d.y() * d.y() + d.w() * d.w());
-                if (len2 < 1e-24f) continue;
-                const float len = std::sqrt(len2);
-                const float s = 0.9f * ((len - con.rest) / (len * wsum));
-                const Vec4f corr = Vec4f(s * d.x(), s * d.y(), s * d.z(), s * d.w());
-                a = Vec4f(a.x() - wi * corr.x(), a.y() - wi * corr.y(), a.z() - wi * corr.z(), a.w() - wi * corr.w());
-                b = Vec4f(b.x() + wj * corr.x(), b.y() + wj * corr.y(), b.z() + wj * corr.z(), b.w() + wj * corr.w());
-            }
-        }
-        size_t differing = 0;
-        for (size_t i = 0; i < reference.size(); ++i)
-            differing += std::memcmp(reference.x[i].data(), body.particles.x[i].data(), sizeof(Vec4f)) != 0 ? 1 : 0;
-        CHECK(differing == 0);
-        CHECK(body.particles.x[3] == reference.x[3]);
+        // One stiffness for every constraint, and one per constraint (models of their own).
+        CHECK(differing_from_one_at_a_time(false) == 0);
+        CHECK(differing_from_one_at_a_time(true) == 0);
     }
 
     TEST_CASE("volume: unit cube, fine icosphere, and origin independence with caps") {
