@@ -257,6 +257,8 @@ struct Scene {
     // [model] with them.
     OwnSettings model_own;
     std::vector<BodyDesc> bodies;  // beside `model`
+    // The file had no [model]: `model` is its first [[bodies]] entry (messages name it so).
+    bool model_from_bodies = false;
     MaterialDesc material;
     SurfaceDesc surface;
     SimulationDesc simulation;

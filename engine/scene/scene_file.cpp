@@ -245,6 +245,7 @@ void settle_models(bool model_given, Scene& scene) {
         scene.model = std::move(first.model);
         scene.model_own = first.own;
         scene.bodies.erase(scene.bodies.begin());
+        scene.model_from_bodies = true;
     }
     if (scene.bodies.empty() && scene.model_own.color) {
         scene.material.color = *scene.model_own.color;

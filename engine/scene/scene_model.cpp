@@ -100,7 +100,7 @@ core::Status merge_parts(const Scene& scene, Part first, mesh::TriangleMesh& coa
     for (size_t k = 0; k < scene.bodies.size(); ++k) {
         const BodyDesc& b = scene.bodies[k];
         auto part = load_part(b.model, part_particles(b.model, b.own.particles), scene.source_dir);
-        if (!part.ok()) return core::make_error("bodies[" + std::to_string(k) + "] (" + b.model.mesh + "): " + part.error().to_string());
+        if (!part.ok()) return core::make_error(model_name(scene, k + 1) + ": " + part.error().to_string());
         add_look(part.value().look, b.own.color.value_or(scene.material.color));
         parts.push_back(std::move(part).value());
     }
@@ -330,6 +330,8 @@ core::Status pin_particles(const Scene& scene, sim::SoftBody& b) {
 
 core::Result<SceneModel> load_scene_model(const Scene& scene) {
     auto first = load_part(scene.model, simulation_particles(scene), scene.source_dir);
+    if (!first.ok() && (scene.model_from_bodies || !scene.bodies.empty()))
+        return core::make_error(model_name(scene, 0) + ": " + first.error().to_string());
     if (!first.ok()) return first.error();
     SceneModel out;
     auto add_look = [&](std::optional<asset::SurfaceLook>& look, const Vec3f& plain) {
@@ -378,7 +380,10 @@ core::Result<sim::SoftBody> make_scene_body(const Scene& scene) {
 }
 
 std::string model_name(const Scene& scene, size_t m) {
-    return m == 0 ? "[model] (" + scene.model.mesh + ")" : "bodies[" + std::to_string(m - 1) + "] (" + scene.bodies[m - 1].model.mesh + ")";
+    // As the file numbers its [[bodies]] entries, the first of them where it has no [model].
+    const size_t entry = scene.model_from_bodies ? m : m - 1;
+    const std::string& mesh = m == 0 ? scene.model.mesh : scene.bodies[m - 1].model.mesh;
+    return m == 0 && !scene.model_from_bodies ? "[model] (" + mesh + ")" : "bodies[" + std::to_string(entry) + "] (" + mesh + ")";
 }
 
 } // namespace pbdsplat::scene

@@ -708,6 +708,17 @@ particles = 0
         CHECK(((hi + lo) * 0.5f).isApprox(Vec3f(3, 0, 0), 1e-4f));
         for (uint32_t i = start[0]; i < start[1]; ++i) CHECK(b.particles.w[i] > 0.0f);
         CHECK_FALSE(scene::parse_scene("[[bodies]]\ntranslate = [0, 1, 0]\n", "nomesh.toml").ok());
+        // A model that cannot load is named as the file numbers it: here its third [[bodies]]
+        // entry, the first being the scene's model (no [model] table).
+        for (const bool with_model : {false, true}) {
+            const std::string bodies = std::string(with_model ? "[model]\nmesh = \"box:2\"\n" : "") +
+                                       "[[bodies]]\nmesh = \"box:2\"\n[[bodies]]\nmesh = \"box:2\"\n[[bodies]]\nmesh = \"no-such-model.obj\"\n";
+            auto missing = scene::parse_scene(bodies, "missing.toml");
+            REQUIRE_MESSAGE(missing.ok(), test::why(missing));
+            auto loaded = scene::load_scene_model(missing.value());
+            REQUIRE_FALSE(loaded.ok());
+            CHECK(loaded.error().to_string().find("bodies[2] (no-such-model.obj): ") != std::string::npos);
+        }
         const auto refusal = [](const char* t) { return scene::parse_scene(t, "bad.toml").error().to_string(); };
         CHECK(refusal("[model]\nscale = [1, 2]\n").find("bad.toml:2:9: 'model.scale' must be a number or an array of 3 numbers") == 0);
         CHECK(refusal("[model]\nscale = \"big\"\n").find("'model.scale' must be a number or an array of 3 numbers") != std::string::npos);
