@@ -24,7 +24,7 @@ void add_keys(std::vector<std::string>& out, const keys::Key<D> (&table)[N]) {
 // in scene_file.cpp.
 const std::vector<Section>& sections() {
     static const std::vector<Section> all = [] {
-        std::vector<Section> s = {{"model", {"color", "particles", "mass", "shape_stiffness", "damping", "deform_damping", "pressure", "stiffness"}},      {"material", {}},      {"surface", {"mode"}},
+        std::vector<Section> s = {{"model", {"color", "particles", "mass", "shape_stiffness", "damping", "deform_damping", "pressure", "stiffness", "compliance"}},      {"material", {}},      {"surface", {"mode"}},
                                   {"advanced", {}},   {"simulation", {"mode", "particles", "cut_volume", "pins", "pin_regions", "colliders"}},
                                   {"render", {"blend", "sort_on", "shading", "splat_shape", "splat_normals", "visibility", "path",
                                               "environment_map", "camera", "light", "lights"}},

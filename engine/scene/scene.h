@@ -49,6 +49,7 @@ struct OwnSettings {
     std::optional<float> deform_damping;   // 1/s, its wobble's decay; else simulation.deform_damping
     std::optional<float> pressure;         // its pieces' pressure factor k; else simulation.pressure
     std::optional<float> stiffness;        // its PBD stretch stiffness; else simulation.stiffness
+    std::optional<float> compliance;       // its XPBD stretch compliance (m/N); else simulation.compliance
 };
 
 // Another model beside [model] ([[bodies]] in a scene file): the pieces of one soft body, so

@@ -226,6 +226,7 @@ OwnSettings read_own(Reader::Table& t) {
     if (t.has("deform_damping")) o.deform_damping = t.real("deform_damping", 0.0f, 0.0, 1e3);
     if (t.has("pressure")) o.pressure = t.real("pressure", 1.0f, 0.01, 100.0);
     if (t.has("stiffness")) o.stiffness = t.real("stiffness", 1.0f, 1e-4, 1.0);
+    if (t.has("compliance")) o.compliance = t.real("compliance", 0.0f, 0.0, 1e3);
     return o;
 }
 

@@ -196,6 +196,12 @@ void place_bodies(const Scene& scene, const std::vector<uint32_t>& part_start, s
     }
 }
 
+// Each model's own XPBD stretch compliance, on its edges (a cut's new edges take their parent's).
+void set_model_compliances(const Scene& scene, sim::SoftBody& b) {
+    for (sim::DistanceConstraint& c : b.distance)
+        if (const std::optional<float>& own = own_settings(scene, b.model_of_particle[c.i]).compliance) c.compliance = *own;
+}
+
 // Each model's own pressure factor: a balloon blown up beside solids at their own volume.
 void set_model_pressures(const Scene& scene, sim::SoftBody& b) {
     std::vector<uint32_t> model_of_piece(b.pieces, 0);
@@ -353,6 +359,7 @@ core::Result<SceneModel> load_scene_model(const Scene& scene) {
     if (weigh_models(scene, out.part_start, b)) sim::rebuild_shape_clusters(b);
     place_bodies(scene, out.part_start, b);
     set_model_pressures(scene, b);
+    set_model_compliances(scene, b);
     if (!b.model_shape_stiffness.empty()) sim::rebuild_shape_clusters(b);
     warn_crossing_models(scene, b);
     warn_below_ground(scene, b);

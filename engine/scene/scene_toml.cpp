@@ -81,6 +81,7 @@ void write_own(std::ostream& o, const OwnSettings& own) {
     if (own.deform_damping) o << "deform_damping = " << num(*own.deform_damping) << "\n";
     if (own.pressure) o << "pressure = " << num(*own.pressure) << "\n";
     if (own.stiffness) o << "stiffness = " << num(*own.stiffness) << "\n";
+    if (own.compliance) o << "compliance = " << num(*own.compliance) << "\n";
 }
 
 // One writer per section, in the order a reader meets them.

@@ -42,6 +42,7 @@ damping = 0.3
 deform_damping = 2.5
 pressure = 1.4
 stiffness = 0.3
+compliance = 2e-4
 
 [[bodies]]
 mesh = "box:2"
@@ -61,6 +62,7 @@ damping = 0.7
 deform_damping = 4
 pressure = 0.6
 stiffness = 0.05
+compliance = 0.01
 
 [material]
 color = [0.2, 0.6, 0.9]
