@@ -1,6 +1,5 @@
 #include <doctest/doctest.h>
 
-
 #include <cstring>
 #include <filesystem>
 #include <fstream>
