@@ -204,9 +204,7 @@ void set_model_compliances(const Scene& scene, sim::SoftBody& b) {
 
 // Each model's own pressure factor: a balloon blown up beside solids at their own volume.
 void set_model_pressures(const Scene& scene, sim::SoftBody& b) {
-    std::vector<uint32_t> model_of_piece(b.pieces, 0);
-    for (size_t i = 0; i < b.particle_count(); ++i)
-        if (b.piece_of_particle[i] < b.pieces) model_of_piece[b.piece_of_particle[i]] = b.model_of_particle[i];
+    const std::vector<uint32_t> model_of_piece = b.model_of_pieces();
     for (sim::VolumeConstraint& v : b.volumes) v.pressure = pressure_of(scene, model_of_piece[v.piece]);
 }
 

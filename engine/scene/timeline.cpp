@@ -59,31 +59,23 @@ void Timeline::advance_opacity(float t, float dt, float& opacity) {
     }
 }
 
-namespace {
-// The model of each piece (a piece never spans two models: they share no triangles).
-std::vector<uint32_t> models_of_pieces(const sim::SoftBody& body) {
-    std::vector<uint32_t> out(body.pieces, 0);
-    if (body.model_of_particle.size() != body.particle_count()) return out;
-    for (size_t i = 0; i < body.particle_count(); ++i)
-        if (body.piece_of_particle[i] < body.pieces) out[body.piece_of_particle[i]] = body.model_of_particle[i];
-    return out;
-}
-} // namespace
-
 void Timeline::advance_pressure(float t, float dt, sim::SoftBody& body) {
-    // Each ramp starts each model from whatever its k is when the ramp begins: a balloon blown
-    // up beside another at its own pressure keeps the difference until the ramp ends.
+    // Each ramp starts each model from whatever its k is when the ramp begins (a sealed piece's,
+    // where it has one): a balloon blown up beside another at its own pressure keeps the
+    // difference until the ramp ends.
+    std::vector<uint32_t> model_of;  // per piece, taken once a frame while a ramp runs
     for (ModelPressureRamp& r : pressure_) {
-        if (t < r.start || body.volumes.empty()) continue;
-        const std::vector<uint32_t> model_of = models_of_pieces(body);
+        if (t < r.start || t - r.start > r.duration + dt || body.volumes.empty()) continue;  // finished: leave k to later events
+        if (model_of.empty()) model_of = body.model_of_pieces();
         if (!r.begun) {
             r.from.assign(body.model_count(), -1.0f);
-            for (const sim::VolumeConstraint& v : body.volumes)
-                if (float& f = r.from[std::min<size_t>(model_of[v.piece], r.from.size() - 1)]; f < 0.0f || v.leak == 0.0f) f = v.pressure;
+            for (const sim::VolumeConstraint& v : body.volumes) {
+                float& from = r.from[std::min<size_t>(model_of[v.piece], r.from.size() - 1)];
+                if (from < 0.0f || v.leak == 0.0f) from = v.pressure;
+            }
             r.begun = true;
         }
         const float u = r.duration > 0.0f ? std::min(1.0f, (t - r.start) / r.duration) : 1.0f;
-        if (t - r.start > r.duration + dt) continue;  // finished: leave k to later events
         for (sim::VolumeConstraint& v : body.volumes) {
             const size_t m = std::min<size_t>(model_of[v.piece], r.from.size() - 1);
             if (r.body && m != *r.body) continue;

@@ -109,6 +109,15 @@ struct SoftBodyT : BodyStructureT<Real>, BodyStateT<Real>, BodyCachesT<Real> {
         const std::vector<uint32_t>& m = this->model_of_particle;
         return m.empty() || m.size() != particle_count() ? 1 : size_t(*std::max_element(m.begin(), m.end())) + 1;
     }
+    // The model of each piece (a piece never spans two: models share no triangle); all 0 where
+    // the body does not say.
+    std::vector<uint32_t> model_of_pieces() const {
+        std::vector<uint32_t> out(this->pieces, 0);
+        if (this->model_of_particle.size() != particle_count()) return out;
+        for (size_t i = 0; i < particle_count(); ++i)
+            if (this->piece_of_particle[i] < this->pieces) out[this->piece_of_particle[i]] = this->model_of_particle[i];
+        return out;
+    }
     // Current volume of a volume constraint (caps included), over the whole body's triangles.
     double volume(size_t constraint) const {
         const VolumeConstraint& c = this->volumes[constraint];
