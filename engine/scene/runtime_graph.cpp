@@ -135,6 +135,7 @@ core::Status SceneRuntime::build_graph() {
     if (!paused_) {
         add_frame_event_passes(h, has_timed_events());
         step_settings_ = scene_.simulation.solver;
+        step_settings_.tuned_substeps = step_settings_.substeps;
         step_settings_.substeps = frame_substeps();
         add_simulation_passes(graph_, h.board, *solver_, step_settings_, scene_.simulation.dt);
     }

@@ -39,6 +39,11 @@ core::Status validate(const SolverSettings& s) {
     return core::Status::success();
 }
 
+float raised_stretch_scale(const SolverSettings& s, float shape_stiffness) {
+    if (s.mode == SolverMode::xpbd || shape_stiffness > 0.0f || s.tuned_substeps == 0 || s.substeps <= s.tuned_substeps) return 1.0f;
+    return std::pow(float(s.tuned_substeps) / float(s.substeps), k_raised_softening);
+}
+
 namespace {
 // PBD stiffness per projection, so that `iterations` projections close the same share of the
 // error as one projection of stiffness k would "per frame" (Mueller et al. 2007, section 3.3).
@@ -67,16 +72,23 @@ void SolverT<Real>::stretch_per_constraint(const SoftBodyT<Real>& body, const So
     // Once a substep: a cut between frames re-points and adds constraints, and the frame's
     // substeps (so each projection's share) may change.
     const std::vector<float>& own = body.model_stretch_stiffness;
-    if (own.empty() || s.mode == SolverMode::xpbd || body.model_of_particle.size() != body.particles.size()) {
+    const std::vector<float>& shape = body.model_shape_stiffness;
+    const bool raised = s.substeps > s.tuned_substeps && s.tuned_substeps != 0;
+    const bool per_model = !own.empty() || (raised && !shape.empty());
+    if (!per_model || s.mode == SolverMode::xpbd || body.model_of_particle.size() != body.particles.size()) {
         distance_k_.clear();
         return;
     }
-    std::vector<Real> per_model(body.model_count());
-    for (size_t m = 0; m < per_model.size(); ++m)
-        per_model[m] = Real(per_iteration(m < own.size() && own[m] > 0.0f ? own[m] : s.stretch_stiffness, s.iterations * s.substeps));
+    // One entry past the longer list: the models it does not name take the settings'.
+    std::vector<Real> k_of(std::max(own.size(), shape.size()) + 1);
+    for (size_t m = 0; m < k_of.size(); ++m) {
+        const float k = m < own.size() && own[m] > 0.0f ? own[m] : s.stretch_stiffness;
+        const float k_shape = m < shape.size() && shape[m] >= 0.0f ? shape[m] : s.shape_stiffness;
+        k_of[m] = Real(raised_stretch_scale(s, k_shape) * per_iteration(k, s.iterations * s.substeps));
+    }
     distance_k_.resize(body.distance.size());
     for (size_t c = 0; c < body.distance.size(); ++c)
-        distance_k_[c] = per_model[std::min<size_t>(body.model_of_particle[body.distance[c].i], per_model.size() - 1)];
+        distance_k_[c] = k_of[std::min<size_t>(body.model_of_particle[body.distance[c].i], k_of.size() - 1)];
 }
 
 template <class Real>
@@ -118,7 +130,9 @@ void SolverT<Real>::project_distance(const BodyStructureT<Real>& structure, Body
     const std::span<const DistanceConstraint> distance(structure.distance);
     const std::span<Real> lambda(state.distance_lambda);
     const bool xpbd = s.mode == SolverMode::xpbd;
-    const Real k = Real(per_iteration(s.stretch_stiffness, s.iterations * s.substeps));
+    // Welds glue parts, whatever they are made of: never softened (raised_stretch_scale).
+    const Real k_welds = Real(per_iteration(s.stretch_stiffness, s.iterations * s.substeps));
+    const Real k = k_welds * Real(raised_stretch_scale(s, s.shape_stiffness));
     const Real inv_h2 = Real(1) / (h * h);
     const bool each = !xpbd && distance_k_.size() == distance.size();  // models of their own stiffness
     const std::span<const Real> each_k(distance_k_);
@@ -131,7 +145,7 @@ void SolverT<Real>::project_distance(const BodyStructureT<Real>& structure, Body
             else project_distance_pbd<Real>(distance.subspan(first + b, e - b), p, k);
         });
     }
-    project_welds<Real>(structure, p, k);
+    project_welds<Real>(structure, p, k_welds);
 }
 
 template <class Real>
@@ -323,6 +337,7 @@ StageTimings SolverT<Real>::step(SoftBodyT<Real>& body, float dt, const SolverSe
     // Pieces stacked at the last search step this frame in the contact's substeps: resting on
     // each other they sink in at one step a frame (sim/contact.h). A body alone pays nothing.
     SolverSettings s = settings;
+    if (s.tuned_substeps == 0) s.tuned_substeps = settings.substeps;
     s.substeps = frame_substeps(settings, body, contact_, dt, k_max_sweeps);
     if (schedule_.empty() || schedule_iterations_ != s.iterations || schedule_substeps_ != s.substeps) {
         schedule_ = frame_schedule(s);

@@ -29,6 +29,9 @@ struct SolverSettings {
     SolverMode mode = SolverMode::paper;
     uint32_t iterations = 5;  // I
     uint32_t substeps = 1;    // S: each frame is S steps of dt / S
+    // The substeps the stiffnesses below are meant at: the scene's, where contact steps a frame
+    // finer (0: `substeps`). See raised_stretch_scale.
+    uint32_t tuned_substeps = 0;
     Vec3f gravity{0.0f, -9.81f, 0.0f};
     float damping = 0.0f;             // velocity decay rate, 1/s
     float deform_damping = 0.0f;      // 1/s: decay of each piece's motion apart from its rigid motion (sim/deform_damping.h)
@@ -42,6 +45,19 @@ struct SolverSettings {
     ContactSettings contact;          // between the pieces of the body, and of a piece with itself
     SleepSettings sleep;              // pieces at rest held still (sim/sleep.h)
 };
+
+// PBD's edges hold a body the more firmly the more substeps a frame takes: a 0.9 m balloon
+// (stiffness 1, no shape matching) rests at 0.57 of its height at one substep and 0.82 at four.
+// Where contact raised a frame's substeps past those the scene is tuned at (stacked pieces,
+// sim/approach.h), such a body lying in the softer shape sprang to the firmer one within a
+// frame: a balloon squashed under a box threw itself and the box 4 m up (2 J -> 27 J). In such a
+// frame the edges of a body without shape matching (which its edges alone hold) project at
+// (tuned / substeps)^k_raised_softening of their stiffness, which keeps its resting shape
+// (measured, docs/BENCHMARKS.md "Contact"). A body with shape matching sags at one substep by
+// its shape matching as much as by its edges (scaling its edges alone leaves its height as it
+// is), and a stiff one stands by it: unchanged. 1 where the frame is not raised, and in XPBD.
+inline constexpr float k_raised_softening = 1.5f;
+float raised_stretch_scale(const SolverSettings& s, float shape_stiffness);
 
 // Milliseconds per stage of the last step, named as in the paper's Tables 3 and 4.
 struct StageTimings {
