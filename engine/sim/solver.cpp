@@ -39,9 +39,24 @@ core::Status validate(const SolverSettings& s) {
     return core::Status::success();
 }
 
-float raised_stretch_scale(const SolverSettings& s, float shape_stiffness) {
-    if (s.mode == SolverMode::xpbd || shape_stiffness > 0.0f || s.tuned_substeps == 0 || s.substeps <= s.tuned_substeps) return 1.0f;
-    return std::pow(float(s.tuned_substeps) / float(s.substeps), k_raised_softening);
+float raised_scale(const SolverSettings& s, float shape_stiffness, float exponent, float fade) {
+    if (s.mode == SolverMode::xpbd || !(shape_stiffness < k_rigid_response_stiffness) || s.tuned_substeps == 0 ||
+        s.substeps <= s.tuned_substeps || !(fade > 0.0f))
+        return 1.0f;
+    return std::pow(float(s.tuned_substeps) / float(s.substeps), exponent * fade);
+}
+
+template <class Real>
+void SolverT<Real>::fade_raise(const SolverSettings& s, Real h) {
+    if (s.tuned_substeps == 0 || s.substeps <= s.tuned_substeps) {
+        raise_fade_ = 0.0f, raise_substeps_ = 0;
+        return;
+    }
+    // A rise (from the scene's substeps or a lesser raise) softens afresh; a fall within the
+    // raise keeps fading.
+    if (s.substeps > raise_substeps_) raise_fade_ = 1.0f;
+    else raise_fade_ *= std::exp(-float(h) / k_raise_firming);
+    raise_substeps_ = s.substeps;
 }
 
 namespace {
@@ -73,7 +88,7 @@ void SolverT<Real>::stretch_per_constraint(const SoftBodyT<Real>& body, const So
     // substeps (so each projection's share) may change.
     const std::vector<float>& own = body.model_stretch_stiffness;
     const std::vector<float>& shape = body.model_shape_stiffness;
-    const bool raised = s.substeps > s.tuned_substeps && s.tuned_substeps != 0;
+    const bool raised = raise_fade_ > 0.0f;
     const bool per_model = !own.empty() || (raised && !shape.empty());
     if (!per_model || s.mode == SolverMode::xpbd || body.model_of_particle.size() != body.particles.size()) {
         distance_k_.clear();
@@ -84,7 +99,7 @@ void SolverT<Real>::stretch_per_constraint(const SoftBodyT<Real>& body, const So
     for (size_t m = 0; m < k_of.size(); ++m) {
         const float k = m < own.size() && own[m] > 0.0f ? own[m] : s.stretch_stiffness;
         const float k_shape = m < shape.size() && shape[m] >= 0.0f ? shape[m] : s.shape_stiffness;
-        k_of[m] = Real(raised_stretch_scale(s, k_shape) * per_iteration(k, s.iterations * s.substeps));
+        k_of[m] = Real(raised_scale(s, k_shape, k_raised_edges, raise_fade_) * per_iteration(k, s.iterations * s.substeps));
     }
     distance_k_.resize(body.distance.size());
     for (size_t c = 0; c < body.distance.size(); ++c)
@@ -111,6 +126,7 @@ void SolverT<Real>::begin_substep(SoftBodyT<Real>& body, const SolverSettings& s
         for_range(p.size(), k_particle_grain,
                   [&](size_t b, size_t e) { apply_forces_and_predict<Real>(p, s.gravity, model_keep_, body.model_of_particle, h, b, e); });
     }
+    fade_raise(s, h);
     stretch_per_constraint(body, s);
     if (!body.volumes.empty()) slots_.weights = volume_weights<Real>(std::span<const Real>(p.w), body.rings.rest_area);
     slots_.pressed.clear();  // find_contacts fills it where contact runs
@@ -130,9 +146,9 @@ void SolverT<Real>::project_distance(const BodyStructureT<Real>& structure, Body
     const std::span<const DistanceConstraint> distance(structure.distance);
     const std::span<Real> lambda(state.distance_lambda);
     const bool xpbd = s.mode == SolverMode::xpbd;
-    // Welds glue parts, whatever they are made of: never softened (raised_stretch_scale).
+    // Welds glue parts, whatever they are made of: never softened (raised_scale).
     const Real k_welds = Real(per_iteration(s.stretch_stiffness, s.iterations * s.substeps));
-    const Real k = k_welds * Real(raised_stretch_scale(s, s.shape_stiffness));
+    const Real k = k_welds * Real(raised_scale(s, s.shape_stiffness, k_raised_edges, raise_fade_));
     const Real inv_h2 = Real(1) / (h * h);
     const bool each = !xpbd && distance_k_.size() == distance.size();  // models of their own stiffness
     const std::span<const Real> each_k(distance_k_);
@@ -220,7 +236,8 @@ void SolverT<Real>::project_shape(BodyCachesT<Real>& caches, BodyStateT<Real>& s
         for (size_t c = b; c < e; ++c) {
             const float stiffness = stiffness_of(caches.shapes[c], s.shape_stiffness);
             if (!(stiffness > 0.0f)) continue;
-            sim::project_shape<Real>(caches.shapes[c], state.particles, Real(per_iteration(stiffness, sweeps)), xpbd, alpha);
+            const float raised = raised_scale(s, stiffness, k_raised_shape, raise_fade_);
+            sim::project_shape<Real>(caches.shapes[c], state.particles, Real(raised * per_iteration(stiffness, sweeps)), xpbd, alpha);
         }
     });
 }

@@ -30,7 +30,7 @@ struct SolverSettings {
     uint32_t iterations = 5;  // I
     uint32_t substeps = 1;    // S: each frame is S steps of dt / S
     // The substeps the stiffnesses below are meant at: the scene's, where contact steps a frame
-    // finer (0: `substeps`). See raised_stretch_scale.
+    // finer (0: `substeps`). See raised_scale.
     uint32_t tuned_substeps = 0;
     Vec3f gravity{0.0f, -9.81f, 0.0f};
     float damping = 0.0f;             // velocity decay rate, 1/s
@@ -46,18 +46,25 @@ struct SolverSettings {
     SleepSettings sleep;              // pieces at rest held still (sim/sleep.h)
 };
 
-// PBD's edges hold a body the more firmly the more substeps a frame takes: a 0.9 m balloon
-// (stiffness 1, no shape matching) rests at 0.57 of its height at one substep and 0.82 at four.
-// Where contact raised a frame's substeps past those the scene is tuned at (stacked pieces,
-// sim/approach.h), such a body lying in the softer shape sprang to the firmer one within a
-// frame: a balloon squashed under a box threw itself and the box 4 m up (2 J -> 27 J). In such a
-// frame the edges of a body without shape matching (which its edges alone hold) project at
-// (tuned / substeps)^k_raised_softening of their stiffness, which keeps its resting shape
-// (measured, docs/BENCHMARKS.md "Contact"). A body with shape matching sags at one substep by
-// its shape matching as much as by its edges (scaling its edges alone leaves its height as it
-// is), and a stiff one stands by it: unchanged. 1 where the frame is not raised, and in XPBD.
-inline constexpr float k_raised_softening = 1.5f;
-float raised_stretch_scale(const SolverSettings& s, float shape_stiffness);
+// PBD holds a body the more firmly the more substeps a frame takes: a 0.9 m balloon (stiffness
+// 1, no shape matching) rests at 0.57 of its height at one substep and 0.82 at four, one of shape
+// 0.05 at 0.73 and 0.86. Where contact raised a frame's substeps past those the scene is tuned
+// at (stacked pieces, sim/approach.h), a soft body lying in the softer shape sprang to the firmer
+// one within a frame: a balloon squashed under a box threw itself and the box 4 m up (2 J -> 27
+// J). So in a raised frame a soft body (shape stiffness under k_rigid_response_stiffness) projects
+// its edges at (tuned / substeps)^(k_raised_edges x fade) of their stiffness and its shape
+// matching at (tuned / substeps)^(k_raised_shape x fade), which keeps its resting shape as the
+// raise finds it (measured, docs/BENCHMARKS.md "Contact"); `fade` falls from 1 when the
+// substeps rise to 0 with time constant k_raise_firming, so that it takes on the firmness of
+// the finer steps (what holds a heavy ball in a soft box's dent) slowly, not in a frame: measured,
+// at 0.5 s the box on a balloon of shape 0.05 still gained 40 %, at 2 s the ball rolled round the
+// dent for good. A stiff body's shape matching stands it either way, and firmness is what a
+// stack's substeps are for. XPBD is left as it is, though its hard constraints unconverged
+// depend on the step as PBD's do (the same box: 27 J at compliance 0).
+inline constexpr float k_raised_edges = 1.5f;
+inline constexpr float k_raised_shape = 1.0f;
+inline constexpr float k_raise_firming = 1.0f;  // s
+float raised_scale(const SolverSettings& s, float shape_stiffness, float exponent, float fade);
 
 // Milliseconds per stage of the last step, named as in the paper's Tables 3 and 4.
 struct StageTimings {
@@ -101,6 +108,8 @@ public:
     void begin_substep(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
     // distance_k_ for this substep: each constraint its model's stretch stiffness per projection.
     void stretch_per_constraint(const SoftBodyT<Real>& body, const SolverSettings& s);
+    // raise_fade_ for this substep (raised_scale).
+    void fade_raise(const SolverSettings& s, Real h);
     void project_distance(const BodyStructureT<Real>& structure, BodyStateT<Real>& state, const SolverSettings& s, Real h);
     void project_volume(SoftBodyT<Real>& body, const SolverSettings& s, Real h);
     // project_volume's rigid moves per slot (volume_nudge), from totals_ and steps_: none for a
@@ -144,6 +153,8 @@ private:
     std::vector<float> piece_rate_;                        // deform_damping per piece
     std::vector<Real> model_keep_;                         // velocity kept per model a substep (own damping)
     std::vector<Real> distance_k_;  // PBD stiffness per projection, per distance constraint, where models name their own
+    float raise_fade_ = 0.0f;       // raised_scale's fade: 1 as the substeps rise, toward 0 after
+    uint32_t raise_substeps_ = 0;   // the raised substeps it faded at (0: not raised)
     std::vector<PieceMoments> piece_moments_;
 };
 using Solver = SolverT<float>;
